@@ -1,0 +1,95 @@
+"""Exact inverse dynamics of closed-loop and serial robots, batched over samples.
+
+Pinocchio's RNEA gives the joint torques ``tau`` of the spanning tree moving with the closed-loop
+motion (q, v, a). Projecting them on the closure null space removes the unknown constraint forces
+(``Gᵀ·Jᵀ·lambda = 0``), so the actuator efforts are
+
+    F = Gᵀ·tau - (J_task·G)ᵀ·w_ext,
+
+with ``w_ext`` the load the environment applies on the end effector (a force at the frame
+origin, world-aligned; for a pose task followed by the moment). Gravity comes from the model, and
+the drives' rotor and screw inertia are in ``model.armature``, so ``F`` is the effort the
+transmission must deliver at each actuated joint (N for a slider, N·m for a revolute joint).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from placement.exceptions import PlacementError
+from placement.kinematics import JointTrajectory, TaskTrajectory, joint_trajectory
+from placement.robot import Robot
+
+
+@dataclass(frozen=True)
+class ActuatorTrajectory:
+    """Actuator motion and effort, one row per sample and one column per actuator.
+
+    Attributes:
+        position: (N, n_act) joint positions (m or rad).
+        velocity: (N, n_act) joint velocities (m/s or rad/s).
+        acceleration: (N, n_act) joint accelerations (m/s² or rad/s²).
+        effort: (N, n_act) forces (N) or torques (N·m) at the actuated joints.
+        joints: Motion of every joint of the spanning tree.
+    """
+
+    position: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray
+    effort: np.ndarray
+    joints: JointTrajectory
+
+
+def rnea_batch(model: pin.Model, q: np.ndarray, v: np.ndarray, a: np.ndarray) -> np.ndarray:
+    """Tree inverse dynamics for many samples in one call (rows are samples), (N, nv)."""
+    pool = pin.ModelPool(model, 1)
+    return pin.rneaInParallel(1, pool, np.asfortranarray(q.T), np.asfortranarray(v.T), np.asfortranarray(a.T)).T
+
+
+def actuator_efforts(robot: Robot, joints: JointTrajectory, external_load: np.ndarray | None = None) -> np.ndarray:
+    """Actuator efforts (N, n_act) for a known closed-loop joint motion.
+
+    Args:
+        robot: The robot.
+        joints: Motion of every joint (from :func:`placement.kinematics.joint_trajectory`).
+        external_load: (N, task_dim) load on the end effector from the environment, in the base
+            frame at the end-effector origin: force (N), then moment (N·m) for a pose task.
+
+    Returns:
+        Forces (N) or torques (N·m) at the actuated joints.
+    """
+    tau = rnea_batch(robot.model, joints.q, joints.v, joints.a)
+    effort = np.einsum("nva,nv->na", joints.basis, tau)
+    if external_load is not None:
+        load = np.asarray(external_load, dtype=float)
+        if load.shape != (len(tau), joints.task_map.shape[1]):
+            raise PlacementError(f"external load must have shape {(len(tau), joints.task_map.shape[1])}, "
+                                 f"got {load.shape}")
+        effort -= np.einsum("nta,nt->na", joints.task_map, load)
+    return effort
+
+
+def inverse_dynamics(robot: Robot, task: TaskTrajectory, external_load: np.ndarray | None = None,
+                     method: str = "auto") -> ActuatorTrajectory:
+    """Actuator motion and efforts along an end-effector trajectory.
+
+    Args:
+        robot: The robot.
+        task: End-effector trajectory in the base frame.
+        external_load: See :func:`actuator_efforts`.
+        method: Kinematics solver, see :func:`placement.kinematics.joint_trajectory`.
+
+    Returns:
+        Actuator positions, velocities, accelerations and efforts, and every joint's motion.
+
+    Raises:
+        UnreachableError: Some samples are out of reach or singular.
+    """
+    joints = joint_trajectory(robot, task, method)
+    act = robot.actuated_v_indices
+    q_act = [a.q_index for a in robot.actuators]
+    return ActuatorTrajectory(position=joints.q[:, q_act], velocity=joints.v[:, act], acceleration=joints.a[:, act],
+                              effort=actuator_efforts(robot, joints, external_load), joints=joints)

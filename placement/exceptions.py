@@ -1,0 +1,60 @@
+"""Exceptions raised by placement.
+
+Every error a user can cause derives from :class:`PlacementError`, so a caller (or the command
+line) can catch one type and report its message, which always says what was wrong and where.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+
+class PlacementError(Exception):
+    """Base class of every error raised by placement for a user-facing reason."""
+
+
+class RobotFileError(PlacementError):
+    """A robot description (URDF or sidecar YAML) is missing, malformed or inconsistent.
+
+    Attributes:
+        path: The file at fault.
+        field: Dotted path of the offending field inside the file ("" for the whole file).
+        problem: What is wrong, including what was expected.
+    """
+
+    def __init__(self, path: str | Path, field: str, problem: str) -> None:
+        self.path = Path(path)
+        self.field = field
+        self.problem = problem
+        where = f"{self.path}" + (f", field '{field}'" if field else "")
+        super().__init__(f"{where}: {problem}")
+
+
+class UnknownRobotError(PlacementError):
+    """A robot name is neither a built-in robot nor a path to a sidecar file."""
+
+    def __init__(self, name: str, known: list[str]) -> None:
+        self.name = name
+        self.known = known
+        super().__init__(
+            f"unknown robot '{name}': expected one of {', '.join(known)} "
+            "or the path to a robot sidecar YAML file"
+        )
+
+
+class UnreachableError(PlacementError):
+    """Some samples of a task-space trajectory have no valid robot configuration.
+
+    Attributes:
+        sample_indices: Indices of the unreachable samples (at most the first 20 are kept).
+        n_unreachable: How many samples are unreachable.
+        reason: Why the first one failed.
+    """
+
+    def __init__(self, sample_indices: list[int], n_unreachable: int, reason: str) -> None:
+        self.sample_indices = sample_indices[:20]
+        self.n_unreachable = n_unreachable
+        self.reason = reason
+        super().__init__(
+            f"{n_unreachable} sample(s) unreachable, first at index {sample_indices[0]}: {reason}"
+        )

@@ -1,0 +1,315 @@
+"""Robots as data: load a URDF (spanning tree) and its sidecar into a validated :class:`Robot`.
+
+``load_robot("orthoglide")`` loads a built-in robot; ``load_robot("path/to/robot.yaml")`` loads
+any sidecar. Loading checks every name against the URDF, the physical sense of every number, that
+each loop closure closes at the reference configuration, and that the actuated joints are exactly
+the mechanism's degrees of freedom. Errors name the file and the field.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import logging
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+import pinocchio as pin
+import yourdfpy
+
+from placement.exceptions import RobotFileError, UnknownRobotError
+from placement.sidecar import BallScrew, Drive, Sidecar, read_sidecar
+
+BUILTIN_ROBOTS_DIR = Path(__file__).parent / "robots"
+CLOSURE_TOLERANCE_M = 1e-6
+ERD_PREFIX = "example-robot-data:"
+
+ClosedFormSolver = Callable[[tuple[Any, Any, Any]], dict[str, Any]]
+
+
+@dataclass(frozen=True)
+class Actuator:
+    """An actuated joint with its limits (joint units: m or rad) and drive."""
+
+    joint: str
+    q_index: int
+    v_index: int
+    position_min: float
+    position_max: float
+    velocity_max: float
+    drive: Drive | None
+    reflected_inertia: float  # rotor and transmission inertia seen at the joint (kg or kg·m²)
+
+
+@dataclass(frozen=True)
+class Closure:
+    """A loop closure between two frames of the spanning tree."""
+
+    name: str
+    kind: str  # "point" (3 equations) or "weld" (6 equations)
+    frame_ids: tuple[int, int]
+
+    @property
+    def dimension(self) -> int:
+        """Number of scalar constraint equations."""
+        return 3 if self.kind == "point" else 6
+
+
+@dataclass
+class Robot:
+    """A robot ready for kinematics and dynamics.
+
+    Attributes:
+        name: Robot name from the sidecar.
+        sidecar_path: The sidecar file it was loaded from.
+        urdf_path: The URDF of its spanning tree.
+        model: Pinocchio model of the tree, with gravity and reflected drive inertia (armature).
+        closures: Loop closures (empty for a serial robot).
+        actuators: Actuated joints in sidecar order.
+        end_effector_frame_id: Pinocchio frame that follows the path.
+        task: "position" (3-D point) or "pose" (position and orientation).
+        reference_q: A configuration where every closure closes (used to start solvers).
+        closed_form: Optional closed-form position solver from the robot's plug-in.
+        sidecar: The validated sidecar data (drives, workspace, sources, ...).
+    """
+
+    name: str
+    sidecar_path: Path
+    urdf_path: Path
+    model: pin.Model
+    closures: tuple[Closure, ...]
+    actuators: tuple[Actuator, ...]
+    end_effector_frame_id: int
+    task: str
+    reference_q: np.ndarray
+    closed_form: ClosedFormSolver | None
+    sidecar: Sidecar
+
+    @property
+    def actuated_v_indices(self) -> np.ndarray:
+        """Velocity indices of the actuated joints, in actuator order."""
+        return np.array([a.v_index for a in self.actuators])
+
+    @property
+    def task_dimension(self) -> int:
+        """3 for a position task, 6 for a pose task."""
+        return 3 if self.task == "position" else 6
+
+
+def builtin_robots() -> list[str]:
+    """Names of the robots shipped with placement."""
+    return sorted(p.name for p in BUILTIN_ROBOTS_DIR.iterdir() if (p / f"{p.name}.yaml").is_file())
+
+
+def load_robot(name_or_path: str | Path) -> Robot:
+    """Load a built-in robot by name, or any robot from its sidecar YAML file.
+
+    Args:
+        name_or_path: A built-in name (see :func:`builtin_robots`) or a sidecar path.
+
+    Returns:
+        The validated robot.
+
+    Raises:
+        UnknownRobotError: Neither a built-in name nor an existing file.
+        RobotFileError: The sidecar or its URDF is wrong (the message names file and field).
+    """
+    text = str(name_or_path)
+    if text in builtin_robots():
+        path = BUILTIN_ROBOTS_DIR / text / f"{text}.yaml"
+    elif Path(text).is_file():
+        path = Path(text)
+    else:
+        raise UnknownRobotError(text, builtin_robots())
+    sidecar = read_sidecar(path)
+    urdf_path = _resolve_urdf(path, sidecar.urdf)
+    _check_urdf(urdf_path)
+    model = pin.buildModelFromUrdf(str(urdf_path))
+    model.gravity = pin.Motion(np.array(sidecar.gravity_m_s2), np.zeros(3))
+    robot = Robot(
+        name=sidecar.name,
+        sidecar_path=path,
+        urdf_path=urdf_path,
+        model=model,
+        closures=tuple(_closure(model, path, i, c.name, c.type, c.frames) for i, c in enumerate(sidecar.closures)),
+        actuators=tuple(_actuator(model, path, sidecar, i) for i in range(len(sidecar.actuators))),
+        end_effector_frame_id=_frame_id(model, path, "end_effector.frame", sidecar.end_effector.frame),
+        task=sidecar.end_effector.task,
+        reference_q=_reference_q(model, path, sidecar.reference_configuration),
+        closed_form=_load_plugin(path, sidecar.kinematics_plugin, model),
+        sidecar=sidecar,
+    )
+    for actuator in robot.actuators:
+        model.armature[actuator.v_index] += actuator.reflected_inertia
+    _check_sources(path, sidecar, urdf_path)
+    _check_closed_at_reference(robot)
+    _check_mobility(robot)
+    return robot
+
+
+def _resolve_urdf(sidecar_path: Path, urdf: str) -> Path:
+    if urdf.startswith(ERD_PREFIX):
+        from example_robot_data.robots_loader import ROBOTS
+
+        key = urdf.removeprefix(ERD_PREFIX)
+        if key not in ROBOTS:
+            raise RobotFileError(sidecar_path, "urdf", f"example-robot-data has no robot '{key}'")
+        return Path(ROBOTS[key]().df_path).resolve()
+    path = (sidecar_path.parent / urdf).resolve()
+    if not path.is_file():
+        raise RobotFileError(sidecar_path, "urdf", f"URDF file not found: {path}")
+    return path
+
+
+def _check_urdf(path: Path) -> None:
+    """Parse the URDF with yourdfpy and check every inertial is physical."""
+    logging.getLogger("yourdfpy").setLevel(logging.ERROR)
+    try:
+        urdf = yourdfpy.URDF.load(str(path), build_scene_graph=False, load_meshes=False)
+    except Exception as error:  # yourdfpy raises a variety of parser errors
+        raise RobotFileError(path, "", f"not a readable URDF: {error}") from None
+    for link in urdf.robot.links:
+        inertial = link.inertial
+        if inertial is None:
+            continue
+        field = f"link '{link.name}' inertial"
+        if inertial.mass is None or not np.isfinite(inertial.mass) or inertial.mass < 0:
+            raise RobotFileError(path, field, f"mass must be a finite number >= 0 kg (got {inertial.mass})")
+        moments = np.linalg.eigvalsh(np.asarray(inertial.inertia, dtype=float))
+        if moments.min() < -1e-12 or moments.sum() - 2 * moments.max() < -1e-12:
+            raise RobotFileError(path, field, f"inertia tensor must be physical: principal moments >= 0 "
+                                 f"and satisfying the triangle inequality (got {moments.tolist()} kg m^2)")
+
+
+def _frame_id(model: pin.Model, path: Path, field: str, name: str) -> int:
+    """Frame id of a link (preferred) or joint called ``name``."""
+    for kind in (pin.FrameType.BODY, pin.FrameType.FIXED_JOINT, pin.FrameType.JOINT):
+        if model.existFrame(name, kind):
+            return model.getFrameId(name, kind)
+    raise RobotFileError(path, field, f"no frame '{name}' in the URDF (links and joints are frames)")
+
+
+def _joint_id(model: pin.Model, path: Path, field: str, name: str) -> int:
+    if not model.existJointName(name):
+        movable = [n for n in model.names[1:]]
+        raise RobotFileError(path, field, f"no movable joint '{name}' in the URDF; movable joints: {movable}")
+    joint_id = model.getJointId(name)
+    if model.joints[joint_id].nv != 1 or model.joints[joint_id].nq != 1:
+        raise RobotFileError(path, field, f"joint '{name}' must be revolute or prismatic (one coordinate)")
+    return joint_id
+
+
+def _closure(model: pin.Model, path: Path, i: int, name: str, kind: str, frames: tuple[str, str]) -> Closure:
+    ids = tuple(_frame_id(model, path, f"closures.{i}.frames.{k}", f) for k, f in enumerate(frames))
+    return Closure(name=name, kind=kind, frame_ids=ids)
+
+
+def _actuator(model: pin.Model, path: Path, sidecar: Sidecar, i: int) -> Actuator:
+    spec = sidecar.actuators[i]
+    joint_id = _joint_id(model, path, f"actuators.{i}.joint", spec.joint)
+    q_index, v_index = model.joints[joint_id].idx_q, model.joints[joint_id].idx_v
+    lower = spec.position_min if spec.position_min is not None else model.lowerPositionLimit[q_index]
+    upper = spec.position_max if spec.position_max is not None else model.upperPositionLimit[q_index]
+    velocity = spec.velocity_max if spec.velocity_max is not None else model.velocityLimit[v_index]
+    if not lower < upper:
+        raise RobotFileError(path, f"actuators.{i}.position_min", f"must be below position_max ({lower} >= {upper})")
+    if not velocity > 0:
+        raise RobotFileError(path, f"actuators.{i}.velocity_max", f"must be > 0 (got {velocity}; URDF gives none)")
+    drive = sidecar.drives[spec.drive] if spec.drive else None
+    return Actuator(joint=spec.joint, q_index=q_index, v_index=v_index, position_min=float(lower),
+                    position_max=float(upper), velocity_max=float(velocity), drive=drive,
+                    reflected_inertia=reflected_inertia(drive) if drive else 0.0)
+
+
+def reflected_inertia(drive: Drive) -> float:
+    """Rotor and transmission inertia seen at the joint: J·(motor speed / joint speed)².
+
+    Args:
+        drive: The drive.
+
+    Returns:
+        Equivalent mass (kg) for a ball screw, or inertia (kg·m²) for a gear.
+    """
+    shaft_inertia = drive.motor.rotor_inertia_kg_m2 + drive.transmission_inertia_kg_m2
+    t = drive.transmission
+    ratio = 2 * np.pi / t.lead_m if isinstance(t, BallScrew) else t.ratio
+    return shaft_inertia * ratio**2
+
+
+def _reference_q(model: pin.Model, path: Path, values: dict[str, float]) -> np.ndarray:
+    q = pin.neutral(model)
+    for name, value in values.items():
+        joint_id = _joint_id(model, path, f"reference_configuration.{name}", name)
+        q[model.joints[joint_id].idx_q] = value
+    return q
+
+
+def _load_plugin(path: Path, plugin: str | None, model: pin.Model) -> ClosedFormSolver | None:
+    if plugin is None:
+        return None
+    file = path.parent / plugin
+    if not file.is_file():
+        raise RobotFileError(path, "kinematics_plugin", f"file not found: {file}")
+    spec = importlib.util.spec_from_file_location(f"placement_plugin_{file.stem}", file)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    if not hasattr(module, "make_closed_form"):
+        raise RobotFileError(file, "", "a kinematics plug-in must define make_closed_form(model)")
+    return module.make_closed_form(model)
+
+
+def _check_sources(path: Path, sidecar: Sidecar, urdf_path: Path) -> None:
+    """Every key under ``sources`` must name a sidecar field or a URDF link or joint."""
+    urdf = yourdfpy.URDF.load(str(urdf_path), build_scene_graph=False, load_meshes=False)
+    names = {"link": {l.name for l in urdf.robot.links}, "joint": {j.name for j in urdf.robot.joints}}
+    for key in sidecar.sources:
+        parts = key.split(".")
+        if parts[0] == "urdf":
+            if len(parts) < 3 or parts[1] not in names or parts[2] not in names[parts[1]]:
+                raise RobotFileError(path, f"sources.{key}", "expected 'urdf.link.NAME...' or 'urdf.joint.NAME...' "
+                                     "naming a link or joint of the URDF")
+            continue
+        node: Any = sidecar
+        for part in parts:
+            if isinstance(node, (list, tuple)) and part.isdigit() and int(part) < len(node):
+                node = node[int(part)]
+            elif isinstance(node, dict) and part in node:
+                node = node[part]
+            elif hasattr(node, "model_fields") and part in type(node).model_fields:
+                node = getattr(node, part)
+            else:
+                raise RobotFileError(path, f"sources.{key}", "names no field of this sidecar (use dotted paths "
+                                     "such as drives.NAME.motor.resistance_ohm, or urdf.link.NAME)")
+
+
+def _check_closed_at_reference(robot: Robot) -> None:
+    from placement.kinematics import closure_residuals
+
+    data = robot.model.createData()
+    residuals = closure_residuals(robot, data, robot.reference_q)
+    start = 0
+    for i, closure in enumerate(robot.closures):
+        gap = float(np.linalg.norm(residuals[start:start + closure.dimension]))
+        start += closure.dimension
+        if gap > CLOSURE_TOLERANCE_M:
+            raise RobotFileError(robot.sidecar_path, f"closures.{i}",
+                                 f"closure '{closure.name}' does not close at reference_configuration: "
+                                 f"gap {gap:.3g} (m and rad), expected below {CLOSURE_TOLERANCE_M}")
+
+
+def _check_mobility(robot: Robot) -> None:
+    """The actuated joints must parametrise the closed-loop motion exactly."""
+    from placement.kinematics import closure_jacobian
+
+    data = robot.model.createData()
+    jacobian = closure_jacobian(robot, data, robot.reference_q)
+    nv = robot.model.nv
+    rank = np.linalg.matrix_rank(jacobian, tol=1e-9) if jacobian.size else 0
+    passive = np.setdiff1d(np.arange(nv), robot.actuated_v_indices)
+    passive_rank = np.linalg.matrix_rank(jacobian[:, passive], tol=1e-9) if jacobian.size else 0
+    if nv - rank != len(robot.actuators) or passive_rank != len(passive):
+        raise RobotFileError(robot.sidecar_path, "actuators",
+                             f"the closures leave {nv - rank} degree(s) of freedom at reference_configuration, "
+                             f"and the {len(robot.actuators)} actuated joint(s) must determine all "
+                             f"{len(passive)} passive ones")
