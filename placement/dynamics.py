@@ -46,7 +46,8 @@ class ActuatorTrajectory:
 def rnea_batch(model: pin.Model, q: np.ndarray, v: np.ndarray, a: np.ndarray) -> np.ndarray:
     """Tree inverse dynamics for many samples in one call (rows are samples), (N, nv)."""
     pool = pin.ModelPool(model, 1)
-    return pin.rneaInParallel(1, pool, np.asfortranarray(q.T), np.asfortranarray(v.T), np.asfortranarray(a.T)).T
+    tau = pin.rneaInParallel(1, pool, np.asfortranarray(q.T), np.asfortranarray(v.T), np.asfortranarray(a.T))
+    return np.reshape(tau, (model.nv, len(q))).T
 
 
 def actuator_efforts(robot: Robot, joints: JointTrajectory, external_load: np.ndarray | None = None) -> np.ndarray:

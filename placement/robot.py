@@ -17,9 +17,11 @@ from typing import Any, Callable
 import numpy as np
 import pinocchio as pin
 import yourdfpy
+from pydantic import BaseModel
 
 from placement.exceptions import RobotFileError, UnknownRobotError
 from placement.sidecar import BallScrew, Drive, Sidecar, read_sidecar
+from placement.taylor import Taylor2
 
 BUILTIN_ROBOTS_DIR = Path(__file__).parent / "robots"
 CLOSURE_TOLERANCE_M = 1e-6
@@ -145,6 +147,7 @@ def load_robot(name_or_path: str | Path) -> Robot:
     _check_sources(path, sidecar, urdf_path)
     _check_closed_at_reference(robot)
     _check_mobility(robot)
+    _check_plugin(robot)
     return robot
 
 
@@ -276,7 +279,7 @@ def _check_sources(path: Path, sidecar: Sidecar, urdf_path: Path) -> None:
                 node = node[int(part)]
             elif isinstance(node, dict) and part in node:
                 node = node[part]
-            elif hasattr(node, "model_fields") and part in type(node).model_fields:
+            elif isinstance(node, BaseModel) and part in type(node).model_fields:
                 node = getattr(node, part)
             else:
                 raise RobotFileError(path, f"sources.{key}", "names no field of this sidecar (use dotted paths "
@@ -296,6 +299,29 @@ def _check_closed_at_reference(robot: Robot) -> None:
             raise RobotFileError(robot.sidecar_path, f"closures.{i}",
                                  f"closure '{closure.name}' does not close at reference_configuration: "
                                  f"gap {gap:.3g} (m and rad), expected below {CLOSURE_TOLERANCE_M}")
+
+
+def _check_plugin(robot: Robot) -> None:
+    """A closed-form plug-in must cover every joint and agree with the reference configuration."""
+    if robot.closed_form is None:
+        return
+    field = "kinematics_plugin"
+    if robot.task != "position" or len(robot.actuators) != 3:
+        raise RobotFileError(robot.sidecar_path, field, "closed-form plug-ins serve position tasks of "
+                             "three-actuator robots; remove the plug-in to use the generic solver")
+    data = robot.model.createData()
+    pin.framesForwardKinematics(robot.model, data, robot.reference_q)
+    position = data.oMf[robot.end_effector_frame_id].translation
+    joints = robot.closed_form(tuple(Taylor2.constant([c]) for c in position))
+    movable = set(robot.model.names[1:])
+    if set(joints) != movable:
+        raise RobotFileError(robot.sidecar_path, field, f"the plug-in must return exactly the joints {sorted(movable)}, "
+                             f"got {sorted(joints)}")
+    for name, value in joints.items():
+        joint = robot.model.joints[robot.model.getJointId(name)]
+        if joint.nq != 1 or abs(float(value.v[0]) - robot.reference_q[joint.idx_q]) > 1e-9:
+            raise RobotFileError(robot.sidecar_path, field, f"the plug-in disagrees with reference_configuration "
+                                 f"at joint '{name}'")
 
 
 def _check_mobility(robot: Robot) -> None:

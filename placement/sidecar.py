@@ -128,19 +128,6 @@ class Sidecar(_Strict):
     workspace: Workspace | None = None
     sources: dict[str, str] = {}
 
-    @model_validator(mode="after")
-    def _cross_references(self) -> Sidecar:
-        for i, actuator in enumerate(self.actuators):
-            if actuator.drive is not None and actuator.drive not in self.drives:
-                raise ValueError(f"actuators.{i}.drive: unknown drive '{actuator.drive}', "
-                                 f"expected one of {sorted(self.drives) or 'the names under drives (none given)'}")
-        for key, text in self.sources.items():
-            status = text.split(":", 1)[0].strip()
-            if status not in SOURCE_STATUSES:
-                raise ValueError(f"sources.{key}: must start with one of {', '.join(SOURCE_STATUSES)} "
-                                 f"followed by ':', got '{text}'")
-        return self
-
 
 def read_sidecar(path: Path) -> Sidecar:
     """Read and validate a sidecar file.
@@ -164,10 +151,24 @@ def read_sidecar(path: Path) -> Sidecar:
     if not isinstance(raw, dict):
         raise RobotFileError(path, "", "expected a mapping of fields at the top level")
     try:
-        return Sidecar.model_validate(raw)
+        sidecar = Sidecar.model_validate(raw)
     except ValidationError as error:
         first = error.errors()[0]
         raise RobotFileError(path, _dotted(first["loc"]), _explain(first)) from None
+    _check_references(path, sidecar)
+    return sidecar
+
+
+def _check_references(path: Path, sidecar: Sidecar) -> None:
+    for i, actuator in enumerate(sidecar.actuators):
+        if actuator.drive is not None and actuator.drive not in sidecar.drives:
+            raise RobotFileError(path, f"actuators.{i}.drive", f"unknown drive '{actuator.drive}', expected one of "
+                                 f"{sorted(sidecar.drives) or 'the names under drives (none given)'}")
+    for key, text in sidecar.sources.items():
+        status = text.split(":", 1)[0].strip()
+        if status not in SOURCE_STATUSES:
+            raise RobotFileError(path, f"sources.{key}", f"must start with one of {', '.join(SOURCE_STATUSES)} "
+                                 f"followed by ':', got '{text}'")
 
 
 def _dotted(loc: tuple[Any, ...]) -> str:

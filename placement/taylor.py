@@ -71,6 +71,7 @@ def _lift(x: Taylor2 | ArrayLike) -> Taylor2:
 
 def sqrt(x: Taylor2) -> Taylor2:
     """Square root; the argument must be positive (derivatives are infinite at zero)."""
+    x = _lift(x)
     c0 = np.sqrt(x.v)
     c1 = x.d1 / (2.0 * c0)
     c2 = (x.d2 - 2.0 * c1 * c1) / (2.0 * c0)

@@ -1,0 +1,21 @@
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).parent))
+
+from placement.robot import load_robot  # noqa: E402
+
+ROBOTS_DIR = Path(__file__).parent / "robots"
+
+
+@pytest.fixture
+def orthoglide():
+    """A freshly loaded Orthoglide (tests may modify its model)."""
+    return load_robot("orthoglide")
+
+
+@pytest.fixture
+def fivebar():
+    return load_robot(ROBOTS_DIR / "fivebar" / "fivebar.yaml")
