@@ -264,14 +264,22 @@ def _closed_form(robot: Robot, task: TaskTrajectory) -> JointTrajectory:
         jacobian[:, j.idx_v, :] = value.d1[1:].T
     bad = ~(np.isfinite(q).all(axis=1) & np.isfinite(v).all(axis=1) & np.isfinite(a).all(axis=1)
             & np.isfinite(jacobian).all(axis=(1, 2)))
-    actuated = jacobian[:, robot.actuated_v_indices, :]  # ∂rho/∂p
-    bad |= ~(np.linalg.cond(np.where(bad[:, None, None], np.eye(3), actuated)) < SINGULAR_CONDITION)
+    actuated = np.where(bad[:, None, None], np.eye(3), jacobian[:, robot.actuated_v_indices, :])  # ∂rho/∂p
+    with np.errstate(invalid="ignore", divide="ignore"):
+        task_map = np.linalg.inv(actuated)  # ∂p/∂rho
+    bad |= ~(_condition_1(actuated, task_map) < SINGULAR_CONDITION)
     if bad.any():
         indices = np.flatnonzero(bad).tolist()
         raise UnreachableError(indices, len(indices), "outside the reach of the closed-form kinematics or singular "
                                                       f"(first at {np.round(task.position_m[indices[0]], 6).tolist()} m)")
-    task_map = np.linalg.inv(actuated)  # ∂p/∂rho
     return JointTrajectory(q, v, a, jacobian @ task_map, task_map)
+
+
+def _condition_1(matrices: np.ndarray, inverses: np.ndarray) -> np.ndarray:
+    """1-norm condition numbers of a stack of matrices given their inverses (inf if singular)."""
+    norm = np.abs(matrices).sum(axis=1).max(axis=1)
+    inverse_norm = np.abs(inverses).sum(axis=1).max(axis=1)
+    return np.where(np.isfinite(inverse_norm), norm * inverse_norm, np.inf)
 
 
 def joint_trajectory(robot: Robot, task: TaskTrajectory, method: str = "auto") -> JointTrajectory:

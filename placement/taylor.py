@@ -30,8 +30,9 @@ class Taylor2:
         return Taylor2(v, np.zeros_like(v), np.zeros_like(v))
 
     def __add__(self, other: Taylor2 | ArrayLike) -> Taylor2:
-        o = _lift(other)
-        return Taylor2(self.v + o.v, self.d1 + o.d1, self.d2 + o.d2)
+        if not isinstance(other, Taylor2):  # a constant shifts the value only
+            return Taylor2(self.v + other, self.d1, self.d2)
+        return Taylor2(self.v + other.v, self.d1 + other.d1, self.d2 + other.d2)
 
     __radd__ = __add__
 
@@ -39,17 +40,18 @@ class Taylor2:
         return Taylor2(-self.v, -self.d1, -self.d2)
 
     def __sub__(self, other: Taylor2 | ArrayLike) -> Taylor2:
-        return self + (-_lift(other))
+        return self + (-other)
 
     def __rsub__(self, other: ArrayLike) -> Taylor2:
-        return _lift(other) - self
+        return -self + other
 
     def __mul__(self, other: Taylor2 | ArrayLike) -> Taylor2:
-        o = _lift(other)
+        if not isinstance(other, Taylor2):  # a constant scales every term
+            return Taylor2(self.v * other, self.d1 * other, self.d2 * other)
         return Taylor2(
-            self.v * o.v,
-            self.d1 * o.v + self.v * o.d1,
-            self.d2 * o.v + 2.0 * self.d1 * o.d1 + self.v * o.d2,
+            self.v * other.v,
+            self.d1 * other.v + self.v * other.d1,
+            self.d2 * other.v + 2.0 * self.d1 * other.d1 + self.v * other.d2,
         )
 
     __rmul__ = __mul__

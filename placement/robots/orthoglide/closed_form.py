@@ -39,12 +39,15 @@ def make_closed_form(model: pin.Model):
     """
     length = leg_length_m(model)
     rotations = {axis: model.jointPlacements[model.getJointId(f"slider_{axis}")].rotation for axis in AXES}
+    for axis, rotation in rotations.items():
+        if not np.allclose(rotation.max(axis=0), 1.0) or np.linalg.det(rotation) < 0:
+            raise ValueError(f"leg {axis}: the slider frame must be a cyclic permutation of the base axes")
 
     def solve(position):
         joints = {}
         for axis in AXES:
-            # Coordinates of the platform point in the leg frame: R_iᵀ p.
-            x, y, z = (sum(rotations[axis][r, c] * position[r] for r in range(3)) for c in range(3))
+            # Coordinates of the platform point in the leg frame: R_iᵀ p (R_i permutes the axes).
+            x, y, z = (position[int(np.argmax(np.abs(rotations[axis][:, c])))] for c in range(3))
             reach = taylor.sqrt(length**2 - y * y - z * z)
             alpha = taylor.arctan2(z, reach)
             theta = taylor.arctan2(-y, taylor.sqrt(length**2 - y * y))
@@ -69,9 +72,24 @@ def jacobian(position_m: np.ndarray, length_m: float) -> np.ndarray:
     return result
 
 
-def lumped_actuator_forces(position_m: np.ndarray, acceleration_m_s2: np.ndarray, length_m: float,
-                           platform_mass_kg: float, slider_mass_kg: float, slider_inertia_kg: float,
-                           gravity_m_s2: np.ndarray, slider_acceleration_m_s2: np.ndarray,
+def slider_motion(position_m: np.ndarray, velocity_m_s: np.ndarray, acceleration_m_s2: np.ndarray,
+                  length_m: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Slider positions (m), velocities (m/s) and accelerations (m/s²), each (N, 3), analytically.
+
+    rho_i = p_i + S_i with S_i = sqrt(L² - p_j² - p_k²) over the two other axes j, k.
+    """
+    p, v, a = (np.atleast_2d(x) for x in (position_m, velocity_m_s, acceleration_m_s2))
+    others = [[1, 2], [2, 0], [0, 1]]
+    reach = np.sqrt(length_m**2 - np.stack([(p[:, o] ** 2).sum(axis=1) for o in others], axis=1))
+    reach_rate = -np.stack([(p[:, o] * v[:, o]).sum(axis=1) for o in others], axis=1) / reach
+    reach_acc = (-np.stack([(v[:, o] ** 2 + p[:, o] * a[:, o]).sum(axis=1) for o in others], axis=1)
+                 - reach_rate**2) / reach
+    return p + reach, v + reach_rate, a + reach_acc
+
+
+def lumped_actuator_forces(position_m: np.ndarray, velocity_m_s: np.ndarray, acceleration_m_s2: np.ndarray,
+                           length_m: float, platform_mass_kg: float, slider_mass_kg: float,
+                           slider_inertia_kg: float, gravity_m_s2: np.ndarray,
                            external_force_N: np.ndarray | None = None) -> np.ndarray:
     """Slider forces (N, 3) of the lumped model, in newtons.
 
@@ -82,5 +100,6 @@ def lumped_actuator_forces(position_m: np.ndarray, acceleration_m_s2: np.ndarray
     if external_force_N is not None:
         platform = platform - external_force_N
     transmitted = np.linalg.solve(np.transpose(jacobian(position_m, length_m), (0, 2, 1)), platform[..., None])[..., 0]
-    return (transmitted + (slider_mass_kg + slider_inertia_kg) * slider_acceleration_m_s2
+    slider_acceleration = slider_motion(position_m, velocity_m_s, acceleration_m_s2, length_m)[2]
+    return (transmitted + (slider_mass_kg + slider_inertia_kg) * slider_acceleration
             - slider_mass_kg * np.asarray(gravity_m_s2))

@@ -1,0 +1,93 @@
+"""Throughput of the Orthoglide inverse dynamics, one core: exact model beside the lumped model.
+
+Run: ``python benchmarks/throughput.py [--samples N] [--seconds S]``. Each line evaluates the
+same end-effector trajectory (N samples, the paper's groove-milling load on the tool) and prints
+samples per second; the lumped analytic model (legs massless, numpy only) is the reference that
+the exact model is compared against, in the same run, together with the gap between them.
+"""
+
+from __future__ import annotations
+
+import os
+
+for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ[_variable] = "1"  # one core, before numpy loads
+
+import argparse  # noqa: E402
+import importlib.util  # noqa: E402
+import time  # noqa: E402
+from typing import Callable  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+from placement.dynamics import inverse_dynamics  # noqa: E402
+from placement.kinematics import TaskTrajectory, joint_trajectory  # noqa: E402
+from placement.robot import BUILTIN_ROBOTS_DIR, load_robot  # noqa: E402
+
+_spec = importlib.util.spec_from_file_location("closed_form", BUILTIN_ROBOTS_DIR / "orthoglide" / "closed_form.py")
+closed_form = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(closed_form)
+
+
+def circle_task(samples: int) -> TaskTrajectory:
+    """A 60 mm circle at 0.66 m/s (the paper's feed) in the X_b Y_b plane around C."""
+    radius, speed = 0.03, 0.66
+    w = speed / radius
+    t = np.linspace(0.0, 2 * np.pi / w, samples)[:, None]
+    ones = np.ones_like(t)
+    position = np.hstack([radius * np.cos(w * t), radius * np.sin(w * t), 0 * t]) - 0.0268 * ones
+    velocity = np.hstack([-radius * w * np.sin(w * t), radius * w * np.cos(w * t), 0 * t])
+    acceleration = np.hstack([-radius * w**2 * np.cos(w * t), -radius * w**2 * np.sin(w * t), 0 * t])
+    return TaskTrajectory(position, velocity, acceleration)
+
+
+def rate(function: Callable[[], object], samples: int, seconds: float) -> float:
+    """Samples per second of ``function`` (which evaluates ``samples`` samples), best of repeats."""
+    function()
+    best, start = np.inf, time.perf_counter()
+    while time.perf_counter() - start < seconds:
+        tic = time.perf_counter()
+        function()
+        best = min(best, time.perf_counter() - tic)
+    return samples / best
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--samples", type=int, default=1000, help="samples per trajectory (default 1000)")
+    parser.add_argument("--seconds", type=float, default=2.0, help="timing budget per line (default 2 s)")
+    args = parser.parse_args()
+    robot = load_robot("orthoglide")
+    model = robot.model
+    task = circle_task(args.samples)
+    load = np.tile([-10.0, 215.0, 25.0], (args.samples, 1))
+    length = closed_form.leg_length_m(model)
+    platform_kg = model.inertias[model.getJointId("wrist_x")].mass
+    slider_kg = model.inertias[model.getJointId("slider_x")].mass
+    legs_kg = sum(model.inertias[model.getJointId(f"{b}_x")].mass for b in ("yoke", "bar1", "bar2", "far"))
+
+    def lumped():
+        return closed_form.lumped_actuator_forces(task.position_m, task.velocity_m_s, task.acceleration_m_s2,
+                                                  length, platform_kg + 1.5 * legs_kg, slider_kg + 0.5 * legs_kg,
+                                                  robot.actuators[0].reflected_inertia, model.gravity.linear, load)
+
+    exact = inverse_dynamics(robot, task, load)
+    gap = np.abs(lumped() - exact.effort).max()
+    lines = [
+        ("exact model, closed-form kinematics + projected RNEA", lambda: inverse_dynamics(robot, task, load)),
+        ("  of which closed-form kinematics alone", lambda: joint_trajectory(robot, task, "closed_form")),
+        ("exact model, generic Gauss-Newton kinematics", lambda: inverse_dynamics(robot, task, load, "numeric")),
+        ("lumped analytic model (reference, half leg mass at each end)", lumped),
+    ]
+    print(f"Orthoglide inverse dynamics, {args.samples} samples per trajectory, one core")
+    for label, function in lines:
+        samples = args.samples if "generic" not in label else min(args.samples, 200)
+        if samples != args.samples:
+            small = circle_task(samples)
+            function = lambda small=small: inverse_dynamics(robot, small, load[:samples], "numeric")  # noqa: E731
+        print(f"  {label:<62s} {rate(function, samples, args.seconds):>12,.0f} samples/s")
+    print(f"  lumped - exact force gap on this path: {gap:.2f} N (exact peak {np.abs(exact.effort).max():.1f} N)")
+
+
+if __name__ == "__main__":
+    main()
