@@ -6,7 +6,7 @@ import pinocchio as pin
 import fivebar_analytic as analytic
 from placement.dynamics import inverse_dynamics
 from placement.kinematics import joint_trajectory
-from physics import energy_rate, forward_accelerations
+from placement.checks import energy_rate, forward_accelerations
 from trajectories import lissajous
 
 TIP_FORCE_N = np.array([4.0, -6.0, 0.0])

@@ -8,7 +8,7 @@ import pytest
 
 from placement.dynamics import inverse_dynamics
 from placement.robot import BUILTIN_ROBOTS_DIR
-from physics import energy_rate, forward_accelerations
+from placement.checks import energy_rate, forward_accelerations
 from trajectories import orthoglide_path
 
 _spec = importlib.util.spec_from_file_location("orthoglide_closed_form", BUILTIN_ROBOTS_DIR / "orthoglide" / "closed_form.py")
