@@ -14,7 +14,6 @@ for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ[_variable] = "1"  # one core, before numpy loads
 
 import argparse  # noqa: E402
-import importlib.util  # noqa: E402
 import time  # noqa: E402
 from typing import Callable  # noqa: E402
 
@@ -22,11 +21,9 @@ import numpy as np  # noqa: E402
 
 from placement.dynamics import inverse_dynamics  # noqa: E402
 from placement.kinematics import TaskTrajectory, joint_trajectory  # noqa: E402
-from placement.robot import BUILTIN_ROBOTS_DIR, load_robot  # noqa: E402
+from placement.robot import load_robot  # noqa: E402
 
-_spec = importlib.util.spec_from_file_location("closed_form", BUILTIN_ROBOTS_DIR / "orthoglide" / "closed_form.py")
-closed_form = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(closed_form)
+closed_form = load_robot("orthoglide").plugin
 
 
 def circle_task(samples: int) -> TaskTrajectory:
@@ -73,18 +70,18 @@ def main() -> None:
 
     exact = inverse_dynamics(robot, task, load)
     gap = np.abs(lumped() - exact.effort).max()
+    small = min(args.samples, 200)  # the generic solver is slow: time it on fewer samples
+    small_task = circle_task(small)
     lines = [
-        ("exact model, closed-form kinematics + projected RNEA", lambda: inverse_dynamics(robot, task, load)),
-        ("  of which closed-form kinematics alone", lambda: joint_trajectory(robot, task, "closed_form")),
-        ("exact model, generic Gauss-Newton kinematics", lambda: inverse_dynamics(robot, task, load, "numeric")),
-        ("lumped analytic model (reference, half leg mass at each end)", lumped),
+        ("exact model, closed-form kinematics + projected RNEA", lambda: inverse_dynamics(robot, task, load),
+         args.samples),
+        ("  of which closed-form kinematics alone", lambda: joint_trajectory(robot, task, "closed_form"), args.samples),
+        ("exact model, generic Gauss-Newton kinematics",
+         lambda: inverse_dynamics(robot, small_task, load[:small], "numeric"), small),
+        ("lumped analytic model (reference, half leg mass at each end)", lumped, args.samples),
     ]
     print(f"Orthoglide inverse dynamics, {args.samples} samples per trajectory, one core")
-    for label, function in lines:
-        samples = args.samples if "generic" not in label else min(args.samples, 200)
-        if samples != args.samples:
-            small = circle_task(samples)
-            function = lambda small=small: inverse_dynamics(robot, small, load[:samples], "numeric")  # noqa: E731
+    for label, function, samples in lines:
         print(f"  {label:<62s} {rate(function, samples, args.seconds):>12,.0f} samples/s")
     print(f"  lumped - exact force gap on this path: {gap:.2f} N (exact peak {np.abs(exact.effort).max():.1f} N)")
 

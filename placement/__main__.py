@@ -47,8 +47,7 @@ def describe(robot: Robot) -> str:
              f"  gravity: {list(robot.sidecar.gravity_m_s2)} m/s^2",
              "  actuators:"]
     for a in robot.actuators:
-        prismatic = model.joints[model.getJointId(a.joint)].shortname().startswith("JointModelP")
-        unit, mass = ("m", "kg") if prismatic else ("rad", "kg m^2")
+        unit, mass = ("m", "kg") if a.prismatic else ("rad", "kg m^2")
         text = (f"    {a.joint:<20s} [{a.position_min:.6f}, {a.position_max:.6f}] {unit}, "
                 f"|speed| <= {a.velocity_max:g} {unit}/s")
         if a.drive is not None:

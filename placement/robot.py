@@ -12,6 +12,7 @@ import importlib.util
 import logging
 from dataclasses import dataclass
 from pathlib import Path
+from types import ModuleType
 from typing import Any, Callable
 
 import numpy as np
@@ -26,6 +27,7 @@ from placement.taylor import Taylor2
 BUILTIN_ROBOTS_DIR = Path(__file__).parent / "robots"
 CLOSURE_TOLERANCE_M = 1e-6
 ERD_PREFIX = "example-robot-data:"
+PRISMATIC_JOINTS = ("JointModelPX", "JointModelPY", "JointModelPZ", "JointModelPrismaticUnaligned")
 
 ClosedFormSolver = Callable[[tuple[Any, Any, Any]], dict[str, Any]]
 
@@ -42,6 +44,7 @@ class Actuator:
     velocity_max: float
     drive: Drive | None
     reflected_inertia: float  # rotor and transmission inertia seen at the joint (kg or kg·m²)
+    prismatic: bool  # True: m, m/s, N; False (revolute): rad, rad/s, N·m
 
 
 @dataclass(frozen=True)
@@ -72,7 +75,8 @@ class Robot:
         end_effector_frame_id: Pinocchio frame that follows the path.
         task: "position" (3-D point) or "pose" (position and orientation).
         reference_q: A configuration where every closure closes (used to start solvers).
-        closed_form: Optional closed-form position solver from the robot's plug-in.
+        plugin: The robot's kinematics plug-in module, if it has one.
+        closed_form: The plug-in's closed-form position solver, if any.
         sidecar: The validated sidecar data (drives, workspace, sources, ...).
     """
 
@@ -85,6 +89,7 @@ class Robot:
     end_effector_frame_id: int
     task: str
     reference_q: np.ndarray
+    plugin: ModuleType | None
     closed_form: ClosedFormSolver | None
     sidecar: Sidecar
 
@@ -126,8 +131,9 @@ def load_robot(name_or_path: str | Path) -> Robot:
         raise UnknownRobotError(text, builtin_robots())
     sidecar = read_sidecar(path)
     urdf_path = _resolve_urdf(path, sidecar.urdf)
-    _check_urdf(urdf_path)
+    urdf = _read_urdf(urdf_path)
     model = pin.buildModelFromUrdf(str(urdf_path))
+    plugin = _load_plugin(path, sidecar.kinematics_plugin)
     model.gravity = pin.Motion(np.array(sidecar.gravity_m_s2), np.zeros(3))
     robot = Robot(
         name=sidecar.name,
@@ -139,12 +145,13 @@ def load_robot(name_or_path: str | Path) -> Robot:
         end_effector_frame_id=_frame_id(model, path, "end_effector.frame", sidecar.end_effector.frame),
         task=sidecar.end_effector.task,
         reference_q=_reference_q(model, path, sidecar.reference_configuration),
-        closed_form=_load_plugin(path, sidecar.kinematics_plugin, model),
+        plugin=plugin,
+        closed_form=plugin.make_closed_form(model) if plugin else None,
         sidecar=sidecar,
     )
     for actuator in robot.actuators:
         model.armature[actuator.v_index] += actuator.reflected_inertia
-    _check_sources(path, sidecar, urdf_path)
+    _check_sources(path, sidecar, urdf)
     _check_closed_at_reference(robot)
     _check_mobility(robot)
     _check_plugin(robot)
@@ -165,7 +172,7 @@ def _resolve_urdf(sidecar_path: Path, urdf: str) -> Path:
     return path
 
 
-def _check_urdf(path: Path) -> None:
+def _read_urdf(path: Path) -> yourdfpy.URDF:
     """Parse the URDF with yourdfpy and check every inertial is physical."""
     logging.getLogger("yourdfpy").setLevel(logging.ERROR)
     try:
@@ -183,6 +190,7 @@ def _check_urdf(path: Path) -> None:
         if moments.min() < -1e-12 or moments.sum() - 2 * moments.max() < -1e-12:
             raise RobotFileError(path, field, f"inertia tensor must be physical: principal moments >= 0 "
                                  f"and satisfying the triangle inequality (got {moments.tolist()} kg m^2)")
+    return urdf
 
 
 def _frame_id(model: pin.Model, path: Path, field: str, name: str) -> int:
@@ -222,7 +230,8 @@ def _actuator(model: pin.Model, path: Path, sidecar: Sidecar, i: int) -> Actuato
     drive = sidecar.drives[spec.drive] if spec.drive else None
     return Actuator(joint=spec.joint, q_index=q_index, v_index=v_index, position_min=float(lower),
                     position_max=float(upper), velocity_max=float(velocity), drive=drive,
-                    reflected_inertia=reflected_inertia(drive) if drive else 0.0)
+                    reflected_inertia=reflected_inertia(drive) if drive else 0.0,
+                    prismatic=model.joints[joint_id].shortname() in PRISMATIC_JOINTS)
 
 
 def reflected_inertia(drive: Drive) -> float:
@@ -248,7 +257,7 @@ def _reference_q(model: pin.Model, path: Path, values: dict[str, float]) -> np.n
     return q
 
 
-def _load_plugin(path: Path, plugin: str | None, model: pin.Model) -> ClosedFormSolver | None:
+def _load_plugin(path: Path, plugin: str | None) -> ModuleType | None:
     if plugin is None:
         return None
     file = path.parent / plugin
@@ -259,12 +268,11 @@ def _load_plugin(path: Path, plugin: str | None, model: pin.Model) -> ClosedForm
     spec.loader.exec_module(module)
     if not hasattr(module, "make_closed_form"):
         raise RobotFileError(file, "", "a kinematics plug-in must define make_closed_form(model)")
-    return module.make_closed_form(model)
+    return module
 
 
-def _check_sources(path: Path, sidecar: Sidecar, urdf_path: Path) -> None:
+def _check_sources(path: Path, sidecar: Sidecar, urdf: yourdfpy.URDF) -> None:
     """Every key under ``sources`` must name a sidecar field or a URDF link or joint."""
-    urdf = yourdfpy.URDF.load(str(urdf_path), build_scene_graph=False, load_meshes=False)
     names = {"link": {l.name for l in urdf.robot.links}, "joint": {j.name for j in urdf.robot.joints}}
     for key in sidecar.sources:
         parts = key.split(".")

@@ -1,19 +1,15 @@
 """Orthoglide inverse dynamics proved by physics: forward round trip, power balance, lumped limit."""
 
-import importlib.util
-
 import numpy as np
 import pinocchio as pin
 import pytest
 
 from placement.dynamics import inverse_dynamics
-from placement.robot import BUILTIN_ROBOTS_DIR
+from placement.robot import load_robot
 from placement.checks import energy_rate, forward_accelerations
 from trajectories import orthoglide_path
 
-_spec = importlib.util.spec_from_file_location("orthoglide_closed_form", BUILTIN_ROBOTS_DIR / "orthoglide" / "closed_form.py")
-closed_form = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(closed_form)
+closed_form = load_robot("orthoglide").plugin
 
 # Groove-milling load of the paper on the tool (N), turned to an oblique direction.
 CUTTING_FORCE_N = np.array([10.0, -215.0, 25.0])

@@ -6,14 +6,10 @@ from hypothesis import given, settings, strategies as st
 
 from placement.exceptions import UnreachableError
 from placement.kinematics import TaskTrajectory, closure_jacobian, closure_residuals, joint_trajectory
-from trajectories import lissajous, orthoglide_path
+from placement.robot import load_robot
+from trajectories import orthoglide_path
 
-import importlib.util
-from placement.robot import BUILTIN_ROBOTS_DIR
-
-_spec = importlib.util.spec_from_file_location("orthoglide_closed_form", BUILTIN_ROBOTS_DIR / "orthoglide" / "closed_form.py")
-closed_form = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(closed_form)
+closed_form = load_robot("orthoglide").plugin
 
 LEG = 0.2 / (1 / np.sqrt(6) + 1 / np.sqrt(18))
 Q_PLUS, Q_MINUS = LEG / np.sqrt(18), -LEG / np.sqrt(6)
@@ -42,8 +38,6 @@ def test_closed_form_equals_generic_solver_along_a_path(orthoglide):
        st.lists(st.floats(-1.0, 1.0), min_size=3, max_size=3),
        st.lists(st.floats(-20.0, 20.0), min_size=3, max_size=3))
 def test_closed_form_equals_generic_solver_anywhere_in_the_cube(p, v, a):
-    from placement.robot import load_robot
-
     robot = load_robot("orthoglide")
     task = TaskTrajectory(np.array([p]), np.array([v]), np.array([a]))
     closed = joint_trajectory(robot, task, "closed_form")
