@@ -19,6 +19,7 @@ from typing import Callable  # noqa: E402
 
 import numpy as np  # noqa: E402
 
+from placement import dynamics  # noqa: E402
 from placement.dynamics import inverse_dynamics  # noqa: E402
 from placement.kinematics import TaskTrajectory, joint_trajectory  # noqa: E402
 from placement.robot import load_robot  # noqa: E402
@@ -54,6 +55,7 @@ def main() -> None:
     parser.add_argument("--samples", type=int, default=1000, help="samples per trajectory (default 1000)")
     parser.add_argument("--seconds", type=float, default=2.0, help="timing budget per line (default 2 s)")
     args = parser.parse_args()
+    dynamics.THREADS = 1
     robot = load_robot("orthoglide")
     model = robot.model
     task = circle_task(args.samples)

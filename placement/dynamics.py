@@ -14,6 +14,7 @@ transmission must deliver at each actuated joint (N for a slider, N·m for a rev
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 
 import numpy as np
@@ -22,6 +23,9 @@ import pinocchio as pin
 from placement.exceptions import PlacementError
 from placement.kinematics import JointTrajectory, TaskTrajectory, joint_trajectory
 from placement.robot import Robot
+
+
+THREADS = os.cpu_count() or 1  # threads of the batched RNEA; set to 1 to measure one core
 
 
 @dataclass(frozen=True)
@@ -45,8 +49,9 @@ class ActuatorTrajectory:
 
 def rnea_batch(model: pin.Model, q: np.ndarray, v: np.ndarray, a: np.ndarray) -> np.ndarray:
     """Tree inverse dynamics for many samples in one call (rows are samples), (N, nv)."""
-    pool = pin.ModelPool(model, 1)
-    tau = pin.rneaInParallel(1, pool, np.asfortranarray(q.T), np.asfortranarray(v.T), np.asfortranarray(a.T))
+    threads = max(1, min(THREADS, len(q) // 1000))  # threads pay off on large batches only
+    pool = pin.ModelPool(model, threads)
+    tau = pin.rneaInParallel(threads, pool, np.asfortranarray(q.T), np.asfortranarray(v.T), np.asfortranarray(a.T))
     return np.reshape(tau, (model.nv, len(q))).T
 
 

@@ -13,8 +13,8 @@ class PlacementError(Exception):
     """Base class of every error raised by placement for a user-facing reason."""
 
 
-class RobotFileError(PlacementError):
-    """A robot description (URDF or sidecar YAML) is missing, malformed or inconsistent.
+class InputFileError(PlacementError):
+    """An input file is missing, malformed or inconsistent.
 
     Attributes:
         path: The file at fault.
@@ -28,6 +28,14 @@ class RobotFileError(PlacementError):
         self.problem = problem
         where = f"{self.path}" + (f", field '{field}'" if field else "")
         super().__init__(f"{where}: {problem}")
+
+
+class RobotFileError(InputFileError):
+    """A robot description (URDF or sidecar YAML) is missing, malformed or inconsistent."""
+
+
+class PathFileError(InputFileError):
+    """A path file is missing, malformed or inconsistent."""
 
 
 class UnknownRobotError(PlacementError):

@@ -210,13 +210,13 @@ def _solve_task_map(task_map: np.ndarray, rhs: np.ndarray, index: int) -> np.nda
     return np.linalg.lstsq(task_map, rhs, rcond=None)[0]
 
 
-def _numeric(robot: Robot, task: TaskTrajectory) -> JointTrajectory:
+def _numeric(robot: Robot, task: TaskTrajectory) -> tuple[JointTrajectory, np.ndarray, str]:
     model, data = robot.model, robot.model.createData()
     n, dim, n_act = len(task), robot.task_dimension, len(robot.actuators)
     q_all, v_all, a_all = np.zeros((n, model.nq)), np.zeros((n, model.nv)), np.zeros((n, model.nv))
     basis_all, map_all = np.zeros((n, model.nv, n_act)), np.zeros((n, dim, n_act))
     twist, acceleration = task.twist(), task.acceleration()
-    failed: list[int] = []
+    reachable = np.ones(n, dtype=bool)
     reason = ""
     q = None
     for k in range(n):
@@ -235,17 +235,16 @@ def _numeric(robot: Robot, task: TaskTrajectory) -> JointTrajectory:
             task_drift = pin.getFrameClassicalAcceleration(model, data, robot.end_effector_frame_id, LWA).vector
             rhodd = _solve_task_map(task_map, acceleration[k] - task_drift[:dim] - task_jacobian @ a0, k)
         except UnreachableError as error:
-            failed.append(k)
-            reason = reason or f"{error.reason} (sample {k})"
+            reachable[k] = False
+            reason = reason or error.reason
+            q_all[k] = robot.reference_q
             continue
         q_all[k], v_all[k], a_all[k] = q, v, basis @ rhodd + a0
         basis_all[k], map_all[k] = basis, task_map
-    if failed:
-        raise UnreachableError(failed, len(failed), reason)
-    return JointTrajectory(q_all, v_all, a_all, basis_all, map_all)
+    return JointTrajectory(q_all, v_all, a_all, basis_all, map_all), reachable, reason
 
 
-def _closed_form(robot: Robot, task: TaskTrajectory) -> JointTrajectory:
+def _closed_form(robot: Robot, task: TaskTrajectory) -> tuple[JointTrajectory, np.ndarray, str]:
     """Batched plug-in path: Taylor arithmetic gives rates, accelerations and ∂q/∂p at once."""
     model, n = robot.model, len(task)
     # Row 0 carries the trajectory's derivatives; rows 1-3 the unit directions e_x, e_y, e_z.
@@ -268,11 +267,11 @@ def _closed_form(robot: Robot, task: TaskTrajectory) -> JointTrajectory:
     with np.errstate(invalid="ignore", divide="ignore"):
         task_map = np.linalg.inv(actuated)  # ∂p/∂rho
     bad |= ~(_condition_1(actuated, task_map) < SINGULAR_CONDITION)
-    if bad.any():
-        indices = np.flatnonzero(bad).tolist()
-        raise UnreachableError(indices, len(indices), "outside the reach of the closed-form kinematics or singular "
-                                                      f"(first at {np.round(task.position_m[indices[0]], 6).tolist()} m)")
-    return JointTrajectory(q, v, a, jacobian @ task_map, task_map)
+    if bad.any():  # finite placeholders: the reference configuration at rest
+        q[bad], v[bad], a[bad], jacobian[bad] = robot.reference_q, 0.0, 0.0, 0.0
+        actuated[bad], task_map[bad] = np.eye(3), np.eye(3)
+    reason = "outside the reach of the closed-form kinematics or singular"
+    return JointTrajectory(q, v, a, jacobian @ task_map, task_map), ~bad, reason
 
 
 def _condition_1(matrices: np.ndarray, inverses: np.ndarray) -> np.ndarray:
@@ -298,6 +297,26 @@ def joint_trajectory(robot: Robot, task: TaskTrajectory, method: str = "auto") -
         UnreachableError: Some samples have no configuration or are singular (all are listed).
         PlacementError: The task does not match the robot, or no plug-in exists.
     """
+    joints, reachable, reason = _solve(robot, task, method)
+    if not reachable.all():
+        indices = np.flatnonzero(~reachable).tolist()
+        where = np.round(task.position_m[indices[0]], 6).tolist()
+        raise UnreachableError(indices, len(indices), f"{reason} (first at {where} m)")
+    return joints
+
+
+def try_joint_trajectory(robot: Robot, task: TaskTrajectory, method: str = "auto") -> tuple[JointTrajectory, np.ndarray]:
+    """Like :func:`joint_trajectory`, but marks unreachable samples instead of raising.
+
+    Returns:
+        The joint motion (unreachable samples hold the reference configuration at rest, so every
+        value is finite) and the (N,) boolean mask of reachable samples.
+    """
+    joints, reachable, _ = _solve(robot, task, method)
+    return joints, reachable
+
+
+def _solve(robot: Robot, task: TaskTrajectory, method: str) -> tuple[JointTrajectory, np.ndarray, str]:
     if task.is_pose != (robot.task == "pose"):
         raise PlacementError(f"robot '{robot.name}' has a {robot.task} task; the trajectory gives "
                              f"{'a pose' if task.is_pose else 'positions only'}")

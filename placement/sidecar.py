@@ -9,12 +9,12 @@ joints; rad, rad/s, N·m for revolute joints). The full schema with examples is 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Annotated, Literal
 
-import yaml
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import Field, model_validator
 
 from placement.exceptions import RobotFileError
+from placement.schema import Strict, read_yaml
 
 NonNegative = Annotated[float, Field(ge=0.0)]
 Positive = Annotated[float, Field(gt=0.0)]
@@ -22,11 +22,7 @@ Vector3 = tuple[float, float, float]
 SOURCE_STATUSES = ("PAPER", "DERIVED", "CATALOG", "PUBLISHED", "EST")
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
-
-class BallScrew(_Strict):
+class BallScrew(Strict):
     """Ball screw: joint speed (m/s) = motor speed (rad/s) * lead_m / (2 pi)."""
 
     type: Literal["ball_screw"]
@@ -34,7 +30,7 @@ class BallScrew(_Strict):
     efficiency: Annotated[float, Field(gt=0.0, le=1.0)] = 1.0
 
 
-class Gear(_Strict):
+class Gear(Strict):
     """Gearbox: joint speed (rad/s) = motor speed (rad/s) / ratio."""
 
     type: Literal["gear"]
@@ -42,9 +38,10 @@ class Gear(_Strict):
     efficiency: Annotated[float, Field(gt=0.0, le=1.0)] = 1.0
 
 
-class Motor(_Strict):
-    """Permanent-magnet synchronous (brushless) motor, per-phase constants in SI."""
+class Motor(Strict):
+    """Motor constants in SI (per phase for a multi-phase motor); ``model`` names the energy model."""
 
+    model: str = "pmsm"
     torque_constant_Nm_per_A: Positive
     back_emf_constant_V_s_per_rad: Positive
     resistance_ohm: NonNegative
@@ -55,14 +52,14 @@ class Motor(_Strict):
     max_speed_rad_s: Positive | None = None
 
 
-class Friction(_Strict):
+class Friction(Strict):
     """Joint friction in joint units: Coulomb (N or N·m) and viscous (N·s/m or N·m·s/rad)."""
 
     coulomb: NonNegative = 0.0
     viscous: NonNegative = 0.0
 
 
-class Drive(_Strict):
+class Drive(Strict):
     """A motor and its transmission to one actuated joint."""
 
     transmission: Annotated[BallScrew | Gear, Field(discriminator="type")]
@@ -72,7 +69,7 @@ class Drive(_Strict):
     friction: Friction = Friction()
 
 
-class Actuator(_Strict):
+class Actuator(Strict):
     """An actuated joint; limits missing here are read from the URDF."""
 
     joint: str
@@ -82,7 +79,7 @@ class Actuator(_Strict):
     velocity_max: Positive | None = None
 
 
-class Closure(_Strict):
+class Closure(Strict):
     """A loop closure: two frames that must coincide (point) or be welded (weld)."""
 
     name: str
@@ -90,14 +87,14 @@ class Closure(_Strict):
     frames: tuple[str, str]
 
 
-class EndEffector(_Strict):
+class EndEffector(Strict):
     """The frame that follows the path, and what of it is prescribed."""
 
     frame: str
     task: Literal["position", "pose"]
 
 
-class Workspace(_Strict):
+class Workspace(Strict):
     """The nominal workspace: an axis-aligned box in the base frame, with named points."""
 
     type: Literal["box"]
@@ -112,7 +109,7 @@ class Workspace(_Strict):
         return self
 
 
-class Sidecar(_Strict):
+class Sidecar(Strict):
     """The whole sidecar file."""
 
     name: str
@@ -132,29 +129,11 @@ class Sidecar(_Strict):
 def read_sidecar(path: Path) -> Sidecar:
     """Read and validate a sidecar file.
 
-    Args:
-        path: The YAML file.
-
-    Returns:
-        The validated sidecar.
-
     Raises:
         RobotFileError: The file is missing, is not YAML, or breaks the schema (the message names
             the field and what was expected).
     """
-    if not path.is_file():
-        raise RobotFileError(path, "", "file not found")
-    try:
-        raw = yaml.safe_load(path.read_text())
-    except yaml.YAMLError as error:
-        raise RobotFileError(path, "", f"not valid YAML: {error}") from None
-    if not isinstance(raw, dict):
-        raise RobotFileError(path, "", "expected a mapping of fields at the top level")
-    try:
-        sidecar = Sidecar.model_validate(raw)
-    except ValidationError as error:
-        first = error.errors()[0]
-        raise RobotFileError(path, _dotted(first["loc"]), _explain(first)) from None
+    sidecar = read_yaml(path, Sidecar, RobotFileError)
     _check_references(path, sidecar)
     return sidecar
 
@@ -169,50 +148,3 @@ def _check_references(path: Path, sidecar: Sidecar) -> None:
         if status not in SOURCE_STATUSES:
             raise RobotFileError(path, f"sources.{key}", f"must start with one of {', '.join(SOURCE_STATUSES)} "
                                  f"followed by ':', got '{text}'")
-
-
-def _dotted(loc: tuple[Any, ...]) -> str:
-    return ".".join(str(part) for part in loc if part not in ("ball_screw", "gear"))
-
-
-def _explain(error: dict[str, Any]) -> str:
-    if error["type"] == "extra_forbidden":
-        return f"unknown field; allowed here: {', '.join(_allowed_fields(error['loc'][:-1]))}"
-    if error["type"] == "missing":
-        return "required field is missing"
-    message = error["msg"].removeprefix("Value error, ")
-    return f"{message} (got {error['input']!r})"
-
-
-def _allowed_fields(loc: tuple[Any, ...]) -> list[str]:
-    annotation: Any = Sidecar
-    for part in loc:
-        annotation = _step(annotation, part)
-    model = _model_of(annotation)
-    return sorted(model.model_fields) if model else []
-
-
-def _step(annotation: Any, part: Any) -> Any:
-    """The annotation of the child ``part`` (field name, dict key, list index or union tag)."""
-    origin = getattr(annotation, "__origin__", None)
-    if origin is dict:
-        return annotation.__args__[1]
-    if origin is list:
-        return annotation.__args__[0]
-    if part in ("ball_screw", "gear"):
-        return BallScrew if part == "ball_screw" else Gear
-    model = _model_of(annotation)
-    field = model.model_fields.get(part) if model else None
-    return field.annotation if field else None
-
-
-def _model_of(annotation: Any) -> Any:
-    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
-        return annotation
-    if getattr(annotation, "__origin__", None) in (dict, list):
-        return None
-    for arg in getattr(annotation, "__args__", ()):
-        found = _model_of(arg)
-        if found is not None:
-            return found
-    return None

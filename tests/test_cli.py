@@ -1,7 +1,10 @@
 """Command line: the checks a user runs, and clear errors with exit code 2."""
 
+import math
 import subprocess
 import sys
+
+import pytest
 
 from placement.__main__ import main
 from conftest import ROBOTS_DIR
@@ -41,3 +44,98 @@ def test_bad_sidecar_exits_2_naming_the_field(tmp_path, capsys):
 def test_module_entry_point_runs():
     result = subprocess.run([sys.executable, "-m", "placement", "robots"], capture_output=True, text=True, check=False)
     assert result.returncode == 0 and "orthoglide" in result.stdout
+
+
+EXAMPLE = ROBOTS_DIR.parents[1] / "examples" / "rect.yaml"
+QUICK = ["--robot", "orthoglide", "--path", str(EXAMPLE), "--time-step", "0.004", "--quiet"]
+
+
+def test_main_job_reports_best_worst_and_gain_and_writes_json_and_trace(tmp_path, capsys):
+    import csv
+    import json
+
+    out_json, out_csv = tmp_path / "result.json", tmp_path / "trace.csv"
+    assert main(QUICK + ["--json", str(out_json), "--trace", str(out_csv)]) == 0
+    text = capsys.readouterr().out
+    assert "best placement (least energy)" in text and "worst placement (most energy)" in text and "gain:" in text
+    document = json.loads(out_json.read_text())
+    for key in ("best", "worst"):
+        entry = document[key]
+        assert set(entry["placement"]) == {"x", "y", "z", "phi", "theta", "psi"}
+        assert entry["feasible"] is True and entry["energy_J"] > 0
+        assert sum(entry["energy_per_actuator_J"].values()) == pytest.approx(entry["energy_J"])
+        assert all(m["margin"] >= 0 for m in entry["margins"])
+        assert f"{entry['energy_J']:.4f} J" in text
+    assert document["gain"] == pytest.approx(1 - document["best"]["energy_J"] / document["worst"]["energy_J"])
+    rows = list(csv.reader(out_csv.open()))
+    assert rows[0][:4] == ["t", "x", "y", "z"] and rows[0][4:12] == [
+        "q_1", "qd_1", "qdd_1", "force_1", "motor_speed_1", "motor_torque_1", "current_1", "power_1"]
+    assert len(rows[0]) == 4 + 3 * 8 and len(rows) > 40
+    # The trace is the best placement's: its tool points are the placed path.
+    best = document["best"]["placement"]
+    first = [float(v) for v in rows[1][1:4]]
+    assert first[2] == pytest.approx(best["z"])
+    assert list(tmp_path.iterdir()) and not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
+
+
+def test_at_evaluates_one_placement(tmp_path, capsys):
+    import json
+
+    out_json = tmp_path / "at.json"
+    assert main(QUICK + ["--at", "x=0,y=0,z=0,phi=30", "--json", str(out_json)]) == 0
+    text = capsys.readouterr().out
+    assert "phi = 30.00 deg" in text and "energy" in text
+    at = json.loads(out_json.read_text())["at"]
+    assert at["placement"]["phi"] == pytest.approx(math.radians(30))
+    assert "best" not in json.loads(out_json.read_text())
+
+
+def test_results_are_deterministic_for_a_seed(tmp_path):
+    import json
+
+    files = [tmp_path / f"{k}.json" for k in range(2)]
+    for file in files:
+        assert main(QUICK + ["--minimize", "--seed", "7", "--json", str(file)]) == 0
+    first, second = (json.loads(f.read_text()) for f in files)
+    assert first["best"] == second["best"]
+
+
+def bad_path(tmp_path, text):
+    file = tmp_path / "path.yaml"
+    file.write_text(text)
+    return file
+
+
+def run_bad(args, capsys):
+    code = main(args)
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith("error: ") and "Traceback" not in err
+    return err
+
+
+def test_bad_inputs_exit_2_with_a_clear_message(tmp_path, capsys):
+    base = ["--robot", "orthoglide", "--quiet", "--path"]
+    assert "file not found" in run_bad(base + [str(tmp_path / "none.yaml")], capsys)
+    assert "not valid YAML" in run_bad(base + [str(bad_path(tmp_path, "units: [mm\n"))], capsys)
+    assert "unknown field" in run_bad(base + [str(bad_path(tmp_path, "units: mm\nshape: {type: circle, radius: 5}\n"
+                                                                      "feed_m_s: 0.3\nspeed: 1\n"))], capsys)
+    assert "shape.width" in run_bad(base + [str(bad_path(tmp_path, "units: mm\nshape: {type: rectangle, width: 0, "
+                                                                     "length: 60}\nfeed_m_s: 0.66\n"))], capsys)
+    assert "orthoglide" in run_bad(["--robot", "orthoglyde", "--path", str(EXAMPLE)], capsys)
+    assert "--at" in run_bad(QUICK + ["--at", "x=zero"], capsys)
+    circle = str(bad_path(tmp_path, "units: mm\nshape: {type: circle, radius: 20}\nfeed_m_s: 0.3\n"))
+    assert "--max-acceleration" in run_bad(base + [circle, "--timing", "realistic"], capsys)
+
+
+def test_feed_beyond_the_drives_is_answered_with_the_binding_limit(tmp_path, capsys):
+    path = bad_path(tmp_path, "units: mm\nshape: {type: rectangle, width: 30, length: 60}\nfeed_m_s: 3.0\n"
+                              "time_step_s: 0.004\n")
+    err = run_bad(["--robot", "orthoglide", "--path", str(path), "--quiet"], capsys)
+    assert "no feasible placement" in err and "speed" in err
+
+
+def test_path_too_large_is_answered_with_the_binding_limit(tmp_path, capsys):
+    path = bad_path(tmp_path, "units: mm\nshape: {type: rectangle, width: 150, length: 300}\nfeed_m_s: 0.66\n"
+                              "time_step_s: 0.004\n")
+    err = run_bad(["--robot", "orthoglide", "--path", str(path), "--quiet"], capsys)
+    assert "no feasible placement" in err and "workspace" in err

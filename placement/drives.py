@@ -1,0 +1,70 @@
+"""Drives: from actuator effort and speed to motor speed, torque and current.
+
+A transmission turns joint speed into motor speed (ω = k·q̇, with k = 2π/lead for a ball screw
+and k = ratio for a gear). Joint friction (Coulomb and viscous, from the sidecar) adds to the
+effort the dynamics asks for; transmission efficiency η divides the motor torque when the motor
+drives the load and multiplies it when the load drives the motor. The current is I = τ/K_t.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from placement.exceptions import PlacementError
+from placement.robot import Robot
+from placement.sidecar import BallScrew, Drive
+
+
+@dataclass(frozen=True)
+class MotorTrace:
+    """Motor quantities per sample and actuator, arrays of shape (..., N, n_act).
+
+    Attributes:
+        speed_rad_s: Motor shaft speed.
+        torque_Nm: Motor electromagnetic torque.
+        current_A: Phase current amplitude I = τ/K_t.
+    """
+
+    speed_rad_s: np.ndarray
+    torque_Nm: np.ndarray
+    current_A: np.ndarray
+
+
+def speed_ratio(drive: Drive) -> float:
+    """Motor speed per unit joint speed: rad per m (ball screw) or rad per rad (gear)."""
+    t = drive.transmission
+    return 2 * np.pi / t.lead_m if isinstance(t, BallScrew) else t.ratio
+
+
+def drives_of(robot: Robot) -> list[Drive]:
+    """The drive of every actuator, or an error naming the actuators that have none."""
+    missing = [a.joint for a in robot.actuators if a.drive is None]
+    if missing:
+        raise PlacementError(f"robot '{robot.name}' ({robot.sidecar_path}): actuators {missing} have no drive; "
+                             "energy needs a drive for every actuator (field actuators.N.drive)")
+    return [a.drive for a in robot.actuators]
+
+
+def motor_trace(robot: Robot, effort: np.ndarray, velocity: np.ndarray) -> MotorTrace:
+    """Motor speed, torque and current from actuator efforts and velocities.
+
+    Args:
+        robot: The robot (its actuators' drives).
+        effort: (..., N, n_act) efforts from the dynamics (N or N·m), rotor inertia included.
+        velocity: Same shape, joint velocities (m/s or rad/s).
+
+    Returns:
+        The motor trace, same shapes.
+    """
+    drives = drives_of(robot)
+    ratio = np.array([speed_ratio(d) for d in drives])
+    efficiency = np.array([d.transmission.efficiency for d in drives])
+    coulomb = np.array([d.friction.coulomb for d in drives])
+    viscous = np.array([d.friction.viscous for d in drives])
+    kt = np.array([d.motor.torque_constant_Nm_per_A for d in drives])
+    load = effort + coulomb * np.sign(velocity) + viscous * velocity
+    motoring = load * velocity >= 0
+    torque = load / ratio * np.where(motoring, 1 / efficiency, efficiency)
+    return MotorTrace(speed_rad_s=velocity * ratio, torque_Nm=torque, current_A=torque / kt)

@@ -1,0 +1,86 @@
+"""Placement of the path frame F_p in the robot's base frame F_b.
+
+A placement is x = [x, y, z, phi, theta, psi] (m, rad): the origin of F_p in F_b and the
+orientation R = Rz(phi)·Ry(theta)·Rx(psi), the paper's matrix bTp. Any subset of the six may be
+free (searched within bounds) while the others stay fixed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from placement.exceptions import PlacementError
+from placement.kinematics import TaskTrajectory
+from placement.path import PathSamples
+
+VARIABLES = ("x", "y", "z", "phi", "theta", "psi")
+ANGLES = ("phi", "theta", "psi")
+
+
+def rotation_zyx(phi: np.ndarray, theta: np.ndarray, psi: np.ndarray) -> np.ndarray:
+    """Rz(phi)·Ry(theta)·Rx(psi) for arrays of angles (rad), shape (..., 3, 3)."""
+    cf, sf, ct, st, cp, sp = np.cos(phi), np.sin(phi), np.cos(theta), np.sin(theta), np.cos(psi), np.sin(psi)
+    return np.stack([
+        np.stack([cf * ct, cf * st * sp - sf * cp, cf * st * cp + sf * sp], axis=-1),
+        np.stack([sf * ct, sf * st * sp + cf * cp, sf * st * cp - cf * sp], axis=-1),
+        np.stack([-st, ct * sp, ct * cp], axis=-1),
+    ], axis=-2)
+
+
+def transform_path_to_base(samples: PathSamples, placements: np.ndarray) -> tuple[TaskTrajectory, np.ndarray]:
+    """The sampled path seen in the base frame for each placement, stacked placement by placement.
+
+    Args:
+        samples: The path sampled in its own frame (N samples).
+        placements: (K, 6) or (6,) placement vectors [x, y, z, phi, theta, psi] (m, rad).
+
+    Returns:
+        The task trajectory of the tool point (K·N samples, placement-major) and the process
+        force on the tool in the base frame, (K·N, 3) N.
+    """
+    x = np.atleast_2d(placements)
+    rotation = rotation_zyx(x[:, 3], x[:, 4], x[:, 5])  # (K, 3, 3)
+
+    def turn(vectors: np.ndarray) -> np.ndarray:
+        return np.einsum("kij,nj->kni", rotation, vectors).reshape(-1, 3)
+
+    position = turn(samples.position_m) + np.repeat(x[:, :3], len(samples), axis=0)
+    task = TaskTrajectory(position, turn(samples.velocity_m_s), turn(samples.acceleration_m_s2))
+    return task, turn(samples.force_on_tool_N)
+
+
+@dataclass(frozen=True)
+class PlacementSpace:
+    """Which placement variables are free, their bounds, and the values of the fixed ones.
+
+    Attributes:
+        free: Names of the free variables, in VARIABLES order.
+        lower, upper: Bounds of the free variables (m, rad).
+        fixed: Full 6-vector whose fixed entries are used (m, rad).
+    """
+
+    free: tuple[str, ...]
+    lower: np.ndarray
+    upper: np.ndarray
+    fixed: np.ndarray
+
+    def __post_init__(self) -> None:
+        unknown = set(self.free) - set(VARIABLES)
+        if unknown:
+            raise PlacementError(f"unknown placement variable(s) {sorted(unknown)}; expected some of {VARIABLES}")
+        if len(self.lower) != len(self.free) or np.any(np.asarray(self.lower) > np.asarray(self.upper)):
+            raise PlacementError("placement bounds must give lower <= upper for every free variable")
+
+    @property
+    def indices(self) -> np.ndarray:
+        """Positions of the free variables in the 6-vector."""
+        return np.array([VARIABLES.index(name) for name in self.free], dtype=int)
+
+    def full(self, free_values: np.ndarray) -> np.ndarray:
+        """(K, 6) placements from (K, n_free) or (n_free,) free values."""
+        values = np.atleast_2d(free_values)
+        out = np.tile(self.fixed, (len(values), 1))
+        out[:, self.indices] = values
+        return out

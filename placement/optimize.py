@@ -1,0 +1,278 @@
+"""Search for the placements of least (and most) electric energy that respect every limit.
+
+Strategy, per direction (minimise, maximise): a global search by scipy's differential evolution
+over the free placement variables, with the limits as constraints (a feasible placement always
+beats an infeasible one, and infeasible ones are ranked by how far they break the limits, so they
+steer the search and never stop it), then a local constrained polish (SLSQP) from the best few
+distinct candidates. The reported optima are re-evaluated with a four times denser sampling of
+the path, and the difference is reported.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+from scipy.optimize import NonlinearConstraint, differential_evolution, minimize
+
+from placement.evaluation import Evaluation, Evaluator, PlacementDetail
+from placement.exceptions import PlacementError
+from placement.frames import VARIABLES, PlacementSpace
+from placement.path import ToolPath
+from placement.robot import Robot
+
+POLISH_STARTS = 3  # distinct candidates polished locally
+GIVE_UP_GENERATIONS = 25  # generations without any feasible placement after which the search stops
+RECHECK_DENSITY = 4  # the re-check samples the path this many times more densely
+
+
+@dataclass(frozen=True)
+class SearchSettings:
+    """Budget of the global search (differential evolution) and of the polish.
+
+    Attributes:
+        population_per_variable: Population size per free variable.
+        max_generations: Upper bound on generations.
+        tolerance: Relative spread of the population's energies at which the search stops.
+        seed: Random seed; the same seed gives the same result.
+    """
+
+    population_per_variable: int = 12
+    max_generations: int = 80
+    tolerance: float = 1e-3
+    seed: int = 0
+
+
+@dataclass(frozen=True)
+class Optimum:
+    """The best placement found in one direction.
+
+    Attributes:
+        detail: Energy, margins and trace of the placement (at the search's sampling).
+        recheck_energy_J: Energy of the same placement with 4x denser path sampling.
+        evaluations: Placements evaluated by the search.
+    """
+
+    detail: PlacementDetail
+    recheck_energy_J: float
+    evaluations: int
+
+    @property
+    def sampling_gap(self) -> float:
+        """Relative change of the energy when the path is sampled 4x more densely."""
+        return abs(self.recheck_energy_J - self.detail.energy.total_J) / abs(self.detail.energy.total_J)
+
+
+@dataclass(frozen=True)
+class PlacementResult:
+    """Outcome of :func:`optimize_placement` (SI units: m, rad, J).
+
+    Attributes:
+        best: The least-energy feasible placement, if minimisation was asked and one exists.
+        worst: The most-energy feasible placement, if maximisation was asked and one exists.
+        space: Free variables, bounds and fixed values of the search.
+        regeneration: Regeneration mode of the energy.
+        infeasible: Why no feasible placement was found (the binding limit), else None.
+    """
+
+    best: Optimum | None
+    worst: Optimum | None
+    space: PlacementSpace
+    regeneration: str
+    infeasible: str | None = None
+
+    @property
+    def gain(self) -> float | None:
+        """(E_max − E_min)/E_max, when both were computed."""
+        if self.best is None or self.worst is None:
+            return None
+        e_min, e_max = self.best.detail.energy.total_J, self.worst.detail.energy.total_J
+        return float((e_max - e_min) / e_max)
+
+
+def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict[str, float] | None = None,
+                  bounds: dict[str, tuple[float, float]] | None = None) -> PlacementSpace:
+    """The placement space of a robot: by default x, y, z within its workspace box and phi in ±90°.
+
+    Args:
+        robot: The robot.
+        free: Free variables (default: x, y, z, phi, the tool axis staying along Z_b).
+        fixed: Values of fixed variables (default 0).
+        bounds: Bounds overriding the defaults (m, rad).
+    """
+    free = tuple(free or ("x", "y", "z", "phi"))
+    limits = dict(bounds or {})
+    workspace = robot.sidecar.workspace
+    for k, axis in enumerate("xyz"):
+        if workspace is not None:
+            limits.setdefault(axis, (workspace.min_m[k], workspace.max_m[k]))
+    for angle in ("phi", "theta", "psi"):
+        limits.setdefault(angle, (-np.pi / 2, np.pi / 2))
+    missing = [name for name in free if name not in limits]
+    if missing:
+        raise PlacementError(f"robot '{robot.name}' declares no workspace: give bounds for {missing}")
+    fixed_vector = np.array([float((fixed or {}).get(name, 0.0)) for name in VARIABLES])
+    return PlacementSpace(free=tuple(n for n in VARIABLES if n in free),
+                          lower=np.array([limits[n][0] for n in VARIABLES if n in free], dtype=float),
+                          upper=np.array([limits[n][1] for n in VARIABLES if n in free], dtype=float),
+                          fixed=fixed_vector)
+
+
+class _Problem:
+    """Objective and constraints over the free variables, sharing one evaluation per point."""
+
+    def __init__(self, evaluator: Evaluator, space: PlacementSpace, sign: float) -> None:
+        self.evaluator, self.space, self.sign = evaluator, space, sign
+        self._cache: dict[bytes, tuple[float, np.ndarray]] = {}
+        self.least_infeasible: tuple[float, np.ndarray, np.ndarray] | None = None  # (violation, x, margins)
+        self.best_feasible: float | None = None  # signed energy of the best feasible point seen
+
+    def _lookup(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        points = np.atleast_2d(points)
+        todo = [p for p in points if p.tobytes() not in self._cache]
+        if todo:
+            evaluation = self.evaluator.evaluate(self.space.full(np.array(todo)))
+            self._remember(np.array(todo), evaluation)
+        values = [self._cache[p.tobytes()] for p in points]
+        return np.array([v[0] for v in values]), np.array([v[1] for v in values])
+
+    def _remember(self, points: np.ndarray, evaluation: Evaluation) -> None:
+        if len(self._cache) > 200_000:
+            self._cache.clear()
+        for point, energy, margins in zip(points, evaluation.energy_J, evaluation.margins):
+            self._cache[point.tobytes()] = (float(energy), margins)
+            violation = float(np.clip(-margins, 0.0, None).sum())
+            if violation > 0 and (self.least_infeasible is None or violation < self.least_infeasible[0]):
+                self.least_infeasible = (violation, point, margins)
+            elif violation == 0 and np.isfinite(energy):
+                value = self.sign * float(energy)
+                self.best_feasible = value if self.best_feasible is None else min(self.best_feasible, value)
+
+    def objective(self, points: np.ndarray) -> np.ndarray:
+        """Signed energy of (n_free, S) or (n_free,) points (scipy's layouts)."""
+        energy, _ = self._lookup(np.asarray(points).T)
+        return np.where(np.isfinite(energy), self.sign * energy, 1e30)
+
+    def margins(self, points: np.ndarray) -> np.ndarray:
+        """Tightest margin of every limit, (n_limits, S) or (n_limits,)."""
+        _, margins = self._lookup(np.asarray(points).T)
+        return margins.T if np.ndim(points) > 1 else margins[0]
+
+
+def _search(evaluator: Evaluator, space: PlacementSpace, sign: float, settings: SearchSettings,
+            progress: Callable[[], None] | None) -> tuple[np.ndarray | None, _Problem]:
+    problem = _Problem(evaluator, space, sign)
+    bounds = list(zip(space.lower, space.upper))
+    n_limits = problem.margins(space.lower[:, None]).shape[0]
+    constraint = NonlinearConstraint(problem.margins, np.zeros(n_limits), np.full(n_limits, np.inf))
+
+    generations = [0]
+
+    def generation_done(intermediate_result) -> bool:  # scipy passes the result by this name
+        generations[0] += 1
+        if progress is not None:
+            progress()
+        return problem.best_feasible is None and generations[0] >= GIVE_UP_GENERATIONS
+
+    result = differential_evolution(
+        problem.objective, bounds, constraints=constraint, vectorized=True, updating="deferred",
+        popsize=settings.population_per_variable, maxiter=settings.max_generations, tol=settings.tolerance,
+        polish=False, init="sobol", rng=np.random.default_rng(settings.seed), callback=generation_done)
+    population = np.asarray(result.population)
+    energies, margins = problem._lookup(population)
+    feasible = (margins >= 0).all(axis=1) & np.isfinite(energies)
+    if not feasible.any():
+        return None, problem
+    starts = _distinct(population[feasible][np.argsort(sign * energies[feasible])], space)
+    best_x, best_value = None, np.inf
+    for start in starts:
+        x = _polish(problem, start, bounds, constraint)
+        value, margin = problem._lookup(x)
+        if (margin >= 0).all() and sign * value[0] < best_value:
+            best_x, best_value = x, sign * value[0]
+    return best_x, problem
+
+
+def _distinct(candidates: np.ndarray, space: PlacementSpace) -> list[np.ndarray]:
+    """The best candidates, skipping any within 2 % of the box of one already kept."""
+    scale = np.where(space.upper > space.lower, space.upper - space.lower, 1.0)
+    kept: list[np.ndarray] = []
+    for candidate in candidates:
+        if all(np.abs((candidate - k) / scale).max() > 0.02 for k in kept):
+            kept.append(candidate)
+        if len(kept) == POLISH_STARTS:
+            break
+    return kept
+
+
+def _polish(problem: _Problem, start: np.ndarray, bounds: list, constraint: NonlinearConstraint) -> np.ndarray:
+    scale = np.array([hi - lo if hi > lo else 1.0 for lo, hi in bounds])  # search in box units
+    result = minimize(lambda u: problem.objective(u * scale)[0], start / scale, method="SLSQP",
+                      bounds=[(lo / s, hi / s) for (lo, hi), s in zip(bounds, scale)],
+                      constraints=[{"type": "ineq", "fun": lambda u: problem.margins(u * scale)}],
+                      options={"maxiter": 100, "ftol": 1e-10})
+    polished = np.clip(result.x * scale, [b[0] for b in bounds], [b[1] for b in bounds])
+    energy, margins = problem._lookup(polished)
+    start_energy, _ = problem._lookup(start)
+    better = (margins >= 0).all() and problem.sign * energy[0] <= problem.sign * start_energy[0]
+    return polished if better else start
+
+
+def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | None = None,
+                       regeneration: str = "clip", minimize_energy: bool = True, maximize_energy: bool = True,
+                       time_step_s: float | None = None, settings: SearchSettings = SearchSettings(),
+                       progress: Callable[[], None] | None = None) -> PlacementResult:
+    """Find the least-energy (and most-energy) feasible placement of a path on a robot.
+
+    Args:
+        robot: The robot (its actuators need drives).
+        path: The tool path.
+        space: Free variables and bounds (default: :func:`default_space`).
+        regeneration: Regeneration mode, see :mod:`placement.energy`.
+        minimize_energy, maximize_energy: Which searches to run.
+        time_step_s: Path sampling step (default: the path file's).
+        settings: Search budget and seed.
+        progress: Called once per generation of the global search (for a progress bar).
+
+    Returns:
+        The optima (None in a direction not asked for), or, when no placement is feasible, the
+        reason with the binding limit.
+    """
+    space = space or default_space(robot)
+    evaluator = Evaluator(robot, path, regeneration, time_step_s)
+    dense = Evaluator(robot, path, regeneration, (time_step_s or path.time_step_s) / RECHECK_DENSITY)
+    found: dict[float, Optimum | None] = {}
+    infeasible = None
+    for sign, wanted in ((1.0, minimize_energy), (-1.0, maximize_energy)):
+        if not wanted:
+            found[sign] = None
+            continue
+        before = evaluator.evaluations
+        x, problem = _search(evaluator, space, sign, settings, progress)
+        if x is None:
+            found[1.0] = found[-1.0] = None  # the feasible set is the same in both directions
+            infeasible = _binding_limit(problem, evaluator)
+            break
+        placement = space.full(x)[0]
+        found[sign] = Optimum(detail=evaluator.detail(placement),
+                              recheck_energy_J=float(dense.evaluate(placement[None]).energy_J[0]),
+                              evaluations=evaluator.evaluations - before)
+    return PlacementResult(best=found[1.0], worst=found[-1.0], space=space, regeneration=regeneration,
+                           infeasible=infeasible)
+
+
+def _binding_limit(problem: _Problem, evaluator: Evaluator) -> str:
+    """Describe the limit that the least infeasible placement found breaks the most."""
+    if problem.least_infeasible is None:
+        return "no placement could be evaluated"
+    _, point, _ = problem.least_infeasible
+    detail = evaluator.detail(problem.space.full(point)[0])
+    if not detail.reachable:
+        return (f"the path leaves the robot's reach at every placement tried ({len(detail.unreachable_samples)} "
+                f"of {len(detail.samples)} samples unreachable at the closest one)")
+    worst = min(detail.margins, key=lambda m: m.margin)
+    value = abs(worst.value) if worst.kind in ("joint speed", "motor torque", "motor speed") else worst.value
+    return (f"{worst.kind} ({worst.where}) is exceeded even at the least infeasible placement found: "
+            f"{value:.4g} {worst.unit} against a limit of {worst.limit:.4g} {worst.unit}")

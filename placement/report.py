@@ -1,0 +1,134 @@
+"""Reports of placement results: readable text, JSON and per-sample CSV traces.
+
+Text shows lengths in mm and angles in degrees; JSON and CSV files keep SI units (m, rad, J, ...)
+and are written atomically (a reader never sees half a file).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import os
+import tempfile
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from placement.evaluation import PlacementDetail
+from placement.frames import ANGLES, VARIABLES
+from placement.optimize import Optimum, PlacementResult
+from placement.robot import Robot
+
+REGENERATION_TEXT = {"clip": "per-axis clipping (braking energy is not recovered)",
+                     "bus": "shared DC bus (axes exchange braking energy)",
+                     "signed": "full regeneration (braking energy is given back)",
+                     "absolute": "absolute (braking costs as much as driving)"}
+
+
+def format_placement(placement: np.ndarray) -> str:
+    """'x = ... mm, ..., psi = ... deg' for a placement vector (m, rad)."""
+    return ", ".join(f"{name} = {np.degrees(value):.2f} deg" if name in ANGLES else f"{name} = {value * 1e3:.2f} mm"
+                     for name, value in zip(VARIABLES, placement))
+
+
+def format_detail(title: str, robot: Robot, detail: PlacementDetail, recheck_energy_J: float | None = None) -> str:
+    """Text block for one placement: where, energy per actuator and its parts, tightest limits."""
+    lines = [title, f"  {format_placement(detail.placement)}"]
+    if not detail.reachable:
+        first = detail.unreachable_samples[0]
+        lines.append(f"  unreachable: {len(detail.unreachable_samples)} of {len(detail.samples)} samples have no "
+                     f"configuration (first at t = {detail.samples.t_s[first]:.4f} s)")
+        return "\n".join(lines)
+    energy = detail.energy
+    text = f"  energy {energy.total_J:.4f} J"
+    if recheck_energy_J is not None:
+        change = (recheck_energy_J - energy.total_J) / energy.total_J * 100
+        text += f" (4x denser sampling: {recheck_energy_J:.4f} J, {change:+.3f} %)"
+    lines += [text + ("" if detail.feasible else "  INFEASIBLE: a limit is exceeded"),
+              f"    {'actuator':<14s}{'energy J':>10s}{'Joule J':>10s}{'induct. J':>11s}{'back-EMF J':>12s}"
+              f"{'shaft J':>10s}"]
+    for i, actuator in enumerate(robot.actuators):
+        lines.append(f"    {actuator.joint:<14s}{energy.per_actuator_J[i]:>10.4f}{energy.joule_J[i]:>10.4f}"
+                     f"{energy.inductive_J[i]:>11.4f}{energy.back_emf_J[i]:>12.4f}{energy.mechanical_J[i]:>10.4f}")
+    lines.append("  tightest limits (margin: share of the range, speed or torque still free):")
+    for margin in sorted(detail.margins, key=lambda m: m.margin):
+        lines.append(f"    {margin.kind:<18s} {margin.where:<10s} margin {margin.margin * 100:6.1f} %  "
+                     f"({margin.value:.4g} {margin.unit} against {margin.limit:.4g} {margin.unit}, "
+                     f"t = {detail.samples.t_s[margin.sample]:.4f} s)")
+    return "\n".join(lines)
+
+
+def format_result(robot: Robot, result: PlacementResult) -> str:
+    """Text report of a search: best and worst placements and the gain."""
+    blocks = []
+    if result.infeasible:
+        blocks.append(f"no feasible placement: {result.infeasible}")
+    for title, optimum in (("best placement (least energy)", result.best), ("worst placement (most energy)", result.worst)):
+        if optimum is not None:
+            blocks.append(format_detail(title, robot, optimum.detail, optimum.recheck_energy_J))
+    if result.gain is not None:
+        blocks.append(f"gain: placing the path at the best instead of the worst placement saves "
+                      f"{result.gain * 100:.1f} % of the energy "
+                      f"({result.worst.detail.energy.total_J - result.best.detail.energy.total_J:.4f} J per pass)")
+    return "\n\n".join(blocks)
+
+
+def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None = None) -> dict[str, Any]:
+    """JSON-ready dictionary of one placement (SI units)."""
+    names = [a.joint for a in robot.actuators]
+    out: dict[str, Any] = {
+        "placement": {name: float(value) for name, value in zip(VARIABLES, detail.placement)},
+        "feasible": detail.feasible,
+        "reachable": detail.reachable,
+        "energy_J": float(detail.energy.total_J) if detail.reachable else None,
+        "energy_per_actuator_J": dict(zip(names, map(float, detail.energy.per_actuator_J))) if detail.reachable else None,
+        "energy_parts_J": {part: dict(zip(names, map(float, getattr(detail.energy, f"{part}_J"))))
+                           for part in ("joule", "inductive", "back_emf", "mechanical")} if detail.reachable else None,
+        "margins": [{"kind": m.kind, "where": m.where, "margin": m.margin, "value": m.value, "limit": m.limit, "unit": m.unit,
+                     "t_s": float(detail.samples.t_s[m.sample])} for m in detail.margins] if detail.reachable else [],
+    }
+    if optimum is not None:
+        out["recheck_energy_J"] = optimum.recheck_energy_J
+        out["evaluations"] = optimum.evaluations
+    return out
+
+
+def write_atomically(path: str | Path, text: str) -> None:
+    """Write ``text`` to ``path`` through a temporary file in the same folder and a rename."""
+    path = Path(path)
+    handle, temporary = tempfile.mkstemp(dir=path.parent if str(path.parent) else ".", prefix=f".{path.name}.")
+    try:
+        with os.fdopen(handle, "w", newline="") as stream:
+            stream.write(text)
+        os.replace(temporary, path)
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise
+
+
+def write_json(path: str | Path, document: dict[str, Any]) -> None:
+    """Write a JSON document atomically."""
+    write_atomically(path, json.dumps(document, indent=2) + "\n")
+
+
+def write_trace(path: str | Path, robot: Robot, detail: PlacementDetail) -> None:
+    """Write the per-sample CSV trace of one placement (SI units), atomically.
+
+    Columns: t, x, y, z (tool point in the base frame), then for each actuator i = 1..n:
+    q_i, qd_i, qdd_i, force_i (N or N·m at the joint), motor_speed_i (rad/s), motor_torque_i (N·m),
+    current_i (A), power_i (W, electric).
+    """
+    n = len(robot.actuators)
+    columns = ["t", "x", "y", "z"] + [f"{name}_{i}" for i in range(1, n + 1) for name in
+                                       ("q", "qd", "qdd", "force", "motor_speed", "motor_torque", "current", "power")]
+    per_actuator = [detail.position, detail.velocity, detail.acceleration, detail.effort, detail.motor.speed_rad_s,
+                    detail.motor.torque_Nm, detail.motor.current_A, detail.power_W]
+    table = np.column_stack([detail.samples.t_s, detail.tool_position_m]
+                            + [values[:, i] for i in range(n) for values in per_actuator])
+    buffer = io.StringIO()
+    writer = csv.writer(buffer)
+    writer.writerow(columns)
+    writer.writerows(np.vectorize(lambda v: f"{v:.9g}")(table).tolist())
+    write_atomically(path, buffer.getvalue())

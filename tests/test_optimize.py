@@ -1,0 +1,69 @@
+"""The optimiser finds the true optimum: checked against a dense grid sweep of the exact model."""
+
+import numpy as np
+import pytest
+
+from placement.evaluation import Evaluator
+from placement.optimize import SearchSettings, default_space, optimize_placement
+from placement.path import load_path
+from test_path import EXAMPLE
+
+GRID = 41
+ROUND_OFF = 1e-9  # "never worse than the grid" up to round-off: optima sit on limits the grid can hit exactly
+
+
+@pytest.fixture(scope="module")
+def case():
+    """30 x 60 mm rectangle at z = 0, phi = 0; x and y free; a coarse time step keeps it quick."""
+    from placement.robot import load_robot
+
+    robot = load_robot("orthoglide")
+    path = load_path(EXAMPLE)
+    space = default_space(robot, free=("x", "y"))
+    step = 0.002
+    xs, ys = (np.linspace(lo, hi, GRID) for lo, hi in zip(space.lower, space.upper))
+    grid = np.stack(np.meshgrid(xs, ys, indexing="ij"), axis=-1).reshape(-1, 2)
+    evaluation = Evaluator(robot, path, time_step_s=step).evaluate(space.full(grid))
+    feasible = evaluation.energy_J[evaluation.feasible]
+    result = optimize_placement(robot, path, space=space, time_step_s=step, settings=SearchSettings(seed=3))
+    return robot, path, space, step, feasible, result
+
+
+def test_minimum_is_at_least_as_good_as_the_grid_and_close_to_it(case):
+    *_, feasible, result = case
+    best = result.best.detail.energy.total_J
+    assert best <= feasible.min() * (1 + ROUND_OFF)
+    assert best >= feasible.min() * (1 - 0.005)
+    assert result.best.detail.feasible
+
+
+def test_maximum_is_at_least_as_bad_as_the_grid_and_close_to_it(case):
+    *_, feasible, result = case
+    worst = result.worst.detail.energy.total_J
+    assert worst >= feasible.max() * (1 - ROUND_OFF)
+    assert worst <= feasible.max() * (1 + 0.005)
+    assert result.gain == pytest.approx(1 - result.best.detail.energy.total_J / worst)
+
+
+def test_fixed_variables_stay_fixed_and_the_recheck_agrees(case):
+    *_, result = case
+    for optimum in (result.best, result.worst):
+        assert optimum.detail.placement[2:].tolist() == [0.0, 0.0, 0.0, 0.0]
+        assert optimum.sampling_gap < 0.01
+
+
+def test_same_seed_same_result(case):
+    robot, path, space, step, _, result = case
+    again = optimize_placement(robot, path, space=space, time_step_s=step, settings=SearchSettings(seed=3),
+                               maximize_energy=False)
+    np.testing.assert_array_equal(again.best.detail.placement, result.best.detail.placement)
+    assert again.worst is None and again.gain is None
+
+
+def test_a_path_too_large_for_the_workspace_is_reported_with_the_binding_limit(tmp_path, case):
+    robot = case[0]
+    file = tmp_path / "big.yaml"
+    file.write_text("units: mm\nshape: {type: rectangle, width: 150, length: 300}\nfeed_m_s: 0.66\ntime_step_s: 0.004\n")
+    result = optimize_placement(robot, load_path(file))
+    assert result.best is None and result.worst is None
+    assert "workspace" in result.infeasible and "m against a limit" in result.infeasible
