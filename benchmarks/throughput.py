@@ -15,13 +15,16 @@ for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
 
 import argparse  # noqa: E402
 import time  # noqa: E402
+from pathlib import Path  # noqa: E402
 from typing import Callable  # noqa: E402
 
 import numpy as np  # noqa: E402
 
 from placement import dynamics  # noqa: E402
 from placement.dynamics import inverse_dynamics  # noqa: E402
+from placement.evaluation import Evaluator  # noqa: E402
 from placement.kinematics import TaskTrajectory, joint_trajectory  # noqa: E402
+from placement.path import load_path  # noqa: E402
 from placement.robot import load_robot  # noqa: E402
 
 closed_form = load_robot("orthoglide").plugin
@@ -86,6 +89,12 @@ def main() -> None:
     for label, function, samples in lines:
         print(f"  {label:<62s} {rate(function, samples, args.seconds):>12,.0f} samples/s")
     print(f"  lumped - exact force gap on this path: {gap:.2f} N (exact peak {np.abs(exact.effort).max():.1f} N)")
+    evaluator = Evaluator(robot, load_path(Path(__file__).parents[1] / "examples" / "rect.yaml"))
+    placements = np.random.default_rng(0).uniform([-0.1, -0.1, -0.1, -1.5, 0, 0], [0.05, 0.05, 0.05, 1.5, 0, 0],
+                                                   (200, 6))
+    per_second = rate(lambda: evaluator.evaluate(placements), len(placements), args.seconds)
+    print(f"  whole chain (energy and margins), 30 x 60 mm rectangle, {len(evaluator.samples)} samples: "
+          f"{per_second:,.0f} placements/s ({per_second * len(evaluator.samples):,.0f} samples/s)")
 
 
 if __name__ == "__main__":
