@@ -173,9 +173,9 @@ def run_placement(args: argparse.Namespace) -> int:
     document: dict = {"robot": robot.name, "path": path.name, "regeneration": args.regen,
                       "timing": path.timing.mode, "samples": len(samples)}
     if args.at is not None:
-        space = default_space(robot, fixed=parse_values(args.at, "--at"))
+        given = parse_values(args.at, "--at")
         evaluator = Evaluator(robot, path, args.regen, args.time_step)
-        detail = evaluator.detail(space.fixed)
+        detail = evaluator.detail(np.array([given.get(name, 0.0) for name in VARIABLES]))
         print("\n" + format_detail("placement given by --at", robot, detail))
         document["at"] = detail_json(robot, detail)
         traced = detail

@@ -139,3 +139,19 @@ def test_path_too_large_is_answered_with_the_binding_limit(tmp_path, capsys):
                               "time_step_s: 0.004\n")
     err = run_bad(["--robot", "orthoglide", "--path", str(path), "--quiet"], capsys)
     assert "no feasible placement" in err and "workspace" in err
+
+
+def test_json_is_written_atomically(tmp_path, monkeypatch):
+    from placement import report
+
+    target = tmp_path / "result.json"
+    report.write_json(target, {"energy_J": 1.0})
+
+    def fail(*args, **kwargs):
+        raise OSError("disk full")
+
+    monkeypatch.setattr(report.os, "replace", fail)
+    with pytest.raises(OSError):
+        report.write_json(target, {"energy_J": 2.0})
+    assert target.read_text() == '{\n  "energy_J": 1.0\n}\n'  # the old file is whole
+    assert [p.name for p in tmp_path.iterdir()] == ["result.json"]  # no temporary file left
