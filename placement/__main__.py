@@ -2,6 +2,8 @@
 
     placement --robot orthoglide --path examples/rect.yaml    best and worst placements, gain
     placement --robot orthoglide --path rect.yaml --at x=0,y=0,z=0,phi=0    one placement
+    placement --robot orthoglide --path a.yaml b.yaml --html scene.html    3-D scene in one page
+    placement map --robot orthoglide --path rect.yaml --grid x=-120:60:41,y=-120:60:41 --out map.npz
     placement robots                                           list the built-in robots
     placement check ROBOT                                      describe a robot, prove its model exact
 
@@ -21,16 +23,19 @@ from tqdm import tqdm
 from placement.checks import check_robot
 from placement.evaluation import Evaluator
 from placement.exceptions import PlacementError
-from placement.frames import ANGLES, VARIABLES
+from placement.frames import ANGLES, VARIABLES, transform_path_to_base
+from placement.kinematics import joint_trajectory
 from placement.optimize import SearchSettings, default_space, optimize_placement
 from placement.path import Timing, ToolPath, load_path
-from placement.report import (REGENERATION_TEXT, detail_json, format_detail, format_result, write_json,
-                              write_trace)
+from placement.report import (REGENERATION_TEXT, detail_json, format_detail, format_result, write_atomically,
+                              write_json, write_trace)
+from placement.sweep import sweep
+from placement.visualize import AT_COLOR, BEST_COLOR, WORST_COLOR, Scene
 from placement.energy import REGENERATION_MODES
 from placement.robot import Robot, builtin_robots, load_robot
 from placement.sidecar import BallScrew
 
-SUBCOMMANDS = ("robots", "check")
+SUBCOMMANDS = ("robots", "check", "map")
 
 
 class UsageError(PlacementError):
@@ -45,7 +50,7 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="Other commands: 'placement robots' lists the built-in robots; 'placement check ROBOT' describes "
                "a robot and proves its dynamic model exact.")
     parser.add_argument("--robot", required=True, help="built-in robot name or path to a robot sidecar YAML")
-    parser.add_argument("--path", required=True, help="path file (YAML), e.g. examples/rect.yaml")
+    parser.add_argument("--path", required=True, nargs="+", help="path file(s) (YAML), e.g. examples/rect.yaml")
     direction = parser.add_mutually_exclusive_group()
     direction.add_argument("--minimize", action="store_true", help="only search the least-energy placement")
     direction.add_argument("--maximize", action="store_true", help="only search the most-energy placement")
@@ -64,6 +69,9 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--json", metavar="FILE", help="write the results as JSON (SI units)")
     parser.add_argument("--trace", metavar="FILE",
                         help="write a per-sample CSV trace of the placement given by --at, else of the best one")
+    parser.add_argument("--html", metavar="FILE", help="write a 3-D scene (robot, workspace, best and worst paths, "
+                        "robot animated along the first path) as a self-contained HTML page")
+    parser.add_argument("--show", action="store_true", help="serve the 3-D scene live on this machine and print its URL")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     return parser
 
@@ -76,6 +84,22 @@ def build_command_parser() -> argparse.ArgumentParser:
     check = commands.add_parser("check", help="describe a robot and prove its dynamic model exact")
     check.add_argument("robot", help="built-in robot name or path to a sidecar YAML file")
     check.add_argument("--samples", type=int, default=100, help="samples of the check trajectory (default 100)")
+    energy_map = commands.add_parser("map", help="energy map over a grid of placements (saved as .npz)")
+    energy_map.add_argument("--robot", required=True, help="built-in robot name or sidecar YAML")
+    energy_map.add_argument("--path", required=True, help="path file (YAML)")
+    energy_map.add_argument("--grid", required=True, metavar="x=-120:60:41,y=-120:60:41",
+                            help="swept variables: name=start:stop:count, in mm and degrees")
+    energy_map.add_argument("--fix", metavar="z=0,phi=0", help="values of the other variables (mm, deg; default 0)")
+    energy_map.add_argument("--regen", choices=REGENERATION_MODES, default="clip", help="regeneration mode")
+    energy_map.add_argument("--timing", choices=("paper", "realistic"), help="override the path file's timing law")
+    energy_map.add_argument("--max-acceleration", type=float, metavar="M_S2", help="realistic timing: bound (m/s^2)")
+    energy_map.add_argument("--max-jerk", type=float, metavar="M_S3", help="realistic timing: bound (m/s^3)")
+    energy_map.add_argument("--time-step", type=float, metavar="S", help="path sampling step (s)")
+    energy_map.add_argument("--workers", type=int, help="worker processes (default: every core)")
+    energy_map.add_argument("--out", required=True, help="the map file to write (.npz; reload with SweepResult.load)")
+    energy_map.add_argument("--png", help="also draw the map (two variables) as PNG and SVG")
+    energy_map.add_argument("--html", help="also draw the feasible placements as coloured points in a 3-D scene")
+    energy_map.add_argument("--quiet", action="store_true", help="no progress bar")
     return parser
 
 
@@ -144,9 +168,9 @@ def parse_values(text: str, option: str) -> dict[str, float]:
     return values
 
 
-def configured_path(args: argparse.Namespace) -> ToolPath:
-    """The path file with the command line's timing overrides."""
-    path = load_path(args.path)
+def configured_path(args: argparse.Namespace, file: str) -> ToolPath:
+    """A path file with the command line's timing overrides."""
+    path = load_path(file)
     if args.timing or args.max_acceleration or args.max_jerk:
         timing = path.timing
         try:
@@ -162,10 +186,13 @@ def configured_path(args: argparse.Namespace) -> ToolPath:
     return path
 
 
-def run_placement(args: argparse.Namespace) -> int:
-    """The main job; returns the exit code."""
-    robot = load_robot(args.robot)
-    path = configured_path(args)
+def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace) -> tuple[dict, dict, str | None]:
+    """Search (or evaluate --at) one path and print its report.
+
+    Returns:
+        The JSON document, the details to draw ({"best"|"worst"|"at": PlacementDetail}), and the
+        reason when no placement is feasible.
+    """
     samples = path.sample(args.time_step)
     print(f"{path.name} on {robot.name}: {len(path.segments)} segment(s), {path.length_m * 1e3:.1f} mm, "
           f"feed {path.feed_m_s:g} m/s, {path.timing.mode} timing, {len(samples)} samples over "
@@ -174,38 +201,139 @@ def run_placement(args: argparse.Namespace) -> int:
                       "timing": path.timing.mode, "samples": len(samples)}
     if args.at is not None:
         given = parse_values(args.at, "--at")
-        evaluator = Evaluator(robot, path, args.regen, args.time_step)
-        detail = evaluator.detail(np.array([given.get(name, 0.0) for name in VARIABLES]))
+        detail = Evaluator(robot, path, args.regen, args.time_step).detail(
+            np.array([given.get(name, 0.0) for name in VARIABLES]))
         print("\n" + format_detail("placement given by --at", robot, detail))
         document["at"] = detail_json(robot, detail)
-        traced = detail
-    else:
-        free = tuple(n.strip() for n in args.free.split(",")) if args.free else None
-        space = default_space(robot, free=free, fixed=parse_values(args.fix or "", "--fix"))
-        print(f"search: {', '.join(space.free)} free; seed {args.seed}")
-        settings = SearchSettings(seed=args.seed)
-        directions = 1 if args.minimize or args.maximize else 2
-        with tqdm(desc="searching", total=directions * settings.max_generations, unit=" generation",
-                  disable=args.quiet, file=sys.stderr, leave=False) as bar:
-            result = optimize_placement(robot, path, space=space, regeneration=args.regen,
-                                        minimize_energy=not args.maximize, maximize_energy=not args.minimize,
-                                        time_step_s=args.time_step, settings=settings, progress=bar.update)
-        print("\n" + format_result(robot, result))
-        for key, optimum in (("best", result.best), ("worst", result.worst)):
-            if optimum is not None:
-                document[key] = detail_json(robot, optimum.detail, optimum)
-        if result.gain is not None:
-            document["gain"] = result.gain
-        if result.infeasible:
-            document["infeasible"] = result.infeasible
-        traced = (result.best or result.worst).detail if (result.best or result.worst) else None
-    if args.json:
-        write_json(args.json, document)
-    if args.trace and traced is not None:
-        write_trace(args.trace, robot, traced)
-    if args.at is None and result.infeasible:
-        print(f"error: no feasible placement: {result.infeasible}", file=sys.stderr)
-        return 2
+        return document, {"at": detail}, None
+    free = tuple(n.strip() for n in args.free.split(",")) if args.free else None
+    space = default_space(robot, free=free, fixed=parse_values(args.fix or "", "--fix"))
+    print(f"search: {', '.join(space.free)} free; seed {args.seed}")
+    settings = SearchSettings(seed=args.seed)
+    directions = 1 if args.minimize or args.maximize else 2
+    with tqdm(desc="searching", total=directions * settings.max_generations, unit=" generation",
+              disable=args.quiet, file=sys.stderr, leave=False) as bar:
+        result = optimize_placement(robot, path, space=space, regeneration=args.regen,
+                                    minimize_energy=not args.maximize, maximize_energy=not args.minimize,
+                                    time_step_s=args.time_step, settings=settings, progress=bar.update)
+    print("\n" + format_result(robot, result))
+    details = {}
+    for key, optimum in (("best", result.best), ("worst", result.worst)):
+        if optimum is not None:
+            document[key] = detail_json(robot, optimum.detail, optimum)
+            details[key] = optimum.detail
+    if result.gain is not None:
+        document["gain"] = result.gain
+    if result.infeasible:
+        document["infeasible"] = result.infeasible
+    return document, details, result.infeasible
+
+
+def draw(scene: Scene, robot: Robot, index: int, details: dict) -> None:
+    """Add one path's placements to the scene; animate the robot along the first path's."""
+    colors = {"best": (BEST_COLOR, "least energy"), "worst": (WORST_COLOR, "most energy"), "at": (AT_COLOR, "--at")}
+    for key, detail in details.items():
+        scene.add_path(f"{index}_{key}", detail.tool_position_m, *colors[key])
+    moving = details.get("at") or details.get("best") or details.get("worst")
+    if index == 0 and moving is not None and moving.reachable:
+        task, _ = transform_path_to_base(moving.samples, moving.placement[None])
+        scene.animate(joint_trajectory(robot, task).q, moving.samples.t_s)
+
+
+def run_placement(args: argparse.Namespace) -> int:
+    """The main job; returns the exit code."""
+    robot = load_robot(args.robot)
+    if args.trace and len(args.path) > 1:
+        raise UsageError("--trace: give a single --path")
+    scene = Scene(robot, live=args.show) if args.html or args.show else None
+    if scene:
+        scene.add_workspace()
+    documents, failures = [], []
+    try:
+        for index, file in enumerate(args.path):
+            if index:
+                print()
+            document, details, infeasible = place_one(robot, configured_path(args, file), args)
+            documents.append(document)
+            if infeasible:
+                failures.append(f"{file}: {infeasible}")
+            if scene:
+                draw(scene, robot, index, details)
+            if args.trace and details:
+                write_trace(args.trace, robot, details.get("at") or details.get("best") or details.get("worst"))
+        if args.json:
+            write_json(args.json, documents[0] if len(documents) == 1 else {"robot": robot.name, "paths": documents})
+        if args.html:
+            title = documents[0]["path"] if len(documents) == 1 else f"{len(documents)} paths"
+            write_atomically(args.html, scene.html(f"{robot.name}: {title}"))
+            print(f"\nscene written to {args.html} (open it in a browser; no server needed)")
+        if args.show:
+            print(f"\nviewer at {scene.url()} (press Enter to stop)")
+            try:
+                input()
+            except EOFError:
+                pass
+    finally:
+        if scene:
+            scene.close()
+    for failure in failures:
+        print(f"error: no feasible placement: {failure}", file=sys.stderr)
+    return 2 if failures else 0
+
+
+def parse_grid(text: str) -> dict[str, np.ndarray]:
+    """'x=-120:60:41,phi=-90:90:37' -> {name: values (SI)}; mm and degrees."""
+    axes = {}
+    for item in filter(None, (part.strip() for part in text.split(","))):
+        name, _, spec = item.partition("=")
+        parts = spec.split(":")
+        if name not in VARIABLES or len(parts) != 3:
+            raise UsageError(f"--grid: expected name=start:stop:count (mm or deg), got '{item}'")
+        try:
+            start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
+        except ValueError:
+            raise UsageError(f"--grid: '{spec}' is not start:stop:count") from None
+        if count < 2:
+            raise UsageError(f"--grid: {name} needs at least 2 points")
+        scale = np.pi / 180 if name in ANGLES else 1e-3
+        axes[name] = np.linspace(start, stop, count) * scale
+    if not axes:
+        raise UsageError("--grid: give at least one variable")
+    return axes
+
+
+def run_map(args: argparse.Namespace) -> int:
+    """The 'map' command: an energy map over a grid of placements."""
+    robot = load_robot(args.robot)
+    path = configured_path(args, args.path)
+    axes = parse_grid(args.grid)
+    fixed = parse_values(args.fix or "", "--fix")
+    total = int(np.prod([len(v) for v in axes.values()]))
+    with tqdm(desc="mapping", total=total, unit=" placement", disable=args.quiet, file=sys.stderr, leave=False) as bar:
+        result = sweep(robot, path, axes, fixed, regeneration=args.regen, time_step_s=args.time_step,
+                       workers=args.workers, progress=bar.update)
+    result.save(args.out)
+    feasible = result.energy_J[result.feasible]
+    print(f"{total} placements of {path.name} on {robot.name}: {len(feasible)} feasible"
+          + (f", energy {feasible.min():.4f} to {feasible.max():.4f} J" if len(feasible) else "")
+          + f"; written to {args.out}")
+    if args.png:
+        if len(axes) != 2:
+            raise UsageError("--png draws maps over exactly two variables")
+        from placement.plots import map_figure, save
+
+        save(map_figure(result, f"{path.name}: energy ({args.regen})"), str(args.png).removesuffix(".png"))
+        print(f"figure written to {args.png} (and .svg)")
+    if args.html:
+        scene = Scene(robot)
+        scene.add_workspace()
+        placements = np.tile(result.fixed, (result.energy_J.size, 1))
+        for name, grid in zip(result.variables, np.meshgrid(*result.axes, indexing="ij")):
+            placements[:, VARIABLES.index(name)] = grid.ravel()
+        keep = result.feasible.ravel()
+        scene.add_energy_points(placements[keep, :3], result.energy_J.ravel()[keep])
+        write_atomically(args.html, scene.html(f"{robot.name}: energy map of {path.name}"))
+        print(f"scene written to {args.html}")
     return 0
 
 
@@ -219,6 +347,8 @@ def main(argv: list[str] | None = None) -> int:
                 for name in builtin_robots():
                     print(f"{name:<14s} {load_robot(name).sidecar.description}")
                 return 0
+            if args.command == "map":
+                return run_map(args)
             return run_check(args.robot, args.samples)
         return run_placement(build_parser().parse_args(argv))
     except PlacementError as error:

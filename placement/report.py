@@ -99,9 +99,12 @@ def write_atomically(path: str | Path, text: str) -> None:
     """Write ``text`` to ``path`` through a temporary file in the same folder and a rename."""
     path = Path(path)
     handle, temporary = tempfile.mkstemp(dir=path.parent if str(path.parent) else ".", prefix=f".{path.name}.")
+    umask = os.umask(0)
+    os.umask(umask)
     try:
         with os.fdopen(handle, "w", newline="") as stream:
             stream.write(text)
+        os.chmod(temporary, 0o666 & ~umask)  # as a plain open() would create it
         os.replace(temporary, path)
     except BaseException:
         Path(temporary).unlink(missing_ok=True)

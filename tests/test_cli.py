@@ -155,3 +155,26 @@ def test_json_is_written_atomically(tmp_path, monkeypatch):
         report.write_json(target, {"energy_J": 2.0})
     assert target.read_text() == '{\n  "energy_J": 1.0\n}\n'  # the old file is whole
     assert [p.name for p in tmp_path.iterdir()] == ["result.json"]  # no temporary file left
+
+
+def test_map_command_writes_the_map_figure_and_scene(tmp_path, capsys):
+    out = tmp_path / "map.npz"
+    assert main(["map", "--robot", "orthoglide", "--path", str(EXAMPLE), "--grid", "x=-110:50:5,y=-90:30:4",
+                 "--fix", "z=0,phi=0", "--time-step", "0.004", "--workers", "1", "--quiet", "--out", str(out),
+                 "--png", str(tmp_path / "map.png"), "--html", str(tmp_path / "map.html")]) == 0
+    from placement.sweep import SweepResult
+
+    result = SweepResult.load(out)
+    assert result.energy_J.shape == (5, 4) and result.axes[0][0] == pytest.approx(-0.110)
+    assert (tmp_path / "map.png").is_file() and (tmp_path / "map.svg").is_file()
+    assert "energy map" in (tmp_path / "map.html").read_text()
+    assert "20 placements" in capsys.readouterr().out
+    assert main(["map", "--robot", "orthoglide", "--path", str(EXAMPLE), "--grid", "x=1:2", "--out", str(out)]) == 2
+
+
+def test_html_scene_of_two_paths(tmp_path, capsys):
+    page = tmp_path / "scene.html"
+    assert main(QUICK[:3] + [str(EXAMPLE), str(EXAMPLE)] + QUICK[4:] + ["--minimize", "--html", str(page)]) == 0
+    text = page.read_text()
+    assert "MeshCat.Viewer" in text and "least energy" in text and "2 paths" in text
+    assert page.stat().st_mode & 0o044  # readable by others, like any file the user writes

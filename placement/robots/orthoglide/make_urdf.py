@@ -40,7 +40,8 @@ SLIDER_FORCE_MAX_N = 1.274 * 2 * math.pi / 0.020
 LEG_RPY = {"x": (0.0, 0.0, 0.0), "y": (math.pi / 2, 0.0, math.pi / 2), "z": (-math.pi / 2, -math.pi / 2, 0.0)}
 
 COLORS = {"rail": "0.6 0.6 0.6 1", "slider": "0.2 0.4 0.8 1", "bar": "0.85 0.55 0.1 1",
-          "link": "0.3 0.3 0.3 1", "platform": "0.8 0.1 0.1 1"}
+          "link": "0.3 0.3 0.3 1", "platform": "0.3 0.3 0.4 1", "tool": "0.75 0.75 0.75 1"}
+TOOL_LENGTH_M = 0.05  # drawn only: the spindle's tool, whose tip is the platform point
 
 
 def box_inertia(mass_kg: float, sx: float, sy: float, sz: float) -> tuple[float, float, float]:
@@ -70,6 +71,11 @@ def link(name: str, mass: float = 0.0, com=(0.0, 0.0, 0.0), moments=(0.0, 0.0, 0
 def visual_box(size, xyz=(0.0, 0.0, 0.0), color: str = "link") -> str:
     return (f'    <visual><origin xyz="{fmt(*xyz)}"/><geometry><box size="{fmt(*size)}"/></geometry>'
             f'<material name="{color}"><color rgba="{COLORS[color]}"/></material></visual>\n')
+
+
+def visual_rod_z(length: float, radius: float, color: str, z: float) -> str:
+    return (f'    <visual><origin xyz="{fmt(0, 0, z)}"/><geometry><cylinder length="{fmt(length)}" radius="{fmt(radius)}"/>'
+            f'</geometry><material name="{color}"><color rgba="{COLORS[color]}"/></material></visual>\n')
 
 
 def visual_rod_x(length: float, radius: float, color: str) -> str:
@@ -119,8 +125,10 @@ def leg(axis: str) -> str:
     text += joint(f"far_{axis}_pivot2", "fixed", f"far_{axis}", f"far_{axis}_pivot2", xyz=(0, -w, 0))
     if axis == "x":
         p = PLATFORM_BOX_M
-        text += link("platform", PLATFORM_MASS_KG, moments=box_inertia(PLATFORM_MASS_KG, p, p, p),
-                     visual=visual_box((p, p, p), color="platform"))
+        # Drawn above the tool tip so that the path under the tool stays visible.
+        drawing = (visual_box((p, p, p / 2), xyz=(0, 0, TOOL_LENGTH_M + p / 4), color="platform")
+                   + visual_rod_z(TOOL_LENGTH_M, 0.005, "tool", TOOL_LENGTH_M / 2))
+        text += link("platform", PLATFORM_MASS_KG, moments=box_inertia(PLATFORM_MASS_KG, p, p, p), visual=drawing)
     else:
         text += link(end)
     text += joint(f"wrist_{axis}", "revolute", f"far_{axis}", end, xyz=(0, -w / 2, 0), axis=(0, 1, 0),

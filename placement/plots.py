@@ -1,0 +1,70 @@
+"""Figures of energy maps and placements (matplotlib): lengths in mm, angles in degrees.
+
+Infeasible placements are masked: drawn in grey with hatching, never coloured as if they had an
+energy.
+"""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")  # files only; no display needed
+
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.axes import Axes  # noqa: E402
+from matplotlib.figure import Figure  # noqa: E402
+
+from placement.frames import ANGLES  # noqa: E402
+from placement.sweep import SweepResult  # noqa: E402
+
+LABELS = {"x": "$x_{Op}$ (mm)", "y": "$y_{Op}$ (mm)", "z": "$z_{Op}$ (mm)", "phi": r"$\phi$ (deg)",
+          "theta": r"$\theta$ (deg)", "psi": r"$\psi$ (deg)"}
+
+
+def display_values(name: str, values: np.ndarray) -> np.ndarray:
+    """SI values of a placement variable in display units (mm or degrees)."""
+    return np.degrees(values) if name in ANGLES else np.asarray(values) * 1e3
+
+
+def draw_map(ax: Axes, result: SweepResult, levels: int | np.ndarray = 12, title: str = "",
+             color_range: tuple[float, float] | None = None):
+    """Iso-contours of a two-variable map on ``ax``; returns the filled contour set (for a colour bar)."""
+    if len(result.variables) != 2:
+        raise ValueError("draw_map needs a map over two variables")
+    (u_name, v_name), (u, v) = result.variables, result.axes
+    uu, vv = np.meshgrid(display_values(u_name, u), display_values(v_name, v), indexing="ij")
+    energy = result.masked_energy()
+    ax.set_facecolor("0.85")
+    if (~result.feasible).any():
+        ax.contourf(uu, vv, (~result.feasible).astype(float), levels=[0.5, 1.5], colors="none", hatches=["///"])
+    filled = None
+    if result.feasible.any():
+        vmin, vmax = color_range or (energy.min(), energy.max())
+        filled = ax.contourf(uu, vv, energy, levels=np.linspace(vmin, vmax, levels) if np.isscalar(levels) else levels,
+                             cmap="viridis", vmin=vmin, vmax=vmax, extend="both")
+        lines = ax.contour(uu, vv, energy, levels=filled.levels[::2], colors="k", linewidths=0.5)
+        ax.clabel(lines, fmt="%.1f", fontsize=7)
+    ax.set_xlabel(LABELS[u_name])
+    ax.set_ylabel(LABELS[v_name])
+    ax.set_title(title, fontsize=10)
+    return filled
+
+
+def map_figure(result: SweepResult, title: str) -> Figure:
+    """A one-panel figure of a two-variable map with its colour bar."""
+    figure, ax = plt.subplots(figsize=(6.2, 5.0), constrained_layout=True)
+    filled = draw_map(ax, result, title=title)
+    if filled is not None:
+        figure.colorbar(filled, ax=ax, label="electric energy (J)")
+    figure.text(0.01, 0.005, "hatched: infeasible placements", fontsize=7, color="0.3", va="bottom")
+    return figure
+
+
+def save(figure: Figure, stem: str | object) -> list[str]:
+    """Write ``stem``.png and ``stem``.svg; returns the file names."""
+    names = [f"{stem}.png", f"{stem}.svg"]
+    figure.savefig(names[0], dpi=130)
+    figure.savefig(names[1])
+    plt.close(figure)
+    return names

@@ -1,0 +1,210 @@
+"""3-D scenes in the browser (meshcat): the robot, its workspace, placed paths and energy maps.
+
+A :class:`Scene` draws the robot from its URDF visuals (Pinocchio's meshcat visualiser), the
+workspace box as a wireframe with its named points, placed paths as coloured lines, an energy map
+as coloured points, and animates the robot along a path. It either records the scene and writes a
+self-contained HTML page that opens in a browser with no server and no network, or serves it live
+from a meshcat server on this machine (loopback only).
+"""
+
+from __future__ import annotations
+
+import base64
+import os
+from pathlib import Path
+
+import matplotlib
+import meshcat
+import meshcat.geometry as g
+import numpy as np
+import pinocchio as pin
+import umsgpack
+from meshcat.animation import Animation
+from meshcat.servers.tree import SceneTree, find_node, walk
+from pinocchio.visualize import MeshcatVisualizer
+
+from placement.robot import Robot
+
+VIEWER_SCRIPT = Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js"
+POINT_COLORS = {"O_b": 0x1F77B4, "C": 0x2CA02C, "Q_plus": 0xD62728, "Q_minus": 0xFF7F0E}
+BEST_COLOR, WORST_COLOR, AT_COLOR, CUBE_COLOR = 0x00B050, 0xE00000, 0x0070FF, 0x303030
+ANIMATION_FPS = 30
+
+
+class _RecordingWindow:
+    """Stands in for meshcat's server: keeps the scene tree so it can be written as a page."""
+
+    def __init__(self) -> None:
+        self.tree = SceneTree()
+
+    def send(self, command) -> None:
+        data = command.lower()
+        node = find_node(self.tree, [p for p in data["path"].split("/") if p])
+        packed = umsgpack.packb(data)
+        if data["type"] == "set_object":
+            node.object, node.properties = packed, []
+        elif data["type"] == "set_transform":
+            node.transform = packed
+        elif data["type"] == "set_property":
+            node.properties.append(packed)
+        elif data["type"] == "set_animation":
+            node.animation = packed
+        elif data["type"] == "delete":
+            parts = [p for p in data["path"].split("/") if p]
+            parent = find_node(self.tree, parts[:-1])
+            parent.pop(parts[-1], None)
+
+    def commands(self) -> list[bytes]:
+        packed = []
+        for node in walk(self.tree):
+            packed += ([node.object] if node.object else []) + node.properties
+            packed += [item for item in (node.transform, node.animation) if item]
+        return packed
+
+
+class Scene:
+    """A meshcat scene of one robot.
+
+    Args:
+        robot: The robot to draw.
+        live: Serve the scene from a meshcat server on 127.0.0.1 (see :meth:`url`) instead of
+            recording it for :meth:`html`.
+    """
+
+    def __init__(self, robot: Robot, live: bool = False) -> None:
+        self.robot = robot
+        self.window = None if live else _RecordingWindow()
+        self.viewer = meshcat.Visualizer() if live else meshcat.Visualizer(window=self.window)
+        self.legend: list[tuple[str, int]] = [("robot", 0x999999)]
+        folders = [str(robot.urdf_path.parent), *_package_dirs(robot)]
+        visual = pin.buildGeomFromUrdf(robot.model, str(robot.urdf_path), pin.GeometryType.VISUAL, package_dirs=folders)
+        self.visualizer = MeshcatVisualizer(robot.model, pin.GeometryModel(), visual)
+        self.visualizer.initViewer(viewer=self.viewer)
+        self.visualizer.loadViewerModel(rootNodeName="robot")
+        self.visualizer.display(robot.reference_q)
+        self.viewer["/Grid"].set_property("visible", False)
+        self.viewer["/Background"].set_property("top_color", [1.0, 1.0, 1.0])
+        self.viewer["/Background"].set_property("bottom_color", [0.82, 0.84, 0.88])
+        self.look_at(self._center())
+
+    def _center(self) -> np.ndarray:
+        workspace = self.robot.sidecar.workspace
+        if workspace is not None:
+            return (np.array(workspace.min_m) + np.array(workspace.max_m)) / 2
+        data = self.robot.model.createData()
+        pin.framesForwardKinematics(self.robot.model, data, self.robot.reference_q)
+        return data.oMf[self.robot.end_effector_frame_id].translation.copy()
+
+    def look_at(self, target_m: np.ndarray, offset_m: tuple[float, float, float] = (-0.45, -0.45, 0.35)) -> None:
+        """Point the camera at ``target_m`` from ``target_m + offset_m`` (base frame, Z up)."""
+        self.viewer["/Cameras/default"].set_transform(pin.SE3(np.eye(3), np.asarray(target_m)).homogeneous)
+        dx, dy, dz = offset_m  # the camera node is Y-up (three.js): (x, y, z) -> (x, z, -y)
+        self.viewer["/Cameras/default/rotated/<object>"].set_property("position", [dx, dz, -dy])
+
+    def add_workspace(self) -> None:
+        """The workspace box as a wireframe, and its named points as coloured spheres."""
+        workspace = self.robot.sidecar.workspace
+        if workspace is None:
+            return
+        low, high = np.array(workspace.min_m), np.array(workspace.max_m)
+        corners = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])])
+        edges = [(i, j) for i in range(8) for j in range(i + 1, 8) if bin(i ^ j).count("1") == 1]
+        segments = np.array([corners[k] for edge in edges for k in edge]).T
+        self.viewer["workspace/cube"].set_object(
+            g.LineSegments(g.PointsGeometry(segments), g.LineBasicMaterial(color=CUBE_COLOR, linewidth=2)))
+        self.legend.append(("workspace", CUBE_COLOR))
+        radius = 0.03 * float(np.max(high - low))
+        for name, point in workspace.points_m.items():
+            color = POINT_COLORS.get(name, 0x7F7F7F)
+            self.viewer[f"workspace/{name}"].set_object(g.Sphere(radius), g.MeshLambertMaterial(color=color))
+            self.viewer[f"workspace/{name}"].set_transform(pin.SE3(np.eye(3), np.array(point)).homogeneous)
+            self.legend.append((name.replace("_plus", "+").replace("_minus", "-"), color))
+
+    def add_path(self, name: str, tool_position_m: np.ndarray, color: int, label: str | None = None,
+                 width_m: float = 0.006) -> None:
+        """A placed path through its tool points (base frame, m), drawn as a line of dots."""
+        points = np.asarray(tool_position_m, dtype=np.float32).T
+        rgb = np.array([(color >> 16) & 255, (color >> 8) & 255, color & 255], dtype=np.float32)[:, None] / 255
+        self.viewer[f"paths/{name}/line"].set_object(g.Line(g.PointsGeometry(points), g.LineBasicMaterial(color=color)))
+        self.viewer[f"paths/{name}/dots"].set_object(
+            g.PointCloud(points, np.repeat(rgb, points.shape[1], axis=1), size=width_m))
+        if label and all(entry[0] != label for entry in self.legend):
+            self.legend.append((label, color))
+
+    def add_energy_points(self, points_m: np.ndarray, energy_J: np.ndarray, size_m: float = 0.004) -> None:
+        """Placement origins coloured by energy (viridis: dark = low)."""
+        span = np.ptp(energy_J) or 1.0
+        colors = matplotlib.colormaps["viridis"]((energy_J - energy_J.min()) / span)[:, :3]
+        self.viewer["energy_map"].set_object(g.PointCloud(np.asarray(points_m, dtype=np.float32).T,
+                                                          colors.T.astype(np.float32), size=size_m))
+        self.legend.append(("energy map (dark: low)", 0x440154))
+
+    def animate(self, q: np.ndarray, t_s: np.ndarray, repetitions: int = 1000) -> None:
+        """Play the robot along joint configurations ``q`` (N, nq) sampled at times ``t_s``."""
+        frames = np.arange(0.0, t_s[-1] + 1e-12, 1.0 / ANIMATION_FPS)
+        index = np.clip(np.searchsorted(t_s, frames), 0, len(t_s) - 1)
+        animation = Animation(default_framerate=ANIMATION_FPS)
+        viewer = self.visualizer.viewer
+        try:
+            for frame, k in enumerate(index):
+                with animation.at_frame(viewer, frame) as frame_viewer:
+                    self.visualizer.viewer = frame_viewer  # record the placements into the frame
+                    self.visualizer.display(q[k])
+        finally:
+            self.visualizer.viewer = viewer
+        self.viewer.set_animation(animation, play=True, repetitions=repetitions)
+
+    def html(self, title: str = "placement") -> str:
+        """A self-contained page of the recorded scene (three.js viewer inlined, no network)."""
+        if self.window is None:
+            return self.viewer.static_html()
+        commands = "".join(
+            'fetch("data:application/octet-binary;base64,{}").then(r => r.arrayBuffer())'
+            ".then(b => viewer.handle_command_bytearray(new Uint8Array(b)));\n".format(base64.b64encode(c).decode())
+            for c in self.window.commands())
+        legend = "".join(f'<div><span style="background:#{color:06x}"></span>{name}</div>' for name, color in self.legend)
+        return _PAGE.format(title=title, script=VIEWER_SCRIPT.read_text(), commands=commands, legend=legend)
+
+    def url(self) -> str:
+        """Address of the live viewer (a live scene only)."""
+        return self.viewer.url()
+
+    def close(self) -> None:
+        """Stop the live viewer's server, if any."""
+        process = getattr(self.viewer.window, "server_proc", None)
+        if process is not None:
+            process.kill()
+            process.wait()
+
+
+def _package_dirs(robot: Robot) -> list[str]:
+    """Folders where meshes named package://... may live (example-robot-data's robots)."""
+    if not robot.sidecar.urdf.startswith("example-robot-data:"):
+        return []
+    from example_robot_data.robots_loader import ROBOTS
+
+    loader = ROBOTS[robot.sidecar.urdf.split(":", 1)[1]]()
+    return [os.path.dirname(os.path.dirname(loader.model_path)), loader.model_path]
+
+
+_PAGE = """<!DOCTYPE html>
+<html>
+<head><meta charset="utf-8"><title>{title}</title>
+<style>
+body {{ margin: 0; }}
+#meshcat-pane {{ width: 100vw; height: 100vh; overflow: hidden; }}
+#legend {{ position: absolute; left: 10px; bottom: 10px; background: rgba(255,255,255,0.85); padding: 6px 10px;
+          font: 13px sans-serif; border-radius: 4px; }}
+#legend span {{ display: inline-block; width: 12px; height: 12px; margin-right: 6px; vertical-align: middle; }}
+</style></head>
+<body>
+<div id="meshcat-pane"></div>
+<div id="legend"><b>{title}</b>{legend}</div>
+<script>{script}</script>
+<script>
+var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
+{commands}
+</script>
+</body>
+</html>
+"""

@@ -1,0 +1,71 @@
+"""The static 3-D scene opens offline in a real browser and shows the robot, cube and paths."""
+
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from placement.evaluation import Evaluator
+from placement.frames import transform_path_to_base
+from placement.kinematics import joint_trajectory
+from placement.path import load_path
+from placement.visualize import BEST_COLOR, CUBE_COLOR, WORST_COLOR, Scene
+from test_path import EXAMPLE
+
+BROWSERS = ("chromium", "chromium-browser", "google-chrome")
+FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+         "--disable-background-networking", "--disable-component-update", "--disable-sync",
+         "--enable-unsafe-swiftshader", "--use-angle=swiftshader", "--window-size=900,650",
+         "--virtual-time-budget=3000",
+         "--proxy-server=127.0.0.1:9"]  # any network request would fail: the page must be self-contained
+
+
+def count_near(pixels: np.ndarray, color: int, tolerance: int) -> int:
+    rgb = np.array([(color >> 16) & 255, (color >> 8) & 255, color & 255])
+    return int((np.abs(pixels[..., :3].astype(int) - rgb).max(axis=-1) <= tolerance).sum())
+
+
+@pytest.fixture(scope="module")
+def screenshot(tmp_path_factory):
+    browser = next((shutil.which(name) for name in BROWSERS if shutil.which(name)), None)
+    if browser is None:
+        pytest.skip("no Chromium on this machine (.ci/run installs Debian's chromium package)")
+    from placement.robot import load_robot
+
+    robot = load_robot("orthoglide")
+    evaluator = Evaluator(robot, load_path(EXAMPLE))
+    best = evaluator.detail(np.zeros(6))
+    worst = evaluator.detail(np.array([-0.095, -0.095, -0.11, np.pi / 4, 0.0, 0.0]))
+    scene = Scene(robot)
+    scene.add_workspace()
+    scene.add_path("best", best.tool_position_m, BEST_COLOR, "least energy")
+    scene.add_path("worst", worst.tool_position_m, WORST_COLOR, "most energy")
+    task, _ = transform_path_to_base(best.samples, best.placement[None])
+    scene.animate(joint_trajectory(robot, task).q, best.samples.t_s)
+    folder = tmp_path_factory.mktemp("browser")
+    page, image = folder / "scene.html", folder / "scene.png"
+    page.write_text(scene.html("test scene"))
+    subprocess.run([browser, *FLAGS, f"--user-data-dir={folder / 'profile'}", f"--screenshot={image}",
+                    page.as_uri()], capture_output=True, timeout=120, check=False)
+    if not image.is_file():
+        pytest.fail(f"{browser} wrote no screenshot")
+    return np.asarray(Image.open(image).convert("RGB"))
+
+
+def test_the_scene_is_rendered(screenshot):
+    colors = np.unique(screenshot.reshape(-1, 3), axis=0)
+    assert len(colors) > 200  # a rendered 3-D scene, not a blank or error page
+
+
+def test_both_paths_and_the_cube_are_drawn(screenshot):
+    assert count_near(screenshot, BEST_COLOR, 30) > 30
+    assert count_near(screenshot, WORST_COLOR, 30) > 30
+    assert count_near(screenshot, CUBE_COLOR, 30) > 30
+
+
+def test_the_robot_is_drawn(screenshot):
+    sliders = count_near(screenshot, 0x3366CC, 60)  # blue slider boxes, shaded
+    bars = count_near(screenshot, 0xD98C1A, 60)  # orange parallelogram bars, shaded
+    assert sliders > 500 and bars > 200

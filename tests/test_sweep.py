@@ -1,0 +1,65 @@
+"""Energy maps: parallel = serial = the evaluator, any executor, files that reload, figures."""
+
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+import pytest
+
+from placement.evaluation import Evaluator
+from placement.path import load_path
+from placement.sweep import SweepResult, sweep
+from test_path import EXAMPLE
+
+AXES = {"x": np.linspace(-0.12, 0.06, 7), "y": np.linspace(-0.12, 0.06, 6)}
+FIXED = {"z": -0.01, "phi": 0.3}
+
+
+@pytest.fixture(scope="module")
+def serial():
+    from placement.robot import load_robot
+
+    robot = load_robot("orthoglide")
+    path = load_path(EXAMPLE)
+    return robot, path, sweep(robot, path, AXES, FIXED, time_step_s=0.004, workers=1)
+
+
+def test_map_equals_the_evaluator_point_by_point(serial):
+    robot, path, result = serial
+    evaluator = Evaluator(robot, path, time_step_s=0.004)
+    i, j = 2, 4
+    direct = evaluator.evaluate(np.array([[AXES["x"][i], AXES["y"][j], -0.01, 0.3, 0.0, 0.0]]))
+    assert result.energy_J[i, j] == direct.energy_J[0] and result.feasible[i, j] == direct.feasible[0]
+    assert result.energy_J.shape == (7, 6) and result.feasible.any() and not result.feasible.all()
+
+
+def test_parallel_workers_and_any_executor_give_the_same_map(serial):
+    robot, path, result = serial
+    parallel = sweep(robot, path, AXES, FIXED, time_step_s=0.004, workers=2)
+    with ThreadPoolExecutor(max_workers=2) as executor:
+        threaded = sweep(robot, path, AXES, FIXED, time_step_s=0.004, executor=executor)
+    for other in (parallel, threaded):
+        np.testing.assert_array_equal(other.energy_J, result.energy_J)
+        np.testing.assert_array_equal(other.tightest, result.tightest)
+
+
+def test_map_file_reloads(serial, tmp_path):
+    *_, result = serial
+    result.save(tmp_path / "map.npz")
+    again = SweepResult.load(tmp_path / "map.npz")
+    np.testing.assert_array_equal(again.energy_J, result.energy_J)
+    assert again.variables == ("x", "y") and again.limits == result.limits
+    assert again.masked_energy().mask.sum() == (~result.feasible).sum()
+
+
+def test_infeasible_points_name_a_broken_limit(serial):
+    *_, result = serial
+    broken = {result.limits[k] for k in result.tightest[~result.feasible]}
+    assert broken and all(label.startswith(("workspace", "joint")) for label in broken)
+
+
+def test_map_figure_is_written(serial, tmp_path):
+    from placement.plots import map_figure, save
+
+    *_, result = serial
+    files = save(map_figure(result, "test"), tmp_path / "map")
+    assert all((tmp_path / name).stat().st_size > 5000 for name in ("map.png", "map.svg")) and len(files) == 2
