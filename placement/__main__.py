@@ -15,7 +15,9 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import os
 import sys
+from pathlib import Path
 
 import numpy as np
 from tqdm import tqdm
@@ -165,25 +167,46 @@ def parse_values(text: str, option: str) -> dict[str, float]:
             values[name] = float(number) * units[unit or ("deg" if angle else "mm")]
         except ValueError:
             raise UsageError(f"{option}: '{raw}' is not a number for {name}") from None
+        if not np.isfinite(values[name]):
+            raise UsageError(f"{option}: {name} must be a finite number, got '{raw}'")
     return values
 
 
 def configured_path(args: argparse.Namespace, file: str) -> ToolPath:
     """A path file with the command line's timing overrides."""
     path = load_path(file)
-    if args.timing or args.max_acceleration or args.max_jerk:
+    overrides = (args.timing, args.max_acceleration, args.max_jerk)
+    if any(value is not None for value in overrides):
         timing = path.timing
         try:
-            timing = Timing(mode=args.timing or timing.mode,
-                            max_acceleration_m_s2=args.max_acceleration or timing.max_acceleration_m_s2,
-                            max_jerk_m_s3=args.max_jerk or timing.max_jerk_m_s3)
+            timing = Timing(mode=args.timing if args.timing is not None else timing.mode,
+                            max_acceleration_m_s2=(args.max_acceleration if args.max_acceleration is not None
+                                                   else timing.max_acceleration_m_s2),
+                            max_jerk_m_s3=args.max_jerk if args.max_jerk is not None else timing.max_jerk_m_s3)
         except ValueError as error:
-            raise UsageError(f"--timing: {error.errors()[0]['msg'].removeprefix('Value error, ')}; "
-                             "give --max-acceleration and --max-jerk or set them in the path file") from None
+            problem = error.errors()[0]
+            field = {"max_acceleration_m_s2": "--max-acceleration", "max_jerk_m_s3": "--max-jerk"}.get(
+                str(problem["loc"][0]) if problem["loc"] else "", "--timing")
+            raise UsageError(f"{field}: {problem['msg'].removeprefix('Value error, ')}; the realistic timing law "
+                             "needs --max-acceleration and --max-jerk > 0, or both in the path file") from None
         path = dataclasses.replace(path, timing=timing)
-    if args.time_step is not None and args.time_step <= 0:
+    if args.time_step is not None and not args.time_step > 0:
         raise UsageError("--time-step must be > 0 s")
     return path
+
+
+def check_outputs(*pairs: tuple[str, str | None]) -> None:
+    """Every output file must be writable before hours of work are spent: (option, file) pairs."""
+    for option, file in pairs:
+        if file is None:
+            continue
+        target = Path(file)
+        if target.is_dir():
+            raise UsageError(f"{option}: '{file}' is a folder, expected a file name")
+        if not target.absolute().parent.is_dir():
+            raise UsageError(f"{option}: the folder of '{file}' does not exist")
+        if not os.access(target.absolute().parent, os.W_OK) or (target.exists() and not os.access(target, os.W_OK)):
+            raise UsageError(f"{option}: '{file}' cannot be written")
 
 
 def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace) -> tuple[dict, dict, str | None]:
@@ -205,9 +228,16 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace) -> tuple[d
             np.array([given.get(name, 0.0) for name in VARIABLES]))
         print("\n" + format_detail("placement given by --at", robot, detail))
         document["at"] = detail_json(robot, detail)
-        return document, {"at": detail}, None
+        problem = None
+        if not detail.reachable:
+            problem = f"the placement given by --at leaves the robot's reach ({len(detail.unreachable_samples)} samples)"
+        elif not detail.feasible:
+            worst = min(detail.margins, key=lambda m: m.margin)
+            problem = f"the placement given by --at breaks the {worst.kind} ({worst.where})"
+        return document, {"at": detail} if detail.reachable else {}, problem
     free = tuple(n.strip() for n in args.free.split(",")) if args.free else None
-    space = default_space(robot, free=free, fixed=parse_values(args.fix or "", "--fix"))
+    space = default_space(robot, free=free, fixed=parse_values(args.fix or "", "--fix"),
+                          half_turn=path.half_turn_symmetric())
     print(f"search: {', '.join(space.free)} free; seed {args.seed}")
     settings = SearchSettings(seed=args.seed)
     directions = 1 if args.minimize or args.maximize else 2
@@ -245,6 +275,10 @@ def run_placement(args: argparse.Namespace) -> int:
     robot = load_robot(args.robot)
     if args.trace and len(args.path) > 1:
         raise UsageError("--trace: give a single --path")
+    if args.at is not None and (args.fix or args.free or args.minimize or args.maximize):
+        raise UsageError("--at evaluates one placement: give every value in --at, without --fix, --free, "
+                         "--minimize or --maximize")
+    check_outputs(("--json", args.json), ("--trace", args.trace), ("--html", args.html))
     scene = Scene(robot, live=args.show) if args.html or args.show else None
     if scene:
         scene.add_workspace()
@@ -257,6 +291,7 @@ def run_placement(args: argparse.Namespace) -> int:
             documents.append(document)
             if infeasible:
                 failures.append(f"{file}: {infeasible}")
+                document["infeasible"] = infeasible
             if scene:
                 draw(scene, robot, index, details)
             if args.trace and details:
@@ -277,7 +312,7 @@ def run_placement(args: argparse.Namespace) -> int:
         if scene:
             scene.close()
     for failure in failures:
-        print(f"error: no feasible placement: {failure}", file=sys.stderr)
+        print(f"error: {'' if args.at is not None else 'no feasible placement: '}{failure}", file=sys.stderr)
     return 2 if failures else 0
 
 
@@ -305,6 +340,7 @@ def parse_grid(text: str) -> dict[str, np.ndarray]:
 def run_map(args: argparse.Namespace) -> int:
     """The 'map' command: an energy map over a grid of placements."""
     robot = load_robot(args.robot)
+    check_outputs(("--out", args.out), ("--png", args.png), ("--html", args.html))
     path = configured_path(args, args.path)
     axes = parse_grid(args.grid)
     fixed = parse_values(args.fix or "", "--fix")
@@ -352,6 +388,9 @@ def main(argv: list[str] | None = None) -> int:
             return run_check(args.robot, args.samples)
         return run_placement(build_parser().parse_args(argv))
     except PlacementError as error:
+        print(f"error: {error}", file=sys.stderr)
+        return 2
+    except OSError as error:  # a file could not be written after all (disk full, ...)
         print(f"error: {error}", file=sys.stderr)
         return 2
 

@@ -22,7 +22,8 @@ class Margin:
     """The tightest point of one kind of limit along the path.
 
     Attributes:
-        kind: One of KINDS.
+        kind: "joint lower limit", "joint upper limit", "joint speed", "motor torque",
+            "motor speed" or "workspace".
         where: The actuator's joint name, or the workspace axis.
         margin: (limit − value)/scale at the tightest sample; negative means violated.
         value: The value there (SI: m, m/s, rad/s, N·m, or m for the workspace).

@@ -1,9 +1,11 @@
 """Drives: from actuator effort and speed to motor speed, torque and current.
 
 A transmission turns joint speed into motor speed (ω = k·q̇, with k = 2π/lead for a ball screw
-and k = ratio for a gear). Joint friction (Coulomb and viscous, from the sidecar) adds to the
-effort the dynamics asks for; transmission efficiency η divides the motor torque when the motor
-drives the load and multiplies it when the load drives the motor. The current is I = τ/K_t.
+and k = ratio for a gear). The dynamics' effort includes the rotor and screw inertia (the joint
+armature); that part acts on the motor side, while the rest of the effort, plus joint friction
+(Coulomb and viscous, from the sidecar), passes through the transmission, whose efficiency η
+divides the motor torque when the motor drives the load and multiplies it when the load drives
+the motor. The current is I = τ/K_t.
 """
 
 from __future__ import annotations
@@ -14,7 +16,7 @@ import numpy as np
 
 from placement.exceptions import PlacementError
 from placement.robot import Robot
-from placement.sidecar import BallScrew, Drive
+from placement.sidecar import Drive
 
 
 @dataclass(frozen=True)
@@ -32,12 +34,6 @@ class MotorTrace:
     current_A: np.ndarray
 
 
-def speed_ratio(drive: Drive) -> float:
-    """Motor speed per unit joint speed: rad per m (ball screw) or rad per rad (gear)."""
-    t = drive.transmission
-    return 2 * np.pi / t.lead_m if isinstance(t, BallScrew) else t.ratio
-
-
 def drives_of(robot: Robot) -> list[Drive]:
     """The drive of every actuator, or an error naming the actuators that have none."""
     missing = [a.joint for a in robot.actuators if a.drive is None]
@@ -47,24 +43,26 @@ def drives_of(robot: Robot) -> list[Drive]:
     return [a.drive for a in robot.actuators]
 
 
-def motor_trace(robot: Robot, effort: np.ndarray, velocity: np.ndarray) -> MotorTrace:
-    """Motor speed, torque and current from actuator efforts and velocities.
+def motor_trace(robot: Robot, effort: np.ndarray, velocity: np.ndarray, acceleration: np.ndarray) -> MotorTrace:
+    """Motor speed, torque and current from actuator efforts and motion.
 
     Args:
         robot: The robot (its actuators' drives).
         effort: (..., N, n_act) efforts from the dynamics (N or N·m), rotor inertia included.
         velocity: Same shape, joint velocities (m/s or rad/s).
+        acceleration: Same shape, joint accelerations (m/s² or rad/s²).
 
     Returns:
         The motor trace, same shapes.
     """
     drives = drives_of(robot)
-    ratio = np.array([speed_ratio(d) for d in drives])
+    ratio = np.array([d.speed_ratio for d in drives])
     efficiency = np.array([d.transmission.efficiency for d in drives])
     coulomb = np.array([d.friction.coulomb for d in drives])
     viscous = np.array([d.friction.viscous for d in drives])
     kt = np.array([d.motor.torque_constant_Nm_per_A for d in drives])
-    load = effort + coulomb * np.sign(velocity) + viscous * velocity
+    rotor = np.array([a.reflected_inertia for a in robot.actuators]) * acceleration  # motor side, at the joint
+    load = effort - rotor + coulomb * np.sign(velocity) + viscous * velocity  # through the transmission
     motoring = load * velocity >= 0
-    torque = load / ratio * np.where(motoring, 1 / efficiency, efficiency)
+    torque = load / ratio * np.where(motoring, 1 / efficiency, efficiency) + rotor / ratio
     return MotorTrace(speed_rad_s=velocity * ratio, torque_Nm=torque, current_A=torque / kt)

@@ -86,6 +86,34 @@ def interval_widths(t_s: np.ndarray, piece: np.ndarray) -> np.ndarray:
     return np.where(piece[1:] == piece[:-1], np.diff(t_s), 0.0)
 
 
+def interval_power(robot: Robot, trace: MotorTrace, dt_s: np.ndarray) -> dict[str, np.ndarray]:
+    """Power parts of every interval between samples, by each drive's motor model, (..., N-1, n_act) W."""
+    parts: dict[str, list[np.ndarray]] = {"joule": [], "inductive": [], "back_emf": []}
+    for i, drive in enumerate(drives_of(robot)):
+        model = _MOTOR_MODELS.get(drive.motor.model)
+        if model is None:
+            raise PlacementError(f"unknown motor model '{drive.motor.model}' for actuator {robot.actuators[i].joint}: "
+                                 f"registered models are {', '.join(sorted(_MOTOR_MODELS))}")
+        for key, value in model(drive.motor, trace.speed_rad_s[..., i], trace.current_A[..., i], dt_s).items():
+            parts[key].append(value)
+    return {key: np.stack(values, axis=-1) for key, values in parts.items()}
+
+
+def sample_power(robot: Robot, trace: MotorTrace, t_s: np.ndarray, piece: np.ndarray) -> np.ndarray:
+    """Electric power of each drive at each sample (N, n_act), W, signed.
+
+    The mean of the powers of the intervals on either side of a sample within its piece, so that
+    the trapezoidal integral of the samples approaches the energy as the time step shrinks.
+    """
+    dt = interval_widths(t_s, piece)
+    power = sum(interval_power(robot, trace, dt).values())  # (N-1, n_act)
+    valid = (dt > 0)[:, None]
+    left = np.vstack([np.zeros((1, power.shape[1])), np.where(valid, power, 0.0)])
+    right = np.vstack([np.where(valid, power, 0.0), np.zeros((1, power.shape[1]))])
+    count = np.concatenate([[0], valid[:, 0]]) + np.concatenate([valid[:, 0], [0]])
+    return (left + right) / np.maximum(count, 1)[:, None]
+
+
 def electric_energy(robot: Robot, trace: MotorTrace, t_s: np.ndarray, piece: np.ndarray,
                     regeneration: str = "clip") -> Energy:
     """Integrate the drives' electric power along the path.
@@ -103,16 +131,7 @@ def electric_energy(robot: Robot, trace: MotorTrace, t_s: np.ndarray, piece: np.
     if regeneration not in REGENERATION_MODES:
         raise PlacementError(f"unknown regeneration mode '{regeneration}': expected one of {', '.join(REGENERATION_MODES)}")
     dt = interval_widths(t_s, piece)
-    drives = drives_of(robot)
-    parts: dict[str, list[np.ndarray]] = {"joule": [], "inductive": [], "back_emf": []}
-    for i, drive in enumerate(drives):
-        model = _MOTOR_MODELS.get(drive.motor.model)
-        if model is None:
-            raise PlacementError(f"unknown motor model '{drive.motor.model}' for actuator {robot.actuators[i].joint}: "
-                                 f"registered models are {', '.join(sorted(_MOTOR_MODELS))}")
-        for key, value in model(drive.motor, trace.speed_rad_s[..., i], trace.current_A[..., i], dt).items():
-            parts[key].append(value)
-    stacked = {key: np.stack(values, axis=-1) for key, values in parts.items()}  # (..., N-1, n_act)
+    stacked = interval_power(robot, trace, dt)
     power = sum(stacked.values())
     shaft = trace.torque_Nm * trace.speed_rad_s
     mechanical = (shaft[..., :-1, :] + shaft[..., 1:, :]) / 2

@@ -15,7 +15,7 @@ import numpy as np
 from placement.constraints import Margin, margin_fields, tightest, worst_margins
 from placement.drives import MotorTrace, motor_trace
 from placement.dynamics import actuator_efforts
-from placement.energy import Energy, electric_energy, interval_widths
+from placement.energy import Energy, electric_energy, sample_power
 from placement.frames import transform_path_to_base
 from placement.kinematics import try_joint_trajectory
 from placement.path import PathSamples, ToolPath
@@ -63,8 +63,8 @@ class PlacementDetail:
         tool_position_m: (N, 3) tool point in the base frame.
         position, velocity, acceleration, effort: (N, n_act) actuator motion and effort.
         motor: Motor speed, torque and current, (N, n_act).
-        power_W: (N, n_act) electric power per actuator at each sample (dI/dt by central
-            differences within a piece); its integral is the energy up to the time step.
+        power_W: (N, n_act) signed electric power of each drive at each sample (the mean of the
+            adjacent intervals' power, by the drive's motor model).
     """
 
     placement: np.ndarray
@@ -125,7 +125,7 @@ class Evaluator:
         out = {"reachable": reachable.reshape(k, n), "tool": task.position_m.reshape(k, n, 3),
                "position": joints.q[:, act_q].reshape(shape), "velocity": joints.v[:, act_v].reshape(shape),
                "acceleration": joints.a[:, act_v].reshape(shape), "effort": effort.reshape(shape)}
-        out["motor"] = motor_trace(self.robot, out["effort"], out["velocity"])
+        out["motor"] = motor_trace(self.robot, out["effort"], out["velocity"], out["acceleration"])
         self.evaluations += k
         return out
 
@@ -160,22 +160,7 @@ class Evaluator:
             unreachable_samples=np.flatnonzero(~chain["reachable"]), energy=energy, margins=tightest(fields),
             samples=self.samples, tool_position_m=chain["tool"], position=chain["position"],
             velocity=chain["velocity"], acceleration=chain["acceleration"], effort=chain["effort"], motor=motor,
-            power_W=self._sample_power(motor))
-
-    def _sample_power(self, motor: MotorTrace) -> np.ndarray:
-        """Electric power at each sample (W), dI/dt by central differences within each piece."""
-        rate = np.zeros_like(motor.current_A)
-        for piece in np.unique(self.samples.piece):
-            rows = np.flatnonzero(self.samples.piece == piece)
-            if len(rows) > 1:
-                rate[rows] = np.gradient(motor.current_A[rows], self.samples.t_s[rows], axis=0)
-        power = np.zeros_like(motor.current_A)
-        for i, actuator in enumerate(self.robot.actuators):
-            m = actuator.drive.motor
-            current = motor.current_A[:, i]
-            power[:, i] = m.phases * (m.resistance_ohm * current**2 + m.inductance_H * current * rate[:, i]
-                                      + m.back_emf_constant_V_s_per_rad * motor.speed_rad_s[:, i] * current)
-        return power
+            power_W=sample_power(self.robot, motor, self.samples.t_s, self.samples.piece))
 
 
 def _rows(task, start: int, stop: int):

@@ -10,7 +10,6 @@ the path, and the difference is reported.
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 from typing import Callable
 
@@ -93,23 +92,32 @@ class PlacementResult:
 
 
 def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict[str, float] | None = None,
-                  bounds: dict[str, tuple[float, float]] | None = None) -> PlacementSpace:
-    """The placement space of a robot: by default x, y, z within its workspace box and phi in ±90°.
+                  bounds: dict[str, tuple[float, float]] | None = None, half_turn: bool = False) -> PlacementSpace:
+    """The placement space of a robot: by default x, y, z within its workspace box, angles in ±180°.
 
     Args:
         robot: The robot.
         free: Free variables (default: x, y, z, phi, the tool axis staying along Z_b).
-        fixed: Values of fixed variables (default 0).
+        fixed: Values of fixed variables (default 0); a free variable cannot be fixed.
         bounds: Bounds overriding the defaults (m, rad).
+        half_turn: The path is unchanged by a half turn about its tool axis
+            (:meth:`ToolPath.half_turn_symmetric`): phi then only needs ±90°.
     """
     free = tuple(free or ("x", "y", "z", "phi"))
+    unknown = sorted(set(free) - set(VARIABLES))
+    if unknown:
+        raise PlacementError(f"unknown placement variable(s) {unknown}; expected some of {', '.join(VARIABLES)}")
+    clash = sorted(set(free) & set(fixed or {}))
+    if clash:
+        raise PlacementError(f"{clash} cannot be both free and fixed")
     limits = dict(bounds or {})
     workspace = robot.sidecar.workspace
     for k, axis in enumerate("xyz"):
         if workspace is not None:
             limits.setdefault(axis, (workspace.min_m[k], workspace.max_m[k]))
-    for angle in ("phi", "theta", "psi"):
-        limits.setdefault(angle, (-np.pi / 2, np.pi / 2))
+    limits.setdefault("phi", (-np.pi / 2, np.pi / 2) if half_turn else (-np.pi, np.pi))
+    for angle in ("theta", "psi"):
+        limits.setdefault(angle, (-np.pi, np.pi))
     missing = [name for name in free if name not in limits]
     if missing:
         raise PlacementError(f"robot '{robot.name}' declares no workspace: give bounds for {missing}")
@@ -214,10 +222,27 @@ def _polish(problem: _Problem, start: np.ndarray, bounds: list, constraint: Nonl
                       constraints=[{"type": "ineq", "fun": lambda u: problem.margins(u * scale)}],
                       options={"maxiter": 100, "ftol": 1e-10})
     polished = np.clip(result.x * scale, [b[0] for b in bounds], [b[1] for b in bounds])
-    energy, margins = problem._lookup(polished)
+    polished = _feasible_towards(problem, start, polished)
+    energy, _ = problem._lookup(polished)
     start_energy, _ = problem._lookup(start)
-    better = (margins >= 0).all() and problem.sign * energy[0] <= problem.sign * start_energy[0]
-    return polished if better else start
+    return polished if problem.sign * energy[0] <= problem.sign * start_energy[0] else start
+
+
+def _feasible_towards(problem: _Problem, feasible: np.ndarray, target: np.ndarray) -> np.ndarray:
+    """The point nearest ``target`` on the segment from ``feasible`` that keeps every limit.
+
+    The local search ends on the limits, often a hair outside them; bisection brings it back.
+    """
+    if (problem._lookup(target)[1] >= 0).all():
+        return target
+    inside, outside = 0.0, 1.0
+    for _ in range(40):
+        middle = (inside + outside) / 2
+        if (problem._lookup(feasible + middle * (target - feasible))[1] >= 0).all():
+            inside = middle
+        else:
+            outside = middle
+    return feasible + inside * (target - feasible)
 
 
 def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | None = None,
@@ -240,7 +265,7 @@ def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | 
         The optima (None in a direction not asked for), or, when no placement is feasible, the
         reason with the binding limit.
     """
-    space = space or default_space(robot)
+    space = space or default_space(robot, half_turn=path.half_turn_symmetric())
     evaluator = Evaluator(robot, path, regeneration, time_step_s)
     dense = Evaluator(robot, path, regeneration, (time_step_s or path.time_step_s) / RECHECK_DENSITY)
     found: dict[float, Optimum | None] = {}

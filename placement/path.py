@@ -12,7 +12,8 @@ feed direction and z = Z_p the tool axis (pointing out of the workpiece)::
 
 so positive ``feed`` opposes the motion, positive ``radial`` pushes the tool to the left of the
 feed direction, and positive ``axial`` pushes it back along the tool axis. Negative values flip
-a component.
+a component. The radial direction lies in the X_p Y_p plane: it vanishes on a segment along Z_p
+(a plunge), where only the feed and axial forces act.
 
 Timing laws:
     paper: constant feed on each segment, each segment independent (corners ignored), as in
@@ -31,12 +32,13 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import Field, model_validator
 
-from placement.exceptions import PathFileError
+from placement.exceptions import PathFileError, PlacementError
 from placement.schema import Strict, read_yaml
 
 Positive = Annotated[float, Field(gt=0.0)]
 LENGTH_SCALE = {"m": 1.0, "mm": 1e-3}
 CORNER_ANGLE_RAD = np.radians(1.0)  # a tangent turn above this is a corner (exact stop)
+ARC_SAFETY = 0.98  # share of the bounds used on arcs, where they are checked on samples
 
 
 class Rectangle(Strict):
@@ -192,10 +194,29 @@ class ToolPath:
 
     def sample(self, time_step_s: float | None = None) -> PathSamples:
         """Sample the path in time with the given step (default: the file's ``time_step_s``)."""
-        step = time_step_s or self.time_step_s
+        step = self.time_step_s if time_step_s is None else time_step_s
+        if not step > 0:
+            raise PlacementError(f"the sampling time step must be > 0 s, got {step}")
         if self.timing.mode == "paper":
             return self._sample_paper(step)
         return self._sample_realistic(step)
+
+    def half_turn_symmetric(self) -> bool:
+        """Whether a half turn about Z_p maps the path onto itself, piece by piece.
+
+        Each independently timed piece (a segment in the paper's timing law, a corner-to-corner
+        run in the realistic one) must map onto a piece run the same way; the energy of such a
+        path is then the same at phi and phi + 180°, and phi only needs a half turn of range.
+        """
+        runs = [[s] for s in self.segments] if self.timing.mode == "paper" else _tangent_continuous_runs(self.segments)
+        fractions = np.linspace(0.0, 1.0, 9)
+
+        def points(run: list[Segment]) -> np.ndarray:
+            return _along(run, fractions * sum(s.length_m for s in run), np.zeros(9), np.zeros(9))[0]
+
+        shapes = [points(run) for run in runs]
+        turned = [shape * np.array([-1.0, -1.0, 1.0]) for shape in shapes]
+        return all(any(np.allclose(t, s, atol=1e-12) for s in shapes) for t in turned)
 
     def _sample_paper(self, step: float) -> PathSamples:
         parts, start = [], 0.0
@@ -211,10 +232,7 @@ class ToolPath:
         runs = _tangent_continuous_runs(self.segments)
         parts, start = [], 0.0
         for run in runs:
-            curvature = max((1 / s.radius_m for s in run if s.center_m is not None), default=0.0)
-            speed = min(self.feed_m_s, np.sqrt(self.timing.max_acceleration_m_s2 / curvature)) if curvature else self.feed_m_s
-            profile = DoubleS(sum(s.length_m for s in run), speed, self.timing.max_acceleration_m_s2,
-                              self.timing.max_jerk_m_s3)
+            profile = self._profile(run)
             t = np.linspace(0.0, profile.duration_s, max(2, int(np.ceil(profile.duration_s / step)) + 1))
             s, s_dot, s_ddot = profile(t)
             parts.append((start + t, *_along(run, s, s_dot, s_ddot), np.zeros(len(t), dtype=int)))
@@ -223,6 +241,26 @@ class ToolPath:
         # Successive runs meet at rest at a corner: drop the duplicated corner instant.
         keep = np.concatenate([[True], np.diff(samples.t_s) > 0])
         return PathSamples(*(getattr(samples, f)[keep] for f in PathSamples.__dataclass_fields__))
+
+    def _profile(self, run: list[Segment]) -> DoubleS:
+        """The feed profile of a corner-to-corner run, within the acceleration and jerk bounds."""
+        length = sum(s.length_m for s in run)
+        acceleration, jerk = self.timing.max_acceleration_m_s2, self.timing.max_jerk_m_s3
+        if all(s.center_m is None for s in run):
+            return DoubleS(length, self.feed_m_s, acceleration, jerk)
+        # On arcs the centripetal acceleration v²/r and its rate add to the tangential ones: share
+        # the bounds, then slow down until the sampled acceleration and jerk are within them.
+        speed = min(self.feed_m_s, np.sqrt(acceleration / np.sqrt(2) * min(s.radius_m for s in run if s.radius_m)))
+        for _ in range(80):
+            profile = DoubleS(length, speed, acceleration / np.sqrt(2), jerk / 2)
+            t = np.linspace(0.0, profile.duration_s, 4001)
+            acc = _along(run, *profile(t))[2]
+            rate = np.diff(acc, axis=0) / np.diff(t)[:, None]
+            if (np.linalg.norm(acc, axis=1).max() <= ARC_SAFETY * acceleration
+                    and np.linalg.norm(rate, axis=1).max() <= ARC_SAFETY * jerk):
+                return profile
+            speed *= 0.95
+        raise PlacementError(f"no feed profile keeps the path within {acceleration} m/s^2 and {jerk} m/s^3")
 
     def _assemble(self, parts: list[tuple[np.ndarray, ...]]) -> PathSamples:
         t, position, velocity, acceleration, tangent, piece = (np.concatenate(column) for column in zip(*parts))

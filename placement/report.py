@@ -63,8 +63,6 @@ def format_detail(title: str, robot: Robot, detail: PlacementDetail, recheck_ene
 def format_result(robot: Robot, result: PlacementResult) -> str:
     """Text report of a search: best and worst placements and the gain."""
     blocks = []
-    if result.infeasible:
-        blocks.append(f"no feasible placement: {result.infeasible}")
     for title, optimum in (("best placement (least energy)", result.best), ("worst placement (most energy)", result.worst)):
         if optimum is not None:
             blocks.append(format_detail(title, robot, optimum.detail, optimum.recheck_energy_J))

@@ -21,7 +21,7 @@ import yourdfpy
 from pydantic import BaseModel
 
 from placement.exceptions import RobotFileError, UnknownRobotError
-from placement.sidecar import BallScrew, Drive, Sidecar, read_sidecar
+from placement.sidecar import Drive, Sidecar, read_sidecar
 from placement.taylor import Taylor2
 
 BUILTIN_ROBOTS_DIR = Path(__file__).parent / "robots"
@@ -146,7 +146,7 @@ def load_robot(name_or_path: str | Path) -> Robot:
         task=sidecar.end_effector.task,
         reference_q=_reference_q(model, path, sidecar.reference_configuration),
         plugin=plugin,
-        closed_form=plugin.make_closed_form(model) if plugin else None,
+        closed_form=_make_closed_form(plugin, model, path),
         sidecar=sidecar,
     )
     for actuator in robot.actuators:
@@ -230,23 +230,8 @@ def _actuator(model: pin.Model, path: Path, sidecar: Sidecar, i: int) -> Actuato
     drive = sidecar.drives[spec.drive] if spec.drive else None
     return Actuator(joint=spec.joint, q_index=q_index, v_index=v_index, position_min=float(lower),
                     position_max=float(upper), velocity_max=float(velocity), drive=drive,
-                    reflected_inertia=reflected_inertia(drive) if drive else 0.0,
+                    reflected_inertia=drive.reflected_inertia if drive else 0.0,
                     prismatic=model.joints[joint_id].shortname() in PRISMATIC_JOINTS)
-
-
-def reflected_inertia(drive: Drive) -> float:
-    """Rotor and transmission inertia seen at the joint: J·(motor speed / joint speed)².
-
-    Args:
-        drive: The drive.
-
-    Returns:
-        Equivalent mass (kg) for a ball screw, or inertia (kg·m²) for a gear.
-    """
-    shaft_inertia = drive.motor.rotor_inertia_kg_m2 + drive.transmission_inertia_kg_m2
-    t = drive.transmission
-    ratio = 2 * np.pi / t.lead_m if isinstance(t, BallScrew) else t.ratio
-    return shaft_inertia * ratio**2
 
 
 def _reference_q(model: pin.Model, path: Path, values: dict[str, float]) -> np.ndarray:
@@ -265,10 +250,22 @@ def _load_plugin(path: Path, plugin: str | None) -> ModuleType | None:
         raise RobotFileError(path, "kinematics_plugin", f"file not found: {file}")
     spec = importlib.util.spec_from_file_location(f"placement_plugin_{file.stem}", file)
     module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    try:
+        spec.loader.exec_module(module)
+    except Exception as error:  # any error in the user's plug-in code
+        raise RobotFileError(file, "", f"the kinematics plug-in failed to load: {type(error).__name__}: {error}") from None
     if not hasattr(module, "make_closed_form"):
         raise RobotFileError(file, "", "a kinematics plug-in must define make_closed_form(model)")
     return module
+
+
+def _make_closed_form(plugin: ModuleType | None, model: pin.Model, path: Path) -> ClosedFormSolver | None:
+    if plugin is None:
+        return None
+    try:
+        return plugin.make_closed_form(model)
+    except Exception as error:  # any error in the user's plug-in code
+        raise RobotFileError(path, "kinematics_plugin", f"make_closed_form failed: {type(error).__name__}: {error}") from None
 
 
 def _check_sources(path: Path, sidecar: Sidecar, urdf: yourdfpy.URDF) -> None:

@@ -8,6 +8,7 @@ joints; rad, rad/s, N·m for revolute joints). The full schema with examples is 
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Annotated, Literal
 
@@ -51,6 +52,15 @@ class Motor(Strict):
     max_torque_Nm: Positive
     max_speed_rad_s: Positive | None = None
 
+    @model_validator(mode="after")
+    def _converts_power_without_loss(self) -> Motor:
+        # In the pmsm model the back-EMF power n·K_e·ω·I must be the shaft power τ·ω = K_t·I·ω.
+        expected = self.torque_constant_Nm_per_A / self.phases
+        if self.model == "pmsm" and abs(self.back_emf_constant_V_s_per_rad - expected) > 1e-3 * expected:
+            raise ValueError(f"back_emf_constant_V_s_per_rad must be torque_constant_Nm_per_A / phases = {expected:.6g} "
+                             "V s/rad for the pmsm model (else the motor creates or destroys energy)")
+        return self
+
 
 class Friction(Strict):
     """Joint friction in joint units: Coulomb (N or N·m) and viscous (N·s/m or N·m·s/rad)."""
@@ -67,6 +77,17 @@ class Drive(Strict):
     transmission_inertia_kg_m2: NonNegative = Field(
         0.0, description="inertia on the motor shaft besides the rotor (screw, coupling, gearbox input)")
     friction: Friction = Friction()
+
+    @property
+    def speed_ratio(self) -> float:
+        """Motor speed per unit joint speed: rad per m (ball screw, 2π/lead) or rad per rad (gear)."""
+        t = self.transmission
+        return 2 * math.pi / t.lead_m if isinstance(t, BallScrew) else t.ratio
+
+    @property
+    def reflected_inertia(self) -> float:
+        """Rotor and transmission inertia seen at the joint: kg (ball screw) or kg·m² (gear)."""
+        return (self.motor.rotor_inertia_kg_m2 + self.transmission_inertia_kg_m2) * self.speed_ratio**2
 
 
 class Actuator(Strict):

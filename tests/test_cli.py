@@ -4,6 +4,7 @@ import math
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 from placement.__main__ import main
@@ -71,10 +72,13 @@ def test_main_job_reports_best_worst_and_gain_and_writes_json_and_trace(tmp_path
     assert rows[0][:4] == ["t", "x", "y", "z"] and rows[0][4:12] == [
         "q_1", "qd_1", "qdd_1", "force_1", "motor_speed_1", "motor_torque_1", "current_1", "power_1"]
     assert len(rows[0]) == 4 + 3 * 8 and len(rows) > 40
-    # The trace is the best placement's: its tool points are the placed path.
+    # The trace is the best placement's: its tool points are the path placed there.
+    from placement.frames import transform_path_to_base
+    from placement.path import load_path
+
     best = document["best"]["placement"]
-    first = [float(v) for v in rows[1][1:4]]
-    assert first[2] == pytest.approx(best["z"])
+    placed, _ = transform_path_to_base(load_path(EXAMPLE).sample(0.004), np.array([list(best.values())]))
+    np.testing.assert_allclose(np.array(rows[1:], dtype=float)[:, 1:4], placed.position_m, atol=1e-8)
     assert list(tmp_path.iterdir()) and not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
 
 
@@ -125,6 +129,36 @@ def test_bad_inputs_exit_2_with_a_clear_message(tmp_path, capsys):
     assert "--at" in run_bad(QUICK + ["--at", "x=zero"], capsys)
     circle = str(bad_path(tmp_path, "units: mm\nshape: {type: circle, radius: 20}\nfeed_m_s: 0.3\n"))
     assert "--max-acceleration" in run_bad(base + [circle, "--timing", "realistic"], capsys)
+
+
+@pytest.mark.parametrize("extra, words", [
+    (["--json", "/nonexistent/folder/out.json"], ["--json", "does not exist"]),
+    (["--trace", "."], ["--trace", "is a folder"]),
+    (["--at", "x=nan"], ["--at", "finite"]),
+    (["--free", "x,foo"], ["unknown placement variable", "foo"]),
+    (["--fix", "x=10"], ["both free and fixed"]),
+    (["--at", "x=0", "--fix", "z=5"], ["--at evaluates one placement"]),
+    (["--timing", "realistic", "--max-acceleration", "0"], ["--max-acceleration", "greater than 0"]),
+    (["--time-step", "0"], ["--time-step"]),
+])
+def test_bad_options_exit_2_naming_the_option(capsys, extra, words):
+    err = run_bad(QUICK + extra, capsys)
+    for word in words:
+        assert word in err
+
+
+def test_non_finite_numbers_in_a_path_file_are_rejected(tmp_path, capsys):
+    path = bad_path(tmp_path, "units: mm\nshape: {type: circle, radius: .inf}\nfeed_m_s: 0.3\n")
+    err = run_bad(["--robot", "orthoglide", "--quiet", "--path", str(path)], capsys)
+    assert "shape.radius" in err and "finite" in err
+
+
+def test_an_unreachable_at_placement_exits_2_and_writes_no_trace(tmp_path, capsys):
+    trace = tmp_path / "trace.csv"
+    err = run_bad(QUICK + ["--at", "x=1000", "--trace", str(trace)], capsys)
+    assert "leaves the robot's reach" in err and not trace.exists()
+    err = run_bad(QUICK + ["--at", "x=120"], capsys)  # reachable, but outside the workspace cube
+    assert "breaks the workspace" in err
 
 
 def test_feed_beyond_the_drives_is_answered_with_the_binding_limit(tmp_path, capsys):

@@ -74,7 +74,7 @@ def test_holding_still_against_gravity_still_costs_energy(orthoglide):
     n = 101
     still = np.zeros((n, 3))
     result = inverse_dynamics(orthoglide, TaskTrajectory(still, still, still))
-    trace = motor_trace(orthoglide, result.effort, result.velocity)
+    trace = motor_trace(orthoglide, result.effort, result.velocity, result.acceleration)
     t = np.linspace(0.0, 1.0, n)
     energy = electric_energy(orthoglide, trace, t, np.zeros(n, dtype=int))
     motor = orthoglide.actuators[2].drive.motor
@@ -87,6 +87,27 @@ def test_losses_in_the_transmission_and_friction_cost_energy(orthoglide):
     base = energies(orthoglide, "clip")
     assert np.all(energies(with_drives(orthoglide, transmission={"efficiency": 0.9}), "clip") > base)
     assert np.all(energies(with_drives(orthoglide, friction={"coulomb": 20.0, "viscous": 30.0}), "clip") > base)
+
+
+def test_efficiency_acts_on_the_transmitted_load_not_on_the_rotor_inertia(orthoglide):
+    robot = with_drives(orthoglide, transmission={"efficiency": 0.5})
+    rotor = robot.actuators[0].reflected_inertia
+    ratio = robot.actuators[0].drive.speed_ratio
+    acceleration = np.full((1, 3), 2.0)
+    velocity = np.full((1, 3), 0.3)
+    only_rotor = motor_trace(robot, rotor * acceleration, velocity, acceleration)
+    np.testing.assert_allclose(only_rotor.torque_Nm, rotor * acceleration / ratio, rtol=1e-12)
+    driving = motor_trace(robot, rotor * acceleration + 40.0, velocity, acceleration)
+    np.testing.assert_allclose(driving.torque_Nm, 40.0 / ratio / 0.5 + rotor * acceleration / ratio, rtol=1e-12)
+    braking = motor_trace(robot, rotor * acceleration - 40.0, velocity, acceleration)
+    np.testing.assert_allclose(braking.torque_Nm, -40.0 / ratio * 0.5 + rotor * acceleration / ratio, rtol=1e-12)
+
+
+def test_sample_power_integrates_to_the_signed_energy(orthoglide):
+    detail = Evaluator(orthoglide, load_path(EXAMPLE), "signed", time_step_s=0.0005).detail(PLACEMENTS[1])
+    dt = interval_widths(detail.samples.t_s, detail.samples.piece)
+    trapezoid = (((detail.power_W[1:] + detail.power_W[:-1]) / 2) * dt[:, None]).sum()
+    assert trapezoid == pytest.approx(detail.energy.total_J, rel=1e-3)
 
 
 def test_a_registered_motor_model_is_used(orthoglide):

@@ -48,6 +48,16 @@ def test_power_balance(fivebar):
     assert np.abs(power_in - energy_rate(fivebar, tip_path, t)).max() <= 1e-6 * peak
 
 
+def test_every_test_robot_passes_the_physics_check(fivebar):
+    from placement.checks import check_robot
+    from placement.robot import load_robot
+    from conftest import ROBOTS_DIR
+
+    for robot in (fivebar, load_robot(ROBOTS_DIR / "ur5" / "ur5.yaml")):
+        report = check_robot(robot, samples=40)
+        assert report.passed and report.power_error_W <= 1e-6 * report.peak_power_W, robot.name
+
+
 def test_massless_distal_links_equal_the_lumped_model(fivebar):
     model = fivebar.model
     tip = model.frames[fivebar.end_effector_frame_id].placement.translation

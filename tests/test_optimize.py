@@ -45,11 +45,20 @@ def test_maximum_is_at_least_as_bad_as_the_grid_and_close_to_it(case):
     assert result.gain == pytest.approx(1 - result.best.detail.energy.total_J / worst)
 
 
-def test_fixed_variables_stay_fixed_and_the_recheck_agrees(case):
+def test_the_denser_recheck_agrees(case):
     *_, result = case
     for optimum in (result.best, result.worst):
-        assert optimum.detail.placement[2:].tolist() == [0.0, 0.0, 0.0, 0.0]
         assert optimum.sampling_gap < 0.01
+
+
+def test_phi_range_follows_the_path_symmetry(case, tmp_path):
+    robot = case[0]
+    arc = tmp_path / "arc.yaml"
+    arc.write_text("units: mm\nshape: {type: arc, radius: 20, sweep_deg: 90}\nfeed_m_s: 0.3\n")
+    assert load_path(EXAMPLE).half_turn_symmetric() and not load_path(arc).half_turn_symmetric()
+    half = default_space(robot, half_turn=True)
+    full = default_space(robot)
+    assert half.upper[-1] == pytest.approx(np.pi / 2) and full.upper[-1] == pytest.approx(np.pi)
 
 
 def test_same_seed_same_result(case):

@@ -61,20 +61,28 @@ def realistic(tmp_path):
                                      "time_step_s: 0.0005\n"))
 
 
-def test_realistic_timing_respects_speed_acceleration_and_jerk(tmp_path):
-    path = realistic(tmp_path)
+CIRCLE = ("units: mm\nshape: {type: circle, radius: 20}\nfeed_m_s: 0.5\n"
+          "timing: {mode: realistic, max_acceleration_m_s2: 10, max_jerk_m_s3: 500}\ntime_step_s: 0.0001\n")
+ARC = ("units: mm\nshape: {type: arc, radius: 5, start_deg: 0, sweep_deg: 270}\nfeed_m_s: 0.5\n"
+       "timing: {mode: realistic, max_acceleration_m_s2: 10, max_jerk_m_s3: 500}\ntime_step_s: 0.0001\n")
+
+
+@pytest.mark.parametrize("text", [None, CIRCLE, ARC], ids=["rectangle", "circle", "arc"])
+def test_realistic_timing_respects_speed_acceleration_and_jerk(tmp_path, text):
+    path = realistic(tmp_path) if text is None else load_path(write(tmp_path, text))
     s = path.sample()
     speed = np.linalg.norm(s.velocity_m_s, axis=1)
     assert speed.max() <= 0.66 + 1e-12 and speed[0] == 0 and speed[-1] == pytest.approx(0, abs=1e-9)
     assert np.linalg.norm(s.acceleration_m_s2, axis=1).max() <= 10 + 1e-9
-    jerk = np.abs(np.diff(s.acceleration_m_s2, axis=0) / np.diff(s.t_s)[:, None])
+    jerk = np.linalg.norm(np.diff(s.acceleration_m_s2, axis=0) / np.diff(s.t_s)[:, None], axis=1)
     assert jerk.max() <= 500 * (1 + 1e-6)
-    assert s.t_s[-1] > path.length_m / path.feed_m_s  # corners cost time
+    assert s.t_s[-1] > path.length_m / path.feed_m_s  # stopping costs time
     # Positions are the integral of velocities (trapezoidal rule error O(dt²)).
     integrated = s.position_m[0] + np.concatenate([[np.zeros(3)], np.cumsum(
         (s.velocity_m_s[1:] + s.velocity_m_s[:-1]) / 2 * np.diff(s.t_s)[:, None], axis=0)])
     assert np.abs(integrated - s.position_m).max() < 1e-6
-    np.testing.assert_allclose(s.position_m[-1], s.position_m[0], atol=1e-12)
+    end = path.segments[-1].end_m
+    np.testing.assert_allclose(s.position_m[-1], end, atol=1e-12)
 
 
 @pytest.mark.parametrize("distance", [0.001, 0.03, 0.5])

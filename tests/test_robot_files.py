@@ -104,6 +104,12 @@ def test_negative_lead_is_rejected_with_its_unit(robot_copy):
     expect_error(write(data), "drives.sanyo_p30b06040d_ball_screw.transmission.lead_m", ["greater than 0"])
 
 
+def test_motor_constants_must_conserve_energy(robot_copy):
+    sidecar, data, write = robot_copy
+    data["drives"]["sanyo_p30b06040d_ball_screw"]["motor"]["back_emf_constant_V_s_per_rad"] = 0.2
+    expect_error(write(data), "drives.sanyo_p30b06040d_ball_screw.motor", ["torque_constant_Nm_per_A / phases"])
+
+
 def test_unknown_drive(robot_copy):
     sidecar, data, write = robot_copy
     data["actuators"][2]["drive"] = "maxon"
