@@ -1,4 +1,4 @@
-"""Throughput of the Orthoglide inverse dynamics, one core: exact model beside the lumped model.
+"""Throughput of the Orthoglide model, one core: exact model beside the lumped model; map speed-up.
 
 Run: ``python benchmarks/throughput.py [--samples N] [--seconds S]``. Each line evaluates the
 same end-effector trajectory (N samples, the paper's groove-milling load on the tool) and prints
@@ -25,6 +25,7 @@ from placement.dynamics import inverse_dynamics  # noqa: E402
 from placement.evaluation import Evaluator  # noqa: E402
 from placement.kinematics import TaskTrajectory, joint_trajectory  # noqa: E402
 from placement.path import load_path  # noqa: E402
+from placement.sweep import sweep  # noqa: E402
 from placement.robot import load_robot  # noqa: E402
 
 closed_form = load_robot("orthoglide").plugin
@@ -95,6 +96,15 @@ def main() -> None:
     per_second = rate(lambda: evaluator.evaluate(placements), len(placements), args.seconds)
     print(f"  whole chain (energy and margins), 30 x 60 mm rectangle, {len(evaluator.samples)} samples: "
           f"{per_second:,.0f} placements/s ({per_second * len(evaluator.samples):,.0f} samples/s)")
+    workspace = robot.sidecar.workspace
+    axes = {axis: np.linspace(workspace.min_m[k], workspace.max_m[k], 41) for k, axis in enumerate("xy")}
+    seconds = {}
+    for workers in (1, 2):
+        tic = time.perf_counter()
+        sweep(robot, evaluator.path, axes, {"z": 0.0, "phi": 0.0}, workers=workers)
+        seconds[workers] = time.perf_counter() - tic
+    print(f"41 x 41 (x, y) energy map of the 30 x 60 mm rectangle at z = 0, phi = 0: {seconds[1]:.2f} s with 1 worker, "
+          f"{seconds[2]:.2f} s with 2 workers (speed-up {seconds[1] / seconds[2]:.2f}, process start-up included)")
 
 
 if __name__ == "__main__":

@@ -1,7 +1,9 @@
-"""Draw the paper's figures with the exact model: energy maps, E_min / E_max vs size, comparison.
+"""Draw the paper's figures with the exact model: energy maps, E_min / E_max vs size, comparison,
+and the 3-D scene of the best and worst rectangles of every size.
 
 Writes PNG and SVG files to docs/figures/ (or --out): the Orthoglide, the paper's 30 x 60 mm
-groove at 0.66 m/s, per-axis clipping (the default regeneration mode), paper timing law.
+groove at 0.66 m/s, per-axis clipping (the default regeneration mode), paper timing law; and
+scene_rectangles.html beside them (with a PNG of it when Chromium is installed).
 
 Usage: python examples/paper_figures.py [--out docs/figures] [--grid 41] [--workers N]
 """
@@ -19,8 +21,11 @@ import numpy as np
 
 from paper_table import PAPER, WIDTHS_MM, run_case
 from placement import load_path, load_robot, optimize_placement
-from placement.plots import LABELS, draw_map, map_figure, save
+from placement.frames import transform_path_to_base
+from placement.kinematics import joint_trajectory
+from placement.plots import draw_map, map_figure, save
 from placement.sweep import sweep
+from placement.visualize import BEST_COLOR, WORST_COLOR, Scene, screenshot
 
 EXAMPLE = Path(__file__).with_name("rect.yaml")
 
@@ -117,7 +122,37 @@ def main() -> None:
     written += save(size_figure(sizes), out / "energy_vs_width")
     result = optimize_placement(robot, path)
     written += save(comparison(robot, result.best.detail, result.worst.detail), out / "emin_emax_comparison")
+    written += rectangles_scene(robot, sizes, result, out)
     print(f"wrote {len(written)} files to {out} in {time.perf_counter() - start:.0f} s")
+
+
+def rectangles_scene(robot, sizes, result, out: Path) -> list[str]:
+    """The best (green) and worst (red) rectangle of every size in one scene, like the paper's."""
+    scene = Scene(robot)
+    scene.add_workspace()
+    for size in sizes:
+        text = EXAMPLE.read_text().replace("width: 30, length: 60", f"width: {size['width']}, length: {2 * size['width']}")
+        samples = load_path_text(text).sample()
+        for key, color, label in (("min", BEST_COLOR, "least energy"), ("max", WORST_COLOR, "most energy")):
+            placed, _ = transform_path_to_base(samples, np.array([size[key]["placement"]]))
+            scene.add_path(f"{size['width']}_{key}", placed.position_m, color, label)
+    best = result.best.detail
+    task, _ = transform_path_to_base(best.samples, best.placement[None])
+    scene.animate(joint_trajectory(robot, task).q, best.samples.t_s)
+    page = out / "scene_rectangles.html"
+    page.write_text(scene.html("Orthoglide: best and worst rectangles, W = 20 ... 80 mm"))
+    image = out / "scene_rectangles.png"
+    return [page.name] + ([image.name] if screenshot(page, image) else [])
+
+
+def load_path_text(text: str):
+    """A path from YAML text (through a temporary file, as paths are files)."""
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as folder:
+        file = Path(folder) / "path.yaml"
+        file.write_text(text)
+        return load_path(file)
 
 
 if __name__ == "__main__":

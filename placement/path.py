@@ -19,8 +19,9 @@ Timing laws:
     paper: constant feed on each segment, each segment independent (corners ignored), as in
         Ur-Rehman et al.; energies are integrated segment by segment.
     realistic: the tool stops at every sharp corner and follows a jerk-limited (double-S) feed
-        profile with bounded acceleration and jerk; arcs are slowed so that the centripetal
-        acceleration stays within the bound; one continuous motion.
+        profile with bounded acceleration and jerk; on arcs the feed is lowered until the
+        tangential and centripetal acceleration and jerk together stay within the bounds; one
+        continuous motion.
 """
 
 from __future__ import annotations

@@ -11,6 +11,9 @@ from __future__ import annotations
 
 import base64
 import os
+import shutil
+import subprocess
+import tempfile
 from pathlib import Path
 
 import matplotlib
@@ -175,6 +178,37 @@ class Scene:
         if process is not None:
             process.kill()
             process.wait()
+
+
+BROWSERS = ("chromium", "chromium-browser", "google-chrome")
+BROWSER_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+                 "--disable-background-networking", "--disable-component-update", "--disable-sync",
+                 "--enable-unsafe-swiftshader", "--use-angle=swiftshader",
+                 "--proxy-server=127.0.0.1:9"]  # any network request fails: the page must be self-contained
+
+
+def find_browser() -> str | None:
+    """A Chromium-family browser on this machine, if any."""
+    return next((shutil.which(name) for name in BROWSERS if shutil.which(name)), None)
+
+
+def screenshot(page: Path, image: Path, size: tuple[int, int] = (1000, 700), wait_ms: int = 3000) -> bool:
+    """Render ``page`` in headless Chromium (software WebGL) and save a PNG; False if no browser.
+
+    Args:
+        page: A self-contained HTML file.
+        image: The PNG to write.
+        size: Window width and height in pixels.
+        wait_ms: Virtual time given to the page (the animation plays meanwhile).
+    """
+    browser = find_browser()
+    if browser is None:
+        return False
+    with tempfile.TemporaryDirectory() as profile:
+        subprocess.run([browser, *BROWSER_FLAGS, f"--window-size={size[0]},{size[1]}", f"--virtual-time-budget={wait_ms}",
+                        f"--user-data-dir={profile}", f"--screenshot={Path(image).absolute()}", Path(page).absolute().as_uri()],
+                       capture_output=True, timeout=180, check=False)
+    return Path(image).is_file()
 
 
 def _package_dirs(robot: Robot) -> list[str]:

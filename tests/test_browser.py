@@ -1,8 +1,5 @@
 """The static 3-D scene opens offline in a real browser and shows the robot, cube and paths."""
 
-import shutil
-import subprocess
-
 import numpy as np
 import pytest
 from PIL import Image
@@ -11,16 +8,8 @@ from placement.evaluation import Evaluator
 from placement.frames import transform_path_to_base
 from placement.kinematics import joint_trajectory
 from placement.path import load_path
-from placement.visualize import BEST_COLOR, CUBE_COLOR, WORST_COLOR, Scene
+from placement.visualize import BEST_COLOR, CUBE_COLOR, WORST_COLOR, Scene, find_browser, screenshot
 from test_path import EXAMPLE
-
-BROWSERS = ("chromium", "chromium-browser", "google-chrome")
-FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-         "--disable-background-networking", "--disable-component-update", "--disable-sync",
-         "--enable-unsafe-swiftshader", "--use-angle=swiftshader", "--window-size=900,650",
-         "--virtual-time-budget=3000",
-         "--proxy-server=127.0.0.1:9"]  # any network request would fail: the page must be self-contained
-
 
 def count_near(pixels: np.ndarray, color: int, tolerance: int) -> int:
     rgb = np.array([(color >> 16) & 255, (color >> 8) & 255, color & 255])
@@ -28,9 +17,8 @@ def count_near(pixels: np.ndarray, color: int, tolerance: int) -> int:
 
 
 @pytest.fixture(scope="module")
-def screenshot(tmp_path_factory):
-    browser = next((shutil.which(name) for name in BROWSERS if shutil.which(name)), None)
-    if browser is None:
+def shot(tmp_path_factory):
+    if find_browser() is None:
         pytest.skip("no Chromium on this machine (.ci/run installs Debian's chromium package)")
     from placement.robot import load_robot
 
@@ -47,25 +35,36 @@ def screenshot(tmp_path_factory):
     folder = tmp_path_factory.mktemp("browser")
     page, image = folder / "scene.html", folder / "scene.png"
     page.write_text(scene.html("test scene"))
-    subprocess.run([browser, *FLAGS, f"--user-data-dir={folder / 'profile'}", f"--screenshot={image}",
-                    page.as_uri()], capture_output=True, timeout=120, check=False)
-    if not image.is_file():
-        pytest.fail(f"{browser} wrote no screenshot")
+    if not screenshot(page, image, size=(900, 650)):
+        pytest.fail(f"{find_browser()} wrote no screenshot")
     return np.asarray(Image.open(image).convert("RGB"))
 
 
-def test_the_scene_is_rendered(screenshot):
-    colors = np.unique(screenshot.reshape(-1, 3), axis=0)
+def test_the_scene_is_rendered(shot):
+    colors = np.unique(shot.reshape(-1, 3), axis=0)
     assert len(colors) > 200  # a rendered 3-D scene, not a blank or error page
 
 
-def test_both_paths_and_the_cube_are_drawn(screenshot):
-    assert count_near(screenshot, BEST_COLOR, 30) > 30
-    assert count_near(screenshot, WORST_COLOR, 30) > 30
-    assert count_near(screenshot, CUBE_COLOR, 30) > 30
+def test_both_paths_and_the_cube_are_drawn(shot):
+    assert count_near(shot, BEST_COLOR, 30) > 30
+    assert count_near(shot, WORST_COLOR, 30) > 30
+    assert count_near(shot, CUBE_COLOR, 30) > 30
 
 
-def test_the_robot_is_drawn(screenshot):
-    sliders = count_near(screenshot, 0x3366CC, 60)  # blue slider boxes, shaded
-    bars = count_near(screenshot, 0xD98C1A, 60)  # orange parallelogram bars, shaded
+def test_the_robot_is_drawn(shot):
+    sliders = count_near(shot, 0x3366CC, 60)  # blue slider boxes, shaded
+    bars = count_near(shot, 0xD98C1A, 60)  # orange parallelogram bars, shaded
     assert sliders > 500 and bars > 200
+
+
+def test_live_viewer_serves_on_loopback_and_stops():
+    from placement.robot import load_robot
+
+    scene = Scene(load_robot("orthoglide"), live=True)
+    try:
+        assert scene.url().startswith("http://127.0.0.1:")
+        process = scene.viewer.window.server_proc
+        assert process.poll() is None
+    finally:
+        scene.close()
+    assert process.poll() is not None  # no server left running
