@@ -21,7 +21,7 @@ import numpy as np
 
 from paper_table import PAPER, WIDTHS_MM, run_case
 from placement import load_path, load_robot, optimize_placement
-from placement.frames import transform_path_to_base
+from placement.frames import placed_task, transform_path_to_base
 from placement.kinematics import joint_trajectory
 from placement.plots import draw_map, map_figure, save
 from placement.sweep import sweep
@@ -137,7 +137,7 @@ def rectangles_scene(robot, sizes, result, out: Path) -> list[str]:
             placed, _ = transform_path_to_base(samples, np.array([size[key]["placement"]]))
             scene.add_path(f"{size['width']}_{key}", placed.position_m, color, label)
     best = result.best.detail
-    task, _ = transform_path_to_base(best.samples, best.placement[None])
+    task, _ = placed_task(robot, best.samples, best.placement[None])
     scene.animate(joint_trajectory(robot, task).q, best.samples.t_s)
     page = out / "scene_rectangles.html"
     page.write_text(scene.html("Orthoglide: best and worst rectangles, W = 20 ... 80 mm"))

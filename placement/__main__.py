@@ -25,7 +25,7 @@ from tqdm import tqdm
 from placement.checks import check_robot
 from placement.evaluation import Evaluator
 from placement.exceptions import PlacementError
-from placement.frames import ANGLES, VARIABLES, transform_path_to_base
+from placement.frames import ANGLES, VARIABLES, placed_task
 from placement.kinematics import joint_trajectory
 from placement.optimize import SearchSettings, default_space, optimize_placement
 from placement.path import Timing, ToolPath, load_path
@@ -266,7 +266,7 @@ def draw(scene: Scene, robot: Robot, index: int, details: dict) -> None:
         scene.add_path(f"{index}_{key}", detail.tool_position_m, *colors[key])
     moving = details.get("at") or details.get("best") or details.get("worst")
     if index == 0 and moving is not None and moving.reachable:
-        task, _ = transform_path_to_base(moving.samples, moving.placement[None])
+        task, _ = placed_task(robot, moving.samples, moving.placement[None])
         scene.animate(joint_trajectory(robot, task).q, moving.samples.t_s)
 
 

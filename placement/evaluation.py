@@ -16,7 +16,7 @@ from placement.constraints import Margin, margin_fields, tightest, worst_margins
 from placement.drives import MotorTrace, motor_trace
 from placement.dynamics import actuator_efforts
 from placement.energy import Energy, electric_energy, sample_power
-from placement.frames import transform_path_to_base
+from placement.frames import placed_task
 from placement.kinematics import try_joint_trajectory
 from placement.path import PathSamples, ToolPath
 from placement.robot import Robot
@@ -110,7 +110,7 @@ class Evaluator:
     def _chain(self, placements: np.ndarray) -> dict:
         """Run the exact chain on (K, 6) placements; arrays come back shaped (K, N, ...)."""
         k, n = len(placements), len(self.samples)
-        task, force = transform_path_to_base(self.samples, placements)
+        task, force = placed_task(self.robot, self.samples, placements)
         if self.method == "closed_form":
             joints, reachable = try_joint_trajectory(self.robot, task, "closed_form")
         else:  # the generic solver walks each placement from the reference configuration

@@ -14,6 +14,7 @@ import numpy as np
 from placement.exceptions import PlacementError
 from placement.kinematics import TaskTrajectory
 from placement.path import PathSamples
+from placement.robot import Robot
 
 VARIABLES = ("x", "y", "z", "phi", "theta", "psi")
 ANGLES = ("phi", "theta", "psi")
@@ -27,6 +28,33 @@ def rotation_zyx(phi: np.ndarray, theta: np.ndarray, psi: np.ndarray) -> np.ndar
         np.stack([sf * ct, sf * st * sp + cf * cp, sf * st * cp - cf * sp], axis=-1),
         np.stack([-st, ct * sp, ct * cp], axis=-1),
     ], axis=-2)
+
+
+def placed_task(robot: Robot, samples: PathSamples, placements: np.ndarray) -> tuple[TaskTrajectory, np.ndarray]:
+    """The end-effector task and its external load for placed paths, as the robot's task needs.
+
+    A position task follows the tool point; a pose task also holds the end-effector frame at the
+    sidecar's ``tool_rpy_in_path_rad`` in the (fixed) path frame. The load is the process force
+    on the tool from the workpiece, with a zero moment for a pose task.
+
+    Args:
+        robot: The robot.
+        samples: The path sampled in its own frame (N samples).
+        placements: (K, 6) placement vectors.
+
+    Returns:
+        The task (K·N samples, placement-major) and the load, (K·N, 3 or 6).
+    """
+    task, force = transform_path_to_base(samples, placements)
+    if robot.task == "position":
+        return task, force
+    rpy = robot.sidecar.end_effector.tool_rpy_in_path_rad or (0.0, 0.0, 0.0)
+    x = np.atleast_2d(placements)
+    rotation = np.repeat(rotation_zyx(x[:, 3], x[:, 4], x[:, 5]) @ rotation_zyx(rpy[2], rpy[1], rpy[0]),
+                         len(samples), axis=0)
+    still = np.zeros_like(task.position_m)
+    pose = TaskTrajectory(task.position_m, task.velocity_m_s, task.acceleration_m_s2, rotation, still, still)
+    return pose, np.hstack([force, still])
 
 
 def transform_path_to_base(samples: PathSamples, placements: np.ndarray) -> tuple[TaskTrajectory, np.ndarray]:

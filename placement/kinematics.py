@@ -244,6 +244,45 @@ def _numeric(robot: Robot, task: TaskTrajectory) -> tuple[JointTrajectory, np.nd
     return JointTrajectory(q_all, v_all, a_all, basis_all, map_all), reachable, reason
 
 
+def _serial(robot: Robot, task: TaskTrajectory) -> tuple[JointTrajectory, np.ndarray, str]:
+    """Serial robots (no closure, every joint actuated): Gauss–Newton on the task alone."""
+    model, data, frame = robot.model, robot.model.createData(), robot.end_effector_frame_id
+    n, dim, nv = len(task), robot.task_dimension, robot.model.nv
+    q_all, v_all, a_all = np.zeros((n, model.nq)), np.zeros((n, nv)), np.zeros((n, nv))
+    map_all = np.zeros((n, dim, nv))
+    twist, acceleration = task.twist(), task.acceleration()
+    reachable = np.ones(n, dtype=bool)
+    reason, q = "", None
+    for k in range(n):
+        rotation = task.rotation[k] if task.is_pose else None
+        try:
+            q = _first_configuration(robot, data, task) if q is None else q
+            for _ in range(MAX_ITERATIONS):
+                jacobian = pin.computeFrameJacobian(model, data, q, frame, LWA)[:dim]
+                error = _task_error(robot, data, task.position_m[k], rotation)
+                if np.linalg.norm(error) < SOLVE_TOLERANCE:
+                    break
+                step = -np.linalg.lstsq(jacobian, error, rcond=None)[0]
+                q = pin.integrate(model, q, step * min(1.0, MAX_STEP / np.abs(step).max()))
+            else:
+                raise UnreachableError([k], 1, f"no configuration reaches {np.round(task.position_m[k], 6).tolist()} m")
+            v = _solve_task_map(jacobian, twist[k], k)
+            pin.forwardKinematics(model, data, q, v, np.zeros(nv))
+            drift = pin.getFrameClassicalAcceleration(model, data, frame, LWA).vector[:dim]
+            a = _solve_task_map(jacobian, acceleration[k] - drift, k)
+        except UnreachableError as error:
+            reachable[k], reason = False, reason or error.reason
+            q_all[k] = robot.reference_q
+            q = None if k == 0 else q
+            continue
+        q_all[k], v_all[k], a_all[k], map_all[k] = q, v, a, jacobian
+    act = robot.actuated_v_indices
+    selection = np.zeros((nv, nv))
+    selection[act, np.arange(nv)] = 1.0  # v = G·rhodot with rhodot in actuator order
+    basis = np.broadcast_to(selection, (n, nv, nv))
+    return JointTrajectory(q_all, v_all, a_all, basis, map_all @ selection), reachable, reason
+
+
 def _closed_form(robot: Robot, task: TaskTrajectory) -> tuple[JointTrajectory, np.ndarray, str]:
     """Batched plug-in path: Taylor arithmetic gives rates, accelerations and ∂q/∂p at once."""
     model, n = robot.model, len(task)
@@ -323,7 +362,8 @@ def _solve(robot: Robot, task: TaskTrajectory, method: str) -> tuple[JointTrajec
     if method == "auto":
         method = "closed_form" if robot.closed_form is not None else "numeric"
     if method == "numeric":
-        return _numeric(robot, task)
+        serial = not robot.closures and len(robot.actuators) == robot.model.nv
+        return _serial(robot, task) if serial else _numeric(robot, task)
     if method != "closed_form" or robot.closed_form is None:
         raise PlacementError(f"kinematics method '{method}' is not available for robot '{robot.name}'")
     return _closed_form(robot, task)

@@ -93,24 +93,26 @@ class PlacementResult:
 
 def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict[str, float] | None = None,
                   bounds: dict[str, tuple[float, float]] | None = None, half_turn: bool = False) -> PlacementSpace:
-    """The placement space of a robot: by default x, y, z within its workspace box, angles in ±180°.
+    """The placement space of a robot: by default the sidecar's ``placement`` section, else x, y, z
+    within the workspace box and phi in ±180° (the tool axis staying along Z_b).
 
     Args:
         robot: The robot.
-        free: Free variables (default: x, y, z, phi, the tool axis staying along Z_b).
+        free: Free variables (default: the sidecar's, else x, y, z, phi).
         fixed: Values of fixed variables (default 0); a free variable cannot be fixed.
         bounds: Bounds overriding the defaults (m, rad).
         half_turn: The path is unchanged by a half turn about its tool axis
             (:meth:`ToolPath.half_turn_symmetric`): phi then only needs ±90°.
     """
-    free = tuple(free or ("x", "y", "z", "phi"))
+    defaults = robot.sidecar.placement
+    free = tuple(free or (defaults.free if defaults else ("x", "y", "z", "phi")))
     unknown = sorted(set(free) - set(VARIABLES))
     if unknown:
         raise PlacementError(f"unknown placement variable(s) {unknown}; expected some of {', '.join(VARIABLES)}")
     clash = sorted(set(free) & set(fixed or {}))
     if clash:
         raise PlacementError(f"{clash} cannot be both free and fixed")
-    limits = dict(bounds or {})
+    limits = {**(defaults.bounds if defaults else {}), **(bounds or {})}
     workspace = robot.sidecar.workspace
     for k, axis in enumerate("xyz"):
         if workspace is not None:

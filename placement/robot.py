@@ -132,7 +132,7 @@ def load_robot(name_or_path: str | Path) -> Robot:
     sidecar = read_sidecar(path)
     urdf_path = _resolve_urdf(path, sidecar.urdf)
     urdf = _read_urdf(urdf_path)
-    model = pin.buildModelFromUrdf(str(urdf_path))
+    model = _lock_joints(pin.buildModelFromUrdf(str(urdf_path)), path, sidecar.locked_joints)
     plugin = _load_plugin(path, sidecar.kinematics_plugin)
     model.gravity = pin.Motion(np.array(sidecar.gravity_m_s2), np.zeros(3))
     robot = Robot(
@@ -191,6 +191,19 @@ def _read_urdf(path: Path) -> yourdfpy.URDF:
             raise RobotFileError(path, field, f"inertia tensor must be physical: principal moments >= 0 "
                                  f"and satisfying the triangle inequality (got {moments.tolist()} kg m^2)")
     return urdf
+
+
+def _lock_joints(model: pin.Model, path: Path, locked: dict[str, float]) -> pin.Model:
+    """The model with the ``locked`` joints held at their values (a gripper's fingers, say)."""
+    if not locked:
+        return model
+    q = pin.neutral(model)
+    ids = []
+    for name, value in locked.items():
+        joint_id = _joint_id(model, path, f"locked_joints.{name}", name)
+        q[model.joints[joint_id].idx_q] = value
+        ids.append(joint_id)
+    return pin.buildReducedModel(model, ids, q)
 
 
 def _frame_id(model: pin.Model, path: Path, field: str, name: str) -> int:
@@ -344,3 +357,8 @@ def _check_mobility(robot: Robot) -> None:
                              f"the closures leave {nv - rank} degree(s) of freedom at reference_configuration, "
                              f"and the {len(robot.actuators)} actuated joint(s) must determine all "
                              f"{len(passive)} passive ones")
+    if len(robot.actuators) > robot.task_dimension:
+        raise RobotFileError(robot.sidecar_path, "locked_joints",
+                             f"the robot has {len(robot.actuators)} degrees of freedom for a {robot.task} task of "
+                             f"{robot.task_dimension}: lock {len(robot.actuators) - robot.task_dimension} joint(s) so "
+                             "that the path determines the motion")

@@ -109,10 +109,36 @@ class Closure(Strict):
 
 
 class EndEffector(Strict):
-    """The frame that follows the path, and what of it is prescribed."""
+    """The frame that follows the path, and what of it is prescribed.
+
+    For a pose task, ``tool_rpy_in_path_rad`` is the end-effector frame's orientation in the path
+    frame (roll, pitch, yaw about fixed x, y, z): [pi, 0, 0] turns the tool's z axis to -Z_p,
+    pointing into the workpiece.
+    """
 
     frame: str
     task: Literal["position", "pose"]
+    tool_rpy_in_path_rad: Vector3 | None = None
+
+    @model_validator(mode="after")
+    def _orientation_for_pose(self) -> EndEffector:
+        if self.task == "position" and self.tool_rpy_in_path_rad is not None:
+            raise ValueError("tool_rpy_in_path_rad applies to pose tasks only")
+        return self
+
+
+class PlacementDefaults(Strict):
+    """The default search space of path placements on this robot (m, rad)."""
+
+    free: Annotated[list[Literal["x", "y", "z", "phi", "theta", "psi"]], Field(min_length=1)]
+    bounds: dict[Literal["x", "y", "z", "phi", "theta", "psi"], tuple[float, float]] = {}
+
+    @model_validator(mode="after")
+    def _ordered(self) -> PlacementDefaults:
+        for name, (low, high) in self.bounds.items():
+            if not low < high:
+                raise ValueError(f"bounds.{name}: the lower bound {low} must be below the upper bound {high}")
+        return self
 
 
 class Workspace(Strict):
@@ -139,11 +165,13 @@ class Sidecar(Strict):
     gravity_m_s2: Vector3
     end_effector: EndEffector
     reference_configuration: dict[str, float] = {}
+    locked_joints: dict[str, float] = Field({}, description="joints held fixed at these values (m, rad)")
     closures: list[Closure] = []
     actuators: Annotated[list[Actuator], Field(min_length=1)]
     drives: dict[str, Drive] = {}
     kinematics_plugin: str | None = Field(None, description="Python file beside this one, with a closed-form solver")
     workspace: Workspace | None = None
+    placement: PlacementDefaults | None = None
     sources: dict[str, str] = {}
 
 

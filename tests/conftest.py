@@ -7,9 +7,6 @@ sys.path.insert(0, str(Path(__file__).parent))
 
 from placement.robot import load_robot  # noqa: E402
 
-ROBOTS_DIR = Path(__file__).parent / "robots"
-
-
 @pytest.fixture
 def orthoglide():
     """A freshly loaded Orthoglide (tests may modify its model)."""
@@ -18,4 +15,4 @@ def orthoglide():
 
 @pytest.fixture
 def fivebar():
-    return load_robot(ROBOTS_DIR / "fivebar" / "fivebar.yaml")
+    return load_robot("fivebar")

@@ -3,12 +3,13 @@
 import math
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from placement.__main__ import main
-from conftest import ROBOTS_DIR
+from placement.robot import BUILTIN_ROBOTS_DIR
 
 
 def test_robots_lists_the_orthoglide(capsys):
@@ -23,7 +24,7 @@ def test_check_proves_the_orthoglide_model(capsys):
 
 
 def test_check_a_sidecar_by_path(capsys):
-    assert main(["check", str(ROBOTS_DIR / "fivebar" / "fivebar.yaml"), "--samples", "30"]) == 0
+    assert main(["check", str(BUILTIN_ROBOTS_DIR / "fivebar" / "fivebar.yaml"), "--samples", "30"]) == 0
     assert "generic solver" in capsys.readouterr().out
 
 
@@ -47,7 +48,7 @@ def test_module_entry_point_runs():
     assert result.returncode == 0 and "orthoglide" in result.stdout
 
 
-EXAMPLE = ROBOTS_DIR.parents[1] / "examples" / "rect.yaml"
+EXAMPLE = Path(__file__).parents[1] / "examples" / "rect.yaml"
 QUICK = ["--robot", "orthoglide", "--path", str(EXAMPLE), "--time-step", "0.004", "--quiet"]
 
 

@@ -50,12 +50,11 @@ def test_power_balance(fivebar):
 
 def test_every_test_robot_passes_the_physics_check(fivebar):
     from placement.checks import check_robot
-    from placement.robot import load_robot
-    from conftest import ROBOTS_DIR
+    from placement.robot import builtin_robots, load_robot
 
-    for robot in (fivebar, load_robot(ROBOTS_DIR / "ur5" / "ur5.yaml")):
-        report = check_robot(robot, samples=40)
-        assert report.passed and report.power_error_W <= 1e-6 * report.peak_power_W, robot.name
+    for name in builtin_robots():
+        report = check_robot(load_robot(name), samples=40)
+        assert report.passed and report.power_error_W <= 1e-6 * report.peak_power_W, name
 
 
 def test_massless_distal_links_equal_the_lumped_model(fivebar):
@@ -66,6 +65,8 @@ def test_massless_distal_links_equal_the_lumped_model(fivebar):
     task = tip_path(np.linspace(0.0, 2.0, 60))
     load = np.tile(TIP_FORCE_N, (len(task), 1))
     result = inverse_dynamics(fivebar, task, load)
-    lumped = analytic.lumped_torques(task.position_m, task.velocity_m_s, task.acceleration_m_s2, load)
+    rotor = fivebar.actuators[0].reflected_inertia  # the geared motor's inertia at the joint
+    lumped = analytic.lumped_torques(task.position_m, task.velocity_m_s, task.acceleration_m_s2, load,
+                                     prox_inertia_A_kg_m2=analytic.PROX_INERTIA_A + rotor)
     assert np.abs(result.effort).max() > 1.0
     assert np.abs(result.effort - lumped).max() <= 1e-9 * np.abs(result.effort).max()

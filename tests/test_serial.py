@@ -6,7 +6,6 @@ import pinocchio as pin
 from placement.dynamics import inverse_dynamics
 from placement.kinematics import LWA, TaskTrajectory, joint_trajectory
 from placement.robot import load_robot
-from conftest import ROBOTS_DIR
 
 
 def joint_motion(robot, t):
@@ -34,7 +33,7 @@ def task_of(robot, q, v, a):
 
 
 def test_ur5_inverse_kinematics_and_dynamics_equal_rnea():
-    robot = load_robot(ROBOTS_DIR / "ur5" / "ur5.yaml")
+    robot = load_robot("ur5")
     q, v, a = joint_motion(robot, np.linspace(0.0, 2.0, 80))
     task = task_of(robot, q, v, a)
     joints = joint_trajectory(robot, task)
