@@ -68,6 +68,10 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--max-jerk", type=float, metavar="M_S3", help="tool jerk bound of the realistic timing law (m/s^3)")
     parser.add_argument("--time-step", type=float, metavar="S", help="path sampling step (s; default: the path file's)")
     parser.add_argument("--seed", type=int, default=0, help="random seed of the search (default 0)")
+    parser.add_argument("--generations", type=int, default=SearchSettings.max_generations, metavar="N",
+                        help=f"most generations of the global search (default {SearchSettings.max_generations})")
+    parser.add_argument("--population", type=int, default=SearchSettings.population, metavar="N",
+                        help=f"population of the global search (default {SearchSettings.population})")
     parser.add_argument("--json", metavar="FILE", help="write the results as JSON (SI units)")
     parser.add_argument("--trace", metavar="FILE",
                         help="write a per-sample CSV trace of the placement given by --at, else of the best one")
@@ -239,7 +243,9 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace) -> tuple[d
     space = default_space(robot, free=free, fixed=parse_values(args.fix or "", "--fix"),
                           half_turn=path.half_turn_symmetric())
     print(f"search: {', '.join(space.free)} free; seed {args.seed}")
-    settings = SearchSettings(seed=args.seed)
+    if args.generations < 1 or args.population < 1:
+        raise UsageError("--generations and --population must be at least 1")
+    settings = SearchSettings(seed=args.seed, max_generations=args.generations, population=args.population)
     directions = 1 if args.minimize or args.maximize else 2
     with tqdm(desc="searching", total=directions * settings.max_generations, unit=" generation",
               disable=args.quiet, file=sys.stderr, leave=False) as bar:

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from placement.exceptions import PlacementError
+from placement.exceptions import RobotFileError
 from placement.robot import Robot
 from placement.sidecar import Drive
 
@@ -35,11 +35,11 @@ class MotorTrace:
 
 
 def drives_of(robot: Robot) -> list[Drive]:
-    """The drive of every actuator, or an error naming the actuators that have none."""
-    missing = [a.joint for a in robot.actuators if a.drive is None]
-    if missing:
-        raise PlacementError(f"robot '{robot.name}' ({robot.sidecar_path}): actuators {missing} have no drive; "
-                             "energy needs a drive for every actuator (field actuators.N.drive)")
+    """The drive of every actuator, or an error naming the first actuator that has none."""
+    for i, actuator in enumerate(robot.actuators):
+        if actuator.drive is None:
+            raise RobotFileError(robot.sidecar_path, f"actuators.{i}.drive", f"actuator '{actuator.joint}' has no "
+                                 "drive; energy and motor limits need one: name an entry of drives")
     return [a.drive for a in robot.actuators]
 
 

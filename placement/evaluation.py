@@ -8,7 +8,10 @@ of hundreds of samples each stay cheap.
 
 from __future__ import annotations
 
+import os
+from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -19,7 +22,7 @@ from placement.energy import Energy, electric_energy, sample_power
 from placement.frames import placed_task
 from placement.kinematics import try_joint_trajectory
 from placement.path import PathSamples, ToolPath
-from placement.robot import Robot
+from placement.robot import Robot, load_robot
 
 BATCH_SAMPLES = 60_000  # samples per batched call (memory: about 0.5 kB a sample)
 UNREACHABLE_MARGIN = -1.0  # below every real margin: how infeasible an unreachable placement is
@@ -90,22 +93,42 @@ class PlacementDetail:
 class Evaluator:
     """Evaluates placements of one path on one robot.
 
+    Robots solved by the generic (per-sample) kinematics share batches of placements among worker
+    processes; call :meth:`close` (or use ``with``) to stop them.
+
     Args:
         robot: The robot (its actuators need drives).
         path: The tool path.
         regeneration: Regeneration mode, see :mod:`placement.energy`.
         time_step_s: Sampling step (default: the path file's).
         method: Kinematics method, see :func:`placement.kinematics.joint_trajectory`.
+        workers: Processes for batches of placements (default: every core for the generic
+            kinematics, 1 for a closed-form plug-in, whose batches are already vectorised).
     """
 
     def __init__(self, robot: Robot, path: ToolPath, regeneration: str = "clip", time_step_s: float | None = None,
-                 method: str = "auto") -> None:
+                 method: str = "auto", workers: int | None = None) -> None:
         self.robot = robot
         self.path = path
         self.regeneration = regeneration
-        self.method = "closed_form" if method == "auto" and robot.closed_form is not None else method
+        self.time_step_s = time_step_s
+        self.method = ("closed_form" if robot.closed_form is not None else "numeric") if method == "auto" else method
         self.samples = path.sample(time_step_s)
         self.evaluations = 0  # placements evaluated so far
+        self.workers = workers or (1 if self.method == "closed_form" else os.cpu_count() or 1)
+        self._pool: ProcessPoolExecutor | None = None
+
+    def __enter__(self) -> Evaluator:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def close(self) -> None:
+        """Stop the worker processes, if any were started."""
+        if self._pool is not None:
+            self._pool.shutdown()
+            self._pool = None
 
     def _chain(self, placements: np.ndarray) -> dict:
         """Run the exact chain on (K, 6) placements; arrays come back shaped (K, N, ...)."""
@@ -132,11 +155,24 @@ class Evaluator:
     def evaluate(self, placements: np.ndarray) -> Evaluation:
         """Energy and tightest margins of (K, 6) placements."""
         placements = np.atleast_2d(placements)
+        if self.workers > 1 and len(placements) >= 2 * self.workers:
+            return self._evaluate_in_workers(placements)
         batch = max(1, BATCH_SAMPLES // len(self.samples))
         parts = [self._evaluate_batch(placements[i:i + batch]) for i in range(0, len(placements), batch)]
         return Evaluation(placements=placements, energy_J=np.concatenate([p[0] for p in parts]),
                           margins=np.concatenate([p[1] for p in parts]), limits=parts[0][2],
                           reachable=np.concatenate([p[3] for p in parts]))
+
+    def _evaluate_in_workers(self, placements: np.ndarray) -> Evaluation:
+        if self._pool is None:
+            self._pool = ProcessPoolExecutor(max_workers=self.workers, initializer=single_threaded_rnea)
+        chunks = np.array_split(placements, self.workers)
+        job = (str(self.robot.sidecar_path), self.path, self.regeneration, self.time_step_s, self.method)
+        parts = list(self._pool.map(evaluate_in_worker, *zip(*[(*job, chunk) for chunk in chunks])))
+        self.evaluations += len(placements)
+        return Evaluation(placements=placements, energy_J=np.concatenate([p.energy_J for p in parts]),
+                          margins=np.concatenate([p.margins for p in parts]), limits=parts[0].limits,
+                          reachable=np.concatenate([p.reachable for p in parts]))
 
     def _evaluate_batch(self, placements: np.ndarray) -> tuple[np.ndarray, np.ndarray, tuple[str, ...], np.ndarray]:
         chain = self._chain(placements)
@@ -161,6 +197,25 @@ class Evaluator:
             samples=self.samples, tool_position_m=chain["tool"], position=chain["position"],
             velocity=chain["velocity"], acceleration=chain["acceleration"], effort=chain["effort"], motor=motor,
             power_W=sample_power(self.robot, motor, self.samples.t_s, self.samples.piece))
+
+
+@lru_cache(maxsize=4)
+def _worker_robot(source: str) -> Robot:
+    return load_robot(source)
+
+
+def single_threaded_rnea() -> None:
+    """Worker initialiser: one RNEA thread per process, since the processes share the cores."""
+    from placement import dynamics
+
+    dynamics.THREADS = 1
+
+
+def evaluate_in_worker(robot_source: str, path: ToolPath, regeneration: str, time_step_s: float | None,
+                       method: str, placements: np.ndarray) -> Evaluation:
+    """Evaluate placements in a worker process; the robot is loaded once per worker, by file."""
+    evaluator = Evaluator(_worker_robot(robot_source), path, regeneration, time_step_s, method, workers=1)
+    return evaluator.evaluate(placements)
 
 
 def _rows(task, start: int, stop: int):

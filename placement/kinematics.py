@@ -176,8 +176,12 @@ def solve_configuration(robot: Robot, position_m: np.ndarray, rotation: np.ndarr
                                    f"(residual {residual:.2e} after {MAX_ITERATIONS} iterations)")
 
 
-def _first_configuration(robot: Robot, data: pin.Data, task: TaskTrajectory) -> np.ndarray:
-    """Walk from the reference configuration to the first sample in small steps."""
+def _first_configuration(robot: Robot, data: pin.Data, task: TaskTrajectory, solve=None) -> np.ndarray:
+    """Walk from the reference configuration to the first sample in small steps.
+
+    ``solve(robot, position, rotation, q, data)`` reaches one target (default: the generic solver).
+    """
+    solve = solve or solve_configuration
     q = robot.reference_q.copy()
     pin.framesForwardKinematics(robot.model, data, q)
     frame = data.oMf[robot.end_effector_frame_id]
@@ -188,7 +192,7 @@ def _first_configuration(robot: Robot, data: pin.Data, task: TaskTrajectory) -> 
                                / CONTINUATION_STEP_M)))
     for s in np.linspace(0.0, 1.0, steps + 1)[1:]:
         rotation = start_r @ pin.exp3(s * turn) if task.is_pose else None
-        q = solve_configuration(robot, start_p + s * (task.position_m[0] - start_p), rotation, q, data)
+        q = solve(robot, start_p + s * (task.position_m[0] - start_p), rotation, q, data)
     return q
 
 
@@ -222,7 +226,13 @@ def _numeric(robot: Robot, task: TaskTrajectory) -> tuple[JointTrajectory, np.nd
     for k in range(n):
         try:
             rotation = task.rotation[k] if task.is_pose else None
-            q = _first_configuration(robot, data, task) if q is None else q
+            if q is None:
+                q = _first_configuration(robot, data, task)
+            elif reachable[k - 1]:  # first-order prediction from the previous sample
+                move = task.position_m[k] - task.position_m[k - 1]
+                if task.is_pose:
+                    move = np.concatenate([move, pin.log3(rotation @ task.rotation[k - 1].T)])
+                q = pin.integrate(model, q, basis @ np.linalg.lstsq(task_map, move)[0])
             q = solve_configuration(robot, task.position_m[k], rotation, q, data)
             jacobian = closure_jacobian(robot, data, q)
             task_jacobian = _task_jacobian(robot, data, dim)
@@ -244,6 +254,23 @@ def _numeric(robot: Robot, task: TaskTrajectory) -> tuple[JointTrajectory, np.nd
     return JointTrajectory(q_all, v_all, a_all, basis_all, map_all), reachable, reason
 
 
+def _solve_serial(robot: Robot, position_m: np.ndarray, rotation: np.ndarray | None, q: np.ndarray,
+                  data: pin.Data) -> np.ndarray:
+    """Gauss–Newton on the end-effector error alone (a serial robot has no closure)."""
+    model, frame, dim = robot.model, robot.end_effector_frame_id, 3 if rotation is None else 6
+    for _ in range(MAX_ITERATIONS):
+        jacobian = pin.computeFrameJacobian(model, data, q, frame, LWA)[:dim]
+        error = _task_error(robot, data, position_m, rotation)
+        if np.linalg.norm(error) < SOLVE_TOLERANCE:
+            return q
+        try:
+            step = -(np.linalg.solve(jacobian, error) if dim == model.nv else np.linalg.lstsq(jacobian, error)[0])
+        except np.linalg.LinAlgError:
+            raise UnreachableError([0], 1, "singular configuration on the way to the target") from None
+        q = pin.integrate(model, q, step * min(1.0, MAX_STEP / np.abs(step).max()))
+    raise UnreachableError([0], 1, f"no configuration reaches {np.round(position_m, 6).tolist()} m")
+
+
 def _serial(robot: Robot, task: TaskTrajectory) -> tuple[JointTrajectory, np.ndarray, str]:
     """Serial robots (no closure, every joint actuated): Gauss–Newton on the task alone."""
     model, data, frame = robot.model, robot.model.createData(), robot.end_effector_frame_id
@@ -256,20 +283,22 @@ def _serial(robot: Robot, task: TaskTrajectory) -> tuple[JointTrajectory, np.nda
     for k in range(n):
         rotation = task.rotation[k] if task.is_pose else None
         try:
-            q = _first_configuration(robot, data, task) if q is None else q
-            for _ in range(MAX_ITERATIONS):
-                jacobian = pin.computeFrameJacobian(model, data, q, frame, LWA)[:dim]
-                error = _task_error(robot, data, task.position_m[k], rotation)
-                if np.linalg.norm(error) < SOLVE_TOLERANCE:
-                    break
-                step = -np.linalg.lstsq(jacobian, error, rcond=None)[0]
-                q = pin.integrate(model, q, step * min(1.0, MAX_STEP / np.abs(step).max()))
-            else:
-                raise UnreachableError([k], 1, f"no configuration reaches {np.round(task.position_m[k], 6).tolist()} m")
-            v = _solve_task_map(jacobian, twist[k], k)
+            if q is None:
+                q = _first_configuration(robot, data, task, _solve_serial)
+            elif reachable[k - 1]:  # first-order prediction from the previous sample
+                move = task.position_m[k] - task.position_m[k - 1]
+                if task.is_pose:
+                    move = np.concatenate([move, pin.log3(rotation @ task.rotation[k - 1].T)])
+                q = pin.integrate(model, q, inverse @ move)
+            q = _solve_serial(robot, task.position_m[k], rotation, q, data)
+            jacobian = pin.computeFrameJacobian(model, data, q, frame, LWA)[:dim]
+            inverse = np.linalg.pinv(jacobian) if dim != nv else np.linalg.inv(jacobian)
+            if not _condition_1(jacobian[None], inverse[None])[0] < SINGULAR_CONDITION:
+                raise UnreachableError([k], 1, "singular configuration: the actuators cannot produce the task motion")
+            v = inverse @ twist[k]
             pin.forwardKinematics(model, data, q, v, np.zeros(nv))
             drift = pin.getFrameClassicalAcceleration(model, data, frame, LWA).vector[:dim]
-            a = _solve_task_map(jacobian, acceleration[k] - drift, k)
+            a = inverse @ (acceleration[k] - drift)
         except UnreachableError as error:
             reachable[k], reason = False, reason or error.reason
             q_all[k] = robot.reference_q

@@ -3,9 +3,10 @@
 Strategy, per direction (minimise, maximise): a global search by scipy's differential evolution
 over the free placement variables, with the limits as constraints (a feasible placement always
 beats an infeasible one, and infeasible ones are ranked by how far they break the limits, so they
-steer the search and never stop it), then a local constrained polish (SLSQP) from the best few
-distinct candidates. The reported optima are re-evaluated with a four times denser sampling of
-the path, and the difference is reported.
+steer the search and never stop it), on the path sampled with about ``search_samples`` samples;
+then a local constrained polish (SLSQP) from the best few distinct candidates, on the path
+sampled at its own time step, which the reported energies use. The reported optima are
+re-evaluated with a four times denser sampling, and the difference is reported.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from placement.robot import Robot
 POLISH_STARTS = 3  # distinct candidates polished locally
 GIVE_UP_GENERATIONS = 25  # generations without any feasible placement after which the search stops
 RECHECK_DENSITY = 4  # the re-check samples the path this many times more densely
+GRADIENT_STEP = 1e-7  # forward-difference step of the polish, as a share of each variable's range
 
 
 @dataclass(frozen=True)
@@ -32,16 +34,20 @@ class SearchSettings:
     """Budget of the global search (differential evolution) and of the polish.
 
     Attributes:
-        population_per_variable: Population size per free variable.
+        population: Population size of the global search (at least 5 per free variable).
         max_generations: Upper bound on generations.
         tolerance: Relative spread of the population's energies at which the search stops.
         seed: Random seed; the same seed gives the same result.
+        search_samples: Samples of the path during the global search, at most (a coarser
+            sampling than the path's own when the path has more; the polish and the reported
+            energies use the path's own).
     """
 
-    population_per_variable: int = 12
+    population: int = 48
     max_generations: int = 80
     tolerance: float = 1e-3
     seed: int = 0
+    search_samples: int = 64
 
 
 @dataclass(frozen=True)
@@ -171,9 +177,9 @@ class _Problem:
         return margins.T if np.ndim(points) > 1 else margins[0]
 
 
-def _search(evaluator: Evaluator, space: PlacementSpace, sign: float, settings: SearchSettings,
+def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: float, settings: SearchSettings,
             progress: Callable[[], None] | None) -> tuple[np.ndarray | None, _Problem]:
-    problem = _Problem(evaluator, space, sign)
+    problem = _Problem(coarse, space, sign)
     bounds = list(zip(space.lower, space.upper))
     n_limits = problem.margins(space.lower[:, None]).shape[0]
     constraint = NonlinearConstraint(problem.margins, np.zeros(n_limits), np.full(n_limits, np.inf))
@@ -188,19 +194,20 @@ def _search(evaluator: Evaluator, space: PlacementSpace, sign: float, settings: 
 
     result = differential_evolution(
         problem.objective, bounds, constraints=constraint, vectorized=True, updating="deferred",
-        popsize=settings.population_per_variable, maxiter=settings.max_generations, tol=settings.tolerance,
+        popsize=max(5, settings.population // len(bounds)), maxiter=settings.max_generations, tol=settings.tolerance,
         polish=False, init="sobol", rng=np.random.default_rng(settings.seed), callback=generation_done)
     population = np.asarray(result.population)
     energies, margins = problem._lookup(population)
     feasible = (margins >= 0).all(axis=1) & np.isfinite(energies)
     if not feasible.any():
         return None, problem
-    starts = _distinct(population[feasible][np.argsort(sign * energies[feasible])], space)
+    ranked = population[feasible][np.argsort(sign * energies[feasible])]
+    local = _Problem(fine, space, sign)
     best_x, best_value = None, np.inf
-    for start in starts:
-        x = _polish(problem, start, bounds, constraint)
-        value, margin = problem._lookup(x)
-        if (margin >= 0).all() and sign * value[0] < best_value:
+    for start in _distinct([x for x in ranked if (local._lookup(x)[1] >= 0).all()], space):
+        x = _polish(local, start, bounds)
+        value, _ = local._lookup(x)
+        if sign * value[0] < best_value:
             best_x, best_value = x, sign * value[0]
     return best_x, problem
 
@@ -217,11 +224,22 @@ def _distinct(candidates: np.ndarray, space: PlacementSpace) -> list[np.ndarray]
     return kept
 
 
-def _polish(problem: _Problem, start: np.ndarray, bounds: list, constraint: NonlinearConstraint) -> np.ndarray:
+def _polish(problem: _Problem, start: np.ndarray, bounds: list) -> np.ndarray:
+    """SLSQP from a feasible ``start``; returns a feasible point at least as good."""
     scale = np.array([hi - lo if hi > lo else 1.0 for lo, hi in bounds])  # search in box units
+
+    def differences(u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Forward-difference gradient of the objective and Jacobian of the margins, in one batch."""
+        points = (u + np.vstack([np.zeros(len(u)), GRADIENT_STEP * np.eye(len(u))])) * scale
+        energy, margins = problem._lookup(points)
+        return (problem.sign * (energy[1:] - energy[0]) / GRADIENT_STEP,
+                (margins[1:] - margins[0]).T / GRADIENT_STEP)
+
     result = minimize(lambda u: problem.objective(u * scale)[0], start / scale, method="SLSQP",
+                      jac=lambda u: differences(u)[0],
                       bounds=[(lo / s, hi / s) for (lo, hi), s in zip(bounds, scale)],
-                      constraints=[{"type": "ineq", "fun": lambda u: problem.margins(u * scale)}],
+                      constraints=[{"type": "ineq", "fun": lambda u: problem.margins(u * scale),
+                                    "jac": lambda u: differences(u)[1]}],
                       options={"maxiter": 100, "ftol": 1e-10})
     polished = np.clip(result.x * scale, [b[0] for b in bounds], [b[1] for b in bounds])
     polished = _feasible_towards(problem, start, polished)
@@ -268,16 +286,25 @@ def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | 
         reason with the binding limit.
     """
     space = space or default_space(robot, half_turn=path.half_turn_symmetric())
-    evaluator = Evaluator(robot, path, regeneration, time_step_s)
-    dense = Evaluator(robot, path, regeneration, (time_step_s or path.time_step_s) / RECHECK_DENSITY)
+    step = time_step_s if time_step_s is not None else path.time_step_s
+    duration = float(path.sample(step).t_s[-1])
+    with Evaluator(robot, path, regeneration, max(step, duration / settings.search_samples)) as coarse, \
+            Evaluator(robot, path, regeneration, step) as evaluator:
+        dense = Evaluator(robot, path, regeneration, step / RECHECK_DENSITY, workers=1)
+        return _optimize(coarse, evaluator, dense, space, minimize_energy, maximize_energy, settings, progress)
+
+
+def _optimize(coarse: Evaluator, evaluator: Evaluator, dense: Evaluator, space: PlacementSpace,
+              minimize_energy: bool, maximize_energy: bool, settings: SearchSettings,
+              progress: Callable[[], None] | None) -> PlacementResult:
     found: dict[float, Optimum | None] = {}
     infeasible = None
     for sign, wanted in ((1.0, minimize_energy), (-1.0, maximize_energy)):
         if not wanted:
             found[sign] = None
             continue
-        before = evaluator.evaluations
-        x, problem = _search(evaluator, space, sign, settings, progress)
+        before = evaluator.evaluations + coarse.evaluations
+        x, problem = _search(coarse, evaluator, space, sign, settings, progress)
         if x is None:
             found[1.0] = found[-1.0] = None  # the feasible set is the same in both directions
             infeasible = _binding_limit(problem, evaluator)
@@ -285,8 +312,8 @@ def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | 
         placement = space.full(x)[0]
         found[sign] = Optimum(detail=evaluator.detail(placement),
                               recheck_energy_J=float(dense.evaluate(placement[None]).energy_J[0]),
-                              evaluations=evaluator.evaluations - before)
-    return PlacementResult(best=found[1.0], worst=found[-1.0], space=space, regeneration=regeneration,
+                              evaluations=evaluator.evaluations + coarse.evaluations - before)
+    return PlacementResult(best=found[1.0], worst=found[-1.0], space=space, regeneration=evaluator.regeneration,
                            infeasible=infeasible)
 
 

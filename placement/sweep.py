@@ -14,17 +14,16 @@ import json
 import os
 from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
-from functools import lru_cache
 from pathlib import Path
 from typing import Callable
 
 import numpy as np
 
-from placement.evaluation import Evaluator
+from placement.evaluation import evaluate_in_worker, single_threaded_rnea
 from placement.exceptions import PlacementError
 from placement.frames import VARIABLES
 from placement.path import ToolPath
-from placement.robot import Robot, load_robot
+from placement.robot import Robot
 
 CHUNK_PLACEMENTS = 128  # placements per task
 
@@ -79,11 +78,6 @@ class SweepResult:
                        path=meta["path"], regeneration=meta["regeneration"])
 
 
-@lru_cache(maxsize=4)
-def _robot(source: str) -> Robot:
-    return load_robot(source)
-
-
 def evaluate_chunk(robot_source: str, path: ToolPath, regeneration: str, time_step_s: float | None,
                    placements: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[str, ...]]:
     """Evaluate a chunk of placements (runs in a worker; the robot is loaded once per worker).
@@ -91,14 +85,8 @@ def evaluate_chunk(robot_source: str, path: ToolPath, regeneration: str, time_st
     Returns:
         Energies, feasibility, index of the tightest limit, and the limit labels.
     """
-    evaluation = Evaluator(_robot(robot_source), path, regeneration, time_step_s).evaluate(placements)
+    evaluation = evaluate_in_worker(robot_source, path, regeneration, time_step_s, "auto", placements)
     return evaluation.energy_J, evaluation.feasible, evaluation.margins.argmin(axis=1), evaluation.limits
-
-
-def _single_threaded_rnea() -> None:
-    from placement import dynamics
-
-    dynamics.THREADS = 1  # the pool already uses every core
 
 
 def sweep(robot: Robot, path: ToolPath, axes: dict[str, np.ndarray], fixed: dict[str, float] | None = None,
@@ -142,7 +130,7 @@ def sweep(robot: Robot, path: ToolPath, axes: dict[str, np.ndarray], fixed: dict
                 progress(len(job[-1]))
     else:
         own = executor is None
-        pool = executor or ProcessPoolExecutor(max_workers=workers, initializer=_single_threaded_rnea)
+        pool = executor or ProcessPoolExecutor(max_workers=workers, initializer=single_threaded_rnea)
         try:
             futures = {pool.submit(evaluate_chunk, *job): k for k, job in enumerate(jobs)}
             results = [None] * len(jobs)
