@@ -19,9 +19,9 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 import numpy as np
 
-from paper_table import PAPER, WIDTHS_MM, run_case
+from paper_table import PAPER, WIDTHS_MM, rectangle, run_case
 from placement import load_path, load_robot, optimize_placement
-from placement.frames import placed_task, transform_path_to_base
+from placement.frames import placed_task
 from placement.kinematics import joint_trajectory
 from placement.plots import draw_map, map_figure, save
 from placement.sweep import sweep
@@ -131,10 +131,9 @@ def rectangles_scene(robot, sizes, result, out: Path) -> list[str]:
     scene = Scene(robot)
     scene.add_workspace()
     for size in sizes:
-        text = EXAMPLE.read_text().replace("width: 30, length: 60", f"width: {size['width']}, length: {2 * size['width']}")
-        samples = load_path_text(text).sample()
+        samples = rectangle(size["width"]).sample()
         for key, color, label in (("min", BEST_COLOR, "least energy"), ("max", WORST_COLOR, "most energy")):
-            placed, _ = transform_path_to_base(samples, np.array([size[key]["placement"]]))
+            placed, _ = placed_task(robot, samples, np.array([size[key]["placement"]]))
             scene.add_path(f"{size['width']}_{key}", placed.position_m, color, label)
     best = result.best.detail
     task, _ = placed_task(robot, best.samples, best.placement[None])
@@ -143,16 +142,6 @@ def rectangles_scene(robot, sizes, result, out: Path) -> list[str]:
     page.write_text(scene.html("Orthoglide: best and worst rectangles, W = 20 ... 80 mm"))
     image = out / "scene_rectangles.png"
     return [page.name] + ([image.name] if screenshot(page, image) else [])
-
-
-def load_path_text(text: str):
-    """A path from YAML text (through a temporary file, as paths are files)."""
-    import tempfile
-
-    with tempfile.TemporaryDirectory() as folder:
-        file = Path(folder) / "path.yaml"
-        file.write_text(text)
-        return load_path(file)
 
 
 if __name__ == "__main__":
