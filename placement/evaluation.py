@@ -167,7 +167,7 @@ class Evaluator:
         if self._pool is None:
             self._pool = ProcessPoolExecutor(max_workers=self.workers, initializer=single_threaded_rnea)
         chunks = np.array_split(placements, self.workers)
-        job = (str(self.robot.sidecar_path), self.path, self.regeneration, self.time_step_s, self.method)
+        job = (portable(self.robot), self.path, self.regeneration, self.time_step_s, self.method)
         parts = list(self._pool.map(evaluate_in_worker, *zip(*[(*job, chunk) for chunk in chunks])))
         self.evaluations += len(placements)
         return Evaluation(placements=placements, energy_J=np.concatenate([p.energy_J for p in parts]),
@@ -211,11 +211,17 @@ def single_threaded_rnea() -> None:
     dynamics.THREADS = 1
 
 
-def evaluate_in_worker(robot_source: str, path: ToolPath, regeneration: str, time_step_s: float | None,
+def portable(robot: Robot) -> Robot | str:
+    """What a worker process receives: the robot itself, or its sidecar file when it has a plug-in
+    (a loaded module does not travel between processes; the worker loads the file once)."""
+    return str(robot.sidecar_path) if robot.plugin is not None else robot
+
+
+def evaluate_in_worker(robot: Robot | str, path: ToolPath, regeneration: str, time_step_s: float | None,
                        method: str, placements: np.ndarray) -> Evaluation:
-    """Evaluate placements in a worker process; the robot is loaded once per worker, by file."""
-    evaluator = Evaluator(_worker_robot(robot_source), path, regeneration, time_step_s, method, workers=1)
-    return evaluator.evaluate(placements)
+    """Evaluate placements in a worker process (``robot`` as given by :func:`portable`)."""
+    robot = _worker_robot(robot) if isinstance(robot, str) else robot
+    return Evaluator(robot, path, regeneration, time_step_s, method, workers=1).evaluate(placements)
 
 
 def _rows(task, start: int, stop: int):

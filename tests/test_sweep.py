@@ -63,3 +63,23 @@ def test_map_figure_is_written(serial, tmp_path):
     *_, result = serial
     files = save(map_figure(result, "test"), tmp_path / "map")
     assert all((tmp_path / name).stat().st_size > 5000 for name in ("map.png", "map.svg")) and len(files) == 2
+
+
+def test_workers_evaluate_the_robot_as_changed_in_memory():
+    """A robot without a plug-in travels to the workers as it is, not reloaded from its file."""
+    import dataclasses
+
+    from placement.robot import load_robot
+
+    robot = load_robot("fivebar")
+    path = load_path(EXAMPLE.with_name("circle.yaml"))
+    heavier = dataclasses.replace(robot, model=robot.model.copy())
+    heavier.model.inertias[heavier.model.getJointId("b1")].mass *= 2.0
+    placements = np.array([[0.0, 0.30, 0.0, 0.0, 0.0, 0.0], [0.02, 0.28, 0.0, 0.5, 0.0, 0.0],
+                           [-0.02, 0.31, 0.0, -0.5, 0.0, 0.0], [0.01, 0.32, 0.0, 1.0, 0.0, 0.0]])
+    with Evaluator(heavier, path, time_step_s=0.01, workers=2) as parallel:
+        in_workers = parallel.evaluate(placements).energy_J
+    here = Evaluator(heavier, path, time_step_s=0.01, workers=1).evaluate(placements).energy_J
+    original = Evaluator(robot, path, time_step_s=0.01, workers=1).evaluate(placements).energy_J
+    np.testing.assert_array_equal(in_workers, here)
+    assert not np.allclose(here, original)
