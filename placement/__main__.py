@@ -58,7 +58,8 @@ def build_parser() -> argparse.ArgumentParser:
     direction.add_argument("--maximize", action="store_true", help="only search the most-energy placement")
     parser.add_argument("--at", metavar="x=..,y=..,phi=..",
                         help="evaluate one placement instead of searching (mm and deg unless a value ends in m or rad)")
-    parser.add_argument("--free", metavar="x,y,z,phi", help="free placement variables (default: x,y,z,phi)")
+    parser.add_argument("--free", metavar="x,y,z,phi",
+                        help="free placement variables (default: the robot's, e.g. x,y,z,phi for the Orthoglide)")
     parser.add_argument("--fix", metavar="z=0,theta=0", help="values of fixed variables (mm, deg; default 0)")
     parser.add_argument("--regen", choices=REGENERATION_MODES, default="clip",
                         help="what happens to braking energy (default: clip, no regeneration)")

@@ -11,7 +11,6 @@ from __future__ import annotations
 import os
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 
@@ -19,10 +18,11 @@ from placement.constraints import Margin, margin_fields, tightest, worst_margins
 from placement.drives import MotorTrace, motor_trace
 from placement.dynamics import actuator_efforts
 from placement.energy import Energy, electric_energy, sample_power
+from placement.exceptions import PlacementError
 from placement.frames import placed_task
 from placement.kinematics import try_joint_trajectory
 from placement.path import PathSamples, ToolPath
-from placement.robot import Robot, load_robot
+from placement.robot import Robot
 
 BATCH_SAMPLES = 60_000  # samples per batched call (memory: about 0.5 kB a sample)
 UNREACHABLE_MARGIN = -1.0  # below every real margin: how infeasible an unreachable placement is
@@ -154,8 +154,11 @@ class Evaluator:
 
     def evaluate(self, placements: np.ndarray) -> Evaluation:
         """Energy and tightest margins of (K, 6) placements."""
-        placements = np.atleast_2d(placements)
-        if self.workers > 1 and len(placements) >= 2 * self.workers:
+        placements = np.atleast_2d(np.asarray(placements, dtype=float))
+        if placements.shape[1] != 6 or not np.isfinite(placements).all():
+            raise PlacementError(f"placements must be finite (K, 6) arrays [x, y, z, phi, theta, psi], got shape "
+                                 f"{placements.shape}{'' if np.isfinite(placements).all() else ' with NaN or inf'}")
+        if self.workers > 1 and len(placements) >= 2:
             return self._evaluate_in_workers(placements)
         batch = max(1, BATCH_SAMPLES // len(self.samples))
         parts = [self._evaluate_batch(placements[i:i + batch]) for i in range(0, len(placements), batch)]
@@ -166,8 +169,8 @@ class Evaluator:
     def _evaluate_in_workers(self, placements: np.ndarray) -> Evaluation:
         if self._pool is None:
             self._pool = ProcessPoolExecutor(max_workers=self.workers, initializer=single_threaded_rnea)
-        chunks = np.array_split(placements, self.workers)
-        job = (portable(self.robot), self.path, self.regeneration, self.time_step_s, self.method)
+        chunks = np.array_split(placements, min(self.workers, len(placements)))
+        job = (self.robot, self.path, self.regeneration, self.time_step_s, self.method)
         parts = list(self._pool.map(evaluate_in_worker, *zip(*[(*job, chunk) for chunk in chunks])))
         self.evaluations += len(placements)
         return Evaluation(placements=placements, energy_J=np.concatenate([p.energy_J for p in parts]),
@@ -199,11 +202,6 @@ class Evaluator:
             power_W=sample_power(self.robot, motor, self.samples.t_s, self.samples.piece))
 
 
-@lru_cache(maxsize=4)
-def _worker_robot(source: str) -> Robot:
-    return load_robot(source)
-
-
 def single_threaded_rnea() -> None:
     """Worker initialiser: one RNEA thread per process, since the processes share the cores."""
     from placement import dynamics
@@ -211,16 +209,9 @@ def single_threaded_rnea() -> None:
     dynamics.THREADS = 1
 
 
-def portable(robot: Robot) -> Robot | str:
-    """What a worker process receives: the robot itself, or its sidecar file when it has a plug-in
-    (a loaded module does not travel between processes; the worker loads the file once)."""
-    return str(robot.sidecar_path) if robot.plugin is not None else robot
-
-
-def evaluate_in_worker(robot: Robot | str, path: ToolPath, regeneration: str, time_step_s: float | None,
+def evaluate_in_worker(robot: Robot, path: ToolPath, regeneration: str, time_step_s: float | None,
                        method: str, placements: np.ndarray) -> Evaluation:
-    """Evaluate placements in a worker process (``robot`` as given by :func:`portable`)."""
-    robot = _worker_robot(robot) if isinstance(robot, str) else robot
+    """Evaluate placements in a worker process (the robot arrives as it is in memory)."""
     return Evaluator(robot, path, regeneration, time_step_s, method, workers=1).evaluate(placements)
 
 

@@ -172,7 +172,7 @@ def solve_configuration(robot: Robot, position_m: np.ndarray, rotation: np.ndarr
         if largest > MAX_STEP:
             step *= MAX_STEP / largest
         q = pin.integrate(robot.model, q, step)
-    raise UnreachableError([0], 1, f"no configuration reaches {np.round(position_m, 6).tolist()} m "
+    raise UnreachableError([0], 1, f"no configuration reaches the target {np.round(position_m, 6).tolist()} m "
                                    f"(residual {residual:.2e} after {MAX_ITERATIONS} iterations)")
 
 
@@ -268,7 +268,7 @@ def _solve_serial(robot: Robot, position_m: np.ndarray, rotation: np.ndarray | N
         except np.linalg.LinAlgError:
             raise UnreachableError([0], 1, "singular configuration on the way to the target") from None
         q = pin.integrate(model, q, step * min(1.0, MAX_STEP / np.abs(step).max()))
-    raise UnreachableError([0], 1, f"no configuration reaches {np.round(position_m, 6).tolist()} m")
+    raise UnreachableError([0], 1, f"no configuration reaches the target {np.round(position_m, 6).tolist()} m")
 
 
 def _serial(robot: Robot, task: TaskTrajectory) -> tuple[JointTrajectory, np.ndarray, str]:
@@ -368,8 +368,8 @@ def joint_trajectory(robot: Robot, task: TaskTrajectory, method: str = "auto") -
     joints, reachable, reason = _solve(robot, task, method)
     if not reachable.all():
         indices = np.flatnonzero(~reachable).tolist()
-        where = np.round(task.position_m[indices[0]], 6).tolist()
-        raise UnreachableError(indices, len(indices), f"{reason} (first at {where} m)")
+        where = f" (first at {np.round(task.position_m[indices[0]], 6).tolist()} m)" if "target" not in reason else ""
+        raise UnreachableError(indices, len(indices), reason + where)
     return joints
 
 

@@ -105,13 +105,16 @@ def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict
     Args:
         robot: The robot.
         free: Free variables (default: the sidecar's, else x, y, z, phi).
-        fixed: Values of fixed variables (default 0); a free variable cannot be fixed.
+        fixed: Values of fixed variables (default 0); fixing a variable removes it from the default
+            free set, and an explicitly free variable cannot be fixed.
         bounds: Bounds overriding the defaults (m, rad).
         half_turn: The path is unchanged by a half turn about its tool axis
             (:meth:`ToolPath.half_turn_symmetric`): phi then only needs ±90°.
     """
     defaults = robot.sidecar.placement
-    free = tuple(free or (defaults.free if defaults else ("x", "y", "z", "phi")))
+    if free is None:  # the default free set, less what the caller fixes
+        free = tuple(n for n in (defaults.free if defaults else ("x", "y", "z", "phi")) if n not in (fixed or {}))
+    free = tuple(free)
     unknown = sorted(set(free) - set(VARIABLES))
     if unknown:
         raise PlacementError(f"unknown placement variable(s) {unknown}; expected some of {', '.join(VARIABLES)}")
@@ -179,6 +182,12 @@ class _Problem:
 
 def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: float, settings: SearchSettings,
             progress: Callable[[], None] | None) -> tuple[np.ndarray | None, _Problem]:
+    """Global search on the coarse sampling, polish on the fine one.
+
+    Returns:
+        The best feasible point (None if there is none), and the problem that explains why not:
+        the coarse one when the global search found nothing feasible, else the fine one.
+    """
     problem = _Problem(coarse, space, sign)
     bounds = list(zip(space.lower, space.upper))
     n_limits = problem.margins(space.lower[:, None]).shape[0]
@@ -203,13 +212,19 @@ def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: flo
         return None, problem
     ranked = population[feasible][np.argsort(sign * energies[feasible])]
     local = _Problem(fine, space, sign)
+    fine_margins = local._lookup(ranked)[1]  # one batch
+    starts = ranked[(fine_margins >= 0).all(axis=1)]
+    if not len(starts):  # the finer sampling breaks a limit the coarse one missed: repair the closest
+        closest = ranked[np.argmin(np.clip(-fine_margins, 0.0, None).sum(axis=1))]
+        repaired = _polish(local, closest, bounds)
+        return (repaired if (local._lookup(repaired)[1] >= 0).all() else None), local
     best_x, best_value = None, np.inf
-    for start in _distinct([x for x in ranked if (local._lookup(x)[1] >= 0).all()], space):
+    for start in _distinct(starts, space):
         x = _polish(local, start, bounds)
         value, _ = local._lookup(x)
         if sign * value[0] < best_value:
             best_x, best_value = x, sign * value[0]
-    return best_x, problem
+    return best_x, local
 
 
 def _distinct(candidates: np.ndarray, space: PlacementSpace) -> list[np.ndarray]:
@@ -225,7 +240,7 @@ def _distinct(candidates: np.ndarray, space: PlacementSpace) -> list[np.ndarray]
 
 
 def _polish(problem: _Problem, start: np.ndarray, bounds: list) -> np.ndarray:
-    """SLSQP from a feasible ``start``; returns a feasible point at least as good."""
+    """SLSQP from ``start``; from a feasible start, returns a feasible point at least as good."""
     scale = np.array([hi - lo if hi > lo else 1.0 for lo, hi in bounds])  # search in box units
 
     def differences(u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -242,6 +257,8 @@ def _polish(problem: _Problem, start: np.ndarray, bounds: list) -> np.ndarray:
                                     "jac": lambda u: differences(u)[1]}],
                       options={"maxiter": 100, "ftol": 1e-10})
     polished = np.clip(result.x * scale, [b[0] for b in bounds], [b[1] for b in bounds])
+    if not (problem._lookup(start)[1] >= 0).all():  # an infeasible start: take what SLSQP reached
+        return polished
     polished = _feasible_towards(problem, start, polished)
     energy, _ = problem._lookup(polished)
     start_energy, _ = problem._lookup(start)
@@ -307,7 +324,7 @@ def _optimize(coarse: Evaluator, evaluator: Evaluator, dense: Evaluator, space: 
         x, problem = _search(coarse, evaluator, space, sign, settings, progress)
         if x is None:
             found[1.0] = found[-1.0] = None  # the feasible set is the same in both directions
-            infeasible = _binding_limit(problem, evaluator)
+            infeasible = _binding_limit(problem, problem.evaluator)
             break
         placement = space.full(x)[0]
         found[sign] = Optimum(detail=evaluator.detail(placement),

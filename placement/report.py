@@ -46,15 +46,17 @@ def format_detail(title: str, robot: Robot, detail: PlacementDetail, recheck_ene
     if recheck_energy_J is not None:
         change = (recheck_energy_J - energy.total_J) / energy.total_J * 100
         text += f" (4x denser sampling: {recheck_energy_J:.4f} J, {change:+.3f} %)"
+    width = max(14, max(len(a.joint) for a in robot.actuators) + 2)
     lines += [text + ("" if detail.feasible else "  INFEASIBLE: a limit is exceeded"),
-              f"    {'actuator':<14s}{'energy J':>10s}{'Joule J':>10s}{'induct. J':>11s}{'back-EMF J':>12s}"
+              f"    {'actuator':<{width}s}{'energy J':>10s}{'Joule J':>10s}{'induct. J':>11s}{'back-EMF J':>12s}"
               f"{'shaft J':>10s}"]
     for i, actuator in enumerate(robot.actuators):
-        lines.append(f"    {actuator.joint:<14s}{energy.per_actuator_J[i]:>10.4f}{energy.joule_J[i]:>10.4f}"
+        lines.append(f"    {actuator.joint:<{width}s}{energy.per_actuator_J[i]:>10.4f}{energy.joule_J[i]:>10.4f}"
                      f"{energy.inductive_J[i]:>11.4f}{energy.back_emf_J[i]:>12.4f}{energy.mechanical_J[i]:>10.4f}")
     lines.append("  tightest limits (margin: share of the range, speed or torque still free):")
+    where = max(10, max(len(m.where) for m in detail.margins))
     for margin in sorted(detail.margins, key=lambda m: m.margin):
-        lines.append(f"    {margin.kind:<18s} {margin.where:<10s} margin {margin.margin * 100:6.1f} %  "
+        lines.append(f"    {margin.kind:<18s} {margin.where:<{where}s} margin {margin.margin * 100:6.1f} %  "
                      f"({margin.value:.4g} {margin.unit} against {margin.limit:.4g} {margin.unit}, "
                      f"t = {detail.samples.t_s[margin.sample]:.4f} s)")
     return "\n".join(lines)

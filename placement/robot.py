@@ -93,6 +93,17 @@ class Robot:
     closed_form: ClosedFormSolver | None
     sidecar: Sidecar
 
+    def __getstate__(self) -> dict:
+        """For another process: a loaded plug-in module does not travel, its file does."""
+        state = dict(self.__dict__)
+        state["plugin"] = state["closed_form"] = None
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        self.plugin = _load_plugin(self.sidecar_path, self.sidecar.kinematics_plugin)
+        self.closed_form = _make_closed_form(self.plugin, self.model, self.sidecar_path)
+
     @property
     def actuated_v_indices(self) -> np.ndarray:
         """Velocity indices of the actuated joints, in actuator order."""
@@ -357,6 +368,10 @@ def _check_mobility(robot: Robot) -> None:
                              f"the closures leave {nv - rank} degree(s) of freedom at reference_configuration, "
                              f"and the {len(robot.actuators)} actuated joint(s) must determine all "
                              f"{len(passive)} passive ones")
+    if not robot.closures and len(robot.actuators) < robot.task_dimension:
+        raise RobotFileError(robot.sidecar_path, "end_effector.task",
+                             f"a serial robot with {len(robot.actuators)} actuated joints cannot follow a "
+                             f"{robot.task} task of {robot.task_dimension}: use a position task or unlock joints")
     if len(robot.actuators) > robot.task_dimension:
         raise RobotFileError(robot.sidecar_path, "locked_joints",
                              f"the robot has {len(robot.actuators)} degrees of freedom for a {robot.task} task of "

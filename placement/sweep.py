@@ -4,8 +4,8 @@ A sweep varies any subset of the placement variables over a grid (the others fix
 for every grid point, the exact energy, whether the placement is feasible, and its tightest (or
 broken) limit. The grid is cut into chunks evaluated by worker processes; any
 ``concurrent.futures.Executor`` can run them instead, such as a Dask client's ``get_executor()``
-or a Ray executor on a cluster, since each chunk carries its robot (or, for a robot with a
-plug-in, its file), path and placements, and returns plain arrays.
+or a Ray executor on a cluster, since each chunk carries its robot, path and placements (all
+picklable) and returns plain arrays.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from typing import Callable
 
 import numpy as np
 
-from placement.evaluation import evaluate_in_worker, portable, single_threaded_rnea
+from placement.evaluation import evaluate_in_worker, single_threaded_rnea
 from placement.exceptions import PlacementError
 from placement.frames import VARIABLES
 from placement.path import ToolPath
@@ -78,9 +78,9 @@ class SweepResult:
                        path=meta["path"], regeneration=meta["regeneration"])
 
 
-def evaluate_chunk(robot: Robot | str, path: ToolPath, regeneration: str, time_step_s: float | None,
+def evaluate_chunk(robot: Robot, path: ToolPath, regeneration: str, time_step_s: float | None,
                    placements: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[str, ...]]:
-    """Evaluate a chunk of placements (runs in a worker; ``robot`` as given by ``portable``).
+    """Evaluate a chunk of placements (runs in a worker, with the robot as it is in memory).
 
     Returns:
         Energies, feasibility, index of the tightest limit, and the limit labels.
@@ -95,7 +95,7 @@ def sweep(robot: Robot, path: ToolPath, axes: dict[str, np.ndarray], fixed: dict
     """Evaluate the exact energy over a grid of placements.
 
     Args:
-        robot: The robot (one with a kinematics plug-in is reloaded from its file by the workers).
+        robot: The robot, as it is in memory (a plug-in module is re-loaded from its file).
         path: The tool path.
         axes: Swept variables and their values (m, rad), e.g. ``{"x": xs, "y": ys}``.
         fixed: Values of the other variables (default 0).
@@ -119,7 +119,7 @@ def sweep(robot: Robot, path: ToolPath, axes: dict[str, np.ndarray], fixed: dict
     for name, coordinate in zip(variables, mesh):
         placements[:, VARIABLES.index(name)] = coordinate.ravel()
     chunks = [placements[i:i + CHUNK_PLACEMENTS] for i in range(0, len(placements), CHUNK_PLACEMENTS)]
-    jobs = [(portable(robot), path, regeneration, time_step_s, chunk) for chunk in chunks]
+    jobs = [(robot, path, regeneration, time_step_s, chunk) for chunk in chunks]
     workers = workers or os.cpu_count() or 1
     if executor is None and workers == 1:
         results = []

@@ -32,6 +32,7 @@ VIEWER_SCRIPT = Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js
 POINT_COLORS = {"O_b": 0x1F77B4, "C": 0x2CA02C, "Q_plus": 0xD62728, "Q_minus": 0xFF7F0E}
 BEST_COLOR, WORST_COLOR, AT_COLOR, CUBE_COLOR = 0x00B050, 0xE00000, 0x0070FF, 0x303030
 ANIMATION_FPS = 30
+CAMERA_OFFSET = (-0.45, -0.45, 0.35)  # m from the workspace centre, for a 0.2 m workspace; scaled up for larger ones
 
 
 class _RecordingWindow:
@@ -88,7 +89,9 @@ class Scene:
         self.viewer["/Grid"].set_property("visible", False)
         self.viewer["/Background"].set_property("top_color", [1.0, 1.0, 1.0])
         self.viewer["/Background"].set_property("bottom_color", [0.82, 0.84, 0.88])
-        self.look_at(self._center())
+        workspace = robot.sidecar.workspace
+        size = float(np.max(np.subtract(workspace.max_m, workspace.min_m))) if workspace else 0.5
+        self.look_at(self._center(), tuple(np.array(CAMERA_OFFSET) * max(1.0, size / 0.2)))
 
     def _center(self) -> np.ndarray:
         workspace = self.robot.sidecar.workspace
@@ -98,7 +101,7 @@ class Scene:
         pin.framesForwardKinematics(self.robot.model, data, self.robot.reference_q)
         return data.oMf[self.robot.end_effector_frame_id].translation.copy()
 
-    def look_at(self, target_m: np.ndarray, offset_m: tuple[float, float, float] = (-0.45, -0.45, 0.35)) -> None:
+    def look_at(self, target_m: np.ndarray, offset_m: tuple[float, float, float] = CAMERA_OFFSET) -> None:
         """Point the camera at ``target_m`` from ``target_m + offset_m`` (base frame, Z up)."""
         self.viewer["/Cameras/default"].set_transform(pin.SE3(np.eye(3), np.asarray(target_m)).homogeneous)
         dx, dy, dz = offset_m  # the camera node is Y-up (three.js): (x, y, z) -> (x, z, -y)

@@ -1,5 +1,6 @@
 """Command line: the checks a user runs, and clear errors with exit code 2."""
 
+import json
 import math
 import subprocess
 import sys
@@ -137,7 +138,7 @@ def test_bad_inputs_exit_2_with_a_clear_message(tmp_path, capsys):
     (["--trace", "."], ["--trace", "is a folder"]),
     (["--at", "x=nan"], ["--at", "finite"]),
     (["--free", "x,foo"], ["unknown placement variable", "foo"]),
-    (["--fix", "x=10"], ["both free and fixed"]),
+    (["--free", "x,y", "--fix", "x=10"], ["both free and fixed"]),
     (["--at", "x=0", "--fix", "z=5"], ["--at evaluates one placement"]),
     (["--timing", "realistic", "--max-acceleration", "0"], ["--max-acceleration", "greater than 0"]),
     (["--time-step", "0"], ["--time-step"]),
@@ -146,6 +147,12 @@ def test_bad_options_exit_2_naming_the_option(capsys, extra, words):
     err = run_bad(QUICK + extra, capsys)
     for word in words:
         assert word in err
+
+
+def test_fixing_a_variable_takes_it_out_of_the_default_search(tmp_path):
+    out = tmp_path / "fixed.json"
+    assert main(QUICK + ["--minimize", "--fix", "z=-20", "--generations", "5", "--json", str(out)]) == 0
+    assert json.loads(out.read_text())["best"]["placement"]["z"] == pytest.approx(-0.020)
 
 
 def test_non_finite_numbers_in_a_path_file_are_rejected(tmp_path, capsys):

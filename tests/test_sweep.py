@@ -83,3 +83,19 @@ def test_workers_evaluate_the_robot_as_changed_in_memory():
     original = Evaluator(robot, path, time_step_s=0.01, workers=1).evaluate(placements).energy_J
     np.testing.assert_array_equal(in_workers, here)
     assert not np.allclose(here, original)
+
+
+def test_a_plug_in_robot_changed_in_memory_travels_to_the_workers(serial):
+    """The Orthoglide's plug-in module is re-loaded in the workers; the model goes as it is."""
+    import pickle
+
+    import pinocchio as pin
+
+    robot, path, result = serial
+    calm = pickle.loads(pickle.dumps(robot))
+    assert calm.closed_form is not None
+    calm.model.gravity = pin.Motion.Zero()
+    here = sweep(calm, path, AXES, FIXED, time_step_s=0.004, workers=1)
+    there = sweep(calm, path, AXES, FIXED, time_step_s=0.004, workers=2)
+    np.testing.assert_array_equal(here.energy_J, there.energy_J)
+    assert not np.allclose(here.energy_J[result.feasible], result.energy_J[result.feasible])
