@@ -32,7 +32,7 @@ VIEWER_SCRIPT = Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js
 POINT_COLORS = {"O_b": 0x1F77B4, "C": 0x2CA02C, "Q_plus": 0xD62728, "Q_minus": 0xFF7F0E}
 BEST_COLOR, WORST_COLOR, AT_COLOR, CUBE_COLOR = 0x00B050, 0xE00000, 0x0070FF, 0x303030
 ANIMATION_FPS = 30
-CAMERA_OFFSET = (-0.45, -0.45, 0.35)  # m from the workspace centre, for a 0.2 m workspace; scaled up for larger ones
+CAMERA_OFFSET = (-0.45, -0.45, 0.35)  # m from the workspace centre; scaled up for workspaces over 0.3 m
 
 
 class _RecordingWindow:
@@ -91,7 +91,7 @@ class Scene:
         self.viewer["/Background"].set_property("bottom_color", [0.82, 0.84, 0.88])
         workspace = robot.sidecar.workspace
         size = float(np.max(np.subtract(workspace.max_m, workspace.min_m))) if workspace else 0.5
-        self.look_at(self._center(), tuple(np.array(CAMERA_OFFSET) * max(1.0, size / 0.2)))
+        self.look_at(self._center(), tuple(np.array(CAMERA_OFFSET) * max(1.0, size / 0.3)))
 
     def _center(self) -> np.ndarray:
         workspace = self.robot.sidecar.workspace
