@@ -155,7 +155,7 @@ def load_robot(name_or_path: str | Path) -> Robot:
         actuators=tuple(_actuator(model, path, sidecar, i) for i in range(len(sidecar.actuators))),
         end_effector_frame_id=_frame_id(model, path, "end_effector.frame", sidecar.end_effector.frame),
         task=sidecar.end_effector.task,
-        reference_q=_reference_q(model, path, sidecar.reference_configuration),
+        reference_q=_reference_q(model, path, sidecar.reference_configuration, sidecar.locked_joints),
         plugin=plugin,
         closed_form=_make_closed_form(plugin, model, path),
         sidecar=sidecar,
@@ -212,6 +212,9 @@ def _lock_joints(model: pin.Model, path: Path, locked: dict[str, float]) -> pin.
     ids = []
     for name, value in locked.items():
         joint_id = _joint_id(model, path, f"locked_joints.{name}", name)
+        low, high = model.lowerPositionLimit[model.joints[joint_id].idx_q], model.upperPositionLimit[model.joints[joint_id].idx_q]
+        if not low <= value <= high:
+            raise RobotFileError(path, f"locked_joints.{name}", f"{value} is outside the joint's limits [{low}, {high}]")
         q[model.joints[joint_id].idx_q] = value
         ids.append(joint_id)
     return pin.buildReducedModel(model, ids, q)
@@ -225,7 +228,9 @@ def _frame_id(model: pin.Model, path: Path, field: str, name: str) -> int:
     raise RobotFileError(path, field, f"no frame '{name}' in the URDF (links and joints are frames)")
 
 
-def _joint_id(model: pin.Model, path: Path, field: str, name: str) -> int:
+def _joint_id(model: pin.Model, path: Path, field: str, name: str, locked: dict[str, float] | None = None) -> int:
+    if locked and name in locked:
+        raise RobotFileError(path, field, f"joint '{name}' is locked (locked_joints): it cannot also move")
     if not model.existJointName(name):
         movable = [n for n in model.names[1:]]
         raise RobotFileError(path, field, f"no movable joint '{name}' in the URDF; movable joints: {movable}")
@@ -242,7 +247,7 @@ def _closure(model: pin.Model, path: Path, i: int, name: str, kind: str, frames:
 
 def _actuator(model: pin.Model, path: Path, sidecar: Sidecar, i: int) -> Actuator:
     spec = sidecar.actuators[i]
-    joint_id = _joint_id(model, path, f"actuators.{i}.joint", spec.joint)
+    joint_id = _joint_id(model, path, f"actuators.{i}.joint", spec.joint, sidecar.locked_joints)
     q_index, v_index = model.joints[joint_id].idx_q, model.joints[joint_id].idx_v
     lower = spec.position_min if spec.position_min is not None else model.lowerPositionLimit[q_index]
     upper = spec.position_max if spec.position_max is not None else model.upperPositionLimit[q_index]
@@ -258,10 +263,10 @@ def _actuator(model: pin.Model, path: Path, sidecar: Sidecar, i: int) -> Actuato
                     prismatic=model.joints[joint_id].shortname() in PRISMATIC_JOINTS)
 
 
-def _reference_q(model: pin.Model, path: Path, values: dict[str, float]) -> np.ndarray:
+def _reference_q(model: pin.Model, path: Path, values: dict[str, float], locked: dict[str, float]) -> np.ndarray:
     q = pin.neutral(model)
     for name, value in values.items():
-        joint_id = _joint_id(model, path, f"reference_configuration.{name}", name)
+        joint_id = _joint_id(model, path, f"reference_configuration.{name}", name, locked)
         q[model.joints[joint_id].idx_q] = value
     return q
 

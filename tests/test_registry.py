@@ -95,3 +95,19 @@ def test_a_redundant_arm_must_lock_joints(tmp_path):
     with pytest.raises(RobotFileError) as error:
         load_robot(sidecar)
     assert error.value.field == "locked_joints" and "7 degrees of freedom" in str(error.value)
+
+
+def test_a_locked_joint_cannot_also_be_an_actuator(ur5_copy):
+    sidecar, data = ur5_copy
+    data["locked_joints"] = {"wrist_3_joint": 0.0}
+    sidecar.write_text(yaml.safe_dump(data))
+    with pytest.raises(RobotFileError) as error:
+        load_robot(sidecar)
+    assert "is locked" in str(error.value)
+    data["locked_joints"] = {"wrist_3_joint": 10.0}
+    del data["actuators"][5]
+    del data["reference_configuration"]["wrist_3_joint"]
+    sidecar.write_text(yaml.safe_dump(data))
+    with pytest.raises(RobotFileError) as error:
+        load_robot(sidecar)
+    assert error.value.field == "locked_joints.wrist_3_joint" and "outside the joint's limits" in str(error.value)
