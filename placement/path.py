@@ -187,12 +187,6 @@ class ToolPath:
         """Total path length."""
         return sum(segment.length_m for segment in self.segments)
 
-    def extent_m(self) -> float:
-        """Largest distance of the path from the path-frame origin."""
-        samples = np.vstack([s.point(np.linspace(0, s.length_m, 33), np.zeros(33), np.zeros(33))[0]
-                             for s in self.segments])
-        return float(np.linalg.norm(samples, axis=1).max())
-
     def sample(self, time_step_s: float | None = None) -> PathSamples:
         """Sample the path in time with the given step (default: the file's ``time_step_s``)."""
         step = self.time_step_s if time_step_s is None else time_step_s
