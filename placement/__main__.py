@@ -44,6 +44,15 @@ class UsageError(PlacementError):
     """A command-line option has a value it cannot take."""
 
 
+def add_sampling_options(parser: argparse.ArgumentParser) -> None:
+    """Options that override how a path file is timed and sampled (see configured_path)."""
+    parser.add_argument("--timing", choices=("paper", "realistic"), help="override the path file's timing law")
+    parser.add_argument("--max-acceleration", type=float, metavar="M_S2",
+                        help="tool acceleration bound of the realistic timing law (m/s^2)")
+    parser.add_argument("--max-jerk", type=float, metavar="M_S3", help="tool jerk bound of the realistic timing law (m/s^3)")
+    parser.add_argument("--time-step", type=float, metavar="S", help="path sampling step (s; default: the path file's)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The parser of the main job: place a path on a robot."""
     parser = argparse.ArgumentParser(
@@ -63,11 +72,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--fix", metavar="z=0,theta=0", help="values of fixed variables (mm, deg; default 0)")
     parser.add_argument("--regen", choices=REGENERATION_MODES, default="clip",
                         help="what happens to braking energy (default: clip, no regeneration)")
-    parser.add_argument("--timing", choices=("paper", "realistic"), help="override the path file's timing law")
-    parser.add_argument("--max-acceleration", type=float, metavar="M_S2",
-                        help="tool acceleration bound of the realistic timing law (m/s^2)")
-    parser.add_argument("--max-jerk", type=float, metavar="M_S3", help="tool jerk bound of the realistic timing law (m/s^3)")
-    parser.add_argument("--time-step", type=float, metavar="S", help="path sampling step (s; default: the path file's)")
+    add_sampling_options(parser)
     parser.add_argument("--seed", type=int, default=0, help="random seed of the search (default 0)")
     parser.add_argument("--generations", type=int, default=SearchSettings.max_generations, metavar="N",
                         help=f"most generations of the global search (default {SearchSettings.max_generations})")
@@ -98,10 +103,7 @@ def build_command_parser() -> argparse.ArgumentParser:
                             help="swept variables: name=start:stop:count, in mm and degrees")
     energy_map.add_argument("--fix", metavar="z=0,phi=0", help="values of the other variables (mm, deg; default 0)")
     energy_map.add_argument("--regen", choices=REGENERATION_MODES, default="clip", help="regeneration mode")
-    energy_map.add_argument("--timing", choices=("paper", "realistic"), help="override the path file's timing law")
-    energy_map.add_argument("--max-acceleration", type=float, metavar="M_S2", help="realistic timing: bound (m/s^2)")
-    energy_map.add_argument("--max-jerk", type=float, metavar="M_S3", help="realistic timing: bound (m/s^3)")
-    energy_map.add_argument("--time-step", type=float, metavar="S", help="path sampling step (s)")
+    add_sampling_options(energy_map)
     energy_map.add_argument("--workers", type=int, help="worker processes (default: every core)")
     energy_map.add_argument("--out", required=True, help="the map file to write (.npz; reload with SweepResult.load)")
     energy_map.add_argument("--png", help="also draw the map (two variables) as PNG and SVG")

@@ -196,6 +196,14 @@ def _first_configuration(robot: Robot, data: pin.Data, task: TaskTrajectory, sol
     return q
 
 
+def _task_step(task: TaskTrajectory, k: int) -> np.ndarray:
+    """Task displacement from sample k-1 to k: position, then rotation (world frame) for a pose."""
+    move = task.position_m[k] - task.position_m[k - 1]
+    if not task.is_pose:
+        return move
+    return np.concatenate([move, pin.log3(task.rotation[k] @ task.rotation[k - 1].T)])
+
+
 def _null_space_basis(robot: Robot, jacobian: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """G with G[actuated] = I, G[passive] = -J_p⁺·J_a; also J_p⁺ and the passive indices."""
     nv = robot.model.nv
@@ -229,10 +237,7 @@ def _numeric(robot: Robot, task: TaskTrajectory) -> tuple[JointTrajectory, np.nd
             if q is None:
                 q = _first_configuration(robot, data, task)
             elif reachable[k - 1]:  # first-order prediction from the previous sample
-                move = task.position_m[k] - task.position_m[k - 1]
-                if task.is_pose:
-                    move = np.concatenate([move, pin.log3(rotation @ task.rotation[k - 1].T)])
-                q = pin.integrate(model, q, basis @ np.linalg.lstsq(task_map, move)[0])
+                q = pin.integrate(model, q, basis @ np.linalg.lstsq(task_map, _task_step(task, k))[0])
             q = solve_configuration(robot, task.position_m[k], rotation, q, data)
             jacobian = closure_jacobian(robot, data, q)
             task_jacobian = _task_jacobian(robot, data, dim)
@@ -286,10 +291,7 @@ def _serial(robot: Robot, task: TaskTrajectory) -> tuple[JointTrajectory, np.nda
             if q is None:
                 q = _first_configuration(robot, data, task, _solve_serial)
             elif reachable[k - 1]:  # first-order prediction from the previous sample
-                move = task.position_m[k] - task.position_m[k - 1]
-                if task.is_pose:
-                    move = np.concatenate([move, pin.log3(rotation @ task.rotation[k - 1].T)])
-                q = pin.integrate(model, q, inverse @ move)
+                q = pin.integrate(model, q, inverse @ _task_step(task, k))
             q = _solve_serial(robot, task.position_m[k], rotation, q, data)
             jacobian = pin.computeFrameJacobian(model, data, q, frame, LWA)[:dim]
             inverse = np.linalg.pinv(jacobian) if dim != nv else np.linalg.inv(jacobian)
