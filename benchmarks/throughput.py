@@ -15,18 +15,17 @@ for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
 
 import argparse  # noqa: E402
 import time  # noqa: E402
+from collections.abc import Callable  # noqa: E402
 from pathlib import Path  # noqa: E402
-from typing import Callable  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from placement import dynamics  # noqa: E402
 from placement.dynamics import inverse_dynamics  # noqa: E402
 from placement.evaluation import Evaluator  # noqa: E402
 from placement.kinematics import TaskTrajectory, joint_trajectory  # noqa: E402
 from placement.path import load_path  # noqa: E402
-from placement.sweep import sweep  # noqa: E402
 from placement.robot import load_robot  # noqa: E402
+from placement.search.sweep import sweep  # noqa: E402
 
 closed_form = load_robot("orthoglide").plugin
 
@@ -59,7 +58,6 @@ def main() -> None:
     parser.add_argument("--samples", type=int, default=1000, help="samples per trajectory (default 1000)")
     parser.add_argument("--seconds", type=float, default=2.0, help="timing budget per line (default 2 s)")
     args = parser.parse_args()
-    dynamics.THREADS = 1
     robot = load_robot("orthoglide")
     model = robot.model
     task = circle_task(args.samples)
@@ -90,7 +88,7 @@ def main() -> None:
     for label, function, samples in lines:
         print(f"  {label:<62s} {rate(function, samples, args.seconds):>12,.0f} samples/s")
     print(f"  lumped - exact force gap on this path: {gap:.2f} N (exact peak {np.abs(exact.effort).max():.1f} N)")
-    evaluator = Evaluator(robot, load_path(Path(__file__).parents[1] / "examples" / "rect.yaml"))
+    evaluator = Evaluator(robot, load_path(Path(__file__).parents[1] / "examples" / "rect.yaml"), threads=1)
     placements = np.random.default_rng(0).uniform([-0.1, -0.1, -0.1, -1.5, 0, 0], [0.05, 0.05, 0.05, 1.5, 0, 0],
                                                    (200, 6))
     per_second = rate(lambda: evaluator.evaluate(placements), len(placements), args.seconds)

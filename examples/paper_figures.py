@@ -18,13 +18,13 @@ from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
-
 from paper_table import PAPER, WIDTHS_MM, rectangle, run_case
+
 from placement import load_path, load_robot, optimize_placement
 from placement.frames import placed_task
 from placement.kinematics import joint_trajectory
 from placement.plots import draw_map, map_figure, save
-from placement.sweep import sweep
+from placement.search.sweep import sweep
 from placement.visualize import BEST_COLOR, WORST_COLOR, Scene, screenshot
 
 EXAMPLE = Path(__file__).with_name("rect.yaml")
@@ -32,7 +32,7 @@ EXAMPLE = Path(__file__).with_name("rect.yaml")
 
 def panels(results, titles, suptitle):
     """Side-by-side maps sharing one colour scale."""
-    feasible = np.concatenate([r.energy_J[r.feasible] for r in results])
+    feasible = np.concatenate([r.value[r.feasible] for r in results])
     color_range = (feasible.min(), feasible.max())
     figure, axes = plt.subplots(1, len(results), figsize=(4.2 * len(results), 4.0), constrained_layout=True,
                                 squeeze=False)

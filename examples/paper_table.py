@@ -40,18 +40,16 @@ def rectangle(width_mm: int, timing: str = "paper"):
 
 def run_case(width_mm: int, timing: str, regeneration: str, time_step_s: float) -> dict:
     """Both searches for one rectangle, timing law and regeneration mode (runs in a worker)."""
-    from placement import dynamics
-    from placement.optimize import optimize_placement
     from placement.robot import load_robot
+    from placement.search.optimize import optimize_placement
 
-    dynamics.THREADS = 1  # the pool already uses every core
     path = rectangle(width_mm, timing)
     result = optimize_placement(load_robot("orthoglide"), path, regeneration=regeneration, time_step_s=time_step_s)
     out = {"width": width_mm, "timing": timing, "regeneration": regeneration, "gain": result.gain,
            "infeasible": result.infeasible}
     for key, optimum in (("min", result.best), ("max", result.worst)):
         out[key] = None if optimum is None else {
-            "energy": float(optimum.detail.energy.total_J), "recheck": optimum.recheck_energy_J,
+            "energy": float(optimum.detail.energy.total_J), "recheck": optimum.recheck_value,
             "placement": optimum.detail.placement.tolist(),
             "lowest_corner": optimum.detail.tool_position_m.min(axis=0).tolist()}  # of the path's bounding box
     return out
@@ -114,7 +112,7 @@ DISCUSSION = """\
 ## Why our numbers differ from the paper's, and where they agree
 
 The paper prints no masses and no motor constants, so every energy above comes from the stated
-estimates of `placement/robots/orthoglide/` (6 kg platform, 2 kg sliders, 1 kg legs, R = 1.5 Ω,
+estimates of `robots/orthoglide/` (6 kg platform, 2 kg sliders, 1 kg legs, R = 1.5 Ω,
 K_t = 0.5 N·m/A, rotor and screw inertia reflected as 4.4 kg per slider); none was tuned to this
 Table. Absolute energies therefore differ, and they differ in a telling way:
 

@@ -1,26 +1,56 @@
 """placement: energy-optimal placement of tool paths for serial and closed-loop robots.
 
 The public API, in data-flow order: load a robot (:func:`load_robot`) and a path
-(:func:`load_path`), search the least- and most-energy placements (:func:`optimize_placement`),
-or evaluate placements yourself (:class:`Evaluator`). Underneath: the end-effector motion
-(:class:`TaskTrajectory`), every joint's motion (:func:`joint_trajectory`), the actuator efforts
-(:func:`inverse_dynamics`); :func:`check_robot` proves a robot model exact.
+(:func:`load_path`), search the best and worst placements by an objective
+(:func:`optimize_placement`, electric energy by default), map an objective over a grid
+(:func:`sweep`), or evaluate placements yourself (:class:`Evaluator`). Underneath: the
+end-effector motion (:class:`TaskTrajectory`), every joint's motion (:func:`joint_trajectory`),
+the actuator efforts (:func:`inverse_dynamics`); :func:`check_robot` proves a robot model exact.
+
+Plug-in families (objectives, limits, motor models, regeneration policies, transmissions,
+kinematics solvers, robots) each have a base class and a registry that installed packages extend
+through entry points; see :mod:`placement.registry`.
 """
 
 from placement.checks import CheckReport, check_robot
+from placement.drives.motors import MOTOR_MODELS, MotorModel, register_motor_model
+from placement.drives.transmissions import TRANSMISSIONS, Transmission
 from placement.dynamics import ActuatorTrajectory, actuator_efforts, inverse_dynamics
-from placement.energy import REGENERATION_MODES, Energy, register_motor_model
+from placement.energy.integration import Energy
+from placement.energy.regeneration import REGENERATION, RegenerationPolicy
 from placement.evaluation import Evaluation, Evaluator, PlacementDetail
-from placement.exceptions import (InputFileError, PathFileError, PlacementError, RobotFileError, UnknownRobotError,
-                                  UnreachableError)
-from placement.frames import PlacementSpace
-from placement.kinematics import JointTrajectory, TaskTrajectory, joint_trajectory, solve_configuration
-from placement.optimize import Optimum, PlacementResult, SearchSettings, default_space, optimize_placement
+from placement.exceptions import (
+                                  InputFileError,
+                                  PathFileError,
+                                  PlacementError,
+                                  RobotFileError,
+                                  UnknownRobotError,
+                                  UnreachableError,
+)
+from placement.frames import PlacementSpace, default_space
+from placement.kinematics import (
+                                  SOLVERS,
+                                  JointTrajectory,
+                                  KinematicsSolver,
+                                  TaskTrajectory,
+                                  joint_trajectory,
+                                  solve_configuration,
+)
+from placement.limits import LIMITS, Limit, Margin, MarginField
+from placement.objectives import OBJECTIVES, Objective
 from placement.path import ToolPath, load_path
-from placement.robot import Actuator, Closure, Robot, builtin_robots, load_robot
+from placement.registry import UnknownMemberError
+from placement.robot import Actuator, Closure, Robot, load_robot, robot_names
+from placement.search.optimize import Optimum, PlacementResult, SearchSettings, optimize_placement
+from placement.search.sweep import SweepResult, sweep
 
 __all__ = [
-    "REGENERATION_MODES",
+    "LIMITS",
+    "MOTOR_MODELS",
+    "OBJECTIVES",
+    "REGENERATION",
+    "SOLVERS",
+    "TRANSMISSIONS",
     "Actuator",
     "ActuatorTrajectory",
     "CheckReport",
@@ -30,21 +60,30 @@ __all__ = [
     "Evaluator",
     "InputFileError",
     "JointTrajectory",
+    "KinematicsSolver",
+    "Limit",
+    "Margin",
+    "MarginField",
+    "MotorModel",
+    "Objective",
     "Optimum",
     "PathFileError",
     "PlacementDetail",
     "PlacementError",
     "PlacementResult",
     "PlacementSpace",
+    "RegenerationPolicy",
     "Robot",
     "RobotFileError",
     "SearchSettings",
+    "SweepResult",
     "TaskTrajectory",
     "ToolPath",
+    "Transmission",
+    "UnknownMemberError",
     "UnknownRobotError",
     "UnreachableError",
     "actuator_efforts",
-    "builtin_robots",
     "check_robot",
     "default_space",
     "inverse_dynamics",
@@ -53,5 +92,7 @@ __all__ = [
     "load_robot",
     "optimize_placement",
     "register_motor_model",
+    "robot_names",
     "solve_configuration",
+    "sweep",
 ]

@@ -9,14 +9,15 @@ mechanical energy. ``python -m placement check ROBOT`` runs them on a demonstrat
 from __future__ import annotations
 
 import dataclasses
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 import pinocchio as pin
 
 from placement.dynamics import actuator_efforts
-from placement.kinematics import LWA, JointTrajectory, TaskTrajectory, closure_residuals, joint_trajectory
-from placement.robot import Robot
+from placement.kinematics import JointTrajectory, TaskTrajectory, joint_trajectory
+from placement.robot.closures import LWA, closure_residuals
+from placement.robot.model import Robot
 
 
 def demo_trajectory(robot: Robot, amplitude_m: float = 0.01,
@@ -103,8 +104,8 @@ def energy_rate(robot: Robot, path: Callable[[np.ndarray], TaskTrajectory], t_s:
                 step_s: float = 1e-3, method: str = "auto") -> np.ndarray:
     """d(T + V)/dt at times ``t_s`` by a five-point central difference along the exact path (W)."""
     weights = {-2: 1 / 12, -1: -8 / 12, 1: 8 / 12, 2: -1 / 12}
-    return sum(w * mechanical_energy(robot, joint_trajectory(robot, path(t_s + s * step_s), method))
-               for s, w in weights.items()) / step_s
+    return np.sum([w * mechanical_energy(robot, joint_trajectory(robot, path(t_s + s * step_s), method))
+                   for s, w in weights.items()], axis=0) / step_s
 
 
 @dataclasses.dataclass(frozen=True)

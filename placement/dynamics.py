@@ -14,7 +14,6 @@ transmission must deliver at each actuated joint (N for a slider, N·m for a rev
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass
 
 import numpy as np
@@ -22,10 +21,9 @@ import pinocchio as pin
 
 from placement.exceptions import PlacementError
 from placement.kinematics import JointTrajectory, TaskTrajectory, joint_trajectory
-from placement.robot import Robot
+from placement.robot.model import Robot
 
-
-THREADS = os.cpu_count() or 1  # threads of the batched RNEA; set to 1 to measure one core
+SAMPLES_PER_THREAD = 1000  # threads pay off on large batches only
 
 
 @dataclass(frozen=True)
@@ -47,15 +45,20 @@ class ActuatorTrajectory:
     joints: JointTrajectory
 
 
-def rnea_batch(model: pin.Model, q: np.ndarray, v: np.ndarray, a: np.ndarray) -> np.ndarray:
-    """Tree inverse dynamics for many samples in one call (rows are samples), (N, nv)."""
-    threads = max(1, min(THREADS, len(q) // 1000))  # threads pay off on large batches only
+def rnea_batch(model: pin.Model, q: np.ndarray, v: np.ndarray, a: np.ndarray, threads: int = 1) -> np.ndarray:
+    """Tree inverse dynamics for many samples in one call (rows are samples), (N, nv).
+
+    Args:
+        threads: Most threads of Pinocchio's parallel RNEA (fewer on small batches).
+    """
+    threads = max(1, min(threads, len(q) // SAMPLES_PER_THREAD))
     pool = pin.ModelPool(model, threads)
     tau = pin.rneaInParallel(threads, pool, np.asfortranarray(q.T), np.asfortranarray(v.T), np.asfortranarray(a.T))
     return np.reshape(tau, (model.nv, len(q))).T
 
 
-def actuator_efforts(robot: Robot, joints: JointTrajectory, external_load: np.ndarray | None = None) -> np.ndarray:
+def actuator_efforts(robot: Robot, joints: JointTrajectory, external_load: np.ndarray | None = None,
+                     threads: int = 1) -> np.ndarray:
     """Actuator efforts (N, n_act) for a known closed-loop joint motion.
 
     Args:
@@ -63,11 +66,12 @@ def actuator_efforts(robot: Robot, joints: JointTrajectory, external_load: np.nd
         joints: Motion of every joint (from :func:`placement.kinematics.joint_trajectory`).
         external_load: (N, task_dim) load on the end effector from the environment, in the base
             frame at the end-effector origin: force (N), then moment (N·m) for a pose task.
+        threads: Most threads of the batched RNEA.
 
     Returns:
         Forces (N) or torques (N·m) at the actuated joints.
     """
-    tau = rnea_batch(robot.model, joints.q, joints.v, joints.a)
+    tau = rnea_batch(robot.model, joints.q, joints.v, joints.a, threads)
     effort = np.einsum("nva,nv->na", joints.basis, tau)
     if external_load is not None:
         load = np.asarray(external_load, dtype=float)
@@ -96,6 +100,6 @@ def inverse_dynamics(robot: Robot, task: TaskTrajectory, external_load: np.ndarr
     """
     joints = joint_trajectory(robot, task, method)
     act = robot.actuated_v_indices
-    q_act = [a.q_index for a in robot.actuators]
-    return ActuatorTrajectory(position=joints.q[:, q_act], velocity=joints.v[:, act], acceleration=joints.a[:, act],
+    return ActuatorTrajectory(position=joints.q[:, robot.actuated_q_indices], velocity=joints.v[:, act],
+                              acceleration=joints.a[:, act],
                               effort=actuator_efforts(robot, joints, external_load), joints=joints)

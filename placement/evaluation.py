@@ -1,31 +1,35 @@
 """The exact chain for many placements at once: path -> base frame -> kinematics -> dynamics ->
-drives -> energy and margins.
+drives -> objective and limits.
 
 Placements are evaluated in batches: the path samples of every placement are stacked and go
-through the robot's batched kinematics and one batched RNEA call, so that thousands of placements
-of hundreds of samples each stay cheap.
+through the robot's kinematics solver and one batched RNEA call, so that thousands of placements
+of hundreds of samples each stay cheap. A solver that is not vectorised (the generic one) has its
+batches shared among worker processes.
 """
 
 from __future__ import annotations
 
 import os
-from concurrent.futures import ProcessPoolExecutor
-from dataclasses import dataclass
+from concurrent.futures import Executor, ProcessPoolExecutor
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from placement.constraints import Margin, margin_fields, tightest, worst_margins
-from placement.drives import MotorTrace, motor_trace
+from placement.batch import EvaluatedBatch
+from placement.drives.trace import MotorTrace, motor_trace
 from placement.dynamics import actuator_efforts
-from placement.energy import Energy, electric_energy, sample_power
+from placement.energy.integration import Energy, sample_power
+from placement.energy.regeneration import REGENERATION
 from placement.exceptions import PlacementError
 from placement.frames import placed_task
-from placement.kinematics import try_joint_trajectory
+from placement.kinematics import solver_for
+from placement.limits import Margin, margin_fields, tightest, worst_margins
+from placement.objectives import OBJECTIVES, Objective
 from placement.path import PathSamples, ToolPath
-from placement.robot import Robot
+from placement.registry import restore_runtime_members, runtime_members
+from placement.robot.model import Robot
 
 BATCH_SAMPLES = 60_000  # samples per batched call (memory: about 0.5 kB a sample)
-UNREACHABLE_MARGIN = -1.0  # below every real margin: how infeasible an unreachable placement is
 
 
 @dataclass(frozen=True)
@@ -34,14 +38,16 @@ class Evaluation:
 
     Attributes:
         placements: (K, 6) placement vectors (m, rad).
-        energy_J: (K,) electric energy under the regeneration mode (inf where unreachable).
+        objective: The objective's name.
+        value: (K,) the objective (inf, or -inf when higher is better, where a sample is unreachable).
         margins: (K, n_limits) tightest normalised margin of each limit (kind and actuator or axis).
         limits: Labels of the margin columns.
         reachable: (K,) whether every sample has a configuration.
     """
 
     placements: np.ndarray
-    energy_J: np.ndarray
+    objective: str
+    value: np.ndarray
     margins: np.ndarray
     limits: tuple[str, ...]
     reachable: np.ndarray
@@ -51,13 +57,23 @@ class Evaluation:
         """(K,) every sample reachable and every margin >= 0."""
         return self.reachable & (self.margins >= 0).all(axis=1)
 
+    @staticmethod
+    def concatenate(parts: list[Evaluation]) -> Evaluation:
+        """The placements of several evaluations, one after the other."""
+        return Evaluation(placements=np.concatenate([p.placements for p in parts]), objective=parts[0].objective,
+                          value=np.concatenate([p.value for p in parts]),
+                          margins=np.concatenate([p.margins for p in parts]), limits=parts[0].limits,
+                          reachable=np.concatenate([p.reachable for p in parts]))
+
 
 @dataclass(frozen=True)
 class PlacementDetail:
-    """Everything about one placement: energy, margins and the per-sample trace (SI units).
+    """Everything about one placement: objective, energy, margins and the per-sample trace (SI).
 
     Attributes:
         placement: (6,) placement vector.
+        objective: The objective's name.
+        value: Its value.
         reachable: Whether every sample has a configuration.
         unreachable_samples: Indices of samples without one.
         energy: Energies (scalars, per-actuator arrays).
@@ -71,6 +87,8 @@ class PlacementDetail:
     """
 
     placement: np.ndarray
+    objective: str
+    value: float
     reachable: bool
     unreachable_samples: np.ndarray
     energy: Energy
@@ -93,132 +111,154 @@ class PlacementDetail:
 class Evaluator:
     """Evaluates placements of one path on one robot.
 
-    Robots solved by the generic (per-sample) kinematics share batches of placements among worker
-    processes; call :meth:`close` (or use ``with``) to stop them.
+    A solver that is not vectorised (the generic one) has its batches of placements shared among
+    worker processes; call :meth:`close` (or use ``with``) to stop them.
 
     Args:
         robot: The robot (its actuators need drives).
         path: The tool path.
-        regeneration: Regeneration mode, see :mod:`placement.energy`.
+        regeneration: Regeneration policy's name, see :mod:`placement.energy.regeneration`.
         time_step_s: Sampling step (default: the path file's).
-        method: Kinematics method, see :func:`placement.kinematics.joint_trajectory`.
-        workers: Processes for batches of placements (default: every core for the generic
-            kinematics, 1 for a closed-form plug-in, whose batches are already vectorised).
+        method: Kinematics solver's name, see :func:`placement.kinematics.joint_trajectory`.
+        objective: Objective's name, see :mod:`placement.objectives`.
+        workers: Worker processes for a solver that is not vectorised (default: every core);
+            1 evaluates in this process.
+        executor: Any ``concurrent.futures.Executor`` to use instead of an own process pool.
+        threads: Threads of the batched RNEA (default: every core).
     """
 
     def __init__(self, robot: Robot, path: ToolPath, regeneration: str = "clip", time_step_s: float | None = None,
-                 method: str = "auto", workers: int | None = None) -> None:
+                 method: str = "auto", objective: str = "energy", workers: int | None = None,
+                 executor: Executor | None = None, threads: int | None = None) -> None:
+        REGENERATION.get(regeneration)  # unknown names fail here, before any work
         self.robot = robot
         self.path = path
         self.regeneration = regeneration
         self.time_step_s = time_step_s
-        self.method = ("closed_form" if robot.closed_form is not None else "numeric") if method == "auto" else method
+        self.method = method
+        self.solver = solver_for(robot, method)
+        self.objective_name = objective
+        self.objective: Objective = OBJECTIVES.get(objective)
         self.samples = path.sample(time_step_s)
         self.evaluations = 0  # placements evaluated so far
-        self.workers = workers or (1 if self.method == "closed_form" else os.cpu_count() or 1)
-        self._pool: ProcessPoolExecutor | None = None
+        self.workers = 1 if self.solver.vectorized else (workers or os.cpu_count() or 1)
+        self.executor = None if self.solver.vectorized else executor
+        self._own_pool: ProcessPoolExecutor | None = None
+        self.threads = threads or os.cpu_count() or 1
 
     def __enter__(self) -> Evaluator:
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         self.close()
 
     def close(self) -> None:
         """Stop the worker processes, if any were started."""
-        if self._pool is not None:
-            self._pool.shutdown()
-            self._pool = None
+        if self._own_pool is not None:
+            self._own_pool.shutdown()
+            self._own_pool = None
 
-    def _chain(self, placements: np.ndarray) -> dict:
+    def job(self, placements: np.ndarray) -> EvaluationJob:
+        """Everything a worker process needs to evaluate ``placements`` as this evaluator would."""
+        return EvaluationJob(self.robot, self.path, self.regeneration, self.time_step_s, self.method,
+                             self.objective_name, placements)
+
+    def batch(self, placements: np.ndarray) -> EvaluatedBatch:
         """Run the exact chain on (K, 6) placements; arrays come back shaped (K, N, ...)."""
         k, n = len(placements), len(self.samples)
         task, force = placed_task(self.robot, self.samples, placements)
-        if self.method == "closed_form":
-            joints, reachable = try_joint_trajectory(self.robot, task, "closed_form")
-        else:  # the generic solver walks each placement from the reference configuration
-            pieces = [try_joint_trajectory(self.robot, _rows(task, i * n, (i + 1) * n), self.method) for i in range(k)]
-            joints = type(pieces[0][0])(*(np.concatenate([getattr(p[0], f) for p in pieces])
-                                          for f in ("q", "v", "a", "basis", "task_map")))
-            reachable = np.concatenate([p[1] for p in pieces])
-        effort = actuator_efforts(self.robot, joints, force)
-        act_q = [a.q_index for a in self.robot.actuators]
+        joints, reachable, _ = self.solver.solve(task, k)
+        effort = actuator_efforts(self.robot, joints, force, self.threads)
         act_v = self.robot.actuated_v_indices
         shape = (k, n, len(act_v))
-        out = {"reachable": reachable.reshape(k, n), "tool": task.position_m.reshape(k, n, 3),
-               "position": joints.q[:, act_q].reshape(shape), "velocity": joints.v[:, act_v].reshape(shape),
-               "acceleration": joints.a[:, act_v].reshape(shape), "effort": effort.reshape(shape)}
-        out["motor"] = motor_trace(self.robot, out["effort"], out["velocity"], out["acceleration"])
+        position = joints.q[:, self.robot.actuated_q_indices].reshape(shape)
+        velocity, acceleration = joints.v[:, act_v].reshape(shape), joints.a[:, act_v].reshape(shape)
+        effort = effort.reshape(shape)
         self.evaluations += k
-        return out
+        return EvaluatedBatch(robot=self.robot, samples=self.samples, placements=placements,
+                              reachable=reachable.reshape(k, n), tool_position_m=task.position_m.reshape(k, n, 3),
+                              position=position, velocity=velocity, acceleration=acceleration, effort=effort,
+                              motor=motor_trace(self.robot, effort, velocity, acceleration),
+                              regeneration=self.regeneration)
 
     def evaluate(self, placements: np.ndarray) -> Evaluation:
-        """Energy and tightest margins of (K, 6) placements."""
+        """Objective and tightest margins of (K, 6) placements."""
         placements = np.atleast_2d(np.asarray(placements, dtype=float))
-        if placements.shape[1] != 6 or not np.isfinite(placements).all():
+        if placements.ndim != 2 or placements.shape[1] != 6 or not np.isfinite(placements).all():
             raise PlacementError(f"placements must be finite (K, 6) arrays [x, y, z, phi, theta, psi], got shape "
                                  f"{placements.shape}{'' if np.isfinite(placements).all() else ' with NaN or inf'}")
-        if self.workers > 1 and len(placements) >= 2:
+        if (self.executor is not None or self.workers > 1) and len(placements) >= 2:
             return self._evaluate_in_workers(placements)
         batch = max(1, BATCH_SAMPLES // len(self.samples))
-        parts = [self._evaluate_batch(placements[i:i + batch]) for i in range(0, len(placements), batch)]
-        return Evaluation(placements=placements, energy_J=np.concatenate([p[0] for p in parts]),
-                          margins=np.concatenate([p[1] for p in parts]), limits=parts[0][2],
-                          reachable=np.concatenate([p[3] for p in parts]))
+        return Evaluation.concatenate([self._evaluate_batch(placements[i:i + batch])
+                                       for i in range(0, len(placements), batch)])
 
     def _evaluate_in_workers(self, placements: np.ndarray) -> Evaluation:
-        if self._pool is None:
-            self._pool = ProcessPoolExecutor(max_workers=self.workers, initializer=single_threaded_rnea)
-        chunks = np.array_split(placements, min(self.workers, len(placements)))
-        job = (self.robot, self.path, self.regeneration, self.time_step_s, self.method)
-        parts = list(self._pool.map(evaluate_in_worker, *zip(*[(*job, chunk) for chunk in chunks])))
+        executor = self.executor
+        if executor is None:
+            executor = self._own_pool = self._own_pool or process_pool(self.workers)
+        chunks = np.array_split(placements, min(max(self.workers, 2), len(placements)))
+        parts = list(executor.map(evaluate_job, [self.job(chunk) for chunk in chunks]))
         self.evaluations += len(placements)
-        return Evaluation(placements=placements, energy_J=np.concatenate([p.energy_J for p in parts]),
-                          margins=np.concatenate([p.margins for p in parts]), limits=parts[0].limits,
-                          reachable=np.concatenate([p.reachable for p in parts]))
+        return Evaluation.concatenate(parts)
 
-    def _evaluate_batch(self, placements: np.ndarray) -> tuple[np.ndarray, np.ndarray, tuple[str, ...], np.ndarray]:
-        chain = self._chain(placements)
-        energy = electric_energy(self.robot, chain["motor"], self.samples.t_s, self.samples.piece, self.regeneration)
-        fields = margin_fields(self.robot, chain["position"], chain["velocity"], chain["motor"], chain["tool"])
-        margins, labels = worst_margins(fields)
-        reachable = chain["reachable"].all(axis=1)
-        margins[~reachable] = np.minimum(margins[~reachable], UNREACHABLE_MARGIN)
-        return np.where(reachable, energy.total_J, np.inf), margins, tuple(labels), reachable
+    def _evaluate_batch(self, placements: np.ndarray) -> Evaluation:
+        batch = self.batch(placements)
+        margins, labels = worst_margins(margin_fields(batch))
+        reachable = np.asarray(batch.reachable.all(axis=1))
+        value = np.where(reachable, self.objective(batch), self.objective.sign * np.inf)
+        return Evaluation(placements=placements, objective=self.objective_name, value=value, margins=margins,
+                          limits=labels, reachable=reachable)
 
     def detail(self, placement: np.ndarray) -> PlacementDetail:
-        """Energy breakdown, margins and per-sample trace of one placement."""
+        """Objective, energy breakdown, margins and per-sample trace of one placement."""
         placement = np.asarray(placement, dtype=float)
-        chain = {key: (value[0] if isinstance(value, np.ndarray) else value)
-                 for key, value in self._chain(placement[None]).items()}
-        motor = MotorTrace(*(getattr(chain["motor"], f)[0] for f in ("speed_rad_s", "torque_Nm", "current_A")))
-        energy = electric_energy(self.robot, motor, self.samples.t_s, self.samples.piece, self.regeneration)
-        fields = margin_fields(self.robot, chain["position"], chain["velocity"], motor, chain["tool"])
+        batch = self.batch(placement[None])
+        reachable = batch.reachable[0]
+        motor = batch.motor[0]
         return PlacementDetail(
-            placement=placement, reachable=bool(chain["reachable"].all()),
-            unreachable_samples=np.flatnonzero(~chain["reachable"]), energy=energy, margins=tightest(fields),
-            samples=self.samples, tool_position_m=chain["tool"], position=chain["position"],
-            velocity=chain["velocity"], acceleration=chain["acceleration"], effort=chain["effort"], motor=motor,
+            placement=placement, objective=self.objective_name,
+            value=float(self.objective(batch)[0]) if reachable.all() else self.objective.sign * np.inf,
+            reachable=bool(reachable.all()), unreachable_samples=np.flatnonzero(~reachable),
+            energy=_first(batch.energy), margins=tightest(margin_fields(batch)), samples=self.samples,
+            tool_position_m=batch.tool_position_m[0], position=batch.position[0], velocity=batch.velocity[0],
+            acceleration=batch.acceleration[0], effort=batch.effort[0], motor=motor,
             power_W=sample_power(self.robot, motor, self.samples.t_s, self.samples.piece))
 
 
-def single_threaded_rnea() -> None:
-    """Worker initialiser: one RNEA thread per process, since the processes share the cores."""
-    from placement import dynamics
-
-    dynamics.THREADS = 1
-
-
-def evaluate_in_worker(robot: Robot, path: ToolPath, regeneration: str, time_step_s: float | None,
-                       method: str, placements: np.ndarray) -> Evaluation:
-    """Evaluate placements in a worker process (the robot arrives as it is in memory)."""
-    return Evaluator(robot, path, regeneration, time_step_s, method, workers=1).evaluate(placements)
+def _first(energy: Energy) -> Energy:
+    """The energies of the first placement of a batch."""
+    return Energy(total_J=energy.total_J[0], per_actuator_J=energy.per_actuator_J[0], joule_J=energy.joule_J[0],
+                  inductive_J=energy.inductive_J[0], back_emf_J=energy.back_emf_J[0],
+                  mechanical_J=energy.mechanical_J[0], regeneration=energy.regeneration)
 
 
-def _rows(task, start: int, stop: int):
-    """Samples start:stop of a task trajectory."""
-    from placement.kinematics import TaskTrajectory
+@dataclass(frozen=True)
+class EvaluationJob:
+    """Placements to evaluate in another process, with all it takes (picklable).
 
-    return TaskTrajectory(*(None if value is None else value[start:stop]
-                            for value in (task.position_m, task.velocity_m_s, task.acceleration_m_s2,
-                                          task.rotation, task.angular_velocity_rad_s, task.angular_acceleration_rad_s2)))
+    The robot travels as it is in memory (a plug-in module is re-loaded from its file), and so do
+    the plug-in family members registered at run time in this process.
+    """
+
+    robot: Robot
+    path: ToolPath
+    regeneration: str
+    time_step_s: float | None
+    method: str
+    objective: str
+    placements: np.ndarray
+    registered: dict[str, dict[str, object]] = field(default_factory=runtime_members)
+
+
+def evaluate_job(job: EvaluationJob) -> Evaluation:
+    """Evaluate a job's placements (in a worker process: one RNEA thread, since workers share the cores)."""
+    restore_runtime_members(job.registered)
+    evaluator = Evaluator(job.robot, job.path, job.regeneration, job.time_step_s, job.method, job.objective,
+                          workers=1, threads=1)
+    return evaluator.evaluate(job.placements)
+
+
+def process_pool(workers: int) -> ProcessPoolExecutor:
+    """A pool of ``workers`` processes for :func:`evaluate_job` (the platform's start method)."""
+    return ProcessPoolExecutor(max_workers=workers)

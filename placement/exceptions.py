@@ -7,10 +7,25 @@ line) can catch one type and report its message, which always says what was wron
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 
 class PlacementError(Exception):
-    """Base class of every error raised by placement for a user-facing reason."""
+    """Base class of every error raised by placement for a user-facing reason.
+
+    Errors travel between processes whole (a worker's error reaches the caller as raised).
+    """
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return _rebuild, (type(self), str(self), self.__dict__)
+
+
+def _rebuild(cls: type[PlacementError], message: str, attributes: dict[str, Any]) -> PlacementError:
+    """An error as pickled by :meth:`PlacementError.__reduce__`, without calling its constructor."""
+    error = cls.__new__(cls)
+    Exception.__init__(error, message)
+    error.__dict__.update(attributes)
+    return error
 
 
 class InputFileError(PlacementError):

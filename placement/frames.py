@@ -1,4 +1,4 @@
-"""Placement of the path frame F_p in the robot's base frame F_b.
+"""Placement of the path frame F_p in the robot's base frame F_b, and the space searched.
 
 A placement is x = [x, y, z, phi, theta, psi] (m, rad): the origin of F_p in F_b and the
 orientation R = Rz(phi)·Ry(theta)·Rx(psi), the paper's matrix bTp. Any subset of the six may be
@@ -12,9 +12,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from placement.exceptions import PlacementError
-from placement.kinematics import TaskTrajectory
+from placement.kinematics.trajectories import TaskTrajectory
 from placement.path import PathSamples
-from placement.robot import Robot
+from placement.robot.model import Robot
 
 VARIABLES = ("x", "y", "z", "phi", "theta", "psi")
 ANGLES = ("phi", "theta", "psi")
@@ -50,7 +50,8 @@ def placed_task(robot: Robot, samples: PathSamples, placements: np.ndarray) -> t
         return task, force
     rpy = robot.sidecar.end_effector.tool_rpy_in_path_rad or (0.0, 0.0, 0.0)
     x = np.atleast_2d(placements)
-    rotation = np.repeat(rotation_zyx(x[:, 3], x[:, 4], x[:, 5]) @ rotation_zyx(rpy[2], rpy[1], rpy[0]),
+    tool = rotation_zyx(np.array(rpy[2]), np.array(rpy[1]), np.array(rpy[0]))
+    rotation = np.repeat(rotation_zyx(x[:, 3], x[:, 4], x[:, 5]) @ tool,
                          len(samples), axis=0)
     still = np.zeros_like(task.position_m)
     pose = TaskTrajectory(task.position_m, task.velocity_m_s, task.acceleration_m_s2, rotation, still, still)
@@ -112,3 +113,46 @@ class PlacementSpace:
         out = np.tile(self.fixed, (len(values), 1))
         out[:, self.indices] = values
         return out
+
+
+def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict[str, float] | None = None,
+                  bounds: dict[str, tuple[float, float]] | None = None, half_turn: bool = False) -> PlacementSpace:
+    """The placement space of a robot: by default the sidecar's ``placement`` section, else x, y, z
+    within the workspace box and phi in ±180° (the tool axis staying along Z_b).
+
+    Args:
+        robot: The robot.
+        free: Free variables (default: the sidecar's, else x, y, z, phi).
+        fixed: Values of fixed variables (default 0); fixing a variable removes it from the default
+            free set, and an explicitly free variable cannot be fixed.
+        bounds: Bounds overriding the defaults (m, rad).
+        half_turn: The path is unchanged by a half turn about its tool axis
+            (:meth:`ToolPath.half_turn_symmetric`): phi then only needs ±90°.
+    """
+    defaults = robot.sidecar.placement
+    if free is None:  # the default free set, less what the caller fixes
+        free = tuple(n for n in (defaults.free if defaults else ("x", "y", "z", "phi")) if n not in (fixed or {}))
+    free = tuple(free)
+    unknown = sorted(set(free) - set(VARIABLES))
+    if unknown:
+        raise PlacementError(f"unknown placement variable(s) {unknown}; expected some of {', '.join(VARIABLES)}")
+    clash = sorted(set(free) & set(fixed or {}))
+    if clash:
+        raise PlacementError(f"{clash} cannot be both free and fixed")
+    limits: dict[str, tuple[float, float]] = {name: bound for name, bound in (defaults.bounds if defaults else {}).items()}
+    limits.update(bounds or {})
+    workspace = robot.sidecar.workspace
+    for k, axis in enumerate("xyz"):
+        if workspace is not None:
+            limits.setdefault(axis, (workspace.min_m[k], workspace.max_m[k]))
+    limits.setdefault("phi", (-np.pi / 2, np.pi / 2) if half_turn else (-np.pi, np.pi))
+    for angle in ("theta", "psi"):
+        limits.setdefault(angle, (-np.pi, np.pi))
+    missing = [name for name in free if name not in limits]
+    if missing:
+        raise PlacementError(f"robot '{robot.name}' declares no workspace: give bounds for {missing}")
+    fixed_vector = np.array([float((fixed or {}).get(name, 0.0)) for name in VARIABLES])
+    return PlacementSpace(free=tuple(n for n in VARIABLES if n in free),
+                          lower=np.array([limits[n][0] for n in VARIABLES if n in free], dtype=float),
+                          upper=np.array([limits[n][1] for n in VARIABLES if n in free], dtype=float),
+                          fixed=fixed_vector)

@@ -241,6 +241,7 @@ class ToolPath:
         """The feed profile of a corner-to-corner run, within the acceleration and jerk bounds."""
         length = sum(s.length_m for s in run)
         acceleration, jerk = self.timing.max_acceleration_m_s2, self.timing.max_jerk_m_s3
+        assert acceleration is not None and jerk is not None  # the realistic law's schema requires them
         if all(s.center_m is None for s in run):
             return DoubleS(length, self.feed_m_s, acceleration, jerk)
         # On arcs the centripetal acceleration v²/r and its rate add to the tangential ones: share

@@ -16,7 +16,7 @@ from matplotlib.axes import Axes  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
 from placement.frames import ANGLES  # noqa: E402
-from placement.sweep import SweepResult  # noqa: E402
+from placement.search.sweep import SweepResult  # noqa: E402
 
 LABELS = {"x": "$x_{Op}$ (mm)", "y": "$y_{Op}$ (mm)", "z": "$z_{Op}$ (mm)", "phi": r"$\phi$ (deg)",
           "theta": r"$\theta$ (deg)", "psi": r"$\psi$ (deg)"}
@@ -34,16 +34,16 @@ def draw_map(ax: Axes, result: SweepResult, levels: int | np.ndarray = 12, title
         raise ValueError("draw_map needs a map over two variables")
     (u_name, v_name), (u, v) = result.variables, result.axes
     uu, vv = np.meshgrid(display_values(u_name, u), display_values(v_name, v), indexing="ij")
-    energy = result.masked_energy()
+    energy = result.masked_value()
     ax.set_facecolor("0.85")
     if (~result.feasible).any():
         ax.contourf(uu, vv, (~result.feasible).astype(float), levels=[0.5, 1.5], colors="none", hatches=["///"])
     filled = None
     if result.feasible.any():
         vmin, vmax = color_range or (energy.min(), energy.max())
-        filled = ax.contourf(uu, vv, energy, levels=np.linspace(vmin, vmax, levels) if np.isscalar(levels) else levels,
+        filled = ax.contourf(uu, vv, energy, levels=np.linspace(vmin, vmax, levels) if isinstance(levels, int) else levels,
                              cmap="viridis", vmin=vmin, vmax=vmax, extend="both")
-        lines = ax.contour(uu, vv, energy, levels=filled.levels[::2], colors="k", linewidths=0.5)
+        lines = ax.contour(uu, vv, energy, levels=np.asarray(filled.levels)[::2], colors="k", linewidths=0.5)
         ax.clabel(lines, fmt="%.1f", fontsize=7)
     ax.set_xlabel(LABELS[u_name])
     ax.set_ylabel(LABELS[v_name])
@@ -56,7 +56,7 @@ def map_figure(result: SweepResult, title: str) -> Figure:
     figure, ax = plt.subplots(figsize=(6.2, 5.0), constrained_layout=True)
     filled = draw_map(ax, result, title=title)
     if filled is not None:
-        figure.colorbar(filled, ax=ax, label="electric energy (J)")
+        figure.colorbar(filled, ax=ax, label=result.label)
     figure.text(0.01, 0.005, "hatched: infeasible placements", fontsize=7, color="0.3", va="bottom")
     return figure
 

@@ -18,13 +18,11 @@ import numpy as np
 
 from placement.evaluation import PlacementDetail
 from placement.frames import ANGLES, VARIABLES
-from placement.optimize import Optimum, PlacementResult
-from placement.robot import Robot
+from placement.objectives import OBJECTIVES
+from placement.robot.model import Robot
+from placement.search.optimize import Optimum, PlacementResult
 
-REGENERATION_TEXT = {"clip": "per-axis clipping (braking energy is not recovered)",
-                     "bus": "shared DC bus (axes exchange braking energy)",
-                     "signed": "full regeneration (braking energy is given back)",
-                     "absolute": "absolute (braking costs as much as driving)"}
+DIRECTION_WORDS = {"lower": ("least", "most"), "higher": ("most", "least")}
 
 
 def format_placement(placement: np.ndarray) -> str:
@@ -33,8 +31,8 @@ def format_placement(placement: np.ndarray) -> str:
                      for name, value in zip(VARIABLES, placement))
 
 
-def format_detail(title: str, robot: Robot, detail: PlacementDetail, recheck_energy_J: float | None = None) -> str:
-    """Text block for one placement: where, energy per actuator and its parts, tightest limits."""
+def format_detail(title: str, robot: Robot, detail: PlacementDetail, recheck_value: float | None = None) -> str:
+    """Text block for one placement: where, objective, energy per actuator and its parts, tightest limits."""
     lines = [title, f"  {format_placement(detail.placement)}"]
     if not detail.reachable:
         first = detail.unreachable_samples[0]
@@ -42,44 +40,67 @@ def format_detail(title: str, robot: Robot, detail: PlacementDetail, recheck_ene
                      f"configuration (first at t = {detail.samples.t_s[first]:.4f} s)")
         return "\n".join(lines)
     energy = detail.energy
-    text = f"  energy {energy.total_J:.4f} J"
-    if recheck_energy_J is not None:
-        change = (recheck_energy_J - energy.total_J) / energy.total_J * 100
-        text += f" (4x denser sampling: {recheck_energy_J:.4f} J, {change:+.3f} %)"
+    objective = OBJECTIVES.get(detail.objective)
+    lines.append(_value_line(_subject(detail.objective), detail.value, objective.unit, recheck_value))
+    if detail.objective != "energy":
+        lines.append(f"  energy {energy.total_J:.4f} J")
     width = max(14, max(len(a.joint) for a in robot.actuators) + 2)
-    lines += [text + ("" if detail.feasible else "  INFEASIBLE: a limit is exceeded"),
-              f"    {'actuator':<{width}s}{'energy J':>10s}{'Joule J':>10s}{'induct. J':>11s}{'back-EMF J':>12s}"
+    if not detail.feasible:
+        lines[-1] += "  INFEASIBLE: a limit is exceeded"
+    lines += [f"    {'actuator':<{width}s}{'energy J':>10s}{'Joule J':>10s}{'induct. J':>11s}{'back-EMF J':>12s}"
               f"{'shaft J':>10s}"]
     for i, actuator in enumerate(robot.actuators):
         lines.append(f"    {actuator.joint:<{width}s}{energy.per_actuator_J[i]:>10.4f}{energy.joule_J[i]:>10.4f}"
                      f"{energy.inductive_J[i]:>11.4f}{energy.back_emf_J[i]:>12.4f}{energy.mechanical_J[i]:>10.4f}")
     lines.append("  tightest limits (margin: share of the range, speed or torque still free):")
-    where = max(10, max(len(m.where) for m in detail.margins))
-    for margin in sorted(detail.margins, key=lambda m: m.margin):
+    shown = [m for m in detail.margins if m.kind != "reachability"]  # said above when it fails
+    where = max(10, max(len(m.where) for m in shown))
+    for margin in sorted(shown, key=lambda m: m.margin):
         lines.append(f"    {margin.kind:<18s} {margin.where:<{where}s} margin {margin.margin * 100:6.1f} %  "
                      f"({margin.value:.4g} {margin.unit} against {margin.limit:.4g} {margin.unit}, "
                      f"t = {detail.samples.t_s[margin.sample]:.4f} s)")
     return "\n".join(lines)
 
 
+def _subject(objective: str) -> str:
+    """How reports name an objective: 'energy' for the paper's, else its title."""
+    return "energy" if objective == "energy" else OBJECTIVES.get(objective).title
+
+
+def _value_line(title: str, value: float, unit: str, recheck: float | None) -> str:
+    text = f"  {title} {value:.4f} {unit}"
+    if recheck is not None:
+        change = (recheck - value) / value * 100
+        text += f" (4x denser sampling: {recheck:.4f} {unit}, {change:+.3f} %)"
+    return text
+
+
 def format_result(robot: Robot, result: PlacementResult) -> str:
     """Text report of a search: best and worst placements and the gain."""
+    objective = OBJECTIVES.get(result.objective)
+    subject = _subject(result.objective)
+    good, bad = DIRECTION_WORDS[objective.better]
     blocks = []
-    for title, optimum in (("best placement (least energy)", result.best), ("worst placement (most energy)", result.worst)):
+    for title, optimum in ((f"best placement ({good} {subject})", result.best),
+                           (f"worst placement ({bad} {subject})", result.worst)):
         if optimum is not None:
-            blocks.append(format_detail(title, robot, optimum.detail, optimum.recheck_energy_J))
-    if result.gain is not None:
+            blocks.append(format_detail(title, robot, optimum.detail, optimum.recheck_value))
+    if result.gain is not None and result.best is not None and result.worst is not None:
+        difference = abs(result.worst.detail.value - result.best.detail.value)
+        per_pass = " per pass" if objective.unit == "J" else ""
         blocks.append(f"gain: placing the path at the best instead of the worst placement saves "
-                      f"{result.gain * 100:.1f} % of the energy "
-                      f"({result.worst.detail.energy.total_J - result.best.detail.energy.total_J:.4f} J per pass)")
+                      f"{result.gain * 100:.1f} % of the {subject} ({difference:.4f} {objective.unit}{per_pass})")
     return "\n\n".join(blocks)
 
 
 def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None = None) -> dict[str, Any]:
     """JSON-ready dictionary of one placement (SI units)."""
     names = [a.joint for a in robot.actuators]
+    objective = OBJECTIVES.get(detail.objective)
     out: dict[str, Any] = {
-        "placement": {name: float(value) for name, value in zip(VARIABLES, detail.placement)},
+        "placement": {name: float(value) for name, value in zip(VARIABLES, detail.placement, strict=True)},
+        "objective": {"name": detail.objective, "title": objective.title, "unit": objective.unit,
+                      "value": float(detail.value) if detail.reachable else None},
         "feasible": detail.feasible,
         "reachable": detail.reachable,
         "energy_J": float(detail.energy.total_J) if detail.reachable else None,
@@ -90,7 +111,9 @@ def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None =
                      "t_s": float(detail.samples.t_s[m.sample])} for m in detail.margins] if detail.reachable else [],
     }
     if optimum is not None:
-        out["recheck_energy_J"] = optimum.recheck_energy_J
+        out["objective"]["recheck_value"] = optimum.recheck_value
+        if detail.objective == "energy":
+            out["recheck_energy_J"] = optimum.recheck_value
         out["evaluations"] = optimum.evaluations
     return out
 

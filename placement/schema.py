@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import builtins
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -17,6 +18,17 @@ class Strict(BaseModel):
     """Base of every file schema: unknown fields are errors, values are immutable."""
 
     model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+
+class Tagged(Strict):
+    """Base of a plug-in family's schemas, whose ``type`` field names the member."""
+
+    type: str
+
+    @classmethod
+    def schema_for(cls, value: Any) -> builtins.type[Tagged]:
+        """The member schema the mapping ``value`` names by its ``type`` (this base when none)."""
+        return cls
 
 
 def read_yaml(path: Path, schema: type[Model], error: type[InputFileError]) -> Model:
@@ -45,12 +57,12 @@ def read_yaml(path: Path, schema: type[Model], error: type[InputFileError]) -> M
         # An unknown field is usually a misspelt one: report it before the field it leaves missing.
         first = sorted(problem.errors(), key=lambda e: e["type"] != "extra_forbidden")[0]
         loc = tuple(part for part in first["loc"] if not _is_tag(schema, first["loc"], part))
-        raise error(path, ".".join(map(str, loc)), _explain(schema, first)) from None
+        raise error(path, ".".join(map(str, loc)), _explain(schema, first, raw)) from None
 
 
-def _explain(schema: type[BaseModel], error: dict[str, Any]) -> str:
+def _explain(schema: type[BaseModel], error: Any, raw: Any) -> str:
     if error["type"] == "extra_forbidden":
-        return f"unknown field; allowed here: {', '.join(_allowed_fields(schema, error['loc'][:-1]))}"
+        return f"unknown field; allowed here: {', '.join(_allowed_fields(schema, error['loc'][:-1], raw))}"
     if error["type"] == "missing":
         return "required field is missing"
     message = error["msg"].removeprefix("Value error, ")
@@ -67,11 +79,14 @@ def _is_tag(schema: type[BaseModel], loc: tuple[Any, ...], part: Any) -> bool:
     return False
 
 
-def _allowed_fields(schema: type[BaseModel], loc: tuple[Any, ...]) -> list[str]:
+def _allowed_fields(schema: type[BaseModel], loc: tuple[Any, ...], raw: Any) -> list[str]:
     annotation: Any = schema
     for part in loc:
         annotation = _step(annotation, part)
+        raw = raw.get(part) if isinstance(raw, dict) else raw[part] if isinstance(raw, list) else None
     model = _model_of(annotation)
+    if isinstance(model, type) and issubclass(model, Tagged):
+        model = model.schema_for(raw)  # a plug-in family member, named by the input's own tag
     return sorted(model.model_fields) if model else []
 
 

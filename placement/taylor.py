@@ -40,7 +40,7 @@ class Taylor2:
         return Taylor2(-self.v, -self.d1, -self.d2)
 
     def __sub__(self, other: Taylor2 | ArrayLike) -> Taylor2:
-        return self + (-other)
+        return self + (-_lift(other))
 
     def __rsub__(self, other: ArrayLike) -> Taylor2:
         return -self + other

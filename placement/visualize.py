@@ -26,7 +26,7 @@ from meshcat.animation import Animation
 from meshcat.servers.tree import SceneTree, find_node, walk
 from pinocchio.visualize import MeshcatVisualizer
 
-from placement.robot import Robot
+from placement.robot.model import Robot
 
 VIEWER_SCRIPT = Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js"
 POINT_COLORS = {"O_b": 0x1F77B4, "C": 0x2CA02C, "Q_plus": 0xD62728, "Q_minus": 0xFF7F0E}
@@ -165,8 +165,8 @@ class Scene:
         if self.window is None:
             return self.viewer.static_html()
         commands = "".join(
-            'fetch("data:application/octet-binary;base64,{}").then(r => r.arrayBuffer())'
-            ".then(b => viewer.handle_command_bytearray(new Uint8Array(b)));\n".format(base64.b64encode(c).decode())
+            f'fetch("data:application/octet-binary;base64,{base64.b64encode(c).decode()}").then(r => r.arrayBuffer())'
+            ".then(b => viewer.handle_command_bytearray(new Uint8Array(b)));\n"
             for c in self.window.commands())
         legend = "".join(f'<div><span style="background:#{color:06x}"></span>{name}</div>' for name, color in self.legend)
         return _PAGE.format(title=title, script=VIEWER_SCRIPT.read_text(), commands=commands, legend=legend)

@@ -7,6 +7,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 
 from placement.robot import load_robot  # noqa: E402
 
+
 @pytest.fixture
 def orthoglide():
     """A freshly loaded Orthoglide (tests may modify its model)."""

@@ -9,8 +9,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from placement import Evaluator, load_path, load_robot
 from placement.__main__ import main
-from placement.robot import BUILTIN_ROBOTS_DIR
+from placement.frames import VARIABLES
+from placement.robot.catalog import builtin_robots_dir
 
 
 def test_robots_lists_the_orthoglide(capsys):
@@ -25,7 +27,7 @@ def test_check_proves_the_orthoglide_model(capsys):
 
 
 def test_check_a_sidecar_by_path(capsys):
-    assert main(["check", str(BUILTIN_ROBOTS_DIR / "fivebar" / "fivebar.yaml"), "--samples", "30"]) == 0
+    assert main(["check", str(builtin_robots_dir() / "fivebar" / "fivebar.yaml"), "--samples", "30"]) == 0
     assert "generic solver" in capsys.readouterr().out
 
 
@@ -62,21 +64,30 @@ def test_main_job_reports_best_worst_and_gain_and_writes_json_and_trace(tmp_path
     text = capsys.readouterr().out
     assert "best placement (least energy)" in text and "worst placement (most energy)" in text and "gain:" in text
     document = json.loads(out_json.read_text())
+    assert document["objective"] == "energy"
     for key in ("best", "worst"):
         entry = document[key]
         assert set(entry["placement"]) == {"x", "y", "z", "phi", "theta", "psi"}
+        assert entry["objective"]["name"] == "energy" and entry["objective"]["value"] == entry["energy_J"]
+        assert entry["recheck_energy_J"] == entry["objective"]["recheck_value"]
         assert entry["feasible"] is True and entry["energy_J"] > 0
-        assert sum(entry["energy_per_actuator_J"].values()) == pytest.approx(entry["energy_J"])
+        # Clipping the braking power away can only add to each drive's signed energy.
+        signed = {name: sum(entry["energy_parts_J"][part][name] for part in ("joule", "inductive", "back_emf"))
+                  for name in entry["energy_per_actuator_J"]}
+        assert all(entry["energy_per_actuator_J"][name] >= signed[name] - 1e-12 for name in signed)
         assert all(m["margin"] >= 0 for m in entry["margins"])
         assert f"{entry['energy_J']:.4f} J" in text
-    assert document["gain"] == pytest.approx(1 - document["best"]["energy_J"] / document["worst"]["energy_J"])
+    # The JSON placements, evaluated again through the Python API, give the JSON energies.
+    evaluator = Evaluator(load_robot("orthoglide"), load_path(EXAMPLE), time_step_s=0.004)
+    again = evaluator.evaluate([[document[key]["placement"][v] for v in VARIABLES] for key in ("best", "worst")])
+    np.testing.assert_allclose(again.value, [document["best"]["energy_J"], document["worst"]["energy_J"]], rtol=1e-12)
+    assert document["gain"] == pytest.approx((again.value[1] - again.value[0]) / again.value[1], rel=1e-12)
     rows = list(csv.reader(out_csv.open()))
     assert rows[0][:4] == ["t", "x", "y", "z"] and rows[0][4:12] == [
         "q_1", "qd_1", "qdd_1", "force_1", "motor_speed_1", "motor_torque_1", "current_1", "power_1"]
     assert len(rows[0]) == 4 + 3 * 8 and len(rows) > 40
     # The trace is the best placement's: its tool points are the path placed there.
     from placement.frames import transform_path_to_base
-    from placement.path import load_path
 
     best = document["best"]["placement"]
     placed, _ = transform_path_to_base(load_path(EXAMPLE).sample(0.004), np.array([list(best.values())]))
@@ -204,10 +215,10 @@ def test_map_command_writes_the_map_figure_and_scene(tmp_path, capsys):
     assert main(["map", "--robot", "orthoglide", "--path", str(EXAMPLE), "--grid", "x=-110:50:5,y=-90:30:4",
                  "--fix", "z=0,phi=0", "--time-step", "0.004", "--workers", "1", "--quiet", "--out", str(out),
                  "--png", str(tmp_path / "map.png"), "--html", str(tmp_path / "map.html")]) == 0
-    from placement.sweep import SweepResult
+    from placement.search.sweep import SweepResult
 
     result = SweepResult.load(out)
-    assert result.energy_J.shape == (5, 4) and result.axes[0][0] == pytest.approx(-0.110)
+    assert result.value.shape == (5, 4) and result.axes[0][0] == pytest.approx(-0.110)
     assert (tmp_path / "map.png").is_file() and (tmp_path / "map.svg").is_file()
     assert "energy map" in (tmp_path / "map.html").read_text()
     assert "20 placements" in capsys.readouterr().out

@@ -4,14 +4,15 @@ import dataclasses
 
 import numpy as np
 import pytest
+from test_path import EXAMPLE
 
-from placement.drives import MotorTrace, motor_trace
+from placement.drives.motors import MotorModel, Pmsm, register_motor_model
+from placement.drives.trace import motor_trace
 from placement.dynamics import inverse_dynamics
-from placement.energy import electric_energy, interval_widths, register_motor_model, pmsm_power
+from placement.energy.integration import electric_energy, interval_widths
 from placement.evaluation import Evaluator
 from placement.kinematics import TaskTrajectory
 from placement.path import load_path
-from test_path import EXAMPLE
 
 PLACEMENTS = np.array([[0.0, 0.0, 0.0, 0.0, 0.0, 0.0], [-0.06, -0.05, -0.04, 0.7, 0.0, 0.0],
                        [-0.09, -0.09, -0.09, np.pi / 4, 0.0, 0.0], [0.02, -0.03, 0.01, -0.4, 0.0, 0.0]])
@@ -34,7 +35,7 @@ def with_drives(robot, motor=None, transmission=None, friction=None):
 
 
 def energies(robot, mode, placements=PLACEMENTS, path=None):
-    return Evaluator(robot, path or load_path(EXAMPLE), mode).evaluate(placements).energy_J
+    return Evaluator(robot, path or load_path(EXAMPLE), mode).evaluate(placements).value
 
 
 def test_lossless_motor_with_full_regeneration_draws_the_mechanical_energy(orthoglide):
@@ -92,7 +93,7 @@ def test_losses_in_the_transmission_and_friction_cost_energy(orthoglide):
 def test_efficiency_acts_on_the_transmitted_load_not_on_the_rotor_inertia(orthoglide):
     robot = with_drives(orthoglide, transmission={"efficiency": 0.5})
     rotor = robot.actuators[0].reflected_inertia
-    ratio = robot.actuators[0].drive.speed_ratio
+    ratio = robot.actuators[0].drive.transmission.speed_ratio
     acceleration = np.full((1, 3), 2.0)
     velocity = np.full((1, 3), 0.3)
     only_rotor = motor_trace(robot, rotor * acceleration, velocity, acceleration)
@@ -110,11 +111,15 @@ def test_sample_power_integrates_to_the_signed_energy(orthoglide):
     assert trapezoid == pytest.approx(detail.energy.total_J, rel=1e-3)
 
 
-def test_a_registered_motor_model_is_used(orthoglide):
-    def doubled(motor, speed, current, dt):
-        return {key: 2 * value for key, value in pmsm_power(motor, speed, current, dt).items()}
+class Doubled(MotorModel):
+    """The paper's motor model, every power part doubled."""
 
-    register_motor_model("doubled", doubled)
+    def interval_power(self, motor, speed_rad_s, current_A, dt_s):
+        return {key: 2 * value for key, value in Pmsm().interval_power(motor, speed_rad_s, current_A, dt_s).items()}
+
+
+def test_a_registered_motor_model_is_used(orthoglide):
+    register_motor_model("doubled", Doubled())
     robot = with_drives(orthoglide, motor={"model": "doubled"})
     np.testing.assert_allclose(energies(robot, "signed"), 2 * energies(orthoglide, "signed"), rtol=1e-12)
 
@@ -125,7 +130,7 @@ def test_energy_converges_as_sampling_grows(orthoglide, tmp_path, mode):
     file.write_text(EXAMPLE.read_text().replace("mode: paper", f"mode: {mode}"))
     path = load_path(file)
     steps = [0.002, 0.001, 0.0005, 0.00025]
-    values = np.array([Evaluator(orthoglide, path, time_step_s=s).evaluate(PLACEMENTS[1:2]).energy_J[0] for s in steps])
+    values = np.array([Evaluator(orthoglide, path, time_step_s=s).evaluate(PLACEMENTS[1:2]).value[0] for s in steps])
     changes = np.abs(np.diff(values))
     assert changes[-1] < 1e-3 * values[-1]
     assert changes[-1] < changes[0]  # differences shrink as the step halves

@@ -1,13 +1,13 @@
 """A second closed-loop mechanism, solved only by the generic machinery, checked independently."""
 
+import fivebar_analytic as analytic
 import numpy as np
 import pinocchio as pin
+from trajectories import lissajous
 
-import fivebar_analytic as analytic
+from placement.checks import energy_rate, forward_accelerations
 from placement.dynamics import inverse_dynamics
 from placement.kinematics import joint_trajectory
-from placement.checks import energy_rate, forward_accelerations
-from trajectories import lissajous
 
 TIP_FORCE_N = np.array([4.0, -6.0, 0.0])
 
@@ -50,9 +50,9 @@ def test_power_balance(fivebar):
 
 def test_every_test_robot_passes_the_physics_check(fivebar):
     from placement.checks import check_robot
-    from placement.robot import builtin_robots, load_robot
+    from placement.robot import load_robot, robot_names
 
-    for name in builtin_robots():
+    for name in robot_names():
         report = check_robot(load_robot(name), samples=40)
         assert report.passed and report.power_error_W <= 1e-6 * report.peak_power_W, name
 

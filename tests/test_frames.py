@@ -3,14 +3,15 @@
 import numpy as np
 import pinocchio as pin
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
+from test_path import EXAMPLE
 
 from placement.evaluation import Evaluator
-from placement.frames import PlacementSpace, rotation_zyx, transform_path_to_base
 from placement.exceptions import PlacementError
+from placement.frames import PlacementSpace, rotation_zyx, transform_path_to_base
 from placement.path import load_path
-from test_path import EXAMPLE
 
 angles = st.floats(-np.pi, np.pi)
 
@@ -45,7 +46,7 @@ def test_rectangle_turned_half_a_turn_costs_the_same(orthoglide):
     """The paper's segments are independent: turning the rectangle by 180° gives the same set."""
     evaluator = Evaluator(orthoglide, load_path(EXAMPLE), "clip")
     placements = np.array([[-0.05, 0.01, -0.02, 0.3, 0.0, 0.0], [-0.05, 0.01, -0.02, 0.3 + np.pi, 0.0, 0.0]])
-    energy = evaluator.evaluate(placements).energy_J
+    energy = evaluator.evaluate(placements).value
     assert energy[0] == pytest.approx(energy[1], rel=1e-12)
 
 

@@ -3,11 +3,11 @@
 import numpy as np
 import pinocchio as pin
 import pytest
+from trajectories import orthoglide_path
 
+from placement.checks import energy_rate, forward_accelerations
 from placement.dynamics import inverse_dynamics
 from placement.robot import load_robot
-from placement.checks import energy_rate, forward_accelerations
-from trajectories import orthoglide_path
 
 closed_form = load_robot("orthoglide").plugin
 

@@ -2,12 +2,14 @@
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from trajectories import orthoglide_path
 
 from placement.exceptions import UnreachableError
-from placement.kinematics import TaskTrajectory, closure_jacobian, closure_residuals, joint_trajectory
+from placement.kinematics import TaskTrajectory, joint_trajectory
 from placement.robot import load_robot
-from trajectories import orthoglide_path
+from placement.robot.closures import closure_jacobian, closure_residuals
 
 closed_form = load_robot("orthoglide").plugin
 

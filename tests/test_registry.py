@@ -6,39 +6,51 @@ import shutil
 import numpy as np
 import pytest
 import yaml
+from test_path import EXAMPLE
 
+from placement import Evaluator, load_path
 from placement.__main__ import main
 from placement.exceptions import RobotFileError
-from placement.robot import BUILTIN_ROBOTS_DIR, builtin_robots, load_robot
-from test_path import EXAMPLE
+from placement.frames import VARIABLES
+from placement.robot import load_robot, robot_names
+from placement.robot.catalog import builtin_robots_dir
+from placement.search import optimize
 
 CIRCLE = EXAMPLE.with_name("circle.yaml")
 
 
 def test_the_registry_lists_serial_and_parallel_robots(capsys):
-    assert {"orthoglide", "fivebar", "ur5", "panda"} <= set(builtin_robots())
+    assert {"orthoglide", "fivebar", "ur5", "panda"} <= set(robot_names())
     assert main(["robots"]) == 0
     listing = capsys.readouterr().out
-    assert all(name in listing for name in builtin_robots())
+    assert all(name in listing for name in robot_names())
 
 
 @pytest.mark.parametrize("name", ["orthoglide", "fivebar", "ur5", "panda"])
-def test_every_robot_places_a_path_end_to_end(name, tmp_path, capsys):
+def test_every_robot_places_a_path_end_to_end(name, tmp_path, capsys, monkeypatch):
+    # A plumbing test: a small search budget (two generations of six, a coarse sampling, one local
+    # polish instead of three) runs every stage of the search and the report for each robot.
+    monkeypatch.setattr(optimize, "POLISH_STARTS", 1)
     out = tmp_path / "result.json"
-    code = main(["--robot", name, "--path", str(CIRCLE), "--time-step", "0.01", "--generations", "4",
-                 "--population", "12", "--quiet", "--json", str(out)])
+    code = main(["--robot", name, "--path", str(CIRCLE), "--time-step", "0.05", "--generations", "2",
+                 "--population", "6", "--quiet", "--json", str(out)])
     assert code == 0, capsys.readouterr().err
     document = json.loads(out.read_text())
     assert document["best"]["feasible"] and document["worst"]["feasible"]
-    assert document["best"]["energy_J"] <= document["worst"]["energy_J"]
+    # The JSON's placements, evaluated again through the Python API, give the JSON's energies.
+    placements = [[document[key]["placement"][v] for v in VARIABLES] for key in ("best", "worst")]
+    again = Evaluator(load_robot(name), load_path(CIRCLE), time_step_s=0.05, workers=1).evaluate(placements)
+    assert again.feasible.all()
+    np.testing.assert_allclose(again.value, [document["best"]["energy_J"], document["worst"]["energy_J"]], rtol=1e-9)
 
 
 def test_serial_arm_tool_axis_points_into_the_workpiece():
+    import pinocchio as pin
+
     from placement.evaluation import Evaluator
     from placement.frames import placed_task
     from placement.kinematics import joint_trajectory
     from placement.path import load_path
-    import pinocchio as pin
 
     robot = load_robot("ur5")
     samples = load_path(CIRCLE).sample(0.01)
@@ -58,7 +70,7 @@ def test_serial_arm_tool_axis_points_into_the_workpiece():
 @pytest.fixture
 def ur5_copy(tmp_path):
     folder = tmp_path / "ur5"
-    shutil.copytree(BUILTIN_ROBOTS_DIR / "ur5", folder)
+    shutil.copytree(builtin_robots_dir() / "ur5", folder)
     sidecar = folder / "ur5.yaml"
     return sidecar, yaml.safe_load(sidecar.read_text())
 
@@ -85,7 +97,7 @@ def test_a_missing_drive_is_answered_with_the_file_and_field(ur5_copy, capsys):
 
 def test_a_redundant_arm_must_lock_joints(tmp_path):
     folder = tmp_path / "panda"
-    shutil.copytree(BUILTIN_ROBOTS_DIR / "panda", folder)
+    shutil.copytree(builtin_robots_dir() / "panda", folder)
     sidecar = folder / "panda.yaml"
     data = yaml.safe_load(sidecar.read_text())
     del data["locked_joints"]["panda_joint3"]

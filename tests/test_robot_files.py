@@ -1,23 +1,41 @@
 """Robot files: built-ins load, generated files are in sync, and mistakes get clear errors."""
 
 import shutil
-from pathlib import Path
 
+import numpy as np
 import pytest
 import yaml
 
 from placement.exceptions import RobotFileError, UnknownRobotError
-from placement.robot import BUILTIN_ROBOTS_DIR, builtin_robots, load_robot
+from placement.robot import load_robot, robot_names
+from placement.robot.catalog import builtin_robots_dir
 
-ORTHOGLIDE_DIR = BUILTIN_ROBOTS_DIR / "orthoglide"
+ORTHOGLIDE_DIR = builtin_robots_dir() / "orthoglide"
 
 
 def test_builtin_orthoglide_loads_with_its_drives(orthoglide):
-    assert "orthoglide" in builtin_robots()
+    assert "orthoglide" in robot_names()
     assert orthoglide.model.nq == 18 and len(orthoglide.closures) == 5
     # Rotor and screw inertia reflected through a 20 mm lead: (2.5e-5 + 2e-5)·(2π/0.02)² kg.
     assert orthoglide.actuators[0].reflected_inertia == pytest.approx(4.5e-5 * (2 * 3.141592653589793 / 0.02) ** 2)
-    assert orthoglide.model.armature[orthoglide.actuators[0].v_index] == orthoglide.actuators[0].reflected_inertia
+
+
+def test_rotor_and_screw_inertia_act_at_the_sliders(orthoglide):
+    """The drives' inertia adds exactly reflected_inertia · slider acceleration to each slider's force."""
+    import dataclasses
+
+    from trajectories import orthoglide_path
+
+    from placement.dynamics import inverse_dynamics
+
+    bare_model = orthoglide.model.copy()
+    bare_model.armature[:] = 0.0
+    bare = dataclasses.replace(orthoglide, model=bare_model)
+    task = orthoglide_path(np.linspace(0.0, 1.0, 80))
+    loaded, unloaded = inverse_dynamics(orthoglide, task), inverse_dynamics(bare, task)
+    inertia = np.array([a.reflected_inertia for a in orthoglide.actuators])
+    np.testing.assert_allclose(loaded.effort - unloaded.effort, inertia * loaded.acceleration, rtol=1e-9, atol=1e-9)
+    assert np.abs(inertia * loaded.acceleration).max() > 1.0  # the test moves the sliders hard enough to tell
 
 
 def test_committed_urdf_is_what_the_generator_writes():

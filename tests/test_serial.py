@@ -4,8 +4,9 @@ import numpy as np
 import pinocchio as pin
 
 from placement.dynamics import inverse_dynamics
-from placement.kinematics import LWA, TaskTrajectory, joint_trajectory
+from placement.kinematics import TaskTrajectory, joint_trajectory
 from placement.robot import load_robot
+from placement.robot.closures import LWA
 
 
 def joint_motion(robot, t):
@@ -51,7 +52,8 @@ def test_ur5_inverse_kinematics_and_dynamics_equal_rnea():
         frame = model.frames[robot.end_effector_frame_id]
         # The wrench acts at the tool origin, world-aligned; express it in the parent joint frame.
         at_tool = pin.Force(wrench[k, :3], wrench[k, 3:])
-        world_aligned_to_joint = data.oMi[frame.parentJoint].inverse() * pin.SE3(np.eye(3), data.oMf[robot.end_effector_frame_id].translation)
+        tool_origin = data.oMf[robot.end_effector_frame_id].translation
+        world_aligned_to_joint = data.oMi[frame.parentJoint].inverse() * pin.SE3(np.eye(3), tool_origin)
         fext[frame.parentJoint] = world_aligned_to_joint.act(at_tool)
         expected = pin.rnea(model, data, q[k], v[k], a[k], fext)
         np.testing.assert_allclose(result.effort[k], expected, atol=1e-8)

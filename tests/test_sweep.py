@@ -4,11 +4,11 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import pytest
+from test_path import EXAMPLE
 
 from placement.evaluation import Evaluator
 from placement.path import load_path
-from placement.sweep import SweepResult, sweep
-from test_path import EXAMPLE
+from placement.search.sweep import SweepResult, sweep
 
 AXES = {"x": np.linspace(-0.12, 0.06, 7), "y": np.linspace(-0.12, 0.06, 6)}
 FIXED = {"z": -0.01, "phi": 0.3}
@@ -28,8 +28,8 @@ def test_map_equals_the_evaluator_point_by_point(serial):
     evaluator = Evaluator(robot, path, time_step_s=0.004)
     i, j = 2, 4
     direct = evaluator.evaluate(np.array([[AXES["x"][i], AXES["y"][j], -0.01, 0.3, 0.0, 0.0]]))
-    assert result.energy_J[i, j] == direct.energy_J[0] and result.feasible[i, j] == direct.feasible[0]
-    assert result.energy_J.shape == (7, 6) and result.feasible.any() and not result.feasible.all()
+    assert result.value[i, j] == direct.value[0] and result.feasible[i, j] == direct.feasible[0]
+    assert result.value.shape == (7, 6) and result.feasible.any() and not result.feasible.all()
 
 
 def test_parallel_workers_and_any_executor_give_the_same_map(serial):
@@ -38,7 +38,7 @@ def test_parallel_workers_and_any_executor_give_the_same_map(serial):
     with ThreadPoolExecutor(max_workers=2) as executor:
         threaded = sweep(robot, path, AXES, FIXED, time_step_s=0.004, executor=executor)
     for other in (parallel, threaded):
-        np.testing.assert_array_equal(other.energy_J, result.energy_J)
+        np.testing.assert_array_equal(other.value, result.value)
         np.testing.assert_array_equal(other.tightest, result.tightest)
 
 
@@ -46,9 +46,9 @@ def test_map_file_reloads(serial, tmp_path):
     *_, result = serial
     result.save(tmp_path / "map.npz")
     again = SweepResult.load(tmp_path / "map.npz")
-    np.testing.assert_array_equal(again.energy_J, result.energy_J)
+    np.testing.assert_array_equal(again.value, result.value)
     assert again.variables == ("x", "y") and again.limits == result.limits
-    assert again.masked_energy().mask.sum() == (~result.feasible).sum()
+    assert again.masked_value().mask.sum() == (~result.feasible).sum()
 
 
 def test_infeasible_points_name_a_broken_limit(serial):
@@ -78,9 +78,9 @@ def test_workers_evaluate_the_robot_as_changed_in_memory():
     placements = np.array([[0.0, 0.30, 0.0, 0.0, 0.0, 0.0], [0.02, 0.28, 0.0, 0.5, 0.0, 0.0],
                            [-0.02, 0.31, 0.0, -0.5, 0.0, 0.0], [0.01, 0.32, 0.0, 1.0, 0.0, 0.0]])
     with Evaluator(heavier, path, time_step_s=0.01, workers=2) as parallel:
-        in_workers = parallel.evaluate(placements).energy_J
-    here = Evaluator(heavier, path, time_step_s=0.01, workers=1).evaluate(placements).energy_J
-    original = Evaluator(robot, path, time_step_s=0.01, workers=1).evaluate(placements).energy_J
+        in_workers = parallel.evaluate(placements).value
+    here = Evaluator(heavier, path, time_step_s=0.01, workers=1).evaluate(placements).value
+    original = Evaluator(robot, path, time_step_s=0.01, workers=1).evaluate(placements).value
     np.testing.assert_array_equal(in_workers, here)
     assert not np.allclose(here, original)
 
@@ -97,5 +97,5 @@ def test_a_plug_in_robot_changed_in_memory_travels_to_the_workers(serial):
     calm.model.gravity = pin.Motion.Zero()
     here = sweep(calm, path, AXES, FIXED, time_step_s=0.004, workers=1)
     there = sweep(calm, path, AXES, FIXED, time_step_s=0.004, workers=2)
-    np.testing.assert_array_equal(here.energy_J, there.energy_J)
-    assert not np.allclose(here.energy_J[result.feasible], result.energy_J[result.feasible])
+    np.testing.assert_array_equal(here.value, there.value)
+    assert not np.allclose(here.value[result.feasible], result.value[result.feasible])

@@ -1,7 +1,8 @@
 """Taylor arithmetic: derivatives of compositions equal finite differences."""
 
 import numpy as np
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from placement import taylor
 from placement.taylor import Taylor2

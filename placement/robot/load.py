@@ -8,123 +8,33 @@ the mechanism's degrees of freedom. Errors name the file and the field.
 
 from __future__ import annotations
 
-import importlib.util
 import logging
-from dataclasses import dataclass
 from pathlib import Path
-from types import ModuleType
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
 import yourdfpy
 from pydantic import BaseModel
 
-from placement.exceptions import RobotFileError, UnknownRobotError
-from placement.sidecar import Drive, Sidecar, read_sidecar
+from placement.exceptions import RobotFileError
+from placement.robot.catalog import sidecar_path
+from placement.robot.closures import closure_jacobian, closure_residuals
+from placement.robot.model import Actuator, Closure, Robot
+from placement.robot.plugins import load_plugin, make_closed_form
+from placement.robot.sidecar import Sidecar, read_sidecar
 from placement.taylor import Taylor2
 
-BUILTIN_ROBOTS_DIR = Path(__file__).parent / "robots"
 CLOSURE_TOLERANCE_M = 1e-6
 ERD_PREFIX = "example-robot-data:"
 PRISMATIC_JOINTS = ("JointModelPX", "JointModelPY", "JointModelPZ", "JointModelPrismaticUnaligned")
-
-ClosedFormSolver = Callable[[tuple[Any, Any, Any]], dict[str, Any]]
-
-
-@dataclass(frozen=True)
-class Actuator:
-    """An actuated joint with its limits (joint units: m or rad) and drive."""
-
-    joint: str
-    q_index: int
-    v_index: int
-    position_min: float
-    position_max: float
-    velocity_max: float
-    drive: Drive | None
-    reflected_inertia: float  # rotor and transmission inertia seen at the joint (kg or kg·m²)
-    prismatic: bool  # True: m, m/s, N; False (revolute): rad, rad/s, N·m
-
-
-@dataclass(frozen=True)
-class Closure:
-    """A loop closure between two frames of the spanning tree."""
-
-    name: str
-    kind: str  # "point" (3 equations) or "weld" (6 equations)
-    frame_ids: tuple[int, int]
-
-    @property
-    def dimension(self) -> int:
-        """Number of scalar constraint equations."""
-        return 3 if self.kind == "point" else 6
-
-
-@dataclass
-class Robot:
-    """A robot ready for kinematics and dynamics.
-
-    Attributes:
-        name: Robot name from the sidecar.
-        sidecar_path: The sidecar file it was loaded from.
-        urdf_path: The URDF of its spanning tree.
-        model: Pinocchio model of the tree, with gravity and reflected drive inertia (armature).
-        closures: Loop closures (empty for a serial robot).
-        actuators: Actuated joints in sidecar order.
-        end_effector_frame_id: Pinocchio frame that follows the path.
-        task: "position" (3-D point) or "pose" (position and orientation).
-        reference_q: A configuration where every closure closes (used to start solvers).
-        plugin: The robot's kinematics plug-in module, if it has one.
-        closed_form: The plug-in's closed-form position solver, if any.
-        sidecar: The validated sidecar data (drives, workspace, sources, ...).
-    """
-
-    name: str
-    sidecar_path: Path
-    urdf_path: Path
-    model: pin.Model
-    closures: tuple[Closure, ...]
-    actuators: tuple[Actuator, ...]
-    end_effector_frame_id: int
-    task: str
-    reference_q: np.ndarray
-    plugin: ModuleType | None
-    closed_form: ClosedFormSolver | None
-    sidecar: Sidecar
-
-    def __getstate__(self) -> dict:
-        """For another process: a loaded plug-in module does not travel, its file does."""
-        state = dict(self.__dict__)
-        state["plugin"] = state["closed_form"] = None
-        return state
-
-    def __setstate__(self, state: dict) -> None:
-        self.__dict__.update(state)
-        self.plugin = _load_plugin(self.sidecar_path, self.sidecar.kinematics_plugin)
-        self.closed_form = _make_closed_form(self.plugin, self.model, self.sidecar_path)
-
-    @property
-    def actuated_v_indices(self) -> np.ndarray:
-        """Velocity indices of the actuated joints, in actuator order."""
-        return np.array([a.v_index for a in self.actuators])
-
-    @property
-    def task_dimension(self) -> int:
-        """3 for a position task, 6 for a pose task."""
-        return 3 if self.task == "position" else 6
-
-
-def builtin_robots() -> list[str]:
-    """Names of the robots shipped with placement."""
-    return sorted(p.name for p in BUILTIN_ROBOTS_DIR.iterdir() if (p / f"{p.name}.yaml").is_file())
 
 
 def load_robot(name_or_path: str | Path) -> Robot:
     """Load a built-in robot by name, or any robot from its sidecar YAML file.
 
     Args:
-        name_or_path: A built-in name (see :func:`builtin_robots`) or a sidecar path.
+        name_or_path: A robot name (see :func:`placement.robot.catalog.robot_names`) or a sidecar path.
 
     Returns:
         The validated robot.
@@ -133,18 +43,12 @@ def load_robot(name_or_path: str | Path) -> Robot:
         UnknownRobotError: Neither a built-in name nor an existing file.
         RobotFileError: The sidecar or its URDF is wrong (the message names file and field).
     """
-    text = str(name_or_path)
-    if text in builtin_robots():
-        path = BUILTIN_ROBOTS_DIR / text / f"{text}.yaml"
-    elif Path(text).is_file():
-        path = Path(text)
-    else:
-        raise UnknownRobotError(text, builtin_robots())
+    path = sidecar_path(name_or_path)
     sidecar = read_sidecar(path)
     urdf_path = _resolve_urdf(path, sidecar.urdf)
     urdf = _read_urdf(urdf_path)
     model = _lock_joints(pin.buildModelFromUrdf(str(urdf_path)), path, sidecar.locked_joints)
-    plugin = _load_plugin(path, sidecar.kinematics_plugin)
+    plugin = load_plugin(path, sidecar.kinematics_plugin)
     model.gravity = pin.Motion(np.array(sidecar.gravity_m_s2), np.zeros(3))
     robot = Robot(
         name=sidecar.name,
@@ -157,7 +61,7 @@ def load_robot(name_or_path: str | Path) -> Robot:
         task=sidecar.end_effector.task,
         reference_q=_reference_q(model, path, sidecar.reference_configuration, sidecar.locked_joints),
         plugin=plugin,
-        closed_form=_make_closed_form(plugin, model, path),
+        closed_form=make_closed_form(plugin, model, path),
         sidecar=sidecar,
     )
     for actuator in robot.actuators:
@@ -241,8 +145,8 @@ def _joint_id(model: pin.Model, path: Path, field: str, name: str, locked: dict[
 
 
 def _closure(model: pin.Model, path: Path, i: int, name: str, kind: str, frames: tuple[str, str]) -> Closure:
-    ids = tuple(_frame_id(model, path, f"closures.{i}.frames.{k}", f) for k, f in enumerate(frames))
-    return Closure(name=name, kind=kind, frame_ids=ids)
+    first, second = (_frame_id(model, path, f"closures.{i}.frames.{k}", f) for k, f in enumerate(frames))
+    return Closure(name=name, kind=kind, frame_ids=(first, second))
 
 
 def _actuator(model: pin.Model, path: Path, sidecar: Sidecar, i: int) -> Actuator:
@@ -271,32 +175,6 @@ def _reference_q(model: pin.Model, path: Path, values: dict[str, float], locked:
     return q
 
 
-def _load_plugin(path: Path, plugin: str | None) -> ModuleType | None:
-    if plugin is None:
-        return None
-    file = path.parent / plugin
-    if not file.is_file():
-        raise RobotFileError(path, "kinematics_plugin", f"file not found: {file}")
-    spec = importlib.util.spec_from_file_location(f"placement_plugin_{file.stem}", file)
-    module = importlib.util.module_from_spec(spec)
-    try:
-        spec.loader.exec_module(module)
-    except Exception as error:  # any error in the user's plug-in code
-        raise RobotFileError(file, "", f"the kinematics plug-in failed to load: {type(error).__name__}: {error}") from None
-    if not hasattr(module, "make_closed_form"):
-        raise RobotFileError(file, "", "a kinematics plug-in must define make_closed_form(model)")
-    return module
-
-
-def _make_closed_form(plugin: ModuleType | None, model: pin.Model, path: Path) -> ClosedFormSolver | None:
-    if plugin is None:
-        return None
-    try:
-        return plugin.make_closed_form(model)
-    except Exception as error:  # any error in the user's plug-in code
-        raise RobotFileError(path, "kinematics_plugin", f"make_closed_form failed: {type(error).__name__}: {error}") from None
-
-
 def _check_sources(path: Path, sidecar: Sidecar, urdf: yourdfpy.URDF) -> None:
     """Every key under ``sources`` must name a sidecar field or a URDF link or joint."""
     names = {"link": {l.name for l in urdf.robot.links}, "joint": {j.name for j in urdf.robot.joints}}
@@ -321,8 +199,6 @@ def _check_sources(path: Path, sidecar: Sidecar, urdf: yourdfpy.URDF) -> None:
 
 
 def _check_closed_at_reference(robot: Robot) -> None:
-    from placement.kinematics import closure_residuals
-
     data = robot.model.createData()
     residuals = closure_residuals(robot, data, robot.reference_q)
     start = 0
@@ -360,8 +236,6 @@ def _check_plugin(robot: Robot) -> None:
 
 def _check_mobility(robot: Robot) -> None:
     """The actuated joints must parametrise the closed-loop motion exactly."""
-    from placement.kinematics import closure_jacobian
-
     data = robot.model.createData()
     jacobian = closure_jacobian(robot, data, robot.reference_q)
     nv = robot.model.nv

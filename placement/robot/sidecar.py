@@ -8,12 +8,13 @@ joints; rad, rad/s, N·m for revolute joints). The full schema with examples is 
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 from typing import Annotated, Literal
 
-from pydantic import Field, model_validator
+from pydantic import BeforeValidator, Field, model_validator
 
+from placement.drives.motors import Motor
+from placement.drives.transmissions import Transmission, parse_transmission
 from placement.exceptions import RobotFileError
 from placement.schema import Strict, read_yaml
 
@@ -21,45 +22,6 @@ NonNegative = Annotated[float, Field(ge=0.0)]
 Positive = Annotated[float, Field(gt=0.0)]
 Vector3 = tuple[float, float, float]
 SOURCE_STATUSES = ("PAPER", "DERIVED", "CATALOG", "PUBLISHED", "EST")
-
-
-class BallScrew(Strict):
-    """Ball screw: joint speed (m/s) = motor speed (rad/s) * lead_m / (2 pi)."""
-
-    type: Literal["ball_screw"]
-    lead_m: Positive
-    efficiency: Annotated[float, Field(gt=0.0, le=1.0)] = 1.0
-
-
-class Gear(Strict):
-    """Gearbox: joint speed (rad/s) = motor speed (rad/s) / ratio."""
-
-    type: Literal["gear"]
-    ratio: Positive
-    efficiency: Annotated[float, Field(gt=0.0, le=1.0)] = 1.0
-
-
-class Motor(Strict):
-    """Motor constants in SI (per phase for a multi-phase motor); ``model`` names the energy model."""
-
-    model: str = "pmsm"
-    torque_constant_Nm_per_A: Positive
-    back_emf_constant_V_s_per_rad: Positive
-    resistance_ohm: NonNegative
-    inductance_H: NonNegative
-    phases: Annotated[int, Field(ge=1)]
-    rotor_inertia_kg_m2: NonNegative
-    max_torque_Nm: Positive
-    max_speed_rad_s: Positive | None = None
-
-    @model_validator(mode="after")
-    def _converts_power_without_loss(self) -> Motor:
-        # In the pmsm model the back-EMF power n·K_e·ω·I must be the shaft power τ·ω = K_t·I·ω.
-        expected = self.torque_constant_Nm_per_A / self.phases
-        if self.model == "pmsm" and abs(self.back_emf_constant_V_s_per_rad - expected) > 1e-3 * expected:
-            raise ValueError(f"back_emf_constant_V_s_per_rad must be torque_constant_Nm_per_A / phases = {expected:.6g} "
-                             "V s/rad for the pmsm model (else the motor creates or destroys energy)")
-        return self
 
 
 class Friction(Strict):
@@ -72,22 +34,16 @@ class Friction(Strict):
 class Drive(Strict):
     """A motor and its transmission to one actuated joint."""
 
-    transmission: Annotated[BallScrew | Gear, Field(discriminator="type")]
+    transmission: Annotated[Transmission, BeforeValidator(parse_transmission)]
     motor: Motor
     transmission_inertia_kg_m2: NonNegative = Field(
         0.0, description="inertia on the motor shaft besides the rotor (screw, coupling, gearbox input)")
     friction: Friction = Friction()
 
     @property
-    def speed_ratio(self) -> float:
-        """Motor speed per unit joint speed: rad per m (ball screw, 2π/lead) or rad per rad (gear)."""
-        t = self.transmission
-        return 2 * math.pi / t.lead_m if isinstance(t, BallScrew) else t.ratio
-
-    @property
     def reflected_inertia(self) -> float:
-        """Rotor and transmission inertia seen at the joint: kg (ball screw) or kg·m² (gear)."""
-        return (self.motor.rotor_inertia_kg_m2 + self.transmission_inertia_kg_m2) * self.speed_ratio**2
+        """Rotor and transmission inertia seen at the joint: kg (linear joint) or kg·m² (revolute)."""
+        return (self.motor.rotor_inertia_kg_m2 + self.transmission_inertia_kg_m2) * self.transmission.speed_ratio**2
 
 
 class Actuator(Strict):
@@ -170,6 +126,7 @@ class Sidecar(Strict):
     actuators: Annotated[list[Actuator], Field(min_length=1)]
     drives: dict[str, Drive] = {}
     kinematics_plugin: str | None = Field(None, description="Python file beside this one, with a closed-form solver")
+    kinematics: str | None = Field(None, description="kinematics solver by name (default: chosen for the robot)")
     workspace: Workspace | None = None
     placement: PlacementDefaults | None = None
     sources: dict[str, str] = {}

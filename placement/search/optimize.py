@@ -1,27 +1,28 @@
-"""Search for the placements of least (and most) electric energy that respect every limit.
+"""Search for the best (and worst) placements by an objective, within every limit.
 
-Strategy, per direction (minimise, maximise): a global search by scipy's differential evolution
-over the free placement variables, with the limits as constraints (a feasible placement always
-beats an infeasible one, and infeasible ones are ranked by how far they break the limits, so they
-steer the search and never stop it), on the path sampled with about ``search_samples`` samples;
-then a local constrained polish (SLSQP) from the best few distinct candidates, on the path
-sampled at its own time step, which the reported energies use. The reported optima are
-re-evaluated with a four times denser sampling, and the difference is reported.
+Best is the objective's better direction (least energy, by default) and worst the other one, so
+that the gain of placing well can be reported. Strategy, per direction: a global search by
+scipy's differential evolution over the free placement variables, with the limits as constraints
+(a feasible placement always beats an infeasible one, and infeasible ones are ranked by how far
+they break the limits, so they steer the search and never stop it), on the path sampled with
+about ``search_samples`` samples; then a local constrained polish (SLSQP) from the best few
+distinct candidates, on the path sampled at its own time step, which the reported values use.
+The reported optima are re-evaluated with a four times denser sampling, and the difference is
+reported.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 from scipy.optimize import NonlinearConstraint, differential_evolution, minimize
 
 from placement.evaluation import Evaluation, Evaluator, PlacementDetail
-from placement.exceptions import PlacementError
-from placement.frames import VARIABLES, PlacementSpace
+from placement.frames import PlacementSpace, default_space
 from placement.path import ToolPath
-from placement.robot import Robot
+from placement.robot.model import Robot
 
 POLISH_STARTS = 3  # distinct candidates polished locally
 GIVE_UP_GENERATIONS = 25  # generations without any feasible placement after which the search stops
@@ -52,101 +53,64 @@ class SearchSettings:
 
 @dataclass(frozen=True)
 class Optimum:
-    """The best placement found in one direction.
+    """The placement found in one direction.
 
     Attributes:
-        detail: Energy, margins and trace of the placement (at the search's sampling).
-        recheck_energy_J: Energy of the same placement with 4x denser path sampling.
+        detail: Objective, energy, margins and trace of the placement (at the path's sampling).
+        recheck_value: The objective at the same placement with 4x denser path sampling.
         evaluations: Placements evaluated by the search.
     """
 
     detail: PlacementDetail
-    recheck_energy_J: float
+    recheck_value: float
     evaluations: int
 
     @property
     def sampling_gap(self) -> float:
-        """Relative change of the energy when the path is sampled 4x more densely."""
-        return abs(self.recheck_energy_J - self.detail.energy.total_J) / abs(self.detail.energy.total_J)
+        """Relative change of the objective when the path is sampled 4x more densely."""
+        return abs(self.recheck_value - self.detail.value) / abs(self.detail.value)
 
 
 @dataclass(frozen=True)
 class PlacementResult:
-    """Outcome of :func:`optimize_placement` (SI units: m, rad, J).
+    """Outcome of :func:`optimize_placement` (SI units: m, rad, J, ...).
 
     Attributes:
-        best: The least-energy feasible placement, if minimisation was asked and one exists.
-        worst: The most-energy feasible placement, if maximisation was asked and one exists.
+        best: The best feasible placement by the objective, if asked for and one exists.
+        worst: The worst feasible placement by the objective, if asked for and one exists.
         space: Free variables, bounds and fixed values of the search.
-        regeneration: Regeneration mode of the energy.
+        objective: The objective's name.
+        regeneration: Regeneration policy of the energies.
         infeasible: Why no feasible placement was found (the binding limit), else None.
     """
 
     best: Optimum | None
     worst: Optimum | None
     space: PlacementSpace
+    objective: str
     regeneration: str
     infeasible: str | None = None
 
     @property
     def gain(self) -> float | None:
-        """(E_max − E_min)/E_max, when both were computed."""
+        """|worst − best| / |worst| (for energy: (E_max − E_min)/E_max), when both were computed."""
         if self.best is None or self.worst is None:
             return None
-        e_min, e_max = self.best.detail.energy.total_J, self.worst.detail.energy.total_J
-        return float((e_max - e_min) / e_max)
-
-
-def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict[str, float] | None = None,
-                  bounds: dict[str, tuple[float, float]] | None = None, half_turn: bool = False) -> PlacementSpace:
-    """The placement space of a robot: by default the sidecar's ``placement`` section, else x, y, z
-    within the workspace box and phi in ±180° (the tool axis staying along Z_b).
-
-    Args:
-        robot: The robot.
-        free: Free variables (default: the sidecar's, else x, y, z, phi).
-        fixed: Values of fixed variables (default 0); fixing a variable removes it from the default
-            free set, and an explicitly free variable cannot be fixed.
-        bounds: Bounds overriding the defaults (m, rad).
-        half_turn: The path is unchanged by a half turn about its tool axis
-            (:meth:`ToolPath.half_turn_symmetric`): phi then only needs ±90°.
-    """
-    defaults = robot.sidecar.placement
-    if free is None:  # the default free set, less what the caller fixes
-        free = tuple(n for n in (defaults.free if defaults else ("x", "y", "z", "phi")) if n not in (fixed or {}))
-    free = tuple(free)
-    unknown = sorted(set(free) - set(VARIABLES))
-    if unknown:
-        raise PlacementError(f"unknown placement variable(s) {unknown}; expected some of {', '.join(VARIABLES)}")
-    clash = sorted(set(free) & set(fixed or {}))
-    if clash:
-        raise PlacementError(f"{clash} cannot be both free and fixed")
-    limits = {**(defaults.bounds if defaults else {}), **(bounds or {})}
-    workspace = robot.sidecar.workspace
-    for k, axis in enumerate("xyz"):
-        if workspace is not None:
-            limits.setdefault(axis, (workspace.min_m[k], workspace.max_m[k]))
-    limits.setdefault("phi", (-np.pi / 2, np.pi / 2) if half_turn else (-np.pi, np.pi))
-    for angle in ("theta", "psi"):
-        limits.setdefault(angle, (-np.pi, np.pi))
-    missing = [name for name in free if name not in limits]
-    if missing:
-        raise PlacementError(f"robot '{robot.name}' declares no workspace: give bounds for {missing}")
-    fixed_vector = np.array([float((fixed or {}).get(name, 0.0)) for name in VARIABLES])
-    return PlacementSpace(free=tuple(n for n in VARIABLES if n in free),
-                          lower=np.array([limits[n][0] for n in VARIABLES if n in free], dtype=float),
-                          upper=np.array([limits[n][1] for n in VARIABLES if n in free], dtype=float),
-                          fixed=fixed_vector)
+        best, worst = self.best.detail.value, self.worst.detail.value
+        return float(abs(worst - best) / abs(worst))
 
 
 class _Problem:
-    """Objective and constraints over the free variables, sharing one evaluation per point."""
+    """Objective and constraints over the free variables, sharing one evaluation per point.
+
+    ``sign * value`` is minimised: +1 searches the best placement of a lower-is-better objective.
+    """
 
     def __init__(self, evaluator: Evaluator, space: PlacementSpace, sign: float) -> None:
         self.evaluator, self.space, self.sign = evaluator, space, sign
         self._cache: dict[bytes, tuple[float, np.ndarray]] = {}
         self.least_infeasible: tuple[float, np.ndarray, np.ndarray] | None = None  # (violation, x, margins)
-        self.best_feasible: float | None = None  # signed energy of the best feasible point seen
+        self.best_feasible: float | None = None  # signed value of the best feasible point seen
 
     def _lookup(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         points = np.atleast_2d(points)
@@ -160,19 +124,19 @@ class _Problem:
     def _remember(self, points: np.ndarray, evaluation: Evaluation) -> None:
         if len(self._cache) > 200_000:
             self._cache.clear()
-        for point, energy, margins in zip(points, evaluation.energy_J, evaluation.margins):
-            self._cache[point.tobytes()] = (float(energy), margins)
+        for point, value, margins in zip(points, evaluation.value, evaluation.margins, strict=True):
+            self._cache[point.tobytes()] = (float(value), margins)
             violation = float(np.clip(-margins, 0.0, None).sum())
             if violation > 0 and (self.least_infeasible is None or violation < self.least_infeasible[0]):
                 self.least_infeasible = (violation, point, margins)
-            elif violation == 0 and np.isfinite(energy):
-                value = self.sign * float(energy)
-                self.best_feasible = value if self.best_feasible is None else min(self.best_feasible, value)
+            elif violation == 0 and np.isfinite(value):
+                signed = self.sign * float(value)
+                self.best_feasible = signed if self.best_feasible is None else min(self.best_feasible, signed)
 
     def objective(self, points: np.ndarray) -> np.ndarray:
-        """Signed energy of (n_free, S) or (n_free,) points (scipy's layouts)."""
-        energy, _ = self._lookup(np.asarray(points).T)
-        return np.where(np.isfinite(energy), self.sign * energy, 1e30)
+        """Signed objective of (n_free, S) or (n_free,) points (scipy's layouts)."""
+        value, _ = self._lookup(np.asarray(points).T)
+        return np.where(np.isfinite(value), self.sign * value, 1e30)
 
     def margins(self, points: np.ndarray) -> np.ndarray:
         """Tightest margin of every limit, (n_limits, S) or (n_limits,)."""
@@ -195,7 +159,7 @@ def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: flo
 
     generations = [0]
 
-    def generation_done(intermediate_result) -> bool:  # scipy passes the result by this name
+    def generation_done(intermediate_result: object) -> bool:  # scipy passes the result by this name
         generations[0] += 1
         if progress is not None:
             progress()
@@ -206,11 +170,11 @@ def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: flo
         popsize=max(5, settings.population // len(bounds)), maxiter=settings.max_generations, tol=settings.tolerance,
         polish=False, init="sobol", rng=np.random.default_rng(settings.seed), callback=generation_done)
     population = np.asarray(result.population)
-    energies, margins = problem._lookup(population)
-    feasible = (margins >= 0).all(axis=1) & np.isfinite(energies)
+    values, margins = problem._lookup(population)
+    feasible = (margins >= 0).all(axis=1) & np.isfinite(values)
     if not feasible.any():
         return None, problem
-    ranked = population[feasible][np.argsort(sign * energies[feasible])]
+    ranked = population[feasible][np.argsort(sign * values[feasible])]
     local = _Problem(fine, space, sign)
     fine_margins = local._lookup(ranked)[1]  # one batch
     starts = ranked[(fine_margins >= 0).all(axis=1)]
@@ -246,8 +210,8 @@ def _polish(problem: _Problem, start: np.ndarray, bounds: list) -> np.ndarray:
     def differences(u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Forward-difference gradient of the objective and Jacobian of the margins, in one batch."""
         points = (u + np.vstack([np.zeros(len(u)), GRADIENT_STEP * np.eye(len(u))])) * scale
-        energy, margins = problem._lookup(points)
-        return (problem.sign * (energy[1:] - energy[0]) / GRADIENT_STEP,
+        value, margins = problem._lookup(points)
+        return (problem.sign * (value[1:] - value[0]) / GRADIENT_STEP,
                 (margins[1:] - margins[0]).T / GRADIENT_STEP)
 
     result = minimize(lambda u: problem.objective(u * scale)[0], start / scale, method="SLSQP",
@@ -260,9 +224,9 @@ def _polish(problem: _Problem, start: np.ndarray, bounds: list) -> np.ndarray:
     if not (problem._lookup(start)[1] >= 0).all():  # an infeasible start: take what SLSQP reached
         return polished
     polished = _feasible_towards(problem, start, polished)
-    energy, _ = problem._lookup(polished)
-    start_energy, _ = problem._lookup(start)
-    return polished if problem.sign * energy[0] <= problem.sign * start_energy[0] else start
+    value, _ = problem._lookup(polished)
+    start_value, _ = problem._lookup(start)
+    return polished if problem.sign * value[0] <= problem.sign * start_value[0] else start
 
 
 def _feasible_towards(problem: _Problem, feasible: np.ndarray, target: np.ndarray) -> np.ndarray:
@@ -283,17 +247,18 @@ def _feasible_towards(problem: _Problem, feasible: np.ndarray, target: np.ndarra
 
 
 def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | None = None,
-                       regeneration: str = "clip", minimize_energy: bool = True, maximize_energy: bool = True,
+                       objective: str = "energy", regeneration: str = "clip", best: bool = True, worst: bool = True,
                        time_step_s: float | None = None, settings: SearchSettings = SearchSettings(),
                        progress: Callable[[], None] | None = None) -> PlacementResult:
-    """Find the least-energy (and most-energy) feasible placement of a path on a robot.
+    """Find the best (and worst) feasible placement of a path on a robot by an objective.
 
     Args:
         robot: The robot (its actuators need drives).
         path: The tool path.
-        space: Free variables and bounds (default: :func:`default_space`).
-        regeneration: Regeneration mode, see :mod:`placement.energy`.
-        minimize_energy, maximize_energy: Which searches to run.
+        space: Free variables and bounds (default: :func:`placement.frames.default_space`).
+        objective: Objective's name (see :mod:`placement.objectives`; default: electric energy).
+        regeneration: Regeneration policy's name, see :mod:`placement.energy.regeneration`.
+        best, worst: Which searches to run.
         time_step_s: Path sampling step (default: the path file's).
         settings: Search budget and seed.
         progress: Called once per generation of the global search (for a progress bar).
@@ -305,33 +270,36 @@ def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | 
     space = space or default_space(robot, half_turn=path.half_turn_symmetric())
     step = time_step_s if time_step_s is not None else path.time_step_s
     duration = float(path.sample(step).t_s[-1])
-    with Evaluator(robot, path, regeneration, max(step, duration / settings.search_samples)) as coarse, \
-            Evaluator(robot, path, regeneration, step) as evaluator:
-        dense = Evaluator(robot, path, regeneration, step / RECHECK_DENSITY, workers=1)
-        return _optimize(coarse, evaluator, dense, space, minimize_energy, maximize_energy, settings, progress)
+
+    def evaluator(time_step: float, workers: int | None = None) -> Evaluator:
+        return Evaluator(robot, path, regeneration, time_step, objective=objective, workers=workers)
+
+    with evaluator(max(step, duration / settings.search_samples)) as coarse, evaluator(step) as fine:
+        dense = evaluator(step / RECHECK_DENSITY, workers=1)
+        return _optimize(coarse, fine, dense, space, best, worst, settings, progress)
 
 
 def _optimize(coarse: Evaluator, evaluator: Evaluator, dense: Evaluator, space: PlacementSpace,
-              minimize_energy: bool, maximize_energy: bool, settings: SearchSettings,
+              best: bool, worst: bool, settings: SearchSettings,
               progress: Callable[[], None] | None) -> PlacementResult:
-    found: dict[float, Optimum | None] = {}
+    found: dict[str, Optimum | None] = {"best": None, "worst": None}
     infeasible = None
-    for sign, wanted in ((1.0, minimize_energy), (-1.0, maximize_energy)):
+    better = evaluator.objective.sign
+    for direction, sign, wanted in (("best", better, best), ("worst", -better, worst)):
         if not wanted:
-            found[sign] = None
             continue
         before = evaluator.evaluations + coarse.evaluations
         x, problem = _search(coarse, evaluator, space, sign, settings, progress)
-        if x is None:
-            found[1.0] = found[-1.0] = None  # the feasible set is the same in both directions
+        if x is None:  # the feasible set is the same in both directions
+            found = {"best": None, "worst": None}
             infeasible = _binding_limit(problem, problem.evaluator)
             break
         placement = space.full(x)[0]
-        found[sign] = Optimum(detail=evaluator.detail(placement),
-                              recheck_energy_J=float(dense.evaluate(placement[None]).energy_J[0]),
-                              evaluations=evaluator.evaluations + coarse.evaluations - before)
-    return PlacementResult(best=found[1.0], worst=found[-1.0], space=space, regeneration=evaluator.regeneration,
-                           infeasible=infeasible)
+        found[direction] = Optimum(detail=evaluator.detail(placement),
+                                   recheck_value=float(dense.evaluate(placement[None]).value[0]),
+                                   evaluations=evaluator.evaluations + coarse.evaluations - before)
+    return PlacementResult(best=found["best"], worst=found["worst"], space=space, objective=evaluator.objective_name,
+                           regeneration=evaluator.regeneration, infeasible=infeasible)
 
 
 def _binding_limit(problem: _Problem, evaluator: Evaluator) -> str:

@@ -1,11 +1,10 @@
-"""Drives: from actuator effort and speed to motor speed, torque and current.
+"""From actuator effort and motion to motor speed, torque and current.
 
-A transmission turns joint speed into motor speed (ω = k·q̇, with k = 2π/lead for a ball screw
-and k = ratio for a gear). The dynamics' effort includes the rotor and screw inertia (the joint
-armature); that part acts on the motor side, while the rest of the effort, plus joint friction
-(Coulomb and viscous, from the sidecar), passes through the transmission, whose efficiency η
-divides the motor torque when the motor drives the load and multiplies it when the load drives
-the motor. The current is I = τ/K_t.
+A transmission turns joint speed into motor speed (ω = k·q̇). The dynamics' effort includes the
+rotor and screw inertia (the joint armature); that part acts on the motor side, while the rest of
+the effort, plus joint friction (Coulomb and viscous, from the sidecar), passes through the
+transmission, whose efficiency η divides the motor torque when the motor drives the load and
+multiplies it when the load drives the motor. The current is I = τ/K_t.
 """
 
 from __future__ import annotations
@@ -15,8 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from placement.exceptions import RobotFileError
-from placement.robot import Robot
-from placement.sidecar import Drive
+from placement.robot.model import Robot
+from placement.robot.sidecar import Drive
 
 
 @dataclass(frozen=True)
@@ -33,14 +32,20 @@ class MotorTrace:
     torque_Nm: np.ndarray
     current_A: np.ndarray
 
+    def __getitem__(self, index: int | slice) -> MotorTrace:
+        """The trace of one placement (or a range) of a batch."""
+        return MotorTrace(self.speed_rad_s[index], self.torque_Nm[index], self.current_A[index])
+
 
 def drives_of(robot: Robot) -> list[Drive]:
     """The drive of every actuator, or an error naming the first actuator that has none."""
+    drives = []
     for i, actuator in enumerate(robot.actuators):
         if actuator.drive is None:
             raise RobotFileError(robot.sidecar_path, f"actuators.{i}.drive", f"actuator '{actuator.joint}' has no "
                                  "drive; energy and motor limits need one: name an entry of drives")
-    return [a.drive for a in robot.actuators]
+        drives.append(actuator.drive)
+    return drives
 
 
 def motor_trace(robot: Robot, effort: np.ndarray, velocity: np.ndarray, acceleration: np.ndarray) -> MotorTrace:
@@ -56,7 +61,7 @@ def motor_trace(robot: Robot, effort: np.ndarray, velocity: np.ndarray, accelera
         The motor trace, same shapes.
     """
     drives = drives_of(robot)
-    ratio = np.array([d.speed_ratio for d in drives])
+    ratio = np.array([d.transmission.speed_ratio for d in drives])
     efficiency = np.array([d.transmission.efficiency for d in drives])
     coulomb = np.array([d.friction.coulomb for d in drives])
     viscous = np.array([d.friction.viscous for d in drives])

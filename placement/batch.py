@@ -1,0 +1,58 @@
+"""What the exact chain computes for a batch of placements, handed to objectives and limits."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from placement.drives.trace import MotorTrace
+from placement.energy.integration import Energy, electric_energy, interval_widths
+from placement.path import PathSamples
+from placement.robot.model import Robot
+
+
+@dataclass(frozen=True)
+class EvaluatedBatch:
+    """K placements of one sampled path, through kinematics, dynamics and drives (SI units).
+
+    Arrays are shaped (K, N, ...): K placements, N samples; the actuator axis is last.
+
+    Attributes:
+        robot: The robot.
+        samples: The path sampled in its own frame.
+        placements: (K, 6) placement vectors [x, y, z, phi, theta, psi] (m, rad).
+        reachable: (K, N) whether each sample has a configuration (unreachable samples hold
+            the reference configuration at rest, so every value stays finite).
+        tool_position_m: (K, N, 3) tool point in the base frame.
+        position, velocity, acceleration: (K, N, n_act) actuator motion (m or rad, per s, per s²).
+        effort: (K, N, n_act) actuator forces (N) or torques (N·m).
+        motor: Motor speed, torque and current, (K, N, n_act).
+        regeneration: The regeneration policy energies are computed under.
+    """
+
+    robot: Robot
+    samples: PathSamples
+    placements: np.ndarray
+    reachable: np.ndarray
+    tool_position_m: np.ndarray
+    position: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray
+    effort: np.ndarray
+    motor: MotorTrace
+    regeneration: str
+
+    def __len__(self) -> int:
+        return len(self.placements)
+
+    @cached_property
+    def energy(self) -> Energy:
+        """Electric energy of each placement under the regeneration policy (computed once)."""
+        return electric_energy(self.robot, self.motor, self.samples.t_s, self.samples.piece, self.regeneration)
+
+    @property
+    def interval_widths_s(self) -> np.ndarray:
+        """(N-1,) durations between samples, 0 where a new independently integrated piece starts."""
+        return interval_widths(self.samples.t_s, self.samples.piece)

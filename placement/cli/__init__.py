@@ -1,0 +1,46 @@
+"""Command line: ``python -m placement`` (also installed as ``placement``).
+
+    placement --robot orthoglide --path examples/rect.yaml    the main job (:mod:`placement.cli.place`)
+    placement map ...                                          a map of the objective (:mod:`placement.cli.map`)
+    placement check ROBOT                                      describe a robot, prove its model exact
+    placement robots                                           list the robots
+
+Exit codes: 0 success, 1 a physics check failed, 2 bad input or no feasible placement (the
+message says what and where).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from placement.cli import check, place, robots
+from placement.cli import map as map_command
+from placement.exceptions import PlacementError
+
+SUBCOMMANDS = {"robots": robots, "check": check, "map": map_command}
+
+
+def build_command_parser() -> argparse.ArgumentParser:
+    """The parser of the subcommands."""
+    parser = argparse.ArgumentParser(prog="placement")
+    commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for module in SUBCOMMANDS.values():
+        module.add_parser(commands)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line; returns the exit code."""
+    argv = sys.argv[1:] if argv is None else argv
+    try:
+        if argv and argv[0] in SUBCOMMANDS:
+            args = build_command_parser().parse_args(argv)
+            return SUBCOMMANDS[args.command].run(args)
+        return place.run(place.build_parser().parse_args(argv))
+    except PlacementError as error:
+        print(f"error: {error}", file=sys.stderr)
+        return 2
+    except OSError as error:  # a file could not be written after all (disk full, ...)
+        print(f"error: {error}", file=sys.stderr)
+        return 2

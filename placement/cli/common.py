@@ -1,0 +1,97 @@
+"""What the subcommands share: option parsing in display units, path options, output checks."""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import os
+from pathlib import Path
+
+import numpy as np
+from pydantic import ValidationError
+
+from placement.energy.regeneration import REGENERATION
+from placement.exceptions import PlacementError
+from placement.frames import ANGLES, VARIABLES
+from placement.objectives import OBJECTIVES
+from placement.path import Timing, ToolPath, load_path
+
+
+class UsageError(PlacementError):
+    """A command-line option has a value it cannot take."""
+
+
+def add_model_options(parser: argparse.ArgumentParser) -> None:
+    """--objective and --regen: what placements are ranked by, and what braking energy does."""
+    parser.add_argument("--objective", default="energy", metavar="NAME",
+                        help=f"what placements are ranked by: {', '.join(OBJECTIVES.names())} (default: energy, "
+                             "the electric energy)")
+    parser.add_argument("--regen", choices=REGENERATION.names(), default="clip",
+                        help="what happens to braking energy (default: clip, no regeneration)")
+
+
+def add_sampling_options(parser: argparse.ArgumentParser) -> None:
+    """Options that override how a path file is timed and sampled (see configured_path)."""
+    parser.add_argument("--timing", choices=("paper", "realistic"), help="override the path file's timing law")
+    parser.add_argument("--max-acceleration", type=float, metavar="M_S2",
+                        help="tool acceleration bound of the realistic timing law (m/s^2)")
+    parser.add_argument("--max-jerk", type=float, metavar="M_S3", help="tool jerk bound of the realistic timing law (m/s^3)")
+    parser.add_argument("--time-step", type=float, metavar="S", help="path sampling step (s; default: the path file's)")
+
+
+def parse_values(text: str, option: str) -> dict[str, float]:
+    """'x=10,phi=30' -> SI values; lengths in mm and angles in deg unless suffixed m / rad."""
+    values = {}
+    for item in filter(None, (part.strip() for part in text.split(","))):
+        name, _, raw = item.partition("=")
+        name = name.strip()
+        if name not in VARIABLES or not raw:
+            raise UsageError(f"{option}: expected name=value with names from {', '.join(VARIABLES)}, got '{item}'")
+        angle = name in ANGLES
+        units = {"rad": 1.0, "deg": np.pi / 180} if angle else {"mm": 1e-3, "m": 1.0}
+        unit = next((u for u in sorted(units, key=len, reverse=True) if raw.strip().endswith(u)), None)
+        number = raw.strip()[: -len(unit)] if unit else raw.strip()
+        try:
+            values[name] = float(number) * units[unit or ("deg" if angle else "mm")]
+        except ValueError:
+            raise UsageError(f"{option}: '{raw}' is not a number for {name}") from None
+        if not np.isfinite(values[name]):
+            raise UsageError(f"{option}: {name} must be a finite number, got '{raw}'")
+    return values
+
+
+def configured_path(args: argparse.Namespace, file: str) -> ToolPath:
+    """A path file with the command line's timing overrides."""
+    path = load_path(file)
+    overrides = (args.timing, args.max_acceleration, args.max_jerk)
+    if any(value is not None for value in overrides):
+        timing = path.timing
+        try:
+            timing = Timing(mode=args.timing if args.timing is not None else timing.mode,
+                            max_acceleration_m_s2=(args.max_acceleration if args.max_acceleration is not None
+                                                   else timing.max_acceleration_m_s2),
+                            max_jerk_m_s3=args.max_jerk if args.max_jerk is not None else timing.max_jerk_m_s3)
+        except ValidationError as error:
+            problem = error.errors()[0]
+            field = {"max_acceleration_m_s2": "--max-acceleration", "max_jerk_m_s3": "--max-jerk"}.get(
+                str(problem["loc"][0]) if problem["loc"] else "", "--timing")
+            raise UsageError(f"{field}: {problem['msg'].removeprefix('Value error, ')}; the realistic timing law "
+                             "needs --max-acceleration and --max-jerk > 0, or both in the path file") from None
+        path = dataclasses.replace(path, timing=timing)
+    if args.time_step is not None and not args.time_step > 0:
+        raise UsageError("--time-step must be > 0 s")
+    return path
+
+
+def check_outputs(*pairs: tuple[str, str | None]) -> None:
+    """Every output file must be writable before hours of work are spent: (option, file) pairs."""
+    for option, file in pairs:
+        if file is None:
+            continue
+        target = Path(file)
+        if target.is_dir():
+            raise UsageError(f"{option}: '{file}' is a folder, expected a file name")
+        if not target.absolute().parent.is_dir():
+            raise UsageError(f"{option}: the folder of '{file}' does not exist")
+        if not os.access(target.absolute().parent, os.W_OK) or (target.exists() and not os.access(target, os.W_OK)):
+            raise UsageError(f"{option}: '{file}' cannot be written")

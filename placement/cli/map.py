@@ -1,0 +1,100 @@
+"""The 'map' command: the objective over a grid of placements, saved as .npz, drawn as PNG or 3-D.
+
+    placement map --robot orthoglide --path rect.yaml --grid x=-120:60:41,y=-120:60:41 --out map.npz
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+import numpy as np
+from tqdm import tqdm
+
+from placement.cli.common import (
+    UsageError,
+    add_model_options,
+    add_sampling_options,
+    check_outputs,
+    configured_path,
+    parse_values,
+)
+from placement.frames import ANGLES, VARIABLES
+from placement.objectives import OBJECTIVES
+from placement.report import write_atomically
+from placement.robot import load_robot
+from placement.search.sweep import sweep
+from placement.visualize import Scene
+
+
+def add_parser(commands: argparse._SubParsersAction) -> None:
+    """The 'map' subcommand's options."""
+    energy_map = commands.add_parser("map", help="map of the objective over a grid of placements (saved as .npz)")
+    energy_map.add_argument("--robot", required=True, help="robot name or sidecar YAML")
+    energy_map.add_argument("--path", required=True, help="path file (YAML)")
+    energy_map.add_argument("--grid", required=True, metavar="x=-120:60:41,y=-120:60:41",
+                            help="swept variables: name=start:stop:count, in mm and degrees")
+    energy_map.add_argument("--fix", metavar="z=0,phi=0", help="values of the other variables (mm, deg; default 0)")
+    add_model_options(energy_map)
+    add_sampling_options(energy_map)
+    energy_map.add_argument("--workers", type=int, help="worker processes (default: every core)")
+    energy_map.add_argument("--out", required=True, help="the map file to write (.npz; reload with SweepResult.load)")
+    energy_map.add_argument("--png", help="also draw the map (two variables) as PNG and SVG")
+    energy_map.add_argument("--html", help="also draw the feasible placements as coloured points in a 3-D scene")
+    energy_map.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def parse_grid(text: str) -> dict[str, np.ndarray]:
+    """'x=-120:60:41,phi=-90:90:37' -> {name: values (SI)}; mm and degrees."""
+    axes = {}
+    for item in filter(None, (part.strip() for part in text.split(","))):
+        name, _, spec = item.partition("=")
+        parts = spec.split(":")
+        if name not in VARIABLES or len(parts) != 3:
+            raise UsageError(f"--grid: expected name=start:stop:count (mm or deg), got '{item}'")
+        try:
+            start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
+        except ValueError:
+            raise UsageError(f"--grid: '{spec}' is not start:stop:count") from None
+        if count < 2:
+            raise UsageError(f"--grid: {name} needs at least 2 points")
+        scale = np.pi / 180 if name in ANGLES else 1e-3
+        axes[name] = np.linspace(start, stop, count) * scale
+    if not axes:
+        raise UsageError("--grid: give at least one variable")
+    return axes
+
+
+def run(args: argparse.Namespace) -> int:
+    """The 'map' command: a map of the objective over a grid of placements."""
+    robot = load_robot(args.robot)
+    check_outputs(("--out", args.out), ("--png", args.png), ("--html", args.html))
+    path = configured_path(args, args.path)
+    axes = parse_grid(args.grid)
+    fixed = parse_values(args.fix or "", "--fix")
+    total = int(np.prod([len(v) for v in axes.values()]))
+    with tqdm(desc="mapping", total=total, unit=" placement", disable=args.quiet, file=sys.stderr, leave=False) as bar:
+        result = sweep(robot, path, axes, fixed, regeneration=args.regen, time_step_s=args.time_step,
+                       workers=args.workers, progress=bar.update, objective=args.objective)
+    result.save(args.out)
+    feasible = result.value[result.feasible]
+    objective = OBJECTIVES.get(args.objective)
+    subject = "energy" if args.objective == "energy" else objective.title
+    print(f"{total} placements of {path.name} on {robot.name}: {len(feasible)} feasible"
+          + (f", {subject} {feasible.min():.4f} to {feasible.max():.4f} {objective.unit}" if len(feasible) else "")
+          + f"; written to {args.out}")
+    if args.png:
+        if len(axes) != 2:
+            raise UsageError("--png draws maps over exactly two variables")
+        from placement.plots import map_figure, save
+
+        save(map_figure(result, f"{path.name}: {subject} ({args.regen})"), str(args.png).removesuffix(".png"))
+        print(f"figure written to {args.png} (and .svg)")
+    if args.html:
+        scene = Scene(robot)
+        scene.add_workspace()
+        keep = result.feasible.ravel()
+        scene.add_energy_points(result.placements()[keep, :3], result.value.ravel()[keep])
+        write_atomically(args.html, scene.html(f"{robot.name}: energy map of {path.name}"))
+        print(f"scene written to {args.html}")
+    return 0

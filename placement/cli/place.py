@@ -1,0 +1,183 @@
+"""The main job: place one or more paths on a robot, report the best and worst placements.
+
+    placement --robot orthoglide --path examples/rect.yaml    best and worst placements, gain
+    placement --robot orthoglide --path rect.yaml --at x=0,y=0,z=0,phi=0    one placement
+    placement --robot orthoglide --path a.yaml b.yaml --html scene.html    3-D scene in one page
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+import numpy as np
+from tqdm import tqdm
+
+from placement.cli.common import (
+    UsageError,
+    add_model_options,
+    add_sampling_options,
+    check_outputs,
+    configured_path,
+    parse_values,
+)
+from placement.energy.regeneration import REGENERATION
+from placement.evaluation import Evaluator
+from placement.frames import VARIABLES, default_space, placed_task
+from placement.kinematics import joint_trajectory
+from placement.objectives import OBJECTIVES
+from placement.path import ToolPath
+from placement.report import detail_json, format_detail, format_result, write_atomically, write_json, write_trace
+from placement.robot import Robot, load_robot
+from placement.search.optimize import SearchSettings, optimize_placement
+from placement.visualize import AT_COLOR, BEST_COLOR, WORST_COLOR, Scene
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The parser of the main job: place a path on a robot."""
+    parser = argparse.ArgumentParser(
+        prog="placement", description="Find where to place a tool path in a robot's workspace so that the "
+        "actuators draw the least electric energy while every limit holds.",
+        epilog="Other commands: 'placement robots' lists the robots; 'placement check ROBOT' describes a robot "
+               "and proves its dynamic model exact; 'placement map' draws a map of the objective over placements.")
+    parser.add_argument("--robot", required=True, help="built-in robot name or path to a robot sidecar YAML")
+    parser.add_argument("--path", required=True, nargs="+", help="path file(s) (YAML), e.g. examples/rect.yaml")
+    direction = parser.add_mutually_exclusive_group()
+    direction.add_argument("--minimize", action="store_true",
+                           help="only search the placement of least objective (the best for energy)")
+    direction.add_argument("--maximize", action="store_true",
+                           help="only search the placement of most objective (the worst for energy)")
+    parser.add_argument("--at", metavar="x=..,y=..,phi=..",
+                        help="evaluate one placement instead of searching (mm and deg unless a value ends in m or rad)")
+    parser.add_argument("--free", metavar="x,y,z,phi",
+                        help="free placement variables (default: the robot's, e.g. x,y,z,phi for the Orthoglide)")
+    parser.add_argument("--fix", metavar="z=0,theta=0", help="values of fixed variables (mm, deg; default 0)")
+    add_model_options(parser)
+    add_sampling_options(parser)
+    parser.add_argument("--seed", type=int, default=0, help="random seed of the search (default 0)")
+    parser.add_argument("--generations", type=int, default=SearchSettings.max_generations, metavar="N",
+                        help=f"most generations of the global search (default {SearchSettings.max_generations})")
+    parser.add_argument("--population", type=int, default=SearchSettings.population, metavar="N",
+                        help=f"population of the global search (default {SearchSettings.population})")
+    parser.add_argument("--json", metavar="FILE", help="write the results as JSON (SI units)")
+    parser.add_argument("--trace", metavar="FILE",
+                        help="write a per-sample CSV trace of the placement given by --at, else of the best one")
+    parser.add_argument("--html", metavar="FILE", help="write a 3-D scene (robot, workspace, best and worst paths, "
+                        "robot animated along the first path) as a self-contained HTML page")
+    parser.add_argument("--show", action="store_true", help="serve the 3-D scene live on this machine and print its URL")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    return parser
+
+
+def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace) -> tuple[dict, dict, str | None]:
+    """Search (or evaluate --at) one path and print its report.
+
+    Returns:
+        The JSON document, the details to draw ({"best"|"worst"|"at": PlacementDetail}), and the
+        reason when no placement is feasible.
+    """
+    samples = path.sample(args.time_step)
+    objective = OBJECTIVES.get(args.objective)
+    print(f"{path.name} on {robot.name}: {len(path.segments)} segment(s), {path.length_m * 1e3:.1f} mm, "
+          f"feed {path.feed_m_s:g} m/s, {path.timing.mode} timing, {len(samples)} samples over "
+          f"{samples.t_s[-1]:.3f} s; energy: {REGENERATION.get(args.regen).description}"
+          + ("" if args.objective == "energy" else f"; objective: {objective.title} ({args.objective})"))
+    document: dict = {"robot": robot.name, "path": path.name, "objective": args.objective,
+                      "regeneration": args.regen, "timing": path.timing.mode, "samples": len(samples)}
+    if args.at is not None:
+        given = parse_values(args.at, "--at")
+        detail = Evaluator(robot, path, args.regen, args.time_step, objective=args.objective).detail(
+            np.array([given.get(name, 0.0) for name in VARIABLES]))
+        print("\n" + format_detail("placement given by --at", robot, detail))
+        document["at"] = detail_json(robot, detail)
+        problem = None
+        if not detail.reachable:
+            problem = f"the placement given by --at leaves the robot's reach ({len(detail.unreachable_samples)} samples)"
+        elif not detail.feasible:
+            worst = min(detail.margins, key=lambda m: m.margin)
+            problem = f"the placement given by --at breaks the {worst.kind} ({worst.where})"
+        return document, {"at": detail} if detail.reachable else {}, problem
+    free = tuple(n.strip() for n in args.free.split(",")) if args.free else None
+    space = default_space(robot, free=free, fixed=parse_values(args.fix or "", "--fix"),
+                          half_turn=path.half_turn_symmetric())
+    print(f"search: {', '.join(space.free)} free; seed {args.seed}")
+    if args.generations < 1 or args.population < 1:
+        raise UsageError("--generations and --population must be at least 1")
+    settings = SearchSettings(seed=args.seed, max_generations=args.generations, population=args.population)
+    lower = objective.better == "lower"
+    find_best = not (args.maximize if lower else args.minimize)
+    find_worst = not (args.minimize if lower else args.maximize)
+    with tqdm(desc="searching", total=(find_best + find_worst) * settings.max_generations, unit=" generation",
+              disable=args.quiet, file=sys.stderr, leave=False) as bar:
+        result = optimize_placement(robot, path, space=space, objective=args.objective, regeneration=args.regen,
+                                    best=find_best, worst=find_worst, time_step_s=args.time_step, settings=settings,
+                                    progress=bar.update)
+    print("\n" + format_result(robot, result))
+    details = {}
+    for key, optimum in (("best", result.best), ("worst", result.worst)):
+        if optimum is not None:
+            document[key] = detail_json(robot, optimum.detail, optimum)
+            details[key] = optimum.detail
+    if result.gain is not None:
+        document["gain"] = result.gain
+    if result.infeasible:
+        document["infeasible"] = result.infeasible
+    return document, details, result.infeasible
+
+
+def draw(scene: Scene, robot: Robot, index: int, details: dict) -> None:
+    """Add one path's placements to the scene; animate the robot along the first path's."""
+    colors = {"best": (BEST_COLOR, "least energy"), "worst": (WORST_COLOR, "most energy"), "at": (AT_COLOR, "--at")}
+    for key, detail in details.items():
+        scene.add_path(f"{index}_{key}", detail.tool_position_m, *colors[key])
+    moving = details.get("at") or details.get("best") or details.get("worst")
+    if index == 0 and moving is not None and moving.reachable:
+        task, _ = placed_task(robot, moving.samples, moving.placement[None])
+        scene.animate(joint_trajectory(robot, task).q, moving.samples.t_s)
+
+
+def run(args: argparse.Namespace) -> int:
+    """The main job; returns the exit code."""
+    robot = load_robot(args.robot)
+    if args.trace and len(args.path) > 1:
+        raise UsageError("--trace: give a single --path")
+    if args.at is not None and (args.fix or args.free or args.minimize or args.maximize):
+        raise UsageError("--at evaluates one placement: give every value in --at, without --fix, --free, "
+                         "--minimize or --maximize")
+    check_outputs(("--json", args.json), ("--trace", args.trace), ("--html", args.html))
+    scene = Scene(robot, live=args.show) if args.html or args.show else None
+    if scene:
+        scene.add_workspace()
+    documents, failures = [], []
+    try:
+        for index, file in enumerate(args.path):
+            if index:
+                print()
+            document, details, infeasible = place_one(robot, configured_path(args, file), args)
+            documents.append(document)
+            if infeasible:
+                failures.append(f"{file}: {infeasible}")
+                document["infeasible"] = infeasible
+            if scene:
+                draw(scene, robot, index, details)
+            traced = details.get("at") or details.get("best") or details.get("worst")
+            if args.trace and traced is not None:
+                write_trace(args.trace, robot, traced)
+        if args.json:
+            write_json(args.json, documents[0] if len(documents) == 1 else {"robot": robot.name, "paths": documents})
+        if args.html and scene:
+            title = documents[0]["path"] if len(documents) == 1 else f"{len(documents)} paths"
+            write_atomically(args.html, scene.html(f"{robot.name}: {title}"))
+            print(f"\nscene written to {args.html} (open it in a browser; no server needed)")
+        if args.show and scene:
+            print(f"\nviewer at {scene.url()} (press Enter to stop)")
+            try:
+                input()
+            except EOFError:
+                pass
+    finally:
+        if scene:
+            scene.close()
+    for failure in failures:
+        print(f"error: {'' if args.at is not None else 'no feasible placement: '}{failure}", file=sys.stderr)
+    return 2 if failures else 0

@@ -1,0 +1,103 @@
+"""Motor models: from motor speed and current to electric power. A plug-in family.
+
+A motor model maps one actuator's samples to the power of each interval between them, split into
+parts (W). The built-in ``pmsm`` is the paper's permanent-magnet synchronous motor: with n phases,
+
+    P = n·(R·I² + L·I·dI/dt + K_e·ω·I),
+
+integrated so that the inductive part sums exactly to n·L/2·(I_end² − I_start²). A package adds a
+model under the entry-point group ``placement.motor_models`` (the entry's object is an instance of
+a :class:`MotorModel` subclass); a drive names it in ``motor.model`` and may give it extra
+constants in ``motor.parameters``.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from typing import Annotated
+
+import numpy as np
+from pydantic import Field, model_validator
+
+from placement.registry import Registry
+from placement.schema import Strict
+
+NonNegative = Annotated[float, Field(ge=0.0)]
+Positive = Annotated[float, Field(gt=0.0)]
+POWER_PARTS = ("joule", "inductive", "back_emf")
+
+
+class Motor(Strict):
+    """Motor constants in SI (per phase for a multi-phase motor); ``model`` names the energy model."""
+
+    model: str = "pmsm"
+    torque_constant_Nm_per_A: Positive
+    back_emf_constant_V_s_per_rad: Positive
+    resistance_ohm: NonNegative
+    inductance_H: NonNegative
+    phases: Annotated[int, Field(ge=1)]
+    rotor_inertia_kg_m2: NonNegative
+    max_torque_Nm: Positive
+    max_speed_rad_s: Positive | None = None
+    parameters: dict[str, float] = Field({}, description="extra constants of a plug-in motor model")
+
+    @model_validator(mode="after")
+    def _consistent_with_its_model(self) -> Motor:
+        if self.model not in MOTOR_MODELS:
+            raise ValueError(f"unknown motor model '{self.model}', expected one of {', '.join(MOTOR_MODELS.names())}")
+        MOTOR_MODELS.get(self.model).check(self)
+        return self
+
+
+class MotorModel(ABC):
+    """Electric power of a motor from its speed and current."""
+
+    def check(self, motor: Motor) -> None:
+        """Raise ValueError when the constants are inconsistent with this model (default: accept)."""
+        return None
+
+    @abstractmethod
+    def interval_power(self, motor: Motor, speed_rad_s: np.ndarray, current_A: np.ndarray,
+                       dt_s: np.ndarray) -> dict[str, np.ndarray]:
+        """Power of every interval between samples, by part (W).
+
+        Args:
+            motor: The motor's constants.
+            speed_rad_s: (..., N) shaft speed.
+            current_A: (..., N) phase current amplitude.
+            dt_s: (N-1,) interval widths; an interval of zero width is not integrated.
+
+        Returns:
+            ``{"joule", "inductive", "back_emf"}``, each (..., N-1) W.
+        """
+
+
+class Pmsm(MotorModel):
+    """Permanent-magnet synchronous motor, the paper's model."""
+
+    def check(self, motor: Motor) -> None:
+        # The back-EMF power n·K_e·ω·I must be the shaft power τ·ω = K_t·I·ω.
+        expected = motor.torque_constant_Nm_per_A / motor.phases
+        if abs(motor.back_emf_constant_V_s_per_rad - expected) > 1e-3 * expected:
+            raise ValueError(f"back_emf_constant_V_s_per_rad must be torque_constant_Nm_per_A / phases = "
+                             f"{expected:.6g} V s/rad for the pmsm model (else the motor creates or destroys energy)")
+
+    def interval_power(self, motor: Motor, speed_rad_s: np.ndarray, current_A: np.ndarray,
+                       dt_s: np.ndarray) -> dict[str, np.ndarray]:
+        n = motor.phases
+        i0, i1 = current_A[..., :-1], current_A[..., 1:]
+        w0, w1 = speed_rad_s[..., :-1], speed_rad_s[..., 1:]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            di_dt = np.where(dt_s > 0, (i1 - i0) / dt_s, 0.0)
+        return {"joule": n * motor.resistance_ohm * (i0**2 + i1**2) / 2,
+                "inductive": n * motor.inductance_H * (i0 + i1) / 2 * di_dt,
+                "back_emf": n * motor.back_emf_constant_V_s_per_rad * (w0 * i0 + w1 * i1) / 2}
+
+
+MOTOR_MODELS: Registry[MotorModel] = Registry("motor model", "placement.motor_models")
+MOTOR_MODELS.add("pmsm", Pmsm())
+
+
+def register_motor_model(name: str, model: MotorModel) -> None:
+    """Make a motor model available, in this process, to drives whose ``motor.model`` is ``name``."""
+    MOTOR_MODELS.register(name, model)

@@ -1,0 +1,43 @@
+"""Joint limits of the actuated joints: position range and speed."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from placement.batch import EvaluatedBatch
+from placement.limits.base import LIMITS, Limit, MarginField
+
+
+def _names_and_units(batch: EvaluatedBatch, suffix: str = "") -> tuple[tuple[str, ...], tuple[str, ...]]:
+    actuators = batch.robot.actuators
+    return (tuple(a.joint for a in actuators), tuple(("m" if a.prismatic else "rad") + suffix for a in actuators))
+
+
+class JointRange(Limit):
+    """Each actuated joint within [position_min, position_max]; the scale is the range."""
+
+    def fields(self, batch: EvaluatedBatch) -> list[MarginField]:
+        actuators = batch.robot.actuators
+        low = np.array([a.position_min for a in actuators])
+        high = np.array([a.position_max for a in actuators])
+        position, span = batch.position, high - low
+        names, units = _names_and_units(batch)
+        return [MarginField("joint lower limit", (position - low) / span, position,
+                            np.broadcast_to(low, position.shape), names, units),
+                MarginField("joint upper limit", (high - position) / span, position,
+                            np.broadcast_to(high, position.shape), names, units)]
+
+
+class JointSpeed(Limit):
+    """|joint speed| within velocity_max."""
+
+    def fields(self, batch: EvaluatedBatch) -> list[MarginField]:
+        speed = np.array([a.velocity_max for a in batch.robot.actuators])
+        velocity = batch.velocity
+        names, units = _names_and_units(batch, "/s")
+        return [MarginField("joint speed", (speed - np.abs(velocity)) / speed, velocity,
+                            np.broadcast_to(speed, velocity.shape), names, units)]
+
+
+LIMITS.add("joint_range", JointRange())
+LIMITS.add("joint_speed", JointSpeed())

@@ -1,0 +1,35 @@
+"""Motor-load objectives: peak motor torque, and RMS motor current (heating)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from placement.batch import EvaluatedBatch
+from placement.objectives.base import OBJECTIVES, Objective
+
+
+class PeakTorque(Objective):
+    """Largest |motor torque| over the path and the motors: how close the job runs to the motors' peak."""
+
+    title = "peak motor torque"
+    unit = "N m"
+
+    def __call__(self, batch: EvaluatedBatch) -> np.ndarray:
+        return np.abs(batch.motor.torque_Nm).max(axis=(1, 2))
+
+
+class RmsCurrent(Objective):
+    """Largest RMS phase current among the motors over the path: the hottest motor's heating."""
+
+    title = "RMS motor current"
+    unit = "A"
+
+    def __call__(self, batch: EvaluatedBatch) -> np.ndarray:
+        dt = batch.interval_widths_s
+        squared = batch.motor.current_A**2
+        mean_square = np.einsum("kna,n->ka", (squared[:, :-1] + squared[:, 1:]) / 2, dt) / dt.sum()
+        return np.sqrt(mean_square).max(axis=1)
+
+
+OBJECTIVES.add("peak_torque", PeakTorque())
+OBJECTIVES.add("rms_current", RmsCurrent())

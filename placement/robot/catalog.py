@@ -1,0 +1,67 @@
+"""The robots a name can stand for: built-in folders and robots that installed packages ship.
+
+Built-in robots are the folders of ``placement.robots`` (the repository's top-level ``robots/``),
+each with a sidecar named after its folder. A package ships robots under the entry-point group
+``placement.robots``: each entry's name is the robot's name and its object a function returning
+the path of the sidecar file. Listing reads names and one-line descriptions only; nothing is
+loaded until a robot is asked for.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from importlib import resources
+from pathlib import Path
+
+import yaml
+
+from placement.exceptions import UnknownRobotError
+from placement.registry import Registry
+
+ROBOTS: Registry[Callable[[], str | Path]] = Registry("robot", "placement.robots")
+
+
+def builtin_robots_dir() -> Path:
+    """The folder of the built-in robots: inside the installed package, or the checkout's ``robots/``."""
+    try:
+        shipped = Path(str(resources.files("placement.robots")))
+    except ModuleNotFoundError:  # a source checkout, where robots/ sits beside placement/
+        shipped = Path(__file__).resolve().parents[2] / "robots"
+    return shipped
+
+
+def _builtin(folder: Path) -> Callable[[], Path]:
+    return lambda: folder / f"{folder.name}.yaml"
+
+
+for _folder in sorted(builtin_robots_dir().iterdir()):
+    if (_folder / f"{_folder.name}.yaml").is_file():
+        ROBOTS.add(_folder.name, _builtin(_folder))
+
+
+def robot_names() -> list[str]:
+    """Names of every robot known by name: built-in and installed."""
+    return ROBOTS.names()
+
+
+def sidecar_path(name_or_path: str | Path) -> Path:
+    """The sidecar file of a robot name, or the given path when it is a file.
+
+    Raises:
+        UnknownRobotError: Neither a known name nor an existing file.
+    """
+    text = str(name_or_path)
+    if text in ROBOTS:
+        return Path(ROBOTS.get(text)())
+    if Path(text).is_file():
+        return Path(text)
+    raise UnknownRobotError(text, robot_names())
+
+
+def robot_description(name: str) -> str:
+    """The one-line description in a named robot's sidecar, read without loading the robot."""
+    try:
+        document = yaml.safe_load(sidecar_path(name).read_text(encoding="utf-8"))
+    except (OSError, yaml.YAMLError, UnicodeDecodeError):
+        return "(sidecar unreadable)"
+    return str(document.get("description", "")) if isinstance(document, dict) else ""

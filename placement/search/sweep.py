@@ -1,0 +1,161 @@
+"""Maps of an objective: evaluate a grid of placements, in parallel, and keep the result in a file.
+
+A sweep varies any subset of the placement variables over a grid (the others fixed) and records,
+for every grid point, the exact objective (electric energy by default), whether the placement is
+feasible, and its tightest (or broken) limit. The grid is cut into chunks evaluated by worker
+processes; any ``concurrent.futures.Executor`` can run them instead, such as a Dask client's
+``get_executor()`` or a Ray executor on a cluster, since each chunk carries its robot, path,
+placements and the plug-in members registered at run time (all picklable).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Callable
+from concurrent.futures import Executor, as_completed
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from placement.evaluation import Evaluation, EvaluationJob, evaluate_job, process_pool
+from placement.exceptions import PlacementError
+from placement.frames import VARIABLES
+from placement.objectives import OBJECTIVES
+from placement.path import ToolPath
+from placement.robot.model import Robot
+
+CHUNK_PLACEMENTS = 128  # placements per task
+
+
+@dataclass(frozen=True)
+class SweepResult:
+    """A map of an objective over a grid of placements (SI units: m, rad, J, ...).
+
+    Attributes:
+        variables: Names of the swept variables, one per grid axis.
+        axes: Values of each swept variable.
+        fixed: (6,) values of the variables that are not swept.
+        value: Grid of the objective (inf where a sample is unreachable).
+        feasible: Grid of booleans: reachable and within every limit.
+        tightest: Grid of indices into ``limits``: the tightest (or most broken) limit.
+        limits: Labels of the limits ("kind: actuator or axis").
+        robot, path, regeneration: What was swept.
+        objective: The objective's name.
+    """
+
+    variables: tuple[str, ...]
+    axes: tuple[np.ndarray, ...]
+    fixed: np.ndarray
+    value: np.ndarray
+    feasible: np.ndarray
+    tightest: np.ndarray
+    limits: tuple[str, ...]
+    robot: str
+    path: str
+    regeneration: str
+    objective: str = "energy"
+
+    def masked_value(self) -> np.ma.MaskedArray:
+        """The objective with infeasible placements masked."""
+        return np.ma.masked_array(np.where(self.feasible, self.value, 0.0), mask=~self.feasible)
+
+    @property
+    def label(self) -> str:
+        """The objective with its unit, for axes and colour bars: 'electric energy (J)'."""
+        objective = OBJECTIVES.get(self.objective)
+        return f"{objective.title} ({objective.unit})"
+
+    def placements(self) -> np.ndarray:
+        """(n_points, 6) placement of every grid point, in the grid's flattened order."""
+        mesh = np.meshgrid(*self.axes, indexing="ij")
+        placements = np.tile(self.fixed, (mesh[0].size, 1))
+        for name, coordinate in zip(self.variables, mesh, strict=True):
+            placements[:, VARIABLES.index(name)] = coordinate.ravel()
+        return placements
+
+    def save(self, file: str | Path) -> None:
+        """Write the map to an ``.npz`` file (reload with :meth:`load`)."""
+        meta = {"variables": self.variables, "limits": self.limits, "robot": self.robot, "path": self.path,
+                "regeneration": self.regeneration, "objective": self.objective}
+        arrays = {"value": self.value, "feasible": self.feasible, "tightest": self.tightest, "fixed": self.fixed,
+                  "meta": np.array(json.dumps(meta)), **{f"axis_{i}": axis for i, axis in enumerate(self.axes)}}
+        np.savez_compressed(file, **arrays)  # type: ignore[arg-type]  # numpy's stub types **kwds as allow_pickle
+
+    @classmethod
+    def load(cls, file: str | Path) -> SweepResult:
+        """Read a map written by :meth:`save`."""
+        with np.load(file) as data:
+            meta = json.loads(str(data["meta"]))
+            return cls(variables=tuple(meta["variables"]),
+                       axes=tuple(data[f"axis_{i}"] for i in range(len(meta["variables"]))),
+                       fixed=data["fixed"], value=data["value"], feasible=data["feasible"],
+                       tightest=data["tightest"], limits=tuple(meta["limits"]), robot=meta["robot"],
+                       path=meta["path"], regeneration=meta["regeneration"], objective=meta["objective"])
+
+
+def sweep(robot: Robot, path: ToolPath, axes: dict[str, np.ndarray], fixed: dict[str, float] | None = None,
+          regeneration: str = "clip", time_step_s: float | None = None, workers: int | None = None,
+          executor: Executor | None = None, progress: Callable[[int], None] | None = None,
+          objective: str = "energy") -> SweepResult:
+    """Evaluate the exact objective over a grid of placements.
+
+    Args:
+        robot: The robot, as it is in memory (a plug-in module is re-loaded from its file).
+        path: The tool path.
+        axes: Swept variables and their values (m, rad), e.g. ``{"x": xs, "y": ys}``.
+        fixed: Values of the other variables (default 0).
+        regeneration: Regeneration policy's name, see :mod:`placement.energy.regeneration`.
+        time_step_s: Path sampling step (default: the path file's).
+        workers: Worker processes of the default pool (default: every core; 1 runs in this process).
+        executor: Any ``concurrent.futures.Executor`` to run the chunks instead of the default pool.
+        progress: Called with the number of placements finished after each chunk.
+        objective: Objective's name (see :mod:`placement.objectives`; default: electric energy).
+
+    Returns:
+        The map.
+    """
+    unknown = set(axes) - set(VARIABLES) | set(fixed or {}) - set(VARIABLES)
+    if unknown:
+        raise PlacementError(f"unknown placement variable(s) {sorted(unknown)}; expected some of {VARIABLES}")
+    OBJECTIVES.get(objective)  # unknown names fail before any work
+    variables = tuple(axes)
+    values = tuple(np.asarray(axes[name], dtype=float) for name in variables)
+    base = np.array([float((fixed or {}).get(name, 0.0)) for name in VARIABLES])
+    grid = SweepResult(variables, values, base, np.zeros(0), np.zeros(0), np.zeros(0), (), robot.name, path.name,
+                       regeneration, objective)
+    placements = grid.placements()
+    jobs = [EvaluationJob(robot, path, regeneration, time_step_s, "auto", objective, placements[i:i + CHUNK_PLACEMENTS])
+            for i in range(0, len(placements), CHUNK_PLACEMENTS)]
+    results = _run(jobs, workers or os.cpu_count() or 1, executor, progress)
+    shape = tuple(len(v) for v in values)
+    evaluation = Evaluation.concatenate(results)
+    return SweepResult(variables=variables, axes=values, fixed=base, value=evaluation.value.reshape(shape),
+                       feasible=evaluation.feasible.reshape(shape),
+                       tightest=evaluation.margins.argmin(axis=1).reshape(shape), limits=evaluation.limits,
+                       robot=robot.name, path=path.name, regeneration=regeneration, objective=objective)
+
+
+def _run(jobs: list[EvaluationJob], workers: int, executor: Executor | None,
+         progress: Callable[[int], None] | None) -> list[Evaluation]:
+    """Evaluate the jobs here (one worker, no executor) or on the executor (default: a process pool)."""
+    if executor is None and workers == 1:
+        results = []
+        for job in jobs:
+            results.append(evaluate_job(job))
+            if progress:
+                progress(len(job.placements))
+        return results
+    pool = executor or process_pool(workers)
+    try:
+        futures = {pool.submit(evaluate_job, job): k for k, job in enumerate(jobs)}
+        done: dict[int, Evaluation] = {}
+        for future in as_completed(futures):
+            done[futures[future]] = future.result()
+            if progress:
+                progress(len(jobs[futures[future]].placements))
+    finally:
+        if executor is None:
+            pool.shutdown()
+    return [done[k] for k in range(len(jobs))]
