@@ -1,0 +1,58 @@
+"""The objective family against physics and against the other parts of the model.
+
+- a lossless motor (R = L = 0) turns shaft work into electric power exactly, so under per-axis
+  clipping the electric energy equals the mechanical (positive shaft work) objective;
+- the Joule energy of each drive is n·R·∫I² dt, so the RMS current follows from it;
+- the peak motor torque is where the motor-torque limit is tightest.
+"""
+
+import numpy as np
+import pytest
+import yaml
+from test_path import EXAMPLE
+
+from placement import OBJECTIVES, Evaluator, load_path, load_robot
+from placement.robot.catalog import builtin_robots_dir
+
+PLACEMENTS = np.array([[0.0, 0.0, 0.0, 0.0, 0.0, 0.0], [-0.06, 0.02, -0.05, 0.6, 0.0, 0.0],
+                       [-0.09, -0.09, -0.1, -0.8, 0.0, 0.0]])
+
+
+def test_every_built_in_objective_is_registered_and_lower_is_better():
+    assert OBJECTIVES.names()[:4] == ["energy", "mechanical_energy", "peak_torque", "rms_current"]
+    assert all(OBJECTIVES.get(name).better == "lower" for name in OBJECTIVES.names()[:4])
+
+
+def test_a_lossless_motor_draws_exactly_the_positive_shaft_work(tmp_path):
+    folder = builtin_robots_dir() / "orthoglide"
+    sidecar = yaml.safe_load((folder / "orthoglide.yaml").read_text())
+    motor = next(iter(sidecar["drives"].values()))["motor"]
+    motor["resistance_ohm"] = motor["inductance_H"] = 0.0
+    sidecar["urdf"], sidecar["kinematics_plugin"] = str(folder / "orthoglide.urdf"), str(folder / "closed_form.py")
+    (tmp_path / "lossless.yaml").write_text(yaml.safe_dump(sidecar))
+    robot, path = load_robot(tmp_path / "lossless.yaml"), load_path(EXAMPLE)
+    electric = Evaluator(robot, path, "clip", 0.002).evaluate(PLACEMENTS).value
+    mechanical = Evaluator(robot, path, "clip", 0.002, objective="mechanical_energy").evaluate(PLACEMENTS).value
+    np.testing.assert_allclose(mechanical, electric, rtol=1e-12)
+    assert (mechanical > 0.5).all()
+
+
+def test_rms_current_follows_from_the_joule_energy():
+    robot, path = load_robot("orthoglide"), load_path(EXAMPLE)
+    evaluator = Evaluator(robot, path, "clip", 0.002, objective="rms_current")
+    motor = robot.actuators[0].drive.motor
+    for placement, value in zip(PLACEMENTS, evaluator.evaluate(PLACEMENTS).value):
+        detail = evaluator.detail(placement)
+        duration = float(np.ptp(detail.samples.t_s))  # the paper's pieces tile the path's time
+        rms = np.sqrt(detail.energy.joule_J / (motor.phases * motor.resistance_ohm * duration))
+        assert value == pytest.approx(rms.max(), rel=1e-12)
+
+
+def test_peak_torque_is_where_the_motor_torque_limit_is_tightest():
+    robot, path = load_robot("orthoglide"), load_path(EXAMPLE)
+    evaluator = Evaluator(robot, path, "clip", 0.002, objective="peak_torque")
+    top = robot.actuators[0].drive.motor.max_torque_Nm  # the same motor on every axis
+    for placement, value in zip(PLACEMENTS, evaluator.evaluate(PLACEMENTS).value):
+        margin = next(m for m in evaluator.detail(placement).margins if m.kind == "motor torque")
+        assert value == pytest.approx(top * (1 - margin.margin), rel=1e-12)
+        assert value == pytest.approx(abs(margin.value), rel=1e-12)

@@ -1,0 +1,126 @@
+"""Plug-in families: members from an installed distribution's entry points, seen by spawned workers.
+
+``tests/plugin_demo`` holds a distribution as pip installs one (a module and its ``.dist-info``
+with ``entry_points.txt``) that adds an objective and a motor model. A fresh interpreter with it
+on its path runs a parallel map under the ``spawn`` start method, where every worker must find
+both members by name, and checks the numbers against the same map in one process and against
+independent physics.
+"""
+
+import os
+import subprocess
+import sys
+from concurrent.futures import ProcessPoolExecutor
+from multiprocessing import get_context
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from placement import load_path, load_robot, sweep
+from placement.drives.motors import MOTOR_MODELS, Motor, MotorModel, register_motor_model
+from placement.objectives import OBJECTIVES
+from placement.registry import UnknownMemberError, runtime_members
+from placement.robot.catalog import builtin_robots_dir
+
+PLUGIN = Path(__file__).parent / "plugin_demo"
+
+SCRIPT = r"""
+import json, sys
+from concurrent.futures import ProcessPoolExecutor
+from multiprocessing import get_context
+from pathlib import Path
+import numpy as np, yaml
+import placement
+from placement.robot.catalog import builtin_robots_dir
+
+assert "peak_motor_speed" in placement.OBJECTIVES.names() and "standby_pmsm" in placement.MOTOR_MODELS.names()
+folder = Path(sys.argv[1])
+sidecar = yaml.safe_load((builtin_robots_dir() / "orthoglide" / "orthoglide.yaml").read_text())
+motor = next(iter(sidecar["drives"].values()))["motor"]
+motor["model"], motor["parameters"] = "standby_pmsm", {"standby_W": 7.0}
+sidecar["urdf"] = str(builtin_robots_dir() / "orthoglide" / "orthoglide.urdf")
+sidecar["kinematics_plugin"] = str(builtin_robots_dir() / "orthoglide" / "closed_form.py")
+(folder / "standby.yaml").write_text(yaml.safe_dump(sidecar))
+robot = placement.load_robot(folder / "standby.yaml")
+path = placement.load_path(sys.argv[2])
+axes = {"x": np.linspace(-0.04, 0.04, 3), "y": np.linspace(-0.04, 0.04, 3)}
+out = {}
+with ProcessPoolExecutor(2, mp_context=get_context("spawn")) as pool:
+    for objective in ("peak_motor_speed", "energy"):
+        spawned = placement.sweep(robot, path, axes, regeneration="signed", time_step_s=0.005, executor=pool,
+                                  objective=objective)
+        here = placement.sweep(robot, path, axes, regeneration="signed", time_step_s=0.005, workers=1,
+                               objective=objective)
+        out[objective] = [spawned.value.tolist(), here.value.tolist()]
+stock = placement.load_robot("orthoglide")
+plain = placement.sweep(stock, path, axes, regeneration="signed", time_step_s=0.005, workers=1)
+evaluator = placement.Evaluator(stock, path, "signed", 0.005)
+batch = evaluator.batch(plain.placements())
+out["pmsm_energy"] = plain.value.tolist()
+out["speed"] = np.abs(batch.motor.speed_rad_s).max(axis=(1, 2)).reshape(3, 3).tolist()
+out["duration_s"] = float(batch.interval_widths_s.sum())
+print(json.dumps(out))
+"""
+
+
+def test_installed_members_reach_spawned_workers(tmp_path):
+    import json
+
+    environment = {**os.environ, "PYTHONPATH": os.pathsep.join([str(PLUGIN), *sys.path])}
+    path = Path(__file__).parents[1] / "examples" / "rect.yaml"
+    result = subprocess.run([sys.executable, "-c", SCRIPT, str(tmp_path), str(path)], capture_output=True, text=True,
+                            env=environment, cwd=tmp_path, timeout=600, check=False)
+    assert result.returncode == 0, result.stderr[-3000:]
+    out = json.loads(result.stdout.strip().splitlines()[-1])
+    spawned, here = (np.array(v) for v in out["peak_motor_speed"])
+    np.testing.assert_array_equal(spawned, here)
+    np.testing.assert_allclose(spawned, out["speed"], rtol=1e-12)  # the objective is the motors' peak speed
+    spawned, here = (np.array(v) for v in out["energy"])
+    np.testing.assert_array_equal(spawned, here)
+    # With full regeneration the standby power adds exactly 7 W per drive over the path's duration.
+    np.testing.assert_allclose(spawned - np.array(out["pmsm_energy"]), 3 * 7.0 * out["duration_s"], rtol=1e-9)
+
+
+def test_the_installed_members_are_not_in_a_process_without_the_distribution():
+    assert "peak_motor_speed" not in OBJECTIVES and "standby_pmsm" not in MOTOR_MODELS
+    with pytest.raises(UnknownMemberError, match="unknown objective 'peak_motor_speed': expected one of energy"):
+        OBJECTIVES.get("peak_motor_speed")
+
+
+class _Silent(MotorModel):
+    """A motor that draws no power at all."""
+
+    def interval_power(self, motor: Motor, speed_rad_s, current_A, dt_s):
+        zero = np.zeros_like(speed_rad_s[..., 1:])
+        return {"joule": zero, "inductive": zero, "back_emf": zero}
+
+
+def test_members_registered_at_run_time_travel_to_spawned_workers(tmp_path):
+    register_motor_model("silent_for_test", _Silent())
+    assert isinstance(runtime_members()["placement.motor_models"]["silent_for_test"], _Silent)
+    folder = builtin_robots_dir() / "orthoglide"
+    sidecar = yaml.safe_load((folder / "orthoglide.yaml").read_text())
+    next(iter(sidecar["drives"].values()))["motor"]["model"] = "silent_for_test"
+    sidecar["urdf"], sidecar["kinematics_plugin"] = str(folder / "orthoglide.urdf"), str(folder / "closed_form.py")
+    (tmp_path / "silent.yaml").write_text(yaml.safe_dump(sidecar))
+    robot = load_robot(tmp_path / "silent.yaml")
+    path = load_path(Path(__file__).parents[1] / "examples" / "rect.yaml")
+    axes = {"x": np.array([-0.02, 0.0, 0.02])}
+    with ProcessPoolExecutor(2, mp_context=get_context("spawn")) as pool:
+        spawned = sweep(robot, path, axes, time_step_s=0.01, executor=pool)
+    assert spawned.feasible.all() and (spawned.value == 0.0).all()
+    moving = sweep(load_robot("orthoglide"), path, axes, time_step_s=0.01, workers=1)
+    assert (moving.value > 1.0).all()  # the same map with the stock motor draws energy
+
+
+def test_a_workers_error_reaches_the_caller_whole():
+    import pickle
+
+    from placement.exceptions import RobotFileError, UnreachableError
+
+    for error in (UnknownMemberError("objective", "x", ["energy"]), RobotFileError("/r.yaml", "urdf", "not found"),
+                  UnreachableError([3, 4], 2, "singular")):
+        copy = pickle.loads(pickle.dumps(error))
+        assert type(copy) is type(error) and str(copy) == str(error) and copy.__dict__ == error.__dict__
