@@ -8,7 +8,7 @@ from functools import cached_property
 import numpy as np
 
 from placement.drives.trace import MotorTrace
-from placement.energy.integration import Energy, electric_energy, interval_widths
+from placement.energy.integration import Energy, electric_energy, interval_power, interval_widths
 from placement.path import PathSamples
 from placement.robot.model import Robot
 
@@ -51,6 +51,12 @@ class EvaluatedBatch:
     def energy(self) -> Energy:
         """Electric energy of each placement under the regeneration policy (computed once)."""
         return electric_energy(self.robot, self.motor, self.samples.t_s, self.samples.piece, self.regeneration)
+
+    @cached_property
+    def interval_power_W(self) -> np.ndarray:
+        """(K, N-1, n_act) signed electric power of each drive on each interval between samples."""
+        parts = interval_power(self.robot, self.motor, self.interval_widths_s)
+        return np.sum(list(parts.values()), axis=0)
 
     @property
     def interval_widths_s(self) -> np.ndarray:

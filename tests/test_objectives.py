@@ -56,3 +56,10 @@ def test_peak_torque_is_where_the_motor_torque_limit_is_tightest():
         margin = next(m for m in evaluator.detail(placement).margins if m.kind == "motor torque")
         assert value == pytest.approx(top * (1 - margin.margin), rel=1e-12)
         assert value == pytest.approx(abs(margin.value), rel=1e-12)
+
+
+def test_the_batch_power_integrates_to_the_energy_with_full_regeneration():
+    evaluator = Evaluator(load_robot("orthoglide"), load_path(EXAMPLE), "signed", 0.002)
+    batch = evaluator.batch(PLACEMENTS)
+    np.testing.assert_allclose(batch.interval_power_W.sum(axis=-1) @ batch.interval_widths_s, batch.energy.total_J,
+                               rtol=1e-12)
