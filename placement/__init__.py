@@ -13,7 +13,7 @@ through entry points; see :mod:`placement.registry`.
 """
 
 from placement.checks import CheckReport, check_robot
-from placement.drives.motors import MOTOR_MODELS, MotorModel, register_motor_model
+from placement.drives.motors import MOTOR_MODELS, MotorModel, PowerParts, register_motor_model
 from placement.drives.transmissions import TRANSMISSIONS, Transmission
 from placement.dynamics import ActuatorTrajectory, actuator_efforts, inverse_dynamics
 from placement.energy.integration import Energy
@@ -72,6 +72,7 @@ __all__ = [
     "PlacementError",
     "PlacementResult",
     "PlacementSpace",
+    "PowerParts",
     "RegenerationPolicy",
     "Robot",
     "RobotFileError",

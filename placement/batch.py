@@ -55,8 +55,7 @@ class EvaluatedBatch:
     @cached_property
     def interval_power_W(self) -> np.ndarray:
         """(K, N-1, n_act) signed electric power of each drive on each interval between samples."""
-        parts = interval_power(self.robot, self.motor, self.interval_widths_s)
-        return np.sum(list(parts.values()), axis=0)
+        return interval_power(self.robot, self.motor, self.interval_widths_s).total_W
 
     @property
     def interval_widths_s(self) -> np.ndarray:

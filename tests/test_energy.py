@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from test_path import EXAMPLE
 
-from placement.drives.motors import MotorModel, Pmsm, register_motor_model
+from placement.drives.motors import MotorModel, Pmsm, PowerParts, register_motor_model
 from placement.drives.trace import motor_trace
 from placement.dynamics import inverse_dynamics
 from placement.energy.integration import electric_energy, interval_widths
@@ -115,7 +115,8 @@ class Doubled(MotorModel):
     """The paper's motor model, every power part doubled."""
 
     def interval_power(self, motor, speed_rad_s, current_A, dt_s):
-        return {key: 2 * value for key, value in Pmsm().interval_power(motor, speed_rad_s, current_A, dt_s).items()}
+        parts = Pmsm().interval_power(motor, speed_rad_s, current_A, dt_s)
+        return PowerParts(2 * parts.joule_W, 2 * parts.inductive_W, 2 * parts.back_emf_W)
 
 
 def test_a_registered_motor_model_is_used(orthoglide):

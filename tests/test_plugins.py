@@ -19,7 +19,7 @@ import pytest
 import yaml
 
 from placement import load_path, load_robot, sweep
-from placement.drives.motors import MOTOR_MODELS, Motor, MotorModel, register_motor_model
+from placement.drives.motors import MOTOR_MODELS, Motor, MotorModel, PowerParts, register_motor_model
 from placement.objectives import OBJECTIVES
 from placement.registry import UnknownMemberError, runtime_members
 from placement.robot.catalog import builtin_robots_dir
@@ -94,7 +94,7 @@ class _Silent(MotorModel):
 
     def interval_power(self, motor: Motor, speed_rad_s, current_A, dt_s):
         zero = np.zeros_like(speed_rad_s[..., 1:])
-        return {"joule": zero, "inductive": zero, "back_emf": zero}
+        return PowerParts(zero, zero, zero)
 
 
 def test_members_registered_at_run_time_travel_to_spawned_workers(tmp_path):

@@ -14,6 +14,7 @@ constants in ``motor.parameters``.
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
+from dataclasses import dataclass
 from typing import Annotated
 
 import numpy as np
@@ -24,7 +25,26 @@ from placement.schema import Strict
 
 NonNegative = Annotated[float, Field(ge=0.0)]
 Positive = Annotated[float, Field(gt=0.0)]
-POWER_PARTS = ("joule", "inductive", "back_emf")
+
+
+@dataclass(frozen=True)
+class PowerParts:
+    """Electric power of intervals between samples, by part (W), arrays of one shape.
+
+    Attributes:
+        joule_W: Copper losses.
+        inductive_W: Power into the windings' magnetic field (integrates to the stored energy change).
+        back_emf_W: Power converted to shaft power.
+    """
+
+    joule_W: np.ndarray
+    inductive_W: np.ndarray
+    back_emf_W: np.ndarray
+
+    @property
+    def total_W(self) -> np.ndarray:
+        """The electric power drawn."""
+        return self.joule_W + self.inductive_W + self.back_emf_W
 
 
 class Motor(Strict):
@@ -58,7 +78,7 @@ class MotorModel(ABC):
 
     @abstractmethod
     def interval_power(self, motor: Motor, speed_rad_s: np.ndarray, current_A: np.ndarray,
-                       dt_s: np.ndarray) -> dict[str, np.ndarray]:
+                       dt_s: np.ndarray) -> PowerParts:
         """Power of every interval between samples, by part (W).
 
         Args:
@@ -68,7 +88,7 @@ class MotorModel(ABC):
             dt_s: (N-1,) interval widths; an interval of zero width is not integrated.
 
         Returns:
-            ``{"joule", "inductive", "back_emf"}``, each (..., N-1) W.
+            The parts, each (..., N-1) W.
         """
 
 
@@ -83,15 +103,15 @@ class Pmsm(MotorModel):
                              f"{expected:.6g} V s/rad for the pmsm model (else the motor creates or destroys energy)")
 
     def interval_power(self, motor: Motor, speed_rad_s: np.ndarray, current_A: np.ndarray,
-                       dt_s: np.ndarray) -> dict[str, np.ndarray]:
+                       dt_s: np.ndarray) -> PowerParts:
         n = motor.phases
         i0, i1 = current_A[..., :-1], current_A[..., 1:]
         w0, w1 = speed_rad_s[..., :-1], speed_rad_s[..., 1:]
         with np.errstate(invalid="ignore", divide="ignore"):
             di_dt = np.where(dt_s > 0, (i1 - i0) / dt_s, 0.0)
-        return {"joule": n * motor.resistance_ohm * (i0**2 + i1**2) / 2,
-                "inductive": n * motor.inductance_H * (i0 + i1) / 2 * di_dt,
-                "back_emf": n * motor.back_emf_constant_V_s_per_rad * (w0 * i0 + w1 * i1) / 2}
+        return PowerParts(joule_W=n * motor.resistance_ohm * (i0**2 + i1**2) / 2,
+                          inductive_W=n * motor.inductance_H * (i0 + i1) / 2 * di_dt,
+                          back_emf_W=n * motor.back_emf_constant_V_s_per_rad * (w0 * i0 + w1 * i1) / 2)
 
 
 MOTOR_MODELS: Registry[MotorModel] = Registry("motor model", "placement.motor_models")

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from placement.drives.motors import MOTOR_MODELS, POWER_PARTS
+from placement.drives.motors import MOTOR_MODELS, PowerParts
 from placement.drives.trace import MotorTrace, drives_of
 from placement.energy.regeneration import REGENERATION
 from placement.robot.model import Robot
@@ -46,15 +46,13 @@ def interval_widths(t_s: np.ndarray, piece: np.ndarray) -> np.ndarray:
     return np.where(piece[1:] == piece[:-1], np.diff(t_s), 0.0)
 
 
-def interval_power(robot: Robot, trace: MotorTrace, dt_s: np.ndarray) -> dict[str, np.ndarray]:
+def interval_power(robot: Robot, trace: MotorTrace, dt_s: np.ndarray) -> PowerParts:
     """Power parts of every interval between samples, by each drive's motor model, (..., N-1, n_act) W."""
-    parts: dict[str, list[np.ndarray]] = {part: [] for part in POWER_PARTS}
-    for i, drive in enumerate(drives_of(robot)):
-        model = MOTOR_MODELS.get(drive.motor.model)
-        power = model.interval_power(drive.motor, trace.speed_rad_s[..., i], trace.current_A[..., i], dt_s)
-        for key in POWER_PARTS:
-            parts[key].append(power[key])
-    return {key: np.stack(values, axis=-1) for key, values in parts.items()}
+    drives = [(MOTOR_MODELS.get(d.motor.model), d.motor) for d in drives_of(robot)]
+    parts = [model.interval_power(motor, trace.speed_rad_s[..., i], trace.current_A[..., i], dt_s)
+             for i, (model, motor) in enumerate(drives)]
+    return PowerParts(*(np.stack([getattr(p, name) for p in parts], axis=-1)
+                        for name in ("joule_W", "inductive_W", "back_emf_W")))
 
 
 def sample_power(robot: Robot, trace: MotorTrace, t_s: np.ndarray, piece: np.ndarray) -> np.ndarray:
@@ -64,7 +62,7 @@ def sample_power(robot: Robot, trace: MotorTrace, t_s: np.ndarray, piece: np.nda
     the trapezoidal integral of the samples approaches the energy as the time step shrinks.
     """
     dt = interval_widths(t_s, piece)
-    power = _total(interval_power(robot, trace, dt))  # (N-1, n_act)
+    power = interval_power(robot, trace, dt).total_W  # (N-1, n_act)
     valid = (dt > 0)[:, None]
     left = np.vstack([np.zeros((1, power.shape[1])), np.where(valid, power, 0.0)])
     right = np.vstack([np.where(valid, power, 0.0), np.zeros((1, power.shape[1]))])
@@ -91,8 +89,8 @@ def electric_energy(robot: Robot, trace: MotorTrace, t_s: np.ndarray, piece: np.
     """
     policy = REGENERATION.get(regeneration)
     dt = interval_widths(t_s, piece)
-    stacked = interval_power(robot, trace, dt)
-    power = _total(stacked)
+    parts = interval_power(robot, trace, dt)
+    power = parts.total_W
     shaft = trace.torque_Nm * trace.speed_rad_s
     mechanical = (shaft[..., :-1, :] + shaft[..., 1:, :]) / 2
 
@@ -104,11 +102,6 @@ def electric_energy(robot: Robot, trace: MotorTrace, t_s: np.ndarray, piece: np.
     shaped = policy.axis_power(power)
     total = np.einsum("...n,n->...", policy.supply_power(shaped.sum(axis=-1)), dt)
     per_actuator = integral(shaped)
-    return Energy(total_J=total, per_actuator_J=per_actuator, joule_J=integral(stacked["joule"]),
-                  inductive_J=integral(stacked["inductive"]), back_emf_J=integral(stacked["back_emf"]),
+    return Energy(total_J=total, per_actuator_J=per_actuator, joule_J=integral(parts.joule_W),
+                  inductive_J=integral(parts.inductive_W), back_emf_J=integral(parts.back_emf_W),
                   mechanical_J=integral(mechanical), regeneration=regeneration)
-
-
-def _total(parts: dict[str, np.ndarray]) -> np.ndarray:
-    """The sum of the power parts."""
-    return np.sum([parts[part] for part in POWER_PARTS], axis=0)

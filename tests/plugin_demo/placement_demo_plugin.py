@@ -8,7 +8,7 @@ points register an objective and a motor model, exactly as ``pip install`` of a 
 import numpy as np
 
 from placement.batch import EvaluatedBatch
-from placement.drives.motors import Motor, Pmsm
+from placement.drives.motors import Motor, Pmsm, PowerParts
 from placement.objectives import Objective
 
 
@@ -32,8 +32,8 @@ class StandbyPmsm(Pmsm):
 
     def interval_power(self, motor, speed_rad_s, current_A, dt_s):
         parts = super().interval_power(motor, speed_rad_s, current_A, dt_s)
-        parts["joule"] = parts["joule"] + motor.parameters["standby_W"] * (dt_s > 0)
-        return parts
+        standby = motor.parameters["standby_W"] * (dt_s > 0)
+        return PowerParts(parts.joule_W + standby, parts.inductive_W, parts.back_emf_W)
 
 
 peak_motor_speed = PeakMotorSpeed()
