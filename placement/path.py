@@ -34,12 +34,13 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from placement.exceptions import PathFileError, PlacementError
-from placement.schema import Strict, read_yaml
+from placement.schema import Number, Strict, read_yaml
 
-Positive = Annotated[float, Field(gt=0.0)]
+Positive = Annotated[Number, Field(gt=0.0)]
 LENGTH_SCALE = {"m": 1.0, "mm": 1e-3}
 CORNER_ANGLE_RAD = np.radians(1.0)  # a tangent turn above this is a corner (exact stop)
 ARC_SAFETY = 0.98  # share of the bounds used on arcs, where they are checked on samples
+MAX_SAMPLES = 1_000_000  # samples of one path: about 0.5 GB through the whole chain
 
 
 class Rectangle(Strict):
@@ -54,7 +55,7 @@ class Polyline(Strict):
     """Straight segments through points [x, y] or [x, y, z] of the path frame."""
 
     type: Literal["polyline"]
-    points: Annotated[list[tuple[float, float] | tuple[float, float, float]], Field(min_length=2)]
+    points: Annotated[list[tuple[Number, Number] | tuple[Number, Number, Number]], Field(min_length=2)]
     closed: bool = False
 
 
@@ -70,8 +71,8 @@ class Arc(Strict):
 
     type: Literal["arc"]
     radius: Positive
-    start_deg: float = 0.0
-    sweep_deg: Annotated[float, Field(ge=-360.0, le=360.0)]
+    start_deg: Number = 0.0
+    sweep_deg: Annotated[Number, Field(ge=-360.0, le=360.0)]
 
     @model_validator(mode="after")
     def _nonzero(self) -> Arc:
@@ -83,9 +84,9 @@ class Arc(Strict):
 class ProcessForces(Strict):
     """Forces on the tool from the workpiece (N): see the module docstring for signs."""
 
-    feed: float = 0.0
-    radial: float = 0.0
-    axial: float = 0.0
+    feed: Number = 0.0
+    radial: Number = 0.0
+    axial: Number = 0.0
 
 
 class Timing(Strict):
@@ -190,11 +191,20 @@ class ToolPath:
     def sample(self, time_step_s: float | None = None) -> PathSamples:
         """Sample the path in time with the given step (default: the file's ``time_step_s``)."""
         step = self.time_step_s if time_step_s is None else time_step_s
-        if not step > 0:
-            raise PlacementError(f"the sampling time step must be > 0 s, got {step}")
+        if not 0 < step < np.inf:
+            raise PlacementError(f"the sampling time step must be a finite number > 0 s, got {step}")
         if self.timing.mode == "paper":
             return self._sample_paper(step)
         return self._sample_realistic(step)
+
+    def _sample_counts(self, durations_s: list[float], step: float) -> list[int]:
+        """Samples of each independently timed piece; refuses more than MAX_SAMPLES in all."""
+        counts = [max(2, int(np.ceil(d / step)) + 1) if d / step < MAX_SAMPLES else MAX_SAMPLES + 1 for d in durations_s]
+        if sum(counts) > MAX_SAMPLES:
+            raise PlacementError(f"the path '{self.name}' lasts {sum(durations_s):.4g} s: sampled every {step:g} s it "
+                                 f"would need more than {MAX_SAMPLES:,} samples; use a larger time step (time_step_s "
+                                 "in the path file, or --time-step), or check the path's size and feed")
+        return counts
 
     def half_turn_symmetric(self) -> bool:
         """Whether a half turn about Z_p maps the path onto itself, piece by piece.
@@ -215,9 +225,10 @@ class ToolPath:
 
     def _sample_paper(self, step: float) -> PathSamples:
         parts, start = [], 0.0
-        for k, segment in enumerate(self.segments):
-            duration = segment.length_m / self.feed_m_s
-            t = np.linspace(0.0, duration, max(2, int(np.ceil(duration / step)) + 1))
+        durations = [segment.length_m / self.feed_m_s for segment in self.segments]
+        for k, (segment, duration, count) in enumerate(zip(self.segments, durations,
+                                                             self._sample_counts(durations, step))):
+            t = np.linspace(0.0, duration, count)
             motion = segment.point(self.feed_m_s * t, np.full_like(t, self.feed_m_s), np.zeros_like(t))
             parts.append((start + t, *motion, np.full(len(t), k)))
             start += duration
@@ -225,10 +236,11 @@ class ToolPath:
 
     def _sample_realistic(self, step: float) -> PathSamples:
         runs = _tangent_continuous_runs(self.segments)
+        profiles = [self._profile(run) for run in runs]
+        counts = self._sample_counts([profile.duration_s for profile in profiles], step)
         parts, start = [], 0.0
-        for run in runs:
-            profile = self._profile(run)
-            t = np.linspace(0.0, profile.duration_s, max(2, int(np.ceil(profile.duration_s / step)) + 1))
+        for run, profile, count in zip(runs, profiles, counts):
+            t = np.linspace(0.0, profile.duration_s, count)
             s, s_dot, s_ddot = profile(t)
             parts.append((start + t, *_along(run, s, s_dot, s_ddot), np.zeros(len(t), dtype=int)))
             start += profile.duration_s

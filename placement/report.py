@@ -127,7 +127,8 @@ def write_atomically(path: str | Path, text: str) -> None:
     try:
         with os.fdopen(handle, "w", newline="") as stream:
             stream.write(text)
-        os.chmod(temporary, 0o666 & ~umask)  # as a plain open() would create it
+        mode = path.stat().st_mode & 0o7777 if path.is_file() else 0o666 & ~umask  # keep a file's mode
+        os.chmod(temporary, mode)
         os.replace(temporary, path)
     except BaseException:
         Path(temporary).unlink(missing_ok=True)

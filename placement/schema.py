@@ -3,15 +3,24 @@
 from __future__ import annotations
 
 import builtins
+import re
+import reprlib
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Annotated, Any, TypeVar
 
 import yaml
 from pydantic import BaseModel, ConfigDict, ValidationError
+from pydantic import Strict as StrictValue
 
 from placement.exceptions import InputFileError
 
 Model = TypeVar("Model", bound=BaseModel)
+MAX_FILE_BYTES = 10_000_000
+MAX_NODES = 1_000_000  # values in a document once its aliases are expanded
+_REPR = reprlib.Repr()  # bounded: never echo a whole input back
+_REPR.maxlevel, _REPR.maxstring, _REPR.maxother, _REPR.maxlist, _REPR.maxdict, _REPR.maxtuple = 2, 60, 60, 4, 4, 4
+Number = Annotated[float, StrictValue()]  # an integer or a decimal number; true and false are not numbers
+Count = Annotated[int, StrictValue()]  # a whole number written as such
 
 
 class Strict(BaseModel):
@@ -45,12 +54,20 @@ def read_yaml(path: Path, schema: type[Model], error: type[InputFileError]) -> M
     """
     if not path.is_file():
         raise error(path, "", "file not found")
+    if path.stat().st_size > MAX_FILE_BYTES:
+        raise error(path, "", f"the file is larger than {MAX_FILE_BYTES // 1_000_000} MB")
     try:
-        raw = yaml.safe_load(path.read_text())
+        raw = yaml.load(path.read_text(encoding="utf-8"), Loader=_UniqueKeyLoader)  # noqa: S506 (a SafeLoader)
+    except UnicodeDecodeError:
+        raise error(path, "", "not a text file in UTF-8") from None
+    except RecursionError:
+        raise error(path, "", "nested too deeply") from None
     except yaml.YAMLError as problem:
-        raise error(path, "", f"not valid YAML: {problem}") from None
+        raise error(path, "", f"not valid YAML: {_short(str(problem), 300)}") from None
     if not isinstance(raw, dict):
         raise error(path, "", "expected a mapping of fields at the top level")
+    if _node_count(raw, MAX_NODES) > MAX_NODES:  # aliases can make a small file a huge document
+        raise error(path, "", f"the document expands to more than {MAX_NODES:,} values (through & and * aliases?)")
     try:
         return schema.model_validate(raw)
     except ValidationError as problem:
@@ -66,7 +83,7 @@ def _explain(schema: type[BaseModel], error: Any, raw: Any) -> str:
     if error["type"] == "missing":
         return "required field is missing"
     message = error["msg"].removeprefix("Value error, ")
-    return f"{message} (got {error['input']!r})"
+    return f"{message} (got {_REPR.repr(error['input'])})"
 
 
 def _is_tag(schema: type[BaseModel], loc: tuple[Any, ...], part: Any) -> bool:
@@ -124,3 +141,44 @@ def _model_of(annotation: Any) -> Any:
         if found is not None:
             return found
     return None
+
+
+class _UniqueKeyLoader(yaml.SafeLoader):
+    """YAML's safe loader, refusing a mapping that gives the same key twice, and reading 1e-3 as a
+    number (as YAML 1.2 does; YAML 1.1 wants 1.0e-3)."""
+
+    yaml_implicit_resolvers = {key: list(value) for key, value in yaml.SafeLoader.yaml_implicit_resolvers.items()}
+
+    def construct_mapping(self, node: yaml.MappingNode, deep: bool = False) -> dict[Any, Any]:
+        seen = set()
+        for key_node, _ in node.value:
+            if key_node.tag == "tag:yaml.org,2002:merge":  # '<<: *anchor' keys may be overridden here
+                continue
+            key = self.construct_object(key_node, deep=deep)
+            if key in seen:
+                raise yaml.constructor.ConstructorError(None, None, f"the key '{_short(str(key), 60)}' appears twice",
+                                                        key_node.start_mark)
+            seen.add(key)
+        return super().construct_mapping(node, deep=deep)
+
+
+def _node_count(document: Any, limit: int) -> int:
+    """How many values ``document`` holds, counting shared ones each time; stops past ``limit``."""
+    count, stack = 0, [document]
+    while stack and count <= limit:
+        node = stack.pop()
+        count += 1
+        if isinstance(node, dict):
+            stack.extend(node.values())
+        elif isinstance(node, list):
+            stack.extend(node)
+    return count
+
+
+def _short(text: str, length: int) -> str:
+    return text if len(text) <= length else text[: length - 3] + "..."
+
+
+_UniqueKeyLoader.add_implicit_resolver(
+    "tag:yaml.org,2002:float", re.compile(r"^[-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)[eE][-+]?[0-9]+$"),
+    list("-+0123456789."))

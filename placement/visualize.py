@@ -3,17 +3,21 @@
 A :class:`Scene` draws the robot from its URDF visuals (Pinocchio's meshcat visualiser), the
 workspace box as a wireframe with its named points, placed paths as coloured lines, an energy map
 as coloured points, and animates the robot along a path. It either records the scene and writes a
-self-contained HTML page that opens in a browser with no server and no network, or serves it live
-from a meshcat server on this machine (loopback only).
+self-contained HTML page that opens in a browser with no server and no network; :class:`PageServer`
+serves that page on this machine (loopback only, unless asked otherwise). Everything that comes
+from input files (path names, point names) is escaped in the page.
 """
 
 from __future__ import annotations
 
 import base64
+import html
+import http.server
 import os
 import shutil
 import subprocess
 import tempfile
+import threading
 from pathlib import Path
 
 import matplotlib
@@ -71,14 +75,12 @@ class Scene:
 
     Args:
         robot: The robot to draw.
-        live: Serve the scene from a meshcat server on 127.0.0.1 (see :meth:`url`) instead of
-            recording it for :meth:`html`.
     """
 
-    def __init__(self, robot: Robot, live: bool = False) -> None:
+    def __init__(self, robot: Robot) -> None:
         self.robot = robot
-        self.window = None if live else _RecordingWindow()
-        self.viewer = meshcat.Visualizer() if live else meshcat.Visualizer(window=self.window)
+        self.window = _RecordingWindow()
+        self.viewer = meshcat.Visualizer(window=self.window)
         self.legend: list[tuple[str, int]] = [("robot", 0x999999)]
         folders = [str(robot.urdf_path.parent), *_package_dirs(robot)]
         visual = pin.buildGeomFromUrdf(robot.model, str(robot.urdf_path), pin.GeometryType.VISUAL, package_dirs=folders)
@@ -162,25 +164,53 @@ class Scene:
 
     def html(self, title: str = "placement") -> str:
         """A self-contained page of the recorded scene (three.js viewer inlined, no network)."""
-        if self.window is None:
-            return self.viewer.static_html()
         commands = "".join(
             f'fetch("data:application/octet-binary;base64,{base64.b64encode(c).decode()}").then(r => r.arrayBuffer())'
             ".then(b => viewer.handle_command_bytearray(new Uint8Array(b)));\n"
             for c in self.window.commands())
-        legend = "".join(f'<div><span style="background:#{color:06x}"></span>{name}</div>' for name, color in self.legend)
-        return _PAGE.format(title=title, script=VIEWER_SCRIPT.read_text(), commands=commands, legend=legend)
+        legend = "".join(f'<div><span style="background:#{color:06x}"></span>{html.escape(name)}</div>'
+                         for name, color in self.legend)
+        return _PAGE.format(title=html.escape(title), script=VIEWER_SCRIPT.read_text(), commands=commands,
+                            legend=legend)
 
+
+class PageServer:
+    """Serves one page over HTTP from a background thread, on loopback unless another host is given.
+
+    Args:
+        page: The HTML text.
+        host: Address to listen on (127.0.0.1: this machine only).
+        port: Port (0: any free one).
+    """
+
+    def __init__(self, page: str, host: str = "127.0.0.1", port: int = 0) -> None:
+        body = page.encode("utf-8")
+
+        class Handler(http.server.BaseHTTPRequestHandler):
+            def do_GET(self) -> None:  # noqa: N802 (the http.server name)
+                self.send_response(200)
+                self.send_header("Content-Type", "text/html; charset=utf-8")
+                self.send_header("Content-Length", str(len(body)))
+                self.end_headers()
+                self.wfile.write(body)
+
+            def log_message(self, format: str, *args: object) -> None:  # quiet
+                pass
+
+        self.server = http.server.ThreadingHTTPServer((host, port), Handler)
+        self.thread = threading.Thread(target=self.server.serve_forever, daemon=True)
+        self.thread.start()
+
+    @property
     def url(self) -> str:
-        """Address of the live viewer (a live scene only)."""
-        return self.viewer.url()
+        """The page's address."""
+        host, port = str(self.server.server_address[0]), self.server.server_address[1]
+        return f"http://{host if ':' not in host else f'[{host}]'}:{port}/"
 
     def close(self) -> None:
-        """Stop the live viewer's server, if any."""
-        process = getattr(self.viewer.window, "server_proc", None)
-        if process is not None:
-            process.kill()
-            process.wait()
+        """Stop serving."""
+        self.server.shutdown()
+        self.server.server_close()
 
 
 BROWSERS = ("chromium", "chromium-browser", "google-chrome")

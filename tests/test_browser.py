@@ -62,14 +62,33 @@ def test_the_robot_is_drawn(shot):
     assert sliders > 500 and bars > 200
 
 
-def test_live_viewer_serves_on_loopback_and_stops():
+def test_show_serves_the_page_on_loopback_only_and_stops(monkeypatch, capsys):
+    import io
+    import socket
+    import urllib.request
+
+    from placement.cli import main
+    from placement.visualize import PageServer
+
+    server = PageServer("<html>scene</html>")
+    try:
+        assert server.server.server_address[0] == "127.0.0.1"  # no other machine can connect
+        with urllib.request.urlopen(server.url, timeout=10) as response:
+            assert response.read() == b"<html>scene</html>"
+    finally:
+        server.close()
+    with socket.socket() as probe:  # nothing listens there any more
+        assert probe.connect_ex(("127.0.0.1", server.server.server_address[1])) != 0
+    monkeypatch.setattr("sys.stdin", io.StringIO("\n"))  # the user presses Enter
+    assert main(["--robot", "orthoglide", "--path", str(EXAMPLE), "--at", "x=0", "--time-step", "0.01", "--show"]) == 0
+    assert "viewer at http://127.0.0.1:" in capsys.readouterr().out
+
+
+def test_markup_from_input_files_is_inert_in_the_page(tmp_path):
     from placement.robot import load_robot
 
-    scene = Scene(load_robot("orthoglide"), live=True)
-    try:
-        assert scene.url().startswith("http://127.0.0.1:")
-        process = scene.viewer.window.server_proc
-        assert process.poll() is None
-    finally:
-        scene.close()
-    assert process.poll() is not None  # no server left running
+    scene = Scene(load_robot("orthoglide"))
+    scene.add_path("0_best", np.zeros((3, 3)), BEST_COLOR, "<img src=x onerror=alert(1)>")
+    page = scene.html("<script>alert('path name')</script>")
+    assert "<script>alert(" not in page and "<img src=x" not in page
+    assert "&lt;script&gt;alert(&#x27;path name&#x27;)&lt;/script&gt;" in page

@@ -8,11 +8,10 @@
 
 import numpy as np
 import pytest
-import yaml
+from robot_copies import edited_copy, orthoglide_motor
 from test_path import EXAMPLE
 
 from placement import OBJECTIVES, Evaluator, load_path, load_robot
-from placement.robot.catalog import builtin_robots_dir
 
 PLACEMENTS = np.array([[0.0, 0.0, 0.0, 0.0, 0.0, 0.0], [-0.06, 0.02, -0.05, 0.6, 0.0, 0.0],
                        [-0.09, -0.09, -0.1, -0.8, 0.0, 0.0]])
@@ -24,13 +23,10 @@ def test_every_built_in_objective_is_registered_and_lower_is_better():
 
 
 def test_a_lossless_motor_draws_exactly_the_positive_shaft_work(tmp_path):
-    folder = builtin_robots_dir() / "orthoglide"
-    sidecar = yaml.safe_load((folder / "orthoglide.yaml").read_text())
-    motor = next(iter(sidecar["drives"].values()))["motor"]
-    motor["resistance_ohm"] = motor["inductance_H"] = 0.0
-    sidecar["urdf"], sidecar["kinematics_plugin"] = str(folder / "orthoglide.urdf"), str(folder / "closed_form.py")
-    (tmp_path / "lossless.yaml").write_text(yaml.safe_dump(sidecar))
-    robot, path = load_robot(tmp_path / "lossless.yaml"), load_path(EXAMPLE)
+    def lossless(document: dict) -> None:
+        orthoglide_motor(document).update(resistance_ohm=0.0, inductance_H=0.0)
+
+    robot, path = load_robot(edited_copy("orthoglide", tmp_path, lossless)), load_path(EXAMPLE)
     electric = Evaluator(robot, path, "clip", 0.002).evaluate(PLACEMENTS).value
     mechanical = Evaluator(robot, path, "clip", 0.002, objective="mechanical_energy").evaluate(PLACEMENTS).value
     np.testing.assert_allclose(mechanical, electric, rtol=1e-12)

@@ -16,13 +16,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import yaml
+from robot_copies import edited_copy, orthoglide_motor
 
 from placement import load_path, load_robot, sweep
 from placement.drives.motors import MOTOR_MODELS, Motor, MotorModel, PowerParts, register_motor_model
 from placement.objectives import OBJECTIVES
 from placement.registry import UnknownMemberError, runtime_members
-from placement.robot.catalog import builtin_robots_dir
 
 PLUGIN = Path(__file__).parent / "plugin_demo"
 
@@ -36,14 +35,14 @@ import placement
 from placement.robot.catalog import builtin_robots_dir
 
 assert "peak_motor_speed" in placement.OBJECTIVES.names() and "standby_pmsm" in placement.MOTOR_MODELS.names()
-folder = Path(sys.argv[1])
-sidecar = yaml.safe_load((builtin_robots_dir() / "orthoglide" / "orthoglide.yaml").read_text())
+import shutil
+folder = Path(sys.argv[1]) / "orthoglide"
+shutil.copytree(builtin_robots_dir() / "orthoglide", folder)
+sidecar = yaml.safe_load((folder / "orthoglide.yaml").read_text())
 motor = next(iter(sidecar["drives"].values()))["motor"]
 motor["model"], motor["parameters"] = "standby_pmsm", {"standby_W": 7.0}
-sidecar["urdf"] = str(builtin_robots_dir() / "orthoglide" / "orthoglide.urdf")
-sidecar["kinematics_plugin"] = str(builtin_robots_dir() / "orthoglide" / "closed_form.py")
-(folder / "standby.yaml").write_text(yaml.safe_dump(sidecar))
-robot = placement.load_robot(folder / "standby.yaml")
+(folder / "orthoglide.yaml").write_text(yaml.safe_dump(sidecar))
+robot = placement.load_robot(folder / "orthoglide.yaml")
 path = placement.load_path(sys.argv[2])
 axes = {"x": np.linspace(-0.04, 0.04, 3), "y": np.linspace(-0.04, 0.04, 3)}
 out = {}
@@ -100,12 +99,7 @@ class _Silent(MotorModel):
 def test_members_registered_at_run_time_travel_to_spawned_workers(tmp_path):
     register_motor_model("silent_for_test", _Silent())
     assert isinstance(runtime_members()["placement.motor_models"]["silent_for_test"], _Silent)
-    folder = builtin_robots_dir() / "orthoglide"
-    sidecar = yaml.safe_load((folder / "orthoglide.yaml").read_text())
-    next(iter(sidecar["drives"].values()))["motor"]["model"] = "silent_for_test"
-    sidecar["urdf"], sidecar["kinematics_plugin"] = str(folder / "orthoglide.urdf"), str(folder / "closed_form.py")
-    (tmp_path / "silent.yaml").write_text(yaml.safe_dump(sidecar))
-    robot = load_robot(tmp_path / "silent.yaml")
+    robot = load_robot(edited_copy("orthoglide", tmp_path, lambda d: orthoglide_motor(d).update(model="silent_for_test")))
     path = load_path(Path(__file__).parents[1] / "examples" / "rect.yaml")
     axes = {"x": np.array([-0.02, 0.0, 0.02])}
     with ProcessPoolExecutor(2, mp_context=get_context("spawn")) as pool:

@@ -6,7 +6,8 @@
     placement robots                                           list the robots
 
 Exit codes: 0 success, 1 a physics check failed, 2 bad input or no feasible placement (the
-message says what and where).
+message says what and where), 130 interrupted. ``--debug`` anywhere on the line shows the
+traceback of an unexpected error instead of its one-line summary.
 """
 
 from __future__ import annotations
@@ -32,7 +33,9 @@ def build_command_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit code."""
-    argv = sys.argv[1:] if argv is None else argv
+    argv = sys.argv[1:] if argv is None else list(argv)
+    debug = "--debug" in argv
+    argv = [arg for arg in argv if arg != "--debug"]
     try:
         if argv and argv[0] in SUBCOMMANDS:
             args = build_command_parser().parse_args(argv)
@@ -43,4 +46,14 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     except OSError as error:  # a file could not be written after all (disk full, ...)
         print(f"error: {error}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+    except Exception as error:  # the last resort: a one-line message, never a traceback by default
+        if debug:
+            raise
+        text = " ".join(str(error).split())[:300]
+        print(f"error: unexpected {type(error).__name__}: {text} (run again with --debug to see where)",
+              file=sys.stderr)
         return 2

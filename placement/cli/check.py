@@ -10,6 +10,7 @@ import argparse
 import numpy as np
 
 from placement.checks import check_robot
+from placement.cli.common import whole_number
 from placement.robot import Robot, load_robot
 
 
@@ -17,7 +18,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     """The 'check' subcommand's options."""
     check = commands.add_parser("check", help="describe a robot and prove its dynamic model exact")
     check.add_argument("robot", help="robot name or path to a sidecar YAML file")
-    check.add_argument("--samples", type=int, default=100, help="samples of the check trajectory (default 100)")
+    check.add_argument("--samples", type=whole_number(10, 100_000), default=100,
+                       help="samples of the check trajectory (default 100)")
 
 
 def describe(robot: Robot) -> str:

@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import os
+import tempfile
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -21,6 +23,32 @@ class UsageError(PlacementError):
     """A command-line option has a value it cannot take."""
 
 
+def whole_number(low: int, high: int) -> Callable[[str], int]:
+    """An argparse type: a whole number from ``low`` to ``high``."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a whole number, got '{text[:40]}'") from None
+        if not low <= value <= high:
+            raise argparse.ArgumentTypeError(f"expected a whole number from {low:,} to {high:,}, got {value:,}")
+        return value
+
+    return parse
+
+
+def positive_number(text: str) -> float:
+    """An argparse type: a finite number > 0."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got '{text[:40]}'") from None
+    if not 0 < value < np.inf:
+        raise argparse.ArgumentTypeError(f"expected a finite number > 0, got '{text[:40]}'")
+    return value
+
+
 def add_model_options(parser: argparse.ArgumentParser) -> None:
     """--objective and --regen: what placements are ranked by, and what braking energy does."""
     parser.add_argument("--objective", default="energy", metavar="NAME",
@@ -33,20 +61,25 @@ def add_model_options(parser: argparse.ArgumentParser) -> None:
 def add_sampling_options(parser: argparse.ArgumentParser) -> None:
     """Options that override how a path file is timed and sampled (see configured_path)."""
     parser.add_argument("--timing", choices=("paper", "realistic"), help="override the path file's timing law")
-    parser.add_argument("--max-acceleration", type=float, metavar="M_S2",
+    parser.add_argument("--max-acceleration", type=positive_number, metavar="M_S2",
                         help="tool acceleration bound of the realistic timing law (m/s^2)")
-    parser.add_argument("--max-jerk", type=float, metavar="M_S3", help="tool jerk bound of the realistic timing law (m/s^3)")
-    parser.add_argument("--time-step", type=float, metavar="S", help="path sampling step (s; default: the path file's)")
+    parser.add_argument("--max-jerk", type=positive_number, metavar="M_S3",
+                        help="tool jerk bound of the realistic timing law (m/s^3)")
+    parser.add_argument("--time-step", type=positive_number, metavar="S",
+                        help="path sampling step (s; default: the path file's)")
 
 
 def parse_values(text: str, option: str) -> dict[str, float]:
     """'x=10,phi=30' -> SI values; lengths in mm and angles in deg unless suffixed m / rad."""
-    values = {}
+    values: dict[str, float] = {}
     for item in filter(None, (part.strip() for part in text.split(","))):
         name, _, raw = item.partition("=")
         name = name.strip()
         if name not in VARIABLES or not raw:
-            raise UsageError(f"{option}: expected name=value with names from {', '.join(VARIABLES)}, got '{item}'")
+            raise UsageError(f"{option}: expected name=value with names from {', '.join(VARIABLES)}, "
+                             f"got '{item[:40]}'")
+        if name in values:
+            raise UsageError(f"{option}: {name} is given twice")
         angle = name in ANGLES
         units = {"rad": 1.0, "deg": np.pi / 180} if angle else {"mm": 1e-3, "m": 1.0}
         unit = next((u for u in sorted(units, key=len, reverse=True) if raw.strip().endswith(u)), None)
@@ -54,9 +87,9 @@ def parse_values(text: str, option: str) -> dict[str, float]:
         try:
             values[name] = float(number) * units[unit or ("deg" if angle else "mm")]
         except ValueError:
-            raise UsageError(f"{option}: '{raw}' is not a number for {name}") from None
+            raise UsageError(f"{option}: '{raw[:40]}' is not a number for {name}") from None
         if not np.isfinite(values[name]):
-            raise UsageError(f"{option}: {name} must be a finite number, got '{raw}'")
+            raise UsageError(f"{option}: {name} must be a finite number, got '{raw[:40]}'")
     return values
 
 
@@ -78,20 +111,35 @@ def configured_path(args: argparse.Namespace, file: str) -> ToolPath:
             raise UsageError(f"{field}: {problem['msg'].removeprefix('Value error, ')}; the realistic timing law "
                              "needs --max-acceleration and --max-jerk > 0, or both in the path file") from None
         path = dataclasses.replace(path, timing=timing)
-    if args.time_step is not None and not args.time_step > 0:
-        raise UsageError("--time-step must be > 0 s")
     return path
 
 
-def check_outputs(*pairs: tuple[str, str | None]) -> None:
-    """Every output file must be writable before hours of work are spent: (option, file) pairs."""
+def check_outputs(*pairs: tuple[str, str | None], inputs: tuple[str, ...] = ()) -> None:
+    """Every output file must be writable before hours of work are spent: (option, file) pairs.
+
+    An output may not be a folder, a symbolic link or another non-regular file, an input file, or
+    another output; its folder must exist and take a new file.
+    """
+    taken = {Path(file).resolve(): "an input file" for file in inputs}
     for option, file in pairs:
         if file is None:
             continue
         target = Path(file)
+        if target.is_symlink():
+            raise UsageError(f"{option}: '{file}' is a symbolic link; name the file itself")
         if target.is_dir():
             raise UsageError(f"{option}: '{file}' is a folder, expected a file name")
-        if not target.absolute().parent.is_dir():
+        if target.exists() and not target.is_file():
+            raise UsageError(f"{option}: '{file}' is not a regular file")
+        if target.resolve() in taken:
+            raise UsageError(f"{option}: '{file}' is {taken[target.resolve()]}; it would be overwritten")
+        taken[target.resolve()] = f"also the file of {option}"
+        folder = target.absolute().parent
+        if not folder.is_dir():
             raise UsageError(f"{option}: the folder of '{file}' does not exist")
-        if not os.access(target.absolute().parent, os.W_OK) or (target.exists() and not os.access(target, os.W_OK)):
+        try:
+            tempfile.TemporaryFile(dir=folder).close()
+        except OSError:
+            raise UsageError(f"{option}: '{file}' cannot be written (its folder takes no new file)") from None
+        if target.exists() and not os.access(target, os.W_OK):
             raise UsageError(f"{option}: '{file}' cannot be written")

@@ -18,6 +18,7 @@ from placement.cli.common import (
     check_outputs,
     configured_path,
     parse_values,
+    whole_number,
 )
 from placement.frames import ANGLES, VARIABLES
 from placement.objectives import OBJECTIVES
@@ -25,6 +26,8 @@ from placement.report import write_atomically
 from placement.robot import load_robot
 from placement.search.sweep import sweep
 from placement.visualize import Scene
+
+MAX_GRID_POINTS = 1_000_000
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
@@ -37,7 +40,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     energy_map.add_argument("--fix", metavar="z=0,phi=0", help="values of the other variables (mm, deg; default 0)")
     add_model_options(energy_map)
     add_sampling_options(energy_map)
-    energy_map.add_argument("--workers", type=int, help="worker processes (default: every core)")
+    energy_map.add_argument("--workers", type=whole_number(1, 1024), help="worker processes (default: every core)")
     energy_map.add_argument("--out", required=True, help="the map file to write (.npz; reload with SweepResult.load)")
     energy_map.add_argument("--png", help="also draw the map (two variables) as PNG and SVG")
     energy_map.add_argument("--html", help="also draw the feasible placements as coloured points in a 3-D scene")
@@ -46,18 +49,26 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 def parse_grid(text: str) -> dict[str, np.ndarray]:
     """'x=-120:60:41,phi=-90:90:37' -> {name: values (SI)}; mm and degrees."""
-    axes = {}
+    axes: dict[str, np.ndarray] = {}
+    points = 1
     for item in filter(None, (part.strip() for part in text.split(","))):
         name, _, spec = item.partition("=")
         parts = spec.split(":")
         if name not in VARIABLES or len(parts) != 3:
-            raise UsageError(f"--grid: expected name=start:stop:count (mm or deg), got '{item}'")
+            raise UsageError(f"--grid: expected name=start:stop:count (mm or deg), got '{item[:40]}'")
+        if name in axes:
+            raise UsageError(f"--grid: {name} is given twice")
         try:
             start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
         except ValueError:
-            raise UsageError(f"--grid: '{spec}' is not start:stop:count") from None
+            raise UsageError(f"--grid: '{spec[:40]}' is not start:stop:count") from None
+        if not (np.isfinite(start) and np.isfinite(stop)):
+            raise UsageError(f"--grid: the start and stop of {name} must be finite numbers")
         if count < 2:
             raise UsageError(f"--grid: {name} needs at least 2 points")
+        points *= count
+        if points > MAX_GRID_POINTS:
+            raise UsageError(f"--grid: more than {MAX_GRID_POINTS:,} placements; use fewer points")
         scale = np.pi / 180 if name in ANGLES else 1e-3
         axes[name] = np.linspace(start, stop, count) * scale
     if not axes:
@@ -67,25 +78,29 @@ def parse_grid(text: str) -> dict[str, np.ndarray]:
 
 def run(args: argparse.Namespace) -> int:
     """The 'map' command: a map of the objective over a grid of placements."""
-    robot = load_robot(args.robot)
-    check_outputs(("--out", args.out), ("--png", args.png), ("--html", args.html))
-    path = configured_path(args, args.path)
+    out = args.out if args.out.endswith(".npz") else f"{args.out}.npz"  # numpy's suffix, said up front
+    check_outputs(("--out", out), ("--png", args.png), ("--html", args.html), inputs=(args.path,))
     axes = parse_grid(args.grid)
     fixed = parse_values(args.fix or "", "--fix")
+    clash = sorted(set(axes) & set(fixed))
+    if clash:
+        raise UsageError(f"--fix: {', '.join(clash)} is also swept by --grid")
+    if args.png and len(axes) != 2:
+        raise UsageError(f"--png draws maps over exactly two variables; --grid gives {len(axes)}")
+    robot = load_robot(args.robot)
+    path = configured_path(args, args.path)
     total = int(np.prod([len(v) for v in axes.values()]))
     with tqdm(desc="mapping", total=total, unit=" placement", disable=args.quiet, file=sys.stderr, leave=False) as bar:
         result = sweep(robot, path, axes, fixed, regeneration=args.regen, time_step_s=args.time_step,
                        workers=args.workers, progress=bar.update, objective=args.objective)
-    result.save(args.out)
+    result.save(out)
     feasible = result.value[result.feasible]
     objective = OBJECTIVES.get(args.objective)
     subject = "energy" if args.objective == "energy" else objective.title
     print(f"{total} placements of {path.name} on {robot.name}: {len(feasible)} feasible"
           + (f", {subject} {feasible.min():.4f} to {feasible.max():.4f} {objective.unit}" if len(feasible) else "")
-          + f"; written to {args.out}")
+          + f"; written to {out}")
     if args.png:
-        if len(axes) != 2:
-            raise UsageError("--png draws maps over exactly two variables")
         from placement.plots import map_figure, save
 
         save(map_figure(result, f"{path.name}: {subject} ({args.regen})"), str(args.png).removesuffix(".png"))

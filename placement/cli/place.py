@@ -20,6 +20,7 @@ from placement.cli.common import (
     check_outputs,
     configured_path,
     parse_values,
+    whole_number,
 )
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation import Evaluator
@@ -30,7 +31,7 @@ from placement.path import ToolPath
 from placement.report import detail_json, format_detail, format_result, write_atomically, write_json, write_trace
 from placement.robot import Robot, load_robot
 from placement.search.optimize import SearchSettings, optimize_placement
-from placement.visualize import AT_COLOR, BEST_COLOR, WORST_COLOR, Scene
+from placement.visualize import AT_COLOR, BEST_COLOR, WORST_COLOR, PageServer, Scene
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -54,17 +55,22 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--fix", metavar="z=0,theta=0", help="values of fixed variables (mm, deg; default 0)")
     add_model_options(parser)
     add_sampling_options(parser)
-    parser.add_argument("--seed", type=int, default=0, help="random seed of the search (default 0)")
-    parser.add_argument("--generations", type=int, default=SearchSettings.max_generations, metavar="N",
+    parser.add_argument("--seed", type=whole_number(0, 2**32 - 1), default=0,
+                        help="random seed of the search (default 0)")
+    parser.add_argument("--generations", type=whole_number(1, 100_000), default=SearchSettings.max_generations,
+                        metavar="N",
                         help=f"most generations of the global search (default {SearchSettings.max_generations})")
-    parser.add_argument("--population", type=int, default=SearchSettings.population, metavar="N",
+    parser.add_argument("--population", type=whole_number(1, 10_000), default=SearchSettings.population, metavar="N",
                         help=f"population of the global search (default {SearchSettings.population})")
     parser.add_argument("--json", metavar="FILE", help="write the results as JSON (SI units)")
     parser.add_argument("--trace", metavar="FILE",
                         help="write a per-sample CSV trace of the placement given by --at, else of the best one")
     parser.add_argument("--html", metavar="FILE", help="write a 3-D scene (robot, workspace, best and worst paths, "
                         "robot animated along the first path) as a self-contained HTML page")
-    parser.add_argument("--show", action="store_true", help="serve the 3-D scene live on this machine and print its URL")
+    parser.add_argument("--show", action="store_true",
+                        help="serve the 3-D scene on this machine (127.0.0.1) and print its address")
+    parser.add_argument("--show-host", metavar="ADDRESS", default="127.0.0.1",
+                        help="serve --show on this address instead (0.0.0.0: every network the machine is on)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     return parser
 
@@ -101,8 +107,6 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace) -> tuple[d
     space = default_space(robot, free=free, fixed=parse_values(args.fix or "", "--fix"),
                           half_turn=path.half_turn_symmetric())
     print(f"search: {', '.join(space.free)} free; seed {args.seed}")
-    if args.generations < 1 or args.population < 1:
-        raise UsageError("--generations and --population must be at least 1")
     settings = SearchSettings(seed=args.seed, max_generations=args.generations, population=args.population)
     lower = objective.better == "lower"
     find_best = not (args.maximize if lower else args.minimize)
@@ -136,6 +140,24 @@ def draw(scene: Scene, robot: Robot, index: int, details: dict) -> None:
         scene.animate(joint_trajectory(robot, task).q, moving.samples.t_s)
 
 
+def show(page: str, host: str) -> None:
+    """Serve the scene's page until Enter is pressed (or the input ends)."""
+    if host != "127.0.0.1":
+        print(f"warning: --show-host {host}: the scene is served to every machine that can reach this address",
+              file=sys.stderr)
+    try:
+        server = PageServer(page, host)
+    except OSError as error:
+        raise UsageError(f"--show-host: cannot serve on '{host}': {error.strerror or error}") from None
+    print(f"\nviewer at {server.url} (press Enter to stop)")
+    try:
+        input()
+    except EOFError:
+        pass
+    finally:
+        server.close()
+
+
 def run(args: argparse.Namespace) -> int:
     """The main job; returns the exit code."""
     robot = load_robot(args.robot)
@@ -144,40 +166,34 @@ def run(args: argparse.Namespace) -> int:
     if args.at is not None and (args.fix or args.free or args.minimize or args.maximize):
         raise UsageError("--at evaluates one placement: give every value in --at, without --fix, --free, "
                          "--minimize or --maximize")
-    check_outputs(("--json", args.json), ("--trace", args.trace), ("--html", args.html))
-    scene = Scene(robot, live=args.show) if args.html or args.show else None
+    check_outputs(("--json", args.json), ("--trace", args.trace), ("--html", args.html), inputs=tuple(args.path))
+    scene = Scene(robot) if args.html or args.show else None
     if scene:
         scene.add_workspace()
     documents, failures = [], []
-    try:
-        for index, file in enumerate(args.path):
-            if index:
-                print()
-            document, details, infeasible = place_one(robot, configured_path(args, file), args)
-            documents.append(document)
-            if infeasible:
-                failures.append(f"{file}: {infeasible}")
-                document["infeasible"] = infeasible
-            if scene:
-                draw(scene, robot, index, details)
-            traced = details.get("at") or details.get("best") or details.get("worst")
-            if args.trace and traced is not None:
-                write_trace(args.trace, robot, traced)
-        if args.json:
-            write_json(args.json, documents[0] if len(documents) == 1 else {"robot": robot.name, "paths": documents})
-        if args.html and scene:
-            title = documents[0]["path"] if len(documents) == 1 else f"{len(documents)} paths"
-            write_atomically(args.html, scene.html(f"{robot.name}: {title}"))
-            print(f"\nscene written to {args.html} (open it in a browser; no server needed)")
-        if args.show and scene:
-            print(f"\nviewer at {scene.url()} (press Enter to stop)")
-            try:
-                input()
-            except EOFError:
-                pass
-    finally:
+    for index, file in enumerate(args.path):
+        if index:
+            print()
+        document, details, infeasible = place_one(robot, configured_path(args, file), args)
+        documents.append(document)
+        if infeasible:
+            failures.append(f"{file}: {infeasible}")
+            document["infeasible"] = infeasible
         if scene:
-            scene.close()
+            draw(scene, robot, index, details)
+        traced = details.get("at") or details.get("best") or details.get("worst")
+        if args.trace and traced is not None:
+            write_trace(args.trace, robot, traced)
+    if args.json:
+        write_json(args.json, documents[0] if len(documents) == 1 else {"robot": robot.name, "paths": documents})
+    if scene:
+        title = documents[0]["path"] if len(documents) == 1 else f"{len(documents)} paths"
+        page = scene.html(f"{robot.name}: {title}")
+        if args.html:
+            write_atomically(args.html, page)
+            print(f"\nscene written to {args.html} (open it in a browser; no server needed)")
+        if args.show:
+            show(page, args.show_host)
     for failure in failures:
         print(f"error: {'' if args.at is not None else 'no feasible placement: '}{failure}", file=sys.stderr)
     return 2 if failures else 0

@@ -21,10 +21,10 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from placement.registry import Registry
-from placement.schema import Strict
+from placement.schema import Count, Number, Strict
 
-NonNegative = Annotated[float, Field(ge=0.0)]
-Positive = Annotated[float, Field(gt=0.0)]
+NonNegative = Annotated[Number, Field(ge=0.0)]
+Positive = Annotated[Number, Field(gt=0.0)]
 
 
 @dataclass(frozen=True)
@@ -55,11 +55,11 @@ class Motor(Strict):
     back_emf_constant_V_s_per_rad: Positive
     resistance_ohm: NonNegative
     inductance_H: NonNegative
-    phases: Annotated[int, Field(ge=1)]
+    phases: Annotated[Count, Field(ge=1)]
     rotor_inertia_kg_m2: NonNegative
     max_torque_Nm: Positive
     max_speed_rad_s: Positive | None = None
-    parameters: dict[str, float] = Field({}, description="extra constants of a plug-in motor model")
+    parameters: dict[str, Number] = Field({}, description="extra constants of a plug-in motor model")
 
     @model_validator(mode="after")
     def _consistent_with_its_model(self) -> Motor:

@@ -15,10 +15,10 @@ from typing import Annotated, Any
 from pydantic import Field
 
 from placement.registry import Registry
-from placement.schema import Tagged
+from placement.schema import Number, Tagged
 
-Efficiency = Annotated[float, Field(gt=0.0, le=1.0)]
-Positive = Annotated[float, Field(gt=0.0)]
+Efficiency = Annotated[Number, Field(gt=0.0, le=1.0)]
+Positive = Annotated[Number, Field(gt=0.0)]
 
 
 class Transmission(Tagged):

@@ -11,6 +11,7 @@ from __future__ import annotations
 import logging
 from pathlib import Path
 from typing import Any
+from xml.etree import ElementTree
 
 import numpy as np
 import pinocchio as pin
@@ -91,9 +92,15 @@ def _read_urdf(path: Path) -> yourdfpy.URDF:
     """Parse the URDF with yourdfpy and check every inertial is physical."""
     logging.getLogger("yourdfpy").setLevel(logging.ERROR)
     try:
+        root = ElementTree.parse(path).getroot()
+    except (ElementTree.ParseError, UnicodeDecodeError) as error:
+        raise RobotFileError(path, "", f"not an XML file: {str(error)[:200]}") from None
+    if root.tag != "robot":
+        raise RobotFileError(path, "", f"not a URDF: the root element is <{root.tag[:40]}>, expected <robot>")
+    try:
         urdf = yourdfpy.URDF.load(str(path), build_scene_graph=False, load_meshes=False)
     except Exception as error:  # yourdfpy raises a variety of parser errors
-        raise RobotFileError(path, "", f"not a readable URDF: {error}") from None
+        raise RobotFileError(path, "", f"not a readable URDF: {str(error)[:200]}") from None
     for link in urdf.robot.links:
         inertial = link.inertial
         if inertial is None:

@@ -16,11 +16,11 @@ from pydantic import BeforeValidator, Field, model_validator
 from placement.drives.motors import Motor
 from placement.drives.transmissions import Transmission, parse_transmission
 from placement.exceptions import RobotFileError
-from placement.schema import Strict, read_yaml
+from placement.schema import Number, Strict, read_yaml
 
-NonNegative = Annotated[float, Field(ge=0.0)]
-Positive = Annotated[float, Field(gt=0.0)]
-Vector3 = tuple[float, float, float]
+NonNegative = Annotated[Number, Field(ge=0.0)]
+Positive = Annotated[Number, Field(gt=0.0)]
+Vector3 = tuple[Number, Number, Number]
 SOURCE_STATUSES = ("PAPER", "DERIVED", "CATALOG", "PUBLISHED", "EST")
 
 
@@ -51,8 +51,8 @@ class Actuator(Strict):
 
     joint: str
     drive: str | None = None
-    position_min: float | None = None
-    position_max: float | None = None
+    position_min: Number | None = None
+    position_max: Number | None = None
     velocity_max: Positive | None = None
 
 
@@ -87,7 +87,7 @@ class PlacementDefaults(Strict):
     """The default search space of path placements on this robot (m, rad)."""
 
     free: Annotated[list[Literal["x", "y", "z", "phi", "theta", "psi"]], Field(min_length=1)]
-    bounds: dict[Literal["x", "y", "z", "phi", "theta", "psi"], tuple[float, float]] = {}
+    bounds: dict[Literal["x", "y", "z", "phi", "theta", "psi"], tuple[Number, Number]] = {}
 
     @model_validator(mode="after")
     def _ordered(self) -> PlacementDefaults:
@@ -120,8 +120,8 @@ class Sidecar(Strict):
     urdf: str = Field(description="URDF path relative to this file, or 'example-robot-data:NAME'")
     gravity_m_s2: Vector3
     end_effector: EndEffector
-    reference_configuration: dict[str, float] = {}
-    locked_joints: dict[str, float] = Field({}, description="joints held fixed at these values (m, rad)")
+    reference_configuration: dict[str, Number] = {}
+    locked_joints: dict[str, Number] = Field({}, description="joints held fixed at these values (m, rad)")
     closures: list[Closure] = []
     actuators: Annotated[list[Actuator], Field(min_length=1)]
     drives: dict[str, Drive] = {}
