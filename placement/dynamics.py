@@ -14,6 +14,7 @@ transmission must deliver at each actuated joint (N for a slider, N·m for a rev
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 
 import numpy as np
@@ -45,20 +46,20 @@ class ActuatorTrajectory:
     joints: JointTrajectory
 
 
-def rnea_batch(model: pin.Model, q: np.ndarray, v: np.ndarray, a: np.ndarray, threads: int = 1) -> np.ndarray:
+def rnea_batch(model: pin.Model, q: np.ndarray, v: np.ndarray, a: np.ndarray, threads: int | None = None) -> np.ndarray:
     """Tree inverse dynamics for many samples in one call (rows are samples), (N, nv).
 
     Args:
-        threads: Most threads of Pinocchio's parallel RNEA (fewer on small batches).
+        threads: Most threads of Pinocchio's parallel RNEA (default: every core; fewer on small batches).
     """
-    threads = max(1, min(threads, len(q) // SAMPLES_PER_THREAD))
+    threads = max(1, min(threads or os.cpu_count() or 1, len(q) // SAMPLES_PER_THREAD))
     pool = pin.ModelPool(model, threads)
     tau = pin.rneaInParallel(threads, pool, np.asfortranarray(q.T), np.asfortranarray(v.T), np.asfortranarray(a.T))
     return np.reshape(tau, (model.nv, len(q))).T
 
 
 def actuator_efforts(robot: Robot, joints: JointTrajectory, external_load: np.ndarray | None = None,
-                     threads: int = 1) -> np.ndarray:
+                     threads: int | None = None) -> np.ndarray:
     """Actuator efforts (N, n_act) for a known closed-loop joint motion.
 
     Args:
@@ -66,7 +67,7 @@ def actuator_efforts(robot: Robot, joints: JointTrajectory, external_load: np.nd
         joints: Motion of every joint (from :func:`placement.kinematics.joint_trajectory`).
         external_load: (N, task_dim) load on the end effector from the environment, in the base
             frame at the end-effector origin: force (N), then moment (N·m) for a pose task.
-        threads: Most threads of the batched RNEA.
+        threads: Most threads of the batched RNEA (default: every core).
 
     Returns:
         Forces (N) or torques (N·m) at the actuated joints.

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import os
 from concurrent.futures import Executor, ProcessPoolExecutor
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -23,13 +23,14 @@ from placement.energy.regeneration import REGENERATION
 from placement.exceptions import PlacementError
 from placement.frames import placed_task
 from placement.kinematics import solver_for
-from placement.limits import Margin, margin_fields, tightest, worst_margins
+from placement.limits import LIMITS, Margin, margin_fields, tightest, worst_margins
 from placement.objectives import OBJECTIVES, Objective
 from placement.path import PathSamples, ToolPath
 from placement.registry import restore_runtime_members, runtime_members
 from placement.robot.model import Robot
 
 BATCH_SAMPLES = 60_000  # samples per batched call (memory: about 0.5 kB a sample)
+UNREACHABLE_MARGIN = -1.0  # every margin of an unreachable placement: how infeasible it is, to steer the search
 
 
 @dataclass(frozen=True)
@@ -161,7 +162,8 @@ class Evaluator:
     def job(self, placements: np.ndarray) -> EvaluationJob:
         """Everything a worker process needs to evaluate ``placements`` as this evaluator would."""
         return EvaluationJob(self.robot, self.path, self.regeneration, self.time_step_s, self.method,
-                             self.objective_name, placements)
+                             self.objective_name, placements,
+                             runtime_members(members_used(self.robot, self.objective_name, self.regeneration, self.method)))
 
     def batch(self, placements: np.ndarray) -> EvaluatedBatch:
         """Run the exact chain on (K, 6) placements; arrays come back shaped (K, N, ...)."""
@@ -206,6 +208,7 @@ class Evaluator:
         batch = self.batch(placements)
         margins, labels = worst_margins(margin_fields(batch))
         reachable = np.asarray(batch.reachable.all(axis=1))
+        margins[~reachable] = np.minimum(margins[~reachable], UNREACHABLE_MARGIN)
         value = np.where(reachable, self.objective(batch), self.objective.sign * np.inf)
         return Evaluation(placements=placements, objective=self.objective_name, value=value, margins=margins,
                           limits=labels, reachable=reachable)
@@ -248,7 +251,16 @@ class EvaluationJob:
     method: str
     objective: str
     placements: np.ndarray
-    registered: dict[str, dict[str, object]] = field(default_factory=runtime_members)
+    registered: dict[str, dict[str, object]]
+
+
+def members_used(robot: Robot, objective: str, regeneration: str, method: str) -> dict[str, set[str]]:
+    """The plug-in members an evaluation uses, by entry-point group."""
+    drives = [a.drive for a in robot.actuators if a.drive is not None]
+    return {"placement.objectives": {objective}, "placement.regeneration": {regeneration},
+            "placement.motor_models": {d.motor.model for d in drives},
+            "placement.transmissions": {d.transmission.type for d in drives},
+            "placement.kinematics": {method, robot.sidecar.kinematics or ""}, "placement.limits": set(LIMITS.names())}
 
 
 def evaluate_job(job: EvaluationJob) -> Evaluation:

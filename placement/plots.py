@@ -41,7 +41,7 @@ def draw_map(ax: Axes, result: SweepResult, levels: int | np.ndarray = 12, title
     filled = None
     if result.feasible.any():
         vmin, vmax = color_range or (energy.min(), energy.max())
-        filled = ax.contourf(uu, vv, energy, levels=np.linspace(vmin, vmax, levels) if isinstance(levels, int) else levels,
+        filled = ax.contourf(uu, vv, energy, levels=np.linspace(vmin, vmax, levels) if np.ndim(levels) == 0 else levels,
                              cmap="viridis", vmin=vmin, vmax=vmax, extend="both")
         lines = ax.contour(uu, vv, energy, levels=np.asarray(filled.levels)[::2], colors="k", linewidths=0.5)
         ax.clabel(lines, fmt="%.1f", fontsize=7)

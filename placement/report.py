@@ -18,11 +18,9 @@ import numpy as np
 
 from placement.evaluation import PlacementDetail
 from placement.frames import ANGLES, VARIABLES
-from placement.objectives import OBJECTIVES
+from placement.objectives import OBJECTIVES, wording
 from placement.robot.model import Robot
 from placement.search.optimize import Optimum, PlacementResult
-
-DIRECTION_WORDS = {"lower": ("least", "most"), "higher": ("most", "least")}
 
 
 def format_placement(placement: np.ndarray) -> str:
@@ -40,8 +38,8 @@ def format_detail(title: str, robot: Robot, detail: PlacementDetail, recheck_val
                      f"configuration (first at t = {detail.samples.t_s[first]:.4f} s)")
         return "\n".join(lines)
     energy = detail.energy
-    objective = OBJECTIVES.get(detail.objective)
-    lines.append(_value_line(_subject(detail.objective), detail.value, objective.unit, recheck_value))
+    words = wording(detail.objective)
+    lines.append(_value_line(words.subject, detail.value, words.unit, recheck_value))
     if detail.objective != "energy":
         lines.append(f"  energy {energy.total_J:.4f} J")
     width = max(14, max(len(a.joint) for a in robot.actuators) + 2)
@@ -62,34 +60,27 @@ def format_detail(title: str, robot: Robot, detail: PlacementDetail, recheck_val
     return "\n".join(lines)
 
 
-def _subject(objective: str) -> str:
-    """How reports name an objective: 'energy' for the paper's, else its title."""
-    return "energy" if objective == "energy" else OBJECTIVES.get(objective).title
-
-
 def _value_line(title: str, value: float, unit: str, recheck: float | None) -> str:
     text = f"  {title} {value:.4f} {unit}"
     if recheck is not None:
-        change = (recheck - value) / value * 100
-        text += f" (4x denser sampling: {recheck:.4f} {unit}, {change:+.3f} %)"
+        change = f"{(recheck - value) / value * 100:+.3f} %" if value else "n/a"
+        text += f" (4x denser sampling: {recheck:.4f} {unit}, {change})"
     return text
 
 
 def format_result(robot: Robot, result: PlacementResult) -> str:
     """Text report of a search: best and worst placements and the gain."""
-    objective = OBJECTIVES.get(result.objective)
-    subject = _subject(result.objective)
-    good, bad = DIRECTION_WORDS[objective.better]
+    words = wording(result.objective)
     blocks = []
-    for title, optimum in ((f"best placement ({good} {subject})", result.best),
-                           (f"worst placement ({bad} {subject})", result.worst)):
+    for title, optimum in ((f"best placement ({words.best} {words.subject})", result.best),
+                           (f"worst placement ({words.worst} {words.subject})", result.worst)):
         if optimum is not None:
             blocks.append(format_detail(title, robot, optimum.detail, optimum.recheck_value))
     if result.gain is not None and result.best is not None and result.worst is not None:
         difference = abs(result.worst.detail.value - result.best.detail.value)
-        per_pass = " per pass" if objective.unit == "J" else ""
-        blocks.append(f"gain: placing the path at the best instead of the worst placement saves "
-                      f"{result.gain * 100:.1f} % of the {subject} ({difference:.4f} {objective.unit}{per_pass})")
+        per_pass = " per pass" if words.unit == "J" else ""
+        blocks.append(f"gain: placing the path at the best instead of the worst placement {words.gain_verb} "
+                      f"{result.gain * 100:.1f} % of the {words.subject} ({difference:.4f} {words.unit}{per_pass})")
     return "\n\n".join(blocks)
 
 

@@ -1,8 +1,8 @@
-"""3-D scenes in the browser (meshcat): the robot, its workspace, placed paths and energy maps.
+"""3-D scenes in the browser (meshcat): the robot, its workspace, placed paths and maps of an objective.
 
 A :class:`Scene` draws the robot from its URDF visuals (Pinocchio's meshcat visualiser), the
-workspace box as a wireframe with its named points, placed paths as coloured lines, an energy map
-as coloured points, and animates the robot along a path. It either records the scene and writes a
+workspace box as a wireframe with its named points, placed paths as coloured lines, a map
+as coloured points, and animates the robot along a path. It records the scene and writes a
 self-contained HTML page that opens in a browser with no server and no network; :class:`PageServer`
 serves that page on this machine (loopback only, unless asked otherwise). Everything that comes
 from input files (path names, point names) is escaped in the page.
@@ -139,13 +139,14 @@ class Scene:
         if label and all(entry[0] != label for entry in self.legend):
             self.legend.append((label, color))
 
-    def add_energy_points(self, points_m: np.ndarray, energy_J: np.ndarray, size_m: float = 0.004) -> None:
-        """Placement origins coloured by energy (viridis: dark = low)."""
-        span = np.ptp(energy_J) or 1.0
-        colors = matplotlib.colormaps["viridis"]((energy_J - energy_J.min()) / span)[:, :3]
-        self.viewer["energy_map"].set_object(g.PointCloud(np.asarray(points_m, dtype=np.float32).T,
-                                                          colors.T.astype(np.float32), size=size_m))
-        self.legend.append(("energy map (dark: low)", 0x440154))
+    def add_value_points(self, points_m: np.ndarray, value: np.ndarray, subject: str = "energy",
+                         size_m: float = 0.004) -> None:
+        """Placement origins coloured by an objective's value (viridis: dark = low)."""
+        span = np.ptp(value) or 1.0
+        colors = matplotlib.colormaps["viridis"]((value - value.min()) / span)[:, :3]
+        self.viewer["value_map"].set_object(g.PointCloud(np.asarray(points_m, dtype=np.float32).T,
+                                                         colors.T.astype(np.float32), size=size_m))
+        self.legend.append((f"{subject} map (dark: low)", 0x440154))
 
     def animate(self, q: np.ndarray, t_s: np.ndarray, repetitions: int = 1000) -> None:
         """Play the robot along joint configurations ``q`` (N, nq) sampled at times ``t_s``."""

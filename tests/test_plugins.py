@@ -98,7 +98,9 @@ class _Silent(MotorModel):
 
 def test_members_registered_at_run_time_travel_to_spawned_workers(tmp_path):
     register_motor_model("silent_for_test", _Silent())
-    assert isinstance(runtime_members()["placement.motor_models"]["silent_for_test"], _Silent)
+    carried = runtime_members({"placement.motor_models": {"silent_for_test", "pmsm"}, "placement.objectives": {"energy"}})
+    assert isinstance(carried["placement.motor_models"]["silent_for_test"], _Silent)
+    assert carried == {"placement.motor_models": carried["placement.motor_models"], "placement.objectives": {}}
     robot = load_robot(edited_copy("orthoglide", tmp_path, lambda d: orthoglide_motor(d).update(model="silent_for_test")))
     path = load_path(Path(__file__).parents[1] / "examples" / "rect.yaml")
     axes = {"x": np.array([-0.02, 0.0, 0.02])}
@@ -118,3 +120,32 @@ def test_a_workers_error_reaches_the_caller_whole():
                   UnreachableError([3, 4], 2, "singular")):
         copy = pickle.loads(pickle.dumps(error))
         assert type(copy) is type(error) and str(copy) == str(error) and copy.__dict__ == error.__dict__
+
+
+def test_a_broken_installed_entry_spoils_only_its_own_name(tmp_path):
+    """One unloadable entry point: the family still works, and that name says why it cannot load."""
+    import json
+
+    dist = tmp_path / "broken_plugin-0.1.dist-info"
+    dist.mkdir()
+    (dist / "METADATA").write_text("Metadata-Version: 2.1\nName: broken-plugin\nVersion: 0.1\n")
+    (dist / "entry_points.txt").write_text("[placement.objectives]\naaa_broken = no_such_module:thing\n"
+                                           "not_an_objective = json:dumps\n")
+    script = ("import json, placement\n"
+              "from placement.registry import UnknownMemberError\n"
+              "names = placement.OBJECTIVES.names()\n"
+              "errors = []\n"
+              "for name in ('aaa_broken', 'not_an_objective'):\n"
+              "    try:\n"
+              "        placement.OBJECTIVES.get(name)\n"
+              "    except placement.PlacementError as error:\n"
+              "        errors.append(str(error))\n"
+              "print(json.dumps([names, errors]))\n")
+    environment = {**os.environ, "PYTHONPATH": os.pathsep.join([str(tmp_path), *sys.path])}
+    result = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, env=environment,
+                            cwd=tmp_path, timeout=300, check=False)
+    assert result.returncode == 0, result.stderr[-2000:]
+    names, errors = json.loads(result.stdout.strip().splitlines()[-1])
+    assert names == ["energy", "mechanical_energy", "peak_torque", "rms_current"]
+    assert "'aaa_broken' installed as 'no_such_module:thing' failed to load: ModuleNotFoundError" in errors[0]
+    assert "must be an instance of Objective" in errors[1]

@@ -165,3 +165,13 @@ def test_unknown_robot_lists_the_known_ones():
     with pytest.raises(UnknownRobotError) as error:
         load_robot("orthoglyde")
     assert "orthoglide" in str(error.value)
+
+
+def test_a_kinematics_solver_named_in_the_sidecar_is_checked_at_load(tmp_path):
+    from robot_copies import edited_copy
+
+    with pytest.raises(RobotFileError, match="unknown kinematics solver 'bogus', expected one of") as error:
+        load_robot(edited_copy("fivebar", tmp_path / "a", lambda d: d.update(kinematics="bogus")))
+    assert error.value.field == "kinematics"
+    with pytest.raises(RobotFileError, match="the closed_form solver cannot serve this robot: the robot has no"):
+        load_robot(edited_copy("fivebar", tmp_path / "b", lambda d: d.update(kinematics="closed_form")))

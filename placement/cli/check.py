@@ -11,6 +11,7 @@ import numpy as np
 
 from placement.checks import check_robot
 from placement.cli.common import whole_number
+from placement.kinematics.base import solver_name
 from placement.robot import Robot, load_robot
 
 
@@ -22,6 +23,13 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
                        help="samples of the check trajectory (default 100)")
 
 
+def _solver_text(robot: Robot) -> str:
+    name = solver_name(robot)
+    if name == "closed_form":
+        return f"closed-form plug-in {robot.sidecar.kinematics_plugin}"
+    return "generic solver" if name == "numeric" else f"solver '{name}'"
+
+
 def describe(robot: Robot) -> str:
     """A human-readable summary of a loaded robot."""
     model = robot.model
@@ -31,7 +39,7 @@ def describe(robot: Robot) -> str:
              f"  joints: {model.nv} ({len(robot.actuators)} actuated); closures: {len(robot.closures)} "
              f"({point} point, {len(robot.closures) - point} weld)",
              f"  end effector: frame '{model.frames[robot.end_effector_frame_id].name}', {robot.task} task; "
-             f"kinematics: {f'closed-form plug-in {robot.sidecar.kinematics_plugin}' if robot.closed_form else 'generic solver'}",
+             f"kinematics: {_solver_text(robot)}",
              f"  gravity: {list(robot.sidecar.gravity_m_s2)} m/s^2",
              "  actuators:"]
     for a in robot.actuators:

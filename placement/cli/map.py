@@ -21,7 +21,7 @@ from placement.cli.common import (
     whole_number,
 )
 from placement.frames import ANGLES, VARIABLES
-from placement.objectives import OBJECTIVES
+from placement.objectives import wording
 from placement.report import write_atomically
 from placement.robot import load_robot
 from placement.search.sweep import sweep
@@ -95,21 +95,20 @@ def run(args: argparse.Namespace) -> int:
                        workers=args.workers, progress=bar.update, objective=args.objective)
     result.save(out)
     feasible = result.value[result.feasible]
-    objective = OBJECTIVES.get(args.objective)
-    subject = "energy" if args.objective == "energy" else objective.title
+    words = wording(args.objective)
     print(f"{total} placements of {path.name} on {robot.name}: {len(feasible)} feasible"
-          + (f", {subject} {feasible.min():.4f} to {feasible.max():.4f} {objective.unit}" if len(feasible) else "")
+          + (f", {words.subject} {feasible.min():.4f} to {feasible.max():.4f} {words.unit}" if len(feasible) else "")
           + f"; written to {out}")
     if args.png:
         from placement.plots import map_figure, save
 
-        save(map_figure(result, f"{path.name}: {subject} ({args.regen})"), str(args.png).removesuffix(".png"))
+        save(map_figure(result, f"{path.name}: {words.subject} ({args.regen})"), str(args.png).removesuffix(".png"))
         print(f"figure written to {args.png} (and .svg)")
     if args.html:
         scene = Scene(robot)
         scene.add_workspace()
         keep = result.feasible.ravel()
-        scene.add_energy_points(result.placements()[keep, :3], result.value.ravel()[keep])
-        write_atomically(args.html, scene.html(f"{robot.name}: energy map of {path.name}"))
+        scene.add_value_points(result.placements()[keep, :3], result.value.ravel()[keep], words.subject)
+        write_atomically(args.html, scene.html(f"{robot.name}: {words.subject} map of {path.name}"))
         print(f"scene written to {args.html}")
     return 0

@@ -26,7 +26,7 @@ from placement.energy.regeneration import REGENERATION
 from placement.evaluation import Evaluator
 from placement.frames import VARIABLES, default_space, placed_task
 from placement.kinematics import joint_trajectory
-from placement.objectives import OBJECTIVES
+from placement.objectives import OBJECTIVES, wording
 from placement.path import ToolPath
 from placement.report import detail_json, format_detail, format_result, write_atomically, write_json, write_trace
 from placement.robot import Robot, load_robot
@@ -131,7 +131,9 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace) -> tuple[d
 
 def draw(scene: Scene, robot: Robot, index: int, details: dict) -> None:
     """Add one path's placements to the scene; animate the robot along the first path's."""
-    colors = {"best": (BEST_COLOR, "least energy"), "worst": (WORST_COLOR, "most energy"), "at": (AT_COLOR, "--at")}
+    words = wording(next(iter(details.values())).objective) if details else None
+    colors = {"best": (BEST_COLOR, f"{words.best} {words.subject}" if words else ""),
+              "worst": (WORST_COLOR, f"{words.worst} {words.subject}" if words else ""), "at": (AT_COLOR, "--at")}
     for key, detail in details.items():
         scene.add_path(f"{index}_{key}", detail.tool_position_m, *colors[key])
     moving = details.get("at") or details.get("best") or details.get("worst")

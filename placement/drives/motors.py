@@ -114,7 +114,7 @@ class Pmsm(MotorModel):
                           back_emf_W=n * motor.back_emf_constant_V_s_per_rad * (w0 * i0 + w1 * i1) / 2)
 
 
-MOTOR_MODELS: Registry[MotorModel] = Registry("motor model", "placement.motor_models")
+MOTOR_MODELS: Registry[MotorModel] = Registry("motor model", "placement.motor_models", MotorModel)
 MOTOR_MODELS.add("pmsm", Pmsm())
 
 

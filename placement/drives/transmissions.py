@@ -41,7 +41,8 @@ class Transmission(Tagged):
         return self.type
 
 
-TRANSMISSIONS: Registry[type[Transmission]] = Registry("transmission", "placement.transmissions")
+TRANSMISSIONS: Registry[type[Transmission]] = Registry("transmission", "placement.transmissions", Transmission,
+                                                    instances=False)
 
 
 class BallScrew(Transmission):

@@ -62,6 +62,6 @@ class Absolute(RegenerationPolicy):
         return np.abs(power_W)
 
 
-REGENERATION: Registry[RegenerationPolicy] = Registry("regeneration mode", "placement.regeneration")
+REGENERATION: Registry[RegenerationPolicy] = Registry("regeneration mode", "placement.regeneration", RegenerationPolicy)
 for _name, _policy in (("clip", Clip()), ("bus", Bus()), ("signed", Signed()), ("absolute", Absolute())):
     REGENERATION.add(_name, _policy)

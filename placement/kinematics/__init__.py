@@ -12,7 +12,7 @@ from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
 from placement.robot.model import Robot
 
 __all__ = ["SOLVERS", "ClosedFormSolver", "JointTrajectory", "KinematicsSolver", "NumericSolver", "TaskTrajectory",
-           "joint_trajectory", "solve_configuration", "solver_for", "try_joint_trajectory"]
+           "joint_trajectory", "solve_configuration", "solver_for"]
 
 
 def joint_trajectory(robot: Robot, task: TaskTrajectory, method: str = "auto") -> JointTrajectory:
@@ -37,17 +37,6 @@ def joint_trajectory(robot: Robot, task: TaskTrajectory, method: str = "auto") -
         where = f" (first at {np.round(task.position_m[indices[0]], 6).tolist()} m)" if "target" not in reason else ""
         raise UnreachableError(indices, len(indices), reason + where)
     return joints
-
-
-def try_joint_trajectory(robot: Robot, task: TaskTrajectory, method: str = "auto") -> tuple[JointTrajectory, np.ndarray]:
-    """Like :func:`joint_trajectory`, but marks unreachable samples instead of raising.
-
-    Returns:
-        The joint motion (unreachable samples hold the reference configuration at rest, so every
-        value is finite) and the (N,) boolean mask of reachable samples.
-    """
-    joints, reachable, _ = _solve(robot, task, method)
-    return joints, reachable
 
 
 def _solve(robot: Robot, task: TaskTrajectory, method: str) -> tuple[JointTrajectory, np.ndarray, str]:

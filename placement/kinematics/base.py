@@ -62,14 +62,20 @@ class KinematicsSolver(ABC):
         """
 
 
-SOLVERS: Registry[type[KinematicsSolver]] = Registry("kinematics solver", "placement.kinematics")
+SOLVERS: Registry[type[KinematicsSolver]] = Registry("kinematics solver", "placement.kinematics", KinematicsSolver,
+                                                     instances=False)
+
+
+def solver_name(robot: Robot, name: str = "auto") -> str:
+    """The solver's name: ``name``, or for "auto" the sidecar's, else ``closed_form`` with a plug-in, else ``numeric``."""
+    if name != "auto":
+        return name
+    return robot.sidecar.kinematics or ("closed_form" if robot.closed_form is not None else "numeric")
 
 
 def solver_for(robot: Robot, name: str = "auto") -> KinematicsSolver:
-    """The named solver for ``robot``; "auto" takes the sidecar's, else the plug-in's, else ``numeric``."""
-    if name == "auto":
-        name = robot.sidecar.kinematics or ("closed_form" if robot.closed_form is not None else "numeric")
-    return SOLVERS.get(name)(robot)
+    """The solver called ``name`` (see :func:`solver_name`) for ``robot``."""
+    return SOLVERS.get(solver_name(robot, name))(robot)
 
 
 def task_error(robot: Robot, data: pin.Data, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:

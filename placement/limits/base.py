@@ -75,7 +75,7 @@ class Limit(ABC):
         """Per-sample margins of the batch's placements."""
 
 
-LIMITS: Registry[Limit] = Registry("limit", "placement.limits")
+LIMITS: Registry[Limit] = Registry("limit", "placement.limits", Limit)
 
 
 def margin_fields(batch: EvaluatedBatch) -> list[MarginField]:

@@ -9,6 +9,7 @@ instance of an :class:`Objective` subclass) under the entry-point group ``placem
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
+from dataclasses import dataclass
 from typing import ClassVar, Literal
 
 import numpy as np
@@ -30,6 +31,11 @@ class Objective(ABC):
     unit: ClassVar[str]
     better: ClassVar[Literal["lower", "higher"]] = "lower"
 
+    def __init_subclass__(cls, **kwargs: object) -> None:
+        super().__init_subclass__(**kwargs)
+        if cls.better not in ("lower", "higher"):
+            raise TypeError(f"{cls.__name__}.better must be 'lower' or 'higher', got {cls.better!r}")
+
     @abstractmethod
     def __call__(self, batch: EvaluatedBatch) -> np.ndarray:
         """(K,) values of the K placements of ``batch`` (finite where every sample is reachable)."""
@@ -40,4 +46,31 @@ class Objective(ABC):
         return 1.0 if self.better == "lower" else -1.0
 
 
-OBJECTIVES: Registry[Objective] = Registry("objective", "placement.objectives")
+OBJECTIVES: Registry[Objective] = Registry("objective", "placement.objectives", Objective)
+
+
+@dataclass(frozen=True)
+class Wording:
+    """How reports speak of an objective.
+
+    Attributes:
+        subject: Its name in a sentence: "energy" for the paper's, else its title.
+        unit: Its unit.
+        best, worst: The adjectives of the best and worst placements ("least", "most").
+        gain_verb: What the best placement does to it against the worst ("saves", "raises").
+    """
+
+    subject: str
+    unit: str
+    best: str
+    worst: str
+    gain_verb: str
+
+
+def wording(name: str) -> Wording:
+    """The wording of the objective called ``name``."""
+    objective = OBJECTIVES.get(name)
+    lower = objective.better == "lower"
+    return Wording(subject="energy" if name == "energy" else objective.title, unit=objective.unit,
+                   best="least" if lower else "most", worst="most" if lower else "least",
+                   gain_verb="saves" if lower else "raises")

@@ -19,7 +19,7 @@ class PeakTorque(Objective):
 
 
 class RmsCurrent(Objective):
-    """Largest RMS phase current among the motors over the path: the hottest motor's heating."""
+    """Largest RMS over the path of a motor's current I = τ/K_t: the hottest motor's copper losses."""
 
     title = "RMS motor current"
     unit = "A"

@@ -71,7 +71,23 @@ def load_robot(name_or_path: str | Path) -> Robot:
     _check_closed_at_reference(robot)
     _check_mobility(robot)
     _check_plugin(robot)
+    _check_solver(robot)
     return robot
+
+
+def _check_solver(robot: Robot) -> None:
+    """A solver named in the sidecar must exist and serve this robot."""
+    from placement.kinematics.base import SOLVERS  # here: the solvers import this package's modules
+
+    name = robot.sidecar.kinematics
+    if name is None:
+        return
+    if name not in SOLVERS:
+        raise RobotFileError(robot.sidecar_path, "kinematics", f"unknown kinematics solver '{name[:40]}', expected one "
+                             f"of {', '.join(SOLVERS.names())}")
+    reason = SOLVERS.get(name).unsuitable(robot)
+    if reason:
+        raise RobotFileError(robot.sidecar_path, "kinematics", f"the {name} solver cannot serve this robot: {reason}")
 
 
 def _resolve_urdf(sidecar_path: Path, urdf: str) -> Path:

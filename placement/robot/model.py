@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pinocchio as pin
 
-from placement.robot.plugins import ClosedFormSolver, load_plugin, make_closed_form
+from placement.robot.plugins import ClosedFormFunction, load_plugin, make_closed_form
 
 if TYPE_CHECKING:
     from placement.robot.sidecar import Drive, Sidecar
@@ -74,7 +74,7 @@ class Robot:
     task: str
     reference_q: np.ndarray
     plugin: ModuleType | None
-    closed_form: ClosedFormSolver | None
+    closed_form: ClosedFormFunction | None
     sidecar: Sidecar
 
     def __getstate__(self) -> dict:

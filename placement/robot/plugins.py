@@ -17,7 +17,7 @@ import pinocchio as pin
 from placement.exceptions import RobotFileError
 
 # A closed-form solver: platform coordinates (Taylor2 or arrays, m) -> {joint name: value (m, rad)}.
-ClosedFormSolver = Any
+ClosedFormFunction = Any
 
 
 def load_plugin(sidecar_path: Path, plugin: str | None) -> ModuleType | None:
@@ -45,7 +45,7 @@ def load_plugin(sidecar_path: Path, plugin: str | None) -> ModuleType | None:
     return module
 
 
-def make_closed_form(plugin: ModuleType | None, model: pin.Model, sidecar_path: Path) -> ClosedFormSolver | None:
+def make_closed_form(plugin: ModuleType | None, model: pin.Model, sidecar_path: Path) -> ClosedFormFunction | None:
     """The plug-in's closed-form solver for ``model`` (None without a plug-in)."""
     if plugin is None:
         return None

@@ -37,7 +37,7 @@ class SearchSettings:
     Attributes:
         population: Population size of the global search (at least 5 per free variable).
         max_generations: Upper bound on generations.
-        tolerance: Relative spread of the population's energies at which the search stops.
+        tolerance: Relative spread of the population's objective values at which the search stops.
         seed: Random seed; the same seed gives the same result.
         search_samples: Samples of the path during the global search, at most (a coarser
             sampling than the path's own when the path has more; the polish and the reported
@@ -67,8 +67,8 @@ class Optimum:
 
     @property
     def sampling_gap(self) -> float:
-        """Relative change of the objective when the path is sampled 4x more densely."""
-        return abs(self.recheck_value - self.detail.value) / abs(self.detail.value)
+        """Relative change of the objective when the path is sampled 4x more densely (absolute at 0)."""
+        return abs(self.recheck_value - self.detail.value) / (abs(self.detail.value) or 1.0)
 
 
 @dataclass(frozen=True)
@@ -93,11 +93,13 @@ class PlacementResult:
 
     @property
     def gain(self) -> float | None:
-        """|worst − best| / |worst| (for energy: (E_max − E_min)/E_max), when both were computed."""
+        """|best − worst| over the larger of the two (for energy: (E_max − E_min)/E_max), when both were
+        computed and one is not zero."""
         if self.best is None or self.worst is None:
             return None
         best, worst = self.best.detail.value, self.worst.detail.value
-        return float(abs(worst - best) / abs(worst))
+        larger = max(abs(best), abs(worst))
+        return float(abs(worst - best) / larger) if larger else None
 
 
 class _Problem:

@@ -19,11 +19,12 @@ from pathlib import Path
 
 import numpy as np
 
-from placement.evaluation import Evaluation, EvaluationJob, evaluate_job, process_pool
+from placement.evaluation import Evaluation, EvaluationJob, evaluate_job, members_used, process_pool
 from placement.exceptions import PlacementError
 from placement.frames import VARIABLES
 from placement.objectives import OBJECTIVES
 from placement.path import ToolPath
+from placement.registry import runtime_members
 from placement.robot.model import Robot
 
 CHUNK_PLACEMENTS = 128  # placements per task
@@ -90,9 +91,10 @@ class SweepResult:
             meta = json.loads(str(data["meta"]))
             return cls(variables=tuple(meta["variables"]),
                        axes=tuple(data[f"axis_{i}"] for i in range(len(meta["variables"]))),
-                       fixed=data["fixed"], value=data["value"], feasible=data["feasible"],
-                       tightest=data["tightest"], limits=tuple(meta["limits"]), robot=meta["robot"],
-                       path=meta["path"], regeneration=meta["regeneration"], objective=meta["objective"])
+                       fixed=data["fixed"], value=data["value" if "value" in data else "energy_J"],  # 0.1 maps: energy
+                       feasible=data["feasible"], tightest=data["tightest"], limits=tuple(meta["limits"]),
+                       robot=meta["robot"], path=meta["path"], regeneration=meta["regeneration"],
+                       objective=meta.get("objective", "energy"))
 
 
 def sweep(robot: Robot, path: ToolPath, axes: dict[str, np.ndarray], fixed: dict[str, float] | None = None,
@@ -126,8 +128,9 @@ def sweep(robot: Robot, path: ToolPath, axes: dict[str, np.ndarray], fixed: dict
     grid = SweepResult(variables, values, base, np.zeros(0), np.zeros(0), np.zeros(0), (), robot.name, path.name,
                        regeneration, objective)
     placements = grid.placements()
-    jobs = [EvaluationJob(robot, path, regeneration, time_step_s, "auto", objective, placements[i:i + CHUNK_PLACEMENTS])
-            for i in range(0, len(placements), CHUNK_PLACEMENTS)]
+    registered = runtime_members(members_used(robot, objective, regeneration, "auto"))
+    jobs = [EvaluationJob(robot, path, regeneration, time_step_s, "auto", objective, placements[i:i + CHUNK_PLACEMENTS],
+                          registered) for i in range(0, len(placements), CHUNK_PLACEMENTS)]
     results = _run(jobs, workers or os.cpu_count() or 1, executor, progress)
     shape = tuple(len(v) for v in values)
     evaluation = Evaluation.concatenate(results)
