@@ -15,6 +15,7 @@ import numpy as np  # noqa: E402
 from matplotlib.axes import Axes  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
+from placement.calibration import UNITS, Calibration  # noqa: E402
 from placement.frames import ANGLES  # noqa: E402
 from placement.search.sweep import SweepResult  # noqa: E402
 
@@ -58,6 +59,24 @@ def map_figure(result: SweepResult, title: str) -> Figure:
     if filled is not None:
         figure.colorbar(filled, ax=ax, label=result.label)
     figure.text(0.01, 0.005, "hatched: infeasible placements", fontsize=7, color="0.3", va="bottom")
+    return figure
+
+
+def calibration_figure(result: Calibration, actuators: list[str]) -> Figure:
+    """Measured against predicted values over time, one panel per actuator and quantity; held-out part shaded."""
+    quantities = sorted(result.measured)
+    figure, axes = plt.subplots(len(quantities), len(actuators), figsize=(4.2 * len(actuators), 2.8 * len(quantities)),
+                                squeeze=False, constrained_layout=True)
+    for row, quantity in enumerate(quantities):
+        for column, name in enumerate(actuators):
+            ax = axes[row, column]
+            ax.axvspan(result.t_s[result.split], result.t_s[-1], color="0.9", label="held out")
+            ax.plot(result.t_s, result.measured[quantity][:, column], color="0.5", linewidth=0.8, label="measured")
+            ax.plot(result.t_s, result.predicted[quantity][:, column], color="C0", linewidth=1.0, label="predicted")
+            ax.set_title(f"{name}: {quantity}", fontsize=9)
+            ax.set_xlabel("t (s)")
+            ax.set_ylabel(f"{quantity} ({UNITS[quantity]})")
+    axes[0, 0].legend(fontsize=7)
     return figure
 
 

@@ -4,6 +4,7 @@
     placement map ...                                          a map of the objective (:mod:`placement.cli.map`)
     placement check ROBOT                                      describe a robot, prove its model exact
     placement robots                                           list the robots
+    placement calibrate ROBOT --log LOG --fit NAMES            fit drive constants to measurements
 
 Exit codes: 0 success, 1 a physics check failed, 2 bad input or no feasible placement (the
 message says what and where), 130 interrupted. ``--debug`` anywhere on the line shows the
@@ -15,11 +16,11 @@ from __future__ import annotations
 import argparse
 import sys
 
-from placement.cli import check, place, robots
+from placement.cli import calibrate, check, place, robots
 from placement.cli import map as map_command
 from placement.exceptions import PlacementError
 
-SUBCOMMANDS = {"robots": robots, "check": check, "map": map_command}
+SUBCOMMANDS = {"robots": robots, "check": check, "map": map_command, "calibrate": calibrate}
 
 
 def build_command_parser() -> argparse.ArgumentParser:

@@ -21,7 +21,7 @@ from placement.schema import Number, Strict, read_yaml
 NonNegative = Annotated[Number, Field(ge=0.0)]
 Positive = Annotated[Number, Field(gt=0.0)]
 Vector3 = tuple[Number, Number, Number]
-SOURCE_STATUSES = ("PAPER", "DERIVED", "CATALOG", "PUBLISHED", "EST")
+SOURCE_STATUSES = ("PAPER", "DERIVED", "CATALOG", "PUBLISHED", "EST", "CALIBRATED")
 
 
 class Friction(Strict):

@@ -1,0 +1,318 @@
+"""Drive constants fitted to a machine's own measurements.
+
+The drive constants of a robot file are often estimates; the absolute energies are only as good
+as they are. Given a measured log of a motion (times, tool positions or joint positions, and per
+actuator the motor current or the electric power), :func:`calibrate` fits chosen drive constants
+by bounded least squares (scipy), with the exact model computing the efforts of the logged
+motion once and the drive and motor models predicting the logged quantity for each trial. The
+log is split in time: the fit uses the first part, and the error on the rest (held out) says how
+well the fitted model predicts what it has not seen.
+
+Log (CSV, header row, SI units): ``t`` (s); either ``x, y, z`` (tool point in the base frame, m;
+robots with a position task) or ``q_JOINT`` for every actuated joint (serial robots); and per
+actuator ``power_JOINT`` (W, electric), ``current_JOINT`` (A), or both. Power alone determines the
+resistance only together with the torque constant's square (the Joule power is n·R·τ²/K_t²), and
+current alone does not see the resistance: fit both constants from a log of both.
+"""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import shutil
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import yaml
+from scipy.optimize import least_squares
+
+from placement.drives.trace import MotorTrace, drives_of, motor_trace
+from placement.dynamics import actuator_efforts
+from placement.energy.integration import sample_power
+from placement.exceptions import InputFileError, PlacementError
+from placement.kinematics import JointTrajectory, TaskTrajectory, joint_trajectory
+from placement.robot.model import Robot
+from placement.robot.sidecar import Drive
+
+# Constants a fit may free: where they sit in a drive, their bounds and a typical size (SI).
+FITTABLE: dict[str, tuple[str, tuple[float, float], float]] = {
+    "resistance_ohm": ("motor", (0.0, 1e3), 1.0),
+    "torque_constant_Nm_per_A": ("motor", (1e-5, 1e2), 0.1),
+    "rotor_inertia_kg_m2": ("motor", (0.0, 10.0), 1e-5),
+    "coulomb": ("friction", (0.0, 1e5), 10.0),
+    "viscous": ("friction", (0.0, 1e6), 10.0),
+    "efficiency": ("transmission", (0.05, 1.0), 1.0),
+}
+UNITS = {"power": "W", "current": "A"}
+MAX_LOG_ROWS = 1_000_000
+
+
+class LogFileError(InputFileError):
+    """A measured log is missing, malformed or does not match the robot."""
+
+
+@dataclass(frozen=True)
+class MeasuredLog:
+    """A measured motion and the drives' measured current or power (SI units).
+
+    Attributes:
+        t_s: (N,) times, increasing.
+        tool_position_m: (N, 3) tool point in the base frame, or None.
+        joint_position: (N, n_act) actuated joint positions (m or rad), or None.
+        measured: {"power" (W) and/or "current" (A): (N, n_act), actuator order}.
+    """
+
+    t_s: np.ndarray
+    tool_position_m: np.ndarray | None
+    joint_position: np.ndarray | None
+    measured: dict[str, np.ndarray]
+
+
+def read_log(file: str | Path, robot: Robot) -> MeasuredLog:
+    """Read a measured log (see the module docstring for its columns).
+
+    Raises:
+        LogFileError: The file is missing or not CSV, a column is missing, or a value is not a
+            finite number (the message names the column and the row).
+    """
+    path = Path(file)
+    try:
+        with path.open(newline="", encoding="utf-8") as stream:
+            rows = list(csv.reader(stream))
+    except (OSError, UnicodeDecodeError) as error:
+        raise LogFileError(path, "", f"cannot be read as UTF-8 CSV: {error}") from None
+    if len(rows) < 11 or len(rows) > MAX_LOG_ROWS:
+        raise LogFileError(path, "", f"expected a header row and 10 to {MAX_LOG_ROWS:,} rows of samples")
+    header = [name.strip() for name in rows[0]]
+    joints = [a.joint for a in robot.actuators]
+
+    def columns(names: list[str]) -> np.ndarray:
+        missing = [name for name in names if name not in header]
+        if missing:
+            raise LogFileError(path, missing[0], f"column missing; the header has {', '.join(header)[:300]}")
+        index = [header.index(name) for name in names]
+        values = np.empty((len(rows) - 1, len(names)))
+        for r, row in enumerate(rows[1:], start=2):
+            for c, (name, i) in enumerate(zip(names, index, strict=True)):
+                text = row[i] if i < len(row) else ""
+                try:
+                    values[r - 2, c] = float(text)
+                except ValueError:
+                    raise LogFileError(path, name, f"row {r}: expected a number, got '{text[:30]}'") from None
+        if not np.isfinite(values).all():
+            raise LogFileError(path, names[0], "values must be finite numbers")
+        return values
+
+    t = columns(["t"])[:, 0]
+    if not (np.diff(t) > 0).all():
+        raise LogFileError(path, "t", "times must increase from row to row")
+    tool = joint = None
+    if {"x", "y", "z"} <= set(header):
+        if robot.task != "position":
+            raise LogFileError(path, "x", f"robot '{robot.name}' follows a pose: log its joint positions q_JOINT")
+        tool = columns(["x", "y", "z"])
+    elif robot.is_serial:
+        joint = columns([f"q_{name}" for name in joints])
+    else:
+        raise LogFileError(path, "x", "a closed-loop robot's log needs the tool position: columns x, y, z")
+    measured = {quantity: columns([f"{quantity}_{name}" for name in joints])
+                for quantity in UNITS if f"{quantity}_{joints[0]}" in header}
+    if not measured:
+        raise LogFileError(path, f"power_{joints[0]}", "columns missing: power_JOINT (W) or current_JOINT (A) "
+                           "for every actuated joint")
+    return MeasuredLog(t, tool, joint, measured)
+
+
+@dataclass(frozen=True)
+class Calibration:
+    """Fitted drive constants and how well they predict (SI units).
+
+    Attributes:
+        robot: The robot with the fitted constants.
+        values: {drive: {constant: value}}.
+        confidence_95: {drive: {constant: half-width of the 95 % interval}}.
+        fit_rmse: {quantity: RMS error on the fitted part of the log (W or A)}.
+        held_out_rmse: {quantity: RMS error on the held-out part}.
+        t_s: The log's times.
+        measured, predicted: {quantity: (N, n_act)}.
+        split: Index of the first held-out sample.
+    """
+
+    robot: Robot
+    values: dict[str, dict[str, float]]
+    confidence_95: dict[str, dict[str, float]]
+    fit_rmse: dict[str, float]
+    held_out_rmse: dict[str, float]
+    t_s: np.ndarray
+    measured: dict[str, np.ndarray]
+    predicted: dict[str, np.ndarray]
+    split: int
+
+
+def with_drive_constants(robot: Robot, values: dict[str, dict[str, float]]) -> Robot:
+    """The robot with some drive constants changed ({drive: {constant: value}}); its model is shared.
+
+    A pmsm motor's back-EMF constant follows its torque constant (K_e = K_t / phases).
+    """
+    drives = dict(robot.sidecar.drives)
+    for name, constants in values.items():
+        drive = drives[name]
+        by_part: dict[str, dict[str, float]] = {"motor": {}, "friction": {}, "transmission": {}}
+        for constant, value in constants.items():
+            by_part[FITTABLE[constant][0]][constant] = float(value)
+        motor = drive.motor.model_copy(update=by_part["motor"])  # copies are not validated again: values are in bounds
+        if "torque_constant_Nm_per_A" in constants and motor.model == "pmsm":
+            motor = motor.model_copy(update={"back_emf_constant_V_s_per_rad": motor.torque_constant_Nm_per_A / motor.phases})
+        drives[name] = drive.model_copy(update={
+            "motor": motor, "friction": drive.friction.model_copy(update=by_part["friction"]),
+            "transmission": drive.transmission.model_copy(update=by_part["transmission"])})
+    actuators = tuple(a if spec.drive is None else
+                      dataclasses.replace(a, drive=drives[spec.drive], reflected_inertia=drives[spec.drive].reflected_inertia)
+                      for a, spec in zip(robot.actuators, robot.sidecar.actuators, strict=True))
+    sidecar = robot.sidecar.model_copy(update={"drives": drives})
+    return dataclasses.replace(robot, actuators=actuators, sidecar=sidecar)
+
+
+@dataclass(frozen=True)
+class _Motion:
+    """The logged motion at the actuators, with efforts without the drives' own inertia."""
+
+    velocity: np.ndarray
+    acceleration: np.ndarray
+    effort_without_drives: np.ndarray
+
+
+def _motion(robot: Robot, log: MeasuredLog) -> _Motion:
+    model = robot.model.copy()
+    for actuator in robot.actuators:
+        model.armature[actuator.v_index] -= actuator.reflected_inertia
+    bare = dataclasses.replace(robot, model=model)
+    t = log.t_s
+    if log.tool_position_m is not None:
+        velocity = np.gradient(log.tool_position_m, t, axis=0, edge_order=2)
+        task = TaskTrajectory(log.tool_position_m, velocity, np.gradient(velocity, t, axis=0, edge_order=2))
+        joints = joint_trajectory(bare, task)
+    else:
+        assert log.joint_position is not None  # read_log gives one or the other
+        q = np.tile(robot.reference_q, (len(t), 1))
+        q[:, robot.actuated_q_indices] = log.joint_position
+        v = np.zeros((len(t), model.nv))
+        v[:, robot.actuated_v_indices] = np.gradient(log.joint_position, t, axis=0, edge_order=2)
+        a = np.gradient(v, t, axis=0, edge_order=2)
+        basis = np.broadcast_to(np.eye(model.nv)[:, robot.actuated_v_indices], (len(t), model.nv, len(robot.actuators)))
+        joints = JointTrajectory(q, v, a, basis, np.zeros((len(t), 0, len(robot.actuators))))
+    act = robot.actuated_v_indices
+    return _Motion(joints.v[:, act], joints.a[:, act], actuator_efforts(bare, joints))
+
+
+def predict(robot: Robot, motion: _Motion, t_s: np.ndarray, quantities: list[str]) -> dict[str, np.ndarray]:
+    """The robot's prediction of the logged quantities, each (N, n_act)."""
+    inertia = np.array([a.reflected_inertia for a in robot.actuators])
+    trace: MotorTrace = motor_trace(robot, motion.effort_without_drives + inertia * motion.acceleration,
+                                    motion.velocity, motion.acceleration)
+    out = {"current": trace.current_A} if "current" in quantities else {}
+    if "power" in quantities:
+        out["power"] = sample_power(robot, trace, t_s, np.zeros(len(t_s), dtype=int))
+    return out
+
+
+def calibrate(robot: Robot, log: MeasuredLog, fit: list[str], held_out: float = 0.3) -> Calibration:
+    """Fit drive constants to a measured log.
+
+    Args:
+        robot: The robot; every drive its actuators use is fitted, each drive on its own.
+        log: The measured log (see :func:`read_log`).
+        fit: Names of the constants to fit (keys of FITTABLE).
+        held_out: Share of the log, at its end, kept out of the fit to measure the prediction.
+
+    Returns:
+        The fitted constants with 95 % intervals, the errors and the robot with them.
+
+    Raises:
+        PlacementError: An unknown constant, constants the log cannot determine (the resistance
+            from currents alone, or with the torque constant from power alone), or a log too
+            short to hold anything out.
+    """
+    unknown = sorted(set(fit) - set(FITTABLE))
+    if unknown or not fit:
+        raise PlacementError(f"constants to fit: expected some of {', '.join(FITTABLE)}, got {', '.join(unknown) or 'none'}")
+    if "power" not in log.measured and "resistance_ohm" in fit:
+        raise PlacementError("resistance_ohm cannot be fitted to currents alone: log the electric power too")
+    if "current" not in log.measured and {"resistance_ohm", "torque_constant_Nm_per_A"} <= set(fit):
+        raise PlacementError("resistance_ohm and torque_constant_Nm_per_A cannot both be fitted to power alone "
+                             "(only R/K_t² shows): log the currents too, or fit one of them")
+    split = int(round(len(log.t_s) * (1 - held_out)))
+    if not 10 <= split <= len(log.t_s) - 10 or not 0 < held_out < 1:
+        raise PlacementError(f"held-out share {held_out}: both parts of the {len(log.t_s)}-sample log need 10 samples")
+    drives_of(robot)  # every actuator needs a drive
+    names = sorted({spec.drive for spec in robot.sidecar.actuators if spec.drive})
+    keys = [(drive, constant) for drive in names for constant in fit]
+    start = np.array([_current(robot.sidecar.drives[d], c) for d, c in keys])
+    lower, upper = (np.array([FITTABLE[c][1][k] for _, c in keys]) for k in (0, 1))
+    scale = np.maximum(np.abs(start), [FITTABLE[c][2] for _, c in keys])  # the search runs in these units
+    motion = _motion(robot, log)
+    quantities = sorted(log.measured)
+    size = {q: float(np.sqrt(np.mean(log.measured[q][:split] ** 2))) or 1.0 for q in quantities}  # weighs W against A
+
+    def fitted(x: np.ndarray) -> Robot:
+        values: dict[str, dict[str, float]] = {d: {} for d in names}
+        for (d, c), value in zip(keys, x * scale, strict=True):
+            values[d][c] = value
+        return with_drive_constants(robot, values)
+
+    def residuals(x: np.ndarray) -> np.ndarray:
+        predicted = predict(fitted(x), motion, log.t_s, quantities)
+        return np.concatenate([((predicted[q] - log.measured[q])[:split] / size[q]).ravel() for q in quantities])
+
+    result = least_squares(residuals, np.clip(start, lower, upper) / scale, bounds=(lower / scale, upper / scale))
+    calibrated = fitted(result.x)
+    predicted = predict(calibrated, motion, log.t_s, quantities)
+    error = {q: predicted[q] - log.measured[q] for q in quantities}
+    dof = max(1, result.fun.size - len(keys))
+    covariance = np.linalg.pinv(result.jac.T @ result.jac) * (result.fun @ result.fun) / dof
+    half_width = 1.96 * np.sqrt(np.clip(np.diag(covariance), 0.0, None)) * scale
+    values: dict[str, dict[str, float]] = {d: {} for d in names}
+    intervals: dict[str, dict[str, float]] = {d: {} for d in names}
+    for (d, c), value, width in zip(keys, result.x * scale, half_width, strict=True):
+        values[d][c], intervals[d][c] = float(value), float(width)
+    return Calibration(robot=calibrated, values=values, confidence_95=intervals,
+                       fit_rmse={q: float(np.sqrt(np.mean(e[:split] ** 2))) for q, e in error.items()},
+                       held_out_rmse={q: float(np.sqrt(np.mean(e[split:] ** 2))) for q, e in error.items()},
+                       t_s=log.t_s, measured=log.measured, predicted=predicted, split=split)
+
+
+def _current(drive: Drive, constant: str) -> float:
+    part = getattr(drive, FITTABLE[constant][0])
+    return float(getattr(part, constant))
+
+
+def write_calibrated(robot: Robot, calibration: Calibration, folder: str | Path, log_name: str) -> Path:
+    """Copy the robot's folder to ``folder`` with its sidecar carrying the fitted constants.
+
+    Each fitted constant gets a ``CALIBRATED`` entry under ``sources`` with its 95 % interval.
+
+    Returns:
+        The calibrated sidecar's path.
+    """
+    target = Path(folder)
+    if target.exists():
+        raise PlacementError(f"--out: '{target}' exists; name a new folder")
+    shutil.copytree(robot.sidecar_path.parent, target, ignore=shutil.ignore_patterns("__pycache__"))
+    sidecar = target / robot.sidecar_path.name
+    document = yaml.safe_load(robot.sidecar_path.read_text(encoding="utf-8"))
+    sources = document.setdefault("sources", {})
+    for drive, constants in calibration.values.items():
+        for constant, value in constants.items():
+            part = FITTABLE[constant][0]
+            entry = document["drives"][drive].setdefault(part, {})
+            entry[constant] = value
+            field = f"drives.{drive}.{part}.{constant}"
+            held_out = ", ".join(f"{v:.3g} {UNITS[q]}" for q, v in calibration.held_out_rmse.items())
+            sources[field] = (f"CALIBRATED: fitted to {log_name}, 95 % interval "
+                              f"±{calibration.confidence_95[drive][constant]:.3g}; held-out RMS error {held_out}")
+            motor = document["drives"][drive]["motor"]
+            if constant == "torque_constant_Nm_per_A" and motor.get("model", "pmsm") == "pmsm":
+                motor["back_emf_constant_V_s_per_rad"] = value / motor["phases"]
+    sidecar.write_text(yaml.safe_dump(document, sort_keys=False), encoding="utf-8")
+    return sidecar
