@@ -64,18 +64,20 @@ def map_figure(result: SweepResult, title: str) -> Figure:
 
 def calibration_figure(result: Calibration, actuators: list[str]) -> Figure:
     """Measured against predicted values over time, one panel per actuator and quantity; held-out part shaded."""
-    quantities = sorted(result.measured)
-    figure, axes = plt.subplots(len(quantities), len(actuators), figsize=(4.2 * len(actuators), 2.8 * len(quantities)),
-                                squeeze=False, constrained_layout=True)
-    for row, quantity in enumerate(quantities):
-        for column, name in enumerate(actuators):
-            ax = axes[row, column]
-            ax.axvspan(result.t_s[result.split], result.t_s[-1], color="0.9", label="held out")
-            ax.plot(result.t_s, result.measured[quantity][:, column], color="0.5", linewidth=0.8, label="measured")
-            ax.plot(result.t_s, result.predicted[quantity][:, column], color="C0", linewidth=1.0, label="predicted")
-            ax.set_title(f"{name}: {quantity}", fontsize=9)
-            ax.set_xlabel("t (s)")
-            ax.set_ylabel(f"{quantity} ({UNITS[quantity]})")
+    panels = [(quantity, column, name) for quantity in sorted(result.measured) for column, name in enumerate(actuators)]
+    columns = min(3, len(panels))
+    rows = -(-len(panels) // columns)
+    figure, axes = plt.subplots(rows, columns, figsize=(4.2 * columns, 2.8 * rows), squeeze=False,
+                                constrained_layout=True)
+    for ax in axes.ravel()[len(panels):]:
+        ax.set_visible(False)
+    for ax, (quantity, column, name) in zip(axes.ravel(), panels, strict=False):
+        ax.axvspan(result.t_s[result.split], result.t_s[-1], color="0.9", label="held out")
+        ax.plot(result.t_s, result.measured[quantity][:, column], color="0.5", linewidth=0.8, label="measured")
+        ax.plot(result.t_s, result.predicted[quantity][:, column], color="C0", linewidth=1.0, label="predicted")
+        ax.set_title(f"{name}: {quantity}", fontsize=9)
+        ax.set_xlabel("t (s)")
+        ax.set_ylabel(f"{quantity} ({UNITS[quantity]})")
     axes[0, 0].legend(fontsize=7)
     return figure
 

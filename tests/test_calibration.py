@@ -128,3 +128,27 @@ def test_a_log_whose_motion_mujoco_simulated(tmp_path):
     result = calibrate(robot, log, list(FITTABLE))
     for constant, truth in HIDDEN.items():
         assert result.values[DRIVE][constant] == pytest.approx(truth, rel=0.02), constant
+
+
+def test_a_serial_arm_logged_in_joint_positions(tmp_path):
+    def lossier(document: dict) -> None:
+        for drive in document["drives"].values():
+            drive["motor"]["resistance_ohm"] *= 1.3
+            drive["friction"] = {"coulomb": 2.0, "viscous": 5.0}
+
+    hidden = load_robot(edited_copy("ur5", tmp_path, lossier))
+    t = np.arange(0.0, 4.0, 0.002)
+    motion = inverse_dynamics(hidden, demo_trajectory(hidden, amplitude_m=0.05, duration_s=2.0)(t))
+    trace = motor_trace(hidden, motion.effort, motion.velocity, motion.acceleration)
+    power = sample_power(hidden, trace, t, np.zeros(len(t), dtype=int))
+    names = [a.joint for a in hidden.actuators]
+    file = tmp_path / "ur5.csv"
+    with open(file, "w", newline="") as stream:
+        writer = csv.writer(stream)
+        writer.writerow(["t"] + [f"q_{n}" for n in names] + [f"power_{n}" for n in names])
+        writer.writerows(np.column_stack([t, motion.position, power]).tolist())
+    robot = load_robot("ur5")
+    result = calibrate(robot, read_log(file, robot), ["resistance_ohm", "coulomb", "viscous"])
+    shoulder = result.values["size3"]  # the big joints, well excited by the motion
+    assert shoulder["resistance_ohm"] == pytest.approx(0.4 * 1.3, rel=0.01)
+    assert shoulder["coulomb"] == pytest.approx(2.0, rel=0.01) and shoulder["viscous"] == pytest.approx(5.0, rel=0.01)
