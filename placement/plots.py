@@ -17,6 +17,7 @@ from matplotlib.figure import Figure  # noqa: E402
 
 from placement.calibration import UNITS, Calibration  # noqa: E402
 from placement.frames import ANGLES  # noqa: E402
+from placement.search.feed import FeedStudy  # noqa: E402
 from placement.search.sweep import SweepResult  # noqa: E402
 
 LABELS = {"x": "$x_{Op}$ (mm)", "y": "$y_{Op}$ (mm)", "z": "$z_{Op}$ (mm)", "phi": r"$\phi$ (deg)",
@@ -79,6 +80,26 @@ def calibration_figure(result: Calibration, actuators: list[str]) -> Figure:
         ax.set_xlabel("t (s)")
         ax.set_ylabel(f"{quantity} ({UNITS[quantity]})")
     axes[0, 0].legend(fontsize=7)
+    return figure
+
+
+def feed_figure(study: FeedStudy, title: str) -> Figure:
+    """Energy per part against time per part, one point per feed rate (labelled with the speed reached);
+    broken limits hollow."""
+    figure, ax = plt.subplots(figsize=(6.2, 4.4), constrained_layout=True)
+    ax.plot(study.time_s, study.energy_J, color="0.6", linewidth=0.8)
+    ax.scatter(study.time_s[study.feasible], study.energy_J[study.feasible], color="C0", zorder=3, label="limits hold")
+    ax.scatter(study.time_s[~study.feasible], study.energy_J[~study.feasible], facecolors="none", edgecolors="C3",
+               zorder=3, label="a limit is broken")
+    labelled: set[tuple[float, float]] = set()
+    for speed, t, e in zip(study.top_speed_m_s, study.time_s, study.energy_J, strict=True):
+        if (round(t, 6), round(e, 6)) not in labelled:  # feeds the timing law cannot reach give the same point
+            labelled.add((round(t, 6), round(e, 6)))
+            ax.annotate(f"{speed:.2g} m/s", (t, e), textcoords="offset points", xytext=(4, 4), fontsize=7)
+    ax.set_xlabel("time per part (s)")
+    ax.set_ylabel("electric energy per part (J)")
+    ax.set_title(title, fontsize=10)
+    ax.legend(fontsize=8)
     return figure
 
 

@@ -2,6 +2,7 @@
 
     placement --robot orthoglide --path examples/rect.yaml    the main job (:mod:`placement.cli.place`)
     placement map ...                                          a map of the objective (:mod:`placement.cli.map`)
+    placement feed ...                                         energy and time per part against feed
     placement check ROBOT                                      describe a robot, prove its model exact
     placement robots                                           list the robots
     placement calibrate ROBOT --log LOG --fit NAMES            fit drive constants to measurements
@@ -16,11 +17,11 @@ from __future__ import annotations
 import argparse
 import sys
 
-from placement.cli import calibrate, check, place, robots
+from placement.cli import calibrate, check, feed, place, robots
 from placement.cli import map as map_command
 from placement.exceptions import PlacementError
 
-SUBCOMMANDS = {"robots": robots, "check": check, "map": map_command, "calibrate": calibrate}
+SUBCOMMANDS = {"robots": robots, "check": check, "map": map_command, "feed": feed, "calibrate": calibrate}
 
 
 def build_command_parser() -> argparse.ArgumentParser:

@@ -1,0 +1,67 @@
+"""The 'feed' command: energy per part against time per part as the feed rate changes.
+
+    placement feed --robot orthoglide --path rect.yaml --at x=0,y=0 --feeds 0.2:1.2:11 [--png FILE]
+"""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+
+from placement.cli.common import UsageError, add_sampling_options, check_outputs, configured_path, parse_values
+from placement.energy.regeneration import REGENERATION
+from placement.frames import VARIABLES
+from placement.robot import load_robot
+from placement.search.feed import feed_study
+
+MAX_FEEDS = 1000
+
+
+def add_parser(commands: argparse._SubParsersAction) -> None:
+    """The 'feed' subcommand's options."""
+    command = commands.add_parser("feed", help="energy and time per part against the feed rate, at one placement")
+    command.add_argument("--robot", required=True, help="robot name or sidecar YAML")
+    command.add_argument("--path", required=True, help="path file (YAML)")
+    command.add_argument("--at", required=True, metavar="x=..,y=..,phi=..",
+                         help="the placement (mm and deg unless a value ends in m or rad)")
+    command.add_argument("--feeds", required=True, metavar="START:STOP:COUNT", help="feed rates in m/s, e.g. 0.2:1.2:11")
+    command.add_argument("--regen", choices=REGENERATION.names(), default="clip", help="regeneration mode")
+    add_sampling_options(command)
+    command.add_argument("--png", help="also draw energy per part against time per part (PNG and SVG)")
+
+
+def parse_feeds(text: str) -> np.ndarray:
+    """'0.2:1.2:11' -> feed rates (m/s)."""
+    parts = text.split(":")
+    try:
+        start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
+    except (ValueError, IndexError):
+        raise UsageError(f"--feeds: expected START:STOP:COUNT in m/s, got '{text[:40]}'") from None
+    if len(parts) != 3 or not (0 < start < np.inf and 0 < stop < np.inf) or not 1 <= count <= MAX_FEEDS:
+        raise UsageError(f"--feeds: expected finite feeds > 0 m/s and 1 to {MAX_FEEDS} of them, got '{text[:40]}'")
+    return np.linspace(start, stop, count)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Print the table (and draw the figure) of time and energy per part against feed."""
+    check_outputs(("--png", args.png), inputs=(args.path,))
+    feeds = parse_feeds(args.feeds)
+    given = parse_values(args.at, "--at")
+    robot = load_robot(args.robot)
+    path = configured_path(args, args.path)
+    study = feed_study(robot, path, np.array([given.get(name, 0.0) for name in VARIABLES]), feeds, args.regen,
+                       args.time_step)
+    print(f"{path.name} on {robot.name}, {path.timing.mode} timing, energy: {REGENERATION.get(args.regen).description}")
+    print(f"  {'feed m/s':>9s} {'reached m/s':>12s} {'time/part s':>12s} {'energy/part J':>14s} {'mean power W':>13s}"
+          "  limits")
+    for k, feed in enumerate(study.feeds_m_s):
+        state = "hold" if study.feasible[k] else f"BROKEN: {study.binding[k]}"
+        print(f"  {feed:9.3f} {study.top_speed_m_s[k]:12.3f} {study.time_s[k]:12.4f} {study.energy_J[k]:14.4f} "
+              f"{study.energy_J[k] / study.time_s[k]:13.2f}  {state}")
+    if args.png:
+        from placement.plots import feed_figure, save
+
+        save(feed_figure(study, f"{path.name} on {robot.name}"), str(args.png).removesuffix(".png"))
+        print(f"figure written to {args.png} (and .svg)")
+    return 0
