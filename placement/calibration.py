@@ -46,6 +46,8 @@ FITTABLE: dict[str, tuple[str, tuple[float, float], float]] = {
 }
 UNITS = {"power": "W", "current": "A"}
 MAX_LOG_ROWS = 1_000_000
+MAX_LOG_BYTES = 200_000_000
+MAX_LOG_VALUE = 1e9  # beyond any time (s), position (m, rad), power (W) or current (A) of a machine
 
 
 class LogFileError(InputFileError):
@@ -77,6 +79,10 @@ def read_log(file: str | Path, robot: Robot) -> MeasuredLog:
             finite number (the message names the column and the row).
     """
     path = Path(file)
+    if not path.is_file():
+        raise LogFileError(path, "", "not found, or not a regular file")
+    if path.stat().st_size > MAX_LOG_BYTES:
+        raise LogFileError(path, "", f"larger than {MAX_LOG_BYTES // 1_000_000} MB")
     try:
         with path.open(newline="", encoding="utf-8") as stream:
             rows = list(csv.reader(stream))
@@ -85,6 +91,9 @@ def read_log(file: str | Path, robot: Robot) -> MeasuredLog:
     if len(rows) < 11 or len(rows) > MAX_LOG_ROWS:
         raise LogFileError(path, "", f"expected a header row and 10 to {MAX_LOG_ROWS:,} rows of samples")
     header = [name.strip() for name in rows[0]]
+    twice = sorted({name for name in header if header.count(name) > 1})
+    if twice:
+        raise LogFileError(path, twice[0], "the column appears twice in the header")
     joints = [a.joint for a in robot.actuators]
 
     def columns(names: list[str]) -> np.ndarray:
@@ -100,8 +109,8 @@ def read_log(file: str | Path, robot: Robot) -> MeasuredLog:
                     values[r - 2, c] = float(text)
                 except ValueError:
                     raise LogFileError(path, name, f"row {r}: expected a number, got '{text[:30]}'") from None
-        if not np.isfinite(values).all():
-            raise LogFileError(path, names[0], "values must be finite numbers")
+        if not (np.abs(values) < MAX_LOG_VALUE).all():
+            raise LogFileError(path, names[0], f"values must be finite numbers below {MAX_LOG_VALUE:g} in size (SI units)")
         return values
 
     t = columns(["t"])[:, 0]
@@ -121,6 +130,9 @@ def read_log(file: str | Path, robot: Robot) -> MeasuredLog:
     if not measured:
         raise LogFileError(path, f"power_{joints[0]}", "columns missing: power_JOINT (W) or current_JOINT (A) "
                            "for every actuated joint")
+    for quantity, values in measured.items():
+        if not values.any():
+            raise LogFileError(path, f"{quantity}_{joints[0]}", f"every {quantity} value is zero: nothing was measured")
     return MeasuredLog(t, tool, joint, measured)
 
 
@@ -137,6 +149,7 @@ class Calibration:
         t_s: The log's times.
         measured, predicted: {quantity: (N, n_act)}.
         split: Index of the first held-out sample.
+        at_bounds: The constants ("drive.constant") that ended on a bound of their range.
     """
 
     robot: Robot
@@ -148,6 +161,7 @@ class Calibration:
     measured: dict[str, np.ndarray]
     predicted: dict[str, np.ndarray]
     split: int
+    at_bounds: tuple[str, ...]
 
 
 def with_drive_constants(robot: Robot, values: dict[str, dict[str, float]]) -> Robot:
@@ -252,6 +266,8 @@ def calibrate(robot: Robot, log: MeasuredLog, fit: list[str], held_out: float = 
     lower, upper = (np.array([FITTABLE[c][1][k] for _, c in keys]) for k in (0, 1))
     scale = np.maximum(np.abs(start), [FITTABLE[c][2] for _, c in keys])  # the search runs in these units
     motion = _motion(robot, log)
+    if not np.abs(motion.velocity).max() > 0:
+        raise PlacementError("the log shows no motion of the actuators: log a motion that moves every axis")
     quantities = sorted(log.measured)
     size = {q: float(np.sqrt(np.mean(log.measured[q][:split] ** 2))) or 1.0 for q in quantities}  # weighs W against A
 
@@ -272,14 +288,25 @@ def calibrate(robot: Robot, log: MeasuredLog, fit: list[str], held_out: float = 
     dof = max(1, result.fun.size - len(keys))
     covariance = np.linalg.pinv(result.jac.T @ result.jac) * (result.fun @ result.fun) / dof
     half_width = 1.96 * np.sqrt(np.clip(np.diag(covariance), 0.0, None)) * scale
+    singular, directions = np.linalg.svd(result.jac, full_matrices=False)[1:]
+    unseen = directions[singular <= 1e-9 * max(singular.max(), 1e-300)]  # combinations the log does not move
+    half_width[(np.abs(unseen) > 0.1).any(axis=0)] = np.inf
     values: dict[str, dict[str, float]] = {d: {} for d in names}
     intervals: dict[str, dict[str, float]] = {d: {} for d in names}
     for (d, c), value, width in zip(keys, result.x * scale, half_width, strict=True):
         values[d][c], intervals[d][c] = float(value), float(width)
+    loose = [f"{d}.{c}" for (d, c), value, width in zip(keys, result.x * scale, half_width, strict=True)
+             if not width <= max(abs(value), FITTABLE[c][2])]
+    if loose:
+        raise PlacementError(f"the log does not determine {', '.join(loose)} (95 % intervals wider than the values): "
+                             "log a richer motion of every axis, or fit fewer constants")
     return Calibration(robot=calibrated, values=values, confidence_95=intervals,
                        fit_rmse={q: float(np.sqrt(np.mean(e[:split] ** 2))) for q, e in error.items()},
                        held_out_rmse={q: float(np.sqrt(np.mean(e[split:] ** 2))) for q, e in error.items()},
-                       t_s=log.t_s, measured=log.measured, predicted=predicted, split=split)
+                       t_s=log.t_s, measured=log.measured, predicted=predicted, split=split,
+                       at_bounds=tuple(f"{d}.{c}" for (d, c), value, low, high in zip(keys, result.x * scale, lower, upper,
+                                                                                       strict=True)
+                                       if min(value - low, high - value) <= 1e-9 * (high - low)))
 
 
 def _current(drive: Drive, constant: str) -> float:

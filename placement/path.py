@@ -34,7 +34,7 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from placement.exceptions import PathFileError, PlacementError
-from placement.schema import Number, Strict, read_yaml
+from placement.schema import Number, Strict, Text, read_yaml
 
 Positive = Annotated[Number, Field(gt=0.0)]
 LENGTH_SCALE = {"m": 1.0, "mm": 1e-3}
@@ -106,7 +106,7 @@ class Timing(Strict):
 class PathFile(Strict):
     """The whole path file."""
 
-    name: str = ""
+    name: Text = ""
     units: Literal["m", "mm"]
     shape: Annotated[Rectangle | Polyline | Circle | Arc, Field(discriminator="type")]
     feed_m_s: Positive

@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Annotated, Any, TypeVar
 
 import yaml
-from pydantic import BaseModel, ConfigDict, ValidationError
+from pydantic import AfterValidator, BaseModel, ConfigDict, ValidationError
 from pydantic import Strict as StrictValue
 
 from placement.exceptions import InputFileError
@@ -21,6 +21,15 @@ _REPR = reprlib.Repr()  # bounded: never echo a whole input back
 _REPR.maxlevel, _REPR.maxstring, _REPR.maxother, _REPR.maxlist, _REPR.maxdict, _REPR.maxtuple = 2, 60, 60, 4, 4, 4
 Number = Annotated[float, StrictValue()]  # an integer or a decimal number; true and false are not numbers
 Count = Annotated[int, StrictValue()]  # a whole number written as such
+
+
+def _printable(text: str) -> str:
+    if len(text) > 200 or any(ord(c) < 32 or ord(c) == 127 for c in text):
+        raise ValueError("expected one line of printable text, at most 200 characters (it ends up in reports)")
+    return text
+
+
+Text = Annotated[str, AfterValidator(_printable)]
 
 
 class Strict(BaseModel):
@@ -63,7 +72,7 @@ def read_yaml(path: Path, schema: type[Model], error: type[InputFileError]) -> M
     except RecursionError:
         raise error(path, "", "nested too deeply") from None
     except yaml.YAMLError as problem:
-        raise error(path, "", f"not valid YAML: {_short(str(problem), 300)}") from None
+        raise error(path, "", f"not valid YAML: {_one_line(problem)}") from None
     if not isinstance(raw, dict):
         raise error(path, "", "expected a mapping of fields at the top level")
     if _node_count(raw, MAX_NODES) > MAX_NODES:  # aliases can make a small file a huge document
@@ -155,6 +164,9 @@ class _UniqueKeyLoader(yaml.SafeLoader):
             if key_node.tag == "tag:yaml.org,2002:merge":  # '<<: *anchor' keys may be overridden here
                 continue
             key = self.construct_object(key_node, deep=deep)
+            if not isinstance(key, (str, int, float, bool)) and key is not None:
+                raise yaml.constructor.ConstructorError(None, None, "a key must be a plain name or number",
+                                                        key_node.start_mark)
             if key in seen:
                 raise yaml.constructor.ConstructorError(None, None, f"the key '{_short(str(key), 60)}' appears twice",
                                                         key_node.start_mark)
@@ -173,6 +185,14 @@ def _node_count(document: Any, limit: int) -> int:
         elif isinstance(node, list):
             stack.extend(node)
     return count
+
+
+def _one_line(problem: yaml.YAMLError) -> str:
+    """A YAML error as one line: what, and where (line and column, counted from 1)."""
+    what = getattr(problem, "problem", None) or str(problem).splitlines()[0]
+    mark = getattr(problem, "problem_mark", None)
+    where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
+    return _short(" ".join(f"{what}{where}".split()), 200)
 
 
 def _short(text: str, length: int) -> str:

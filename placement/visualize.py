@@ -30,6 +30,7 @@ from meshcat.animation import Animation
 from meshcat.servers.tree import SceneTree, find_node, walk
 from pinocchio.visualize import MeshcatVisualizer
 
+from placement.exceptions import RobotFileError
 from placement.robot.model import Robot
 
 VIEWER_SCRIPT = Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js"
@@ -83,7 +84,11 @@ class Scene:
         self.viewer = meshcat.Visualizer(window=self.window)
         self.legend: list[tuple[str, int]] = [("robot", 0x999999)]
         folders = [str(robot.urdf_path.parent), *_package_dirs(robot)]
-        visual = pin.buildGeomFromUrdf(robot.model, str(robot.urdf_path), pin.GeometryType.VISUAL, package_dirs=folders)
+        try:
+            visual = pin.buildGeomFromUrdf(robot.model, str(robot.urdf_path), pin.GeometryType.VISUAL,
+                                           package_dirs=folders)
+        except ValueError as error:  # a mesh the URDF names is not there
+            raise RobotFileError(robot.urdf_path, "", f"cannot draw the robot: {str(error)[:200]}") from None
         self.visualizer = MeshcatVisualizer(robot.model, pin.GeometryModel(), visual)
         self.visualizer.initViewer(viewer=self.viewer)
         self.visualizer.loadViewerModel(rootNodeName="robot")

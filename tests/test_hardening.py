@@ -177,3 +177,67 @@ def test_generated_path_files_never_crash(tmp_path_factory, capsys, document):
     err = capsys.readouterr().err
     assert code in (0, 2) and "Traceback" not in err and "unexpected" not in err
     assert code == 0 or err.startswith("error: ")
+
+
+def test_yaml_errors_are_one_line_with_the_place(tmp_path, capsys):
+    file = tmp_path / "p.yaml"
+    for text, expected in (("units: mm\nshape: {type: circle, radius: 5\nfeed_m_s: 0.66\n", "at line 3, column 9"),
+                           ("? [a, b]\n: 1\n", "a key must be a plain name or number at line 1"),
+                           ('name: "a\\x1b[31mred"\nunits: mm\n', "field 'name': expected one line of printable text")):
+        file.write_text(text)
+        code, err = run(["--robot", "orthoglide", "--path", str(file)], capsys)
+        assert code == 2 and expected in err and err.count("\n") == 1, err
+
+
+def test_urdf_and_plugin_mistakes_name_the_file(tmp_path, capsys):
+    def spherical(document):
+        urdf = tmp_path / "a" / "fivebar" / "fivebar.urdf"
+        urdf.write_text(urdf.read_text().replace('type="revolute"', 'type="spherical"', 1))
+
+    sidecar = edited_copy("fivebar", tmp_path / "a", lambda d: None)
+    spherical(None)
+    code, err = run(["check", str(sidecar)], capsys)
+    assert code == 2 and "fivebar.urdf: Pinocchio cannot build a model from it: Joint" in err and err.count("\n") == 1
+    loop = edited_copy("fivebar", tmp_path / "b", lambda d: d.update(urdf="loop.urdf"))
+    (loop.parent / "loop.urdf").symlink_to(loop.parent / "loop.urdf")
+    code, err = run(["check", str(loop)], capsys)
+    assert code == 2 and "field 'urdf': cannot follow 'loop.urdf'" in err
+    plugin = edited_copy("orthoglide", tmp_path / "c", lambda d: None)
+    (plugin.parent / "closed_form.py").write_text("def make_closed_form(model):\n    return None\n")
+    code, err = run(["check", str(plugin)], capsys)
+    assert code == 2 and "make_closed_form must return a function" in err
+
+
+def test_a_missing_mesh_is_named_when_drawing(tmp_path, capsys):
+    sidecar = edited_copy("fivebar", tmp_path, lambda d: None)
+    urdf = sidecar.parent / "fivebar.urdf"
+    urdf.write_text(urdf.read_text().replace("<geometry><box", '<geometry><mesh filename="missing.stl"/></geometry>'
+                                             '<geometry><box', 1))
+    code, err = run(["--robot", str(sidecar), "--path", str(EXAMPLE.with_name("circle.yaml")), "--at", "x=0",
+                     "--html", str(tmp_path / "scene.html")], capsys)
+    assert code == 2 and "fivebar.urdf: cannot draw the robot: Mesh missing.stl could not be found" in err
+
+
+def test_bad_calibration_logs_exit_2_naming_the_column(tmp_path, capsys):
+    header = "t,x,y,z,power_slider_x,power_slider_y,power_slider_z\n"
+    moving = "".join(f"{k * 0.01},{0.001 * k},0,0,1,1,1\n" for k in range(40))
+    cases = {"twice.csv": ("t,x,x,y,z,power_slider_x,power_slider_y,power_slider_z\n" + moving, "'x': the column appears twice"),
+             "huge.csv": (header + moving.replace("1,1,1\n", "1e308,1,1\n", 1), "values must be finite numbers below"),
+             "still.csv": (header + "".join(f"{k * 0.01},0,0,0,1,1,1\n" for k in range(40)), "shows no motion"),
+             "zero.csv": (header + moving.replace("1,1,1", "0,0,0"), "every power value is zero")}
+    for name, (text, expected) in cases.items():
+        (tmp_path / name).write_text(text)
+        code, err = run(["calibrate", "orthoglide", "--log", str(tmp_path / name), "--fit", "resistance_ohm"], capsys)
+        assert code == 2 and expected in err, (name, err)
+    joints = ["shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint", "wrist_2_joint", "wrist_3_joint"]
+    steady = ",".join(["t"] + [f"q_{j}" for j in joints] + [f"power_{j}" for j in joints]) + "\n" + "".join(
+        ",".join(map(str, [k * 0.01] + [-1.0 + 0.001 * k] * 6 + [5.0] * 6)) + "\n" for k in range(40))
+    (tmp_path / "steady.csv").write_text(steady)  # every joint at constant speed: nothing shows the rotors' inertia
+    code, err = run(["calibrate", "ur5", "--log", str(tmp_path / "steady.csv"), "--fit", "rotor_inertia_kg_m2"], capsys)
+    assert code == 2 and "the log does not determine size1.rotor_inertia_kg_m2, size3.rotor_inertia_kg_m2" in err, err
+    code, err = run(["calibrate", "orthoglide", "--log", "/dev/zero", "--fit", "resistance_ohm"], capsys)
+    assert code == 2 and "not a regular file" in err
+    (tmp_path / "fit.svg").write_text(header + moving)
+    code, err = run(["calibrate", "orthoglide", "--log", str(tmp_path / "fit.svg"), "--fit", "resistance_ohm",
+                     "--png", str(tmp_path / "fit.png")], capsys)
+    assert code == 2 and "--png: " in err and "is an input file" in err

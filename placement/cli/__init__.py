@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import warnings
 
 from placement.cli import calibrate, check, feed, place, robots
 from placement.cli import map as map_command
@@ -38,6 +39,8 @@ def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     debug = "--debug" in argv
     argv = [arg for arg in argv if arg != "--debug"]
+    if not debug:  # numpy's overflow warnings on absurd input: the results and limits say what went wrong
+        warnings.simplefilter("ignore", RuntimeWarning)
     try:
         if argv and argv[0] in SUBCOMMANDS:
             args = build_command_parser().parse_args(argv)

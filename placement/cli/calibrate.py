@@ -28,7 +28,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Fit, print the constants with their 95 % intervals and the errors; write the outputs asked for."""
-    check_outputs(("--png", args.png), inputs=(args.log,))
+    inputs = (args.log, *([args.robot] if Path(args.robot).is_file() else []))
+    check_outputs(("--png", args.png), inputs=inputs)
     if args.out is not None and Path(args.out).exists():
         raise UsageError(f"--out: '{args.out}' exists; name a new folder")
     if not 0 < args.held_out < 1:
@@ -59,6 +60,9 @@ def report(result: Calibration, samples: int) -> str:
         lines.append(f"  drive {drive}")
         for constant, value in values.items():
             lines.append(f"    {constant:<26s} {value:12.6g}  ± {result.confidence_95[drive][constant]:.3g} (95 %)")
+    if result.at_bounds:
+        lines.append(f"  note: {', '.join(result.at_bounds)} ended on a bound of its range (see FITTABLE): the log "
+                     "asks for a value the range excludes, or the constant is not needed")
     for quantity, rmse in result.fit_rmse.items():
         lines.append(f"  RMS error of the {quantity}: {rmse:.4g} {UNITS[quantity]} fitted, "
                      f"{result.held_out_rmse[quantity]:.4g} {UNITS[quantity]} held out")

@@ -121,7 +121,9 @@ def check_outputs(*pairs: tuple[str, str | None], inputs: tuple[str, ...] = ()) 
     another output; its folder must exist and take a new file.
     """
     taken = {Path(file).resolve(): "an input file" for file in inputs}
-    for option, file in pairs:
+    figures = [(option, str(file).removesuffix(".png") + ".svg") for option, file in pairs
+               if file is not None and option == "--png"]  # a figure is written as PNG and SVG
+    for option, file in (*pairs, *figures):
         if file is None:
             continue
         target = Path(file)

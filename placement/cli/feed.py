@@ -6,6 +6,7 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 import numpy as np
 
@@ -45,7 +46,7 @@ def parse_feeds(text: str) -> np.ndarray:
 
 def run(args: argparse.Namespace) -> int:
     """Print the table (and draw the figure) of time and energy per part against feed."""
-    check_outputs(("--png", args.png), inputs=(args.path,))
+    check_outputs(("--png", args.png), inputs=(args.path, *([args.robot] if Path(args.robot).is_file() else [])))
     feeds = parse_feeds(args.feeds)
     given = parse_values(args.at, "--at")
     robot = load_robot(args.robot)

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 
 import numpy as np
 from tqdm import tqdm
@@ -79,7 +80,8 @@ def parse_grid(text: str) -> dict[str, np.ndarray]:
 def run(args: argparse.Namespace) -> int:
     """The 'map' command: a map of the objective over a grid of placements."""
     out = args.out if args.out.endswith(".npz") else f"{args.out}.npz"  # numpy's suffix, said up front
-    check_outputs(("--out", out), ("--png", args.png), ("--html", args.html), inputs=(args.path,))
+    check_outputs(("--out", out), ("--png", args.png), ("--html", args.html),
+                  inputs=(args.path, *([args.robot] if Path(args.robot).is_file() else [])))
     axes = parse_grid(args.grid)
     fixed = parse_values(args.fix or "", "--fix")
     clash = sorted(set(axes) & set(fixed))

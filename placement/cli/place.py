@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 
 import numpy as np
 from tqdm import tqdm
@@ -168,7 +169,8 @@ def run(args: argparse.Namespace) -> int:
     if args.at is not None and (args.fix or args.free or args.minimize or args.maximize):
         raise UsageError("--at evaluates one placement: give every value in --at, without --fix, --free, "
                          "--minimize or --maximize")
-    check_outputs(("--json", args.json), ("--trace", args.trace), ("--html", args.html), inputs=tuple(args.path))
+    check_outputs(("--json", args.json), ("--trace", args.trace), ("--html", args.html),
+                  inputs=(*args.path, *([args.robot] if Path(args.robot).is_file() else [])))
     scene = Scene(robot) if args.html or args.show else None
     if scene:
         scene.add_workspace()

@@ -9,6 +9,8 @@ the mechanism's degrees of freedom. Errors name the file and the field.
 from __future__ import annotations
 
 import logging
+import os
+import tempfile
 from pathlib import Path
 from typing import Any
 from xml.etree import ElementTree
@@ -48,7 +50,7 @@ def load_robot(name_or_path: str | Path) -> Robot:
     sidecar = read_sidecar(path)
     urdf_path = _resolve_urdf(path, sidecar.urdf)
     urdf = _read_urdf(urdf_path)
-    model = _lock_joints(pin.buildModelFromUrdf(str(urdf_path)), path, sidecar.locked_joints)
+    model = _lock_joints(_pinocchio_model(urdf_path), path, sidecar.locked_joints)
     plugin = load_plugin(path, sidecar.kinematics_plugin)
     model.gravity = pin.Motion(np.array(sidecar.gravity_m_s2), np.zeros(3))
     robot = Robot(
@@ -98,10 +100,32 @@ def _resolve_urdf(sidecar_path: Path, urdf: str) -> Path:
         if key not in ROBOTS:
             raise RobotFileError(sidecar_path, "urdf", f"example-robot-data has no robot '{key}'")
         return Path(ROBOTS[key]().df_path).resolve()
-    path = (sidecar_path.parent / urdf).resolve()
+    try:
+        path = (sidecar_path.parent / urdf).resolve()
+    except (OSError, RuntimeError) as error:  # a symbolic-link loop, say
+        raise RobotFileError(sidecar_path, "urdf", f"cannot follow '{urdf[:80]}': {error}") from None
     if not path.is_file():
         raise RobotFileError(sidecar_path, "urdf", f"URDF file not found: {path}")
     return path
+
+
+def _pinocchio_model(path: Path) -> pin.Model:
+    """Pinocchio's model of the URDF; its parser's complaints (printed by C++) become the error message."""
+    with tempfile.TemporaryFile(mode="w+") as capture:
+        saved = os.dup(2)
+        os.dup2(capture.fileno(), 2)
+        try:
+            return pin.buildModelFromUrdf(str(path))
+        except (ValueError, RuntimeError) as error:
+            os.dup2(saved, 2)
+            capture.seek(0)
+            said = [line.strip().removeprefix("Error:").strip() for line in capture.read().splitlines()
+                    if line.strip() and not line.strip().startswith("at line")]
+            reason = next((line for line in said if line), str(error))
+            raise RobotFileError(path, "", f"Pinocchio cannot build a model from it: {reason[:200]}") from None
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
 
 
 def _read_urdf(path: Path) -> yourdfpy.URDF:

@@ -50,7 +50,11 @@ def make_closed_form(plugin: ModuleType | None, model: pin.Model, sidecar_path: 
     if plugin is None:
         return None
     try:
-        return plugin.make_closed_form(model)
+        solve = plugin.make_closed_form(model)
     except (Exception, SystemExit) as error:  # any error in the user's plug-in code, even an exit
         raise RobotFileError(sidecar_path, "kinematics_plugin",
                              f"make_closed_form failed: {type(error).__name__}: {error}") from None
+    if not callable(solve):
+        raise RobotFileError(sidecar_path, "kinematics_plugin", f"make_closed_form must return a function of the "
+                             f"end-effector position, got {type(solve).__name__}")
+    return solve

@@ -16,7 +16,7 @@ from pydantic import BeforeValidator, Field, model_validator
 from placement.drives.motors import Motor
 from placement.drives.transmissions import Transmission, parse_transmission
 from placement.exceptions import RobotFileError
-from placement.schema import Number, Strict, read_yaml
+from placement.schema import Number, Strict, Text, read_yaml
 
 NonNegative = Annotated[Number, Field(ge=0.0)]
 Positive = Annotated[Number, Field(gt=0.0)]
@@ -115,8 +115,8 @@ class Workspace(Strict):
 class Sidecar(Strict):
     """The whole sidecar file."""
 
-    name: str
-    description: str = ""
+    name: Text
+    description: Text = ""
     urdf: str = Field(description="URDF path relative to this file, or 'example-robot-data:NAME'")
     gravity_m_s2: Vector3
     end_effector: EndEffector
