@@ -40,6 +40,7 @@ Positive = Annotated[Number, Field(gt=0.0)]
 LENGTH_SCALE = {"m": 1.0, "mm": 1e-3}
 CORNER_ANGLE_RAD = np.radians(1.0)  # a tangent turn above this is a corner (exact stop)
 ARC_SAFETY = 0.98  # share of the bounds used on arcs, where they are checked on samples
+MIN_LENGTH_M = 1e-6
 MAX_SAMPLES = 1_000_000  # samples of one path: about 0.5 GB through the whole chain
 
 
@@ -371,6 +372,8 @@ def load_path(path: str | FilePath) -> ToolPath:
     segments = _segments(spec)
     if not segments:
         raise PathFileError(path, "shape.points", "the points must not all coincide")
+    if sum(segment.length_m for segment in segments) < MIN_LENGTH_M:
+        raise PathFileError(path, "shape", f"the path is shorter than {MIN_LENGTH_M * 1e6:g} µm")
     return ToolPath(name=spec.name or path.stem, segments=segments, feed_m_s=spec.feed_m_s,
                     forces=spec.process_forces_N, timing=spec.timing, time_step_s=spec.time_step_s)
 

@@ -38,6 +38,10 @@ def format_detail(title: str, robot: Robot, detail: PlacementDetail, recheck_val
                      f"configuration (first at t = {detail.samples.t_s[first]:.4f} s)")
         return "\n".join(lines)
     energy = detail.energy
+    if not np.isfinite(energy.total_J):
+        lines.append("  energy not finite: the numbers overflow (check the path's size, feed and forces, and the robot's "
+                     "masses)")
+        return "\n".join(lines)
     words = wording(detail.objective)
     lines.append(_value_line(words.subject, detail.value, words.unit, recheck_value))
     if detail.objective != "energy":

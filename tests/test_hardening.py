@@ -41,6 +41,7 @@ PATH_FILES = {
     "huge width": (RECT.replace("width: 30", "width: 1e9").encode(), "would need more than 1,000,000 samples"),
     "slow feed": (RECT.replace("feed_m_s: 0.66", "feed_m_s: 1e-9").encode(), "would need more than"),
     "tiny step": (RECT.replace("time_step_s: 0.001", "time_step_s: 1e-12").encode(), "would need more than"),
+    "tiny circle": (b"units: mm\nshape: {type: circle, radius: 1e-300}\nfeed_m_s: 0.1\n", "the path is shorter than 1"),
     "boolean width": (RECT.replace("width: 30", "width: true").encode(), "field 'shape.width': Input should be a valid number"),
     "duplicate key": (RECT.replace("units: mm", "units: mm\nunits: m").encode(), "the key 'units' appears twice"),
 }
@@ -63,6 +64,9 @@ OPTIONS = {
     "--time-step tiny": (["--time-step", "1e-9"], "would need more than 1,000,000 samples"),
     "--max-acceleration tiny": (["--timing", "realistic", "--max-acceleration", "1e-9"], "would need more than"),
     "--at twice": (["--at", "x=0,x=10"], "--at: x is given twice"),
+    "--at empty": (["--at", ""], "--at: give at least one value"),
+    "--free twice": (["--free", "x,y,x"], "--free: x is given twice"),
+    "--free empty": (["--free", ""], "--free: expected names from x, y, z"),
 }
 
 

@@ -69,6 +69,18 @@ def add_sampling_options(parser: argparse.ArgumentParser) -> None:
                         help="path sampling step (s; default: the path file's)")
 
 
+def parse_names(text: str, option: str) -> tuple[str, ...]:
+    """'x,y,phi' -> placement variable names, each once, at least one."""
+    names = tuple(name.strip() for name in text.split(",") if name.strip())
+    unknown = [name for name in names if name not in VARIABLES]
+    if not names or unknown:
+        raise UsageError(f"{option}: expected names from {', '.join(VARIABLES)}, got '{text[:40]}'")
+    twice = sorted({name for name in names if names.count(name) > 1})
+    if twice:
+        raise UsageError(f"{option}: {', '.join(twice)} is given twice")
+    return names
+
+
 def parse_values(text: str, option: str) -> dict[str, float]:
     """'x=10,phi=30' -> SI values; lengths in mm and angles in deg unless suffixed m / rad."""
     values: dict[str, float] = {}

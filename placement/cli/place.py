@@ -20,6 +20,7 @@ from placement.cli.common import (
     add_sampling_options,
     check_outputs,
     configured_path,
+    parse_names,
     parse_values,
     whole_number,
 )
@@ -93,6 +94,8 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace) -> tuple[d
                       "regeneration": args.regen, "timing": path.timing.mode, "samples": len(samples)}
     if args.at is not None:
         given = parse_values(args.at, "--at")
+        if not given:
+            raise UsageError("--at: give at least one value, e.g. --at x=0,phi=30")
         detail = Evaluator(robot, path, args.regen, args.time_step, objective=args.objective).detail(
             np.array([given.get(name, 0.0) for name in VARIABLES]))
         print("\n" + format_detail("placement given by --at", robot, detail))
@@ -104,7 +107,7 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace) -> tuple[d
             worst = min(detail.margins, key=lambda m: m.margin)
             problem = f"the placement given by --at breaks the {worst.kind} ({worst.where})"
         return document, {"at": detail} if detail.reachable else {}, problem
-    free = tuple(n.strip() for n in args.free.split(",")) if args.free else None
+    free = parse_names(args.free, "--free") if args.free is not None else None
     space = default_space(robot, free=free, fixed=parse_values(args.fix or "", "--fix"),
                           half_turn=path.half_turn_symmetric())
     print(f"search: {', '.join(space.free)} free; seed {args.seed}")
