@@ -56,7 +56,7 @@ class Polyline(Strict):
     """Straight segments through points [x, y] or [x, y, z] of the path frame."""
 
     type: Literal["polyline"]
-    points: Annotated[list[tuple[Number, Number] | tuple[Number, Number, Number]], Field(min_length=2)]
+    points: Annotated[list[tuple[Number, Number] | tuple[Number, Number, Number]], Field(min_length=2, max_length=100_000)]
     closed: bool = False
 
 
