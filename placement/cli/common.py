@@ -72,9 +72,10 @@ def add_sampling_options(parser: argparse.ArgumentParser) -> None:
 def parse_names(text: str, option: str) -> tuple[str, ...]:
     """'x,y,phi' -> placement variable names, each once, at least one."""
     names = tuple(name.strip() for name in text.split(",") if name.strip())
-    unknown = [name for name in names if name not in VARIABLES]
+    unknown = [name[:20] for name in names if name not in VARIABLES]
     if not names or unknown:
-        raise UsageError(f"{option}: expected names from {', '.join(VARIABLES)}, got '{text[:40]}'")
+        raise UsageError(f"{option}: {f'unknown placement variable(s) {unknown}; ' if unknown else ''}expected names "
+                         f"from {', '.join(VARIABLES)}, got '{text[:40]}'")
     twice = sorted({name for name in names if names.count(name) > 1})
     if twice:
         raise UsageError(f"{option}: {', '.join(twice)} is given twice")
