@@ -29,7 +29,7 @@ def test_realistic_timing_never_outruns_the_feed_and_saturates(tmp_path):
     assert study.top_speed_m_s[-1] < FEEDS[-1]  # 2 m/s is never reached on a 30 mm side at 10 m/s²
 
 
-@pytest.mark.parametrize("feeds", ["0:1:3", "0.1:1", "0.1:1:0", "a:b:c", "0.1:inf:3"])
+@pytest.mark.parametrize("feeds", ["0:1:3", "0.1:1", "0.1:1:0", "a:b:c", "0.1:inf:3", "0.1:1e300:3"])
 def test_bad_feed_ranges_exit_2(feeds, capsys):
     assert main(["feed", "--robot", "orthoglide", "--path", str(EXAMPLE), "--at", "x=0", "--feeds", feeds]) == 2
     assert "--feeds:" in capsys.readouterr().err
@@ -41,3 +41,9 @@ def test_the_feed_command_prints_the_table_and_draws(tmp_path, capsys):
                  "--time-step", "0.004", "--png", str(png)]) == 0
     out = capsys.readouterr().out
     assert "energy/part J" in out and out.count(" hold") == 3 and png.is_file()
+
+
+def test_a_placement_where_no_feed_holds_exits_2(capsys):
+    assert main(["feed", "--robot", "orthoglide", "--path", str(EXAMPLE), "--at", "x=1000", "--feeds", "0.1:1:3",
+                 "--time-step", "0.01"]) == 2
+    assert "no feed keeps every limit at this placement (workspace (x max) at the first)" in capsys.readouterr().err

@@ -115,10 +115,19 @@ def test_outputs_never_overwrite_inputs_links_or_devices(tmp_path, capsys):
              (["--json", str(tmp_path / "a.json"), "--trace", str(tmp_path / "a.json")], "also the file of --json"),
              (["--json", str(tmp_path / "link.json")], "is a symbolic link"),
              (["--json", "/dev/null"], "is not a regular file")]
+    (tmp_path / "hard.yaml").hardlink_to(path)
+    cases.append((["--json", str(tmp_path / "hard.yaml")], "is an input file (another name of it)"))
     for extra, expected in cases:
         code, err = run(QUICK + ["--path", str(path), "--at", "x=0", *extra], capsys)
         assert code == 2 and expected in err, (extra, err)
     assert path.read_text() == RECT and target.read_text() == "keep"
+    sidecar = edited_copy("orthoglide", tmp_path / "robot", lambda d: None)
+    urdf = (sidecar.parent / "orthoglide.urdf").read_text()
+    for option, file in (("--html", "orthoglide.urdf"), ("--trace", "closed_form.py"), ("--json", "orthoglide.yaml")):
+        code, err = run(["--robot", str(sidecar), "--path", str(path), "--at", "x=0", option, str(sidecar.parent / file)],
+                        capsys)
+        assert code == 2 and "is an input file" in err, (option, err)
+    assert (sidecar.parent / "orthoglide.urdf").read_text() == urdf
 
 
 def test_an_existing_output_keeps_its_mode(tmp_path, capsys):

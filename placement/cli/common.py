@@ -17,6 +17,7 @@ from placement.exceptions import PlacementError
 from placement.frames import ANGLES, VARIABLES
 from placement.objectives import OBJECTIVES
 from placement.path import Timing, ToolPath, load_path
+from placement.robot.catalog import sidecar_path
 
 
 class UsageError(PlacementError):
@@ -134,6 +135,7 @@ def check_outputs(*pairs: tuple[str, str | None], inputs: tuple[str, ...] = ()) 
     another output; its folder must exist and take a new file.
     """
     taken = {Path(file).resolve(): "an input file" for file in inputs}
+    identities = {_identity(Path(file)): "an input file" for file in inputs if Path(file).is_file()}  # hard links
     figures = [(option, str(file).removesuffix(".png") + ".svg") for option, file in pairs
                if file is not None and option == "--png"]  # a figure is written as PNG and SVG
     for option, file in (*pairs, *figures):
@@ -148,6 +150,9 @@ def check_outputs(*pairs: tuple[str, str | None], inputs: tuple[str, ...] = ()) 
             raise UsageError(f"{option}: '{file}' is not a regular file")
         if target.resolve() in taken:
             raise UsageError(f"{option}: '{file}' is {taken[target.resolve()]}; it would be overwritten")
+        if target.is_file() and _identity(target) in identities:
+            raise UsageError(f"{option}: '{file}' is {identities[_identity(target)]} (another name of it); "
+                             "it would be overwritten")
         taken[target.resolve()] = f"also the file of {option}"
         folder = target.absolute().parent
         if not folder.is_dir():
@@ -158,3 +163,14 @@ def check_outputs(*pairs: tuple[str, str | None], inputs: tuple[str, ...] = ()) 
             raise UsageError(f"{option}: '{file}' cannot be written (its folder takes no new file)") from None
         if target.exists() and not os.access(target, os.W_OK):
             raise UsageError(f"{option}: '{file}' cannot be written")
+
+
+def _identity(file: Path) -> tuple[int, int]:
+    status = file.stat()
+    return status.st_dev, status.st_ino
+
+
+def robot_files(robot: str) -> tuple[str, ...]:
+    """The files of a robot's folder (sidecar, URDF, plug-in): inputs no output may overwrite."""
+    folder = sidecar_path(robot).parent
+    return tuple(str(file) for file in folder.iterdir() if file.is_file())

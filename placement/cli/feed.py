@@ -6,17 +6,18 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
+import sys
 
 import numpy as np
 
-from placement.cli.common import UsageError, add_sampling_options, check_outputs, configured_path, parse_values
+from placement.cli.common import UsageError, add_sampling_options, check_outputs, configured_path, parse_values, robot_files
 from placement.energy.regeneration import REGENERATION
 from placement.frames import VARIABLES
 from placement.robot import load_robot
 from placement.search.feed import feed_study
 
 MAX_FEEDS = 1000
+MAX_FEED_M_S = 100.0
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
@@ -39,14 +40,15 @@ def parse_feeds(text: str) -> np.ndarray:
         start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
     except (ValueError, IndexError):
         raise UsageError(f"--feeds: expected START:STOP:COUNT in m/s, got '{text[:40]}'") from None
-    if len(parts) != 3 or not (0 < start < np.inf and 0 < stop < np.inf) or not 1 <= count <= MAX_FEEDS:
-        raise UsageError(f"--feeds: expected finite feeds > 0 m/s and 1 to {MAX_FEEDS} of them, got '{text[:40]}'")
+    if len(parts) != 3 or not (0 < start <= MAX_FEED_M_S and 0 < stop <= MAX_FEED_M_S) or not 1 <= count <= MAX_FEEDS:
+        raise UsageError(f"--feeds: expected feeds from 0 to {MAX_FEED_M_S:g} m/s and 1 to {MAX_FEEDS} of them, "
+                         f"got '{text[:40]}'")
     return np.linspace(start, stop, count)
 
 
 def run(args: argparse.Namespace) -> int:
     """Print the table (and draw the figure) of time and energy per part against feed."""
-    check_outputs(("--png", args.png), inputs=(args.path, *([args.robot] if Path(args.robot).is_file() else [])))
+    check_outputs(("--png", args.png), inputs=(args.path, *robot_files(args.robot)))
     feeds = parse_feeds(args.feeds)
     given = parse_values(args.at, "--at")
     robot = load_robot(args.robot)
@@ -65,4 +67,7 @@ def run(args: argparse.Namespace) -> int:
 
         save(feed_figure(study, f"{path.name} on {robot.name}"), str(args.png).removesuffix(".png"))
         print(f"figure written to {args.png} (and .svg)")
+    if not study.feasible.any():
+        print(f"error: no feed keeps every limit at this placement ({study.binding[0]} at the first)", file=sys.stderr)
+        return 2
     return 0

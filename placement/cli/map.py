@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 
 import numpy as np
 from tqdm import tqdm
@@ -19,6 +18,7 @@ from placement.cli.common import (
     check_outputs,
     configured_path,
     parse_values,
+    robot_files,
     whole_number,
 )
 from placement.frames import ANGLES, VARIABLES
@@ -72,6 +72,8 @@ def parse_grid(text: str) -> dict[str, np.ndarray]:
             raise UsageError(f"--grid: more than {MAX_GRID_POINTS:,} placements; use fewer points")
         scale = np.pi / 180 if name in ANGLES else 1e-3
         axes[name] = np.linspace(start, stop, count) * scale
+        if not np.isfinite(axes[name]).all():
+            raise UsageError(f"--grid: the values of {name} overflow; give a sensible range")
     if not axes:
         raise UsageError("--grid: give at least one variable")
     return axes
@@ -81,7 +83,7 @@ def run(args: argparse.Namespace) -> int:
     """The 'map' command: a map of the objective over a grid of placements."""
     out = args.out if args.out.endswith(".npz") else f"{args.out}.npz"  # numpy's suffix, said up front
     check_outputs(("--out", out), ("--png", args.png), ("--html", args.html),
-                  inputs=(args.path, *([args.robot] if Path(args.robot).is_file() else [])))
+                  inputs=(args.path, *robot_files(args.robot)))
     axes = parse_grid(args.grid)
     fixed = parse_values(args.fix or "", "--fix")
     clash = sorted(set(axes) & set(fixed))

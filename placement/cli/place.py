@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 
 import numpy as np
 from tqdm import tqdm
@@ -22,6 +21,7 @@ from placement.cli.common import (
     configured_path,
     parse_names,
     parse_values,
+    robot_files,
     whole_number,
 )
 from placement.energy.regeneration import REGENERATION
@@ -173,7 +173,7 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError("--at evaluates one placement: give every value in --at, without --fix, --free, "
                          "--minimize or --maximize")
     check_outputs(("--json", args.json), ("--trace", args.trace), ("--html", args.html),
-                  inputs=(*args.path, *([args.robot] if Path(args.robot).is_file() else [])))
+                  inputs=(*args.path, *robot_files(args.robot)))
     scene = Scene(robot) if args.html or args.show else None
     if scene:
         scene.add_workspace()

@@ -150,7 +150,7 @@ def _run(jobs: list[EvaluationJob], workers: int, executor: Executor | None,
             if progress:
                 progress(len(job.placements))
         return results
-    pool = executor or process_pool(workers)
+    pool = executor or process_pool(min(workers, len(jobs)))
     try:
         futures = {pool.submit(evaluate_job, job): k for k, job in enumerate(jobs)}
         done: dict[int, Evaluation] = {}
