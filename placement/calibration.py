@@ -84,7 +84,7 @@ def read_log(file: str | Path, robot: Robot) -> MeasuredLog:
     if path.stat().st_size > MAX_LOG_BYTES:
         raise LogFileError(path, "", f"larger than {MAX_LOG_BYTES // 1_000_000} MB")
     try:
-        with path.open(newline="", encoding="utf-8") as stream:
+        with path.open(newline="", encoding="utf-8-sig") as stream:  # Excel's "CSV UTF-8" starts with a BOM
             rows = list(csv.reader(stream))
     except (OSError, UnicodeDecodeError) as error:
         raise LogFileError(path, "", f"cannot be read as UTF-8 CSV: {error}") from None

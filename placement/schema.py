@@ -61,8 +61,10 @@ def read_yaml(path: Path, schema: type[Model], error: type[InputFileError]) -> M
         InputFileError: (as ``error``) the file is missing, not YAML, or breaks the schema; the
             message names the field and what was expected.
     """
+    if not str(path) or str(path) == ".":
+        raise error(path, "", "empty file name")
     if not path.is_file():
-        raise error(path, "", "file not found")
+        raise error(path, "", "not a regular file" if path.exists() else "file not found")
     if path.stat().st_size > MAX_FILE_BYTES:
         raise error(path, "", f"the file is larger than {MAX_FILE_BYTES // 1_000_000} MB")
     try:
@@ -76,7 +78,7 @@ def read_yaml(path: Path, schema: type[Model], error: type[InputFileError]) -> M
     if not isinstance(raw, dict):
         raise error(path, "", "expected a mapping of fields at the top level")
     if _node_count(raw, MAX_NODES) > MAX_NODES:  # aliases can make a small file a huge document
-        raise error(path, "", f"the document expands to more than {MAX_NODES:,} values (through & and * aliases?)")
+        raise error(path, "", f"the document holds more than {MAX_NODES:,} values (counting each use of an & anchor)")
     try:
         return schema.model_validate(raw)
     except ValidationError as problem:

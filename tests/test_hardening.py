@@ -37,7 +37,7 @@ PATH_FILES = {
     "binary": (bytes(range(256)) * 8, "not a text file in UTF-8"),
     "latin-1": ("name: caf\xe9\n".encode("latin-1"), "not a text file in UTF-8"),
     "deep": (("a: " + "[" * 20000 + "]" * 20000).encode(), "nested too deeply"),
-    "laughs": (laughs().encode(), "expands to more than 1,000,000 values"),
+    "laughs": (laughs().encode(), "holds more than 1,000,000 values (counting each use of an & anchor)"),
     "huge width": (RECT.replace("width: 30", "width: 1e9").encode(), "would need more than 1,000,000 samples"),
     "slow feed": (RECT.replace("feed_m_s: 0.66", "feed_m_s: 1e-9").encode(), "would need more than"),
     "tiny step": (RECT.replace("time_step_s: 0.001", "time_step_s: 1e-12").encode(), "would need more than"),
@@ -254,3 +254,16 @@ def test_bad_calibration_logs_exit_2_naming_the_column(tmp_path, capsys):
     code, err = run(["calibrate", "orthoglide", "--log", str(tmp_path / "fit.svg"), "--fit", "resistance_ohm",
                      "--png", str(tmp_path / "fit.png")], capsys)
     assert code == 2 and "--png: " in err and "is an input file" in err
+
+
+def test_more_unclear_inputs_are_named(tmp_path, capsys):
+    cases = [(["frobnicate"], "unknown command 'frobnicate': expected one of robots, check, map"),
+             (["--robot", "orthoglide", "--path", ""], "empty file name"),
+             (["--robot", "orthoglide", "--path", "/dev/zero"], "/dev/zero: not a regular file"),
+             (QUICK + ["--path", str(EXAMPLE), "--at", "x=0", "--json", str(tmp_path / ("a" * 300))],
+              "--json: the file name is too long"),
+             (QUICK + ["--path", str(EXAMPLE), "--at", "x=0", "--show", "--show-host", ""],
+              "--show-host: expected an address, got ''")]
+    for argv, expected in cases:
+        code, err = run(argv, capsys)
+        assert code == 2 and expected in err, (argv, err)

@@ -42,6 +42,10 @@ def main(argv: list[str] | None = None) -> int:
     if not debug:  # numpy's overflow warnings on absurd input: the results and limits say what went wrong
         warnings.simplefilter("ignore", RuntimeWarning)
     try:
+        if argv and not argv[0].startswith("-") and argv[0] not in SUBCOMMANDS:
+            print(f"error: unknown command '{argv[0][:40]}': expected one of {', '.join(SUBCOMMANDS)}, or options "
+                  "for the main job (--robot, --path, ...; see --help)", file=sys.stderr)
+            return 2
         if argv and argv[0] in SUBCOMMANDS:
             args = build_command_parser().parse_args(argv)
             return SUBCOMMANDS[args.command].run(args)

@@ -142,6 +142,8 @@ def check_outputs(*pairs: tuple[str, str | None], inputs: tuple[str, ...] = ()) 
         if file is None:
             continue
         target = Path(file)
+        if len(target.name.encode()) > 255:
+            raise UsageError(f"{option}: the file name is too long (more than 255 bytes)")
         if target.is_symlink():
             raise UsageError(f"{option}: '{file}' is a symbolic link; name the file itself")
         if target.is_dir():

@@ -148,7 +148,9 @@ def draw(scene: Scene, robot: Robot, index: int, details: dict) -> None:
 
 def show(page: str, host: str) -> None:
     """Serve the scene's page until Enter is pressed (or the input ends)."""
-    if host != "127.0.0.1":
+    if not host.strip():
+        raise UsageError("--show-host: expected an address, got ''")
+    if not (host == "localhost" or host.startswith("127.") or host == "::1"):
         print(f"warning: --show-host {host}: the scene is served to every machine that can reach this address",
               file=sys.stderr)
     try:
