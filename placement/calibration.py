@@ -338,8 +338,8 @@ def write_calibrated(robot: Robot, calibration: Calibration, folder: str | Path,
             held_out = ", ".join(f"{v:.3g} {UNITS[q]}" for q, v in calibration.held_out_rmse.items())
             sources[field] = (f"CALIBRATED: fitted to {log_name}, 95 % interval "
                               f"±{calibration.confidence_95[drive][constant]:.3g}; held-out RMS error {held_out}")
-            motor = document["drives"][drive]["motor"]
-            if constant == "torque_constant_Nm_per_A" and motor.get("model", "pmsm") == "pmsm":
-                motor["back_emf_constant_V_s_per_rad"] = value / motor["phases"]
+        # with_drive_constants keeps the back-EMF constant consistent with the torque constant: take it from there
+        fitted_motor = calibration.robot.sidecar.drives[drive].motor
+        document["drives"][drive]["motor"]["back_emf_constant_V_s_per_rad"] = fitted_motor.back_emf_constant_V_s_per_rad
     sidecar.write_text(yaml.safe_dump(document, sort_keys=False), encoding="utf-8")
     return sidecar

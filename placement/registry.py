@@ -14,7 +14,6 @@ process (they must then be picklable, i.e. importable by name).
 from __future__ import annotations
 
 import threading
-from collections.abc import Iterator
 from importlib.metadata import entry_points
 from typing import Generic, TypeVar
 
@@ -87,9 +86,6 @@ class Registry(Generic[Member]):
     def __contains__(self, name: object) -> bool:
         self._load_entry_points()
         return name in self._members
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(self.names())
 
     def _checked(self, name: str, member: Member) -> Member:
         if self.kind is None:
