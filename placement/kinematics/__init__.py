@@ -6,12 +6,14 @@ import numpy as np
 
 from placement.exceptions import PlacementError, UnreachableError
 from placement.kinematics.base import SOLVERS, KinematicsSolver, solver_for
+from placement.kinematics.batched import BatchedSolver
 from placement.kinematics.closed_form import ClosedFormSolver
-from placement.kinematics.generic import NumericSolver, solve_configuration
+from placement.kinematics.generic import SequentialSolver, solve_configuration
 from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
 from placement.robot.model import Robot
 
-__all__ = ["SOLVERS", "ClosedFormSolver", "JointTrajectory", "KinematicsSolver", "NumericSolver", "TaskTrajectory",
+__all__ = ["SOLVERS", "BatchedSolver", "ClosedFormSolver", "JointTrajectory", "KinematicsSolver", "SequentialSolver",
+           "TaskTrajectory",
            "joint_trajectory", "solve_configuration", "solver_for"]
 
 
@@ -21,7 +23,7 @@ def joint_trajectory(robot: Robot, task: TaskTrajectory, method: str = "auto") -
     Args:
         robot: The robot.
         task: End-effector trajectory in the base frame (a pose for a pose task).
-        method: A kinematics solver's name ("closed_form", "numeric", or an installed one), or
+        method: A kinematics solver's name ("closed_form", "numeric", "sequential", or an installed one), or
             "auto" (the sidecar's choice, else the robot's plug-in, else "numeric").
 
     Returns:

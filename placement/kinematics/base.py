@@ -3,8 +3,9 @@
 A solver turns an end-effector trajectory into the motion of every joint of the spanning tree,
 marking the samples it cannot reach instead of raising, so that a batch of placements is never
 stopped by one bad sample. The built-ins are ``closed_form`` (a robot's own closed-form plug-in,
-batched over samples) and ``numeric`` (damped Gauss–Newton for any closed-loop or serial robot,
-sample after sample). A package adds a solver class under the entry-point group
+batched over samples), ``numeric`` (Newton for any closed-loop or serial robot of revolute and
+prismatic joints, batched over samples) and ``sequential`` (Gauss–Newton sample after sample, for
+any joint). A package adds a solver class under the entry-point group
 ``placement.kinematics``; a sidecar may name one in ``kinematics``.
 """
 
@@ -67,10 +68,15 @@ SOLVERS: Registry[type[KinematicsSolver]] = Registry("kinematics solver", "place
 
 
 def solver_name(robot: Robot, name: str = "auto") -> str:
-    """The solver's name: ``name``, or for "auto" the sidecar's, else ``closed_form`` with a plug-in, else ``numeric``."""
+    """The solver's name: ``name``, or for "auto" the sidecar's, else ``closed_form`` with a plug-in, else
+    ``numeric`` where it serves the robot, else ``sequential``."""
     if name != "auto":
         return name
-    return robot.sidecar.kinematics or ("closed_form" if robot.closed_form is not None else "numeric")
+    if robot.sidecar.kinematics:
+        return robot.sidecar.kinematics
+    if robot.closed_form is not None:
+        return "closed_form"
+    return "numeric" if SOLVERS.get("numeric").unsuitable(robot) is None else "sequential"
 
 
 def solver_for(robot: Robot, name: str = "auto") -> KinematicsSolver:

@@ -1,4 +1,7 @@
-"""The generic kinematics solver (``numeric``): any closed-loop or serial robot, sample by sample.
+"""The sequential kinematics solver (``sequential``): any closed-loop or serial robot, sample by sample.
+
+The batched ``numeric`` solver is the generic route; this one serves joints it does not handle
+(continuous, spherical, floating) and is its independent reference in the tests.
 
 Closed loops: damped Gauss–Newton on the stacked closure residuals and end-effector error,
 warm-started from a first-order prediction of the previous sample, with a homotopy from the
@@ -209,8 +212,8 @@ def _serial(robot: Robot, task: TaskTrajectory) -> tuple[JointTrajectory, np.nda
     return JointTrajectory(q_all, v_all, a_all, basis, map_all @ selection), reachable, reason
 
 
-class NumericSolver(KinematicsSolver):
-    """Gauss–Newton for any robot; each placement walks from the reference configuration."""
+class SequentialSolver(KinematicsSolver):
+    """Gauss–Newton for any robot, sample after sample; each placement walks from the reference configuration."""
 
     def solve(self, task: TaskTrajectory, placements: int = 1) -> tuple[JointTrajectory, np.ndarray, str]:
         solve_one = _serial if self.robot.is_serial else _numeric
@@ -220,4 +223,4 @@ class NumericSolver(KinematicsSolver):
         return JointTrajectory.concatenate([p[0] for p in pieces]), np.concatenate([p[1] for p in pieces]), reason
 
 
-SOLVERS.add("numeric", NumericSolver)
+SOLVERS.add("sequential", SequentialSolver)

@@ -1,0 +1,116 @@
+"""The batched generic kinematics against Pinocchio and against the sequential solver."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from placement.frames import default_space, placed_task
+from placement.kinematics import SOLVERS, TaskTrajectory, solver_for
+from placement.kinematics.tree import Tree, log3
+from placement.path import load_path
+from placement.robot import load_robot
+
+LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+ROBOTS = ["orthoglide", "fivebar", "ur5", "panda"]
+
+
+def unaligned_model() -> pin.Model:
+    """A chain with joints about and along tilted axes, and tilted joint placements."""
+    model = pin.Model()
+    rng = np.random.default_rng(3)
+    parent = 0
+    joints = [pin.JointModelRevoluteUnaligned(*np.array([1.0, 2.0, 2.0]) / 3.0),
+              pin.JointModelPrismaticUnaligned(*np.array([0.0, 0.6, 0.8])),
+              pin.JointModelRX(), pin.JointModelPY(),
+              pin.JointModelRevoluteUnaligned(*np.array([0.6, 0.0, -0.8]))]
+    for i, joint in enumerate(joints):
+        placement = pin.SE3(pin.exp3(rng.normal(size=3)), rng.normal(size=3) * 0.2)
+        parent = model.addJoint(parent, joint, placement, f"j{i}")
+        model.appendBodyToJoint(parent, pin.Inertia.Random(), pin.SE3.Identity())
+    model.addFrame(pin.Frame("tip", parent, pin.SE3(pin.exp3(rng.normal(size=3)), rng.normal(size=3) * 0.1),
+                             pin.FrameType.OP_FRAME))
+    return model
+
+
+def models() -> list[tuple[str, pin.Model]]:
+    return [(name, load_robot(name).model) for name in ROBOTS] + [("unaligned", unaligned_model())]
+
+
+@pytest.mark.parametrize(("name", "model"), models(), ids=lambda x: x if isinstance(x, str) else "")
+def test_tree_matches_pinocchio(name, model):
+    """Frame placements, LWA Jacobians and classical accelerations (J̇·v) of every frame, to 1e-12."""
+    rng = np.random.default_rng(0)
+    tree = Tree(model)
+    q = rng.uniform(-2.0, 2.0, (7, model.nq))
+    v = rng.normal(0.0, 2.0, (7, model.nv))
+    state = tree.velocities(tree.placements(q), v)
+    data = model.createData()
+    for frame_id in range(model.nframes):
+        rotation, origin = tree.frame(state, frame_id)
+        jacobian, drift = tree.jacobian(state, frame_id), tree.drift(state, v, frame_id)
+        for k in range(len(q)):
+            pin.forwardKinematics(model, data, q[k], v[k], np.zeros(model.nv))
+            pin.computeJointJacobians(model, data, q[k])
+            pin.updateFramePlacements(model, data)
+            np.testing.assert_allclose(rotation[k], data.oMf[frame_id].rotation, atol=1e-12)
+            np.testing.assert_allclose(origin[k], data.oMf[frame_id].translation, atol=1e-12)
+            np.testing.assert_allclose(jacobian[k], pin.getFrameJacobian(model, data, frame_id, LWA), atol=1e-12)
+            np.testing.assert_allclose(drift[k], pin.getFrameClassicalAcceleration(model, data, frame_id, LWA).vector,
+                                       atol=1e-12)
+
+
+def test_log3_matches_pinocchio():
+    rotations = np.array([pin.exp3(w) for w in np.random.default_rng(1).normal(0.0, 1.0, (20, 3))])
+    np.testing.assert_allclose(log3(rotations), [pin.log3(r) for r in rotations], atol=1e-12)
+
+
+def placed(robot_name: str, path: str, placements: int, samples: int | None = None):
+    robot = load_robot(robot_name)
+    tool_path = load_path(f"examples/{path}.yaml")
+    sampled = tool_path.sample()
+    if samples:
+        sampled = tool_path.sample(sampled.t_s[-1] / (samples - 1))
+    space = default_space(robot)
+    x = space.full(np.random.default_rng(0).uniform(space.lower, space.upper, (placements, len(space.free))))
+    task, _ = placed_task(robot, sampled, x)
+    return robot, task
+
+
+@pytest.mark.parametrize(("robot_name", "path"), [("ur5", "rect"), ("panda", "circle"), ("fivebar", "circle")])
+def test_batched_equals_sequential_on_random_placements(robot_name, path):
+    """Same reachable placements, and the same motion on them (1e-9), as the sample-by-sample solver.
+
+    Random placements over the whole placement space include unreachable ones and ones where the
+    mechanism would have to change branch: both solvers must reject the same.
+    """
+    robot, task = placed(robot_name, path, 24, samples=64)
+    batched, ok_b, reason_b = SOLVERS.get("numeric")(robot).solve(task, 24)
+    sequential, ok_s, _ = SOLVERS.get("sequential")(robot).solve(task, 24)
+    per_placement_b, per_placement_s = ok_b.reshape(24, -1).all(axis=1), ok_s.reshape(24, -1).all(axis=1)
+    np.testing.assert_array_equal(per_placement_b, per_placement_s)
+    assert per_placement_b.any()
+    rows = np.repeat(per_placement_b, len(task) // 24)
+    for field in ("q", "v", "a", "basis", "task_map"):
+        np.testing.assert_allclose(getattr(batched, field)[rows], getattr(sequential, field)[rows], atol=1e-9,
+                                   err_msg=field)
+    assert np.isfinite(batched.q).all() and np.isfinite(batched.a).all()
+    assert per_placement_b.all() or "sample" in reason_b
+
+
+def test_auto_picks_the_batched_solver_for_revolute_robots():
+    assert type(solver_for(load_robot("ur5"))).__name__ == "BatchedSolver"
+    assert type(solver_for(load_robot("orthoglide"))).__name__ == "ClosedFormSolver"
+
+
+def test_branch_change_is_reported():
+    """A five-bar path through the elbow singularity cannot be followed on one branch: it is reported."""
+    robot = load_robot("fivebar")
+    # straight out from the reference point towards full stretch of both arms and beyond
+    y = np.linspace(0.30, 0.47, 200)
+    position = np.column_stack([np.zeros_like(y), y, np.zeros_like(y)])
+    task = TaskTrajectory(position, np.tile([0.0, 0.1, 0.0], (200, 1)), np.zeros((200, 3)))
+    _, ok, reason = SOLVERS.get("numeric")(robot).solve(task)
+    assert ok[0] and not ok[-1]
+    assert "sample" in reason
