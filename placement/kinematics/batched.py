@@ -36,7 +36,8 @@ SOLVE_TOLERANCE = 1e-11  # residual norm (m and rad) at which Newton stops
 MAX_ITERATIONS = 30
 MAX_STEP = 0.2  # largest joint step of one Newton iteration (m or rad)
 DAMPING = 1e-14  # Levenberg term of the normal equations (keeps rank-deficient samples finite)
-CONTINUATION_STEP_M = 0.02  # assembly: end-effector step from the reference configuration
+CONTINUATION_STEP_M = 0.05  # assembly: end-effector step from the reference configuration (predicted)
+CONTINUATION_TOLERANCE = 1e-5  # assembly: residual norm enough on the way (m and rad)
 COARSE_STEP_M = 0.02  # coarse march: task displacement between marched samples (rotation counts 0.1 m/rad)
 ROTATION_LENGTH_M = 0.1  # metres per radian when measuring task displacements
 BRANCH_TOLERANCE = 1e-3  # a solution this far beyond twice its local motion has left the branch (m or rad)
@@ -97,15 +98,16 @@ class BatchedKinematics:
         closure = np.concatenate(rows, axis=1) if rows else np.zeros((len(v), 0))
         return closure, self.tree.drift(state, v, self.robot.end_effector_frame_id)[:, :self.dim]
 
-    def newton(self, q: np.ndarray, targets: Targets) -> tuple[np.ndarray, np.ndarray]:
-        """Newton from (B, nq) starts; returns the configurations and which converged."""
+    def newton(self, q: np.ndarray, targets: Targets, tolerance: float = SOLVE_TOLERANCE) -> tuple[np.ndarray, np.ndarray]:
+        """Newton from (B, nq) starts to a residual norm below ``tolerance``; returns the configurations and
+        which converged."""
         q = q.copy()
         converged = np.zeros(len(q), dtype=bool)
         active = np.arange(len(q))
         for _ in range(MAX_ITERATIONS + 1):
             state = self.tree.placements(q[active])
             residual = self.residual(state, targets.rows(active))
-            done = np.linalg.norm(residual, axis=1) < SOLVE_TOLERANCE
+            done = np.linalg.norm(residual, axis=1) < tolerance
             converged[active[done]] = True
             keep = ~done & np.isfinite(residual).all(axis=1)
             if not keep.any():
@@ -187,6 +189,14 @@ def task_displacement(task: TaskTrajectory, start: np.ndarray, stop: np.ndarray)
     return np.hstack([move, log3(task.rotation[stop] @ task.rotation[start].transpose(0, 2, 1))])
 
 
+def _displacement(start: Targets, stop: Targets) -> np.ndarray:
+    """(B, dim) displacement between two sets of targets: position, then rotation (world)."""
+    move = stop.position_m - start.position_m
+    if start.rotation is None or stop.rotation is None:
+        return move
+    return np.hstack([move, log3(stop.rotation @ start.rotation.transpose(0, 2, 1))])
+
+
 def coarse_samples(task: TaskTrajectory, n: int) -> np.ndarray:
     """Indices (within one placement) of samples about COARSE_STEP_M apart along the task, ends included."""
     steps = task_displacement(task, np.arange(n - 1), np.arange(1, n))
@@ -219,7 +229,6 @@ class BatchedSolver(KinematicsSolver):
         q = np.tile(self.robot.reference_q, (len(task), 1))
         ok = np.zeros(len(task), dtype=bool)
         q[first], ok[first] = self._assemble(targets.rows(first))
-        reasons = {"unreached": "no configuration reaches the target", "branch": "", "singular": ""}
         coarse = coarse_samples(task, n) if n > 1 else np.zeros(1, dtype=int)
         flipped = self._march(task, targets, q, ok, first, coarse)
         flipped |= self._refine(targets, q, ok, first, coarse, n)
@@ -230,7 +239,7 @@ class BatchedSolver(KinematicsSolver):
             k = bad[0]
             where = f" at sample {k % n} ({np.round(task.position_m[k], 6).tolist()} m)"
             if not ok[k]:
-                reason = reasons["unreached"] + where
+                reason = "no configuration reaches the target" + where
             elif flipped[k]:
                 reason = "the configuration leaves the reference assembly mode or branch" + where
             else:
@@ -253,13 +262,15 @@ class BatchedSolver(KinematicsSolver):
             distance = np.maximum(distance, ROTATION_LENGTH_M * np.linalg.norm(turn, axis=1))
         steps = max(1, int(np.ceil(distance.max() / CONTINUATION_STEP_M)))
         ok = np.ones(k, dtype=bool)
+        previous = Targets(np.tile(position, (k, 1)), None if turn is None else np.tile(rotation, (k, 1, 1)))
         for s in np.linspace(0.0, 1.0, steps + 1)[1:]:
-            goal_rotation = None
-            if turn is not None:
-                goal_rotation = rotation @ _exp3(s * turn)
-            q_next, converged = kin.newton(q, Targets(position + s * (targets.position_m - position), goal_rotation))
+            goal = Targets(position + s * (targets.position_m - position),
+                           None if turn is None else rotation @ _exp3(s * turn))
+            seed = q + np.einsum("kqt,kt->kq", kin.tangent(q), _displacement(previous, goal))  # first-order predictor
+            q_next, converged = kin.newton(seed, goal, SOLVE_TOLERANCE if s == 1.0 else CONTINUATION_TOLERANCE)
             q[converged] = q_next[converged]
             ok &= converged
+            previous = goal
         return q, ok
 
     def _march(self, task: TaskTrajectory, targets: Targets, q: np.ndarray, ok: np.ndarray, first: np.ndarray,
