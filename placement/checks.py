@@ -3,24 +3,75 @@
 These prove that the inverse dynamics of :mod:`placement.dynamics` is exact for a given robot
 file: the efforts it returns, applied in Pinocchio's constrained forward dynamics, reproduce the
 prescribed accelerations, and the power they deliver equals the rate of change of the
-mechanical energy. ``python -m placement check ROBOT`` runs them on a demonstration trajectory.
+mechanical energy. ``python -m placement check ROBOT`` runs them on a demonstration trajectory,
+and adds plausibility warnings about the robot files (:func:`plausibility_warnings`).
 """
 
 from __future__ import annotations
 
 import dataclasses
+import statistics
 from collections.abc import Callable
+from xml.etree import ElementTree
 
 import numpy as np
 import pinocchio as pin
 
+from placement.drives.trace import drives_of, motor_trace
 from placement.dynamics import actuator_efforts
 from placement.kinematics import JointTrajectory, TaskTrajectory, joint_trajectory
 from placement.robot.closures import LWA, closure_residuals
+from placement.robot.load import urdf_limits_missing
 from placement.robot.model import Robot
 
+AMPLITUDE_FRACTION = 0.05  # default check amplitude, as a fraction of the robot's size
+FALLBACK_AMPLITUDE_M = 0.01  # when the robot gives no size (end effector at the base, no workspace)
+HEAVY_LINK_RATIO = 100.0  # a link heavier than this many median link masses is suspicious
 
-def demo_trajectory(robot: Robot, amplitude_m: float = 0.01,
+
+def _reference_motion(robot: Robot) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """End-effector position (m) and rotation at the reference configuration, and the unit
+    directions (3, k) in which the mechanism can move it there (a plane for a planar robot)."""
+    data = robot.model.createData()
+    pin.framesForwardKinematics(robot.model, data, robot.reference_q)
+    frame = data.oMf[robot.end_effector_frame_id]
+    center, rotation = frame.translation.copy(), frame.rotation.copy()
+    zeros = np.zeros((1, 3))
+    still = TaskTrajectory(center[None], zeros, zeros, *((rotation[None], zeros, zeros) if robot.task == "pose" else ()))
+    u, singular, _ = np.linalg.svd(joint_trajectory(robot, still, "numeric").task_map[0, :3])
+    return center, rotation, u[:, : int((singular > 1e-9 * singular.max()).sum())]
+
+
+def default_amplitude(robot: Robot) -> tuple[float, str]:
+    """The check motion's amplitude scaled to the robot's size: 5 % of a length.
+
+    The length is the workspace box's smallest side along the motion when the sidecar declares a
+    workspace: the smallest side among the axes the end effector moves along at the reference
+    configuration (an axis counts when its squared projection on the span of the motion is at
+    least half the largest axis's, so a planar robot's flat side is skipped). Without a
+    workspace, it is the distance from the base (the URDF root) to the end effector at the
+    reference configuration; the amplitude is 1 cm when that distance is zero.
+
+    Args:
+        robot: The robot.
+
+    Returns:
+        The amplitude (m) and a few words saying what it was scaled to.
+    """
+    center, _, directions = _reference_motion(robot)
+    workspace = robot.sidecar.workspace
+    if workspace is not None:
+        weight = (directions**2).sum(axis=1)  # how far each axis lies in the motion's span, 0..1
+        sides = (np.array(workspace.max_m) - np.array(workspace.min_m))[weight >= 0.5 * weight.max()]
+        side = float(sides.min())
+        return AMPLITUDE_FRACTION * side, f"5 % of the workspace box's smallest side along the motion, {side:.4g} m"
+    reach = float(np.linalg.norm(center))
+    if reach <= 0:
+        return FALLBACK_AMPLITUDE_M, "the end effector is at the base and no workspace is declared"
+    return AMPLITUDE_FRACTION * reach, f"5 % of the base to end-effector distance, {reach:.4g} m"
+
+
+def demo_trajectory(robot: Robot, amplitude_m: float | None = None,
                     duration_s: float = 1.0) -> Callable[[np.ndarray], TaskTrajectory]:
     """A smooth Lissajous motion of the end effector around its reference position.
 
@@ -29,20 +80,15 @@ def demo_trajectory(robot: Robot, amplitude_m: float = 0.01,
 
     Args:
         robot: The robot.
-        amplitude_m: Amplitude along each direction (m).
+        amplitude_m: Amplitude along each direction (m); None: :func:`default_amplitude`.
         duration_s: Period of the slowest component (s).
 
     Returns:
         A function of time (s) giving the task trajectory, with exact derivatives.
     """
-    data = robot.model.createData()
-    pin.framesForwardKinematics(robot.model, data, robot.reference_q)
-    frame = data.oMf[robot.end_effector_frame_id]
-    center, rotation = frame.translation.copy(), frame.rotation.copy()
-    zeros = np.zeros((1, 3))
-    still = TaskTrajectory(center[None], zeros, zeros, *((rotation[None], zeros, zeros) if robot.task == "pose" else ()))
-    u, singular, _ = np.linalg.svd(joint_trajectory(robot, still, "numeric").task_map[0, :3])
-    directions = u[:, : int((singular > 1e-9 * singular.max()).sum())]
+    if amplitude_m is None:
+        amplitude_m = default_amplitude(robot)[0]
+    center, rotation, directions = _reference_motion(robot)
     w = (2 * np.pi / duration_s * np.array([1.0, 1.5, 2.0]))[: directions.shape[1]]
     phase = np.array([0.0, 0.7, 1.9])[: directions.shape[1]]
 
@@ -121,6 +167,10 @@ class CheckReport:
         power_error_W: Largest power-balance residual (W).
         peak_power_W: Largest actuator power (W), the scale of ``power_error_W``.
         peak_effort: Largest |effort| per actuator (N or N·m).
+        amplitude_m: Amplitude of the demonstration motion along each direction (m).
+        amplitude_basis: What the amplitude was scaled to, or "given".
+        warnings: Plausibility warnings about the robot files, one line each (they do not fail
+            the check; see :func:`plausibility_warnings`).
     """
 
     samples: int
@@ -130,6 +180,9 @@ class CheckReport:
     power_error_W: float
     peak_power_W: float
     peak_effort: np.ndarray
+    amplitude_m: float
+    amplitude_basis: str
+    warnings: tuple[str, ...]
 
     @property
     def passed(self) -> bool:
@@ -138,36 +191,122 @@ class CheckReport:
                 and self.forward_error < 1e-6 and self.power_error_W <= 1e-6 * max(self.peak_power_W, 1e-3))
 
 
-def check_robot(robot: Robot, samples: int = 100) -> CheckReport:
+def check_robot(robot: Robot, samples: int = 100, amplitude_m: float | None = None) -> CheckReport:
     """Run the physics checks on a demonstration trajectory around the reference configuration.
 
     Args:
         robot: The robot; it is not modified.
         samples: Samples of the one-second demonstration trajectory.
+        amplitude_m: Amplitude of the motion along each direction (m); None scales it to the
+            robot's size (:func:`default_amplitude`).
 
     Returns:
-        The residuals of every check.
+        The residuals of every check, and the plausibility warnings.
+
+    Raises:
+        ValueError: ``amplitude_m`` is not a finite number > 0.
+        UnreachableError: The motion leaves the reachable region (too large an amplitude).
     """
+    if amplitude_m is not None and not 0 < amplitude_m < np.inf:
+        raise ValueError(f"amplitude_m must be a finite number > 0 m, got {amplitude_m}")
+    basis = "given"
+    if amplitude_m is None:
+        amplitude_m, basis = default_amplitude(robot)
     model = pin.Model(robot.model)
     # Massless bodies cut from a loop (weld stubs) make the forward KKT system singular; a tiny
     # armature on the passive joints, used by both directions, keeps it regular.
     passive = np.setdiff1d(np.arange(model.nv), robot.actuated_v_indices)
     model.armature[passive] += 1e-9
-    robot = dataclasses.replace(robot, model=model)
-    path = demo_trajectory(robot)
+    checked = dataclasses.replace(robot, model=model)
+    path = demo_trajectory(checked, amplitude_m)
     t = np.linspace(0.0, 1.0, samples)
-    joints = joint_trajectory(robot, path(t))
-    effort = actuator_efforts(robot, joints)
+    joints = joint_trajectory(checked, path(t))
+    effort = actuator_efforts(checked, joints)
     data = model.createData()
-    closure_gap = max((np.abs(closure_residuals(robot, data, q)).max(initial=0.0) for q in joints.q), default=0.0)
+    closure_gap = max((np.abs(closure_residuals(checked, data, q)).max(initial=0.0) for q in joints.q), default=0.0)
     solver_gap = None
-    if robot.closed_form is not None:
-        numeric = joint_trajectory(robot, path(t), "numeric")
+    if checked.closed_form is not None:
+        numeric = joint_trajectory(checked, path(t), "numeric")
         solver_gap = float(np.abs(numeric.q - joints.q).max())
-    forward = forward_accelerations(robot, joints, effort)
-    power = (effort * joints.v[:, robot.actuated_v_indices]).sum(axis=1)
+    forward = forward_accelerations(checked, joints, effort)
+    power = (effort * joints.v[:, checked.actuated_v_indices]).sum(axis=1)
     return CheckReport(samples=samples, closure_gap=float(closure_gap), solver_gap=solver_gap,
                        forward_error=float(np.abs(forward - joints.a).max()),
-                       power_error_W=float(np.abs(power - energy_rate(robot, path, t)).max()),
-                       peak_power_W=float(np.abs(effort * joints.v[:, robot.actuated_v_indices]).max()),
-                       peak_effort=np.abs(effort).max(axis=0))
+                       power_error_W=float(np.abs(power - energy_rate(checked, path, t)).max()),
+                       peak_power_W=float(np.abs(effort * joints.v[:, checked.actuated_v_indices]).max()),
+                       peak_effort=np.abs(effort).max(axis=0), amplitude_m=float(amplitude_m), amplitude_basis=basis,
+                       warnings=plausibility_warnings(robot, joints, effort))
+
+
+def plausibility_warnings(robot: Robot, joints: JointTrajectory, effort: np.ndarray) -> tuple[str, ...]:
+    """Signs of a mistyped robot file, one line each: what the physics checks cannot see.
+
+    Args:
+        robot: The robot.
+        joints: A motion of the robot (the check motion).
+        effort: (N, n_act) actuator efforts along it (N or N·m), rotor inertia included.
+
+    Returns:
+        Warnings about heavy links, efforts beyond the drives and joints without URDF limits.
+    """
+    return (*heavy_link_warnings(link_masses(robot)), *effort_warnings(robot, joints, effort),
+            *limit_warnings(robot))
+
+
+def link_masses(robot: Robot) -> dict[str, float]:
+    """Mass of every URDF link that declares an inertial, kg, by link name."""
+    masses = {}
+    for link in ElementTree.parse(robot.urdf_path).getroot().iter("link"):
+        mass = link.find("inertial/mass")
+        if mass is not None:
+            masses[link.get("name", "?")] = float(mass.get("value", "0"))
+    return masses
+
+
+def heavy_link_warnings(masses: dict[str, float]) -> list[str]:
+    """Links heavier than 100 times the median mass of the links that have mass (kg)."""
+    positive = [mass for mass in masses.values() if mass > 0]
+    if not positive:
+        return []
+    median = statistics.median(positive)
+    return [f"link '{name}' weighs {mass:.4g} kg, more than {HEAVY_LINK_RATIO:g}x the median link mass "
+            f"{median:.4g} kg (check its <mass> in the URDF)"
+            for name, mass in masses.items() if mass > HEAVY_LINK_RATIO * median]
+
+
+def effort_warnings(robot: Robot, joints: JointTrajectory, effort: np.ndarray) -> list[str]:
+    """Actuators whose drive cannot deliver the motor torque the check motion needs.
+
+    The motor torque comes from :func:`placement.drives.trace.motor_trace` (transmission ratio,
+    efficiency, friction and rotor inertia); actuators without a drive are skipped.
+    """
+    driven = [i for i, actuator in enumerate(robot.actuators) if actuator.drive is not None]
+    if not driven:
+        return []
+    subset = dataclasses.replace(robot, actuators=tuple(robot.actuators[i] for i in driven))
+    columns = robot.actuated_v_indices[driven]
+    torque = np.abs(motor_trace(subset, effort[:, driven], joints.v[:, columns], joints.a[:, columns]).torque_Nm)
+    warnings = []
+    for k, (actuator, drive) in enumerate(zip(subset.actuators, drives_of(subset))):
+        peak, limit = float(torque[:, k].max()), drive.motor.max_torque_Nm
+        if peak > limit:
+            unit = "N" if actuator.prismatic else "N m"
+            warnings.append(f"actuator '{actuator.joint}' needs a peak motor torque of {peak:.4g} N m on the check "
+                            f"motion (joint effort {np.abs(effort[:, driven[k]]).max():.4g} {unit}), beyond its "
+                            f"drive's limit of {limit:.4g} N m")
+    return warnings
+
+
+def limit_warnings(robot: Robot) -> list[str]:
+    """One-coordinate joints whose URDF gives no position limits (Pinocchio reads [0, 0] or huge)."""
+    sidecar_limits = {a.joint: a for a in robot.actuators}
+    warnings = []
+    for joint_id, joint in enumerate(robot.model.joints):
+        name = robot.model.names[joint_id]
+        if joint_id == 0 or joint.nq != 1 or not urdf_limits_missing(robot.model, joint_id):
+            continue
+        actuator = sidecar_limits.get(name)
+        warnings.append(f"joint '{name}' has no limits in the URDF" + (
+            f"; the sidecar's [{actuator.position_min:g}, {actuator.position_max:g}] are used" if actuator
+            else " (a passive joint: nothing checks its range)"))
+    return warnings

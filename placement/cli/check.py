@@ -1,6 +1,11 @@
 """The 'check' command: describe a robot and prove its dynamic model exact.
 
-    placement check ROBOT [--samples N]
+    placement check ROBOT [--samples N] [--amplitude AMPLITUDE_M]
+
+The check moves the end effector around its reference position by an amplitude scaled to the
+robot's size (see :func:`placement.checks.default_amplitude`) unless ``--amplitude`` gives one,
+and ends with plausibility warnings about the robot files (heavy links, efforts beyond the
+drives, joints without URDF limits).
 """
 
 from __future__ import annotations
@@ -9,8 +14,9 @@ import argparse
 
 import numpy as np
 
-from placement.checks import check_robot
-from placement.cli.common import whole_number
+from placement.checks import CheckReport, check_robot
+from placement.cli.common import UsageError, positive_number, whole_number
+from placement.exceptions import UnreachableError
 from placement.kinematics.base import solver_name
 from placement.robot import Robot, load_robot
 
@@ -21,6 +27,10 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     check.add_argument("robot", help="robot name or path to a sidecar YAML file")
     check.add_argument("--samples", type=whole_number(10, 100_000), default=100,
                        help="samples of the check trajectory (default 100)")
+    check.add_argument("--amplitude", type=positive_number, metavar="AMPLITUDE_M",
+                       help="amplitude of the check motion along each direction (m; default 5%% of the workspace "
+                            "box's smallest side along the motion, or of the base to end-effector distance at the "
+                            "reference configuration when the sidecar declares no workspace)")
 
 
 def _solver_text(robot: Robot) -> str:
@@ -63,13 +73,29 @@ def run(args: argparse.Namespace) -> int:
     """Load, describe and check one robot; returns the exit code."""
     robot = load_robot(args.robot)
     print(describe(robot))
-    report = check_robot(robot, args.samples)
-    print(f"  physics check on a demonstration trajectory around the reference ({report.samples} samples):")
+    try:
+        report = check_robot(robot, args.samples, args.amplitude)
+    except UnreachableError as error:
+        given = f"--amplitude {args.amplitude:g} m" if args.amplitude is not None else "the default amplitude"
+        raise UsageError(f"the check motion of {given} leaves the reachable region ({error}); "
+                         "give a smaller --amplitude") from None
+    print(f"  physics check on a demonstration trajectory around the reference ({report.samples} samples, "
+          f"amplitude {report.amplitude_m:.4g} m: {report.amplitude_basis}):")
     print(f"    closure residual            {report.closure_gap:.1e} (m, rad)")
     if report.solver_gap is not None:
         print(f"    closed form vs generic      {report.solver_gap:.1e} (m, rad)")
     print(f"    forward dynamics round trip {report.forward_error:.1e} (joint acceleration error)")
     print(f"    power balance               {report.power_error_W:.1e} W of {report.peak_power_W:.3g} W peak")
     print(f"    peak efforts                {np.round(report.peak_effort, 3).tolist()}")
+    _print_warnings(report)
     print("  result: " + ("exact to round-off" if report.passed else "FAILED: the model is not consistent"))
     return 0 if report.passed else 1
+
+
+def _print_warnings(report: CheckReport) -> None:
+    if not report.warnings:
+        print("  plausibility: no warnings (link masses, efforts against the drives, URDF joint limits)")
+    else:
+        print(f"  plausibility: {len(report.warnings)} warning(s)")
+    for warning in report.warnings:
+        print(f"    warning: {warning}")
