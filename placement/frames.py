@@ -150,9 +150,17 @@ def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict
         limits.setdefault(angle, (-np.pi, np.pi))
     missing = [name for name in free if name not in limits]
     if missing:
-        raise PlacementError(f"robot '{robot.name}' declares no workspace: give bounds for {missing}")
+        raise PlacementError(_missing_bounds(robot.name, missing))
     fixed_vector = np.array([float((fixed or {}).get(name, 0.0)) for name in VARIABLES])
     return PlacementSpace(free=tuple(n for n in VARIABLES if n in free),
                           lower=np.array([limits[n][0] for n in VARIABLES if n in free], dtype=float),
                           upper=np.array([limits[n][1] for n in VARIABLES if n in free], dtype=float),
                           fixed=fixed_vector)
+
+
+def _missing_bounds(robot: str, missing: list[str]) -> str:
+    """What to do when free variables have no bounds: the command line's form and the sidecar's fields."""
+    example = ",".join(f"{name}=MIN:MAX" for name in missing)
+    return (f"robot '{robot}' declares no workspace, so {', '.join(missing)} {'has' if len(missing) == 1 else 'have'} "
+            f"no bounds: give them on the command line as --free {example} (mm), or in the robot's sidecar as "
+            f"workspace.min_m/max_m (a box, m) or placement.bounds (m, rad)")

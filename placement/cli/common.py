@@ -94,17 +94,65 @@ def parse_values(text: str, option: str) -> dict[str, float]:
                              f"got '{item[:40]}'")
         if name in values:
             raise UsageError(f"{option}: {name} is given twice")
-        angle = name in ANGLES
-        units = {"rad": 1.0, "deg": np.pi / 180} if angle else {"mm": 1e-3, "m": 1.0}
-        unit = next((u for u in sorted(units, key=len, reverse=True) if raw.strip().endswith(u)), None)
-        number = raw.strip()[: -len(unit)] if unit else raw.strip()
-        try:
-            values[name] = float(number) * units[unit or ("deg" if angle else "mm")]
-        except ValueError:
-            raise UsageError(f"{option}: '{raw[:40]}' is not a number for {name}") from None
-        if not np.isfinite(values[name]):
+        value = _quantity(raw, name)
+        if value is None:
+            raise UsageError(f"{option}: '{raw[:40]}' is not a number for {name}")
+        if not np.isfinite(value):
             raise UsageError(f"{option}: {name} must be a finite number, got '{raw[:40]}'")
+        values[name] = value
     return values
+
+
+def parse_free(text: str, option: str) -> tuple[tuple[str, ...], dict[str, tuple[float, float]]]:
+    """'y=-40:40,x,phi=-90:90' -> the free variables and the bounds given (SI).
+
+    Bounds are in mm and deg unless a number ends in m or rad, as for --fix; a variable without
+    bounds keeps the sidecar's or the workspace's.
+
+    Returns:
+        The names, each once, and {name: (lower, upper)} (m, rad) for those given bounds.
+
+    Raises:
+        UsageError: An unknown or repeated name, or bounds that are not two finite numbers MIN < MAX.
+    """
+    items = [item.strip() for item in text.split(",") if item.strip()]
+    if any(not item.partition("=")[0].strip() for item in items):
+        raise UsageError(f"{option}: expected name or name=MIN:MAX for each variable, got '{text[:40]}'")
+    names = parse_names(",".join(item.partition("=")[0] for item in items), option)
+    bounds = {}
+    for item in items:
+        name, equals, spec = (part.strip() for part in item.partition("="))
+        if equals:
+            bounds[name] = _bounds(name, spec, item, option)
+    return names, bounds
+
+
+def _bounds(name: str, spec: str, item: str, option: str) -> tuple[float, float]:
+    """'-40:40' -> (lower, upper) of ``name`` in SI, lower < upper."""
+    unit, example = ("deg", f"{name}=-90:90") if name in ANGLES else ("mm", f"{name}=-40:40")
+    parts = spec.split(":")
+    numbers = [value for value in (_quantity(part, name) for part in parts) if value is not None and np.isfinite(value)]
+    if len(parts) != 2 or len(numbers) != 2:
+        raise UsageError(f"{option}: expected name or name=MIN:MAX with two finite numbers ({unit}), e.g. {example}, "
+                         f"got '{item[:40]}'")
+    low, high = numbers
+    if not low < high:
+        raise UsageError(f"{option}: expected MIN below MAX in name=MIN:MAX ({unit}), e.g. {example}, "
+                         f"got '{item[:40]}' (--fix gives a single value)")
+    return low, high
+
+
+def _quantity(raw: str, name: str) -> float | None:
+    """A value of variable ``name`` in SI: mm and deg unless suffixed m / rad; None if not a number."""
+    angle = name in ANGLES
+    units = {"rad": 1.0, "deg": np.pi / 180} if angle else {"mm": 1e-3, "m": 1.0}
+    text = raw.strip()
+    unit = next((u for u in sorted(units, key=len, reverse=True) if text.endswith(u)), None)
+    number = text[: -len(unit)] if unit else text
+    try:
+        return float(number) * units[unit or ("deg" if angle else "mm")]
+    except ValueError:
+        return None
 
 
 def configured_path(args: argparse.Namespace, file: str) -> ToolPath:

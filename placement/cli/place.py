@@ -19,7 +19,7 @@ from placement.cli.common import (
     add_sampling_options,
     check_outputs,
     configured_path,
-    parse_names,
+    parse_free,
     parse_values,
     robot_files,
     whole_number,
@@ -52,8 +52,9 @@ def build_parser() -> argparse.ArgumentParser:
                            help="only search the placement of most objective (the worst for energy)")
     parser.add_argument("--at", metavar="x=..,y=..,phi=..",
                         help="evaluate one placement instead of searching (mm and deg unless a value ends in m or rad)")
-    parser.add_argument("--free", metavar="x,y,z,phi",
-                        help="free placement variables (default: the robot's, e.g. x,y,z,phi for the Orthoglide)")
+    parser.add_argument("--free", metavar="y=-40:40,x,phi",
+                        help="free placement variables, each optionally with bounds name=MIN:MAX (mm, deg) "
+                             "overriding the robot's (default: the robot's, e.g. x,y,z,phi for the Orthoglide)")
     parser.add_argument("--fix", metavar="z=0,theta=0", help="values of fixed variables (mm, deg; default 0)")
     add_model_options(parser)
     add_sampling_options(parser)
@@ -107,8 +108,8 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace) -> tuple[d
             worst = min(detail.margins, key=lambda m: m.margin)
             problem = f"the placement given by --at breaks the {worst.kind} ({worst.where})"
         return document, {"at": detail} if detail.reachable else {}, problem
-    free = parse_names(args.free, "--free") if args.free is not None else None
-    space = default_space(robot, free=free, fixed=parse_values(args.fix or "", "--fix"),
+    free, bounds = parse_free(args.free, "--free") if args.free is not None else (None, {})
+    space = default_space(robot, free=free, fixed=parse_values(args.fix or "", "--fix"), bounds=bounds,
                           half_turn=path.half_turn_symmetric())
     print(f"search: {', '.join(space.free)} free; seed {args.seed}")
     settings = SearchSettings(seed=args.seed, max_generations=args.generations, population=args.population)

@@ -26,11 +26,13 @@ from placement.robot.closures import closure_jacobian, closure_residuals
 from placement.robot.model import Actuator, Closure, Robot
 from placement.robot.plugins import load_plugin, make_closed_form
 from placement.robot.sidecar import Sidecar, read_sidecar
+from placement.robot.tool import add_tool_frame
 from placement.taylor import Taylor2
 
 CLOSURE_TOLERANCE_M = 1e-6
 ERD_PREFIX = "example-robot-data:"
 PRISMATIC_JOINTS = ("JointModelPX", "JointModelPY", "JointModelPZ", "JointModelPrismaticUnaligned")
+NO_LIMIT = 1e10  # a position limit this large (m or rad) is Pinocchio's stand-in for none
 
 
 def load_robot(name_or_path: str | Path) -> Robot:
@@ -60,7 +62,8 @@ def load_robot(name_or_path: str | Path) -> Robot:
         model=model,
         closures=tuple(_closure(model, path, i, c.name, c.type, c.frames) for i, c in enumerate(sidecar.closures)),
         actuators=tuple(_actuator(model, path, sidecar, i) for i in range(len(sidecar.actuators))),
-        end_effector_frame_id=_frame_id(model, path, "end_effector.frame", sidecar.end_effector.frame),
+        end_effector_frame_id=add_tool_frame(model, sidecar.end_effector, _frame_id(
+            model, path, "end_effector.frame", sidecar.end_effector.frame)),
         task=sidecar.end_effector.task,
         reference_q=_reference_q(model, path, sidecar.reference_configuration, sidecar.locked_joints),
         plugin=plugin,
@@ -203,6 +206,11 @@ def _actuator(model: pin.Model, path: Path, sidecar: Sidecar, i: int) -> Actuato
     lower = spec.position_min if spec.position_min is not None else model.lowerPositionLimit[q_index]
     upper = spec.position_max if spec.position_max is not None else model.upperPositionLimit[q_index]
     velocity = spec.velocity_max if spec.velocity_max is not None else model.velocityLimit[v_index]
+    missing = [f"actuators.{i}.{field}" for field in ("position_min", "position_max") if getattr(spec, field) is None]
+    if missing and urdf_limits_missing(model, joint_id):
+        unit = "m" if model.joints[joint_id].shortname() in PRISMATIC_JOINTS else "rad"
+        raise RobotFileError(path, missing[0], f"joint '{spec.joint}' has no limits in the URDF: set "
+                             f"{' and '.join(missing)} in the sidecar ({unit})")
     if not lower < upper:
         raise RobotFileError(path, f"actuators.{i}.position_min", f"must be below position_max ({lower} >= {upper})")
     if not velocity > 0:
@@ -212,6 +220,17 @@ def _actuator(model: pin.Model, path: Path, sidecar: Sidecar, i: int) -> Actuato
                     position_max=float(upper), velocity_max=float(velocity), drive=drive,
                     reflected_inertia=drive.reflected_inertia if drive else 0.0,
                     prismatic=model.joints[joint_id].shortname() in PRISMATIC_JOINTS)
+
+
+def urdf_limits_missing(model: pin.Model, joint_id: int) -> bool:
+    """Whether a one-coordinate joint has no position limits in its URDF.
+
+    Pinocchio reads a ``<limit>`` without ``lower`` and ``upper`` as [0, 0], and no limits at all
+    as a huge range (beyond ``NO_LIMIT``, m or rad).
+    """
+    index = model.joints[joint_id].idx_q
+    low, high = float(model.lowerPositionLimit[index]), float(model.upperPositionLimit[index])
+    return (low == 0.0 and high == 0.0) or not max(abs(low), abs(high)) < NO_LIMIT
 
 
 def _reference_q(model: pin.Model, path: Path, values: dict[str, float], locked: dict[str, float]) -> np.ndarray:

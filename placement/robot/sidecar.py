@@ -67,13 +67,17 @@ class Closure(Strict):
 class EndEffector(Strict):
     """The frame that follows the path, and what of it is prescribed.
 
-    For a pose task, ``tool_rpy_in_path_rad`` is the end-effector frame's orientation in the path
-    frame (roll, pitch, yaw about fixed x, y, z): [pi, 0, 0] turns the tool's z axis to -Z_p,
-    pointing into the workpiece.
+    ``offset_m`` (m, in ``frame``) and ``rpy_rad`` (roll, pitch, yaw about fixed x, y, z, rad)
+    place a tool tip on ``frame``; the tip is then the end-effector frame (see
+    :mod:`placement.robot.tool`). For a pose task, ``tool_rpy_in_path_rad`` is the end-effector
+    frame's orientation in the path frame (same convention): [pi, 0, 0] turns the tool's z axis to
+    -Z_p, pointing into the workpiece.
     """
 
     frame: str
     task: Literal["position", "pose"]
+    offset_m: Vector3 | None = None
+    rpy_rad: Vector3 | None = None
     tool_rpy_in_path_rad: Vector3 | None = None
 
     @model_validator(mode="after")
@@ -149,8 +153,18 @@ def _check_references(path: Path, sidecar: Sidecar) -> None:
         if actuator.drive is not None and actuator.drive not in sidecar.drives:
             raise RobotFileError(path, f"actuators.{i}.drive", f"unknown drive '{actuator.drive}', expected one of "
                                  f"{sorted(sidecar.drives) or 'the names under drives (none given)'}")
+    _check_tool_sources(path, sidecar)
     for key, text in sidecar.sources.items():
         status = text.split(":", 1)[0].strip()
         if status not in SOURCE_STATUSES:
             raise RobotFileError(path, f"sources.{key}", f"must start with one of {', '.join(SOURCE_STATUSES)} "
                                  f"followed by ':', got '{text}'")
+
+
+def _check_tool_sources(path: Path, sidecar: Sidecar) -> None:
+    """A tool offset is a measured or estimated number: it needs its ``sources`` entry."""
+    for field in ("offset_m", "rpy_rad"):
+        key = f"end_effector.{field}"
+        if getattr(sidecar.end_effector, field) is not None and not {key, "end_effector"} & set(sidecar.sources):
+            raise RobotFileError(path, key, f"a tool offset needs its source: add the entry {key}: \"STATUS: note\" "
+                                 f"under sources, STATUS one of {', '.join(SOURCE_STATUSES)}")
