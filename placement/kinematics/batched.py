@@ -27,7 +27,7 @@ from typing import ClassVar
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from placement.kinematics.base import SINGULAR_CONDITION, SOLVERS, KinematicsSolver
+from placement.kinematics.base import SINGULAR_CONDITION, SOLVERS, KinematicsSolver, condition_1
 from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
 from placement.kinematics.tree import Tree, TreeState, log3, unsupported_joints
 from placement.robot.model import Robot
@@ -159,7 +159,14 @@ class BatchedKinematics:
 
 
 def least_squares(matrices: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-    """Batched least-squares (or least-norm when wide) solutions of ``A·x = b``, (B, n)."""
+    """Batched solutions of ``A·x = b``: exact when square, else least-squares (least-norm when wide), (B, n)."""
+    m, n = matrices.shape[1:]
+    if m == n:
+        with np.errstate(invalid="ignore", over="ignore"):
+            try:
+                return np.linalg.solve(matrices, rhs[:, :, None])[:, :, 0]
+            except np.linalg.LinAlgError:  # a singular sample: the damped route keeps the others exact
+                pass
     return np.einsum("bnm,bm->bn", pseudo_inverse(matrices), rhs)
 
 
@@ -174,9 +181,16 @@ def pseudo_inverse(matrices: np.ndarray) -> np.ndarray:
 
 
 def condition(matrices: np.ndarray) -> np.ndarray:
-    """Batched 2-norm condition numbers (inf where singular or not finite)."""
+    """Batched condition numbers (1-norm when square, else 2-norm; inf where singular or not finite)."""
     finite = np.isfinite(matrices).all(axis=(1, 2))
-    singular = np.linalg.svd(np.where(finite[:, None, None], matrices, 0.0), compute_uv=False)
+    safe = np.where(finite[:, None, None], matrices, np.eye(*matrices.shape[1:]))
+    if matrices.shape[1] == matrices.shape[2]:
+        with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
+            try:
+                return np.where(finite, condition_1(safe, np.linalg.inv(safe)), np.inf)
+            except np.linalg.LinAlgError:
+                pass
+    singular = np.linalg.svd(safe, compute_uv=False)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(finite & (singular[:, -1] > 0), singular[:, 0] / singular[:, -1], np.inf)
 

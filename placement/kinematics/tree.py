@@ -31,10 +31,17 @@ class TreeJoint:
     index: int  # idx_q == idx_v
 
     @property
-    def skew(self) -> np.ndarray:
-        """(3, 3) cross-product matrix of the axis."""
+    def constants(self) -> np.ndarray:
+        """(3, 11) columns that one product with the parent's rotation turns into this joint's frame.
+
+        ``R_parent @ constants`` gives, side by side: the rotation before the joint's motion, its
+        products with the axis' cross-product matrix [a] and [a]², the axis and the joint origin's
+        offset, all in the world frame.
+        """
         a = self.axis
-        return np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
+        skew = np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
+        return np.hstack([self.rotation, self.rotation @ skew, self.rotation @ skew @ skew,
+                          (self.rotation @ a)[:, None], self.translation[:, None]])
 
 
 @dataclass
@@ -98,6 +105,7 @@ class Tree:
             self.joints.append(TreeJoint(model.parents[j], placement.rotation.copy(), placement.translation.copy(),
                                          np.asarray(axis, dtype=float), revolute, model.joints[j].idx_q))
         self.revolute_v = np.array([j.revolute for j in self.joints], dtype=bool)
+        self._constants = [j.constants for j in self.joints]
         self._supports = {j: np.array(model.supports[j].tolist()[1:], dtype=int) for j in range(model.njoints)}
 
     def placements(self, q: np.ndarray) -> TreeState:
@@ -108,18 +116,16 @@ class Tree:
         axis = np.zeros((self.model.njoints, b, 3))
         rotation[0], origin[0] = np.eye(3), 0.0
         for j, joint in enumerate(self.joints, start=1):
-            parent_r = rotation[joint.parent].reshape(-1, 3)  # rows of every sample's matrix: one gemm
-            before = (parent_r @ joint.rotation).reshape(b, 3, 3)
-            origin[j] = origin[joint.parent] + (parent_r @ joint.translation).reshape(b, 3)
-            axis[j] = (before.reshape(-1, 3) @ joint.axis).reshape(b, 3)
+            # one product per joint: rows of every sample's parent rotation times the joint's constants
+            world = (rotation[joint.parent].reshape(-1, 3) @ self._constants[j - 1]).reshape(b, 3, 11)
+            origin[j] = origin[joint.parent] + world[:, :, 10]
+            axis[j] = world[:, :, 9]
             value = q[:, joint.index]
             if joint.revolute:  # before · exp(θ[a]) = before + sin θ · before[a] + (1 - cos θ) · before[a]²
-                turn = (before.reshape(-1, 3) @ joint.skew).reshape(b, 3, 3)
-                twice = (turn.reshape(-1, 3) @ joint.skew).reshape(b, 3, 3)
-                rotation[j] = before + np.sin(value)[:, None, None] * turn \
-                    + (1.0 - np.cos(value))[:, None, None] * twice
+                rotation[j] = world[:, :, 0:3] + np.sin(value)[:, None, None] * world[:, :, 3:6] \
+                    + (1.0 - np.cos(value))[:, None, None] * world[:, :, 6:9]
             else:
-                rotation[j] = before
+                rotation[j] = world[:, :, 0:3]
                 origin[j] += axis[j] * value[:, None]
         return TreeState(rotation, origin, axis)
 
@@ -193,4 +199,15 @@ def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 def log3(rotation: np.ndarray) -> np.ndarray:
     """(B, 3) rotation vectors of (B, 3, 3) rotation matrices (rad), as ``pin.log3``."""
-    return Rotation.from_matrix(rotation).as_rotvec()
+    vee = np.stack([rotation[:, 2, 1] - rotation[:, 1, 2], rotation[:, 0, 2] - rotation[:, 2, 0],
+                    rotation[:, 1, 0] - rotation[:, 0, 1]], axis=1)  # 2 sin θ · axis
+    cosine = np.clip((np.trace(rotation, axis1=1, axis2=2) - 1.0) / 2.0, -1.0, 1.0)
+    angle = np.arccos(cosine)
+    small = angle < 1e-4
+    with np.errstate(divide="ignore", invalid="ignore"):
+        scale = np.where(small, 0.5 + angle**2 / 12.0, angle / (2.0 * np.sin(angle)))
+    out = scale[:, None] * vee
+    near_half_turn = angle > np.pi - 1e-3  # sin θ vanishes: take the axis from the symmetric part
+    if near_half_turn.any():
+        out[near_half_turn] = Rotation.from_matrix(rotation[near_half_turn]).as_rotvec()
+    return out
