@@ -81,3 +81,7 @@ class UnreachableError(PlacementError):
         super().__init__(
             f"{n_unreachable} sample(s) unreachable, first at index {sample_indices[0]}: {reason}"
         )
+
+
+class AssemblyError(PlacementError):
+    """A robot's loops cannot be closed, or its assembled configuration cannot be written."""

@@ -4,6 +4,7 @@
     placement map ...                                          a map of the objective (:mod:`placement.cli.map`)
     placement feed ...                                         energy and time per part against feed
     placement check ROBOT                                      describe a robot, prove its model exact
+    placement assemble ROBOT [--near J=V,...] [--write]        close the loops of a robot exported open
     placement robots                                           list the robots
     placement calibrate ROBOT --log LOG --fit NAMES            fit drive constants to measurements
 
@@ -18,11 +19,12 @@ import argparse
 import sys
 import warnings
 
-from placement.cli import calibrate, check, feed, place, robots
+from placement.cli import assemble, calibrate, check, feed, place, robots
 from placement.cli import map as map_command
 from placement.exceptions import PlacementError
 
-SUBCOMMANDS = {"robots": robots, "check": check, "map": map_command, "feed": feed, "calibrate": calibrate}
+SUBCOMMANDS = {"robots": robots, "check": check, "map": map_command, "feed": feed, "calibrate": calibrate,
+               "assemble": assemble}
 
 
 def build_command_parser() -> argparse.ArgumentParser:

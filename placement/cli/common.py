@@ -103,6 +103,35 @@ def parse_values(text: str, option: str) -> dict[str, float]:
     return values
 
 
+def parse_joint_values(text: str, option: str) -> dict[str, tuple[float, str]]:
+    """'a1=0.5,slider_x=0.3m' -> {joint: (value, unit)}, in the joint's own unit (rad or m).
+
+    A value may end in ``rad`` or ``m`` to say which it is (the unit is '' when it does not);
+    whether the joint exists and takes that unit is for the caller to check.
+
+    Raises:
+        UsageError: An item that is not name=number, a repeated name, a non-finite value.
+    """
+    values: dict[str, tuple[float, str]] = {}
+    for item in filter(None, (part.strip() for part in text.split(","))):
+        name, _, raw = (part.strip() for part in item.partition("="))
+        if not name or not raw:
+            raise UsageError(f"{option}: expected joint=value (rad or m), got '{item[:40]}'")
+        if name in values:
+            raise UsageError(f"{option}: {name[:40]} is given twice")
+        unit = next((u for u in ("rad", "m") if raw.endswith(u)), "")
+        try:
+            value = float(raw[: len(raw) - len(unit)])
+        except ValueError:
+            raise UsageError(f"{option}: '{raw[:40]}' is not a number (rad or m) for {name[:40]}") from None
+        if not np.isfinite(value):
+            raise UsageError(f"{option}: {name[:40]} must be a finite number, got '{raw[:40]}'")
+        values[name] = (value, unit)
+    if not values:
+        raise UsageError(f"{option}: expected joint=value,... (rad or m), got '{text[:40]}'")
+    return values
+
+
 def parse_free(text: str, option: str) -> tuple[tuple[str, ...], dict[str, tuple[float, float]]]:
     """'y=-40:40,x,phi=-90:90' -> the free variables and the bounds given (SI).
 

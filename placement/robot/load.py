@@ -48,6 +48,15 @@ def load_robot(name_or_path: str | Path) -> Robot:
         UnknownRobotError: Neither a built-in name nor an existing file.
         RobotFileError: The sidecar or its URDF is wrong (the message names file and field).
     """
+    return _load_robot(name_or_path)
+
+
+def _load_robot(name_or_path: str | Path, *, check_closures: bool = True) -> Robot:
+    """:func:`load_robot`; ``check_closures=False`` accepts loops open at the reference configuration.
+
+    Without the closure check, the checks that need the loops closed (mobility, plug-in agreement)
+    are skipped too: the robot is only fit for :mod:`placement.robot.assemble` to close its loops.
+    """
     path = sidecar_path(name_or_path)
     sidecar = read_sidecar(path)
     urdf_path = _resolve_urdf(path, sidecar.urdf)
@@ -73,9 +82,10 @@ def load_robot(name_or_path: str | Path) -> Robot:
     for actuator in robot.actuators:
         model.armature[actuator.v_index] += actuator.reflected_inertia
     _check_sources(path, sidecar, urdf)
-    _check_closed_at_reference(robot)
-    _check_mobility(robot)
-    _check_plugin(robot)
+    if check_closures:
+        _check_closed_at_reference(robot)
+        _check_mobility(robot)
+        _check_plugin(robot)
     _check_solver(robot)
     return robot
 

@@ -1,0 +1,137 @@
+"""The 'assemble' command: close the loops of a robot exported with them open.
+
+    placement assemble ROBOT [--near joint=value,...] [--write]
+
+It solves the closure equations from the sidecar's ``reference_configuration`` (see
+:mod:`placement.robot.assemble`), reports the gaps before and after and how far the closed
+configuration is from a singularity, and prints the ``reference_configuration`` block to paste
+into the sidecar, or with ``--write`` rewrites that block in the sidecar file itself.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from placement.cli.common import UsageError, parse_joint_values
+from placement.exceptions import PlacementError
+from placement.kinematics.base import SINGULAR_CONDITION
+from placement.robot import load_robot
+from placement.robot.assemble import (
+    ClosureGap,
+    assemble,
+    joint_q_index,
+    movable_joints,
+    reference_block,
+    reference_values,
+    write_reference_configuration,
+)
+from placement.robot.catalog import builtin_robots_dir, sidecar_path
+from placement.robot.closures import closure_residuals
+from placement.robot.load import PRISMATIC_JOINTS, _load_robot, urdf_limits_missing
+from placement.robot.model import Robot
+
+
+def add_parser(commands: argparse._SubParsersAction) -> None:
+    """The 'assemble' subcommand's options."""
+    command = commands.add_parser("assemble", help="close the loops of a robot whose reference configuration is open")
+    command.add_argument("robot", help="robot name or path to a sidecar YAML file")
+    command.add_argument("--near", metavar="JOINT=VALUE,...",
+                         help="start from these joint values instead of the sidecar's reference_configuration "
+                              "(rad or m, the joint's own unit; a value may end in rad or m)")
+    command.add_argument("--write", action="store_true",
+                         help="rewrite reference_configuration in the sidecar file (the rest of the file is kept)")
+
+
+def _near(robot: Robot, text: str | None) -> dict[str, float]:
+    """--near as {joint: value (m or rad)}, every joint known and in its unit."""
+    if text is None:
+        return {}
+    values = {}
+    for name, (value, unit) in parse_joint_values(text, "--near").items():
+        if joint_q_index(robot, name) is None:
+            raise UsageError(f"--near: unknown joint '{name[:40]}'; expected one of {', '.join(movable_joints(robot))}")
+        prismatic = robot.model.joints[robot.model.getJointId(name)].shortname() in PRISMATIC_JOINTS
+        if unit and unit != ("m" if prismatic else "rad"):
+            raise UsageError(f"--near: {name} is a {'prismatic joint (m)' if prismatic else 'revolute joint (rad)'}, "
+                             f"got a value in {unit}")
+        values[name] = value
+    return values
+
+
+def _gap_text(gaps: tuple[ClosureGap, ...]) -> str:
+    worst_position = max(gaps, key=lambda gap: gap.position_m)
+    text = f"{worst_position.position_m:.3g} m (closure '{worst_position.name}')"
+    angles = [gap for gap in gaps if gap.angle_rad is not None]
+    if angles:
+        worst_angle = max(angles, key=lambda gap: gap.angle_rad or 0.0)
+        text += f", {worst_angle.angle_rad:.3g} rad (closure '{worst_angle.name}')"
+    return text
+
+
+def _limit_warnings(robot: Robot, values: dict[str, float]) -> list[str]:
+    """Joints of the closed configuration outside their limits (the actuators', else the URDF's)."""
+    actuators = {a.joint: a for a in robot.actuators}
+    warnings = []
+    for name, value in values.items():
+        joint_id = robot.model.getJointId(name)
+        if name in actuators:
+            low, high = actuators[name].position_min, actuators[name].position_max
+        elif urdf_limits_missing(robot.model, joint_id):
+            continue
+        else:
+            index = robot.model.joints[joint_id].idx_q
+            low, high = float(robot.model.lowerPositionLimit[index]), float(robot.model.upperPositionLimit[index])
+        if not low <= value <= high:
+            warnings.append(f"joint '{name}' is at {value:.6g}, outside its limits [{low:.6g}, {high:.6g}]")
+    return warnings
+
+
+def run(args: argparse.Namespace) -> int:
+    """Close one robot's loops, report, and print or write its reference configuration."""
+    path = sidecar_path(args.robot)
+    if args.write and path.resolve().is_relative_to(builtin_robots_dir().resolve()):
+        raise UsageError(f"--write: '{path}' is a built-in robot shipped with placement; copy its folder and "
+                         "assemble the copy")
+    robot = _load_robot(path, check_closures=False)
+    result = assemble(robot, _near(robot, args.near))
+    actuated = ", ".join(a.joint for a in robot.actuators)
+    passive = robot.model.nv - len(robot.actuators)
+    print(f"{robot.name}: {len(robot.closures)} closure(s), {passive} passive joint(s), actuated {actuated}")
+    print(f"  start: reference_configuration{' with --near ' + args.near if args.near else ''}")
+    print(f"  largest gap before: {_gap_text(result.gaps_before)}")
+    print(f"  largest gap after:  {_gap_text(result.gaps_after)}")
+    if result.actuated_held:
+        print(f"  closed by moving the passive joints only; the actuated joints kept their start values "
+              f"({result.iterations} iterations)")
+    else:
+        moved = [f"{a.joint} by {result.q[a.q_index] - result.start_q[a.q_index]:+.4g} {'m' if a.prismatic else 'rad'}"
+                 for a in robot.actuators]
+        print(f"  the passive joints alone could not close the loops: the actuated joints moved too ({', '.join(moved)})")
+    print("  distance from singularities:")
+    print(f"    passive joints: smallest singular value of their closure Jacobian {result.passive_sigma_min:.3g} "
+          "(near 0, the passive joints are near a singular, uncertain assembly)")
+    print(f"    actuators to end effector: condition number {result.task_condition:.3g} "
+          f"(1 is isotropic; beyond {SINGULAR_CONDITION:.0e} the solvers call the configuration singular)")
+    values = reference_values(robot, result)
+    for warning in _limit_warnings(robot, values):
+        print(f"  warning: {warning}")
+    if not args.write:
+        print("paste into the sidecar, in place of its reference_configuration:")
+        print(reference_block(values), end="")
+        return 0
+    write_reference_configuration(path, values)
+    print(f"wrote reference_configuration ({len(values)} joints) to {path}")
+    _check_written(path)
+    return 0
+
+
+def _check_written(path: Path) -> None:
+    """The rewritten sidecar must now load, loops closed."""
+    try:
+        robot = load_robot(path)
+    except PlacementError as error:
+        raise UsageError(f"the rewritten sidecar still does not load: {error}") from None
+    data = robot.model.createData()
+    gap = float(abs(closure_residuals(robot, data, robot.reference_q)).max(initial=0.0))
+    print(f"  it loads; largest closure residual {gap:.1e} (m, rad)")
