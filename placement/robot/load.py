@@ -284,7 +284,8 @@ def _check_closed_at_reference(robot: Robot) -> None:
         if gap > CLOSURE_TOLERANCE_M:
             raise RobotFileError(robot.sidecar_path, f"closures.{i}",
                                  f"closure '{closure.name}' does not close at reference_configuration: "
-                                 f"gap {gap:.3g} (m and rad), expected below {CLOSURE_TOLERANCE_M}")
+                                 f"gap {gap:.3g} (m and rad), expected below {CLOSURE_TOLERANCE_M}; "
+                                 f"'python -m placement assemble {robot.sidecar_path}' closes the loops")
 
 
 def _check_plugin(robot: Robot) -> None:
