@@ -5,7 +5,7 @@ Every sample of every placement is solved together with :class:`~placement.kinem
 1. **Assembly.** Each placement's first sample is reached from the reference configuration by
    continuation (small steps of the end effector), so that every placement starts on the
    reference configuration's assembly mode and branch.
-2. **Coarse march.** Samples a few millimetres apart along the path follow one another, each
+2. **Coarse march.** Samples about 2 cm apart along the path follow one another, each
    seeded by the first-order prediction ``q + D·Δx`` (``D = G·M⁺``) of the previous one.
 3. **Refinement.** The samples in between are filled in by bisection, level by level: each new
    sample is seeded by cubic interpolation of its solved neighbours and Newton converges in one or
@@ -195,14 +195,6 @@ def condition(matrices: np.ndarray) -> np.ndarray:
         return np.where(finite & (singular[:, -1] > 0), singular[:, 0] / singular[:, -1], np.inf)
 
 
-def task_displacement(task: TaskTrajectory, start: np.ndarray, stop: np.ndarray) -> np.ndarray:
-    """(B, dim) task displacement from samples ``start`` to ``stop``: position, then rotation (world)."""
-    move = task.position_m[stop] - task.position_m[start]
-    if task.rotation is None:
-        return move
-    return np.hstack([move, log3(task.rotation[stop] @ task.rotation[start].transpose(0, 2, 1))])
-
-
 def _displacement(start: Targets, stop: Targets) -> np.ndarray:
     """(B, dim) displacement between two sets of targets: position, then rotation (world)."""
     move = stop.position_m - start.position_m
@@ -211,9 +203,9 @@ def _displacement(start: Targets, stop: Targets) -> np.ndarray:
     return np.hstack([move, log3(stop.rotation @ start.rotation.transpose(0, 2, 1))])
 
 
-def coarse_samples(task: TaskTrajectory, n: int) -> np.ndarray:
-    """Indices (within one placement) of samples about COARSE_STEP_M apart along the task, ends included."""
-    steps = task_displacement(task, np.arange(n - 1), np.arange(1, n))
+def coarse_samples(targets: Targets, n: int) -> np.ndarray:
+    """Indices (within the first placement) of samples about COARSE_STEP_M apart along the task, ends included."""
+    steps = _displacement(targets.rows(np.arange(n - 1)), targets.rows(np.arange(1, n)))
     length = np.linalg.norm(steps[:, :3], axis=1)
     if steps.shape[1] == 6:
         length = length + ROTATION_LENGTH_M * np.linalg.norm(steps[:, 3:], axis=1)
@@ -243,8 +235,8 @@ class BatchedSolver(KinematicsSolver):
         q = np.tile(self.robot.reference_q, (len(task), 1))
         ok = np.zeros(len(task), dtype=bool)
         q[first], ok[first] = self._assemble(targets.rows(first))
-        coarse = coarse_samples(task, n) if n > 1 else np.zeros(1, dtype=int)
-        flipped = self._march(task, targets, q, ok, first, coarse)
+        coarse = coarse_samples(targets, n) if n > 1 else np.zeros(1, dtype=int)
+        flipped = self._march(targets, q, ok, first, coarse)
         flipped |= self._refine(targets, q, ok, first, coarse, n)
         joints, regular = self.kinematics.rates(q, task)
         reachable = ok & ~flipped & regular
@@ -287,14 +279,14 @@ class BatchedSolver(KinematicsSolver):
             previous = goal
         return q, ok
 
-    def _march(self, task: TaskTrajectory, targets: Targets, q: np.ndarray, ok: np.ndarray, first: np.ndarray,
+    def _march(self, targets: Targets, q: np.ndarray, ok: np.ndarray, first: np.ndarray,
                coarse: np.ndarray) -> np.ndarray:
         """Solve the coarse samples one after the other (batched over placements); returns flips."""
         flipped = np.zeros(len(q), dtype=bool)
         for previous, current in zip(coarse[:-1], coarse[1:]):
             before, now = first + previous, first + current
             prediction = np.einsum("kqt,kt->kq", self.kinematics.tangent(q[before]),
-                                   task_displacement(task, before, now))
+                                   _displacement(targets.rows(before), targets.rows(now)))
             prediction[~ok[before]] = 0.0  # after a failure, start again from the last solved configuration
             seed = q[before] + prediction
             solved, converged = self.kinematics.newton(seed, targets.rows(now))
