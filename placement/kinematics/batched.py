@@ -124,14 +124,14 @@ class BatchedKinematics:
         """Joint motion at solved configurations, and which samples are regular (not singular)."""
         state = self.tree.placements(q)
         basis, inverse = self.basis(state)
-        task_map = self.task_jacobian(state) @ basis
+        end_effector = self.task_jacobian(state)
+        task_map = end_effector @ basis
         regular = condition(task_map) < SINGULAR_CONDITION
         task_map[~regular] = np.eye(*task_map.shape[1:])
         v = np.einsum("bvr,br->bv", basis, least_squares(task_map, task.twist()))
         closure_drift, task_drift = self.drift(self.tree.velocities(state, v), v)
         a0 = np.zeros_like(v)
         a0[:, self.passive] = -np.einsum("bpr,br->bp", inverse, closure_drift)
-        end_effector = self.task_jacobian(state)
         rhs = task.acceleration() - task_drift - np.einsum("btv,bv->bt", end_effector, a0)
         a = np.einsum("bvr,br->bv", basis, least_squares(task_map, rhs)) + a0
         return JointTrajectory(q, v, a, basis, task_map), regular

@@ -100,7 +100,7 @@ def first_configuration(robot: Robot, data: pin.Data, task: TaskTrajectory, solv
     return q
 
 
-def _null_space_basis(robot: Robot, jacobian: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def null_space_basis(robot: Robot, jacobian: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """G with G[actuated] = I, G[passive] = -J_p⁺·J_a; also J_p⁺ and the passive indices."""
     nv = robot.model.nv
     act = robot.actuated_v_indices
@@ -138,7 +138,7 @@ def _numeric(robot: Robot, task: TaskTrajectory) -> tuple[JointTrajectory, np.nd
             q = solve_configuration(robot, task.position_m[k], rotation, q, data)
             jacobian = closure_jacobian(robot, data, q)
             end_effector = task_jacobian(robot, data, dim)
-            basis, pinv, passive = _null_space_basis(robot, jacobian)
+            basis, pinv, passive = null_space_basis(robot, jacobian)
             task_map = end_effector @ basis
             v = basis @ _solve_task_map(task_map, twist[k], k)
             pin.forwardKinematics(model, data, q, v, np.zeros(model.nv))

@@ -22,6 +22,7 @@ import pinocchio as pin
 import yaml
 
 from placement.exceptions import AssemblyError
+from placement.kinematics.generic import null_space_basis
 from placement.robot.closures import LWA, closure_jacobian, closure_residuals
 from placement.robot.model import Robot
 
@@ -196,10 +197,7 @@ def _singularity_measures(robot: Robot, data: pin.Data, q: np.ndarray) -> tuple[
         sigma_min = 0.0  # fewer equations than passive joints: they are not determined
     else:
         sigma_min = float(np.linalg.svd(j_passive, compute_uv=False)[-1])
-    basis = np.zeros((robot.model.nv, len(actuated)))
-    basis[actuated, np.arange(len(actuated))] = 1.0
-    if len(passive):
-        basis[passive] = -np.linalg.pinv(j_passive) @ jacobian[:, actuated]
+    basis, _, _ = null_space_basis(robot, jacobian)
     task = pin.getFrameJacobian(robot.model, data, robot.end_effector_frame_id, LWA)[:robot.task_dimension]
     return sigma_min, float(np.linalg.cond(task @ basis))
 
