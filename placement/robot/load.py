@@ -58,7 +58,20 @@ def _load_robot(name_or_path: str | Path, *, check_closures: bool = True) -> Rob
     are skipped too: the robot is only fit for :mod:`placement.robot.assemble` to close its loops.
     """
     path = sidecar_path(name_or_path)
-    sidecar = read_sidecar(path)
+    return build_robot(path, read_sidecar(path), check_closures=check_closures)
+
+
+def build_robot(path: Path, sidecar: Sidecar, *, check_closures: bool = True) -> Robot:
+    """A robot from a validated sidecar held in memory (one generated from a URDF, say).
+
+    Args:
+        path: Where the sidecar stands: its folder resolves a relative URDF, and errors name it.
+        sidecar: The sidecar.
+        check_closures: As for :func:`_load_robot`.
+
+    Raises:
+        RobotFileError: The sidecar disagrees with its URDF (the message names ``path`` and field).
+    """
     urdf_path = _resolve_urdf(path, sidecar.urdf)
     urdf = _read_urdf(urdf_path)
     model = _lock_joints(_pinocchio_model(urdf_path), path, sidecar.locked_joints)
@@ -319,7 +332,9 @@ def _check_mobility(robot: Robot) -> None:
     rank = np.linalg.matrix_rank(jacobian, tol=1e-9) if jacobian.size else 0
     passive = np.setdiff1d(np.arange(nv), robot.actuated_v_indices)
     passive_rank = np.linalg.matrix_rank(jacobian[:, passive], tol=1e-9) if jacobian.size else 0
-    if nv - rank != len(robot.actuators) or passive_rank != len(passive):
+    if passive_rank != len(passive):
+        raise RobotFileError(robot.sidecar_path, "actuators", _free_joints_text(robot, jacobian, passive, nv - rank))
+    if nv - rank != len(robot.actuators):
         raise RobotFileError(robot.sidecar_path, "actuators",
                              f"the closures leave {nv - rank} degree(s) of freedom at reference_configuration, "
                              f"and the {len(robot.actuators)} actuated joint(s) must determine all "
@@ -333,3 +348,50 @@ def _check_mobility(robot: Robot) -> None:
                              f"the robot has {len(robot.actuators)} degrees of freedom for a {robot.task} task of "
                              f"{robot.task_dimension}: lock {len(robot.actuators) - robot.task_dimension} joint(s) so "
                              "that the path determines the motion")
+
+
+def _free_joints_text(robot: Robot, jacobian: np.ndarray, passive: np.ndarray, freedoms: int) -> str:
+    """Why the actuated joints leave passive joints free: which ones move, and which to lock.
+
+    The joints that move with the actuators held are the passive ones with a part in the null
+    space of the passive closure Jacobian. Going through them in model order, a joint is proposed
+    for ``locked_joints`` when locking it (dropping its column) lowers that null space's
+    dimension, until none is left: one joint of each group of joints that move together.
+    """
+    columns = jacobian[:, passive]
+    rank = int(np.linalg.matrix_rank(columns, tol=1e-9)) if columns.size else 0
+    null_basis = np.linalg.svd(columns)[2][rank:].T if columns.size else np.eye(len(passive))
+    moving = [int(v) for v, row in zip(passive, null_basis) if np.abs(row).max(initial=0.0) > 1e-9]
+    kept, locked = list(passive), []
+    for v in moving:
+        if _nullity(jacobian[:, [k for k in kept if k != v]]) < _nullity(jacobian[:, kept]):
+            kept.remove(v)
+            locked.append(v)
+        if _nullity(jacobian[:, kept]) == 0:
+            break
+    names = {v: _joint_name_of_velocity(robot.model, v) for v in moving}
+    shown = ", ".join(names[v] for v in moving[:12]) + (", ..." if len(moving) > 12 else "")
+    proposal = ", ".join(f"{names[v]}: {_reference_text(robot, names[v])}" for v in locked)
+    return (f"the closures leave {freedoms} degree(s) of freedom at reference_configuration for the "
+            f"{len(robot.actuators)} actuated joint(s): with these held, joint(s) {shown} still move (a rod spinning "
+            f"about its own axis, say); actuate or lock one joint of each group that moves together, e.g. add to the "
+            f"sidecar's locked_joints: {{{proposal}}} (the values at reference_configuration)")
+
+
+def _nullity(matrix: np.ndarray) -> int:
+    """Dimension of the null space of ``matrix`` (its columns less its rank)."""
+    if matrix.shape[1] == 0:
+        return 0
+    return matrix.shape[1] - (int(np.linalg.matrix_rank(matrix, tol=1e-9)) if matrix.size else 0)
+
+
+def _joint_name_of_velocity(model: pin.Model, v: int) -> str:
+    """The name of the joint that velocity index ``v`` belongs to."""
+    return next(model.names[j] for j in range(1, model.njoints)
+                if model.joints[j].idx_v <= v < model.joints[j].idx_v + model.joints[j].nv)
+
+
+def _reference_text(robot: Robot, name: str) -> str:
+    """Joint ``name``'s value at the reference configuration (m or rad), as YAML that reads back exactly."""
+    value = float(robot.reference_q[robot.model.joints[robot.model.getJointId(name)].idx_q])
+    return "0.0" if value == 0.0 else repr(value)
