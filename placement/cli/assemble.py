@@ -28,6 +28,7 @@ from placement.robot.assemble import (
 )
 from placement.robot.catalog import builtin_robots_dir, sidecar_path
 from placement.robot.closures import closure_residuals
+from placement.robot.gepetto import YAML_NAME, is_gepetto, sidecar_beside, write_sidecar
 from placement.robot.load import PRISMATIC_JOINTS, _load_robot, urdf_limits_missing
 from placement.robot.model import Robot
 
@@ -116,12 +117,19 @@ def run(args: argparse.Namespace) -> int:
     values = reference_values(robot, result)
     for warning in _limit_warnings(robot, values):
         print(f"  warning: {warning}")
+    gepetto = is_gepetto(path)
     if not args.write:
-        print("paste into the sidecar, in place of its reference_configuration:")
+        print(f"--write saves it, with the estimates, as the sidecar {sidecar_beside(path)}:" if gepetto else
+              "paste into the sidecar, in place of its reference_configuration:")
         print(reference_block(values), end="")
         return 0
-    write_reference_configuration(path, values)
-    print(f"wrote reference_configuration ({len(values)} joints) to {path}")
+    if gepetto:
+        path = write_sidecar(path, robot, values)
+        print(f"wrote the sidecar {path}: reference_configuration ({len(values)} joints), the estimates (EST under "
+              f"sources) and an estimated workspace; it is loaded instead of {YAML_NAME} from now on")
+    else:
+        write_reference_configuration(path, values)
+        print(f"wrote reference_configuration ({len(values)} joints) to {path}")
     _check_written(path)
     return 0
 

@@ -17,6 +17,7 @@ import yaml
 
 from placement.exceptions import UnknownRobotError
 from placement.registry import Registry
+from placement.robot.gepetto import folder_sidecar
 
 ROBOTS: Registry[Callable[[], str | Path]] = Registry("robot", "placement.robots")
 
@@ -45,16 +46,19 @@ def robot_names() -> list[str]:
 
 
 def sidecar_path(name_or_path: str | Path) -> Path:
-    """The sidecar file of a robot name, or the given path when it is a file.
+    """The sidecar file of a robot name, or of a path: a file, or a robot folder (see
+    :func:`placement.robot.gepetto.folder_sidecar`: Gepetto's example-parallel-robots format too).
 
     Raises:
-        UnknownRobotError: Neither a known name nor an existing file.
+        UnknownRobotError: Neither a known name nor an existing file or folder.
+        RobotFileError: A folder holds no robot file.
     """
     text = str(name_or_path)
     if text in ROBOTS:
         return Path(ROBOTS.get(text)())
-    if Path(text).is_file():
-        return Path(text)
+    found = folder_sidecar(Path(text))
+    if found is not None:
+        return found
     raise UnknownRobotError(text, robot_names())
 
 

@@ -23,6 +23,7 @@ from pydantic import BaseModel
 from placement.exceptions import RobotFileError
 from placement.robot.catalog import sidecar_path
 from placement.robot.closures import closure_jacobian, closure_residuals
+from placement.robot.gepetto import is_gepetto, read_gepetto
 from placement.robot.model import Actuator, Closure, Robot
 from placement.robot.plugins import load_plugin, make_closed_form
 from placement.robot.sidecar import Sidecar, read_sidecar
@@ -58,7 +59,8 @@ def _load_robot(name_or_path: str | Path, *, check_closures: bool = True) -> Rob
     are skipped too: the robot is only fit for :mod:`placement.robot.assemble` to close its loops.
     """
     path = sidecar_path(name_or_path)
-    return build_robot(path, read_sidecar(path), check_closures=check_closures)
+    sidecar = read_gepetto(path) if is_gepetto(path) else read_sidecar(path)
+    return build_robot(path, sidecar, check_closures=check_closures)
 
 
 def build_robot(path: Path, sidecar: Sidecar, *, check_closures: bool = True) -> Robot:
