@@ -15,16 +15,17 @@ import argparse
 import numpy as np
 
 from placement.checks import CheckReport, check_robot
-from placement.cli.common import UsageError, positive_number, whole_number
+from placement.cli.common import UsageError, add_tool_option, load_robot_argument, positive_number, whole_number
 from placement.exceptions import UnreachableError
 from placement.kinematics.base import solver_name
-from placement.robot import Robot, load_robot
+from placement.robot import Robot
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
     """The 'check' subcommand's options."""
     check = commands.add_parser("check", help="describe a robot and prove its dynamic model exact")
-    check.add_argument("robot", help="robot name or path to a sidecar YAML file")
+    check.add_argument("robot", help="robot name, path to a sidecar YAML file, or erd:NAME (with --tool)")
+    add_tool_option(check)
     check.add_argument("--samples", type=whole_number(10, 100_000), default=100,
                        help="samples of the check trajectory (default 100)")
     check.add_argument("--amplitude", type=positive_number, metavar="AMPLITUDE_M",
@@ -71,7 +72,7 @@ def describe(robot: Robot) -> str:
 
 def run(args: argparse.Namespace) -> int:
     """Load, describe and check one robot; returns the exit code."""
-    robot = load_robot(args.robot)
+    robot = load_robot_argument(args.robot, args.tool)
     print(describe(robot))
     try:
         report = check_robot(robot, args.samples, args.amplitude)

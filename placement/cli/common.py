@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import os
+import sys
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
@@ -17,7 +18,9 @@ from placement.exceptions import PlacementError
 from placement.frames import ANGLES, VARIABLES
 from placement.objectives import OBJECTIVES
 from placement.path import Timing, ToolPath, load_path
+from placement.robot import Robot, load_robot
 from placement.robot.catalog import sidecar_path
+from placement.robot.erd import ERD_FORM, erd_name, estimate_warning, load_erd_robot
 
 
 class UsageError(PlacementError):
@@ -249,7 +252,36 @@ def _identity(file: Path) -> tuple[int, int]:
     return status.st_dev, status.st_ino
 
 
+def add_tool_option(parser: argparse.ArgumentParser) -> None:
+    """--tool: the frame that follows the path, for a robot given as erd:NAME."""
+    parser.add_argument("--tool", metavar="FRAME",
+                        help="with --robot erd:NAME (any serial arm of example-robot-data, drives and workspace "
+                             "estimated): the link or joint that follows the path, e.g. tool0")
+
+
+def load_robot_argument(robot: str, tool: str | None) -> Robot:
+    """The robot a command line names: built-in, installed, a sidecar file, or erd:NAME with --tool.
+
+    An ``erd:`` robot's estimates are said once, as a warning on standard error.
+
+    Raises:
+        UsageError: --tool given for a robot that is not erd:NAME.
+        PlacementError: The robot cannot be loaded (the message says why).
+    """
+    name = erd_name(robot)
+    if name is None:
+        if tool is not None:
+            raise UsageError(f"--tool applies to robots given as {ERD_FORM}NAME; the sidecar of '{robot[:80]}' names "
+                             "its tool in end_effector.frame")
+        return load_robot(robot)
+    loaded = load_erd_robot(name, tool)
+    print(f"warning: {estimate_warning(loaded)}", file=sys.stderr)
+    return loaded
+
+
 def robot_files(robot: str) -> tuple[str, ...]:
     """The files of a robot's folder (sidecar, URDF, plug-in): inputs no output may overwrite."""
+    if erd_name(robot) is not None:  # example-robot-data's files, not a folder of the user's
+        return ()
     folder = sidecar_path(robot).parent
     return tuple(str(file) for file in folder.iterdir() if file.is_file())

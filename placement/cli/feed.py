@@ -10,10 +10,18 @@ import sys
 
 import numpy as np
 
-from placement.cli.common import UsageError, add_sampling_options, check_outputs, configured_path, parse_values, robot_files
+from placement.cli.common import (
+    UsageError,
+    add_sampling_options,
+    add_tool_option,
+    check_outputs,
+    configured_path,
+    load_robot_argument,
+    parse_values,
+    robot_files,
+)
 from placement.energy.regeneration import REGENERATION
 from placement.frames import VARIABLES
-from placement.robot import load_robot
 from placement.search.feed import feed_study
 
 MAX_FEEDS = 1000
@@ -23,7 +31,8 @@ MAX_FEED_M_S = 100.0
 def add_parser(commands: argparse._SubParsersAction) -> None:
     """The 'feed' subcommand's options."""
     command = commands.add_parser("feed", help="energy and time per part against the feed rate, at one placement")
-    command.add_argument("--robot", required=True, help="robot name or sidecar YAML")
+    command.add_argument("--robot", required=True, help="robot name, sidecar YAML, or erd:NAME (with --tool)")
+    add_tool_option(command)
     command.add_argument("--path", required=True, help="path file (YAML)")
     command.add_argument("--at", required=True, metavar="x=..,y=..,phi=..",
                          help="the placement (mm and deg unless a value ends in m or rad)")
@@ -51,7 +60,7 @@ def run(args: argparse.Namespace) -> int:
     check_outputs(("--png", args.png), inputs=(args.path, *robot_files(args.robot)))
     feeds = parse_feeds(args.feeds)
     given = parse_values(args.at, "--at")
-    robot = load_robot(args.robot)
+    robot = load_robot_argument(args.robot, args.tool)
     path = configured_path(args, args.path)
     study = feed_study(robot, path, np.array([given.get(name, 0.0) for name in VARIABLES]), feeds, args.regen,
                        args.time_step)

@@ -15,8 +15,10 @@ from placement.cli.common import (
     UsageError,
     add_model_options,
     add_sampling_options,
+    add_tool_option,
     check_outputs,
     configured_path,
+    load_robot_argument,
     parse_values,
     robot_files,
     whole_number,
@@ -24,7 +26,6 @@ from placement.cli.common import (
 from placement.frames import ANGLES, VARIABLES
 from placement.objectives import wording
 from placement.report import write_atomically
-from placement.robot import load_robot
 from placement.search.sweep import sweep
 from placement.visualize import Scene
 
@@ -34,7 +35,8 @@ MAX_GRID_POINTS = 1_000_000
 def add_parser(commands: argparse._SubParsersAction) -> None:
     """The 'map' subcommand's options."""
     energy_map = commands.add_parser("map", help="map of the objective over a grid of placements (saved as .npz)")
-    energy_map.add_argument("--robot", required=True, help="robot name or sidecar YAML")
+    energy_map.add_argument("--robot", required=True, help="robot name, sidecar YAML, or erd:NAME (with --tool)")
+    add_tool_option(energy_map)
     energy_map.add_argument("--path", required=True, help="path file (YAML)")
     energy_map.add_argument("--grid", required=True, metavar="x=-120:60:41,y=-120:60:41",
                             help="swept variables: name=start:stop:count, in mm and degrees")
@@ -91,7 +93,7 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"--fix: {', '.join(clash)} is also swept by --grid")
     if args.png and len(axes) != 2:
         raise UsageError(f"--png draws maps over exactly two variables; --grid gives {len(axes)}")
-    robot = load_robot(args.robot)
+    robot = load_robot_argument(args.robot, args.tool)
     path = configured_path(args, args.path)
     total = int(np.prod([len(v) for v in axes.values()]))
     with tqdm(desc="mapping", total=total, unit=" placement", disable=args.quiet, file=sys.stderr, leave=False) as bar:

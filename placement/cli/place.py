@@ -17,8 +17,10 @@ from placement.cli.common import (
     UsageError,
     add_model_options,
     add_sampling_options,
+    add_tool_option,
     check_outputs,
     configured_path,
+    load_robot_argument,
     parse_free,
     parse_values,
     robot_files,
@@ -31,7 +33,7 @@ from placement.kinematics import joint_trajectory
 from placement.objectives import OBJECTIVES, wording
 from placement.path import ToolPath
 from placement.report import detail_json, format_detail, format_result, write_atomically, write_json, write_trace
-from placement.robot import Robot, load_robot
+from placement.robot import Robot
 from placement.search.optimize import SearchSettings, optimize_placement
 from placement.visualize import AT_COLOR, BEST_COLOR, WORST_COLOR, PageServer, Scene
 
@@ -43,7 +45,9 @@ def build_parser() -> argparse.ArgumentParser:
         "actuators draw the least electric energy while every limit holds.",
         epilog="Other commands: 'placement robots' lists the robots; 'placement check ROBOT' describes a robot "
                "and proves its dynamic model exact; 'placement map' draws a map of the objective over placements.")
-    parser.add_argument("--robot", required=True, help="built-in robot name or path to a robot sidecar YAML")
+    parser.add_argument("--robot", required=True, help="built-in robot name, path to a robot sidecar YAML, or "
+                        "erd:NAME (an example-robot-data arm, with --tool)")
+    add_tool_option(parser)
     parser.add_argument("--path", required=True, nargs="+", help="path file(s) (YAML), e.g. examples/rect.yaml")
     direction = parser.add_mutually_exclusive_group()
     direction.add_argument("--minimize", action="store_true",
@@ -169,7 +173,7 @@ def show(page: str, host: str) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """The main job; returns the exit code."""
-    robot = load_robot(args.robot)
+    robot = load_robot_argument(args.robot, args.tool)
     if args.trace and len(args.path) > 1:
         raise UsageError("--trace: give a single --path")
     if args.at is not None and (args.fix or args.free or args.minimize or args.maximize):

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from placement.robot.catalog import robot_description, robot_names
+from placement.robot.erd import ERD_FORM
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
@@ -13,7 +14,9 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Print one line per robot: its name and the description in its sidecar."""
+    """Print one line per robot: its name and the description in its sidecar; then the erd: form."""
     for name in robot_names():
         print(f"{name:<14s} {robot_description(name)}")
+    print(f"{ERD_FORM + 'NAME':<14s} any serial arm of example-robot-data, with --tool FRAME (drives and workspace "
+          "estimated)")
     return 0

@@ -1,0 +1,377 @@
+"""Serial arms of example-robot-data by name, with estimated drives: ``erd:NAME`` and a tool frame.
+
+``load_erd_robot("ur10", "tool0")`` builds the sidecar of example-robot-data's robot NAME in
+memory and loads it, so that any serial arm it ships can be tried without writing a file. Every
+number the URDF does not give is an estimate, labelled ``EST`` in the sidecar's ``sources``:
+
+- **Joints.** The joints from the base to the tool frame move; every other movable joint (a
+  gripper's fingers) is locked at example-robot-data's reference posture ``q0``, clipped into its
+  limits. Of a 7-joint chain, the third joint is locked too, as the built-in ``panda`` locks
+  ``panda_joint3`` (on the usual shoulder-elbow-wrist arms, the upper arm's redundant rotation),
+  so that the path determines the motion. Chains of more than 7 joints, or fewer than 3, are
+  refused. Six moving joints or more follow a pose task, fewer a position task.
+- **Drives** (one per joint): a gear of ratio ``GEAR_RATIO`` = 100 (revolute joint) or a ball
+  screw of lead ``SCREW_LEAD_M`` = 10 mm (prismatic joint), efficiency 1, speed ratio k; a motor
+  whose peak torque is the URDF's effort limit / k and top speed the URDF's velocity limit · k,
+  so that the drive reaches exactly the URDF's limits. The motor's other constants follow one
+  3-phase servo family scaled by its peak torque tau (N·m), fitted to the built-in UR5 and Panda
+  estimates: K_t = 0.1·sqrt(tau) N·m/A (peak current 10·sqrt(tau) A), K_e = K_t/3,
+  R = 0.5/sqrt(tau) Ω and L = 0.5/sqrt(tau) mH per phase, and a rotor inertia proportional to the
+  torque, J = tau / 20 000 rad/s² (the same peak acceleration for every size).
+- **Workspace.** L is the kinematic chain length: the sum of the distances between successive
+  joint origins from the base to the tool frame (m). The box is a cube of side 0.25·L centred at
+  (0.4·L, 0, 0.15·L), in front of the base (its +x) above its floor; it is shrunk about its
+  centre by 20 % steps (at most 5) until the tool reaches its 8 corners pointing down.
+- **Reference configuration and tool orientation.** The tool is brought to the box's centre with
+  its z axis pointing down (−Z_b), its rotation about that axis free, by damped least squares
+  from ``q0`` first, then from ``REFERENCE_SEEDS`` seeded random postures within the joint
+  limits. The first posture whose task Jacobian (linear rows divided by L) has a condition number
+  below ``GOOD_CONDITION`` is kept, else the best-conditioned one if below ``MAX_CONDITION``.
+  ``tool_rpy_in_path_rad`` is the tool's orientation in that posture: its z axis along −Z_p, into
+  the workpiece, as the built-in ``ur5`` sidecar has it.
+- Gravity is −9.81 m/s² along the base's z; the search is over x, y, z and φ, and for a pose task
+  θ and ψ too, within ±0.35 rad (20°).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+from pydantic import ValidationError
+
+from placement.exceptions import PlacementError
+from placement.robot.load import ERD_PREFIX, build_robot
+from placement.robot.model import Robot
+from placement.robot.sidecar import Sidecar
+
+ERD_FORM = "erd:"
+GEAR_RATIO = 100.0
+SCREW_LEAD_M = 0.01
+BOX_CENTRE_OF_REACH = (0.4, 0.0, 0.15)
+BOX_SIDE_OF_REACH = 0.25
+BOX_SHRINK, BOX_SHRINKS = 0.8, 5
+REFERENCE_SEEDS = 32
+GOOD_CONDITION, MAX_CONDITION = 20.0, 100.0
+TILT_RAD = 0.35
+DAMPING, MAX_STEP_RAD = 1e-6, 0.3  # of the least-squares steps towards a reference posture
+DOWN = np.array([0.0, 0.0, -1.0])
+
+
+class ExampleRobotError(PlacementError):
+    """An example-robot-data robot cannot be used as asked: unknown name or frame, or an arm outside the rules."""
+
+
+def erd_name(text: str) -> str | None:
+    """The example-robot-data name in ``erd:NAME``, or None for any other robot argument."""
+    return text.removeprefix(ERD_FORM) if text.startswith(ERD_FORM) else None
+
+
+def erd_names() -> list[str]:
+    """The robots example-robot-data ships."""
+    from example_robot_data.robots_loader import ROBOTS
+
+    return sorted(ROBOTS)
+
+
+def estimate_warning(robot: Robot) -> str:
+    """The one warning an ``erd:`` robot deserves: its drives and workspace are estimates."""
+    count = sum(text.startswith("EST") for text in robot.sidecar.sources.values())
+    return (f"{robot.name}: the drives (gear {GEAR_RATIO:g}:1, motor constants scaled from the URDF's effort and "
+            f"velocity limits), the workspace box and the reference posture are estimates ({count} EST sources); "
+            "absolute energies are only as good as they are (write a sidecar: docs/adding_a_robot.md)")
+
+
+def load_erd_robot(name: str, tool: str | None) -> Robot:
+    """Load example-robot-data's robot ``name`` with ``tool`` following the path (rules: module docstring).
+
+    Args:
+        name: An example-robot-data name, e.g. "ur10".
+        tool: The frame (link or joint) that follows the path, e.g. "tool0".
+
+    Raises:
+        ExampleRobotError: Unknown name, missing or unknown tool, or an arm the rules cannot estimate.
+    """
+    return build_robot(Path(ERD_FORM + name), erd_sidecar(name, tool))
+
+
+def erd_sidecar(name: str, tool: str | None) -> Sidecar:
+    """The estimated sidecar of example-robot-data's robot ``name`` with ``tool`` following the path."""
+    arm = _Arm.read(name, tool)
+    box_low, box_high, q_ref = arm.workspace_and_reference()
+    drives = {arm.drive_name(j): arm.drive(j) for j in arm.active}
+    end_effector: dict[str, object] = {"frame": tool, "task": arm.task}
+    if arm.pose:  # the reference posture's tool orientation, z along -Z_p
+        end_effector["tool_rpy_in_path_rad"] = [float(v) for v in pin.rpy.matrixToRpy(arm.tool_rotation(q_ref))]
+    document = {
+        "name": ERD_FORM + name,
+        "description": f"example-robot-data '{name}', tool {tool}: drives and workspace estimated",
+        "urdf": ERD_PREFIX + name,
+        "gravity_m_s2": [0.0, 0.0, -9.81],
+        "end_effector": end_effector,
+        "reference_configuration": {arm.model.names[j]: float(q_ref[arm.q_index(j)]) for j in arm.active},
+        "locked_joints": arm.locked,
+        "actuators": [{"joint": arm.model.names[j], "drive": arm.drive_name(j)} for j in arm.active],
+        "drives": drives,
+        "workspace": {"type": "box", "min_m": box_low.tolist(), "max_m": box_high.tolist(),
+                      "points_m": {"reference": arm.tool_point(q_ref).tolist()}},
+        "placement": {"free": ["x", "y", "z", "phi", "theta", "psi"] if arm.pose else ["x", "y", "z", "phi"],
+                      "bounds": {"theta": [-TILT_RAD, TILT_RAD], "psi": [-TILT_RAD, TILT_RAD]} if arm.pose else {}},
+        "sources": arm.sources(drives),
+    }
+    try:
+        return Sidecar.model_validate(document)
+    except ValidationError as error:
+        problem = error.errors()[0]
+        raise ExampleRobotError(f"{ERD_FORM}{name}: cannot estimate {'.'.join(map(str, problem['loc']))}: "
+                                f"{problem['msg']}; write a sidecar (docs/adding_a_robot.md)") from None
+
+
+@dataclass
+class _Arm:
+    """An example-robot-data model, its moving chain and the estimates made on it."""
+
+    name: str
+    tool: str
+    model: pin.Model
+    frame_id: int
+    q0: np.ndarray
+    chain: list[int]
+    active: list[int]
+    locked: dict[str, float]
+
+    @classmethod
+    def read(cls, name: str, tool: str | None) -> _Arm:
+        from example_robot_data.robots_loader import ROBOTS
+
+        if name not in ROBOTS:
+            raise ExampleRobotError(f"example-robot-data has no robot '{name[:40]}' ({ERD_FORM}{name[:40]}); "
+                                    f"its robots: {', '.join(erd_names())}")
+        loader = ROBOTS[name]()
+        model = pin.buildModelFromUrdf(str(Path(loader.df_path).resolve()))
+        q0 = _reference_posture(model, loader.robot.model, loader.robot.q0)
+        frame_id = _tool_frame(model, name, tool)
+        chain = [int(j) for j in model.supports[model.frames[frame_id].parentJoint][1:]]
+        odd = [model.names[j] for j in chain if model.joints[j].nq != 1 or model.joints[j].nv != 1]
+        if odd:
+            raise ExampleRobotError(f"{ERD_FORM}{name}: joints {odd} between the base and '{tool}' are not revolute "
+                                    "or prismatic; write a sidecar (docs/adding_a_robot.md)")
+        if not 3 <= len(chain) <= 7:
+            raise ExampleRobotError(f"{ERD_FORM}{name}: {len(chain)} joint(s) from the base to '{tool}'; a path needs "
+                                    "3 to 6 (or 7, the third locked): choose another --tool or write a sidecar")
+        active = [j for k, j in enumerate(chain) if not (len(chain) == 7 and k == 2)]
+        locked = {model.names[j]: float(_clip(model, j, q0[model.joints[j].idx_q]))
+                  for j in range(1, model.njoints) if j not in active}
+        return cls(name, str(tool), model, frame_id, q0, chain, active, locked)
+
+    @property
+    def pose(self) -> bool:
+        """Whether the tool's orientation is prescribed too (six moving joints)."""
+        return len(self.active) >= 6
+
+    @property
+    def task(self) -> str:
+        """The sidecar's task."""
+        return "pose" if self.pose else "position"
+
+    @property
+    def reach_m(self) -> float:
+        """Kinematic chain length L: distances between successive joint origins, base to tool (m)."""
+        model = self.model
+        steps = [model.jointPlacements[j].translation for j in self.chain]
+        steps.append(model.frames[self.frame_id].placement.translation)
+        return float(sum(np.linalg.norm(step) for step in steps))
+
+    def q_index(self, joint: int) -> int:
+        """The configuration index of a joint of the full model."""
+        return int(self.model.joints[joint].idx_q)
+
+    def drive_name(self, joint: int) -> str:
+        """The drive of a joint is named after it (dots would break the sources' dotted paths)."""
+        return self.model.names[joint].replace(".", "_")
+
+    def drive(self, joint: int) -> dict:
+        """The estimated drive of one joint (rules: module docstring)."""
+        joint_name, v = self.model.names[joint], self.model.joints[joint].idx_v
+        effort, speed = float(self.model.effortLimit[v]), float(self.model.velocityLimit[v])
+        if not (0 < effort < np.inf and 0 < speed < np.inf):
+            raise ExampleRobotError(f"{ERD_FORM}{self.name}: joint '{joint_name}' has no effort or velocity limit in its "
+                                    f"URDF (got {effort:g}, {speed:g}), so its drive cannot be estimated; write a sidecar")
+        prismatic = self.model.joints[joint].shortname().startswith("JointModelP")
+        k = 2 * np.pi / SCREW_LEAD_M if prismatic else GEAR_RATIO
+        transmission = ({"type": "ball_screw", "lead_m": SCREW_LEAD_M, "efficiency": 1.0} if prismatic
+                        else {"type": "gear", "ratio": GEAR_RATIO, "efficiency": 1.0})
+        torque = effort / k
+        root = np.sqrt(torque)
+        motor = {"torque_constant_Nm_per_A": 0.1 * root, "back_emf_constant_V_s_per_rad": 0.1 * root / 3,
+                 "resistance_ohm": 0.5 / root, "inductance_H": 5e-4 / root, "phases": 3,
+                 "rotor_inertia_kg_m2": torque / 20_000.0, "max_torque_Nm": torque, "max_speed_rad_s": speed * k}
+        return {"transmission": transmission, "motor": motor}
+
+    def sources(self, drives: dict) -> dict[str, str]:
+        """An EST (or DERIVED) entry for every estimate."""
+        entries = {
+            "gravity_m_s2": "EST: floor-mounted, base z up",
+            "reference_configuration": "EST: tool pointing down at the workspace centre, solved from example-robot-data's "
+                                       "q0 (else seeded postures) with a well-conditioned task Jacobian",
+            "workspace": f"EST: a cube of side {BOX_SIDE_OF_REACH} L centred at {list(BOX_CENTRE_OF_REACH)} L, L = "
+                         f"{self.reach_m:.3f} m the chain length, shrunk until the tool reaches its corners",
+            "placement": f"EST: the workpiece may be tilted by up to {np.degrees(TILT_RAD):.0f} degrees",
+        }
+        if self.locked:
+            entries["locked_joints"] = ("EST: joints off the base-to-tool chain held at example-robot-data's q0"
+                                        + ("; the chain's third joint locked, as the built-in panda's joint 3"
+                                           if len(self.chain) == 7 else ""))
+        if self.pose:
+            entries["end_effector.tool_rpy_in_path_rad"] = "DERIVED: tool z along -Z_p, yaw of the reference posture"
+        for drive, spec in drives.items():
+            kind = "gear ratio" if spec["transmission"]["type"] == "gear" else "screw lead"
+            entries[f"drives.{drive}.transmission"] = f"EST: a typical {kind} (the URDF gives none)"
+            entries[f"drives.{drive}.motor"] = ("EST: 3-phase servo scaled by peak torque tau: K_t = 0.1 sqrt(tau), "
+                                               "K_e = K_t/3, R = 0.5/sqrt(tau), L = 0.5e-3/sqrt(tau), J = tau/20000; "
+                                               "max_torque and max_speed DERIVED from the URDF's effort and velocity "
+                                               "limits through the transmission")
+        return entries
+
+    def reduced(self) -> pin.Model:
+        """The model with the locked joints held (what the solvers move)."""
+        q = self.q0.copy()
+        ids = [self.model.getJointId(n) for n in self.locked]
+        for name, value in self.locked.items():
+            q[self.model.joints[self.model.getJointId(name)].idx_q] = value
+        return pin.buildReducedModel(self.model, ids, q) if ids else self.model
+
+    def tool_point(self, q_full: np.ndarray) -> np.ndarray:
+        """The tool frame's origin at a configuration of the full model (m)."""
+        data = self.model.createData()
+        pin.framesForwardKinematics(self.model, data, q_full)
+        return data.oMf[self.frame_id].translation.copy()
+
+    def tool_rotation(self, q_full: np.ndarray) -> np.ndarray:
+        """The tool frame's rotation at a configuration of the full model."""
+        data = self.model.createData()
+        pin.framesForwardKinematics(self.model, data, q_full)
+        return data.oMf[self.frame_id].rotation.copy()
+
+    def workspace_and_reference(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The workspace box (min, max, m) and the reference configuration (full model)."""
+        reach = self.reach_m
+        centre, half = np.array(BOX_CENTRE_OF_REACH) * reach, BOX_SIDE_OF_REACH * reach / 2
+        solver = _Solver(self.reduced(), self.tool, self.pose, reach)
+        q_ref = solver.reference(centre, solver.from_full(self.model, self.q0), np.random.default_rng(0))
+        if q_ref is None:
+            raise ExampleRobotError(f"{ERD_FORM}{self.name}: '{self.tool}' cannot reach {np.round(centre, 3).tolist()} m "
+                                    f"(the estimated workspace centre) {'pointing down ' if self.pose else ''}with a "
+                                    f"condition number below {MAX_CONDITION:g}; write a sidecar (docs/adding_a_robot.md)")
+        for _ in range(BOX_SHRINKS):
+            corners = centre + half * np.array([[i, j, k] for i in (-1, 1) for j in (-1, 1) for k in (-1, 1)])
+            if all(solver.solve(corner, q_ref) is not None for corner in corners):
+                break
+            half *= BOX_SHRINK
+        else:
+            raise ExampleRobotError(f"{ERD_FORM}{self.name}: '{self.tool}' cannot reach the corners of a box around "
+                                    f"{np.round(centre, 3).tolist()} m; write a sidecar (docs/adding_a_robot.md)")
+        return centre - half, centre + half, solver.to_full(self.model, self.q0, q_ref)
+
+
+class _Solver:
+    """Damped least squares that bring the tool to a point, pointing down for a pose task (yaw free)."""
+
+    def __init__(self, model: pin.Model, tool: str, pose: bool, reach_m: float) -> None:
+        self.model, self.data, self.pose, self.reach_m = model, model.createData(), pose, reach_m
+        self.frame_id = model.getFrameId(tool)
+
+    def from_full(self, full: pin.Model, q_full: np.ndarray) -> np.ndarray:
+        """A configuration of this model from one of the full model (joints matched by name)."""
+        q = pin.neutral(self.model)
+        for j in range(1, self.model.njoints):
+            q[self.model.joints[j].idx_q] = q_full[full.joints[full.getJointId(self.model.names[j])].idx_q]
+        return np.clip(q, self.model.lowerPositionLimit, self.model.upperPositionLimit)
+
+    def to_full(self, full: pin.Model, q_full: np.ndarray, q: np.ndarray) -> np.ndarray:
+        """``q_full`` with this model's joints set from ``q``."""
+        out = q_full.copy()
+        for j in range(1, self.model.njoints):
+            out[full.joints[full.getJointId(self.model.names[j])].idx_q] = q[self.model.joints[j].idx_q]
+        return out
+
+    def reference(self, target: np.ndarray, q0: np.ndarray, rng: np.random.Generator) -> np.ndarray | None:
+        """From ``q0``, then seeded postures: the first solution conditioned below GOOD_CONDITION, else the best."""
+        low = np.maximum(self.model.lowerPositionLimit, -np.pi)
+        high = np.minimum(self.model.upperPositionLimit, np.pi)
+        best, best_condition = None, MAX_CONDITION
+        for seed in [q0, *(rng.uniform(low, high) for _ in range(REFERENCE_SEEDS))]:
+            q = self.solve(target, seed)
+            if q is None:
+                continue
+            condition = self.condition(q)
+            if condition < GOOD_CONDITION:
+                return q
+            if condition < best_condition:
+                best, best_condition = q, condition
+        return best
+
+    def condition(self, q: np.ndarray) -> float:
+        """Condition number of the task Jacobian, linear rows divided by the chain length."""
+        jacobian = pin.computeFrameJacobian(self.model, self.data, q, self.frame_id, pin.LOCAL_WORLD_ALIGNED).copy()
+        jacobian[:3] /= self.reach_m
+        return float(np.linalg.cond(jacobian if self.pose else jacobian[:3]))
+
+    def solve(self, target: np.ndarray, q: np.ndarray, iterations: int = 300) -> np.ndarray | None:
+        """A configuration within the limits with the tool at ``target`` (and pointing down), or None."""
+        q = q.copy()
+        for _ in range(iterations):
+            pin.framesForwardKinematics(self.model, self.data, q)
+            error, jacobian = self._error(q, target)
+            if np.linalg.norm(error) < 1e-10:
+                return q
+            step = jacobian.T @ np.linalg.solve(jacobian @ jacobian.T + DAMPING * np.eye(len(error)), error)
+            step *= min(1.0, MAX_STEP_RAD / max(float(np.abs(step).max()), 1e-300))
+            q = np.clip(pin.integrate(self.model, q, -step), self.model.lowerPositionLimit, self.model.upperPositionLimit)
+        return None
+
+    def _error(self, q: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        placement = self.data.oMf[self.frame_id]
+        if not self.pose:
+            jacobian = pin.computeFrameJacobian(self.model, self.data, q, self.frame_id, pin.LOCAL_WORLD_ALIGNED)
+            return placement.translation - target, jacobian[:3]
+        x = placement.rotation[:, 0] - placement.rotation[2, 0] * np.array([0.0, 0.0, 1.0])
+        if np.linalg.norm(x) < 1e-6:  # the tool's x axis is vertical: take its y axis for the yaw
+            x = np.cross(placement.rotation[:, 1], DOWN)
+        x /= np.linalg.norm(x)
+        wanted = pin.SE3(np.column_stack([x, np.cross(DOWN, x), DOWN]), target)
+        offset = placement.actInv(wanted)
+        jacobian = pin.computeFrameJacobian(self.model, self.data, q, self.frame_id, pin.LOCAL)
+        return -pin.log6(offset).vector, pin.Jlog6(offset.inverse()) @ jacobian
+
+
+def _reference_posture(model: pin.Model, erd_model: pin.Model, erd_q0: np.ndarray) -> np.ndarray:
+    """example-robot-data's ``q0`` on this model, joint by joint (neutral where it has none)."""
+    q = pin.neutral(model)
+    for j in range(1, model.njoints):
+        name = model.names[j]
+        if erd_model.existJointName(name) and model.joints[j].nq == 1:
+            q[model.joints[j].idx_q] = erd_q0[erd_model.joints[erd_model.getJointId(name)].idx_q]
+    return q
+
+
+def _clip(model: pin.Model, joint: int, value: float) -> float:
+    index = model.joints[joint].idx_q
+    return float(np.clip(value, model.lowerPositionLimit[index], model.upperPositionLimit[index]))
+
+
+def _tool_frame(model: pin.Model, name: str, tool: str | None) -> int:
+    """The id of the tool frame (a link, else a joint), or an error listing the candidates."""
+    parents = {frame.parentFrame for frame in model.frames}
+    leaves = [f.name for i, f in enumerate(model.frames) if f.type == pin.FrameType.BODY and i not in parents]
+    if tool is None:
+        raise ExampleRobotError(f"{ERD_FORM}{name} needs --tool FRAME, the frame that follows the path; candidates "
+                                f"(the leaves of its tree): {', '.join(leaves)}")
+    for kind in (pin.FrameType.BODY, pin.FrameType.FIXED_JOINT, pin.FrameType.JOINT):
+        if model.existFrame(tool, kind):
+            return int(model.getFrameId(tool, kind))
+    links = [f.name for f in model.frames if f.type == pin.FrameType.BODY]
+    raise ExampleRobotError(f"--tool: {ERD_FORM}{name} has no frame '{tool[:40]}'; the leaves of its tree: "
+                            f"{', '.join(leaves)}; its links: {', '.join(links)}")
