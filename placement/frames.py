@@ -3,6 +3,13 @@
 A placement is x = [x, y, z, phi, theta, psi] (m, rad): the origin of F_p in F_b and the
 orientation R = Rz(phi)·Ry(theta)·Rx(psi), the paper's matrix bTp. Any subset of the six may be
 free (searched within bounds) while the others stay fixed.
+
+A planar mechanism declares its plane in the sidecar (``placement.plane``: a normal and a point).
+The placement is then read in the plane's own frame F_pl (:func:`plane_frame`): its origin is the
+plane's point, its z axis the normal, its x axis the base x axis projected on the plane (the base
+y axis if the normal is within 8° of x) and its y axis completes a right-handed frame. So x and y
+are the path origin's coordinates in the plane, phi turns the path about the normal, and z, theta
+and psi stay 0, keeping the path in the plane: bTp = bT_pl·(the placement's transform).
 """
 
 from __future__ import annotations
@@ -15,9 +22,11 @@ from placement.exceptions import PlacementError
 from placement.kinematics.trajectories import TaskTrajectory
 from placement.path import PathSamples
 from placement.robot.model import Robot
+from placement.robot.sidecar import PLANE_VARIABLES, Plane
 
 VARIABLES = ("x", "y", "z", "phi", "theta", "psi")
 ANGLES = ("phi", "theta", "psi")
+NORMAL_ALONG_X = np.cos(np.radians(8.0))  # |n·X_b| above this: the plane's x axis is taken from Y_b
 
 
 def rotation_zyx(phi: np.ndarray, theta: np.ndarray, psi: np.ndarray) -> np.ndarray:
@@ -28,6 +37,50 @@ def rotation_zyx(phi: np.ndarray, theta: np.ndarray, psi: np.ndarray) -> np.ndar
         np.stack([sf * ct, sf * st * sp + cf * cp, sf * st * cp - cf * sp], axis=-1),
         np.stack([-st, ct * sp, ct * cp], axis=-1),
     ], axis=-2)
+
+
+def plane_frame(plane: Plane) -> tuple[np.ndarray, np.ndarray]:
+    """The plane's own frame F_pl in the base frame (module docstring).
+
+    Args:
+        plane: The sidecar's ``placement.plane``.
+
+    Returns:
+        The rotation [u, v, n] (columns: the plane's x and y axes, its unit normal) and the origin (m).
+    """
+    normal = np.asarray(plane.normal, dtype=float) / np.linalg.norm(plane.normal)
+    axis = np.eye(3)[1 if abs(normal[0]) > NORMAL_ALONG_X else 0]
+    u = axis - (axis @ normal) * normal
+    u /= np.linalg.norm(u)
+    return np.column_stack([u, np.cross(normal, u), normal]), np.asarray(plane.point_m, dtype=float)
+
+
+def robot_plane(robot: Robot) -> Plane | None:
+    """The plane a planar robot declares in its sidecar, if any."""
+    defaults = robot.sidecar.placement
+    return defaults.plane if defaults is not None else None
+
+
+def describe_plane(plane: Plane) -> dict[str, list[float]]:
+    """The plane and the axes its placement coordinates x, y run along (base frame, JSON-ready)."""
+    rotation, origin = plane_frame(plane)
+    return {"normal": rotation[:, 2].tolist(), "point_m": origin.tolist(), "x_axis": rotation[:, 0].tolist(),
+            "y_axis": rotation[:, 1].tolist()}
+
+
+def placement_pose(placements: np.ndarray, plane: Plane | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The path frame's rotation (K, 3, 3) and origin (K, 3) (m) in the base frame, for (K, 6) placements.
+
+    Args:
+        placements: Placement vectors (m, rad), in the plane's frame when ``plane`` is given.
+        plane: The robot's plane (module docstring), or None: placements are in the base frame.
+    """
+    x = np.atleast_2d(placements)
+    rotation = rotation_zyx(x[:, 3], x[:, 4], x[:, 5])
+    if plane is None:
+        return rotation, x[:, :3]
+    turn, origin = plane_frame(plane)
+    return turn @ rotation, origin + x[:, :3] @ turn.T
 
 
 def placed_task(robot: Robot, samples: PathSamples, placements: np.ndarray) -> tuple[TaskTrajectory, np.ndarray]:
@@ -45,37 +98,37 @@ def placed_task(robot: Robot, samples: PathSamples, placements: np.ndarray) -> t
     Returns:
         The task (K·N samples, placement-major) and the load, (K·N, 3 or 6).
     """
-    task, force = transform_path_to_base(samples, placements)
+    plane = robot_plane(robot)
+    task, force = transform_path_to_base(samples, placements, plane)
     if robot.task == "position":
         return task, force
     rpy = robot.sidecar.end_effector.tool_rpy_in_path_rad or (0.0, 0.0, 0.0)
-    x = np.atleast_2d(placements)
     tool = rotation_zyx(np.array(rpy[2]), np.array(rpy[1]), np.array(rpy[0]))
-    rotation = np.repeat(rotation_zyx(x[:, 3], x[:, 4], x[:, 5]) @ tool,
-                         len(samples), axis=0)
+    rotation = np.repeat(placement_pose(placements, plane)[0] @ tool, len(samples), axis=0)
     still = np.zeros_like(task.position_m)
     pose = TaskTrajectory(task.position_m, task.velocity_m_s, task.acceleration_m_s2, rotation, still, still)
     return pose, np.hstack([force, still])
 
 
-def transform_path_to_base(samples: PathSamples, placements: np.ndarray) -> tuple[TaskTrajectory, np.ndarray]:
+def transform_path_to_base(samples: PathSamples, placements: np.ndarray,
+                           plane: Plane | None = None) -> tuple[TaskTrajectory, np.ndarray]:
     """The sampled path seen in the base frame for each placement, stacked placement by placement.
 
     Args:
         samples: The path sampled in its own frame (N samples).
         placements: (K, 6) or (6,) placement vectors [x, y, z, phi, theta, psi] (m, rad).
+        plane: A planar robot's plane, in whose frame the placements are read (module docstring).
 
     Returns:
         The task trajectory of the tool point (K·N samples, placement-major) and the process
         force on the tool in the base frame, (K·N, 3) N.
     """
-    x = np.atleast_2d(placements)
-    rotation = rotation_zyx(x[:, 3], x[:, 4], x[:, 5])  # (K, 3, 3)
+    rotation, origin = placement_pose(placements, plane)  # (K, 3, 3), (K, 3)
 
     def turn(vectors: np.ndarray) -> np.ndarray:
         return np.einsum("kij,nj->kni", rotation, vectors).reshape(-1, 3)
 
-    position = turn(samples.position_m) + np.repeat(x[:, :3], len(samples), axis=0)
+    position = turn(samples.position_m) + np.repeat(origin, len(samples), axis=0)
     task = TaskTrajectory(position, turn(samples.velocity_m_s), turn(samples.acceleration_m_s2))
     return task, turn(samples.force_on_tool_N)
 
@@ -129,9 +182,10 @@ def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict
         half_turn: The path is unchanged by a half turn about its tool axis
             (:meth:`ToolPath.half_turn_symmetric`): phi then only needs ±90°.
     """
-    defaults = robot.sidecar.placement
+    defaults, plane = robot.sidecar.placement, robot_plane(robot)
     if free is None:  # the default free set, less what the caller fixes
-        free = tuple(n for n in (defaults.free if defaults else ("x", "y", "z", "phi")) if n not in (fixed or {}))
+        default_free = defaults.free if defaults and defaults.free else PLANE_VARIABLES if plane else ("x", "y", "z", "phi")
+        free = tuple(n for n in default_free if n not in (fixed or {}))
     free = tuple(free)
     unknown = sorted(set(free) - set(VARIABLES))
     if unknown:
@@ -141,10 +195,10 @@ def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict
         raise PlacementError(f"{clash} cannot be both free and fixed")
     limits: dict[str, tuple[float, float]] = {name: bound for name, bound in (defaults.bounds if defaults else {}).items()}
     limits.update(bounds or {})
-    workspace = robot.sidecar.workspace
-    for k, axis in enumerate("xyz"):
-        if workspace is not None:
-            limits.setdefault(axis, (workspace.min_m[k], workspace.max_m[k]))
+    if plane is not None:
+        _check_in_plane(robot.name, plane, free, fixed or {})
+    for axis, bound in _workspace_ranges(robot, plane).items():
+        limits.setdefault(axis, bound)
     limits.setdefault("phi", (-np.pi / 2, np.pi / 2) if half_turn else (-np.pi, np.pi))
     for angle in ("theta", "psi"):
         limits.setdefault(angle, (-np.pi, np.pi))
@@ -156,6 +210,30 @@ def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict
                           lower=np.array([limits[n][0] for n in VARIABLES if n in free], dtype=float),
                           upper=np.array([limits[n][1] for n in VARIABLES if n in free], dtype=float),
                           fixed=fixed_vector)
+
+
+def _workspace_ranges(robot: Robot, plane: Plane | None) -> dict[str, tuple[float, float]]:
+    """The ranges of x, y, z over the workspace box (m): in the base frame, or in the plane's frame."""
+    workspace = robot.sidecar.workspace
+    if workspace is None:
+        return {}
+    if plane is None:
+        return {axis: (workspace.min_m[k], workspace.max_m[k]) for k, axis in enumerate("xyz")}
+    turn, origin = plane_frame(plane)
+    corners = np.array([[x, y, z] for x in (workspace.min_m[0], workspace.max_m[0])
+                        for y in (workspace.min_m[1], workspace.max_m[1]) for z in (workspace.min_m[2], workspace.max_m[2])])
+    local = (corners - origin) @ turn
+    return {axis: (float(local[:, k].min()), float(local[:, k].max())) for k, axis in enumerate("xyz")}
+
+
+def _check_in_plane(robot: str, plane: Plane, free: tuple[str, ...], fixed: dict[str, float]) -> None:
+    """A planar robot's paths stay in its plane: only x, y and phi move, the other variables stay 0."""
+    off = [name for name in free if name not in PLANE_VARIABLES]
+    off += [name for name, value in fixed.items() if name not in PLANE_VARIABLES and value != 0.0]
+    if off:
+        raise PlacementError(f"robot '{robot}' moves in the plane of normal {list(plane.normal)} (sidecar "
+                             f"placement.plane): paths stay in it, so only {', '.join(PLANE_VARIABLES)} may be free or "
+                             f"fixed (x, y along the plane's own axes), got {', '.join(sorted(set(off)))}")
 
 
 def _missing_bounds(robot: str, missing: list[str]) -> str:

@@ -23,7 +23,7 @@ from placement.cli.common import (
     robot_files,
     whole_number,
 )
-from placement.frames import ANGLES, VARIABLES
+from placement.frames import ANGLES, VARIABLES, placement_pose, robot_plane
 from placement.objectives import wording
 from placement.report import write_atomically
 from placement.search.sweep import sweep
@@ -114,7 +114,8 @@ def run(args: argparse.Namespace) -> int:
         scene = Scene(robot)
         scene.add_workspace()
         keep = result.feasible.ravel()
-        scene.add_value_points(result.placements()[keep, :3], result.value.ravel()[keep], words.subject)
+        origins = placement_pose(result.placements()[keep], robot_plane(robot))[1]
+        scene.add_value_points(origins, result.value.ravel()[keep], words.subject)
         write_atomically(args.html, scene.html(f"{robot.name}: {words.subject} map of {path.name}"))
         print(f"scene written to {args.html}")
     return 0

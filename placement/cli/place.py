@@ -28,7 +28,7 @@ from placement.cli.common import (
 )
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation import Evaluator
-from placement.frames import VARIABLES, default_space, placed_task
+from placement.frames import VARIABLES, default_space, describe_plane, placed_task, robot_plane
 from placement.kinematics import joint_trajectory
 from placement.objectives import OBJECTIVES, wording
 from placement.path import ToolPath
@@ -97,6 +97,10 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace) -> tuple[d
           + ("" if args.objective == "energy" else f"; objective: {objective.title} ({args.objective})"))
     document: dict = {"robot": robot.name, "path": path.name, "objective": args.objective,
                       "regeneration": args.regen, "timing": path.timing.mode, "samples": len(samples)}
+    plane = robot_plane(robot)
+    if plane is not None:
+        document["plane"] = describe_plane(plane)
+        print(plane_line(document["plane"]))
     if args.at is not None:
         given = parse_values(args.at, "--at")
         if not given:
@@ -136,6 +140,16 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace) -> tuple[d
     if result.infeasible:
         document["infeasible"] = result.infeasible
     return document, details, result.infeasible
+
+
+def plane_line(plane: dict[str, list[float]]) -> str:
+    """One line saying in which plane a planar robot's placements are read (see :func:`describe_plane`)."""
+    def vector(values: list[float]) -> str:
+        return "[" + ", ".join(f"{v:.4g}" for v in np.where(np.abs(values) < 1e-15, 0.0, values)) + "]"
+
+    return (f"plane (sidecar placement.plane): normal {vector(plane['normal'])} through {vector(plane['point_m'])} m; "
+            f"placements are read in it: x along {vector(plane['x_axis'])}, y along {vector(plane['y_axis'])}, "
+            "phi about the normal, z = theta = psi = 0")
 
 
 def draw(scene: Scene, robot: Robot, index: int, details: dict) -> None:

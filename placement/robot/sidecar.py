@@ -87,17 +87,45 @@ class EndEffector(Strict):
         return self
 
 
-class PlacementDefaults(Strict):
-    """The default search space of path placements on this robot (m, rad)."""
+PLANE_VARIABLES = ("x", "y", "phi")
 
-    free: Annotated[list[Literal["x", "y", "z", "phi", "theta", "psi"]], Field(min_length=1)]
+
+class Plane(Strict):
+    """The plane a planar mechanism moves in, in the base frame: its normal and one of its points (m).
+
+    Paths are then placed in this plane (see :func:`placement.frames.plane_frame`): the path
+    frame's Z_p is along ``normal``; x and y are the path origin's coordinates along the plane's own
+    axes, from ``point_m``; phi turns the path about the normal; z, theta and psi stay 0.
+    """
+
+    normal: Vector3
+    point_m: Vector3 = (0.0, 0.0, 0.0)
+
+    @model_validator(mode="after")
+    def _nonzero(self) -> Plane:
+        if not sum(c * c for c in self.normal) > 1e-24:
+            raise ValueError(f"normal must be a non-zero vector, got {list(self.normal)}")
+        return self
+
+
+class PlacementDefaults(Strict):
+    """The default search space of path placements on this robot (m, rad); for a planar mechanism, its plane."""
+
+    free: Annotated[list[Literal["x", "y", "z", "phi", "theta", "psi"]], Field(min_length=1)] | None = None
     bounds: dict[Literal["x", "y", "z", "phi", "theta", "psi"], tuple[Number, Number]] = {}
+    plane: Plane | None = None
 
     @model_validator(mode="after")
     def _ordered(self) -> PlacementDefaults:
         for name, (low, high) in self.bounds.items():
             if not low < high:
                 raise ValueError(f"bounds.{name}: the lower bound {low} must be below the upper bound {high}")
+        if self.plane is None and self.free is None:
+            raise ValueError("free: expected the free placement variables, e.g. [x, y, z, phi] (or a plane)")
+        off_plane = sorted({*(self.free or ()), *self.bounds} - set(PLANE_VARIABLES)) if self.plane else []
+        if off_plane:
+            raise ValueError(f"with a plane, paths move in it: only {', '.join(PLANE_VARIABLES)} may be free or bounded "
+                             f"(got {', '.join(off_plane)})")
         return self
 
 
