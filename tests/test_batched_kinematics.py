@@ -8,7 +8,7 @@ import pytest
 
 from placement.frames import default_space, placed_task
 from placement.kinematics import SOLVERS, TaskTrajectory, solver_for
-from placement.kinematics.tree import Tree, log3
+from placement.kinematics.tree import frame_kinematics, log3
 from placement.path import load_path
 from placement.robot import load_robot
 
@@ -42,14 +42,13 @@ def models() -> list[tuple[str, pin.Model]]:
 def test_tree_matches_pinocchio(name, model):
     """Frame placements, LWA Jacobians and classical accelerations (J̇·v) of every frame, to 1e-12."""
     rng = np.random.default_rng(0)
-    tree = Tree(model)
     q = rng.uniform(-2.0, 2.0, (7, model.nq))
     v = rng.normal(0.0, 2.0, (7, model.nv))
-    state = tree.velocities(tree.placements(q), v)
+    rotations, origins, jacobians, drifts = frame_kinematics(model, range(model.nframes), q, v)
     data = model.createData()
     for frame_id in range(model.nframes):
-        rotation, origin = tree.frame(state, frame_id)
-        jacobian, drift = tree.jacobian(state, frame_id), tree.drift(state, v, frame_id)
+        rotation, origin = rotations[:, frame_id], origins[:, frame_id]
+        jacobian, drift = jacobians[:, frame_id], drifts[:, frame_id]
         for k in range(len(q)):
             pin.forwardKinematics(model, data, q[k], v[k], np.zeros(model.nv))
             pin.computeJointJacobians(model, data, q[k])
@@ -62,8 +61,14 @@ def test_tree_matches_pinocchio(name, model):
 
 
 def test_log3_matches_pinocchio():
-    rotations = np.array([pin.exp3(w) for w in np.random.default_rng(1).normal(0.0, 1.0, (20, 3))])
-    np.testing.assert_allclose(log3(rotations), [pin.log3(r) for r in rotations], atol=1e-12)
+    """Rotation vectors of random rotations, of small ones and of ones within 1e-3 rad of a half turn."""
+    rng = np.random.default_rng(1)
+    axes = rng.normal(0.0, 1.0, (20, 3))
+    axes /= np.linalg.norm(axes, axis=1, keepdims=True)
+    vectors = np.vstack([rng.normal(0.0, 1.0, (20, 3)), 1e-6 * axes, (np.pi - rng.uniform(0, 1e-3, (20, 1))) * axes])
+    rotations = np.array([pin.exp3(w) for w in vectors])
+    np.testing.assert_allclose(log3(rotations), [pin.log3(r) for r in rotations], atol=1e-9)
+    np.testing.assert_allclose(log3(rotations[:40]), vectors[:40], atol=1e-12)
 
 
 def placed(robot_name: str, path: str, placements: int, samples: int | None = None):

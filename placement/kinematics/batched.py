@@ -1,6 +1,7 @@
 """The generic kinematics solver (``numeric``): any closed-loop or serial robot, batched in numpy.
 
-Every sample of every placement is solved together with :class:`~placement.kinematics.tree.Tree`:
+Every sample of every placement is solved together, by the compiled kernels of
+:mod:`~placement.kinematics.kernels`:
 
 1. **Assembly.** Each placement's first sample is reached from the reference configuration by
    continuation (small steps of the end effector), so that every placement starts on the
@@ -27,9 +28,10 @@ from typing import ClassVar
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from placement.kinematics.base import SINGULAR_CONDITION, SOLVERS, KinematicsSolver, condition_1
+from placement.kinematics import kernels
+from placement.kinematics.base import SINGULAR_CONDITION, SOLVERS, KinematicsSolver
 from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
-from placement.kinematics.tree import Tree, TreeState, log3, unsupported_joints
+from placement.kinematics.tree import log3, tree_arrays, unsupported_joints
 from placement.robot.model import Robot
 
 SOLVE_TOLERANCE = 1e-11  # residual norm (m and rad) at which Newton stops
@@ -56,143 +58,43 @@ class Targets:
 
 
 class BatchedKinematics:
-    """Residuals, Jacobians and Newton for one robot, over batches of configurations."""
+    """Newton, tangents and rates for one robot over batches of configurations (compiled kernels)."""
 
     def __init__(self, robot: Robot) -> None:
         self.robot = robot
-        self.tree = Tree(robot.model)
-        self.nv = robot.model.nv
+        frame_ids = [f for c in robot.closures for f in c.frame_ids] + [robot.end_effector_frame_id]
+        closures = [(2 * i, 2 * i + 1, c.dimension) for i, c in enumerate(robot.closures)]
         self.dim = robot.task_dimension
-        self.act = robot.actuated_v_indices
-        self.passive = np.setdiff1d(np.arange(self.nv), self.act)
-        self.closure_rows = sum(c.dimension for c in robot.closures)
+        self.tree = tree_arrays(robot.model, frame_ids, closures=closures, end_effector=len(frame_ids) - 1,
+                                task_dimension=self.dim, actuated=robot.actuated_v_indices)
+        self.frame_ids = frame_ids
 
-    def residual(self, state: TreeState, targets: Targets) -> np.ndarray:
-        """(B, rows) closure gaps, then end-effector error (m, rad)."""
-        parts = []
-        for closure in self.robot.closures:
-            (r1, p1), (r2, p2) = (self.tree.frame(state, i) for i in closure.frame_ids)
-            parts.append(p1 - p2)
-            if closure.kind == "weld":
-                parts.append(log3(r1 @ r2.transpose(0, 2, 1)))
-        rotation, position = self.tree.frame(state, self.robot.end_effector_frame_id)
-        parts.append(position - targets.position_m)
-        if targets.rotation is not None:
-            parts.append(log3(rotation @ targets.rotation.transpose(0, 2, 1)))
-        return np.concatenate(parts, axis=1)
-
-    def closure_jacobian(self, state: TreeState) -> np.ndarray:
-        """(B, closure rows, nv) closure Jacobian."""
-        rows = [(self.tree.jacobian(state, c.frame_ids[0]) - self.tree.jacobian(state, c.frame_ids[1]))[:, :c.dimension]
-                for c in self.robot.closures]
-        return np.concatenate(rows, axis=1) if rows else np.zeros((len(state.origin_m[0]), 0, self.nv))
-
-    def task_jacobian(self, state: TreeState) -> np.ndarray:
-        """(B, task dim, nv) end-effector Jacobian."""
-        return self.tree.jacobian(state, self.robot.end_effector_frame_id)[:, :self.dim]
-
-    def drift(self, state: TreeState, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Closure drift (B, closure rows) and task drift (B, dim) at zero joint acceleration."""
-        rows = [(self.tree.drift(state, v, c.frame_ids[0]) - self.tree.drift(state, v, c.frame_ids[1]))[:, :c.dimension]
-                for c in self.robot.closures]
-        closure = np.concatenate(rows, axis=1) if rows else np.zeros((len(v), 0))
-        return closure, self.tree.drift(state, v, self.robot.end_effector_frame_id)[:, :self.dim]
+    def end_effector(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """End-effector rotation (3, 3) and position (3,) at one configuration."""
+        rotation, origin, _, _ = kernels.frames(self.tree, q[None, :].astype(float), np.zeros((1, len(q))))
+        return rotation[0, -1], origin[0, -1]
 
     def newton(self, q: np.ndarray, targets: Targets, tolerance: float = SOLVE_TOLERANCE) -> tuple[np.ndarray, np.ndarray]:
         """Newton from (B, nq) starts to a residual norm below ``tolerance``; returns the configurations and
         which converged."""
-        q = q.copy()
-        converged = np.zeros(len(q), dtype=bool)
-        active = np.arange(len(q))
-        for _ in range(MAX_ITERATIONS + 1):
-            state = self.tree.placements(q[active])
-            residual = self.residual(state, targets.rows(active))
-            done = np.linalg.norm(residual, axis=1) < tolerance
-            converged[active[done]] = True
-            keep = ~done & np.isfinite(residual).all(axis=1)
-            if not keep.any():
-                break
-            jacobian = np.concatenate([self.closure_jacobian(state), self.task_jacobian(state)], axis=1)[keep]
-            step = least_squares(jacobian, residual[keep])
-            largest = np.abs(step).max(axis=1, keepdims=True)
-            step *= np.minimum(1.0, MAX_STEP / np.maximum(largest, 1e-300))
-            active = active[keep]
-            q[active] -= step
-        return q, converged
+        pose = targets.rotation is not None
+        rotation = targets.rotation if pose else np.zeros((len(q), 3, 3))
+        return kernels.newton(self.tree, np.ascontiguousarray(q, dtype=float),
+                              np.ascontiguousarray(targets.position_m, dtype=float),
+                              np.ascontiguousarray(rotation, dtype=float), pose, tolerance, MAX_ITERATIONS, MAX_STEP,
+                              DAMPING)
 
     def rates(self, q: np.ndarray, task: TaskTrajectory) -> tuple[JointTrajectory, np.ndarray]:
         """Joint motion at solved configurations, and which samples are regular (not singular)."""
-        state = self.tree.placements(q)
-        basis, inverse = self.basis(state)
-        end_effector = self.task_jacobian(state)
-        task_map = end_effector @ basis
-        regular = condition(task_map) < SINGULAR_CONDITION
-        task_map[~regular] = np.eye(*task_map.shape[1:])
-        v = np.einsum("bvr,br->bv", basis, least_squares(task_map, task.twist()))
-        closure_drift, task_drift = self.drift(self.tree.velocities(state, v), v)
-        a0 = np.zeros_like(v)
-        a0[:, self.passive] = -np.einsum("bpr,br->bp", inverse, closure_drift)
-        rhs = task.acceleration() - task_drift - np.einsum("btv,bv->bt", end_effector, a0)
-        a = np.einsum("bvr,br->bv", basis, least_squares(task_map, rhs)) + a0
-        return JointTrajectory(q, v, a, basis, task_map), regular
-
-    def basis(self, state: TreeState) -> tuple[np.ndarray, np.ndarray]:
-        """Null-space basis G (B, nv, n_act) and the passive pseudo-inverse J_p⁺ (B, n_passive, rows)."""
-        b, n_act = len(state.origin_m[0]), len(self.act)
-        basis = np.zeros((b, self.nv, n_act))
-        basis[:, self.act, np.arange(n_act)] = 1.0
-        if not len(self.passive):
-            return basis, np.zeros((b, 0, self.closure_rows))
-        jacobian = self.closure_jacobian(state)
-        passive = jacobian[:, :, self.passive]
-        normal = passive.transpose(0, 2, 1) @ passive + DAMPING * np.eye(len(self.passive))
-        inverse = np.linalg.solve(normal, passive.transpose(0, 2, 1))
-        basis[:, self.passive] = -inverse @ jacobian[:, :, self.act]
-        return basis, inverse
+        v, a, basis, task_map, condition = kernels.rates(self.tree, np.ascontiguousarray(q, dtype=float),
+                                                         np.ascontiguousarray(task.twist(), dtype=float),
+                                                         np.ascontiguousarray(task.acceleration(), dtype=float),
+                                                         DAMPING)
+        return JointTrajectory(q, v, a, basis, task_map), condition < SINGULAR_CONDITION
 
     def tangent(self, q: np.ndarray) -> np.ndarray:
         """(B, nq, task dim) first-order change of the configuration per task displacement, D = G·M⁺."""
-        state = self.tree.placements(q)
-        basis, _ = self.basis(state)
-        task_map = self.task_jacobian(state) @ basis
-        return basis @ pseudo_inverse(task_map)
-
-
-def least_squares(matrices: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-    """Batched solutions of ``A·x = b``: exact when square, else least-squares (least-norm when wide), (B, n)."""
-    m, n = matrices.shape[1:]
-    if m == n:
-        with np.errstate(invalid="ignore", over="ignore"):
-            try:
-                return np.linalg.solve(matrices, rhs[:, :, None])[:, :, 0]
-            except np.linalg.LinAlgError:  # a singular sample: the damped route keeps the others exact
-                pass
-    return np.einsum("bnm,bm->bn", pseudo_inverse(matrices), rhs)
-
-
-def pseudo_inverse(matrices: np.ndarray) -> np.ndarray:
-    """Batched damped pseudo-inverses (B, n, m) of (B, m, n) matrices, through the normal equations."""
-    m, n = matrices.shape[1:]
-    transposed = matrices.transpose(0, 2, 1)
-    with np.errstate(invalid="ignore", over="ignore"):
-        if m >= n:
-            return np.linalg.solve(transposed @ matrices + DAMPING * np.eye(n), transposed)
-        return transposed @ np.linalg.inv(matrices @ transposed + DAMPING * np.eye(m))
-
-
-def condition(matrices: np.ndarray) -> np.ndarray:
-    """Batched condition numbers (1-norm when square, else 2-norm; inf where singular or not finite)."""
-    finite = np.isfinite(matrices).all(axis=(1, 2))
-    safe = np.where(finite[:, None, None], matrices, np.eye(*matrices.shape[1:]))
-    if matrices.shape[1] == matrices.shape[2]:
-        with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
-            try:
-                return np.where(finite, condition_1(safe, np.linalg.inv(safe)), np.inf)
-            except np.linalg.LinAlgError:
-                pass
-    singular = np.linalg.svd(safe, compute_uv=False)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(finite & (singular[:, -1] > 0), singular[:, 0] / singular[:, -1], np.inf)
+        return kernels.tangent(self.tree, np.ascontiguousarray(q, dtype=float), DAMPING)
 
 
 def _displacement(start: Targets, stop: Targets) -> np.ndarray:
@@ -259,8 +161,7 @@ class BatchedSolver(KinematicsSolver):
         """Each placement's first configuration, by continuation from the reference configuration."""
         kin, k = self.kinematics, len(targets.position_m)
         q = np.tile(self.robot.reference_q, (k, 1))
-        state = kin.tree.placements(q[:1])
-        rotation, position = (x[0] for x in kin.tree.frame(state, self.robot.end_effector_frame_id))
+        rotation, position = kin.end_effector(self.robot.reference_q)
         distance = np.linalg.norm(targets.position_m - position, axis=1)
         turn = None
         if targets.rotation is not None:

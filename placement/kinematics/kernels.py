@@ -1,0 +1,659 @@
+"""Compiled per-sample kernels of the generic kinematics (numba): tree kinematics, Newton, rates.
+
+Each kernel loops over the rows of a batch (samples of placements) and does, per row, what a
+numpy formulation does with one array operation per joint. At a few microseconds per row, the
+Python and LAPACK call overheads that bound a numpy version disappear; the inner loops allocate
+nothing (every buffer is made once per call). numba compiles the kernels on their first use and
+caches the machine code on disk beside this module (or in ``NUMBA_CACHE_DIR``), so that later
+processes start at once.
+
+Conventions follow Pinocchio: a joint's world placement ``oMi = oMparent · jointPlacement ·
+motion(q)``; Jacobians and classical accelerations at a frame's origin in world-aligned axes
+(LOCAL_WORLD_ALIGNED), linear rows before angular ones. Every joint is revolute or prismatic about
+a fixed axis, with ``idx_q == idx_v``. Closures' rotation rows use the difference of the two
+frames' angular Jacobians, as the residual's ``log3`` has that derivative at zero error.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+PIVOT_FLOOR = 1e-300  # a pivot below this makes a square system singular
+
+
+class TreeArrays(NamedTuple):
+    """Flat description of a spanning tree and of the frames the solver uses.
+
+    Joints are numbered as in Pinocchio (0: the universe, parents before children). Frames are the
+    solver's own list: the closure frames, then the end effector.
+    """
+
+    parent: np.ndarray  # (nj,) int64 parent joint
+    constants: np.ndarray  # (nj, 3, 11) [rotation, rotation·[a], rotation·[a]², rotation·a, translation] per joint
+    revolute: np.ndarray  # (nj,) bool
+    q_index: np.ndarray  # (nj,) int64 (idx_q == idx_v)
+    frame_parent: np.ndarray  # (nf,) int64 parent joint of each frame
+    frame_rotation: np.ndarray  # (nf, 3, 3) placement in the parent joint
+    frame_translation: np.ndarray  # (nf, 3)
+    support: np.ndarray  # (nf, nj) bool: joint j moves frame f
+    closure_first: np.ndarray  # (nc,) int64 frame index of each closure's first frame
+    closure_second: np.ndarray  # (nc,) int64 frame index of its second frame
+    closure_dimension: np.ndarray  # (nc,) int64: 3 (point) or 6 (weld)
+    end_effector: int  # frame index of the end effector
+    task_dimension: int  # 3 (position) or 6 (pose)
+    actuated: np.ndarray  # (n_act,) int64 velocity indices of the actuated joints
+    passive: np.ndarray  # (n_passive,) int64 velocity indices of the other joints
+
+
+class _Buffers(NamedTuple):
+    rotation: np.ndarray  # (nj, 3, 3) joint rotations
+    origin: np.ndarray  # (nj, 3) joint origins (m)
+    axis: np.ndarray  # (nj, 3) joint axes, world
+    angular: np.ndarray  # (nj, 3) body angular velocities (rad/s)
+    linear: np.ndarray  # (nj, 3) joint origin velocities (m/s)
+    frame_rotation: np.ndarray  # (nf, 3, 3)
+    frame_origin: np.ndarray  # (nf, 3)
+    jacobian: np.ndarray  # (closure rows + task dim, nv): closure rows, then task rows
+    drift: np.ndarray  # (closure rows + task dim,)
+    normal: np.ndarray  # (n, n) normal equations / factor
+    rhs: np.ndarray  # (n, k) right-hand sides
+    turn: np.ndarray  # (3, 3) scratch rotation
+
+
+@njit(cache=True)
+def _buffers(tree, nv):
+    nj, nf = len(tree.parent), len(tree.frame_parent)
+    rows = tree.closure_dimension.sum() + tree.task_dimension
+    n = max(nv, rows)
+    return _Buffers(np.empty((nj, 3, 3)), np.empty((nj, 3)), np.empty((nj, 3)), np.zeros((nj, 3)), np.zeros((nj, 3)),
+                    np.empty((nf, 3, 3)), np.empty((nf, 3)), np.empty((rows, nv)), np.empty(rows), np.empty((n, n)),
+                    np.empty((n, n + 1)), np.empty((3, 3)))
+
+
+# ---------------------------------------------------------------- small dense linear algebra
+
+
+@njit(cache=True)
+def _solve_square(matrix, rhs):
+    """Solve ``matrix · x = rhs`` in place by LU with partial pivoting: ``rhs`` (n, k) becomes x and
+    ``matrix`` its factors. Returns whether the matrix is regular."""
+    n, k = matrix.shape[0], rhs.shape[1]
+    for col in range(n):
+        pivot = col
+        for row in range(col + 1, n):
+            if abs(matrix[row, col]) > abs(matrix[pivot, col]):
+                pivot = row
+        if not abs(matrix[pivot, col]) > PIVOT_FLOOR:
+            return False
+        if pivot != col:
+            for c in range(n):
+                matrix[col, c], matrix[pivot, c] = matrix[pivot, c], matrix[col, c]
+            for c in range(k):
+                rhs[col, c], rhs[pivot, c] = rhs[pivot, c], rhs[col, c]
+        for row in range(col + 1, n):
+            factor = matrix[row, col] / matrix[col, col]
+            if factor != 0.0:
+                for c in range(col + 1, n):
+                    matrix[row, c] -= factor * matrix[col, c]
+                for c in range(k):
+                    rhs[row, c] -= factor * rhs[col, c]
+    for col in range(n - 1, -1, -1):
+        for c in range(k):
+            total = rhs[col, c]
+            for j in range(col + 1, n):
+                total -= matrix[col, j] * rhs[j, c]
+            rhs[col, c] = total / matrix[col, col]
+    return True
+
+
+@njit(cache=True)
+def _cholesky(a, n, damping):
+    """Lower Cholesky factor of ``a[:n, :n] + damping·I``, in place (semi-definite pivots floored at damping)."""
+    for j in range(n):
+        total = a[j, j] + damping
+        for k in range(j):
+            total -= a[j, k] * a[j, k]
+        a[j, j] = np.sqrt(max(total, damping))
+        for i in range(j + 1, n):
+            total = a[i, j]
+            for k in range(j):
+                total -= a[i, k] * a[j, k]
+            a[i, j] = total / a[j, j]
+
+
+@njit(cache=True)
+def _cholesky_solve(factor, n, rhs, k):
+    """Solve ``L·Lᵀ·x = rhs[:n, :k]`` in place with the factor of :func:`_cholesky`."""
+    for c in range(k):
+        for i in range(n):
+            total = rhs[i, c]
+            for j in range(i):
+                total -= factor[i, j] * rhs[j, c]
+            rhs[i, c] = total / factor[i, i]
+        for i in range(n - 1, -1, -1):
+            total = rhs[i, c]
+            for j in range(i + 1, n):
+                total -= factor[j, i] * rhs[j, c]
+            rhs[i, c] = total / factor[i, i]
+
+
+@njit(cache=True)
+def least_squares(matrix, rhs, damping):
+    """Solution (n, k) of ``matrix · x ≈ rhs`` (rhs (m, k)): exact when square and regular, else damped least
+    squares (least-norm when wide)."""
+    m, n = matrix.shape
+    k = rhs.shape[1]
+    if m == n:
+        x = rhs.copy()
+        if _solve_square(matrix.copy(), x):
+            return x
+    if m >= n:
+        normal = _gram(matrix.T.copy())
+        x = _product(matrix.T.copy(), rhs)
+        _cholesky(normal, n, damping)
+        _cholesky_solve(normal, n, x, k)
+        return x
+    normal = _gram(matrix)
+    y = rhs.copy()
+    _cholesky(normal, m, damping)
+    _cholesky_solve(normal, m, y, k)
+    return _product(matrix.T.copy(), y)
+
+
+@njit(cache=True)
+def _gram(a):
+    """``a · aᵀ`` (symmetric, by loops)."""
+    n, m = a.shape
+    out = np.empty((n, n))
+    for i in range(n):
+        for j in range(i + 1):
+            total = 0.0
+            for l in range(m):
+                total += a[i, l] * a[j, l]
+            out[i, j] = total
+            out[j, i] = total
+    return out
+
+
+@njit(cache=True)
+def _product(a, b):
+    """``a · b`` by loops (numba's ``@`` calls BLAS, whose overhead dominates on small matrices)."""
+    n, m = a.shape
+    k = b.shape[1]
+    out = np.zeros((n, k))
+    for i in range(n):
+        for l in range(m):
+            x = a[i, l]
+            if x != 0.0:
+                for j in range(k):
+                    out[i, j] += x * b[l, j]
+    return out
+
+
+@njit(cache=True)
+def _condition(matrix):
+    """Condition number (1-norm when square, else 2-norm); inf when singular."""
+    m, n = matrix.shape
+    if m == n:
+        inverse = np.eye(n)
+        if not _solve_square(matrix.copy(), inverse):
+            return np.inf
+        return np.abs(matrix).sum(axis=0).max() * np.abs(inverse).sum(axis=0).max()
+    singular = np.linalg.svd(matrix)[1]
+    if not singular[-1] > 0.0:
+        return np.inf
+    return singular[0] / singular[-1]
+
+
+@njit(cache=True)
+def log3(rotation, out, at):
+    """Rotation vector (rad) of a rotation matrix, as ``pin.log3``, into ``out[at:at + 3]``."""
+    cosine = min(1.0, max(-1.0, (rotation[0, 0] + rotation[1, 1] + rotation[2, 2] - 1.0) / 2.0))
+    angle = np.arccos(cosine)
+    x = rotation[2, 1] - rotation[1, 2]
+    y = rotation[0, 2] - rotation[2, 0]
+    z = rotation[1, 0] - rotation[0, 1]
+    if angle < 1e-4:
+        scale = 0.5 + angle * angle / 12.0
+    elif angle < np.pi - 1e-3:
+        scale = angle / (2.0 * np.sin(angle))
+    else:  # sin θ vanishes: R = cos θ·I + (1 - cos θ)·a·aᵀ + sin θ·[a], take a from the symmetric part
+        i = 0
+        for k in range(1, 3):
+            if rotation[k, k] > rotation[i, i]:
+                i = k
+        axis = np.empty(3)
+        axis[i] = np.sqrt(max(0.0, (rotation[i, i] - cosine) / (1.0 - cosine)))
+        for k in range(3):
+            if k != i:
+                axis[k] = (rotation[i, k] + rotation[k, i]) / (2.0 * (1.0 - cosine) * axis[i])
+        sign = 1.0 if axis[0] * x + axis[1] * y + axis[2] * z >= 0.0 else -1.0
+        for k in range(3):
+            out[at + k] = sign * angle * axis[k]
+        return
+    out[at] = scale * x
+    out[at + 1] = scale * y
+    out[at + 2] = scale * z
+
+
+# ---------------------------------------------------------------- tree kinematics of one sample
+
+
+@njit(cache=True)
+def forward(tree, q, buffers):
+    """World rotation, origin and axis of every joint, then placement of every solver frame, for one configuration."""
+    rotation, origin, axis = buffers.rotation, buffers.origin, buffers.axis
+    rotation[0] = 0.0
+    for k in range(3):
+        rotation[0, k, k] = 1.0
+    origin[0] = 0.0
+    axis[0] = 0.0
+    world = np.empty((3, 11))
+    for j in range(1, len(tree.parent)):
+        p = tree.parent[j]
+        constants = tree.constants[j]
+        for r in range(3):  # one product per joint: the parent's rotation times the joint's constants
+            for c in range(11):
+                world[r, c] = rotation[p, r, 0] * constants[0, c] + rotation[p, r, 1] * constants[1, c] \
+                    + rotation[p, r, 2] * constants[2, c]
+        value = q[tree.q_index[j]]
+        for r in range(3):
+            origin[j, r] = origin[p, r] + world[r, 10]
+            axis[j, r] = world[r, 9]
+        if tree.revolute[j]:  # before · exp(θ[a]) = before + sin θ · before[a] + (1 - cos θ) · before[a]²
+            sine, versine = np.sin(value), 1.0 - np.cos(value)
+            for r in range(3):
+                for c in range(3):
+                    rotation[j, r, c] = world[r, c] + sine * world[r, 3 + c] + versine * world[r, 6 + c]
+        else:
+            for r in range(3):
+                for c in range(3):
+                    rotation[j, r, c] = world[r, c]
+                origin[j, r] += world[r, 9] * value
+    for f in range(len(tree.frame_parent)):
+        j = tree.frame_parent[f]
+        for r in range(3):
+            total = origin[j, r]
+            for c in range(3):
+                total += rotation[j, r, c] * tree.frame_translation[f, c]
+                buffers.frame_rotation[f, r, c] = rotation[j, r, 0] * tree.frame_rotation[f, 0, c] \
+                    + rotation[j, r, 1] * tree.frame_rotation[f, 1, c] + rotation[j, r, 2] * tree.frame_rotation[f, 2, c]
+            buffers.frame_origin[f, r] = total
+
+
+@njit(cache=True)
+def _relative_rotation(first, second, out):
+    """``first · secondᵀ`` into ``out``."""
+    for r in range(3):
+        for c in range(3):
+            out[r, c] = first[r, 0] * second[c, 0] + first[r, 1] * second[c, 1] + first[r, 2] * second[c, 2]
+
+
+@njit(cache=True)
+def residual(tree, buffers, target_position, target_rotation, pose, out):
+    """Closure gaps, then end-effector error (m, rad), into ``out``; returns its norm."""
+    row = 0
+    frame_rotation, frame_origin = buffers.frame_rotation, buffers.frame_origin
+    for c in range(len(tree.closure_first)):
+        f1, f2 = tree.closure_first[c], tree.closure_second[c]
+        for k in range(3):
+            out[row + k] = frame_origin[f1, k] - frame_origin[f2, k]
+        if tree.closure_dimension[c] == 6:
+            _relative_rotation(frame_rotation[f1], frame_rotation[f2], buffers.turn)
+            log3(buffers.turn, out, row + 3)
+        row += tree.closure_dimension[c]
+    e = tree.end_effector
+    for k in range(3):
+        out[row + k] = frame_origin[e, k] - target_position[k]
+    if pose:
+        _relative_rotation(frame_rotation[e], target_rotation, buffers.turn)
+        log3(buffers.turn, out, row + 3)
+    total = 0.0
+    for k in range(len(out)):
+        total += out[k] * out[k]
+    return np.sqrt(total)
+
+
+@njit(cache=True)
+def _add_frame_jacobian(tree, f, buffers, sign, out, row, dimension):
+    """Add ``sign`` times the first ``dimension`` rows of frame ``f``'s Jacobian to ``out[row:]``."""
+    origin, axis = buffers.origin, buffers.axis
+    px, py, pz = buffers.frame_origin[f, 0], buffers.frame_origin[f, 1], buffers.frame_origin[f, 2]
+    for j in range(1, len(tree.parent)):
+        if not tree.support[f, j]:
+            continue
+        column = tree.q_index[j]
+        ax, ay, az = axis[j, 0], axis[j, 1], axis[j, 2]
+        if tree.revolute[j]:
+            dx, dy, dz = px - origin[j, 0], py - origin[j, 1], pz - origin[j, 2]
+            out[row, column] += sign * (ay * dz - az * dy)
+            out[row + 1, column] += sign * (az * dx - ax * dz)
+            out[row + 2, column] += sign * (ax * dy - ay * dx)
+            if dimension == 6:
+                out[row + 3, column] += sign * ax
+                out[row + 4, column] += sign * ay
+                out[row + 5, column] += sign * az
+        else:
+            out[row, column] += sign * ax
+            out[row + 1, column] += sign * ay
+            out[row + 2, column] += sign * az
+
+
+@njit(cache=True)
+def jacobians(tree, buffers):
+    """Closure rows, then task rows, of the stacked Jacobian in ``buffers.jacobian``."""
+    jacobian = buffers.jacobian
+    jacobian[:, :] = 0.0
+    row = 0
+    for c in range(len(tree.closure_first)):
+        dimension = tree.closure_dimension[c]
+        _add_frame_jacobian(tree, tree.closure_first[c], buffers, 1.0, jacobian, row, dimension)
+        _add_frame_jacobian(tree, tree.closure_second[c], buffers, -1.0, jacobian, row, dimension)
+        row += dimension
+    _add_frame_jacobian(tree, tree.end_effector, buffers, 1.0, jacobian, row, tree.task_dimension)
+
+
+@njit(cache=True)
+def velocities(tree, v, buffers):
+    """Angular velocity and origin velocity of every joint body for joint rates ``v``."""
+    origin, axis, angular, linear = buffers.origin, buffers.axis, buffers.angular, buffers.linear
+    angular[0] = 0.0
+    linear[0] = 0.0
+    for j in range(1, len(tree.parent)):
+        p = tree.parent[j]
+        dx, dy, dz = origin[j, 0] - origin[p, 0], origin[j, 1] - origin[p, 1], origin[j, 2] - origin[p, 2]
+        wx, wy, wz = angular[p, 0], angular[p, 1], angular[p, 2]
+        linear[j, 0] = linear[p, 0] + wy * dz - wz * dy
+        linear[j, 1] = linear[p, 1] + wz * dx - wx * dz
+        linear[j, 2] = linear[p, 2] + wx * dy - wy * dx
+        rate = v[tree.q_index[j]]
+        if tree.revolute[j]:
+            for k in range(3):
+                angular[j, k] = angular[p, k] + axis[j, k] * rate
+        else:
+            for k in range(3):
+                angular[j, k] = angular[p, k]
+                linear[j, k] += axis[j, k] * rate
+
+
+@njit(cache=True)
+def _add_frame_drift(tree, f, v, buffers, sign, out, row, dimension):
+    """Add ``sign`` times the first ``dimension`` entries of frame ``f``'s drift J̇·v to ``out[row:]``."""
+    origin, axis, angular, linear = buffers.origin, buffers.axis, buffers.angular, buffers.linear
+    j0 = tree.frame_parent[f]
+    p = buffers.frame_origin[f]
+    rx, ry, rz = p[0] - origin[j0, 0], p[1] - origin[j0, 1], p[2] - origin[j0, 2]
+    wx, wy, wz = angular[j0, 0], angular[j0, 1], angular[j0, 2]
+    ux = linear[j0, 0] + wy * rz - wz * ry  # velocity of the frame's origin
+    uy = linear[j0, 1] + wz * rx - wx * rz
+    uz = linear[j0, 2] + wx * ry - wy * rx
+    for j in range(1, len(tree.parent)):
+        if not tree.support[f, j]:
+            continue
+        rate = sign * v[tree.q_index[j]]
+        ax, ay, az = axis[j, 0], axis[j, 1], axis[j, 2]
+        bx, by, bz = angular[j, 0], angular[j, 1], angular[j, 2]
+        tx, ty, tz = by * az - bz * ay, bz * ax - bx * az, bx * ay - by * ax  # d(axis)/dt
+        if tree.revolute[j]:
+            dx, dy, dz = p[0] - origin[j, 0], p[1] - origin[j, 1], p[2] - origin[j, 2]
+            ex, ey, ez = ux - linear[j, 0], uy - linear[j, 1], uz - linear[j, 2]
+            out[row] += rate * (ty * dz - tz * dy + ay * ez - az * ey)
+            out[row + 1] += rate * (tz * dx - tx * dz + az * ex - ax * ez)
+            out[row + 2] += rate * (tx * dy - ty * dx + ax * ey - ay * ex)
+            if dimension == 6:
+                out[row + 3] += rate * tx
+                out[row + 4] += rate * ty
+                out[row + 5] += rate * tz
+        else:
+            out[row] += rate * tx
+            out[row + 1] += rate * ty
+            out[row + 2] += rate * tz
+
+
+@njit(cache=True)
+def drifts(tree, v, buffers):
+    """Closure drifts, then the task drift, into ``buffers.drift`` (velocities already propagated)."""
+    drift = buffers.drift
+    drift[:] = 0.0
+    row = 0
+    for c in range(len(tree.closure_first)):
+        dimension = tree.closure_dimension[c]
+        _add_frame_drift(tree, tree.closure_first[c], v, buffers, 1.0, drift, row, dimension)
+        _add_frame_drift(tree, tree.closure_second[c], v, buffers, -1.0, drift, row, dimension)
+        row += dimension
+    _add_frame_drift(tree, tree.end_effector, v, buffers, 1.0, drift, row, tree.task_dimension)
+
+
+# ---------------------------------------------------------------- the solver's quantities of one sample
+
+
+@njit(cache=True)
+def _factor_passive(tree, buffers, rows, damping):
+    """Cholesky factor of J_pᵀ·J_p + damping·I (passive columns of the closure rows) in ``buffers.normal``."""
+    jacobian, normal, passive = buffers.jacobian, buffers.normal, tree.passive
+    n = len(passive)
+    for i in range(n):
+        for j in range(i + 1):
+            total = 0.0
+            for r in range(rows):
+                total += jacobian[r, passive[i]] * jacobian[r, passive[j]]
+            normal[i, j] = total
+            normal[j, i] = total
+    _cholesky(normal, n, damping)
+
+
+@njit(cache=True)
+def basis(tree, buffers, rows, damping, g):
+    """Null-space basis G (nv, n_act) of the closure rows into ``g``: G[act] = I, G[passive] = −J_p⁺·J_a.
+
+    Leaves the Cholesky factor of J_pᵀ·J_p in ``buffers.normal`` for :func:`passive_correction`.
+    """
+    n_act, passive, actuated = len(tree.actuated), tree.passive, tree.actuated
+    g[:, :] = 0.0
+    for k in range(n_act):
+        g[actuated[k], k] = 1.0
+    n = len(passive)
+    if n == 0:
+        return
+    _factor_passive(tree, buffers, rows, damping)
+    jacobian, rhs = buffers.jacobian, buffers.rhs
+    for i in range(n):
+        for k in range(n_act):
+            total = 0.0
+            for r in range(rows):
+                total -= jacobian[r, passive[i]] * jacobian[r, actuated[k]]
+            rhs[i, k] = total
+    _cholesky_solve(buffers.normal, n, rhs, n_act)
+    for i in range(n):
+        for k in range(n_act):
+            g[passive[i], k] = rhs[i, k]
+
+
+@njit(cache=True)
+def passive_correction(tree, buffers, rows, values, out):
+    """``out[passive] = −J_p⁺·values`` (closure rows), with the factor left by :func:`basis`; others 0."""
+    out[:] = 0.0
+    n = len(tree.passive)
+    if n == 0:
+        return
+    jacobian, rhs, passive = buffers.jacobian, buffers.rhs, tree.passive
+    for i in range(n):
+        total = 0.0
+        for r in range(rows):
+            total -= jacobian[r, passive[i]] * values[r]
+        rhs[i, 0] = total
+    _cholesky_solve(buffers.normal, n, rhs, 1)
+    for i in range(n):
+        out[passive[i]] = rhs[i, 0]
+
+
+@njit(cache=True)
+def _task_map(tree, buffers, rows, g):
+    """M = J_task·G (task dim, n_act)."""
+    return _product(buffers.jacobian[rows:], g)
+
+
+# ---------------------------------------------------------------- batched entry points
+
+
+@njit(cache=True)
+def newton(tree, q, target_position, target_rotation, pose, tolerance, max_iterations, max_step, damping):
+    """Newton (damped least squares) on closure residuals and task error, row by row.
+
+    Returns the configurations (B, nq) and which rows reached a residual norm below ``tolerance``.
+    """
+    b, nv = q.shape
+    buffers = _buffers(tree, nv)
+    rows = len(buffers.drift)
+    out = q.copy()
+    converged = np.zeros(b, dtype=np.bool_)
+    error = np.empty(rows)
+    step = np.empty((max(rows, nv), 1))
+    square = rows == nv
+    for i in range(b):
+        x = out[i]
+        for _ in range(max_iterations + 1):
+            forward(tree, x, buffers)
+            norm = residual(tree, buffers, target_position[i], target_rotation[i], pose, error)
+            if norm < tolerance:
+                converged[i] = True
+                break
+            if not np.isfinite(norm):
+                break
+            jacobians(tree, buffers)
+            _newton_step(buffers, error, step, square, damping)
+            largest = 0.0
+            for k in range(nv):
+                largest = max(largest, abs(step[k, 0]))
+            scale = min(1.0, max_step / largest) if largest > 0.0 else 1.0
+            for k in range(nv):
+                x[k] -= scale * step[k, 0]
+    return out, converged
+
+
+@njit(cache=True)
+def _newton_step(buffers, error, step, square, damping):
+    """The step (nv, 1) solving J·step ≈ error: exact when square and regular, else damped least squares."""
+    jacobian, normal = buffers.jacobian, buffers.normal
+    rows, nv = jacobian.shape
+    if square:
+        normal[:nv, :nv] = jacobian
+        step[:nv, 0] = error
+        if _solve_square(normal[:nv, :nv], step[:nv]):
+            return
+    if rows >= nv:
+        for i in range(nv):
+            total = 0.0
+            for r in range(rows):
+                total += jacobian[r, i] * error[r]
+            step[i, 0] = total
+            for j in range(i + 1):
+                total = 0.0
+                for r in range(rows):
+                    total += jacobian[r, i] * jacobian[r, j]
+                normal[i, j] = total
+                normal[j, i] = total
+        _cholesky(normal, nv, damping)
+        _cholesky_solve(normal, nv, step, 1)
+        return
+    gram = _gram(jacobian)
+    y = error.reshape(-1, 1).copy()
+    _cholesky(gram, rows, damping)
+    _cholesky_solve(gram, rows, y, 1)
+    step[:nv] = _product(jacobian.T.copy(), y)
+
+
+@njit(cache=True)
+def tangent(tree, q, damping):
+    """(B, nq, task dim) first-order change of the configuration per task displacement, D = G·M⁺."""
+    b, nv = q.shape
+    buffers = _buffers(tree, nv)
+    rows = len(buffers.drift) - tree.task_dimension
+    out = np.empty((b, nv, tree.task_dimension))
+    g = np.empty((nv, len(tree.actuated)))
+    identity = np.eye(tree.task_dimension)
+    for i in range(b):
+        forward(tree, q[i], buffers)
+        jacobians(tree, buffers)
+        basis(tree, buffers, rows, damping, g)
+        out[i] = _product(g, least_squares(_task_map(tree, buffers, rows, g), identity, damping))
+    return out
+
+
+@njit(cache=True)
+def rates(tree, q, twist, acceleration, damping):
+    """Joint rates and accelerations at solved configurations.
+
+    ``v = G·M⁺·twist``; ``a = G·M⁺·(task acceleration − task drift − J_task·a0) + a0`` with
+    ``a0[passive] = −J_p⁺·closure drift``. Returns v, a (B, nv), G (B, nv, n_act), the task map
+    M = J_task·G (B, dim, n_act) and its condition number (B,). A singular sample's solves use the
+    identity in place of M, so that every value stays finite.
+    """
+    b, nv = q.shape
+    buffers = _buffers(tree, nv)
+    dim, n_act = tree.task_dimension, len(tree.actuated)
+    rows = len(buffers.drift) - dim
+    v_out = np.empty((b, nv))
+    a_out = np.empty((b, nv))
+    g_out = np.empty((b, nv, n_act))
+    m_out = np.empty((b, dim, n_act))
+    condition = np.empty(b)
+    a0 = np.empty(nv)
+    rhs = np.empty((dim, 1))
+    for i in range(b):
+        g = g_out[i]
+        forward(tree, q[i], buffers)
+        jacobians(tree, buffers)
+        basis(tree, buffers, rows, damping, g)
+        task_map = _task_map(tree, buffers, rows, g)
+        m_out[i] = task_map
+        condition[i] = _condition(task_map)
+        solve_map = task_map if np.isfinite(condition[i]) else np.eye(dim, n_act)
+        rhs[:, 0] = twist[i]
+        v = _product(g, least_squares(solve_map, rhs, damping))[:, 0]
+        velocities(tree, v, buffers)
+        drifts(tree, v, buffers)
+        passive_correction(tree, buffers, rows, buffers.drift, a0)
+        task = buffers.jacobian[rows:]
+        for k in range(dim):
+            total = acceleration[i, k] - buffers.drift[rows + k]
+            for j in range(nv):
+                total -= task[k, j] * a0[j]
+            rhs[k, 0] = total
+        a_out[i] = _product(g, least_squares(solve_map, rhs, damping))[:, 0] + a0
+        v_out[i] = v
+    return v_out, a_out, g_out, m_out, condition
+
+
+@njit(cache=True)
+def frames(tree, q, v):
+    """Every solver frame's rotation (B, nf, 3, 3), origin (B, nf, 3), Jacobian (B, nf, 6, nv) and drift
+    (B, nf, 6) for configurations q and rates v (B, nv)."""
+    b, nv = q.shape
+    nf = len(tree.frame_parent)
+    rotation_out = np.empty((b, nf, 3, 3))
+    origin_out = np.empty((b, nf, 3))
+    jacobian_out = np.zeros((b, nf, 6, nv))
+    drift_out = np.zeros((b, nf, 6))
+    buffers = _buffers(tree, nv)
+    for i in range(b):
+        forward(tree, q[i], buffers)
+        velocities(tree, v[i], buffers)
+        rotation_out[i] = buffers.frame_rotation
+        origin_out[i] = buffers.frame_origin
+        for f in range(nf):
+            _add_frame_jacobian(tree, f, buffers, 1.0, jacobian_out[i, f], 0, 6)
+            _add_frame_drift(tree, f, v[i], buffers, 1.0, drift_out[i, f], 0, 6)
+    return rotation_out, origin_out, jacobian_out, drift_out
+
+
+@njit(cache=True)
+def rotation_vectors(rotation):
+    """(B, 3) rotation vectors of (B, 3, 3) rotation matrices."""
+    out = np.empty((rotation.shape[0], 3))
+    for i in range(rotation.shape[0]):
+        log3(rotation[i], out[i], 0)
+    return out
