@@ -37,7 +37,7 @@ def _axis_of(joint: pin.JointModel) -> tuple[tuple[float, ...], bool] | None:
 
 
 def tree_arrays(model: pin.Model, frame_ids: Sequence[int], *, closures: Sequence[tuple[int, int, int]] = (),
-                end_effector: int = 0, task_dimension: int = 3, actuated: Sequence[int] = ()) -> TreeArrays:
+                end_effector: int = 0, task_dimension: int = 3, actuated: Sequence[int] | np.ndarray = ()) -> TreeArrays:
     """The flat description of ``model`` with the solver frames ``frame_ids`` (Pinocchio frame ids).
 
     Args:
