@@ -2,7 +2,11 @@
 
 A :class:`Scene` draws the robot from its URDF visuals (Pinocchio's meshcat visualiser), the
 workspace box as a wireframe with its named points, placed paths as coloured lines, a map
-as coloured points, and animates the robot along a path. It records the scene and writes a
+as coloured points, and animates the robot along a path. Its camera looks at the centre of the
+box that holds everything drawn (the robot at its reference configuration: every frame origin and
+the bounding box of every visual; the workspace; paths and map points), from far enough that the
+sphere around that box fits meshcat's default camera, 75° vertical field of view (a window wider
+than tall sees at least as much across). It records the scene and writes a
 self-contained HTML page that opens in a browser with no server and no network; :class:`PageServer`
 serves that page on this machine (loopback only, unless asked otherwise). Everything that comes
 from input files (path names, point names) is escaped in the page.
@@ -37,7 +41,10 @@ VIEWER_SCRIPT = Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js
 POINT_COLORS = {"O_b": 0x1F77B4, "C": 0x2CA02C, "Q_plus": 0xD62728, "Q_minus": 0xFF7F0E}
 BEST_COLOR, WORST_COLOR, AT_COLOR, CUBE_COLOR = 0x00B050, 0xE00000, 0x0070FF, 0x303030
 ANIMATION_FPS = 30
-CAMERA_OFFSET = (-0.45, -0.45, 0.35)  # m from the workspace centre; scaled up for workspaces over 0.3 m
+CAMERA_DIRECTION = np.array([-0.45, -0.45, 0.35]) / np.linalg.norm([-0.45, -0.45, 0.35])  # from the target
+CAMERA_FOV_DEG = 75.0  # meshcat's default camera: PerspectiveCamera(75, aspect, 0.01, 100), vertical
+CAMERA_MARGIN = 1.1  # the fitted sphere fills at most 1/1.1 of the view's half-height
+CAMERA_NEAR_M = 0.01  # meshcat's near clipping distance
 
 
 class _RecordingWindow:
@@ -96,22 +103,28 @@ class Scene:
         self.viewer["/Grid"].set_property("visible", False)
         self.viewer["/Background"].set_property("top_color", [1.0, 1.0, 1.0])
         self.viewer["/Background"].set_property("bottom_color", [0.82, 0.84, 0.88])
-        workspace = robot.sidecar.workspace
-        size = float(np.max(np.subtract(workspace.max_m, workspace.min_m))) if workspace else 0.5
-        self.look_at(self._center(), tuple(np.array(CAMERA_OFFSET) * max(1.0, size / 0.3)))
+        self.drawn_points_m: list[np.ndarray] = [robot_points(robot, visual)]
+        self.camera_m: tuple[np.ndarray, np.ndarray] = (np.zeros(3), CAMERA_DIRECTION)
+        self.fit_camera()
 
-    def _center(self) -> np.ndarray:
-        workspace = self.robot.sidecar.workspace
-        if workspace is not None:
-            return (np.array(workspace.min_m) + np.array(workspace.max_m)) / 2
-        data = self.robot.model.createData()
-        pin.framesForwardKinematics(self.robot.model, data, self.robot.reference_q)
-        return data.oMf[self.robot.end_effector_frame_id].translation.copy()
+    def extent(self) -> tuple[np.ndarray, np.ndarray]:
+        """The box holding everything drawn so far: lowest and highest corners (m, base frame)."""
+        points = np.vstack(self.drawn_points_m)
+        return points.min(axis=0), points.max(axis=0)
 
-    def look_at(self, target_m: np.ndarray, offset_m: tuple[float, float, float] = CAMERA_OFFSET) -> None:
-        """Point the camera at ``target_m`` from ``target_m + offset_m`` (base frame, Z up)."""
-        self.viewer["/Cameras/default"].set_transform(pin.SE3(np.eye(3), np.asarray(target_m)).homogeneous)
-        dx, dy, dz = offset_m  # the camera node is Y-up (three.js): (x, y, z) -> (x, z, -y)
+    def fit_camera(self) -> None:
+        """Aim the camera at the centre of :meth:`extent`, far enough that the whole box is in view."""
+        low, high = self.extent()
+        radius = max(float(np.linalg.norm(high - low)) / 2, CAMERA_NEAR_M)
+        distance = CAMERA_MARGIN * radius / np.sin(np.radians(CAMERA_FOV_DEG / 2))
+        self.look_at((low + high) / 2, CAMERA_DIRECTION * distance)
+
+    def look_at(self, target_m: np.ndarray, offset_m: np.ndarray) -> None:
+        """Point the camera at ``target_m`` from ``target_m + offset_m`` (base frame, Z up; kept in ``camera_m``)."""
+        target = np.asarray(target_m, dtype=float)
+        self.camera_m = (target, target + offset_m)
+        self.viewer["/Cameras/default"].set_transform(pin.SE3(np.eye(3), target).homogeneous)
+        dx, dy, dz = (float(v) for v in offset_m)  # the camera node is Y-up (three.js): (x, y, z) -> (x, z, -y)
         self.viewer["/Cameras/default/rotated/<object>"].set_property("position", [dx, dz, -dy])
 
     def add_workspace(self) -> None:
@@ -121,6 +134,7 @@ class Scene:
             return
         low, high = np.array(workspace.min_m), np.array(workspace.max_m)
         corners = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])])
+        self.drawn_points_m.append(corners)
         edges = [(i, j) for i in range(8) for j in range(i + 1, 8) if bin(i ^ j).count("1") == 1]
         segments = np.array([corners[k] for edge in edges for k in edge]).T
         self.viewer["workspace/cube"].set_object(
@@ -136,6 +150,7 @@ class Scene:
     def add_path(self, name: str, tool_position_m: np.ndarray, color: int, label: str | None = None,
                  width_m: float = 0.006) -> None:
         """A placed path through its tool points (base frame, m), drawn as a line of dots."""
+        self.drawn_points_m.append(np.asarray(tool_position_m, dtype=float).reshape(-1, 3))
         points = np.asarray(tool_position_m, dtype=np.float32).T
         rgb = np.array([(color >> 16) & 255, (color >> 8) & 255, color & 255], dtype=np.float32)[:, None] / 255
         self.viewer[f"paths/{name}/line"].set_object(g.Line(g.PointsGeometry(points), g.LineBasicMaterial(color=color)))
@@ -147,6 +162,7 @@ class Scene:
     def add_value_points(self, points_m: np.ndarray, value: np.ndarray, subject: str = "energy",
                          size_m: float = 0.004) -> None:
         """Placement origins coloured by an objective's value (viridis: dark = low)."""
+        self.drawn_points_m.append(np.asarray(points_m, dtype=float).reshape(-1, 3))
         span = np.ptp(value) or 1.0
         colors = matplotlib.colormaps["viridis"]((value - value.min()) / span)[:, :3]
         self.viewer["value_map"].set_object(g.PointCloud(np.asarray(points_m, dtype=np.float32).T,
@@ -169,7 +185,8 @@ class Scene:
         self.viewer.set_animation(animation, play=True, repetitions=repetitions)
 
     def html(self, title: str = "placement") -> str:
-        """A self-contained page of the recorded scene (three.js viewer inlined, no network)."""
+        """A self-contained page of the recorded scene (three.js viewer inlined, no network), the camera fitted."""
+        self.fit_camera()
         commands = "".join(
             f'fetch("data:application/octet-binary;base64,{base64.b64encode(c).decode()}").then(r => r.arrayBuffer())'
             ".then(b => viewer.handle_command_bytearray(new Uint8Array(b)));\n"
@@ -248,6 +265,29 @@ def screenshot(page: Path, image: Path, size: tuple[int, int] = (1000, 700), wai
                         f"--user-data-dir={profile}", f"--screenshot={Path(image).absolute()}", Path(page).absolute().as_uri()],
                        capture_output=True, timeout=180, check=False)
     return Path(image).is_file()
+
+
+def robot_points(robot: Robot, visual: pin.GeometryModel) -> np.ndarray:
+    """Points that bound the robot at its reference configuration (m, base frame).
+
+    Every frame's origin, and the 8 corners of each visual's local bounding box (mesh scale
+    applied) where the geometry can compute one.
+    """
+    model, q = robot.model, robot.reference_q
+    data, geometry_data = model.createData(), visual.createData()
+    pin.framesForwardKinematics(model, data, q)
+    pin.updateGeometryPlacements(model, data, visual, geometry_data)
+    points = [np.array([frame.translation for frame in data.oMf])]
+    for item, placement in zip(visual.geometryObjects, geometry_data.oMg):
+        try:
+            item.geometry.computeLocalAABB()
+            box = item.geometry.aabb_local
+        except (AttributeError, RuntimeError):  # a geometry without a local box: its frame origin is counted
+            continue
+        low, high = np.asarray(box.min_) * item.meshScale, np.asarray(box.max_) * item.meshScale
+        corners = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])])
+        points.append(corners @ placement.rotation.T + placement.translation)
+    return np.vstack(points)
 
 
 def _package_dirs(robot: Robot) -> list[str]:
