@@ -26,7 +26,6 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from placement.kinematics import kernels
 from placement.kinematics.base import SINGULAR_CONDITION, SOLVERS, KinematicsSolver
@@ -43,6 +42,8 @@ CONTINUATION_TOLERANCE = 1e-5  # assembly: residual norm enough on the way (m an
 COARSE_STEP_M = 0.02  # coarse march: task displacement between marched samples (rotation counts 0.1 m/rad)
 ROTATION_LENGTH_M = 0.1  # metres per radian when measuring task displacements
 BRANCH_TOLERANCE = 1e-3  # a solution this far beyond twice its local motion has left the branch (m or rad)
+SETTINGS = np.array([SOLVE_TOLERANCE, MAX_ITERATIONS, MAX_STEP, DAMPING, CONTINUATION_STEP_M, CONTINUATION_TOLERANCE,
+                     ROTATION_LENGTH_M, BRANCH_TOLERANCE])  # in the order kernels.solve_paths reads them
 
 
 @dataclass(frozen=True)
@@ -67,22 +68,17 @@ class BatchedKinematics:
         self.dim = robot.task_dimension
         self.tree = tree_arrays(robot.model, frame_ids, closures=closures, end_effector=len(frame_ids) - 1,
                                 task_dimension=self.dim, actuated=robot.actuated_v_indices)
-        self.frame_ids = frame_ids
 
-    def end_effector(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """End-effector rotation (3, 3) and position (3,) at one configuration."""
-        rotation, origin, _, _ = kernels.frames(self.tree, q[None, :].astype(float), np.zeros((1, len(q))))
-        return rotation[0, -1], origin[0, -1]
-
-    def newton(self, q: np.ndarray, targets: Targets, tolerance: float = SOLVE_TOLERANCE) -> tuple[np.ndarray, np.ndarray]:
-        """Newton from (B, nq) starts to a residual norm below ``tolerance``; returns the configurations and
-        which converged."""
+    def solve_paths(self, targets: Targets, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Configurations of every sample of placements of ``n`` samples each, which converged and which
+        left the branch."""
         pose = targets.rotation is not None
-        rotation = targets.rotation if pose else np.zeros((len(q), 3, 3))
-        return kernels.newton(self.tree, np.ascontiguousarray(q, dtype=float),
-                              np.ascontiguousarray(targets.position_m, dtype=float),
-                              np.ascontiguousarray(rotation, dtype=float), pose, tolerance, MAX_ITERATIONS, MAX_STEP,
-                              DAMPING)
+        rotation = targets.rotation if pose else np.zeros((len(targets.position_m), 3, 3))
+        coarse = coarse_samples(targets, n) if n > 1 else np.zeros(1, dtype=np.int64)
+        return kernels.solve_paths(self.tree, self.robot.reference_q.astype(float),
+                                   np.ascontiguousarray(targets.position_m, dtype=float),
+                                   np.ascontiguousarray(rotation, dtype=float), pose, n, coarse.astype(np.int64),
+                                   bisection_schedule(coarse, n), SETTINGS)
 
     def rates(self, q: np.ndarray, task: TaskTrajectory) -> tuple[JointTrajectory, np.ndarray]:
         """Joint motion at solved configurations, and which samples are regular (not singular)."""
@@ -91,10 +87,6 @@ class BatchedKinematics:
                                                          np.ascontiguousarray(task.acceleration(), dtype=float),
                                                          DAMPING)
         return JointTrajectory(q, v, a, basis, task_map), condition < SINGULAR_CONDITION
-
-    def tangent(self, q: np.ndarray) -> np.ndarray:
-        """(B, nq, task dim) first-order change of the configuration per task displacement, D = G·M⁺."""
-        return kernels.tangent(self.tree, np.ascontiguousarray(q, dtype=float), DAMPING)
 
 
 def _displacement(start: Targets, stop: Targets) -> np.ndarray:
@@ -132,14 +124,7 @@ class BatchedSolver(KinematicsSolver):
 
     def solve(self, task: TaskTrajectory, placements: int = 1) -> tuple[JointTrajectory, np.ndarray, str]:
         n = len(task) // placements
-        targets = Targets(task.position_m, task.rotation)
-        first = np.arange(placements) * n
-        q = np.tile(self.robot.reference_q, (len(task), 1))
-        ok = np.zeros(len(task), dtype=bool)
-        q[first], ok[first] = self._assemble(targets.rows(first))
-        coarse = coarse_samples(targets, n) if n > 1 else np.zeros(1, dtype=int)
-        flipped = self._march(targets, q, ok, first, coarse)
-        flipped |= self._refine(targets, q, ok, first, coarse, n)
+        q, ok, flipped = self.kinematics.solve_paths(Targets(task.position_m, task.rotation), n)
         joints, regular = self.kinematics.rates(q, task)
         reachable = ok & ~flipped & regular
         bad = np.flatnonzero(~reachable)
@@ -157,100 +142,24 @@ class BatchedSolver(KinematicsSolver):
             reason = ""
         return joints, reachable, reason
 
-    def _assemble(self, targets: Targets) -> tuple[np.ndarray, np.ndarray]:
-        """Each placement's first configuration, by continuation from the reference configuration."""
-        kin, k = self.kinematics, len(targets.position_m)
-        q = np.tile(self.robot.reference_q, (k, 1))
-        rotation, position = kin.end_effector(self.robot.reference_q)
-        distance = np.linalg.norm(targets.position_m - position, axis=1)
-        turn = None
-        if targets.rotation is not None:
-            turn = log3(rotation.T @ targets.rotation)  # (K, 3) in the reference end-effector frame
-            distance = np.maximum(distance, ROTATION_LENGTH_M * np.linalg.norm(turn, axis=1))
-        steps = max(1, int(np.ceil(distance.max() / CONTINUATION_STEP_M)))
-        ok = np.ones(k, dtype=bool)
-        previous = Targets(np.tile(position, (k, 1)), None if turn is None else np.tile(rotation, (k, 1, 1)))
-        for s in np.linspace(0.0, 1.0, steps + 1)[1:]:
-            goal = Targets(position + s * (targets.position_m - position),
-                           None if turn is None else rotation @ _exp3(s * turn))
-            seed = q + np.einsum("kqt,kt->kq", kin.tangent(q), _displacement(previous, goal))  # first-order predictor
-            q_next, converged = kin.newton(seed, goal, SOLVE_TOLERANCE if s == 1.0 else CONTINUATION_TOLERANCE)
-            q[converged] = q_next[converged]
-            ok &= converged
-            previous = goal
-        return q, ok
 
-    def _march(self, targets: Targets, q: np.ndarray, ok: np.ndarray, first: np.ndarray,
-               coarse: np.ndarray) -> np.ndarray:
-        """Solve the coarse samples one after the other (batched over placements); returns flips."""
-        flipped = np.zeros(len(q), dtype=bool)
-        for previous, current in zip(coarse[:-1], coarse[1:]):
-            before, now = first + previous, first + current
-            prediction = np.einsum("kqt,kt->kq", self.kinematics.tangent(q[before]),
-                                   _displacement(targets.rows(before), targets.rows(now)))
-            prediction[~ok[before]] = 0.0  # after a failure, start again from the last solved configuration
-            seed = q[before] + prediction
-            solved, converged = self.kinematics.newton(seed, targets.rows(now))
-            q[now] = np.where(converged[:, None], solved, q[before])
-            flipped[now] = ok[before] & _left_branch(solved, seed, prediction)
-            ok[now] = converged
-        return flipped
-
-    def _refine(self, targets: Targets, q: np.ndarray, ok: np.ndarray, first: np.ndarray, coarse: np.ndarray,
-                n: int) -> np.ndarray:
-        """Fill in the samples between coarse ones by bisection with cubic seeds; returns flips."""
-        flipped = np.zeros(len(q), dtype=bool)
-        known = np.zeros(n, dtype=bool)
-        known[coarse] = True
-        while not known.all():
-            index = np.flatnonzero(known)
-            left, right = index[:-1], index[1:]
-            gap = right - left > 1
-            left, right = left[gap], right[gap]
-            middle = (left + right) // 2
-            outer_left = index[np.maximum(np.searchsorted(index, left) - 1, 0)]
-            outer_right = index[np.minimum(np.searchsorted(index, right) + 1, len(index) - 1)]
-            neighbours = np.stack([outer_left, left, right, outer_right])
-            rows = (first[:, None] + middle[None, :]).ravel()
-            seed = _cubic(q, first, neighbours, middle)
-            solved, converged = self.kinematics.newton(seed, targets.rows(rows))
-            q[rows] = np.where(converged[:, None], solved, seed)
-            ok[rows] = converged
-            span = (q[(first[:, None] + right[None, :]).ravel()] - q[(first[:, None] + left[None, :]).ravel()])
-            flipped[rows] = _left_branch(solved, seed, span)
-            known[middle] = True
-        return flipped
-
-
-def _left_branch(solved: np.ndarray, seed: np.ndarray, motion: np.ndarray) -> np.ndarray:
-    """Whether Newton moved each sample farther from its seed than twice the motion around it.
-
-    A seed errs by less than the local motion, even across a corner of the path; another branch
-    or assembly mode lies a finite distance away.
-    """
-    return np.abs(solved - seed).max(axis=1) > 2.0 * np.abs(motion).max(axis=1) + BRANCH_TOLERANCE
-
-
-def _cubic(q: np.ndarray, first: np.ndarray, nodes: np.ndarray, at: np.ndarray) -> np.ndarray:
-    """Lagrange interpolation at ``at`` through the solved samples ``nodes`` (4, M), per placement.
-
-    An outer node equal to its inner neighbour (at the ends of the path) is left out.
-    """
-    x = nodes.astype(float)
-    used = np.stack([x[0] != x[1], np.ones(len(at), bool), np.ones(len(at), bool), x[3] != x[2]])
-    seed = np.zeros((len(first) * len(at), q.shape[1]))
-    for i in range(4):
-        weight = used[i].astype(float)
-        for j in range(4):
-            if j != i:
-                factor = (at - x[j]) / np.where(x[i] != x[j], x[i] - x[j], 1.0)
-                weight *= np.where(used[j], factor, 1.0)
-        seed += np.tile(weight, len(first))[:, None] * q[(first[:, None] + nodes[i][None, :]).ravel()]
-    return seed
-
-
-def _exp3(rotation_vectors: np.ndarray) -> np.ndarray:
-    return Rotation.from_rotvec(rotation_vectors).as_matrix()
+def bisection_schedule(coarse: np.ndarray, n: int) -> np.ndarray:
+    """(L, 5) order in which the samples between coarse ones are solved: middle, outer left, left, right,
+    outer right, level after level (a level's middles only use samples known before it)."""
+    known = np.zeros(n, dtype=bool)
+    known[coarse] = True
+    levels = []
+    while not known.all():
+        index = np.flatnonzero(known)
+        left, right = index[:-1], index[1:]
+        gap = right - left > 1
+        left, right = left[gap], right[gap]
+        middle = (left + right) // 2
+        outer_left = index[np.maximum(np.searchsorted(index, left) - 1, 0)]
+        outer_right = index[np.minimum(np.searchsorted(index, right) + 1, len(index) - 1)]
+        levels.append(np.stack([middle, outer_left, left, right, outer_right], axis=1))
+        known[middle] = True
+    return np.concatenate(levels).astype(np.int64) if levels else np.zeros((0, 5), dtype=np.int64)
 
 
 def _at_rest(joints: JointTrajectory, rows: np.ndarray, reference_q: np.ndarray) -> JointTrajectory:

@@ -194,6 +194,16 @@ def _product(a, b):
 
 
 @njit(cache=True)
+def _apply(matrix, vector):
+    """``matrix · vector`` by loops."""
+    out = np.zeros(matrix.shape[0])
+    for i in range(matrix.shape[0]):
+        for j in range(matrix.shape[1]):
+            out[i] += matrix[i, j] * vector[j]
+    return out
+
+
+@njit(cache=True)
 def _condition(matrix):
     """Condition number (1-norm when square, else 2-norm); inf when singular."""
     m, n = matrix.shape
@@ -500,38 +510,26 @@ def _task_map(tree, buffers, rows, g):
 
 
 @njit(cache=True)
-def newton(tree, q, target_position, target_rotation, pose, tolerance, max_iterations, max_step, damping):
-    """Newton (damped least squares) on closure residuals and task error, row by row.
-
-    Returns the configurations (B, nq) and which rows reached a residual norm below ``tolerance``.
-    """
-    b, nv = q.shape
-    buffers = _buffers(tree, nv)
-    rows = len(buffers.drift)
-    out = q.copy()
-    converged = np.zeros(b, dtype=np.bool_)
-    error = np.empty(rows)
-    step = np.empty((max(rows, nv), 1))
-    square = rows == nv
-    for i in range(b):
-        x = out[i]
-        for _ in range(max_iterations + 1):
-            forward(tree, x, buffers)
-            norm = residual(tree, buffers, target_position[i], target_rotation[i], pose, error)
-            if norm < tolerance:
-                converged[i] = True
-                break
-            if not np.isfinite(norm):
-                break
-            jacobians(tree, buffers)
-            _newton_step(buffers, error, step, square, damping)
-            largest = 0.0
-            for k in range(nv):
-                largest = max(largest, abs(step[k, 0]))
-            scale = min(1.0, max_step / largest) if largest > 0.0 else 1.0
-            for k in range(nv):
-                x[k] -= scale * step[k, 0]
-    return out, converged
+def _newton_one(tree, buffers, x, target_position, target_rotation, pose, settings, tolerance, error, step):
+    """Newton in place on one configuration ``x``; returns whether the residual norm fell below ``tolerance``."""
+    nv = len(x)
+    square = len(error) == nv
+    for _ in range(int(settings[1]) + 1):
+        forward(tree, x, buffers)
+        norm = residual(tree, buffers, target_position, target_rotation, pose, error)
+        if norm < tolerance:
+            return True
+        if not np.isfinite(norm):
+            return False
+        jacobians(tree, buffers)
+        _newton_step(buffers, error, step, square, settings[3])
+        largest = 0.0
+        for k in range(nv):
+            largest = max(largest, abs(step[k, 0]))
+        scale = min(1.0, settings[2] / largest) if largest > 0.0 else 1.0
+        for k in range(nv):
+            x[k] -= scale * step[k, 0]
+    return False
 
 
 @njit(cache=True)
@@ -567,20 +565,13 @@ def _newton_step(buffers, error, step, square, damping):
 
 
 @njit(cache=True)
-def tangent(tree, q, damping):
-    """(B, nq, task dim) first-order change of the configuration per task displacement, D = G·M⁺."""
-    b, nv = q.shape
-    buffers = _buffers(tree, nv)
+def _tangent_one(tree, buffers, q, damping, g, identity):
+    """(nq, task dim) first-order change of one configuration per task displacement, D = G·M⁺."""
     rows = len(buffers.drift) - tree.task_dimension
-    out = np.empty((b, nv, tree.task_dimension))
-    g = np.empty((nv, len(tree.actuated)))
-    identity = np.eye(tree.task_dimension)
-    for i in range(b):
-        forward(tree, q[i], buffers)
-        jacobians(tree, buffers)
-        basis(tree, buffers, rows, damping, g)
-        out[i] = _product(g, least_squares(_task_map(tree, buffers, rows, g), identity, damping))
-    return out
+    forward(tree, q, buffers)
+    jacobians(tree, buffers)
+    basis(tree, buffers, rows, damping, g)
+    return _product(g, least_squares(_task_map(tree, buffers, rows, g), identity, damping))
 
 
 @njit(cache=True)
@@ -657,3 +648,152 @@ def rotation_vectors(rotation):
     for i in range(rotation.shape[0]):
         log3(rotation[i], out[i], 0)
     return out
+
+
+# ---------------------------------------------------------------- whole paths
+
+
+@njit(cache=True)
+def _exp3(vector, out):
+    """Rotation matrix of a rotation vector (rad), into ``out``."""
+    angle = np.sqrt(vector[0] ** 2 + vector[1] ** 2 + vector[2] ** 2)
+    sine, versine = (np.sin(angle) / angle, (1.0 - np.cos(angle)) / angle ** 2) if angle > 1e-12 else (1.0, 0.5)
+    x, y, z = vector[0], vector[1], vector[2]
+    skew = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+    square = _product(skew, skew)
+    for r in range(3):
+        for c in range(3):
+            out[r, c] = (1.0 if r == c else 0.0) + sine * skew[r, c] + versine * square[r, c]
+
+
+@njit(cache=True)
+def _displacement(position_0, rotation_0, position_1, rotation_1, pose, out, scratch):
+    """Task displacement from one target to another: position, then rotation (world) for a pose."""
+    for k in range(3):
+        out[k] = position_1[k] - position_0[k]
+    if pose:
+        _relative_rotation(rotation_1, rotation_0, scratch)
+        log3(scratch, out, 3)
+
+
+@njit(cache=True)
+def _left_branch(solved, seed, motion, tolerance):
+    """Whether Newton moved a sample farther from its seed than twice the motion around it."""
+    moved, local = 0.0, 0.0
+    for k in range(len(solved)):
+        moved = max(moved, abs(solved[k] - seed[k]))
+        local = max(local, abs(motion[k]))
+    return moved > 2.0 * local + tolerance
+
+
+@njit(cache=True)
+def _cubic(q, nodes, at, out):
+    """Lagrange interpolation at ``at`` through the rows ``nodes`` (4,) of ``q``; an outer node equal to its
+    inner neighbour (at the ends of the path) is left out."""
+    used = (nodes[0] != nodes[1], True, True, nodes[3] != nodes[2])
+    out[:] = 0.0
+    for i in range(4):
+        if not used[i]:
+            continue
+        weight = 1.0
+        for j in range(4):
+            if j != i and used[j]:
+                weight *= (at - nodes[j]) / (nodes[i] - nodes[j])
+        for k in range(len(out)):
+            out[k] += weight * q[nodes[i], k]
+
+
+@njit(cache=True)
+def solve_paths(tree, reference_q, positions, rotations, pose, n, coarse, schedule, settings):
+    """Every sample of every placement's path, placement after placement (see :mod:`placement.kinematics.batched`).
+
+    Args:
+        tree: The tree description.
+        reference_q: (nq,) the reference configuration, on the assembly mode to keep.
+        positions, rotations: (P·n, 3) and (P·n, 3, 3) end-effector targets, placement after placement.
+        pose: Whether rotations are prescribed.
+        n: Samples per placement.
+        coarse: Indices of the coarse samples, marched one after the other (0 first, n - 1 last).
+        schedule: (L, 5) bisection refinement in order: middle, outer left, left, right, outer right.
+        settings: solve tolerance, most iterations, largest step, damping, continuation step (m),
+            continuation tolerance, metres per radian, branch tolerance.
+
+    Returns:
+        Configurations (P·n, nq), which samples converged, and which left the branch.
+    """
+    total, nv = len(positions), len(reference_q)
+    q = np.empty((total, nv))
+    ok = np.zeros(total, dtype=np.bool_)
+    flipped = np.zeros(total, dtype=np.bool_)
+    buffers = _buffers(tree, nv)
+    rows = len(buffers.drift)
+    error = np.empty(rows)
+    step = np.empty((max(rows, nv), 1))
+    g = np.empty((nv, len(tree.actuated)))
+    identity = np.eye(tree.task_dimension)
+    motion = np.empty(tree.task_dimension)
+    scratch = np.empty((3, 3))
+    forward(tree, reference_q, buffers)
+    reference_position = buffers.frame_origin[tree.end_effector].copy()
+    reference_rotation = buffers.frame_rotation[tree.end_effector].copy()
+    for p in range(total // n):
+        base = p * n
+        ok[base] = _assemble(tree, buffers, reference_q, reference_position, reference_rotation, positions[base],
+                             rotations[base], pose, settings, q[base], error, step, g, identity, motion, scratch)
+        for c in range(len(coarse) - 1):
+            before, now = base + coarse[c], base + coarse[c + 1]
+            if ok[before]:
+                _displacement(positions[before], rotations[before], positions[now], rotations[now], pose, motion, scratch)
+                prediction = _apply(_tangent_one(tree, buffers, q[before], settings[3], g, identity), motion)
+            else:  # after a failure, start again from the last solved configuration
+                prediction = np.zeros(nv)
+            seed = q[before] + prediction
+            solved = seed.copy()
+            ok[now] = _newton_one(tree, buffers, solved, positions[now], rotations[now], pose, settings, settings[0],
+                                  error, step)
+            q[now] = solved if ok[now] else q[before]
+            flipped[now] = ok[before] and _left_branch(solved, seed, prediction, settings[7])
+        seed = np.empty(nv)
+        for r in range(len(schedule)):
+            middle, left, right = base + schedule[r, 0], base + schedule[r, 2], base + schedule[r, 3]
+            _cubic(q, schedule[r, 1:] + base, middle, seed)
+            solved = seed.copy()
+            ok[middle] = _newton_one(tree, buffers, solved, positions[middle], rotations[middle], pose, settings,
+                                     settings[0], error, step)
+            q[middle] = solved if ok[middle] else seed
+            flipped[middle] = _left_branch(solved, seed, q[right] - q[left], settings[7])
+    return q, ok, flipped
+
+
+@njit(cache=True)
+def _assemble(tree, buffers, reference_q, reference_position, reference_rotation, target_position, target_rotation,
+              pose, settings, out, error, step, g, identity, motion, scratch):
+    """The first configuration of a path, by predicted continuation from the reference configuration in
+    steps of at most ``settings[4]`` (m, rotation counted at ``settings[6]`` m/rad); returns success."""
+    turn = np.zeros(3)
+    distance = np.sqrt(((target_position - reference_position) ** 2).sum())
+    if pose:
+        _relative_rotation(reference_rotation.T.copy(), target_rotation.T.copy(), scratch)  # R_refᵀ·R_target
+        log3(scratch, turn, 0)
+        distance = max(distance, settings[6] * np.sqrt((turn ** 2).sum()))
+    steps = max(1, int(np.ceil(distance / settings[4])))
+    x = reference_q.copy()
+    success = True
+    previous_position, previous_rotation = reference_position.copy(), reference_rotation.copy()
+    goal_rotation = reference_rotation.copy()
+    for s in range(1, steps + 1):
+        fraction = s / steps
+        goal_position = reference_position + fraction * (target_position - reference_position)
+        if pose:
+            _exp3(fraction * turn, scratch)
+            goal_rotation = _product(reference_rotation, scratch)
+        _displacement(previous_position, previous_rotation, goal_position, goal_rotation, pose, motion, scratch)
+        seed = x + _apply(_tangent_one(tree, buffers, x, settings[3], g, identity), motion)
+        tolerance = settings[0] if s == steps else settings[5]
+        if _newton_one(tree, buffers, seed, goal_position, goal_rotation, pose, settings, tolerance, error, step):
+            x = seed
+        else:
+            success = False
+        previous_position, previous_rotation = goal_position, goal_rotation
+    out[:] = x
+    return success
