@@ -125,7 +125,7 @@ class Evaluator:
         workers: Worker processes for a solver that is not vectorised (default: every core);
             1 evaluates in this process.
         executor: Any ``concurrent.futures.Executor`` to use instead of an own process pool.
-        threads: Threads of the batched RNEA (default: every core).
+        threads: Threads of the batched kinematics and RNEA (default: every core).
     """
 
     def __init__(self, robot: Robot, path: ToolPath, regeneration: str = "clip", time_step_s: float | None = None,
@@ -137,7 +137,8 @@ class Evaluator:
         self.regeneration = regeneration
         self.time_step_s = time_step_s
         self.method = method
-        self.solver = solver_for(robot, method)
+        self.threads = threads or os.cpu_count() or 1
+        self.solver = solver_for(robot, method, self.threads)
         self.objective_name = objective
         self.objective: Objective = OBJECTIVES.get(objective)
         self.samples = path.sample(time_step_s)
@@ -145,7 +146,6 @@ class Evaluator:
         self.workers = 1 if self.solver.vectorized else (workers or os.cpu_count() or 1)
         self.executor = None if self.solver.vectorized else executor
         self._own_pool: ProcessPoolExecutor | None = None
-        self.threads = threads or os.cpu_count() or 1
 
     def __enter__(self) -> Evaluator:
         return self

@@ -11,6 +11,7 @@ any joint). A package adds a solver class under the entry-point group
 
 from __future__ import annotations
 
+import os
 from abc import ABC, abstractmethod
 from typing import ClassVar
 
@@ -30,17 +31,19 @@ class KinematicsSolver(ABC):
     """Solves the kinematics of one robot.
 
     Attributes:
-        vectorized: Whether one call on many placements' samples runs at numpy speed; the
+        vectorized: Whether one call on many placements' samples runs at compiled speed; the
             evaluator otherwise spreads placements over worker processes.
+        threads: Most threads a vectorized solver may use (default: every core; 1 in worker processes).
     """
 
     vectorized: ClassVar[bool] = False
 
-    def __init__(self, robot: Robot) -> None:
+    def __init__(self, robot: Robot, threads: int | None = None) -> None:
         reason = self.unsuitable(robot)
         if reason:
             raise PlacementError(f"kinematics solver '{type(self).__name__}' cannot serve robot '{robot.name}': {reason}")
         self.robot = robot
+        self.threads = threads or os.cpu_count() or 1
 
     @classmethod
     def unsuitable(cls, robot: Robot) -> str | None:
@@ -79,9 +82,9 @@ def solver_name(robot: Robot, name: str = "auto") -> str:
     return "numeric" if SOLVERS.get("numeric").unsuitable(robot) is None else "sequential"
 
 
-def solver_for(robot: Robot, name: str = "auto") -> KinematicsSolver:
-    """The solver called ``name`` (see :func:`solver_name`) for ``robot``."""
-    return SOLVERS.get(solver_name(robot, name))(robot)
+def solver_for(robot: Robot, name: str = "auto", threads: int | None = None) -> KinematicsSolver:
+    """The solver called ``name`` (see :func:`solver_name`) for ``robot``, on at most ``threads`` threads."""
+    return SOLVERS.get(solver_name(robot, name))(robot, threads)
 
 
 def task_error(robot: Robot, data: pin.Data, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:

@@ -22,6 +22,7 @@ passive joints.
 
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import ClassVar
 
@@ -29,7 +30,7 @@ import numpy as np
 
 from placement.kinematics import kernels
 from placement.kinematics.base import SINGULAR_CONDITION, SOLVERS, KinematicsSolver
-from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
+from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory, task_rows
 from placement.kinematics.tree import log3, tree_arrays, unsupported_joints
 from placement.robot.model import Robot
 
@@ -118,14 +119,20 @@ class BatchedSolver(KinematicsSolver):
         unsupported = unsupported_joints(robot.model)
         return f"joints of a kind it does not handle: {', '.join(unsupported)}" if unsupported else None
 
-    def __init__(self, robot: Robot) -> None:
-        super().__init__(robot)
+    def __init__(self, robot: Robot, threads: int | None = None) -> None:
+        super().__init__(robot, threads)
         self.kinematics = BatchedKinematics(robot)
 
     def solve(self, task: TaskTrajectory, placements: int = 1) -> tuple[JointTrajectory, np.ndarray, str]:
         n = len(task) // placements
-        q, ok, flipped = self.kinematics.solve_paths(Targets(task.position_m, task.rotation), n)
-        joints, regular = self.kinematics.rates(q, task)
+        parts = [(p[0] * n, (p[-1] + 1) * n) for p in np.array_split(np.arange(placements), min(self.threads, placements))]
+        if len(parts) == 1:
+            solved = [self._solve_rows(task, n, 0, len(task))]
+        else:  # the kernels release the GIL: one chunk of placements per thread
+            with ThreadPoolExecutor(len(parts)) as pool:
+                solved = list(pool.map(lambda part: self._solve_rows(task, n, *part), parts))
+        joints = JointTrajectory.concatenate([part[0] for part in solved])
+        ok, flipped, regular = (np.concatenate([part[k] for part in solved]) for k in (1, 2, 3))
         reachable = ok & ~flipped & regular
         bad = np.flatnonzero(~reachable)
         if len(bad):
@@ -141,6 +148,15 @@ class BatchedSolver(KinematicsSolver):
         else:
             reason = ""
         return joints, reachable, reason
+
+    def _solve_rows(self, task: TaskTrajectory, n: int, start: int,
+                    stop: int) -> tuple[JointTrajectory, np.ndarray, np.ndarray, np.ndarray]:
+        """Joint motion of the placements in rows ``start:stop``, which samples converged, left the branch
+        and are regular."""
+        rows = task_rows(task, start, stop)
+        q, ok, flipped = self.kinematics.solve_paths(Targets(rows.position_m, rows.rotation), n)
+        joints, regular = self.kinematics.rates(q, rows)
+        return joints, ok, flipped, regular
 
 
 def bisection_schedule(coarse: np.ndarray, n: int) -> np.ndarray:

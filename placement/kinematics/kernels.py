@@ -5,7 +5,8 @@ numpy formulation does with one array operation per joint. At a few microseconds
 Python and LAPACK call overheads that bound a numpy version disappear; the inner loops allocate
 nothing (every buffer is made once per call). numba compiles the kernels on their first use and
 caches the machine code on disk beside this module (or in ``NUMBA_CACHE_DIR``), so that later
-processes start at once.
+processes start at once. The batched entry points release the GIL, so that callers may run parts
+of a batch on several threads.
 
 Conventions follow Pinocchio: a joint's world placement ``oMi = oMparent · jointPlacement ·
 motion(q)``; Jacobians and classical accelerations at a frame's origin in world-aligned axes
@@ -142,25 +143,19 @@ def _cholesky_solve(factor, n, rhs, k):
 
 @njit(cache=True)
 def least_squares(matrix, rhs, damping):
-    """Solution (n, k) of ``matrix · x ≈ rhs`` (rhs (m, k)): exact when square and regular, else damped least
-    squares (least-norm when wide)."""
-    m, n = matrix.shape
-    k = rhs.shape[1]
-    if m == n:
+    """Solution (n, k) of ``matrix · x ≈ rhs`` (rhs (m, k), m ≥ n): exact when square and regular, else damped
+    least squares."""
+    n, k = matrix.shape[1], rhs.shape[1]
+    if matrix.shape[0] == n:
         x = rhs.copy()
         if _solve_square(matrix.copy(), x):
             return x
-    if m >= n:
-        normal = _gram(matrix.T.copy())
-        x = _product(matrix.T.copy(), rhs)
-        _cholesky(normal, n, damping)
-        _cholesky_solve(normal, n, x, k)
-        return x
-    normal = _gram(matrix)
-    y = rhs.copy()
-    _cholesky(normal, m, damping)
-    _cholesky_solve(normal, m, y, k)
-    return _product(matrix.T.copy(), y)
+    transposed = matrix.T.copy()
+    normal = _gram(transposed)
+    x = _product(transposed, rhs)
+    _cholesky(normal, n, damping)
+    _cholesky_solve(normal, n, x, k)
+    return x
 
 
 @njit(cache=True)
@@ -205,17 +200,27 @@ def _apply(matrix, vector):
 
 @njit(cache=True)
 def _condition(matrix):
-    """Condition number (1-norm when square, else 2-norm); inf when singular."""
+    """Condition number of a square matrix (1-norm), or of a tall one (the square root of its normal
+    matrix's: within a factor √n of the 2-norm figure); inf when singular."""
     m, n = matrix.shape
-    if m == n:
-        inverse = np.eye(n)
-        if not _solve_square(matrix.copy(), inverse):
-            return np.inf
-        return np.abs(matrix).sum(axis=0).max() * np.abs(inverse).sum(axis=0).max()
-    singular = np.linalg.svd(matrix)[1]
-    if not singular[-1] > 0.0:
+    square = matrix if m == n else _gram(matrix.T.copy())
+    inverse = np.eye(n)
+    if not _solve_square(square.copy(), inverse):
         return np.inf
-    return singular[0] / singular[-1]
+    value = _norm_1(square) * _norm_1(inverse)
+    return value if m == n else np.sqrt(value)
+
+
+@njit(cache=True)
+def _norm_1(matrix):
+    """1-norm of a matrix: its largest column sum of absolute values."""
+    largest = 0.0
+    for c in range(matrix.shape[1]):
+        total = 0.0
+        for r in range(matrix.shape[0]):
+            total += abs(matrix[r, c])
+        largest = max(largest, total)
+    return largest
 
 
 @njit(cache=True)
@@ -534,7 +539,8 @@ def _newton_one(tree, buffers, x, target_position, target_rotation, pose, settin
 
 @njit(cache=True)
 def _newton_step(buffers, error, step, square, damping):
-    """The step (nv, 1) solving J·step ≈ error: exact when square and regular, else damped least squares."""
+    """The step (nv, 1) solving J·step ≈ error: exact when square and regular, else damped least squares
+    (the mobility check at load leaves at least as many rows as joints)."""
     jacobian, normal = buffers.jacobian, buffers.normal
     rows, nv = jacobian.shape
     if square:
@@ -542,26 +548,19 @@ def _newton_step(buffers, error, step, square, damping):
         step[:nv, 0] = error
         if _solve_square(normal[:nv, :nv], step[:nv]):
             return
-    if rows >= nv:
-        for i in range(nv):
+    for i in range(nv):
+        total = 0.0
+        for r in range(rows):
+            total += jacobian[r, i] * error[r]
+        step[i, 0] = total
+        for j in range(i + 1):
             total = 0.0
             for r in range(rows):
-                total += jacobian[r, i] * error[r]
-            step[i, 0] = total
-            for j in range(i + 1):
-                total = 0.0
-                for r in range(rows):
-                    total += jacobian[r, i] * jacobian[r, j]
-                normal[i, j] = total
-                normal[j, i] = total
-        _cholesky(normal, nv, damping)
-        _cholesky_solve(normal, nv, step, 1)
-        return
-    gram = _gram(jacobian)
-    y = error.reshape(-1, 1).copy()
-    _cholesky(gram, rows, damping)
-    _cholesky_solve(gram, rows, y, 1)
-    step[:nv] = _product(jacobian.T.copy(), y)
+                total += jacobian[r, i] * jacobian[r, j]
+            normal[i, j] = total
+            normal[j, i] = total
+    _cholesky(normal, nv, damping)
+    _cholesky_solve(normal, nv, step, 1)
 
 
 @njit(cache=True)
@@ -574,7 +573,7 @@ def _tangent_one(tree, buffers, q, damping, g, identity):
     return _product(g, least_squares(_task_map(tree, buffers, rows, g), identity, damping))
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def rates(tree, q, twist, acceleration, damping):
     """Joint rates and accelerations at solved configurations.
 
@@ -584,17 +583,26 @@ def rates(tree, q, twist, acceleration, damping):
     identity in place of M, so that every value stays finite.
     """
     b, nv = q.shape
-    buffers = _buffers(tree, nv)
     dim, n_act = tree.task_dimension, len(tree.actuated)
-    rows = len(buffers.drift) - dim
     v_out = np.empty((b, nv))
     a_out = np.empty((b, nv))
     g_out = np.empty((b, nv, n_act))
     m_out = np.empty((b, dim, n_act))
     condition = np.empty(b)
+    _rates_rows(tree, q, twist, acceleration, damping, 0, b, v_out, a_out, g_out, m_out, condition)
+    return v_out, a_out, g_out, m_out, condition
+
+
+@njit(cache=True)
+def _rates_rows(tree, q, twist, acceleration, damping, start, stop, v_out, a_out, g_out, m_out, condition):
+    """:func:`rates` of rows ``start:stop``."""
+    nv = q.shape[1]
+    buffers = _buffers(tree, nv)
+    dim, n_act = tree.task_dimension, len(tree.actuated)
+    rows = len(buffers.drift) - dim
     a0 = np.empty(nv)
     rhs = np.empty((dim, 1))
-    for i in range(b):
+    for i in range(start, stop):
         g = g_out[i]
         forward(tree, q[i], buffers)
         jacobians(tree, buffers)
@@ -616,7 +624,6 @@ def rates(tree, q, twist, acceleration, damping):
             rhs[k, 0] = total
         a_out[i] = _product(g, least_squares(solve_map, rhs, damping))[:, 0] + a0
         v_out[i] = v
-    return v_out, a_out, g_out, m_out, condition
 
 
 @njit(cache=True)
@@ -703,7 +710,7 @@ def _cubic(q, nodes, at, out):
             out[k] += weight * q[nodes[i], k]
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def solve_paths(tree, reference_q, positions, rotations, pose, n, coarse, schedule, settings):
     """Every sample of every placement's path, placement after placement (see :mod:`placement.kinematics.batched`).
 
@@ -725,6 +732,15 @@ def solve_paths(tree, reference_q, positions, rotations, pose, n, coarse, schedu
     q = np.empty((total, nv))
     ok = np.zeros(total, dtype=np.bool_)
     flipped = np.zeros(total, dtype=np.bool_)
+    for p in range(total // n):
+        _solve_path(tree, reference_q, positions, rotations, pose, p * n, coarse, schedule, settings, q, ok, flipped)
+    return q, ok, flipped
+
+
+@njit(cache=True)
+def _solve_path(tree, reference_q, positions, rotations, pose, base, coarse, schedule, settings, q, ok, flipped):
+    """:func:`solve_paths` for the placement whose samples start at row ``base``."""
+    nv = len(reference_q)
     buffers = _buffers(tree, nv)
     rows = len(buffers.drift)
     error = np.empty(rows)
@@ -736,33 +752,30 @@ def solve_paths(tree, reference_q, positions, rotations, pose, n, coarse, schedu
     forward(tree, reference_q, buffers)
     reference_position = buffers.frame_origin[tree.end_effector].copy()
     reference_rotation = buffers.frame_rotation[tree.end_effector].copy()
-    for p in range(total // n):
-        base = p * n
-        ok[base] = _assemble(tree, buffers, reference_q, reference_position, reference_rotation, positions[base],
-                             rotations[base], pose, settings, q[base], error, step, g, identity, motion, scratch)
-        for c in range(len(coarse) - 1):
-            before, now = base + coarse[c], base + coarse[c + 1]
-            if ok[before]:
-                _displacement(positions[before], rotations[before], positions[now], rotations[now], pose, motion, scratch)
-                prediction = _apply(_tangent_one(tree, buffers, q[before], settings[3], g, identity), motion)
-            else:  # after a failure, start again from the last solved configuration
-                prediction = np.zeros(nv)
-            seed = q[before] + prediction
-            solved = seed.copy()
-            ok[now] = _newton_one(tree, buffers, solved, positions[now], rotations[now], pose, settings, settings[0],
-                                  error, step)
-            q[now] = solved if ok[now] else q[before]
-            flipped[now] = ok[before] and _left_branch(solved, seed, prediction, settings[7])
-        seed = np.empty(nv)
-        for r in range(len(schedule)):
-            middle, left, right = base + schedule[r, 0], base + schedule[r, 2], base + schedule[r, 3]
-            _cubic(q, schedule[r, 1:] + base, middle, seed)
-            solved = seed.copy()
-            ok[middle] = _newton_one(tree, buffers, solved, positions[middle], rotations[middle], pose, settings,
-                                     settings[0], error, step)
-            q[middle] = solved if ok[middle] else seed
-            flipped[middle] = _left_branch(solved, seed, q[right] - q[left], settings[7])
-    return q, ok, flipped
+    ok[base] = _assemble(tree, buffers, reference_q, reference_position, reference_rotation, positions[base],
+                         rotations[base], pose, settings, q[base], error, step, g, identity, motion, scratch)
+    for c in range(len(coarse) - 1):
+        before, now = base + coarse[c], base + coarse[c + 1]
+        if ok[before]:
+            _displacement(positions[before], rotations[before], positions[now], rotations[now], pose, motion, scratch)
+            prediction = _apply(_tangent_one(tree, buffers, q[before], settings[3], g, identity), motion)
+        else:  # after a failure, start again from the last solved configuration
+            prediction = np.zeros(nv)
+        seed = q[before] + prediction
+        solved = seed.copy()
+        ok[now] = _newton_one(tree, buffers, solved, positions[now], rotations[now], pose, settings, settings[0],
+                              error, step)
+        q[now] = solved if ok[now] else q[before]
+        flipped[now] = ok[before] and _left_branch(solved, seed, prediction, settings[7])
+    seed = np.empty(nv)
+    for r in range(len(schedule)):
+        middle, left, right = base + schedule[r, 0], base + schedule[r, 2], base + schedule[r, 3]
+        _cubic(q, schedule[r, 1:] + base, middle, seed)
+        solved = seed.copy()
+        ok[middle] = _newton_one(tree, buffers, solved, positions[middle], rotations[middle], pose, settings,
+                                 settings[0], error, step)
+        q[middle] = solved if ok[middle] else seed
+        flipped[middle] = _left_branch(solved, seed, q[right] - q[left], settings[7])
 
 
 @njit(cache=True)
