@@ -62,6 +62,8 @@ class _Buffers(NamedTuple):
     normal: np.ndarray  # (n, n) normal equations / factor
     rhs: np.ndarray  # (n, k) right-hand sides
     turn: np.ndarray  # (3, 3) scratch rotation
+    columns: np.ndarray  # (nv,) 0, 1, ..., nv - 1
+    nonzero: np.ndarray  # (nv,) scratch indices
 
 
 @njit(cache=True)
@@ -71,7 +73,7 @@ def _buffers(tree, nv):
     n = max(nv, rows)
     return _Buffers(np.empty((nj, 3, 3)), np.empty((nj, 3)), np.empty((nj, 3)), np.zeros((nj, 3)), np.zeros((nj, 3)),
                     np.empty((nf, 3, 3)), np.empty((nf, 3)), np.empty((rows, nv)), np.empty(rows), np.empty((n, n)),
-                    np.empty((n, n + 1)), np.empty((3, 3)))
+                    np.empty((n, n + 1)), np.empty((3, 3)), np.arange(nv), np.empty(nv, dtype=np.int64))
 
 
 # ---------------------------------------------------------------- small dense linear algebra
@@ -111,8 +113,30 @@ def _solve_square(matrix, rhs):
 
 
 @njit(cache=True)
+def _normal_lower(jacobian, rows, columns, normal, nonzero):
+    """Lower triangle of ``J[:rows, columns]ᵀ·J[:rows, columns]`` in ``normal``, row by row over each row's
+    nonzero entries (closure rows touch few joints); ``nonzero`` is scratch of len(columns) ints."""
+    n = len(columns)
+    for i in range(n):
+        for j in range(i + 1):
+            normal[i, j] = 0.0
+    for r in range(rows):
+        count = 0
+        for i in range(n):
+            if jacobian[r, columns[i]] != 0.0:
+                nonzero[count] = i
+                count += 1
+        for a in range(count):
+            i = nonzero[a]
+            x = jacobian[r, columns[i]]
+            for b in range(a + 1):
+                normal[i, nonzero[b]] += x * jacobian[r, columns[nonzero[b]]]
+
+
+@njit(cache=True)
 def _cholesky(a, n, damping):
-    """Lower Cholesky factor of ``a[:n, :n] + damping·I``, in place (semi-definite pivots floored at damping)."""
+    """Lower Cholesky factor of ``a[:n, :n] + damping·I``, in place, from its lower triangle (semi-definite
+    pivots floored at damping)."""
     for j in range(n):
         total = a[j, j] + damping
         for k in range(j):
@@ -196,19 +220,6 @@ def _apply(matrix, vector):
         for j in range(matrix.shape[1]):
             out[i] += matrix[i, j] * vector[j]
     return out
-
-
-@njit(cache=True)
-def _condition(matrix):
-    """Condition number of a square matrix (1-norm), or of a tall one (the square root of its normal
-    matrix's: within a factor √n of the 2-norm figure); inf when singular."""
-    m, n = matrix.shape
-    square = matrix if m == n else _gram(matrix.T.copy())
-    inverse = np.eye(n)
-    if not _solve_square(square.copy(), inverse):
-        return np.inf
-    value = _norm_1(square) * _norm_1(inverse)
-    return value if m == n else np.sqrt(value)
 
 
 @njit(cache=True)
@@ -448,16 +459,8 @@ def drifts(tree, v, buffers):
 @njit(cache=True)
 def _factor_passive(tree, buffers, rows, damping):
     """Cholesky factor of J_pᵀ·J_p + damping·I (passive columns of the closure rows) in ``buffers.normal``."""
-    jacobian, normal, passive = buffers.jacobian, buffers.normal, tree.passive
-    n = len(passive)
-    for i in range(n):
-        for j in range(i + 1):
-            total = 0.0
-            for r in range(rows):
-                total += jacobian[r, passive[i]] * jacobian[r, passive[j]]
-            normal[i, j] = total
-            normal[j, i] = total
-    _cholesky(normal, n, damping)
+    _normal_lower(buffers.jacobian, rows, tree.passive, buffers.normal, buffers.nonzero)
+    _cholesky(buffers.normal, len(tree.passive), damping)
 
 
 @njit(cache=True)
@@ -553,12 +556,7 @@ def _newton_step(buffers, error, step, square, damping):
         for r in range(rows):
             total += jacobian[r, i] * error[r]
         step[i, 0] = total
-        for j in range(i + 1):
-            total = 0.0
-            for r in range(rows):
-                total += jacobian[r, i] * jacobian[r, j]
-            normal[i, j] = total
-            normal[j, i] = total
+    _normal_lower(jacobian, rows, buffers.columns, normal, buffers.nonzero)
     _cholesky(normal, nv, damping)
     _cholesky_solve(normal, nv, step, 1)
 
@@ -598,10 +596,10 @@ def _rates_rows(tree, q, twist, acceleration, damping, start, stop, v_out, a_out
     """:func:`rates` of rows ``start:stop``."""
     nv = q.shape[1]
     buffers = _buffers(tree, nv)
-    dim, n_act = tree.task_dimension, len(tree.actuated)
+    dim = tree.task_dimension
     rows = len(buffers.drift) - dim
     a0 = np.empty(nv)
-    rhs = np.empty((dim, 1))
+    rhs = np.empty(dim)
     for i in range(start, stop):
         g = g_out[i]
         forward(tree, q[i], buffers)
@@ -609,10 +607,8 @@ def _rates_rows(tree, q, twist, acceleration, damping, start, stop, v_out, a_out
         basis(tree, buffers, rows, damping, g)
         task_map = _task_map(tree, buffers, rows, g)
         m_out[i] = task_map
-        condition[i] = _condition(task_map)
-        solve_map = task_map if np.isfinite(condition[i]) else np.eye(dim, n_act)
-        rhs[:, 0] = twist[i]
-        v = _product(g, least_squares(solve_map, rhs, damping))[:, 0]
+        inverse, condition[i] = _task_inverse(task_map)
+        v = _apply(g, _apply(inverse, twist[i]))
         velocities(tree, v, buffers)
         drifts(tree, v, buffers)
         passive_correction(tree, buffers, rows, buffers.drift, a0)
@@ -621,9 +617,27 @@ def _rates_rows(tree, q, twist, acceleration, damping, start, stop, v_out, a_out
             total = acceleration[i, k] - buffers.drift[rows + k]
             for j in range(nv):
                 total -= task[k, j] * a0[j]
-            rhs[k, 0] = total
-        a_out[i] = _product(g, least_squares(solve_map, rhs, damping))[:, 0] + a0
-        v_out[i] = v
+            rhs[k] = total
+        a = _apply(g, _apply(inverse, rhs))
+        for j in range(nv):
+            a_out[i, j] = a[j] + a0[j]
+            v_out[i, j] = v[j]
+
+
+@njit(cache=True)
+def _task_inverse(task_map):
+    """The task map's inverse, or for a tall one its left inverse (MᵀM)⁻¹·Mᵀ, (n_act, dim), and its condition
+    number: 1-norm when square; for a tall map the square root of MᵀM's (within a factor √n of the 2-norm
+    figure). A singular map gives inf and the identity, so that values stay finite."""
+    dim, n_act = task_map.shape
+    square = task_map.copy() if dim == n_act else _gram(task_map.T.copy())
+    inverse = np.eye(n_act)
+    if not _solve_square(square.copy(), inverse):
+        return np.eye(n_act, dim), np.inf
+    value = _norm_1(square) * _norm_1(inverse)
+    if dim == n_act:
+        return inverse, value
+    return _product(inverse, task_map.T.copy()), np.sqrt(value)
 
 
 @njit(cache=True)
