@@ -62,6 +62,7 @@ class _Buffers(NamedTuple):
     normal: np.ndarray  # (n, n) normal equations / factor
     rhs: np.ndarray  # (n, k) right-hand sides
     turn: np.ndarray  # (3, 3) scratch rotation
+    world: np.ndarray  # (3, 11) scratch of the forward kinematics
     columns: np.ndarray  # (nv,) 0, 1, ..., nv - 1
     nonzero: np.ndarray  # (nv,) scratch indices
 
@@ -73,7 +74,8 @@ def _buffers(tree, nv):
     n = max(nv, rows)
     return _Buffers(np.empty((nj, 3, 3)), np.empty((nj, 3)), np.empty((nj, 3)), np.zeros((nj, 3)), np.zeros((nj, 3)),
                     np.empty((nf, 3, 3)), np.empty((nf, 3)), np.empty((rows, nv)), np.empty(rows), np.empty((n, n)),
-                    np.empty((n, n + 1)), np.empty((3, 3)), np.arange(nv), np.empty(nv, dtype=np.int64))
+                    np.empty((n, n + 1)), np.empty((3, 3)), np.empty((3, 11)), np.arange(nv),
+                    np.empty(nv, dtype=np.int64))
 
 
 # ---------------------------------------------------------------- small dense linear algebra
@@ -215,11 +217,19 @@ def _product(a, b):
 @njit(cache=True)
 def _apply(matrix, vector):
     """``matrix · vector`` by loops."""
-    out = np.zeros(matrix.shape[0])
-    for i in range(matrix.shape[0]):
-        for j in range(matrix.shape[1]):
-            out[i] += matrix[i, j] * vector[j]
+    out = np.empty(matrix.shape[0])
+    _apply_into(matrix, vector, out)
     return out
+
+
+@njit(cache=True)
+def _apply_into(matrix, vector, out):
+    """``out = matrix · vector`` by loops."""
+    for i in range(matrix.shape[0]):
+        total = 0.0
+        for j in range(matrix.shape[1]):
+            total += matrix[i, j] * vector[j]
+        out[i] = total
 
 
 @njit(cache=True)
@@ -277,7 +287,7 @@ def forward(tree, q, buffers):
         rotation[0, k, k] = 1.0
     origin[0] = 0.0
     axis[0] = 0.0
-    world = np.empty((3, 11))
+    world = buffers.world
     for j in range(1, len(tree.parent)):
         p = tree.parent[j]
         constants = tree.constants[j]
@@ -511,7 +521,21 @@ def passive_correction(tree, buffers, rows, values, out):
 @njit(cache=True)
 def _task_map(tree, buffers, rows, g):
     """M = J_task·G (task dim, n_act)."""
-    return _product(buffers.jacobian[rows:], g)
+    out = np.empty((tree.task_dimension, g.shape[1]))
+    _task_map_into(buffers, rows, g, out)
+    return out
+
+
+@njit(cache=True)
+def _task_map_into(buffers, rows, g, out):
+    """``out = J_task·G`` (task dim, n_act)."""
+    jacobian = buffers.jacobian
+    for k in range(out.shape[0]):
+        for c in range(out.shape[1]):
+            total = 0.0
+            for j in range(g.shape[0]):
+                total += jacobian[rows + k, j] * g[j, c]
+            out[k, c] = total
 
 
 # ---------------------------------------------------------------- batched entry points
@@ -596,21 +620,26 @@ def _rates_rows(tree, q, twist, acceleration, damping, start, stop, v_out, a_out
     """:func:`rates` of rows ``start:stop``."""
     nv = q.shape[1]
     buffers = _buffers(tree, nv)
-    dim = tree.task_dimension
+    dim, n_act = tree.task_dimension, len(tree.actuated)
     rows = len(buffers.drift) - dim
     a0 = np.empty(nv)
     rhs = np.empty(dim)
+    inverse = np.empty((n_act, dim))
+    square = np.empty((n_act, n_act))
+    factors = np.empty((n_act, n_act))
+    square_inverse = np.empty((n_act, n_act))
+    rate = np.empty(n_act)
     for i in range(start, stop):
         g = g_out[i]
         forward(tree, q[i], buffers)
         jacobians(tree, buffers)
         basis(tree, buffers, rows, damping, g)
-        task_map = _task_map(tree, buffers, rows, g)
-        m_out[i] = task_map
-        inverse, condition[i] = _task_inverse(task_map)
-        v = _apply(g, _apply(inverse, twist[i]))
-        velocities(tree, v, buffers)
-        drifts(tree, v, buffers)
+        _task_map_into(buffers, rows, g, m_out[i])
+        condition[i] = _task_inverse(m_out[i], inverse, square, factors, square_inverse)
+        _apply_into(inverse, twist[i], rate)
+        _apply_into(g, rate, v_out[i])
+        velocities(tree, v_out[i], buffers)
+        drifts(tree, v_out[i], buffers)
         passive_correction(tree, buffers, rows, buffers.drift, a0)
         task = buffers.jacobian[rows:]
         for k in range(dim):
@@ -618,26 +647,46 @@ def _rates_rows(tree, q, twist, acceleration, damping, start, stop, v_out, a_out
             for j in range(nv):
                 total -= task[k, j] * a0[j]
             rhs[k] = total
-        a = _apply(g, _apply(inverse, rhs))
+        _apply_into(inverse, rhs, rate)
+        _apply_into(g, rate, a_out[i])
         for j in range(nv):
-            a_out[i, j] = a[j] + a0[j]
-            v_out[i, j] = v[j]
+            a_out[i, j] += a0[j]
 
 
 @njit(cache=True)
-def _task_inverse(task_map):
-    """The task map's inverse, or for a tall one its left inverse (MᵀM)⁻¹·Mᵀ, (n_act, dim), and its condition
-    number: 1-norm when square; for a tall map the square root of MᵀM's (within a factor √n of the 2-norm
-    figure). A singular map gives inf and the identity, so that values stay finite."""
+def _task_inverse(task_map, inverse, square, factors, square_inverse):
+    """The task map's inverse, or for a tall one its left inverse (MᵀM)⁻¹·Mᵀ, (n_act, dim) into ``inverse``;
+    returns its condition number: 1-norm when square; for a tall map the square root of MᵀM's (within a
+    factor √n of the 2-norm figure). A singular map gives inf and the identity, so that values stay finite.
+    ``square``, ``factors`` and ``square_inverse`` are (n_act, n_act) scratch."""
     dim, n_act = task_map.shape
-    square = task_map.copy() if dim == n_act else _gram(task_map.T.copy())
-    inverse = np.eye(n_act)
-    if not _solve_square(square.copy(), inverse):
-        return np.eye(n_act, dim), np.inf
-    value = _norm_1(square) * _norm_1(inverse)
+    for r in range(n_act):
+        for c in range(n_act):
+            if dim == n_act:
+                square[r, c] = task_map[r, c]
+            else:
+                total = 0.0
+                for k in range(dim):
+                    total += task_map[k, r] * task_map[k, c]
+                square[r, c] = total
+            factors[r, c] = square[r, c]
+            square_inverse[r, c] = 1.0 if r == c else 0.0
+    if not _solve_square(factors, square_inverse):
+        for r in range(n_act):
+            for c in range(dim):
+                inverse[r, c] = 1.0 if r == c else 0.0
+        return np.inf
+    value = _norm_1(square) * _norm_1(square_inverse)
     if dim == n_act:
-        return inverse, value
-    return _product(inverse, task_map.T.copy()), np.sqrt(value)
+        inverse[:, :] = square_inverse
+        return value
+    for r in range(n_act):
+        for c in range(dim):
+            total = 0.0
+            for k in range(n_act):
+                total += square_inverse[r, k] * task_map[c, k]
+            inverse[r, c] = total
+    return np.sqrt(value)
 
 
 @njit(cache=True)
@@ -708,10 +757,12 @@ def _left_branch(solved, seed, motion, tolerance):
 
 
 @njit(cache=True)
-def _cubic(q, nodes, at, out):
-    """Lagrange interpolation at ``at`` through the rows ``nodes`` (4,) of ``q``; an outer node equal to its
-    inner neighbour (at the ends of the path) is left out."""
-    used = (nodes[0] != nodes[1], True, True, nodes[3] != nodes[2])
+def _cubic(q, base, row, out):
+    """Lagrange interpolation at sample ``row[0]`` through the samples ``row[1:5]`` (outer left, left, right,
+    outer right) of the placement starting at ``base``; an outer node equal to its inner neighbour (at the
+    ends of the path) is left out."""
+    at = row[0]
+    used = (row[1] != row[2], True, True, row[4] != row[3])
     out[:] = 0.0
     for i in range(4):
         if not used[i]:
@@ -719,9 +770,9 @@ def _cubic(q, nodes, at, out):
         weight = 1.0
         for j in range(4):
             if j != i and used[j]:
-                weight *= (at - nodes[j]) / (nodes[i] - nodes[j])
+                weight *= (at - row[1 + j]) / (row[1 + i] - row[1 + j])
         for k in range(len(out)):
-            out[k] += weight * q[nodes[i], k]
+            out[k] += weight * q[base + row[1 + i], k]
 
 
 @njit(cache=True, nogil=True)
@@ -782,14 +833,19 @@ def _solve_path(tree, reference_q, positions, rotations, pose, base, coarse, sch
         q[now] = solved if ok[now] else q[before]
         flipped[now] = ok[before] and _left_branch(solved, seed, prediction, settings[7])
     seed = np.empty(nv)
+    span = np.empty(nv)
     for r in range(len(schedule)):
         middle, left, right = base + schedule[r, 0], base + schedule[r, 2], base + schedule[r, 3]
-        _cubic(q, schedule[r, 1:] + base, middle, seed)
-        solved = seed.copy()
+        _cubic(q, base, schedule[r], seed)
+        solved = q[middle]
+        solved[:] = seed
         ok[middle] = _newton_one(tree, buffers, solved, positions[middle], rotations[middle], pose, settings,
                                  settings[0], error, step)
-        q[middle] = solved if ok[middle] else seed
-        flipped[middle] = _left_branch(solved, seed, q[right] - q[left], settings[7])
+        for k in range(nv):
+            span[k] = q[right, k] - q[left, k]
+        flipped[middle] = _left_branch(solved, seed, span, settings[7])
+        if not ok[middle]:
+            solved[:] = seed
 
 
 @njit(cache=True)
