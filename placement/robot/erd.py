@@ -157,7 +157,9 @@ class _Arm:
         odd = [model.names[j] for j in chain if model.joints[j].nq != 1 or model.joints[j].nv != 1]
         if odd:
             raise ExampleRobotError(f"{ERD_FORM}{name}: joints {odd} between the base and '{tool}' are not revolute "
-                                    "or prismatic; write a sidecar (docs/adding_a_robot.md)")
+                                    "or prismatic joints of one coordinate (a URDF 'continuous' joint has two in "
+                                    "Pinocchio); copy the URDF, make them 'revolute' with limits, and write a sidecar "
+                                    "naming it (docs/adding_a_robot.md)")
         if not 3 <= len(chain) <= 7:
             raise ExampleRobotError(f"{ERD_FORM}{name}: {len(chain)} joint(s) from the base to '{tool}'; a path needs "
                                     "3 to 6 (or 7, the third locked): choose another --tool or write a sidecar")

@@ -259,7 +259,8 @@ def _actuator(path: Path, urdf: _Urdf, i: int, joint: str, document: dict[str, A
     for name, value in (("effort", effort), ("velocity", velocity)):
         if value is None or not math.isfinite(value) or value <= 0:
             raise RobotFileError(urdf.path, f"joint '{joint}' limit {name}", f"must be a number > 0 (got {value}) to "
-                                 f"estimate the drive of actuated joint '{joint}' (name_mot.{i} in {YAML_NAME})")
+                                 f"estimate the drive of actuated joint '{joint}' (name_mot.{i} in {YAML_NAME}): "
+                                 f"give the joint <limit {name}=\"...\"/> ({'N or N m' if name == 'effort' else 'm/s or rad/s'})")
     assert effort is not None and velocity is not None  # checked above
     actuator: dict[str, Any] = {"joint": joint, "drive": joint}
     estimates = []
