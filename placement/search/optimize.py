@@ -17,7 +17,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import NonlinearConstraint, differential_evolution, minimize
+from scipy.optimize import NonlinearConstraint, OptimizeResult, differential_evolution, minimize
 
 from placement.evaluation import Evaluation, Evaluator, PlacementDetail
 from placement.frames import PlacementSpace, default_space
@@ -28,6 +28,8 @@ POLISH_STARTS = 3  # distinct candidates polished locally
 GIVE_UP_GENERATIONS = 25  # generations without any feasible placement after which the search stops
 RECHECK_DENSITY = 4  # the re-check samples the path this many times more densely
 GRADIENT_STEP = 1e-7  # forward-difference step of the polish, as a share of each variable's range
+STALL_ITERATIONS = 10  # the polish stops when this many iterations improve the objective by at most
+STALL_TOLERANCE = 1e-9  # this share of it (SLSQP otherwise dithers on a limit until its iteration cap)
 
 
 @dataclass(frozen=True)
@@ -217,7 +219,7 @@ def _polish(problem: _Problem, start: np.ndarray, bounds: list) -> np.ndarray:
                 (margins[1:] - margins[0]).T / GRADIENT_STEP)
 
     result = minimize(lambda u: problem.objective(u * scale)[0], start / scale, method="SLSQP",
-                      jac=lambda u: differences(u)[0],
+                      jac=lambda u: differences(u)[0], callback=_stall_detector(),
                       bounds=[(lo / s, hi / s) for (lo, hi), s in zip(bounds, scale)],
                       constraints=[{"type": "ineq", "fun": lambda u: problem.margins(u * scale),
                                     "jac": lambda u: differences(u)[1]}],
@@ -229,6 +231,20 @@ def _polish(problem: _Problem, start: np.ndarray, bounds: list) -> np.ndarray:
     value, _ = problem._lookup(polished)
     start_value, _ = problem._lookup(start)
     return polished if problem.sign * value[0] <= problem.sign * start_value[0] else start
+
+
+def _stall_detector() -> Callable[..., None]:
+    """An SLSQP callback that stops the polish once STALL_ITERATIONS iterations gained at most STALL_TOLERANCE."""
+    history: list[float] = []
+
+    def callback(intermediate_result: OptimizeResult) -> None:  # scipy passes the result by this name
+        history.append(float(intermediate_result.fun))
+        if len(history) > STALL_ITERATIONS:
+            before = history[-STALL_ITERATIONS - 1]
+            if before - min(history[-STALL_ITERATIONS:]) <= STALL_TOLERANCE * abs(before):
+                raise StopIteration
+
+    return callback
 
 
 def _feasible_towards(problem: _Problem, feasible: np.ndarray, target: np.ndarray) -> np.ndarray:
