@@ -128,3 +128,13 @@ def test_fixed_joints_are_locked_and_a_named_end_effector_is_no_estimate(folder)
 def test_a_folder_without_robot_files_is_an_error(tmp_path):
     with pytest.raises(RobotFileError, match="needs a sidecar placement.yaml, or robot.yaml and robot.urdf"):
         load_robot(tmp_path)
+
+
+def test_assemble_near_motor_values_writes_them_and_the_sidecar_loads(folder, capsys):
+    with pytest.warns(EstimatesWarning):
+        assert main(["assemble", str(folder), "--near", "mot1=0.3,mot2=-0.2", "--write"]) == 0
+    assert "it loads; largest closure residual" in capsys.readouterr().out
+    reference = yaml.safe_load((folder / "placement.yaml").read_text())["reference_configuration"]
+    assert reference["mot1"] == 0.3 and reference["mot2"] == -0.2 and set(reference) == {"mot1", "mot2", "free1", "free2"}
+    robot = load_robot(folder)
+    assert np.abs(closure_residuals(robot, robot.model.createData(), robot.reference_q)).max() < 1e-9

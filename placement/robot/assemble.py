@@ -252,14 +252,15 @@ def reference_values(robot: Robot, assembly: Assembly) -> dict[str, float]:
     """The joints to write as ``reference_configuration`` (m or rad).
 
     Every joint the sidecar's ``reference_configuration`` names, in its order, then every passive
-    joint, then any actuated joint that had to move; values below ``ZERO_SNAP`` become 0.0.
+    joint, then any actuated joint whose value differs from the sidecar's (0 when it names none),
+    whether ``--near`` set it or the solver moved it; values below ``ZERO_SNAP`` become 0.0.
     """
     actuated = {a.joint for a in robot.actuators}
     names = list(robot.sidecar.reference_configuration)
     for name in movable_joints(robot):
         index = joint_q_index(robot, name)
-        moved = index is not None and assembly.q[index] != assembly.start_q[index]
-        if name not in names and (name not in actuated or moved):
+        changed = index is not None and assembly.q[index] != robot.reference_q[index]
+        if name not in names and (name not in actuated or changed):
             names.append(name)
     values = {}
     for name in names:
