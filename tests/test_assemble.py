@@ -133,3 +133,18 @@ def test_a_loop_that_cannot_close_exits_2_naming_it(tmp_path, capsys):
 def test_a_serial_robot_has_nothing_to_assemble(capsys):
     assert main(["assemble", "ur5"]) == 2
     assert "no loop closures" in capsys.readouterr().err
+
+
+def test_a_rewrite_that_would_not_load_leaves_the_sidecar_as_it_was(tmp_path, capsys):
+    def one_actuator_too_few(document):
+        document["reference_configuration"]["b1"] += 0.05
+        del document["actuators"][1]
+        document["sources"] = {key: text for key, text in document["sources"].items() if not key.startswith("actuators.1")}
+
+    sidecar = edited_copy("fivebar", tmp_path, one_actuator_too_few)
+    before = sidecar.read_bytes()
+    assert main(["assemble", str(sidecar), "--write"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"error: {sidecar} not written: it would not load: {sidecar}, field 'actuators': ")
+    assert sidecar.read_bytes() == before
+    assert sorted(p.name for p in sidecar.parent.iterdir() if p.name.startswith(".")) == []  # no temporary file left

@@ -5,7 +5,9 @@ URDF limits without a range, no drives. Closed, its actuators at 0, its tip is a
 """
 
 import math
+import os
 import shutil
+import sys
 import warnings
 from pathlib import Path
 
@@ -18,7 +20,7 @@ from placement.exceptions import RobotFileError
 from placement.robot import load_robot
 from placement.robot.catalog import sidecar_path
 from placement.robot.closures import closure_residuals
-from placement.robot.gepetto import EstimatesWarning, estimated_drive, generate
+from placement.robot.gepetto import EstimatesWarning, StaleSidecarWarning, estimated_drive, generate
 
 DATA = Path(__file__).parent / "data" / "gepetto_fivebar"
 CIRCLE = Path(__file__).parents[1] / "examples" / "circle.yaml"
@@ -138,3 +140,44 @@ def test_assemble_near_motor_values_writes_them_and_the_sidecar_loads(folder, ca
     assert reference["mot1"] == 0.3 and reference["mot2"] == -0.2 and set(reference) == {"mot1", "mot2", "free1", "free2"}
     robot = load_robot(folder)
     assert np.abs(closure_residuals(robot, robot.model.createData(), robot.reference_q)).max() < 1e-9
+
+
+MISSING_MOTOR = "closed_loop: [['closedloop3D_1A', 'closedloop3D_1B']]\ntype: ['3d']\nname_mot: ['mot1']\n"
+
+
+def test_a_failed_write_leaves_no_sidecar_to_hide_the_fix(folder, capsys):
+    with pytest.warns(EstimatesWarning):
+        assert main(["assemble", str(edited(folder, MISSING_MOTOR)), "--write"]) == 2
+    err = capsys.readouterr().err
+    assert f"error: {folder / 'placement.yaml'} not written: it would not load: " in err
+    assert "field 'actuators'" in err and "fix robot.yaml (name_mot lists the actuated joints" in err
+    assert sorted(p.name for p in folder.iterdir()) == ["robot.urdf", "robot.yaml"]  # no sidecar, no temporary file
+    shutil.copy(DATA / "robot.yaml", folder / "robot.yaml")
+    with pytest.warns(EstimatesWarning):
+        assert main(["assemble", str(folder), "--write"]) == 0
+    assert "it loads" in capsys.readouterr().out
+
+
+def test_a_sidecar_older_than_robot_yaml_is_loaded_with_a_warning(folder, capsys, monkeypatch):
+    with pytest.warns(EstimatesWarning):
+        assert main(["assemble", str(folder), "--write"]) == 0
+    written = (folder / "placement.yaml").stat().st_mtime
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", StaleSidecarWarning)
+        load_robot(folder)  # written after robot.yaml: no warning
+    os.utime(folder / "robot.yaml", (written + 10, written + 10))
+    with pytest.warns(StaleSidecarWarning, match="placement.yaml is older than .*robot.yaml, which is ignored"):
+        load_robot(folder / "robot.yaml")
+
+    def shown(message, category, filename, lineno, file=None, line=None):  # Python's own showwarning, unrecorded
+        sys.stderr.write(warnings.formatwarning(message, category, filename, lineno, line))
+
+    monkeypatch.setattr(warnings, "showwarning", shown)
+    capsys.readouterr()
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")
+        assert main(["check", str(folder)]) == 0
+    err = capsys.readouterr().err
+    assert err.startswith(f"warning: {folder / 'placement.yaml'} is older than {folder / 'robot.yaml'}")
+    assert f"delete placement.yaml and run 'python -m placement assemble {folder} --write'" in err
+    assert "StaleSidecarWarning" not in err and ":0:" not in err

@@ -36,9 +36,28 @@ def build_command_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _format_warning(message: Warning | str, category: type[Warning], filename: str, lineno: int,
+                    line: str | None = None) -> str:
+    """placement's own warnings as the command line's other ``warning: ...`` lines; others as Python shows them."""
+    if category.__module__.startswith("placement."):
+        return f"warning: {message}\n"
+    return PYTHON_FORMAT(message, category, filename, lineno, line)
+
+
+PYTHON_FORMAT = warnings.formatwarning
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit code."""
-    argv = sys.argv[1:] if argv is None else list(argv)
+    warnings.formatwarning = _format_warning
+    try:
+        return _main(sys.argv[1:] if argv is None else list(argv))
+    finally:
+        warnings.formatwarning = PYTHON_FORMAT
+
+
+def _main(argv: list[str]) -> int:
+    """:func:`main` on the arguments ``argv``."""
     debug = "--debug" in argv
     argv = [arg for arg in argv if arg != "--debug"]
     if not debug:  # numpy's overflow warnings on absurd input: the results and limits say what went wrong

@@ -24,6 +24,7 @@ import yaml
 from placement.exceptions import AssemblyError
 from placement.kinematics.generic import null_space_basis
 from placement.robot.closures import LWA, closure_jacobian, closure_residuals
+from placement.robot.load import write_if_it_loads
 from placement.robot.model import Robot
 
 CLOSED_TOLERANCE = 1e-10  # largest gap (m, rad) at which a loop counts as closed
@@ -289,23 +290,25 @@ def reference_block(values: dict[str, float]) -> str:
     return "reference_configuration:\n" + "".join(f"  {_key(name)}: {_number(v)}\n" for name, v in values.items())
 
 
-def write_reference_configuration(path: Path, values: dict[str, float]) -> None:
+def write_reference_configuration(path: Path, values: dict[str, float]) -> Robot:
     """Replace the ``reference_configuration`` mapping of the sidecar at ``path`` with ``values``.
 
     Only the mapping's entries change: the key line (and its comment), every other field, the
     comments and the line endings stay byte for byte. A sidecar without the field gets it appended.
+    The file changes only if the rewritten sidecar loads (:func:`placement.robot.load.write_if_it_loads`).
 
     Args:
         path: The sidecar file (UTF-8 YAML).
         values: {joint: value (m or rad)}.
 
-    Raises:
-        AssemblyError: The field is not a plain mapping that can be rewritten in place.
-    """
-    from placement.report import write_atomically  # here: placement.report imports the kinematics
+    Returns:
+        The robot loaded from the rewritten file.
 
-    raw = path.read_bytes()
-    text = raw.decode("utf-8")
+    Raises:
+        AssemblyError: The field is not a plain mapping that can be rewritten in place, or the
+            rewritten sidecar does not load (the file is then left as it was).
+    """
+    text = path.read_bytes().decode("utf-8")
     root = yaml.compose(text)
     if not isinstance(root, yaml.MappingNode):
         raise AssemblyError(f"{path}: expected a mapping of fields at the top level")
@@ -316,7 +319,7 @@ def write_reference_configuration(path: Path, values: dict[str, float]) -> None:
         new = text + separator + reference_block(values).replace("\n", ending)
     else:
         new = text[:node.start_mark.index] + _mapping_text(path, text, node, values) + text[_end(text, node):]
-    write_atomically(path, new)
+    return write_if_it_loads(path, new)
 
 
 def _mapping_text(path: Path, text: str, node: yaml.Node, values: dict[str, float]) -> str:

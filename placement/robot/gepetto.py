@@ -55,7 +55,7 @@ import pinocchio as pin
 import yaml
 from pydantic import Field, ValidationError
 
-from placement.exceptions import RobotFileError
+from placement.exceptions import AssemblyError, RobotFileError
 from placement.robot.model import Robot
 from placement.robot.sidecar import Sidecar
 from placement.schema import MAX_FILE_BYTES, Strict, read_yaml
@@ -77,6 +77,10 @@ JOINT_TYPES = ("revolute", "continuous", "prismatic")
 
 class EstimatesWarning(UserWarning):
     """A robot loads with quantities its files do not give, estimated as stated in the message."""
+
+
+class StaleSidecarWarning(UserWarning):
+    """A ``placement.yaml`` is loaded although the ``robot.yaml`` it was written from changed since."""
 
 
 class GepettoFile(Strict):
@@ -132,6 +136,8 @@ def folder_sidecar(path: Path) -> Path | None:
 
     A folder loads from its ``placement.yaml``, else its ``robot.yaml``; a Gepetto ``robot.yaml``
     with a ``placement.yaml`` beside it loads from that ``placement.yaml``; any other file is itself.
+    A ``placement.yaml`` older than the Gepetto ``robot.yaml`` beside it is loaded all the same,
+    with a :class:`StaleSidecarWarning`.
 
     Raises:
         RobotFileError: A folder holds neither file.
@@ -139,13 +145,26 @@ def folder_sidecar(path: Path) -> Path | None:
     if path.is_dir():
         for name in (SIDECAR_NAME, YAML_NAME):
             if (path / name).is_file():
-                return path / name
+                return _warned_if_stale(path / name)
         raise RobotFileError(path, "", f"a robot folder needs a sidecar {SIDECAR_NAME}, or {YAML_NAME} and {URDF_NAME} "
                              "in Gepetto's example-parallel-robots format")
     if not path.is_file():
         return None
     beside = path.parent / SIDECAR_NAME
-    return beside if beside.is_file() and is_gepetto(path) else path
+    return _warned_if_stale(beside if beside.is_file() and is_gepetto(path) else path)
+
+
+def _warned_if_stale(sidecar: Path) -> Path:
+    """``sidecar``, after a warning when it is a ``placement.yaml`` older than the Gepetto ``robot.yaml`` beside it."""
+    source = sidecar.parent / YAML_NAME
+    if sidecar.name != SIDECAR_NAME or not is_gepetto(source) or source.stat().st_mtime <= sidecar.stat().st_mtime:
+        return sidecar
+    text = (f"{sidecar} is older than {source}, which is ignored while {SIDECAR_NAME} exists; delete {SIDECAR_NAME} "
+            f"and run 'python -m placement assemble {sidecar.parent} --write' to write it again from {YAML_NAME}, or "
+            f"make the same change in {SIDECAR_NAME} (re-running assemble --write on it rewrites its "
+            "reference_configuration only)")
+    warnings.warn_explicit(text, StaleSidecarWarning, str(sidecar), 0, registry=_SHOWN)
+    return sidecar
 
 
 def sidecar_beside(path: Path) -> Path:
@@ -328,8 +347,11 @@ def _estimates_text(path: Path, estimates: list[str]) -> str:
             "from then on: replace them there")
 
 
-def write_sidecar(path: Path, robot: Robot, reference: dict[str, float]) -> Path:
+def write_sidecar(path: Path, robot: Robot, reference: dict[str, float]) -> Robot:
     """Write the sidecar of the Gepetto ``robot.yaml`` at ``path`` to ``placement.yaml`` beside it.
+
+    The file is written only if it loads (:func:`placement.robot.load.write_if_it_loads`): a
+    ``robot.yaml`` that describes no valid robot leaves no ``placement.yaml`` to hide its fix.
 
     Args:
         path: The ``robot.yaml``.
@@ -337,9 +359,12 @@ def write_sidecar(path: Path, robot: Robot, reference: dict[str, float]) -> Path
         reference: The closed configuration {joint: value (m or rad)}.
 
     Returns:
-        The file written.
+        The robot loaded from the file written.
+
+    Raises:
+        AssemblyError: The sidecar would not load (nothing is written).
     """
-    from placement.report import write_atomically  # here: placement.report imports the kinematics
+    from placement.robot.load import write_if_it_loads  # here: placement.robot.load imports this module
 
     document, _ = generate(path)
     document["reference_configuration"] = reference
@@ -348,14 +373,16 @@ def write_sidecar(path: Path, robot: Robot, reference: dict[str, float]) -> Path
     order = ("name", "description", "urdf", "gravity_m_s2", "end_effector", "reference_configuration", "locked_joints",
              "closures", "actuators", "drives", "workspace", "placement", "sources")
     fields = {key: document[key] for key in order if key in document and key != "sources"}
-    target = sidecar_beside(path)
     header = (f"# Written by 'placement assemble --write' from {YAML_NAME} (Gepetto's example-parallel-robots format)\n"
               f"# and {URDF_NAME}. Loaded instead of {YAML_NAME} while it exists: replace the estimates (EST under\n"
               "# sources) with your machine's numbers.\n")
     body = yaml.safe_dump(fields, sort_keys=False, default_flow_style=None, width=120)
     sources = yaml.safe_dump({"sources": document["sources"]}, sort_keys=False, width=10_000)
-    write_atomically(target, header + body + sources)
-    return target
+    try:
+        return write_if_it_loads(sidecar_beside(path), header + body + sources)
+    except AssemblyError as error:
+        raise AssemblyError(f"{error}; fix {YAML_NAME} (name_mot lists the actuated joints; joint_name with joint_type "
+                            f"FIXED locks a joint at 0) or {URDF_NAME}, and run assemble --write again") from None
 
 
 def _workspace(robot: Robot, reference: dict[str, float], sources: dict[str, str]) -> dict[str, Any]:

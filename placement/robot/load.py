@@ -20,7 +20,7 @@ import pinocchio as pin
 import yourdfpy
 from pydantic import BaseModel
 
-from placement.exceptions import RobotFileError
+from placement.exceptions import AssemblyError, PlacementError, RobotFileError
 from placement.robot.catalog import sidecar_path
 from placement.robot.closures import closure_jacobian, closure_residuals
 from placement.robot.gepetto import is_gepetto, read_gepetto
@@ -61,6 +61,49 @@ def _load_robot(name_or_path: str | Path, *, check_closures: bool = True) -> Rob
     path = sidecar_path(name_or_path)
     sidecar = read_gepetto(path) if is_gepetto(path) else read_sidecar(path)
     return build_robot(path, sidecar, check_closures=check_closures)
+
+
+def write_if_it_loads(path: Path, text: str) -> Robot:
+    """Write the sidecar ``text`` to ``path`` only if it loads, every check passing (loops closed).
+
+    The text goes to a temporary file beside ``path``, so that its URDF and plug-in resolve as they
+    will from ``path``; it is loaded from there and only then renamed to ``path``. A sidecar that
+    does not load leaves ``path`` as it was (or absent).
+
+    Args:
+        path: The sidecar file to write.
+        text: Its new content (UTF-8 YAML).
+
+    Returns:
+        The robot loaded from the new file.
+
+    Raises:
+        AssemblyError: The text does not load; the message names ``path`` and the loading error.
+    """
+    handle, name = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".yaml")
+    temporary = Path(name)
+    try:
+        with os.fdopen(handle, "w", encoding="utf-8", newline="") as stream:
+            stream.write(text)
+        try:
+            robot = load_robot(temporary)
+        except PlacementError as error:
+            said = str(error).replace(str(temporary), str(path))
+            raise AssemblyError(f"{path} not written: it would not load: {said}") from None
+        mode = path.stat().st_mode & 0o7777 if path.is_file() else 0o666 & ~_umask()  # keep a file's mode
+        os.chmod(temporary, mode)
+        os.replace(temporary, path)
+    finally:
+        temporary.unlink(missing_ok=True)
+    robot.sidecar_path = path
+    return robot
+
+
+def _umask() -> int:
+    """The process's file-creation mask."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
 
 
 def build_robot(path: Path, sidecar: Sidecar, *, check_closures: bool = True) -> Robot:
