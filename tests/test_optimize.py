@@ -78,3 +78,16 @@ def test_a_path_too_large_for_the_workspace_is_reported_with_the_binding_limit(t
     result = optimize_placement(robot, load_path(file))
     assert result.best is None and result.worst is None
     assert "workspace" in result.infeasible and "m against a limit" in result.infeasible
+
+
+def test_the_duration_is_announced_once_before_the_search_starts():
+    from placement.robot import load_robot
+
+    events: list = []
+    robot = load_robot("orthoglide")
+    optimize_placement(robot, load_path(EXAMPLE), space=default_space(robot, free=("x", "y")), time_step_s=0.004,
+                       best=True, worst=False, settings=SearchSettings(population=8, max_generations=3),
+                       progress=lambda: events.append("generation"), announce=events.append)
+    assert events[1:] == ["generation"] * (len(events) - 1) and len(events) > 1
+    estimate = events[0]
+    assert 0 < estimate.seconds < np.inf and 0 < estimate.warm_up_s < np.inf

@@ -34,7 +34,7 @@ from placement.objectives import OBJECTIVES, wording
 from placement.path import ToolPath
 from placement.report import detail_json, format_detail, format_result, write_atomically, write_json, write_trace
 from placement.robot import Robot
-from placement.search.optimize import SearchSettings, optimize_placement
+from placement.search.optimize import Estimate, SearchSettings, optimize_placement
 from placement.visualize import AT_COLOR, BEST_COLOR, WORST_COLOR, PageServer, Scene
 
 
@@ -128,7 +128,7 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace) -> tuple[d
               disable=args.quiet, file=sys.stderr, leave=False) as bar:
         result = optimize_placement(robot, path, space=space, objective=args.objective, regeneration=args.regen,
                                     best=find_best, worst=find_worst, time_step_s=args.time_step, settings=settings,
-                                    progress=bar.update)
+                                    progress=bar.update, announce=lambda e: bar.write(duration_line(e), sys.stdout))
     print("\n" + format_result(robot, result))
     details = {}
     for key, optimum in (("best", result.best), ("worst", result.worst)):
@@ -140,6 +140,16 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace) -> tuple[d
     if result.infeasible:
         document["infeasible"] = result.infeasible
     return document, details, result.infeasible
+
+
+def duration_line(estimate: Estimate) -> str:
+    """What the search will take, said before it starts."""
+    line = f"search: about {estimate.seconds:.0f} s (at most {estimate.seconds / 60:.1f} min of generations)" \
+        if estimate.seconds >= 60 else f"search: about {max(1.0, estimate.seconds):.0f} s"
+    if estimate.warm_up_s > 5.0:
+        line += (f"; the kinematics kernels were compiled for this machine in {estimate.warm_up_s:.0f} s "
+                 "(once: later runs load them from the cache)")
+    return line
 
 
 def plane_line(plane: dict[str, list[float]]) -> str:

@@ -13,6 +13,7 @@ reported.
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -28,6 +29,7 @@ POLISH_STARTS = 3  # distinct candidates polished locally
 GIVE_UP_GENERATIONS = 25  # generations without any feasible placement after which the search stops
 RECHECK_DENSITY = 4  # the re-check samples the path this many times more densely
 GRADIENT_STEP = 1e-7  # forward-difference step of the polish, as a share of each variable's range
+POLISH_EVALUATIONS = 60  # placement evaluations of a typical polish, for the duration estimate (gradients count n + 1)
 STALL_ITERATIONS = 10  # the polish stops when this many iterations improve the objective by at most
 STALL_TOLERANCE = 1e-9  # this share of it (SLSQP otherwise dithers on a limit until its iteration cap)
 
@@ -51,6 +53,20 @@ class SearchSettings:
     tolerance: float = 1e-3
     seed: int = 0
     search_samples: int = 64
+
+
+@dataclass(frozen=True)
+class Estimate:
+    """How long a search should take, from timing its first evaluations.
+
+    Attributes:
+        seconds: Expected duration of the whole search (s), at most generations and typical polishes.
+        warm_up_s: Duration of the very first evaluation (s): long when the generic kinematics was compiled
+            for this machine (once; later runs load it from the disk cache).
+    """
+
+    seconds: float
+    warm_up_s: float
 
 
 @dataclass(frozen=True)
@@ -267,7 +283,8 @@ def _feasible_towards(problem: _Problem, feasible: np.ndarray, target: np.ndarra
 def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | None = None,
                        objective: str = "energy", regeneration: str = "clip", best: bool = True, worst: bool = True,
                        time_step_s: float | None = None, settings: SearchSettings = SearchSettings(),
-                       progress: Callable[[], None] | None = None) -> PlacementResult:
+                       progress: Callable[[], None] | None = None,
+                       announce: Callable[[Estimate], None] | None = None) -> PlacementResult:
     """Find the best (and worst) feasible placement of a path on a robot by an objective.
 
     Args:
@@ -280,6 +297,7 @@ def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | 
         time_step_s: Path sampling step (default: the path file's).
         settings: Search budget and seed.
         progress: Called once per generation of the global search (for a progress bar).
+        announce: Called with the expected duration before the search starts.
 
     Returns:
         The optima (None in a direction not asked for), or, when no placement is feasible, the
@@ -294,7 +312,28 @@ def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | 
 
     with evaluator(max(step, duration / settings.search_samples)) as coarse, evaluator(step) as fine:
         dense = evaluator(step / RECHECK_DENSITY, workers=1)
+        if announce is not None:
+            announce(estimate(coarse, fine, space, settings, best + worst))
         return _optimize(coarse, fine, dense, space, best, worst, settings, progress)
+
+
+def estimate(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, settings: SearchSettings,
+             directions: int) -> Estimate:
+    """Expected duration of a search, from one evaluation of a population on the search's sampling and
+    one of a placement on the path's own (after a first evaluation that loads or compiles the kinematics)."""
+    rng = np.random.default_rng(settings.seed)
+    population = space.full(rng.uniform(space.lower, space.upper, (settings.population, len(space.free))))
+    tic = time.perf_counter()
+    fine.evaluate(population[:1])
+    warm_up = time.perf_counter() - tic
+    tic = time.perf_counter()
+    coarse.evaluate(population)
+    generation = time.perf_counter() - tic
+    tic = time.perf_counter()
+    fine.evaluate(population[1:2])
+    placement = time.perf_counter() - tic
+    polish = POLISH_STARTS * POLISH_EVALUATIONS * placement * (1 + len(space.free) / 2)
+    return Estimate(seconds=directions * (settings.max_generations * generation + polish), warm_up_s=warm_up)
 
 
 def _optimize(coarse: Evaluator, evaluator: Evaluator, dense: Evaluator, space: PlacementSpace,
