@@ -384,15 +384,50 @@ def _check_mobility(robot: Robot) -> None:
                              f"the closures leave {nv - rank} degree(s) of freedom at reference_configuration, "
                              f"and the {len(robot.actuators)} actuated joint(s) must determine all "
                              f"{len(passive)} passive ones")
-    if not robot.closures and len(robot.actuators) < robot.task_dimension:
+    needed, planar = _task_freedoms(robot)
+    if not robot.closures and len(robot.actuators) < needed:
+        hint = ("use a position task or unlock joints" if robot.task == "pose" else
+                "unlock joints" if planar else "unlock joints, or declare the plane of a planar arm (placement.plane)")
         raise RobotFileError(robot.sidecar_path, "end_effector.task",
-                             f"a serial robot with {len(robot.actuators)} actuated joints cannot follow a "
-                             f"{robot.task} task of {robot.task_dimension}: use a position task or unlock joints")
-    if len(robot.actuators) > robot.task_dimension:
+                             f"a serial robot with {len(robot.actuators)} actuated joints cannot follow a {planar}"
+                             f"{robot.task} task of {needed}: {hint}")
+    if len(robot.actuators) > needed:
         raise RobotFileError(robot.sidecar_path, "locked_joints",
-                             f"the robot has {len(robot.actuators)} degrees of freedom for a {robot.task} task of "
-                             f"{robot.task_dimension}: lock {len(robot.actuators) - robot.task_dimension} joint(s) so "
-                             "that the path determines the motion")
+                             f"the robot has {len(robot.actuators)} degrees of freedom for a {planar}{robot.task} task "
+                             f"of {needed}: lock {len(robot.actuators) - needed} joint(s) so that the path determines "
+                             "the motion")
+    if planar and not robot.closures:
+        _check_moves_in_plane(robot)
+
+
+def _task_freedoms(robot: Robot) -> tuple[int, str]:
+    """The degrees of freedom the task asks for, and "planar " when a declared plane makes it 2 (else "").
+
+    A position task in a declared plane (``placement.plane``) asks for the 2 in-plane coordinates.
+    """
+    defaults = robot.sidecar.placement
+    if robot.task == "position" and defaults is not None and defaults.plane is not None:
+        return 2, "planar "
+    return robot.task_dimension, ""
+
+
+def _check_moves_in_plane(robot: Robot) -> None:
+    """A serial arm declaring a plane must move its end effector in that plane at the reference configuration."""
+    data = robot.model.createData()
+    jacobian = pin.computeFrameJacobian(robot.model, data, robot.reference_q, robot.end_effector_frame_id,
+                                        pin.LOCAL_WORLD_ALIGNED)[:3]
+    plane = robot.sidecar.placement.plane if robot.sidecar.placement else None
+    assert plane is not None  # _task_freedoms found it
+    normal = np.asarray(plane.normal) / np.linalg.norm(plane.normal)
+    off_plane = float(np.abs(normal @ jacobian).max(initial=0.0))
+    scale = float(np.abs(jacobian).max(initial=0.0))
+    if off_plane > 1e-6 * scale or np.linalg.matrix_rank(jacobian, tol=1e-9 * max(scale, 1e-300)) < 2:
+        raise RobotFileError(robot.sidecar_path, "placement.plane",
+                             f"the end effector of this planar arm must move in the plane of normal "
+                             f"[{', '.join(f'{c:g}' for c in plane.normal)}] at reference_configuration, along 2 "
+                             f"independent directions; its velocity leaves the plane by up to {off_plane:.3g} m/s per "
+                             "unit joint rate: give a normal along the arm's revolute joint axes, or a "
+                             "reference_configuration away from a singular posture")
 
 
 def _free_joints_text(robot: Robot, jacobian: np.ndarray, passive: np.ndarray, freedoms: int) -> str:
