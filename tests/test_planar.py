@@ -62,11 +62,13 @@ def test_vertical_copy_costs_what_the_horizontal_one_does(fivebar, vertical):
 
 
 def test_optimum_of_the_vertical_copy_equals_the_horizontal_one(fivebar, vertical):
+    """The same search optimum (the polish stops once its gains fall below 1e-9 of the objective, so two
+    runs that differ by round-off end within about 1e-8 of each other)."""
     path, settings = load_path(CIRCLE), SearchSettings(population=6, max_generations=3, seed=1)
     flat = optimize_placement(fivebar, path, worst=False, settings=settings, time_step_s=0.01)
     upright = optimize_placement(vertical, path, worst=False, settings=settings, time_step_s=0.01)
-    assert upright.best.detail.energy.total_J == pytest.approx(flat.best.detail.energy.total_J, rel=1e-9)
-    np.testing.assert_allclose(upright.best.detail.placement, flat.best.detail.placement, atol=1e-6)
+    assert upright.best.detail.energy.total_J == pytest.approx(flat.best.detail.energy.total_J, rel=1e-7)
+    np.testing.assert_allclose(upright.best.detail.placement, flat.best.detail.placement, atol=1e-5)
 
 
 def test_a_path_in_the_plane_stays_in_it():
