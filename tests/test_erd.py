@@ -8,6 +8,7 @@ import pytest
 
 from placement import load_robot
 from placement.__main__ import main
+from placement.robot.catalog import builtin_robots_dir
 from placement.robot.erd import GEAR_RATIO, load_erd_robot
 
 CIRCLE = Path(__file__).parents[1] / "examples" / "circle.yaml"
@@ -91,3 +92,13 @@ def test_short_search_on_erd_ur10(capsys):
             "--generations", "1", "--population", "2", "--time-step", "0.01", "--quiet"]
     assert main(argv) == 0
     assert "best placement" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("argv", [["calibrate", "erd:ur10", "--log", "x.csv", "--fit", "resistance_ohm"],
+                                  ["assemble", "erd:ur10", "--write"]])
+def test_commands_that_need_a_sidecar_file_say_how_to_write_one(capsys, argv):
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"error: {argv[0]} needs a robot folder or sidecar file, not erd:ur10")
+    assert str(builtin_robots_dir() / "ur5" / "ur5.yaml") in err and "'urdf: example-robot-data:ur10'" in err
+    assert "unknown robot" not in err and err.count("\n") == 1

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import argparse
 
-from placement.cli.common import UsageError, parse_joint_values
+from placement.cli.common import UsageError, parse_joint_values, require_sidecar
 from placement.kinematics.base import SINGULAR_CONDITION
 from placement.robot.assemble import (
     ClosureGap,
@@ -87,6 +87,7 @@ def _limit_warnings(robot: Robot, values: dict[str, float]) -> list[str]:
 
 def run(args: argparse.Namespace) -> int:
     """Close one robot's loops, report, and print or write its reference configuration."""
+    require_sidecar(args.robot, "assemble")
     path = sidecar_path(args.robot)
     if args.write and path.resolve().is_relative_to(builtin_robots_dir().resolve()):
         raise UsageError(f"--write: '{path}' is a built-in robot shipped with placement; copy its folder and "

@@ -9,7 +9,7 @@ import argparse
 from pathlib import Path
 
 from placement.calibration import FITTABLE, UNITS, Calibration, calibrate, read_log, write_calibrated
-from placement.cli.common import UsageError, check_outputs, robot_files
+from placement.cli.common import UsageError, check_outputs, require_sidecar, robot_files
 from placement.robot import load_robot
 
 
@@ -28,6 +28,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Fit, print the constants with their 95 % intervals and the errors; write the outputs asked for."""
+    require_sidecar(args.robot, "calibrate")
     check_outputs(("--png", args.png), inputs=(args.log, *robot_files(args.robot)))
     if args.out is not None and Path(args.out).exists():
         raise UsageError(f"--out: '{args.out}' exists; name a new folder")

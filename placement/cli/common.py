@@ -21,6 +21,7 @@ from placement.path import Timing, ToolPath, load_path
 from placement.robot import Robot, load_robot
 from placement.robot.catalog import sidecar_path
 from placement.robot.erd import ERD_FORM, erd_name, estimate_warning, load_erd_robot
+from placement.robot.load import ERD_PREFIX
 
 
 class UsageError(PlacementError):
@@ -277,6 +278,24 @@ def load_robot_argument(robot: str, tool: str | None) -> Robot:
     loaded = load_erd_robot(name, tool)
     print(f"warning: {estimate_warning(loaded)}", file=sys.stderr)
     return loaded
+
+
+def require_sidecar(robot: str, command: str) -> None:
+    """Refuse ``erd:NAME`` for a command that reads or writes the robot's sidecar file.
+
+    Raises:
+        UsageError: ``robot`` is ``erd:NAME``; the message says how to write a sidecar for it.
+    """
+    name = erd_name(robot)
+    if name is None:
+        return
+    from placement.robot.catalog import builtin_robots_dir  # here: only this message needs it
+
+    model = builtin_robots_dir() / "ur5" / "ur5.yaml"
+    raise UsageError(f"{command} needs a robot folder or sidecar file, not {robot[:80]}, whose estimated sidecar exists "
+                     f"only in memory: write one for it, e.g. copy {model} (a serial arm's sidecar) and set "
+                     f"'urdf: {ERD_PREFIX}{name[:80]}' and your drives in the copy (docs/adding_a_robot.md, "
+                     "1. A serial arm by name), then give the copy's path")
 
 
 def robot_files(robot: str) -> tuple[str, ...]:
