@@ -94,6 +94,8 @@ def _explain(schema: type[BaseModel], error: Any, raw: Any) -> str:
     if error["type"] == "missing":
         return "required field is missing"
     message = error["msg"].removeprefix("Value error, ")
+    if "got " in message:  # a validator's own message already says what it found
+        return message
     return f"{message} (got {_REPR.repr(error['input'])})"
 
 

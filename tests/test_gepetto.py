@@ -37,7 +37,9 @@ def test_loading_lists_the_estimates_in_one_warning_and_says_to_assemble(folder)
     for given in (folder, folder / "robot.yaml"):
         with pytest.warns(EstimatesWarning) as caught, pytest.raises(RobotFileError, match="does not close") as error:
             load_robot(given)
-        assert f"'python -m placement assemble {folder / 'robot.yaml'}' closes the loops" in str(error.value)
+        assert error.value.path == folder / "robot.yaml" and error.value.field == "closed_loop.0"
+        assert f"'python -m placement assemble {folder} --write' closes the loops and writes them to " \
+               f"{folder / 'placement.yaml'}" in str(error.value)
         assert len(caught) == 1
         message = str(caught[0].message)
         assert "these 6 quantities are estimates" in message

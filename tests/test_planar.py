@@ -96,8 +96,9 @@ def test_a_plane_allows_only_in_plane_variables(tmp_path):
     def bad(document: dict) -> None:
         document["placement"] = {"plane": {"normal": [0, 0, 1]}, "free": ["x", "z"]}
 
-    with pytest.raises(RobotFileError, match="placement.*only x, y, phi"):
+    with pytest.raises(RobotFileError, match="placement.*only x, y, phi") as caught:
         load_robot(edited_copy("fivebar", tmp_path, bad))
+    assert caught.value.problem.endswith("may be free or bounded (got z)")  # one "got": the validator's
 
 
 def test_json_and_report_state_the_plane(vertical, tmp_path, capsys):

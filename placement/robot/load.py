@@ -23,7 +23,7 @@ from pydantic import BaseModel
 from placement.exceptions import AssemblyError, PlacementError, RobotFileError
 from placement.robot.catalog import sidecar_path
 from placement.robot.closures import closure_jacobian, closure_residuals
-from placement.robot.gepetto import is_gepetto, read_gepetto
+from placement.robot.gepetto import SIDECAR_NAME, is_gepetto, read_gepetto
 from placement.robot.model import Actuator, Closure, Robot
 from placement.robot.plugins import load_plugin, make_closed_form
 from placement.robot.sidecar import Sidecar, read_sidecar
@@ -340,10 +340,14 @@ def _check_closed_at_reference(robot: Robot) -> None:
         gap = float(np.linalg.norm(residuals[start:start + closure.dimension]))
         start += closure.dimension
         if gap > CLOSURE_TOLERANCE_M:
-            raise RobotFileError(robot.sidecar_path, f"closures.{i}",
-                                 f"closure '{closure.name}' does not close at reference_configuration: "
-                                 f"gap {gap:.3g} (m and rad), expected below {CLOSURE_TOLERANCE_M}; "
-                                 f"'python -m placement assemble {robot.sidecar_path}' closes the loops")
+            field, fix = f"closures.{i}", f"'python -m placement assemble {robot.sidecar_path}' closes the loops"
+            if is_gepetto(robot.sidecar_path):
+                folder = robot.sidecar_path.parent
+                field, fix = f"closed_loop.{i}", (f"'python -m placement assemble {folder} --write' closes the loops "
+                                                  f"and writes them to {folder / SIDECAR_NAME}")
+            raise RobotFileError(robot.sidecar_path, field, f"closure '{closure.name}' does not close at "
+                                 f"reference_configuration: gap {gap:.3g} (m and rad), expected below "
+                                 f"{CLOSURE_TOLERANCE_M}; {fix}")
 
 
 def _check_plugin(robot: Robot) -> None:
