@@ -135,12 +135,14 @@ def test_a_serial_robot_has_nothing_to_assemble(capsys):
     assert "no loop closures" in capsys.readouterr().err
 
 
-def test_a_rewrite_that_would_not_load_leaves_the_sidecar_as_it_was(tmp_path, capsys):
-    def one_actuator_too_few(document):
-        document["reference_configuration"]["b1"] += 0.05
-        del document["actuators"][1]
-        document["sources"] = {key: text for key, text in document["sources"].items() if not key.startswith("actuators.1")}
+def one_actuator_too_few(document):
+    """The five-bar with its loop open and its second motor left out."""
+    document["reference_configuration"]["b1"] += 0.05
+    del document["actuators"][1]
+    document["sources"] = {key: text for key, text in document["sources"].items() if not key.startswith("actuators.1")}
 
+
+def test_a_rewrite_that_would_not_load_leaves_the_sidecar_as_it_was(tmp_path, capsys):
     sidecar = edited_copy("fivebar", tmp_path, one_actuator_too_few)
     before = sidecar.read_bytes()
     assert main(["assemble", str(sidecar), "--write"]) == 2
@@ -148,3 +150,12 @@ def test_a_rewrite_that_would_not_load_leaves_the_sidecar_as_it_was(tmp_path, ca
     assert err.startswith(f"error: {sidecar} not written: it would not load: {sidecar}, field 'actuators': ")
     assert sidecar.read_bytes() == before
     assert sorted(p.name for p in sidecar.parent.iterdir() if p.name.startswith(".")) == []  # no temporary file left
+
+
+def test_singular_passive_joints_are_reported_as_singular(tmp_path, capsys):
+    assert main(["assemble", str(edited_copy("fivebar", tmp_path, one_actuator_too_few))]) == 0
+    out = capsys.readouterr().out
+    assert "    passive joints: singular (smallest singular value of their closure Jacobian 0): the actuated joints " \
+           "do not determine them" in out
+    assert "    actuators to end effector: undefined while the passive joints are singular\n" in out
+    assert "condition number" not in out

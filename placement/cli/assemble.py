@@ -15,6 +15,8 @@ import argparse
 from placement.cli.common import UsageError, parse_joint_values, require_sidecar
 from placement.kinematics.base import SINGULAR_CONDITION
 from placement.robot.assemble import (
+    SINGULAR_SIGMA,
+    Assembly,
     ClosureGap,
     assemble,
     joint_q_index,
@@ -85,6 +87,21 @@ def _limit_warnings(robot: Robot, values: dict[str, float]) -> list[str]:
     return warnings
 
 
+def _print_singularities(result: Assembly) -> None:
+    """How far the closed configuration is from a singularity, or that it is singular."""
+    print("  distance from singularities:")
+    if result.passive_sigma_min <= SINGULAR_SIGMA:
+        print(f"    passive joints: singular (smallest singular value of their closure Jacobian "
+              f"{result.passive_sigma_min:.3g}): the actuated joints do not determine them (a motor missing, a joint to lock, "
+              "or a singular posture)")
+        print("    actuators to end effector: undefined while the passive joints are singular")
+        return
+    print(f"    passive joints: smallest singular value of their closure Jacobian {result.passive_sigma_min:.3g} "
+          "(near 0, the passive joints are near a singular, uncertain assembly)")
+    print(f"    actuators to end effector: condition number {result.task_condition:.3g} "
+          f"(1 is isotropic; beyond {SINGULAR_CONDITION:.0e} the solvers call the configuration singular)")
+
+
 def run(args: argparse.Namespace) -> int:
     """Close one robot's loops, report, and print or write its reference configuration."""
     require_sidecar(args.robot, "assemble")
@@ -107,11 +124,7 @@ def run(args: argparse.Namespace) -> int:
         moved = [f"{a.joint} by {result.q[a.q_index] - result.start_q[a.q_index]:+.4g} {'m' if a.prismatic else 'rad'}"
                  for a in robot.actuators]
         print(f"  the passive joints alone could not close the loops: the actuated joints moved too ({', '.join(moved)})")
-    print("  distance from singularities:")
-    print(f"    passive joints: smallest singular value of their closure Jacobian {result.passive_sigma_min:.3g} "
-          "(near 0, the passive joints are near a singular, uncertain assembly)")
-    print(f"    actuators to end effector: condition number {result.task_condition:.3g} "
-          f"(1 is isotropic; beyond {SINGULAR_CONDITION:.0e} the solvers call the configuration singular)")
+    _print_singularities(result)
     values = reference_values(robot, result)
     for warning in _limit_warnings(robot, values):
         print(f"  warning: {warning}")

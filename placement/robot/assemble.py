@@ -31,6 +31,7 @@ CLOSED_TOLERANCE = 1e-10  # largest gap (m, rad) at which a loop counts as close
 MAX_ITERATIONS = 500
 MAX_STEP = 0.5  # largest joint step of one iteration (m or rad)
 ZERO_SNAP = 1e-14  # joint values this small (m, rad) are written as 0.0
+SINGULAR_SIGMA = 1e-9  # passive closure Jacobian singular at or below this smallest singular value (m or rad per m or rad)
 
 
 @dataclass(frozen=True)
@@ -68,7 +69,8 @@ class Assembly:
             rad of gap per m or rad of joint motion); near 0 the passive joints are near a singular,
             uncertain assembly.
         task_condition: Condition number of the map from actuated joint rates to end-effector
-            velocity (task rows); 1 is isotropic, large is near a singularity of the actuators.
+            velocity (task rows); 1 is isotropic, large is near a singularity of the actuators; inf
+            when the passive joints are singular (``passive_sigma_min`` at most ``SINGULAR_SIGMA``).
     """
 
     q: np.ndarray
@@ -198,6 +200,8 @@ def _singularity_measures(robot: Robot, data: pin.Data, q: np.ndarray) -> tuple[
         sigma_min = 0.0  # fewer equations than passive joints: they are not determined
     else:
         sigma_min = float(np.linalg.svd(j_passive, compute_uv=False)[-1])
+    if sigma_min <= SINGULAR_SIGMA:  # the actuators do not determine the passive joints: no task map
+        return sigma_min, np.inf
     basis, _, _ = null_space_basis(robot, jacobian)
     task = pin.getFrameJacobian(robot.model, data, robot.end_effector_frame_id, LWA)[:robot.task_dimension]
     return sigma_min, float(np.linalg.cond(task @ basis))
