@@ -183,3 +183,19 @@ def test_a_sidecar_older_than_robot_yaml_is_loaded_with_a_warning(folder, capsys
     assert err.startswith(f"warning: {folder / 'placement.yaml'} is older than {folder / 'robot.yaml'}")
     assert f"delete placement.yaml and run 'python -m placement assemble {folder} --write'" in err
     assert "StaleSidecarWarning" not in err and ":0:" not in err
+
+
+def test_a_fivebar_exported_in_the_x_z_plane_gets_its_plane(folder, capsys):
+    urdf = folder / "robot.urdf"  # the export turned a quarter turn about x: the mechanism's plane is x-z
+    text = urdf.read_text()
+    first = text.index("<link")
+    urdf.write_text(text[:first] + '<link name="ground"/><joint name="tilt" type="fixed"><origin xyz="0 0 0" '
+                    'rpy="1.5707963267948966 0 0"/><parent link="ground"/><child link="part_1"/></joint>\n' + text[first:])
+    with pytest.warns(EstimatesWarning):
+        assert main(["assemble", str(folder), "--write"]) == 0
+    document = yaml.safe_load((folder / "placement.yaml").read_text())
+    assert document["placement"] == {"plane": {"normal": [0.0, -1.0, 0.0], "point_m": [0.0, 0.0, 0.3]}}
+    assert document["workspace"]["min_m"] == [-0.06, -0.001, 0.24] and document["sources"]["placement"].startswith("DERIVED")
+    capsys.readouterr()
+    assert main(["--robot", str(folder), "--path", str(CIRCLE), "--generations", "2", "--population", "6"]) == 0
+    assert "plane (sidecar placement.plane): normal [0, -1, 0] through [0, 0, 0.3] m" in capsys.readouterr().out

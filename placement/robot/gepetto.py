@@ -35,11 +35,11 @@ under the sidecar's ``sources``:
   loading then says to run ``placement assemble``.
 
 ``placement assemble FOLDER --write`` closes the loops and writes everything, with the closed
-``reference_configuration`` and an estimated workspace (a box around the end effector of
+``reference_configuration``, an estimated workspace (a box around the end effector of
 half-side 20 % of its distance from the base, along the directions it moves in, ±1 mm across
-them), to ``placement.yaml`` beside ``robot.yaml``: an ordinary sidecar, loaded instead of
-``robot.yaml`` from then on (for the folder or its ``robot.yaml``), where the estimates can be
-replaced. Deleting it goes back to ``robot.yaml``.
+them) and, for a planar mechanism, its plane, to ``placement.yaml`` beside ``robot.yaml``: an
+ordinary sidecar, loaded instead of ``robot.yaml`` from then on (for the folder or its
+``robot.yaml``), where the estimates can be replaced. Deleting it goes back to ``robot.yaml``.
 """
 
 from __future__ import annotations
@@ -386,7 +386,8 @@ def write_sidecar(path: Path, robot: Robot, reference: dict[str, float]) -> Robo
 
 
 def _workspace(robot: Robot, reference: dict[str, float], sources: dict[str, str]) -> dict[str, Any]:
-    """The estimated ``workspace`` (and ``placement`` for a mechanism moving in a horizontal plane)."""
+    """The estimated ``workspace``, and ``placement`` for a mechanism moving in a plane: ``free: [x, y, phi]``
+    in a horizontal plane, else the plane (its normal is the direction the end effector cannot move in)."""
     from placement.kinematics.generic import null_space_basis  # here: the kinematics import this package
     from placement.robot.closures import LWA, closure_jacobian
 
@@ -413,7 +414,23 @@ def _workspace(robot: Robot, reference: dict[str, float], sources: dict[str, str
         result["placement"] = {"free": ["x", "y", "phi"]}
         fix = f"; give --fix z={center[2] * 1e3:.6g} (mm)" if abs(center[2]) > 1e-9 else ""
         sources["placement"] = f"DERIVED: the end effector moves in the plane z = {center[2]:.6g} m: paths lie in it{fix}"
+    elif directions.shape[1] == 2:
+        normal, point = _plane_normal(u[:, 2]), _micrometres(center)
+        result["placement"] = {"plane": {"normal": normal, "point_m": point}}
+        sources["placement"] = (f"DERIVED: the end effector moves in the plane of normal {normal} through {point} m "
+                                "(its position at reference_configuration): paths lie in it")
     return result
+
+
+def _plane_normal(normal: np.ndarray) -> list[float]:
+    """A plane's unit normal, rounded to 6 decimals, signed so that the plane's y axis (see
+    :func:`placement.frames.plane_frame`) does not point down (along -Z_b): placements read y upwards."""
+    from placement.frames import plane_frame  # here: placement.frames imports the robot package
+    from placement.robot.sidecar import Plane
+
+    rounded = [round(float(c), 6) + 0.0 for c in normal]
+    rotation, _ = plane_frame(Plane.model_validate({"normal": rounded}))
+    return rounded if rotation[2, 1] >= -1e-12 else [-c + 0.0 for c in rounded]
 
 
 def _micrometres(point: np.ndarray) -> list[float]:
