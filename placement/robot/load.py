@@ -239,7 +239,26 @@ def _lock_joints(model: pin.Model, path: Path, locked: dict[str, float]) -> pin.
             raise RobotFileError(path, f"locked_joints.{name}", f"{value} is outside the joint's limits [{low}, {high}]")
         q[model.joints[joint_id].idx_q] = value
         ids.append(joint_id)
-    return pin.buildReducedModel(model, ids, q)
+    try:
+        return reduced_model(model, ids, q)
+    except ValueError as error:
+        raise RobotFileError(path, "locked_joints", str(error)) from None
+
+
+def reduced_model(model: pin.Model, joint_ids: list[int], q: np.ndarray) -> pin.Model:
+    """The model with joints ``joint_ids`` held at ``q`` (``pin.buildReducedModel``).
+
+    Raises:
+        ValueError: Pinocchio refuses, with the reason it gives none for: frame names it needs unique.
+    """
+    try:
+        return pin.buildReducedModel(model, joint_ids, q)
+    except ValueError:
+        names = [f.name for f in model.frames]
+        shared = sorted({name for name in names if names.count(name) > 1})
+        raise ValueError(f"Pinocchio cannot hold these joints: it needs unique frame names, and the URDF gives "
+                         f"{', '.join(repr(n) for n in shared[:5])} to both a link and a joint; rename one of each in "
+                         "a copy of the URDF") from None
 
 
 def _frame_id(model: pin.Model, path: Path, field: str, name: str) -> int:

@@ -29,7 +29,7 @@ POLISH_STARTS = 3  # distinct candidates polished locally
 GIVE_UP_GENERATIONS = 25  # generations without any feasible placement after which the search stops
 RECHECK_DENSITY = 4  # the re-check samples the path this many times more densely
 GRADIENT_STEP = 1e-7  # forward-difference step of the polish, as a share of each variable's range
-POLISH_EVALUATIONS = 60  # placement evaluations of a typical polish, for the duration estimate (gradients count n + 1)
+POLISH_EVALUATIONS = 30  # placement evaluations of a typical polish, for the duration estimate (gradients count n + 1)
 STALL_ITERATIONS = 10  # the polish stops when this many iterations improve the objective by at most
 STALL_TOLERANCE = 1e-9  # this share of it (SLSQP otherwise dithers on a limit until its iteration cap)
 
