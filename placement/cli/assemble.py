@@ -23,11 +23,12 @@ from placement.robot.assemble import (
     movable_joints,
     reference_block,
     reference_values,
+    write_gepetto_sidecar,
     write_reference_configuration,
 )
 from placement.robot.catalog import builtin_robots_dir, sidecar_path
 from placement.robot.closures import closure_residuals
-from placement.robot.gepetto import YAML_NAME, is_gepetto, sidecar_beside, write_sidecar
+from placement.robot.gepetto import YAML_NAME, is_gepetto, sidecar_beside
 from placement.robot.load import PRISMATIC_JOINTS, _load_robot, urdf_limits_missing
 from placement.robot.model import Robot
 
@@ -135,7 +136,7 @@ def run(args: argparse.Namespace) -> int:
         print(reference_block(values), end="")
         return 0
     if gepetto:
-        written = write_sidecar(path, robot, values)
+        written = write_gepetto_sidecar(path, robot, values)
         print(f"wrote the sidecar {written.sidecar_path}: reference_configuration ({len(values)} joints), the estimates "
               f"(EST under sources) and an estimated workspace; it is loaded instead of {YAML_NAME} from now on")
     else:

@@ -24,6 +24,7 @@ import yaml
 from placement.exceptions import AssemblyError
 from placement.kinematics.generic import null_space_basis
 from placement.robot.closures import LWA, closure_jacobian, closure_residuals
+from placement.robot.gepetto import URDF_NAME, YAML_NAME, sidecar_beside, sidecar_text
 from placement.robot.load import write_if_it_loads
 from placement.robot.model import Robot
 
@@ -345,3 +346,20 @@ def _end(text: str, node: yaml.Node) -> int:
     last = node.value[-1][1].end_mark.index
     ends = [i for i in (text.find("\n", last), text.find("\r", last)) if i >= 0]
     return min(ends) if ends else len(text)
+
+
+def write_gepetto_sidecar(path: Path, robot: Robot, reference: dict[str, float]) -> Robot:
+    """Write the sidecar of the Gepetto ``robot.yaml`` at ``path`` to ``placement.yaml`` beside it, only if it
+    loads: a ``robot.yaml`` that describes no valid robot leaves no ``placement.yaml`` to hide its fix.
+
+    Returns:
+        The robot loaded from the file written.
+
+    Raises:
+        AssemblyError: The sidecar would not load (nothing is written); the message says what to fix.
+    """
+    try:
+        return write_if_it_loads(sidecar_beside(path), sidecar_text(path, robot, reference))
+    except AssemblyError as error:
+        raise AssemblyError(f"{error}; fix {YAML_NAME} (name_mot lists the actuated joints; joint_name with joint_type "
+                            f"FIXED locks a joint at 0) or {URDF_NAME}, and run assemble --write again") from None

@@ -55,7 +55,7 @@ import pinocchio as pin
 import yaml
 from pydantic import Field, ValidationError
 
-from placement.exceptions import AssemblyError, RobotFileError
+from placement.exceptions import RobotFileError
 from placement.robot.model import Robot
 from placement.robot.sidecar import Sidecar
 from placement.schema import MAX_FILE_BYTES, Strict, read_yaml
@@ -347,25 +347,15 @@ def _estimates_text(path: Path, estimates: list[str]) -> str:
             "from then on: replace them there")
 
 
-def write_sidecar(path: Path, robot: Robot, reference: dict[str, float]) -> Robot:
-    """Write the sidecar of the Gepetto ``robot.yaml`` at ``path`` to ``placement.yaml`` beside it.
-
-    The file is written only if it loads (:func:`placement.robot.load.write_if_it_loads`): a
-    ``robot.yaml`` that describes no valid robot leaves no ``placement.yaml`` to hide its fix.
+def sidecar_text(path: Path, robot: Robot, reference: dict[str, float]) -> str:
+    """The sidecar of the Gepetto ``robot.yaml`` at ``path``, its loops closed at ``reference``, as YAML text
+    (:func:`placement.robot.assemble.write_gepetto_sidecar` writes it beside, if it loads).
 
     Args:
         path: The ``robot.yaml``.
         robot: The robot loaded from it, its loops closed at ``reference`` or not.
         reference: The closed configuration {joint: value (m or rad)}.
-
-    Returns:
-        The robot loaded from the file written.
-
-    Raises:
-        AssemblyError: The sidecar would not load (nothing is written).
     """
-    from placement.robot.load import write_if_it_loads  # here: placement.robot.load imports this module
-
     document, _ = generate(path)
     document["reference_configuration"] = reference
     document["sources"]["reference_configuration"] = "DERIVED: placement assemble closed the loops"
@@ -377,12 +367,8 @@ def write_sidecar(path: Path, robot: Robot, reference: dict[str, float]) -> Robo
               f"# and {URDF_NAME}. Loaded instead of {YAML_NAME} while it exists: replace the estimates (EST under\n"
               "# sources) with your machine's numbers.\n")
     body = yaml.safe_dump(fields, sort_keys=False, default_flow_style=None, width=120)
-    sources = yaml.safe_dump({"sources": document["sources"]}, sort_keys=False, width=10_000)
-    try:
-        return write_if_it_loads(sidecar_beside(path), header + body + sources)
-    except AssemblyError as error:
-        raise AssemblyError(f"{error}; fix {YAML_NAME} (name_mot lists the actuated joints; joint_name with joint_type "
-                            f"FIXED locks a joint at 0) or {URDF_NAME}, and run assemble --write again") from None
+    return header + body + yaml.safe_dump({"sources": document["sources"]}, sort_keys=False, width=10_000)
+
 
 
 def _workspace(robot: Robot, reference: dict[str, float], sources: dict[str, str]) -> dict[str, Any]:
