@@ -2,7 +2,6 @@
 frame meant, and holding joints, which Pinocchio then refuses, is an error that says why."""
 
 import pinocchio as pin
-import pytest
 from example_robot_data.robots_loader import ROBOTS
 from robot_copies import edited_copy
 

@@ -90,4 +90,4 @@ def test_the_duration_is_announced_once_before_the_search_starts():
                        progress=lambda: events.append("generation"), announce=events.append)
     assert events[1:] == ["generation"] * (len(events) - 1) and len(events) > 1
     estimate = events[0]
-    assert 0 < estimate.seconds < np.inf and 0 < estimate.warm_up_s < np.inf
+    assert 0 < estimate.seconds < np.inf

@@ -16,6 +16,8 @@ from pydantic import ValidationError
 from placement.energy.regeneration import REGENERATION
 from placement.exceptions import PlacementError
 from placement.frames import ANGLES, VARIABLES
+from placement.kinematics.base import solver_name
+from placement.kinematics.batched import prepare_kernels
 from placement.objectives import OBJECTIVES
 from placement.path import Timing, ToolPath, load_path
 from placement.robot import Robot, load_robot
@@ -263,7 +265,9 @@ def add_tool_option(parser: argparse.ArgumentParser) -> None:
 def load_robot_argument(robot: str, tool: str | None) -> Robot:
     """The robot a command line names: built-in, installed, a sidecar file, or erd:NAME with --tool.
 
-    An ``erd:`` robot's estimates are said once, as a warning on standard error.
+    An ``erd:`` robot's estimates are said once, as a warning on standard error. A robot solved by the
+    compiled generic kinematics has it loaded here, with a word on standard error when it is being
+    compiled (a machine's first run).
 
     Raises:
         UsageError: --tool given for a robot that is not erd:NAME.
@@ -274,9 +278,13 @@ def load_robot_argument(robot: str, tool: str | None) -> Robot:
         if tool is not None:
             raise UsageError(f"--tool applies to robots given as {ERD_FORM}NAME; the sidecar of '{robot[:80]}' names "
                              "its tool in end_effector.frame")
-        return load_robot(robot)
-    loaded = load_erd_robot(name, tool)
-    print(f"warning: {estimate_warning(loaded)}", file=sys.stderr)
+        loaded = load_robot(robot)
+    else:
+        loaded = load_erd_robot(name, tool)
+        print(f"warning: {estimate_warning(loaded)}", file=sys.stderr)
+    if solver_name(loaded) == "numeric":
+        prepare_kernels(lambda: print("compiling the generic kinematics for this machine (once, about a minute; "
+                                      "later runs load it from the cache) ...", file=sys.stderr, flush=True))
     return loaded
 
 

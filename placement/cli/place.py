@@ -144,12 +144,9 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace) -> tuple[d
 
 def duration_line(estimate: Estimate) -> str:
     """What the search will take, said before it starts."""
-    line = f"search: about {estimate.seconds:.0f} s (at most {estimate.seconds / 60:.1f} min of generations)" \
-        if estimate.seconds >= 60 else f"search: about {max(1.0, estimate.seconds):.0f} s"
-    if estimate.warm_up_s > 5.0:
-        line += (f"; the kinematics kernels were compiled for this machine in {estimate.warm_up_s:.0f} s "
-                 "(once: later runs load them from the cache)")
-    return line
+    if estimate.seconds >= 60:
+        return f"search: about {estimate.seconds / 60:.1f} min"
+    return f"search: about {max(1.0, estimate.seconds):.0f} s"
 
 
 def plane_line(plane: dict[str, list[float]]) -> str:

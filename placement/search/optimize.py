@@ -61,12 +61,9 @@ class Estimate:
 
     Attributes:
         seconds: Expected duration of the whole search (s), at most generations and typical polishes.
-        warm_up_s: Duration of the very first evaluation (s): long when the generic kinematics was compiled
-            for this machine (once; later runs load it from the disk cache).
     """
 
     seconds: float
-    warm_up_s: float
 
 
 @dataclass(frozen=True)
@@ -320,12 +317,10 @@ def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | 
 def estimate(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, settings: SearchSettings,
              directions: int) -> Estimate:
     """Expected duration of a search, from one evaluation of a population on the search's sampling and
-    one of a placement on the path's own (after a first evaluation that loads or compiles the kinematics)."""
+    one of a placement on the path's own (after a first evaluation, which may load the kinematics)."""
     rng = np.random.default_rng(settings.seed)
     population = space.full(rng.uniform(space.lower, space.upper, (settings.population, len(space.free))))
-    tic = time.perf_counter()
     fine.evaluate(population[:1])
-    warm_up = time.perf_counter() - tic
     tic = time.perf_counter()
     coarse.evaluate(population)
     generation = time.perf_counter() - tic
@@ -333,7 +328,7 @@ def estimate(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, settings
     fine.evaluate(population[1:2])
     placement = time.perf_counter() - tic
     polish = POLISH_STARTS * POLISH_EVALUATIONS * placement * (1 + len(space.free) / 2)
-    return Estimate(seconds=directions * (settings.max_generations * generation + polish), warm_up_s=warm_up)
+    return Estimate(seconds=directions * (settings.max_generations * generation + polish))
 
 
 def _optimize(coarse: Evaluator, evaluator: Evaluator, dense: Evaluator, space: PlacementSpace,
