@@ -27,7 +27,6 @@ from placement.frames import ANGLES, VARIABLES, placement_pose, robot_plane
 from placement.objectives import wording
 from placement.report import write_atomically
 from placement.search.sweep import sweep
-from placement.visualize import Scene
 
 MAX_GRID_POINTS = 1_000_000
 
@@ -111,6 +110,8 @@ def run(args: argparse.Namespace) -> int:
         save(map_figure(result, f"{path.name}: {words.subject} ({args.regen})"), str(args.png).removesuffix(".png"))
         print(f"figure written to {args.png} (and .svg)")
     if args.html:
+        from placement.visualize import Scene  # meshcat and trimesh load only when a scene is drawn
+
         scene = Scene(robot)
         scene.add_workspace()
         keep = result.feasible.ravel()

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from typing import TYPE_CHECKING
 
 import numpy as np
 from tqdm import tqdm
@@ -35,7 +36,9 @@ from placement.path import ToolPath
 from placement.report import detail_json, format_detail, format_result, write_atomically, write_json, write_trace
 from placement.robot import Robot
 from placement.search.optimize import Estimate, SearchSettings, optimize_placement
-from placement.visualize import AT_COLOR, BEST_COLOR, WORST_COLOR, PageServer, Scene
+
+if TYPE_CHECKING:  # the scene's modules (meshcat, trimesh) load only for --html and --show
+    from placement.visualize import Scene
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -161,6 +164,8 @@ def plane_line(plane: dict[str, list[float]]) -> str:
 
 def draw(scene: Scene, robot: Robot, index: int, details: dict) -> None:
     """Add one path's placements to the scene; animate the robot along the first path's."""
+    from placement.visualize import AT_COLOR, BEST_COLOR, WORST_COLOR
+
     words = wording(next(iter(details.values())).objective) if details else None
     colors = {"best": (BEST_COLOR, f"{words.best} {words.subject}" if words else ""),
               "worst": (WORST_COLOR, f"{words.worst} {words.subject}" if words else ""), "at": (AT_COLOR, "--at")}
@@ -179,6 +184,8 @@ def show(page: str, host: str) -> None:
     if not (host == "localhost" or host.startswith("127.") or host == "::1"):
         print(f"warning: --show-host {host}: the scene is served to every machine that can reach this address",
               file=sys.stderr)
+    from placement.visualize import PageServer
+
     try:
         server = PageServer(page, host)
     except OSError as error:
@@ -202,7 +209,11 @@ def run(args: argparse.Namespace) -> int:
                          "--minimize or --maximize")
     check_outputs(("--json", args.json), ("--trace", args.trace), ("--html", args.html),
                   inputs=(*args.path, *robot_files(args.robot)))
-    scene = Scene(robot) if args.html or args.show else None
+    scene = None
+    if args.html or args.show:
+        from placement.visualize import Scene
+
+        scene = Scene(robot)
     if scene:
         scene.add_workspace()
     documents, failures = [], []

@@ -8,7 +8,6 @@ the mechanism's degrees of freedom. Errors name the file and the field.
 
 from __future__ import annotations
 
-import logging
 import os
 import tempfile
 from pathlib import Path
@@ -17,7 +16,6 @@ from xml.etree import ElementTree
 
 import numpy as np
 import pinocchio as pin
-import yourdfpy
 from pydantic import BaseModel
 
 from placement.exceptions import AssemblyError, PlacementError, RobotFileError
@@ -199,31 +197,49 @@ def _pinocchio_model(path: Path) -> pin.Model:
             os.close(saved)
 
 
-def _read_urdf(path: Path) -> yourdfpy.URDF:
-    """Parse the URDF with yourdfpy and check every inertial is physical."""
-    logging.getLogger("yourdfpy").setLevel(logging.ERROR)
+def _read_urdf(path: Path) -> dict[str, set[str]]:
+    """Parse the URDF, check every inertial is physical, and return its link and joint names.
+
+    The standard library's XML parser reads what loading needs (inertials and names), and
+    Pinocchio builds the model: a URDF library would add a second of imports to every command.
+    """
     try:
         root = ElementTree.parse(path).getroot()
     except (ElementTree.ParseError, UnicodeDecodeError) as error:
         raise RobotFileError(path, "", f"not an XML file: {str(error)[:200]}") from None
     if root.tag != "robot":
         raise RobotFileError(path, "", f"not a URDF: the root element is <{root.tag[:40]}>, expected <robot>")
+    for link in root.findall("link"):
+        inertial = link.find("inertial")
+        if inertial is not None:
+            _check_inertial(path, f"link '{link.get('name')}' inertial", inertial)
+    return {kind: {str(element.get("name")) for element in root.findall(kind)} for kind in ("link", "joint")}
+
+
+def _check_inertial(path: Path, field: str, inertial: ElementTree.Element) -> None:
+    """A finite mass >= 0 and a physical inertia tensor (principal moments >= 0, triangle inequality)."""
+    mass = _attribute(path, field, inertial.find("mass"), "value")
+    if not np.isfinite(mass) or mass < 0:
+        raise RobotFileError(path, field, f"mass must be a finite number >= 0 kg (got {mass})")
+    inertia = inertial.find("inertia")
+    if inertia is None:
+        return
+    xx, xy, xz, yy, yz, zz = (_attribute(path, field, inertia, key) for key in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"))
+    tensor = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+    moments = np.linalg.eigvalsh(tensor) if np.isfinite(tensor).all() else np.full(3, np.nan)
+    if not moments.min() >= -1e-12 or moments.sum() - 2 * moments.max() < -1e-12:
+        raise RobotFileError(path, field, f"inertia tensor must be physical: principal moments >= 0 "
+                             f"and satisfying the triangle inequality (got {moments.tolist()} kg m^2)")
+
+
+def _attribute(path: Path, field: str, element: ElementTree.Element | None, key: str) -> float:
+    """A number attribute of an inertial's element."""
+    text = None if element is None else element.get(key)
     try:
-        urdf = yourdfpy.URDF.load(str(path), build_scene_graph=False, load_meshes=False)
-    except Exception as error:  # yourdfpy raises a variety of parser errors
-        raise RobotFileError(path, "", f"not a readable URDF: {str(error)[:200]}") from None
-    for link in urdf.robot.links:
-        inertial = link.inertial
-        if inertial is None:
-            continue
-        field = f"link '{link.name}' inertial"
-        if inertial.mass is None or not np.isfinite(inertial.mass) or inertial.mass < 0:
-            raise RobotFileError(path, field, f"mass must be a finite number >= 0 kg (got {inertial.mass})")
-        moments = np.linalg.eigvalsh(np.asarray(inertial.inertia, dtype=float))
-        if moments.min() < -1e-12 or moments.sum() - 2 * moments.max() < -1e-12:
-            raise RobotFileError(path, field, f"inertia tensor must be physical: principal moments >= 0 "
-                                 f"and satisfying the triangle inequality (got {moments.tolist()} kg m^2)")
-    return urdf
+        return float(text)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        tag = "mass" if key == "value" else "inertia"
+        raise RobotFileError(path, field, f"<{tag} {key}=...> must be a number (got {text!r})") from None
 
 
 def _lock_joints(model: pin.Model, path: Path, locked: dict[str, float]) -> pin.Model:
@@ -328,9 +344,8 @@ def _reference_q(model: pin.Model, path: Path, values: dict[str, float], locked:
     return q
 
 
-def _check_sources(path: Path, sidecar: Sidecar, urdf: yourdfpy.URDF) -> None:
-    """Every key under ``sources`` must name a sidecar field or a URDF link or joint."""
-    names = {"link": {l.name for l in urdf.robot.links}, "joint": {j.name for j in urdf.robot.joints}}
+def _check_sources(path: Path, sidecar: Sidecar, names: dict[str, set[str]]) -> None:
+    """Every key under ``sources`` must name a sidecar field or a URDF link or joint (``names`` by kind)."""
     for key in sidecar.sources:
         parts = key.split(".")
         if parts[0] == "urdf":
