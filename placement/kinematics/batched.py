@@ -1,4 +1,4 @@
-"""The generic kinematics solver (``numeric``): any closed-loop or serial robot, batched in numpy.
+"""The generic kinematics solver (``numeric``): any closed-loop or serial robot, in compiled batches.
 
 Every sample of every placement is solved together, by the compiled kernels of
 :mod:`~placement.kinematics.kernels`:
@@ -63,7 +63,7 @@ class Targets:
 
 
 class BatchedKinematics:
-    """Newton, tangents and rates for one robot over batches of configurations (compiled kernels)."""
+    """Path solves and joint rates for one robot over batches of placements (compiled kernels)."""
 
     def __init__(self, robot: Robot) -> None:
         self.robot = robot
