@@ -9,14 +9,13 @@ from __future__ import annotations
 import csv
 import io
 import json
-import os
-import tempfile
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from placement.evaluation import PlacementDetail
+from placement.files import staged
 from placement.frames import ANGLES, VARIABLES
 from placement.objectives import OBJECTIVES, wording
 from placement.robot.model import Robot
@@ -114,20 +113,9 @@ def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None =
 
 
 def write_atomically(path: str | Path, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file in the same folder and a rename."""
-    path = Path(path)
-    handle, temporary = tempfile.mkstemp(dir=path.parent if str(path.parent) else ".", prefix=f".{path.name}.")
-    umask = os.umask(0)
-    os.umask(umask)
-    try:
-        with os.fdopen(handle, "w", newline="") as stream:
-            stream.write(text)
-        mode = path.stat().st_mode & 0o7777 if path.is_file() else 0o666 & ~umask  # keep a file's mode
-        os.chmod(temporary, mode)
-        os.replace(temporary, path)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
+    """Write ``text`` to ``path`` through a temporary file in the same folder and a rename (:func:`staged`)."""
+    with staged(path, text):
+        pass
 
 
 def write_json(path: str | Path, document: dict[str, Any]) -> None:

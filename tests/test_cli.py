@@ -198,7 +198,7 @@ def test_path_too_large_is_answered_with_the_binding_limit(tmp_path, capsys):
 
 
 def test_json_is_written_atomically(tmp_path, monkeypatch):
-    from placement import report
+    from placement import files, report
 
     target = tmp_path / "result.json"
     report.write_json(target, {"energy_J": 1.0})
@@ -206,7 +206,7 @@ def test_json_is_written_atomically(tmp_path, monkeypatch):
     def fail(*args, **kwargs):
         raise OSError("disk full")
 
-    monkeypatch.setattr(report.os, "replace", fail)
+    monkeypatch.setattr(files.os, "replace", fail)
     with pytest.raises(OSError):
         report.write_json(target, {"energy_J": 2.0})
     assert target.read_text() == '{\n  "energy_J": 1.0\n}\n'  # the old file is whole

@@ -19,6 +19,7 @@ import pinocchio as pin
 from pydantic import BaseModel
 
 from placement.exceptions import AssemblyError, PlacementError, RobotFileError
+from placement.files import staged
 from placement.robot.catalog import sidecar_path
 from placement.robot.closures import closure_jacobian, closure_residuals
 from placement.robot.gepetto import SIDECAR_NAME, is_gepetto, read_gepetto
@@ -78,30 +79,14 @@ def write_if_it_loads(path: Path, text: str) -> Robot:
     Raises:
         AssemblyError: The text does not load; the message names ``path`` and the loading error.
     """
-    handle, name = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".yaml")
-    temporary = Path(name)
-    try:
-        with os.fdopen(handle, "w", encoding="utf-8", newline="") as stream:
-            stream.write(text)
+    with staged(path, text) as temporary:
         try:
             robot = load_robot(temporary)
         except PlacementError as error:
             said = str(error).replace(str(temporary), str(path))
             raise AssemblyError(f"{path} not written: it would not load: {said}") from None
-        mode = path.stat().st_mode & 0o7777 if path.is_file() else 0o666 & ~_umask()  # keep a file's mode
-        os.chmod(temporary, mode)
-        os.replace(temporary, path)
-    finally:
-        temporary.unlink(missing_ok=True)
     robot.sidecar_path = path
     return robot
-
-
-def _umask() -> int:
-    """The process's file-creation mask."""
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
 
 
 def build_robot(path: Path, sidecar: Sidecar, *, check_closures: bool = True) -> Robot:
