@@ -6,7 +6,7 @@ from example_robot_data.robots_loader import ROBOTS
 from robot_copies import edited_copy
 
 from placement.__main__ import main
-from placement.robot.erd import _find_frame
+from placement.robot.load import find_frame
 
 ELBOW = '<parent link="prox1"/><child link="dist1"/>'
 
@@ -14,8 +14,8 @@ ELBOW = '<parent link="prox1"/><child link="dist1"/>'
 def test_a_name_shared_by_a_link_and_a_joint_finds_the_link():
     model = pin.buildModelFromUrdf(ROBOTS["z1"]().df_path)
     assert sum(f.name == "gripperStator" for f in model.frames) > 1  # the case this test is about
-    assert model.frames[_find_frame(model, "gripperStator")].type == pin.FrameType.BODY
-    assert _find_frame(model, "no such frame") is None
+    assert model.frames[find_frame(model, "gripperStator")].type == pin.FrameType.BODY
+    assert find_frame(model, "no such frame") is None
 
 
 def test_holding_joints_of_a_urdf_with_shared_names_is_a_located_error(tmp_path, capsys):

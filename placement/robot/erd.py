@@ -43,7 +43,7 @@ import pinocchio as pin
 from pydantic import ValidationError
 
 from placement.exceptions import PlacementError
-from placement.robot.load import ERD_PREFIX, build_robot, reduced_model
+from placement.robot.load import ERD_PREFIX, build_robot, find_frame, reduced_model
 from placement.robot.model import Robot
 from placement.robot.sidecar import Sidecar
 
@@ -288,7 +288,7 @@ class _Solver:
 
     def __init__(self, model: pin.Model, tool: str, pose: bool, reach_m: float) -> None:
         self.model, self.data, self.pose, self.reach_m = model, model.createData(), pose, reach_m
-        self.frame_id = _find_frame(model, tool)
+        self.frame_id = find_frame(model, tool)
 
     def from_full(self, full: pin.Model, q_full: np.ndarray) -> np.ndarray:
         """A configuration of this model from one of the full model (joints matched by name)."""
@@ -369,15 +369,6 @@ def _clip(model: pin.Model, joint: int, value: float) -> float:
     return float(np.clip(value, model.lowerPositionLimit[index], model.upperPositionLimit[index]))
 
 
-def _find_frame(model: pin.Model, name: str) -> int | None:
-    """The id of the frame called ``name``: a link first, then a fixed joint, then a joint (a URDF may give a
-    link and a joint one name); None if there is none."""
-    for kind in (pin.FrameType.BODY, pin.FrameType.FIXED_JOINT, pin.FrameType.JOINT):
-        if model.existFrame(name, kind):
-            return int(model.getFrameId(name, kind))
-    return None
-
-
 def _tool_frame(model: pin.Model, name: str, tool: str | None) -> int:
     """The id of the tool frame (a link, else a joint), or an error listing the candidates."""
     parents = {frame.parentFrame for frame in model.frames}
@@ -385,7 +376,7 @@ def _tool_frame(model: pin.Model, name: str, tool: str | None) -> int:
     if tool is None:
         raise ExampleRobotError(f"{ERD_FORM}{name} needs --tool FRAME, the frame that follows the path; candidates "
                                 f"(the leaves of its tree): {', '.join(leaves)}")
-    frame_id = _find_frame(model, tool)
+    frame_id = find_frame(model, tool)
     if frame_id is not None:
         return frame_id
     links = [f.name for f in model.frames if f.type == pin.FrameType.BODY]

@@ -254,9 +254,11 @@ def reduced_model(model: pin.Model, joint_ids: list[int], q: np.ndarray) -> pin.
     """
     try:
         return pin.buildReducedModel(model, joint_ids, q)
-    except ValueError:
+    except ValueError as error:
         names = [f.name for f in model.frames]
         shared = sorted({name for name in names if names.count(name) > 1})
+        if not shared:
+            raise ValueError(f"Pinocchio cannot hold these joints: {str(error)[:200]}") from None
         raise ValueError(f"Pinocchio cannot hold these joints: it needs unique frame names, and the URDF gives "
                          f"{', '.join(repr(n) for n in shared[:5])} to both a link and a joint; rename one of each in "
                          "a copy of the URDF") from None
@@ -264,10 +266,19 @@ def reduced_model(model: pin.Model, joint_ids: list[int], q: np.ndarray) -> pin.
 
 def _frame_id(model: pin.Model, path: Path, field: str, name: str) -> int:
     """Frame id of a link (preferred) or joint called ``name``."""
+    frame_id = find_frame(model, name)
+    if frame_id is None:
+        raise RobotFileError(path, field, f"no frame '{name}' in the URDF (links and joints are frames)")
+    return frame_id
+
+
+def find_frame(model: pin.Model, name: str) -> int | None:
+    """The id of the frame called ``name``: a link first, then a fixed joint, then a joint (a URDF may give a
+    link and a joint one name); None if there is none."""
     for kind in (pin.FrameType.BODY, pin.FrameType.FIXED_JOINT, pin.FrameType.JOINT):
         if model.existFrame(name, kind):
-            return model.getFrameId(name, kind)
-    raise RobotFileError(path, field, f"no frame '{name}' in the URDF (links and joints are frames)")
+            return int(model.getFrameId(name, kind))
+    return None
 
 
 def _joint_id(model: pin.Model, path: Path, field: str, name: str, locked: dict[str, float] | None = None) -> int:
