@@ -89,5 +89,4 @@ def test_the_duration_is_announced_once_before_the_search_starts():
                        best=True, worst=False, settings=SearchSettings(population=8, max_generations=3),
                        progress=lambda: events.append("generation"), announce=events.append)
     assert events[1:] == ["generation"] * (len(events) - 1) and len(events) > 1
-    estimate = events[0]
-    assert 0 < estimate.seconds < np.inf
+    assert 0 < events[0] < np.inf

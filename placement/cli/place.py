@@ -35,7 +35,7 @@ from placement.objectives import OBJECTIVES, wording
 from placement.path import ToolPath
 from placement.report import detail_json, format_detail, format_result, write_atomically, write_json, write_trace
 from placement.robot import Robot
-from placement.search.optimize import Estimate, SearchSettings, optimize_placement
+from placement.search.optimize import SearchSettings, optimize_placement
 
 if TYPE_CHECKING:  # the scene's modules (meshcat, trimesh) load only for --html and --show
     from placement.visualize import Scene
@@ -145,11 +145,11 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace) -> tuple[d
     return document, details, result.infeasible
 
 
-def duration_line(estimate: Estimate) -> str:
-    """What the search will take, said before it starts."""
-    if estimate.seconds >= 60:
-        return f"search: about {estimate.seconds / 60:.1f} min"
-    return f"search: about {max(1.0, estimate.seconds):.0f} s"
+def duration_line(seconds: float) -> str:
+    """What the search will take (``seconds``, s), said before it starts."""
+    if seconds >= 60:
+        return f"search: about {seconds / 60:.1f} min"
+    return f"search: about {max(1.0, seconds):.0f} s"
 
 
 def plane_line(plane: dict[str, list[float]]) -> str:

@@ -56,17 +56,6 @@ class SearchSettings:
 
 
 @dataclass(frozen=True)
-class Estimate:
-    """How long a search should take, from timing its first evaluations.
-
-    Attributes:
-        seconds: Expected duration of the whole search (s), at most generations and typical polishes.
-    """
-
-    seconds: float
-
-
-@dataclass(frozen=True)
 class Optimum:
     """The placement found in one direction.
 
@@ -281,7 +270,7 @@ def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | 
                        objective: str = "energy", regeneration: str = "clip", best: bool = True, worst: bool = True,
                        time_step_s: float | None = None, settings: SearchSettings = SearchSettings(),
                        progress: Callable[[], None] | None = None,
-                       announce: Callable[[Estimate], None] | None = None) -> PlacementResult:
+                       announce: Callable[[float], None] | None = None) -> PlacementResult:
     """Find the best (and worst) feasible placement of a path on a robot by an objective.
 
     Args:
@@ -294,7 +283,7 @@ def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | 
         time_step_s: Path sampling step (default: the path file's).
         settings: Search budget and seed.
         progress: Called once per generation of the global search (for a progress bar).
-        announce: Called with the expected duration before the search starts.
+        announce: Called with the expected duration (s) before the search starts.
 
     Returns:
         The optima (None in a direction not asked for), or, when no placement is feasible, the
@@ -315,9 +304,10 @@ def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | 
 
 
 def estimate(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, settings: SearchSettings,
-             directions: int) -> Estimate:
-    """Expected duration of a search, from one evaluation of a population on the search's sampling and
-    one of a placement on the path's own (after a first evaluation, which may load the kinematics)."""
+             directions: int) -> float:
+    """Expected duration (s) of a search (every generation and typical polishes), from one evaluation of a
+    population on the search's sampling and one of a placement on the path's own (after a first
+    evaluation, which may load the kinematics)."""
     rng = np.random.default_rng(settings.seed)
     population = space.full(rng.uniform(space.lower, space.upper, (settings.population, len(space.free))))
     fine.evaluate(population[:1])
@@ -328,7 +318,7 @@ def estimate(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, settings
     fine.evaluate(population[1:2])
     placement = time.perf_counter() - tic
     polish = POLISH_STARTS * POLISH_EVALUATIONS * placement * (1 + len(space.free) / 2)
-    return Estimate(seconds=directions * (settings.max_generations * generation + polish))
+    return directions * (settings.max_generations * generation + polish)
 
 
 def _optimize(coarse: Evaluator, evaluator: Evaluator, dense: Evaluator, space: PlacementSpace,
