@@ -14,6 +14,7 @@ and psi stay 0, keeping the path in the plane: bTp = bT_pl·(the placement's tra
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -220,10 +221,15 @@ def _workspace_ranges(robot: Robot, plane: Plane | None) -> dict[str, tuple[floa
     if plane is None:
         return {axis: (workspace.min_m[k], workspace.max_m[k]) for k, axis in enumerate("xyz")}
     turn, origin = plane_frame(plane)
-    corners = np.array([[x, y, z] for x in (workspace.min_m[0], workspace.max_m[0])
-                        for y in (workspace.min_m[1], workspace.max_m[1]) for z in (workspace.min_m[2], workspace.max_m[2])])
-    local = (corners - origin) @ turn
+    local = (box_corners(workspace.min_m, workspace.max_m) - origin) @ turn
     return {axis: (float(local[:, k].min()), float(local[:, k].max())) for k, axis in enumerate("xyz")}
+
+
+def box_corners(low: Sequence[float] | np.ndarray, high: Sequence[float] | np.ndarray) -> np.ndarray:
+    """(8, 3) corners of the axis-aligned box from ``low`` to ``high``: corner k takes ``high`` along x, y, z
+    where bits 2, 1, 0 of k are set (so corners one bit apart share an edge)."""
+    return np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])],
+                    dtype=float)
 
 
 def _check_in_plane(robot: str, plane: Plane, free: tuple[str, ...], fixed: dict[str, float]) -> None:

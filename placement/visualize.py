@@ -35,6 +35,7 @@ from meshcat.servers.tree import SceneTree, find_node, walk
 from pinocchio.visualize import MeshcatVisualizer
 
 from placement.exceptions import RobotFileError
+from placement.frames import box_corners
 from placement.robot.model import Robot
 
 VIEWER_SCRIPT = Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js"
@@ -133,7 +134,7 @@ class Scene:
         if workspace is None:
             return
         low, high = np.array(workspace.min_m), np.array(workspace.max_m)
-        corners = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])])
+        corners = box_corners(low, high)
         self.drawn_points_m.append(corners)
         edges = [(i, j) for i in range(8) for j in range(i + 1, 8) if bin(i ^ j).count("1") == 1]
         segments = np.array([corners[k] for edge in edges for k in edge]).T
@@ -284,8 +285,7 @@ def robot_points(robot: Robot, visual: pin.GeometryModel) -> np.ndarray:
             box = item.geometry.aabb_local
         except (AttributeError, RuntimeError):  # a geometry without a local box: its frame origin is counted
             continue
-        low, high = np.asarray(box.min_) * item.meshScale, np.asarray(box.max_) * item.meshScale
-        corners = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])])
+        corners = box_corners(np.asarray(box.min_) * item.meshScale, np.asarray(box.max_) * item.meshScale)
         points.append(corners @ placement.rotation.T + placement.translation)
     return np.vstack(points)
 
