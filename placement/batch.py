@@ -9,6 +9,7 @@ import numpy as np
 
 from placement.drives.trace import MotorTrace
 from placement.energy.integration import Energy, electric_energy, interval_power, interval_widths
+from placement.kinematics.trajectories import JointTrajectory
 from placement.path import PathSamples
 from placement.robot.model import Robot
 
@@ -30,6 +31,7 @@ class EvaluatedBatch:
         effort: (K, N, n_act) actuator forces (N) or torques (N·m).
         motor: Motor speed, torque and current, (K, N, n_act).
         regeneration: The regeneration policy energies are computed under.
+        joints: Motion of every joint of the spanning tree, K·N rows (placement-major).
     """
 
     robot: Robot
@@ -43,6 +45,7 @@ class EvaluatedBatch:
     effort: np.ndarray
     motor: MotorTrace
     regeneration: str
+    joints: JointTrajectory
 
     def __len__(self) -> int:
         return len(self.placements)

@@ -181,7 +181,7 @@ class Evaluator:
                               reachable=reachable.reshape(k, n), tool_position_m=task.position_m.reshape(k, n, 3),
                               position=position, velocity=velocity, acceleration=acceleration, effort=effort,
                               motor=motor_trace(self.robot, effort, velocity, acceleration),
-                              regeneration=self.regeneration)
+                              regeneration=self.regeneration, joints=joints)
 
     def evaluate(self, placements: np.ndarray) -> Evaluation:
         """Objective and tightest margins of (K, 6) placements."""

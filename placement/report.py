@@ -17,7 +17,7 @@ import numpy as np
 from placement.evaluation import PlacementDetail
 from placement.files import staged
 from placement.frames import ANGLES, VARIABLES
-from placement.objectives import OBJECTIVES, wording
+from placement.objectives import OBJECTIVES, quantity, wording
 from placement.robot.model import Robot
 from placement.search.optimize import Optimum, PlacementResult
 
@@ -64,10 +64,10 @@ def format_detail(title: str, robot: Robot, detail: PlacementDetail, recheck_val
 
 
 def _value_line(title: str, value: float, unit: str, recheck: float | None) -> str:
-    text = f"  {title} {value:.4f} {unit}"
+    text = f"  {title} {quantity(value, unit)}"
     if recheck is not None:
         change = f"{(recheck - value) / value * 100:+.3f} %" if value else "n/a"
-        text += f" (4x denser sampling: {recheck:.4f} {unit}, {change})"
+        text += f" (4x denser sampling: {quantity(recheck, unit)}, {change})"
     return text
 
 
@@ -83,7 +83,7 @@ def format_result(robot: Robot, result: PlacementResult) -> str:
         difference = abs(result.worst.detail.value - result.best.detail.value)
         per_pass = " per pass" if words.unit == "J" else ""
         blocks.append(f"gain: placing the path at the best instead of the worst placement {words.gain_verb} "
-                      f"{result.gain * 100:.1f} % of the {words.subject} ({difference:.4f} {words.unit}{per_pass})")
+                      f"{result.gain * 100:.1f} % of the {words.subject} ({quantity(difference, words.unit)}{per_pass})")
     return "\n\n".join(blocks)
 
 

@@ -24,7 +24,7 @@ from placement.cli.common import (
     whole_number,
 )
 from placement.frames import ANGLES, VARIABLES, placement_pose, robot_plane
-from placement.objectives import wording
+from placement.objectives import quantity, wording
 from placement.report import write_atomically
 from placement.search.sweep import sweep
 
@@ -102,7 +102,7 @@ def run(args: argparse.Namespace) -> int:
     feasible = result.value[result.feasible]
     words = wording(args.objective)
     print(f"{total} placements of {path.name} on {robot.name}: {len(feasible)} feasible"
-          + (f", {words.subject} {feasible.min():.4f} to {feasible.max():.4f} {words.unit}" if len(feasible) else "")
+          + (f", {words.subject} {feasible.min():.4f} to {quantity(feasible.max(), words.unit)}" if len(feasible) else "")
           + f"; written to {out}")
     if args.png:
         from placement.plots import map_figure, save

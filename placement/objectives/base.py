@@ -67,6 +67,11 @@ class Wording:
     gain_verb: str
 
 
+def quantity(value: float, unit: str) -> str:
+    """A value with its unit, as reports print it ("4.7683 J"; a dimensionless one alone)."""
+    return f"{value:.4f} {unit}" if unit else f"{value:.4f}"
+
+
 def wording(name: str) -> Wording:
     """The wording of the objective called ``name``."""
     objective = OBJECTIVES.get(name)
