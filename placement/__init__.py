@@ -2,7 +2,8 @@
 
 The public API, in data-flow order: load a robot (:func:`load_robot`) and a path
 (:func:`load_path`), search the best and worst placements by an objective
-(:func:`optimize_placement`, electric energy by default), map an objective over a grid
+(:func:`optimize_placement`, electric energy by default), trade two or three objectives off
+(:func:`pareto_front`), map an objective over a grid
 (:func:`sweep`), or evaluate placements yourself (:class:`Evaluator`). Underneath: the
 end-effector motion (:class:`TaskTrajectory`), every joint's motion (:func:`joint_trajectory`),
 the actuator efforts (:func:`inverse_dynamics`); :func:`check_robot` proves a robot model exact.
@@ -42,6 +43,7 @@ from placement.path import ToolPath, load_path
 from placement.registry import UnknownMemberError
 from placement.robot import Actuator, Closure, Robot, load_robot, robot_names
 from placement.search.optimize import Optimum, PlacementResult, SearchSettings, optimize_placement
+from placement.search.pareto import FrontMember, ParetoFront, pareto_front
 from placement.search.sweep import SweepResult, sweep
 
 __all__ = [
@@ -58,6 +60,7 @@ __all__ = [
     "Energy",
     "Evaluation",
     "Evaluator",
+    "FrontMember",
     "InputFileError",
     "JointTrajectory",
     "KinematicsSolver",
@@ -67,6 +70,7 @@ __all__ = [
     "MotorModel",
     "Objective",
     "Optimum",
+    "ParetoFront",
     "PathFileError",
     "PlacementDetail",
     "PlacementError",
@@ -92,6 +96,7 @@ __all__ = [
     "load_path",
     "load_robot",
     "optimize_placement",
+    "pareto_front",
     "register_motor_model",
     "robot_names",
     "solve_configuration",

@@ -39,19 +39,30 @@ class Evaluation:
 
     Attributes:
         placements: (K, 6) placement vectors (m, rad).
-        objective: The objective's name.
-        value: (K,) the objective (inf, or -inf when higher is better, where a sample is unreachable).
+        objectives: The objectives' names, the ranking one first.
+        values: (K, n_objectives) the objectives (inf, or -inf when higher is better, where a sample
+            is unreachable).
         margins: (K, n_limits) tightest normalised margin of each limit (kind and actuator or axis).
         limits: Labels of the margin columns.
         reachable: (K,) whether every sample has a configuration.
     """
 
     placements: np.ndarray
-    objective: str
-    value: np.ndarray
+    objectives: tuple[str, ...]
+    values: np.ndarray
     margins: np.ndarray
     limits: tuple[str, ...]
     reachable: np.ndarray
+
+    @property
+    def objective(self) -> str:
+        """The ranking objective's name."""
+        return self.objectives[0]
+
+    @property
+    def value(self) -> np.ndarray:
+        """(K,) the ranking objective."""
+        return self.values[:, 0]
 
     @property
     def feasible(self) -> np.ndarray:
@@ -61,8 +72,8 @@ class Evaluation:
     @staticmethod
     def concatenate(parts: list[Evaluation]) -> Evaluation:
         """The placements of several evaluations, one after the other."""
-        return Evaluation(placements=np.concatenate([p.placements for p in parts]), objective=parts[0].objective,
-                          value=np.concatenate([p.value for p in parts]),
+        return Evaluation(placements=np.concatenate([p.placements for p in parts]), objectives=parts[0].objectives,
+                          values=np.concatenate([p.values for p in parts]),
                           margins=np.concatenate([p.margins for p in parts]), limits=parts[0].limits,
                           reachable=np.concatenate([p.reachable for p in parts]))
 
@@ -121,7 +132,8 @@ class Evaluator:
         regeneration: Regeneration policy's name, see :mod:`placement.energy.regeneration`.
         time_step_s: Sampling step (default: the path file's).
         method: Kinematics solver's name, see :func:`placement.kinematics.joint_trajectory`.
-        objective: Objective's name, see :mod:`placement.objectives`.
+        objective: Objective's name, see :mod:`placement.objectives`; or several names, the ranking
+            one first, all of which :meth:`evaluate` computes.
         workers: Worker processes for a solver that is not vectorised (default: every core);
             1 evaluates in this process.
         executor: Any ``concurrent.futures.Executor`` to use instead of an own process pool.
@@ -129,7 +141,7 @@ class Evaluator:
     """
 
     def __init__(self, robot: Robot, path: ToolPath, regeneration: str = "clip", time_step_s: float | None = None,
-                 method: str = "auto", objective: str = "energy", workers: int | None = None,
+                 method: str = "auto", objective: str | tuple[str, ...] = "energy", workers: int | None = None,
                  executor: Executor | None = None, threads: int | None = None) -> None:
         REGENERATION.get(regeneration)  # unknown names fail here, before any work
         self.robot = robot
@@ -139,8 +151,10 @@ class Evaluator:
         self.method = method
         self.threads = threads or os.cpu_count() or 1
         self.solver = solver_for(robot, method, self.threads)
-        self.objective_name = objective
-        self.objective: Objective = OBJECTIVES.get(objective)
+        self.objective_names = (objective,) if isinstance(objective, str) else tuple(objective)
+        self.objective_name = self.objective_names[0]
+        self.objectives: tuple[Objective, ...] = tuple(OBJECTIVES.get(name) for name in self.objective_names)
+        self.objective = self.objectives[0]
         self.samples = path.sample(time_step_s)
         self.evaluations = 0  # placements evaluated so far
         self.workers = 1 if self.solver.vectorized else (workers or os.cpu_count() or 1)
@@ -162,8 +176,8 @@ class Evaluator:
     def job(self, placements: np.ndarray) -> EvaluationJob:
         """Everything a worker process needs to evaluate ``placements`` as this evaluator would."""
         return EvaluationJob(self.robot, self.path, self.regeneration, self.time_step_s, self.method,
-                             self.objective_name, placements,
-                             runtime_members(members_used(self.robot, self.objective_name, self.regeneration, self.method)))
+                             self.objective_names, placements,
+                             runtime_members(members_used(self.robot, self.objective_names, self.regeneration, self.method)))
 
     def batch(self, placements: np.ndarray) -> EvaluatedBatch:
         """Run the exact chain on (K, 6) placements; arrays come back shaped (K, N, ...)."""
@@ -209,8 +223,9 @@ class Evaluator:
         margins, labels = worst_margins(margin_fields(batch))
         reachable = np.asarray(batch.reachable.all(axis=1))
         margins[~reachable] = np.minimum(margins[~reachable], UNREACHABLE_MARGIN)
-        value = np.where(reachable, self.objective(batch), self.objective.sign * np.inf)
-        return Evaluation(placements=placements, objective=self.objective_name, value=value, margins=margins,
+        values = np.column_stack([np.where(reachable, objective(batch), objective.sign * np.inf)
+                                  for objective in self.objectives])
+        return Evaluation(placements=placements, objectives=self.objective_names, values=values, margins=margins,
                           limits=labels, reachable=reachable)
 
     def detail(self, placement: np.ndarray) -> PlacementDetail:
@@ -249,15 +264,15 @@ class EvaluationJob:
     regeneration: str
     time_step_s: float | None
     method: str
-    objective: str
+    objectives: tuple[str, ...]
     placements: np.ndarray
     registered: dict[str, dict[str, object]]
 
 
-def members_used(robot: Robot, objective: str, regeneration: str, method: str) -> dict[str, set[str]]:
+def members_used(robot: Robot, objectives: tuple[str, ...], regeneration: str, method: str) -> dict[str, set[str]]:
     """The plug-in members an evaluation uses, by entry-point group."""
     drives = [a.drive for a in robot.actuators if a.drive is not None]
-    return {"placement.objectives": {objective}, "placement.regeneration": {regeneration},
+    return {"placement.objectives": set(objectives), "placement.regeneration": {regeneration},
             "placement.motor_models": {d.motor.model for d in drives},
             "placement.transmissions": {d.transmission.type for d in drives},
             "placement.kinematics": {method, robot.sidecar.kinematics or ""}, "placement.limits": set(LIMITS.names())}
@@ -266,7 +281,7 @@ def members_used(robot: Robot, objective: str, regeneration: str, method: str) -
 def evaluate_job(job: EvaluationJob) -> Evaluation:
     """Evaluate a job's placements (in a worker process: one RNEA thread, since workers share the cores)."""
     restore_runtime_members(job.registered)
-    evaluator = Evaluator(job.robot, job.path, job.regeneration, job.time_step_s, job.method, job.objective,
+    evaluator = Evaluator(job.robot, job.path, job.regeneration, job.time_step_s, job.method, job.objectives,
                           workers=1, threads=1)
     return evaluator.evaluate(job.placements)
 

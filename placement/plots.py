@@ -17,7 +17,10 @@ from matplotlib.figure import Figure  # noqa: E402
 
 from placement.calibration import UNITS, Calibration  # noqa: E402
 from placement.frames import ANGLES  # noqa: E402
+from placement.objectives import OBJECTIVES  # noqa: E402
+from placement.objectives import quantity as with_unit  # noqa: E402
 from placement.search.feed import FeedStudy  # noqa: E402
+from placement.search.pareto import ParetoFront  # noqa: E402
 from placement.search.sweep import SweepResult  # noqa: E402
 
 LABELS = {"x": "$x_{Op}$ (mm)", "y": "$y_{Op}$ (mm)", "z": "$z_{Op}$ (mm)", "phi": r"$\phi$ (deg)",
@@ -101,6 +104,34 @@ def feed_figure(study: FeedStudy, title: str) -> Figure:
     ax.set_title(title, fontsize=10)
     ax.legend(fontsize=8)
     return figure
+
+
+def front_figure(front: ParetoFront, title: str) -> Figure:
+    """The front, one panel per pair of objectives: members, the knee, and each objective's own optimum."""
+    pairs = [(i, j) for i in range(len(front.objectives)) for j in range(i + 1, len(front.objectives))]
+    figure, axes = plt.subplots(1, len(pairs), figsize=(6.2 * len(pairs), 4.6), constrained_layout=True, squeeze=False)
+    values = np.array([member.values for member in front.members])
+    labels = [_axis_label(name) for name in front.objectives]
+    for ax, (i, j) in zip(axes[0], pairs):
+        ax.plot(values[:, i], values[:, j], "o", color="C0", markersize=4, label="front (limits hold)")
+        if front.knee is not None:
+            ax.plot(*values[front.knee, [i, j]], "*", color="C1", markersize=14, label="knee")
+        for k, name in enumerate(front.objectives):
+            end = values[front.end(name)]
+            ax.plot(end[i], end[j], "s", markerfacecolor="none", markeredgecolor=f"C{k + 2}", markersize=11,
+                    label=f"optimum of {name}")
+            ax.annotate(with_unit(front.optima[name], OBJECTIVES.get(name).unit), (end[i], end[j]),
+                        textcoords="offset points", xytext=(6, 6), fontsize=7, color=f"C{k + 2}")
+        ax.set_xlabel(labels[i])
+        ax.set_ylabel(labels[j])
+        ax.legend(fontsize=8)
+    figure.suptitle(title, fontsize=10)
+    return figure
+
+
+def _axis_label(name: str) -> str:
+    objective = OBJECTIVES.get(name)
+    return f"{objective.title} ({objective.unit})" if objective.unit else objective.title
 
 
 def save(figure: Figure, stem: str | object) -> list[str]:

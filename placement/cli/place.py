@@ -27,6 +27,7 @@ from placement.cli.common import (
     robot_files,
     whole_number,
 )
+from placement.cli.front import SCENE_COLORS, parse_objectives, place_front
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation import Evaluator
 from placement.frames import VARIABLES, default_space, describe_plane, placed_task, robot_plane
@@ -72,6 +73,13 @@ def build_parser() -> argparse.ArgumentParser:
                         help=f"most generations of the global search (default {SearchSettings.max_generations})")
     parser.add_argument("--population", type=whole_number(1, 10_000), default=SearchSettings.population, metavar="N",
                         help=f"population of the global search (default {SearchSettings.population})")
+    parser.add_argument("--objectives", metavar="A,B[,C]",
+                        help="search the Pareto front of two or three objectives instead of one (names as for "
+                             "--objective, e.g. energy,dexterity)")
+    parser.add_argument("--members", metavar="knee,energy,3",
+                        help="with --objectives: the front members to detail and draw (knee, an objective's end, "
+                             "or a member number; default: the knee and every end)")
+    parser.add_argument("--png", metavar="FILE", help="with --objectives: plot the front in FILE (PNG) and beside it as SVG")
     parser.add_argument("--json", metavar="FILE", help="write the results as JSON (SI units)")
     parser.add_argument("--trace", metavar="FILE",
                         help="write a per-sample CSV trace of the placement given by --at, else of the best one")
@@ -124,6 +132,10 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace) -> tuple[d
                           half_turn=path.half_turn_symmetric())
     print(f"search: {', '.join(space.free)} free; seed {args.seed}")
     settings = SearchSettings(seed=args.seed, max_generations=args.generations, population=args.population)
+    if args.objectives:
+        front_document, details, infeasible = place_front(robot, path, space, args, settings)
+        document.update(front_document)
+        return document, details, infeasible
     lower = objective.better == "lower"
     find_best = not (args.maximize if lower else args.minimize)
     find_worst = not (args.minimize if lower else args.maximize)
@@ -169,9 +181,10 @@ def draw(scene: Scene, robot: Robot, index: int, details: dict) -> None:
     words = wording(next(iter(details.values())).objective) if details else None
     colors = {"best": (BEST_COLOR, f"{words.best} {words.subject}" if words else ""),
               "worst": (WORST_COLOR, f"{words.worst} {words.subject}" if words else ""), "at": (AT_COLOR, "--at")}
-    for key, detail in details.items():
-        scene.add_path(f"{index}_{key}", detail.tool_position_m, *colors[key])
-    moving = details.get("at") or details.get("best") or details.get("worst")
+    for number, (key, detail) in enumerate(details.items()):
+        color = colors.get(key, (SCENE_COLORS[number % len(SCENE_COLORS)], key))
+        scene.add_path(f"{index}_{key.replace(' ', '_')}", detail.tool_position_m, *color)
+    moving = details.get("at") or details.get("best") or details.get("knee") or details.get("worst")
     if index == 0 and moving is not None and moving.reachable:
         task, _ = placed_task(robot, moving.samples, moving.placement[None])
         scene.animate(joint_trajectory(robot, task).q, moving.samples.t_s)
@@ -199,6 +212,21 @@ def show(page: str, host: str) -> None:
         server.close()
 
 
+def check_front_options(args: argparse.Namespace) -> None:
+    """--objectives excludes the single-objective options; --members and --png need it."""
+    if args.objectives is None:
+        for option, value in (("--members", args.members), ("--png", args.png)):
+            if value is not None:
+                raise UsageError(f"{option} goes with --objectives (a Pareto front)")
+        return
+    parse_objectives(args.objectives)
+    if args.at is not None or args.minimize or args.maximize or args.objective != "energy":
+        raise UsageError("--objectives searches a Pareto front: give it without --at, --minimize, --maximize or "
+                         "--objective")
+    if args.png and len(args.path) > 1:
+        raise UsageError("--png: give a single --path")
+
+
 def run(args: argparse.Namespace) -> int:
     """The main job; returns the exit code."""
     robot = load_robot_argument(args.robot, args.tool)
@@ -207,7 +235,9 @@ def run(args: argparse.Namespace) -> int:
     if args.at is not None and (args.fix or args.free or args.minimize or args.maximize):
         raise UsageError("--at evaluates one placement: give every value in --at, without --fix, --free, "
                          "--minimize or --maximize")
+    check_front_options(args)
     check_outputs(("--json", args.json), ("--trace", args.trace), ("--html", args.html),
+                  ("--png", args.png),
                   inputs=(*args.path, *robot_files(args.robot)))
     scene = None
     if args.html or args.show:

@@ -128,8 +128,8 @@ def sweep(robot: Robot, path: ToolPath, axes: dict[str, np.ndarray], fixed: dict
     grid = SweepResult(variables, values, base, np.zeros(0), np.zeros(0), np.zeros(0), (), robot.name, path.name,
                        regeneration, objective)
     placements = grid.placements()
-    registered = runtime_members(members_used(robot, objective, regeneration, "auto"))
-    jobs = [EvaluationJob(robot, path, regeneration, time_step_s, "auto", objective, placements[i:i + CHUNK_PLACEMENTS],
+    registered = runtime_members(members_used(robot, (objective,), regeneration, "auto"))
+    jobs = [EvaluationJob(robot, path, regeneration, time_step_s, "auto", (objective,), placements[i:i + CHUNK_PLACEMENTS],
                           registered) for i in range(0, len(placements), CHUNK_PLACEMENTS)]
     results = _run(jobs, workers or os.cpu_count() or 1, executor, progress)
     shape = tuple(len(v) for v in values)

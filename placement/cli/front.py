@@ -1,0 +1,114 @@
+"""The main job with --objectives: the Pareto front of a path's placements, its report, JSON and plot."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+import numpy as np
+from tqdm import tqdm
+
+from placement.cli.common import UsageError
+from placement.evaluation import Evaluator, PlacementDetail
+from placement.frames import ANGLES, VARIABLES, PlacementSpace
+from placement.objectives import OBJECTIVES, quantity
+from placement.path import ToolPath
+from placement.report import detail_json
+from placement.robot.model import Robot
+from placement.search.optimize import SearchSettings
+from placement.search.pareto import ParetoFront, pareto_front
+
+SCENE_COLORS = (0xFF8C00, 0x8A2BE2, 0x00A0A0, 0xC71585, 0x556B2F)  # front members drawn in the scene
+
+
+def parse_objectives(text: str) -> tuple[str, ...]:
+    """The names given to --objectives: two or three known, different objectives."""
+    names = _items(text)
+    if not 2 <= len(names) <= 3 or len(set(names)) != len(names):
+        raise UsageError(f"--objectives: expected two or three different objective names, e.g. energy,dexterity; "
+                         f"got '{text}'")
+    for name in names:
+        OBJECTIVES.get(name)
+    return names
+
+
+def place_front(robot: Robot, path: ToolPath, space: PlacementSpace, args: argparse.Namespace,
+                settings: SearchSettings) -> tuple[dict, dict[str, PlacementDetail], str | None]:
+    """Search the front of one path, print it, and return its JSON document and the members to draw."""
+    objectives = parse_objectives(args.objectives)
+    searches = len(objectives) + 1  # each objective's optimum, then NSGA-II
+    with tqdm(desc="searching the front", total=searches * settings.max_generations, unit=" generation",
+              disable=args.quiet, file=sys.stderr, leave=False) as bar:
+        front = pareto_front(robot, path, objectives, space=space, regeneration=args.regen,
+                             time_step_s=args.time_step, settings=settings, progress=bar.update)
+    document = {"objectives": list(objectives), "evaluations": front.evaluations}
+    if front.infeasible:
+        return document, {}, front.infeasible
+    print("\n" + format_front(front))
+    if args.png:
+        from placement.plots import front_figure, save
+
+        names = save(front_figure(front, f"{path.name} on {robot.name}"), str(args.png).removesuffix(".png"))
+        print(f"front plotted in {' and '.join(names)}")
+    chosen = chosen_members(front, args.members)
+    with Evaluator(robot, path, args.regen, args.time_step, objective=objectives) as evaluator:
+        details = {name: evaluator.detail(front.members[index].placement) for name, index in chosen.items()}
+    document.update(front_json(front))
+    document["drawn"] = {name: detail_json(robot, detail) for name, detail in details.items()}
+    return document, details, None
+
+
+def chosen_members(front: ParetoFront, text: str | None) -> dict[str, int]:
+    """The members --members names ("knee", ends such as "energy", or indices), by label; default: knee and ends."""
+    names = _items(text) if text else ("knee", *front.objectives)
+    chosen = {}
+    for name in names:
+        if name == "knee" and front.knee is not None:
+            chosen["knee"] = front.knee
+        elif name in front.objectives:
+            chosen[f"best {name}"] = front.end(name)
+        elif name.isdigit() and int(name) < len(front.members):
+            chosen[f"member {name}"] = int(name)
+        else:
+            raise UsageError(f"--members: expected knee, an objective of the front ({', '.join(front.objectives)}) "
+                             f"or a member number below {len(front.members)}, got '{name}'")
+    return chosen
+
+
+def _items(text: str) -> tuple[str, ...]:
+    return tuple(item.strip() for item in text.split(",") if item.strip())
+
+
+def format_front(front: ParetoFront) -> str:
+    """Text table of the front: every member's objectives and placement, the knee and the ends."""
+    objectives = [OBJECTIVES.get(name) for name in front.objectives]
+    free = front.space.free
+    header = "  #  " + "".join(f"{name:>16s}" for name in front.objectives) + "".join(
+        f"{name + (' deg' if name in ANGLES else ' mm'):>12s}" for name in free) + "   margin"
+    lines = [f"Pareto front: {len(front.members)} placements, none better than another on every objective "
+             f"({front.evaluations:,} placements evaluated)", header]
+    for index, member in enumerate(front.members):
+        shown = [np.degrees(member.placement[VARIABLES.index(n)]) if n in ANGLES
+                 else member.placement[VARIABLES.index(n)] * 1e3 for n in free]
+        mark = "  knee" if index == front.knee else ""
+        lines.append(f"  {index:<3d}" + "".join(f"{v:>16.4f}" for v in member.values)
+                     + "".join(f"{v:>12.2f}" for v in shown) + f"   {member.margin * 100:5.1f} %{mark}")
+    for name, objective in zip(front.objectives, objectives):
+        end = front.members[front.end(name)].values[front.objectives.index(name)]
+        gap = abs(end - front.optima[name]) / (abs(front.optima[name]) or 1.0)
+        lines.append(f"  {name} end: member {front.end(name)}, {quantity(end, objective.unit)}; its own optimum "
+                     f"{quantity(front.optima[name], objective.unit)} ({gap * 100:.3f} % apart)")
+    dense = max(float(np.max(np.abs(m.recheck_values - m.values) / np.maximum(np.abs(m.values), 1e-300)))
+                for m in front.members)
+    lines.append(f"  4x denser sampling changes a member's objectives by at most {dense * 100:.3f} %")
+    return "\n".join(lines)
+
+
+def front_json(front: ParetoFront) -> dict:
+    """JSON-ready front (SI units)."""
+    return {"members": [{"placement": dict(zip(VARIABLES, map(float, m.placement))),
+                         "values": dict(zip(front.objectives, map(float, m.values))),
+                         "recheck_values": dict(zip(front.objectives, map(float, m.recheck_values))),
+                         "margin": m.margin} for m in front.members],
+            "knee": front.knee, "ends": {name: front.end(name) for name in front.objectives},
+            "optima": {name: float(value) for name, value in front.optima.items()}}

@@ -1,0 +1,220 @@
+"""Pareto fronts: the placements that no other placement beats on every objective at once.
+
+Energy is rarely the only thing a placement is judged by: a place that saves energy may sit near
+a singularity (poor dexterity) or shake the machine. Given two or three objectives, the front is
+the set of feasible placements where one objective can only improve at the cost of another.
+
+Strategy:
+
+1. Each objective's own optimum is searched first (:func:`placement.search.optimize_placement`,
+   best direction only): the front's ends are then exact single-objective optima, not
+   approximations of them.
+2. NSGA-II (pymoo) evolves a population, seeded with those optima, over the free placement
+   variables on the coarse search sampling, with every limit as a constraint. Every feasible
+   placement it evaluates is archived.
+3. The archive's non-dominated placements (at most ``FRONT_SIZE``, spread evenly along the
+   front) are re-evaluated on the path's own sampling together with the optima, and the
+   dominance is re-checked there; each member is then re-evaluated on a four times denser
+   sampling, and the dominance is checked once more on those values.
+
+The knee is the member nearest the ideal point (every objective at its best over the front)
+once each objective is scaled to [0, 1] over the front.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from pymoo.algorithms.moo.nsga2 import NSGA2
+from pymoo.core.problem import Problem
+from pymoo.optimize import minimize
+
+from placement.evaluation import Evaluation, Evaluator, PlacementDetail
+from placement.exceptions import PlacementError
+from placement.frames import PlacementSpace, default_space
+from placement.objectives import OBJECTIVES
+from placement.path import ToolPath
+from placement.robot.model import Robot
+from placement.search.optimize import RECHECK_DENSITY, SearchSettings, optimize_placement
+
+FRONT_SIZE = 24  # members reported at most, spread evenly along the front
+UNREACHABLE_VALUE = 1e30  # what NSGA-II sees for an objective of an unreachable placement
+
+
+@dataclass(frozen=True)
+class FrontMember:
+    """One placement of the front.
+
+    Attributes:
+        placement: (6,) placement vector (m, rad).
+        values: (n_objectives,) the objectives on the path's own sampling.
+        recheck_values: (n_objectives,) the same on a four times denser sampling.
+        margin: The tightest normalised margin over every limit (≥ 0: feasible).
+    """
+
+    placement: np.ndarray
+    values: np.ndarray
+    recheck_values: np.ndarray
+    margin: float
+
+
+@dataclass(frozen=True)
+class ParetoFront:
+    """Outcome of :func:`pareto_front` (SI units).
+
+    Attributes:
+        objectives: The objectives' names.
+        members: Mutually non-dominated feasible placements, by the first objective.
+        optima: Each objective's own optimum (its single-objective search), by name.
+        knee: Index into ``members`` of the knee (module docstring).
+        space: Free variables, bounds and fixed values of the search.
+        regeneration: Regeneration policy of the energies.
+        evaluations: Placements evaluated in all.
+        infeasible: Why no feasible placement was found, else None.
+    """
+
+    objectives: tuple[str, ...]
+    members: tuple[FrontMember, ...]
+    optima: dict[str, float]
+    knee: int | None
+    space: PlacementSpace
+    regeneration: str
+    evaluations: int
+    infeasible: str | None = None
+
+    def end(self, objective: str) -> int:
+        """Index into ``members`` of the member best by ``objective`` (the front's end on its side)."""
+        column = self.objectives.index(objective)
+        sign = OBJECTIVES.get(objective).sign
+        return int(np.argmin([sign * member.values[column] for member in self.members]))
+
+
+def non_dominated(values: np.ndarray) -> np.ndarray:
+    """Mask of the rows of ``values`` (to be minimised) that no other row dominates.
+
+    A row dominates another when it is no worse in every column and better in one; of identical
+    rows, the first is kept.
+    """
+    keep = np.ones(len(values), dtype=bool)
+    for i, row in enumerate(values):
+        others = np.delete(values, i, axis=0)
+        dominated = ((others <= row).all(axis=1) & (others < row).any(axis=1)).any()
+        duplicate = (values[:i] == row).all(axis=1).any()
+        keep[i] = not dominated and not duplicate
+    return keep
+
+
+def knee_index(values: np.ndarray) -> int:
+    """The row nearest the ideal point once each column (to be minimised) is scaled to [0, 1]."""
+    low, high = values.min(axis=0), values.max(axis=0)
+    scaled = (values - low) / np.where(high > low, high - low, 1.0)
+    return int(np.argmin(np.linalg.norm(scaled, axis=1)))
+
+
+class _FrontProblem(Problem):
+    """The objectives (signed to be minimised) and margins of placements, for pymoo; archives feasible ones."""
+
+    def __init__(self, evaluator: Evaluator, space: PlacementSpace, signs: np.ndarray, n_limits: int) -> None:
+        super().__init__(n_var=len(space.free), n_obj=len(signs), n_ieq_constr=n_limits, xl=space.lower,
+                         xu=space.upper)
+        self.evaluator, self.space, self.signs = evaluator, space, signs
+        self.archive: list[tuple[np.ndarray, np.ndarray]] = []  # (free values, signed objectives) of feasible ones
+
+    def _evaluate(self, x: np.ndarray, out: dict, *args: object, **kwargs: object) -> None:
+        evaluation = self.evaluator.evaluate(self.space.full(x))
+        signed = evaluation.values * self.signs
+        out["F"] = np.where(np.isfinite(signed), signed, UNREACHABLE_VALUE)
+        out["G"] = -evaluation.margins
+        self.archive.extend(zip(x[evaluation.feasible], out["F"][evaluation.feasible]))
+
+
+def pareto_front(robot: Robot, path: ToolPath, objectives: tuple[str, ...], *, space: PlacementSpace | None = None,
+                 regeneration: str = "clip", time_step_s: float | None = None,
+                 settings: SearchSettings | None = None,
+                 progress: Callable[[], None] | None = None) -> ParetoFront:
+    """The Pareto front of feasible placements of a path on a robot for two or three objectives.
+
+    Args:
+        robot: The robot (its actuators need drives).
+        path: The tool path.
+        objectives: Two or three objective names (see :mod:`placement.objectives`).
+        space: Free variables and bounds (default: :func:`placement.frames.default_space`).
+        regeneration: Regeneration policy's name.
+        time_step_s: Path sampling step (default: the path file's).
+        settings: Budget and seed of the single-objective searches and of NSGA-II (its population
+            and generations; default: :class:`SearchSettings`'s).
+        progress: Called once per generation of every search.
+
+    Returns:
+        The front, or, when no placement is feasible, the reason.
+    """
+    if not 2 <= len(objectives) <= 3 or len(set(objectives)) != len(objectives):
+        raise PlacementError(f"a Pareto front needs two or three different objectives, got {', '.join(objectives)}")
+    signs = np.array([OBJECTIVES.get(name).sign for name in objectives])
+    settings = settings or SearchSettings()
+    space = space or default_space(robot, half_turn=path.half_turn_symmetric())
+    step = time_step_s if time_step_s is not None else path.time_step_s
+    optima: dict[str, PlacementDetail] = {}
+    evaluations = 0
+    for name in objectives:
+        result = optimize_placement(robot, path, space=space, objective=name, regeneration=regeneration, worst=False,
+                                    time_step_s=step, settings=settings, progress=progress)
+        if result.best is None:
+            return ParetoFront(objectives, (), {}, None, space, regeneration, evaluations, result.infeasible)
+        optima[name] = result.best.detail
+        evaluations += result.best.evaluations
+    seeds = np.array([detail.placement for detail in optima.values()])
+    duration = float(path.sample(step).t_s[-1])
+    with Evaluator(robot, path, regeneration, max(step, duration / settings.search_samples),
+                   objective=objectives) as coarse:
+        candidates = _evolve(coarse, space, signs, seeds[:, space.indices], settings, progress)
+        evaluations += coarse.evaluations
+    with Evaluator(robot, path, regeneration, step, objective=objectives) as fine, \
+            Evaluator(robot, path, regeneration, step / RECHECK_DENSITY, objective=objectives, workers=1) as dense:
+        members = _members(fine, dense, signs, np.vstack([seeds, space.full(candidates)]))
+        evaluations += fine.evaluations + dense.evaluations
+    knee = knee_index(np.array([m.values for m in members]) * signs)
+    return ParetoFront(objectives, members, {name: detail.value for name, detail in optima.items()}, knee, space,
+                       regeneration, evaluations)
+
+
+def _evolve(evaluator: Evaluator, space: PlacementSpace, signs: np.ndarray, seeds: np.ndarray,
+            settings: SearchSettings, progress: Callable[[], None] | None) -> np.ndarray:
+    """NSGA-II from a population holding ``seeds``; the archive's non-dominated free values (coarse sampling)."""
+    n_limits = evaluator.evaluate(space.full(space.lower)).margins.shape[1]
+    problem = _FrontProblem(evaluator, space, signs, n_limits)
+    rng = np.random.default_rng(settings.seed)
+    population = max(settings.population, 2 * len(seeds))
+    start = np.vstack([seeds, rng.uniform(space.lower, space.upper, (population - len(seeds), len(space.free)))])
+    minimize(problem, NSGA2(pop_size=population, sampling=start), ("n_gen", settings.max_generations),
+             seed=settings.seed, callback=lambda _: progress() if progress else None, verbose=False)
+    if not problem.archive:
+        return np.zeros((0, len(space.free)))
+    points, values = (np.array(column) for column in zip(*problem.archive))
+    front = non_dominated(values)
+    points, values = points[front], values[front]
+    order = np.argsort(values[:, 0])
+    spread = np.unique(np.linspace(0, len(points) - 1, min(FRONT_SIZE, len(points))).round().astype(int))
+    return points[order][spread]
+
+
+def _members(fine: Evaluator, dense: Evaluator, signs: np.ndarray, placements: np.ndarray) -> tuple[FrontMember, ...]:
+    """Placements re-evaluated on the path's sampling, then densely; those feasible and non-dominated on both."""
+    evaluation = fine.evaluate(placements)
+    kept = _feasible_front(evaluation, signs)
+    recheck = dense.evaluate(placements[kept])
+    still = _feasible_front(recheck, signs)
+    chosen = np.flatnonzero(kept)[still]
+    members = [FrontMember(placement=placements[i], values=evaluation.values[i], recheck_values=recheck.values[j],
+                           margin=float(evaluation.margins[i].min()))
+               for i, j in zip(chosen, np.flatnonzero(still))]
+    return tuple(sorted(members, key=lambda m: signs[0] * m.values[0]))
+
+
+def _feasible_front(evaluation: Evaluation, signs: np.ndarray) -> np.ndarray:
+    """Mask of the feasible placements that no other feasible one dominates."""
+    mask = evaluation.feasible.copy()
+    mask[mask] = non_dominated(evaluation.values[mask] * signs)
+    return mask
