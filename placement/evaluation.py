@@ -134,9 +134,11 @@ class Evaluator:
         method: Kinematics solver's name, see :func:`placement.kinematics.joint_trajectory`.
         objective: Objective's name, see :mod:`placement.objectives`; or several names, the ranking
             one first, all of which :meth:`evaluate` computes.
-        workers: Worker processes for a solver that is not vectorised (default: every core);
-            1 evaluates in this process.
-        executor: Any ``concurrent.futures.Executor`` to use instead of an own process pool.
+        workers: Worker processes for a solver that is not vectorised, or chunks to cut a batch
+            into for ``executor`` (default: every core); 1 evaluates in this process.
+        executor: Any ``concurrent.futures.Executor`` (a Dask cluster's, see
+            :mod:`placement.cluster`) that evaluates batches in chunks, whatever the solver,
+            instead of this process or an own process pool.
         threads: Threads of the batched kinematics and RNEA (default: every core).
     """
 
@@ -157,8 +159,9 @@ class Evaluator:
         self.objective = self.objectives[0]
         self.samples = path.sample(time_step_s)
         self.evaluations = 0  # placements evaluated so far
-        self.workers = 1 if self.solver.vectorized else (workers or os.cpu_count() or 1)
-        self.executor = None if self.solver.vectorized else executor
+        spread = executor is not None or not self.solver.vectorized
+        self.workers = (workers or os.cpu_count() or 1) if spread else 1
+        self.executor = executor
         self._own_pool: ProcessPoolExecutor | None = None
 
     def __enter__(self) -> Evaluator:

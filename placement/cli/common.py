@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 from pydantic import ValidationError
 
+from placement.cluster import SCHEDULER_VARIABLE
 from placement.energy.regeneration import REGENERATION
 from placement.exceptions import PlacementError
 from placement.frames import ANGLES, VARIABLES
@@ -253,6 +254,13 @@ def check_outputs(*pairs: tuple[str, str | None], inputs: tuple[str, ...] = ()) 
 def _identity(file: Path) -> tuple[int, int]:
     status = file.stat()
     return status.st_dev, status.st_ino
+
+
+def add_scheduler_option(parser: argparse.ArgumentParser) -> None:
+    """--scheduler: run the work on a Dask cluster (else the environment variable's, else this machine)."""
+    parser.add_argument("--scheduler", metavar="ADDRESS",
+                        help=f"run the evaluations on the Dask cluster of this scheduler (e.g. tcp://10.0.0.5:8786; "
+                             f"default: ${SCHEDULER_VARIABLE} if set, else this machine)")
 
 
 def add_tool_option(parser: argparse.ArgumentParser) -> None:

@@ -9,6 +9,7 @@ import numpy as np
 from tqdm import tqdm
 
 from placement.cli.common import UsageError
+from placement.cluster import Cluster
 from placement.evaluation import Evaluator, PlacementDetail
 from placement.frames import ANGLES, VARIABLES, PlacementSpace
 from placement.objectives import OBJECTIVES, quantity
@@ -33,14 +34,16 @@ def parse_objectives(text: str) -> tuple[str, ...]:
 
 
 def place_front(robot: Robot, path: ToolPath, space: PlacementSpace, args: argparse.Namespace,
-                settings: SearchSettings) -> tuple[dict, dict[str, PlacementDetail], str | None]:
-    """Search the front of one path, print it, and return its JSON document and the members to draw."""
+                settings: SearchSettings, remote: Cluster | None) -> tuple[dict, dict[str, PlacementDetail], str | None]:
+    """Search the front of one path (on ``remote``, a Dask cluster, if given), print it, and return its JSON
+    document and the members to draw."""
     objectives = parse_objectives(args.objectives)
     searches = len(objectives) + 1  # each objective's optimum, then NSGA-II
     with tqdm(desc="searching the front", total=searches * settings.max_generations, unit=" generation",
               disable=args.quiet, file=sys.stderr, leave=False) as bar:
         front = pareto_front(robot, path, objectives, space=space, regeneration=args.regen,
-                             time_step_s=args.time_step, settings=settings, progress=bar.update)
+                             time_step_s=args.time_step, settings=settings, progress=bar.update,
+                             executor=remote.executor if remote else None, workers=remote.threads if remote else None)
     document = {"objectives": list(objectives), "evaluations": front.evaluations}
     if front.infeasible:
         return document, {}, front.infeasible

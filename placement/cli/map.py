@@ -15,6 +15,7 @@ from placement.cli.common import (
     UsageError,
     add_model_options,
     add_sampling_options,
+    add_scheduler_option,
     add_tool_option,
     check_outputs,
     configured_path,
@@ -23,6 +24,7 @@ from placement.cli.common import (
     robot_files,
     whole_number,
 )
+from placement.cluster import cluster, scheduler_address
 from placement.frames import ANGLES, VARIABLES, placement_pose, robot_plane
 from placement.objectives import quantity, wording
 from placement.report import write_atomically
@@ -43,6 +45,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     add_model_options(energy_map)
     add_sampling_options(energy_map)
     energy_map.add_argument("--workers", type=whole_number(1, 1024), help="worker processes (default: every core)")
+    add_scheduler_option(energy_map)
     energy_map.add_argument("--out", required=True, help="the map file to write (.npz; reload with SweepResult.load)")
     energy_map.add_argument("--png", help="also draw the map (two variables) as PNG and SVG")
     energy_map.add_argument("--html", help="also draw the feasible placements as coloured points in a 3-D scene")
@@ -95,9 +98,11 @@ def run(args: argparse.Namespace) -> int:
     robot = load_robot_argument(args.robot, args.tool)
     path = configured_path(args, args.path)
     total = int(np.prod([len(v) for v in axes.values()]))
-    with tqdm(desc="mapping", total=total, unit=" placement", disable=args.quiet, file=sys.stderr, leave=False) as bar:
+    with cluster(scheduler_address(args.scheduler)) as remote, \
+            tqdm(desc="mapping", total=total, unit=" placement", disable=args.quiet, file=sys.stderr, leave=False) as bar:
         result = sweep(robot, path, axes, fixed, regeneration=args.regen, time_step_s=args.time_step,
-                       workers=args.workers, progress=bar.update, objective=args.objective)
+                       workers=args.workers, progress=bar.update, objective=args.objective,
+                       executor=remote.executor if remote else None)
     result.save(out)
     feasible = result.value[result.feasible]
     words = wording(args.objective)

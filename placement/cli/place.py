@@ -18,6 +18,7 @@ from placement.cli.common import (
     UsageError,
     add_model_options,
     add_sampling_options,
+    add_scheduler_option,
     add_tool_option,
     check_outputs,
     configured_path,
@@ -28,6 +29,7 @@ from placement.cli.common import (
     whole_number,
 )
 from placement.cli.front import SCENE_COLORS, parse_objectives, place_front
+from placement.cluster import Cluster, cluster, scheduler_address
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation import Evaluator
 from placement.frames import VARIABLES, default_space, describe_plane, placed_task, robot_plane
@@ -89,12 +91,14 @@ def build_parser() -> argparse.ArgumentParser:
                         help="serve the 3-D scene on this machine (127.0.0.1) and print its address")
     parser.add_argument("--show-host", metavar="ADDRESS", default="127.0.0.1",
                         help="serve --show on this address instead (0.0.0.0: every network the machine is on)")
+    add_scheduler_option(parser)
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     return parser
 
 
-def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace) -> tuple[dict, dict, str | None]:
-    """Search (or evaluate --at) one path and print its report.
+def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
+              remote: Cluster | None = None) -> tuple[dict, dict, str | None]:
+    """Search (or evaluate --at) one path and print its report; ``remote`` runs the search on a Dask cluster.
 
     Returns:
         The JSON document, the details to draw ({"best"|"worst"|"at": PlacementDetail}), and the
@@ -133,7 +137,7 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace) -> tuple[d
     print(f"search: {', '.join(space.free)} free; seed {args.seed}")
     settings = SearchSettings(seed=args.seed, max_generations=args.generations, population=args.population)
     if args.objectives:
-        front_document, details, infeasible = place_front(robot, path, space, args, settings)
+        front_document, details, infeasible = place_front(robot, path, space, args, settings, remote)
         document.update(front_document)
         return document, details, infeasible
     lower = objective.better == "lower"
@@ -143,7 +147,9 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace) -> tuple[d
               disable=args.quiet, file=sys.stderr, leave=False) as bar:
         result = optimize_placement(robot, path, space=space, objective=args.objective, regeneration=args.regen,
                                     best=find_best, worst=find_worst, time_step_s=args.time_step, settings=settings,
-                                    progress=bar.update, announce=lambda e: bar.write(duration_line(e), sys.stdout))
+                                    progress=bar.update, announce=lambda e: bar.write(duration_line(e), sys.stdout),
+                                    executor=remote.executor if remote else None,
+                                    workers=remote.threads if remote else None)
     print("\n" + format_result(robot, result))
     details = {}
     for key, optimum in (("best", result.best), ("worst", result.worst)):
@@ -247,19 +253,20 @@ def run(args: argparse.Namespace) -> int:
     if scene:
         scene.add_workspace()
     documents, failures = [], []
-    for index, file in enumerate(args.path):
-        if index:
-            print()
-        document, details, infeasible = place_one(robot, configured_path(args, file), args)
-        documents.append(document)
-        if infeasible:
-            failures.append(f"{file}: {infeasible}")
-            document["infeasible"] = infeasible
-        if scene:
-            draw(scene, robot, index, details)
-        traced = details.get("at") or details.get("best") or details.get("worst")
-        if args.trace and traced is not None:
-            write_trace(args.trace, robot, traced)
+    with cluster(scheduler_address(args.scheduler)) as remote:
+        for index, file in enumerate(args.path):
+            if index:
+                print()
+            document, details, infeasible = place_one(robot, configured_path(args, file), args, remote)
+            documents.append(document)
+            if infeasible:
+                failures.append(f"{file}: {infeasible}")
+                document["infeasible"] = infeasible
+            if scene:
+                draw(scene, robot, index, details)
+            traced = details.get("at") or details.get("best") or details.get("worst")
+            if args.trace and traced is not None:
+                write_trace(args.trace, robot, traced)
     if args.json:
         write_json(args.json, documents[0] if len(documents) == 1 else {"robot": robot.name, "paths": documents})
     if scene:

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from concurrent.futures import Executor
 from dataclasses import dataclass
 
 import numpy as np
@@ -270,7 +271,8 @@ def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | 
                        objective: str = "energy", regeneration: str = "clip", best: bool = True, worst: bool = True,
                        time_step_s: float | None = None, settings: SearchSettings = SearchSettings(),
                        progress: Callable[[], None] | None = None,
-                       announce: Callable[[float], None] | None = None) -> PlacementResult:
+                       announce: Callable[[float], None] | None = None,
+                       executor: Executor | None = None, workers: int | None = None) -> PlacementResult:
     """Find the best (and worst) feasible placement of a path on a robot by an objective.
 
     Args:
@@ -284,6 +286,9 @@ def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | 
         settings: Search budget and seed.
         progress: Called once per generation of the global search (for a progress bar).
         announce: Called with the expected duration (s) before the search starts.
+        executor: Runs the evaluations in chunks (a Dask cluster's, see :mod:`placement.cluster`);
+            default: this process (or a local pool for a solver that is not vectorised).
+        workers: Chunks per batch of placements for ``executor`` (default: every core).
 
     Returns:
         The optima (None in a direction not asked for), or, when no placement is feasible, the
@@ -293,11 +298,11 @@ def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | 
     step = time_step_s if time_step_s is not None else path.time_step_s
     duration = float(path.sample(step).t_s[-1])
 
-    def evaluator(time_step: float, workers: int | None = None) -> Evaluator:
-        return Evaluator(robot, path, regeneration, time_step, objective=objective, workers=workers)
+    def evaluator(time_step: float) -> Evaluator:
+        return Evaluator(robot, path, regeneration, time_step, objective=objective, workers=workers, executor=executor)
 
     with evaluator(max(step, duration / settings.search_samples)) as coarse, evaluator(step) as fine:
-        dense = evaluator(step / RECHECK_DENSITY, workers=1)
+        dense = Evaluator(robot, path, regeneration, step / RECHECK_DENSITY, objective=objective, workers=1)
         if announce is not None:
             announce(estimate(coarse, fine, space, settings, best + worst))
         return _optimize(coarse, fine, dense, space, best, worst, settings, progress)

@@ -24,6 +24,7 @@ once each objective is scaled to [0, 1] over the front.
 from __future__ import annotations
 
 from collections.abc import Callable
+from concurrent.futures import Executor
 from dataclasses import dataclass
 
 import numpy as np
@@ -132,8 +133,8 @@ class _FrontProblem(Problem):
 
 def pareto_front(robot: Robot, path: ToolPath, objectives: tuple[str, ...], *, space: PlacementSpace | None = None,
                  regeneration: str = "clip", time_step_s: float | None = None,
-                 settings: SearchSettings | None = None,
-                 progress: Callable[[], None] | None = None) -> ParetoFront:
+                 settings: SearchSettings | None = None, progress: Callable[[], None] | None = None,
+                 executor: Executor | None = None, workers: int | None = None) -> ParetoFront:
     """The Pareto front of feasible placements of a path on a robot for two or three objectives.
 
     Args:
@@ -146,6 +147,9 @@ def pareto_front(robot: Robot, path: ToolPath, objectives: tuple[str, ...], *, s
         settings: Budget and seed of the single-objective searches and of NSGA-II (its population
             and generations; default: :class:`SearchSettings`'s).
         progress: Called once per generation of every search.
+        executor: Runs the evaluations in chunks (a Dask cluster's, see :mod:`placement.cluster`);
+            default: this process.
+        workers: Chunks per batch of placements for ``executor`` (default: every core).
 
     Returns:
         The front, or, when no placement is feasible, the reason.
@@ -160,18 +164,19 @@ def pareto_front(robot: Robot, path: ToolPath, objectives: tuple[str, ...], *, s
     evaluations = 0
     for name in objectives:
         result = optimize_placement(robot, path, space=space, objective=name, regeneration=regeneration, worst=False,
-                                    time_step_s=step, settings=settings, progress=progress)
+                                    time_step_s=step, settings=settings, progress=progress, executor=executor,
+                                    workers=workers)
         if result.best is None:
             return ParetoFront(objectives, (), {}, None, space, regeneration, evaluations, result.infeasible)
         optima[name] = result.best.detail
         evaluations += result.best.evaluations
     seeds = np.array([detail.placement for detail in optima.values()])
     duration = float(path.sample(step).t_s[-1])
-    with Evaluator(robot, path, regeneration, max(step, duration / settings.search_samples),
-                   objective=objectives) as coarse:
+    with Evaluator(robot, path, regeneration, max(step, duration / settings.search_samples), objective=objectives,
+                   workers=workers, executor=executor) as coarse:
         candidates = _evolve(coarse, space, signs, seeds[:, space.indices], settings, progress)
         evaluations += coarse.evaluations
-    with Evaluator(robot, path, regeneration, step, objective=objectives) as fine, \
+    with Evaluator(robot, path, regeneration, step, objective=objectives, workers=workers, executor=executor) as fine, \
             Evaluator(robot, path, regeneration, step / RECHECK_DENSITY, objective=objectives, workers=1) as dense:
         members = _members(fine, dense, signs, np.vstack([seeds, space.full(candidates)]))
         evaluations += fine.evaluations + dense.evaluations

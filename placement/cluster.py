@@ -1,0 +1,69 @@
+"""Where the work runs: this machine's process pool, or a Dask distributed cluster.
+
+Maps, fronts, searches and studies hand their chunks of work to a ``concurrent.futures``
+executor. By default that is a pool of local worker processes (or this process alone). Given
+the address of a Dask scheduler (``--scheduler tcp://host:8786``, or the environment variable
+``PLACEMENT_SCHEDULER``), the same chunks go to the cluster's workers through
+``distributed.Client.get_executor()``: each chunk carries its robot, path and settings, so the
+workers need only this package installed, not the files.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterator
+from concurrent.futures import Executor
+from contextlib import contextmanager
+from dataclasses import dataclass
+
+from placement.exceptions import PlacementError
+
+SCHEDULER_VARIABLE = "PLACEMENT_SCHEDULER"
+CONNECT_TIMEOUT_S = 20.0
+
+
+@dataclass(frozen=True)
+class Cluster:
+    """An executor on a Dask cluster.
+
+    Attributes:
+        executor: Runs callables on the cluster's workers.
+        threads: Worker threads the cluster has in all: how many chunks to cut work into.
+        address: The scheduler's address.
+    """
+
+    executor: Executor
+    threads: int
+    address: str
+
+
+def scheduler_address(option: str | None) -> str | None:
+    """The scheduler to use: the option's value, else the environment variable's, else None (local)."""
+    address = option if option is not None else os.environ.get(SCHEDULER_VARIABLE)
+    return address.strip() or None if address is not None else None
+
+
+@contextmanager
+def cluster(address: str | None) -> Iterator[Cluster | None]:
+    """Connect to the Dask scheduler at ``address`` for the duration of the block (None: yield None).
+
+    Raises:
+        PlacementError: The scheduler cannot be reached, or Dask's distributed package is missing.
+    """
+    if address is None:
+        yield None
+        return
+    try:
+        from distributed import Client
+    except ImportError:
+        raise PlacementError("a Dask scheduler was given, but the 'distributed' package is not installed "
+                             "(pip install 'dask[distributed]')") from None
+    try:
+        client = Client(address, timeout=CONNECT_TIMEOUT_S, set_as_default=False)
+    except (OSError, TimeoutError, ValueError) as error:
+        raise PlacementError(f"cannot reach the Dask scheduler at '{address}': {str(error)[:200]}") from None
+    try:
+        threads = max(1, sum(client.nthreads().values()))
+        yield Cluster(client.get_executor(), threads, address)
+    finally:
+        client.close()

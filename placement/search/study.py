@@ -1,0 +1,125 @@
+"""Studies: every path on every robot, searched one pair at a time, gathered in one table.
+
+A production engineer choosing a machine for a family of parts asks, for each robot and each
+part: can it be done at all, how little energy does it take at the best placement, how much does
+placing it well save, and how long does a part take. Each (robot, path) pair is one independent
+search (:func:`placement.search.optimize_placement`, best and worst), run on an executor: the
+local process pool, or a Dask cluster (:mod:`placement.cluster`). A pair that cannot be placed,
+or whose search fails on an input error, becomes a row that says why; it does not stop the study.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from concurrent.futures import Executor, as_completed
+from dataclasses import dataclass
+
+import numpy as np
+
+from placement.evaluation import process_pool
+from placement.exceptions import PlacementError
+from placement.frames import VARIABLES
+from placement.path import ToolPath
+from placement.robot.model import Robot
+from placement.search.optimize import SearchSettings, optimize_placement
+
+
+@dataclass(frozen=True)
+class StudyRow:
+    """One (robot, path) pair of a study (SI units; NaN where there is no value).
+
+    Attributes:
+        robot, path: Names.
+        feasible: Whether some placement keeps every limit.
+        best_energy_J, worst_energy_J: Energy per pass at the best and worst feasible placements.
+        gain: (worst − best)/worst.
+        cycle_time_s: Time per pass under the path's timing law.
+        x_m, y_m, z_m, phi_rad, theta_rad, psi_rad: The best placement.
+        evaluations: Placements evaluated.
+        search_s: Wall time of the search.
+        reason: Why the pair is infeasible or failed ("" otherwise).
+    """
+
+    robot: str
+    path: str
+    feasible: bool
+    best_energy_J: float
+    worst_energy_J: float
+    gain: float
+    cycle_time_s: float
+    x_m: float
+    y_m: float
+    z_m: float
+    phi_rad: float
+    theta_rad: float
+    psi_rad: float
+    evaluations: int
+    search_s: float
+    reason: str
+
+
+def study_pair(robot: Robot, path: ToolPath, regeneration: str, settings: SearchSettings) -> StudyRow:
+    """Search one pair (in a worker): its row, infeasible or failed pairs included."""
+    tic = time.perf_counter()
+    cycle = float(path.sample().t_s[-1])
+    try:
+        result = optimize_placement(robot, path, regeneration=regeneration, settings=settings)
+    except PlacementError as error:
+        return _row(robot, path, cycle, None, None, np.full(6, np.nan), 0, time.perf_counter() - tic, str(error))
+    best, worst = result.best, result.worst
+    placement = best.detail.placement if best else np.full(6, np.nan)
+    evaluations = sum(o.evaluations for o in (best, worst) if o is not None)
+    return _row(robot, path, cycle, best.detail.value if best else None, worst.detail.value if worst else None,
+                placement, evaluations, time.perf_counter() - tic, result.infeasible or "")
+
+
+def _row(robot: Robot, path: ToolPath, cycle_s: float, best: float | None, worst: float | None,
+         placement: np.ndarray, evaluations: int, seconds: float, reason: str) -> StudyRow:
+    best_J, worst_J = (np.nan if value is None else float(value) for value in (best, worst))
+    gain = (worst_J - best_J) / worst_J if best is not None and worst else np.nan
+    pose = dict(zip([f"{n}_m" if n in "xyz" else f"{n}_rad" for n in VARIABLES], map(float, placement)))
+    return StudyRow(robot=robot.name, path=path.name, feasible=best is not None, best_energy_J=best_J,
+                    worst_energy_J=worst_J, gain=float(gain), cycle_time_s=cycle_s, evaluations=evaluations,
+                    search_s=seconds, reason=reason, **pose)
+
+
+def run_study(robots: Sequence[Robot], paths: Sequence[ToolPath], *, regeneration: str = "clip",
+              settings: SearchSettings | None = None, executor: Executor | None = None, workers: int | None = None,
+              progress: Callable[[], None] | None = None) -> list[StudyRow]:
+    """Search every path on every robot.
+
+    Args:
+        robots, paths: The robots and the paths; every pair is searched.
+        regeneration: Regeneration policy's name.
+        settings: Budget and seed of each search (default: :class:`SearchSettings`'s).
+        executor: Runs the searches (a Dask cluster's, see :mod:`placement.cluster`); default: a
+            local pool of ``workers`` processes, or this process when ``workers`` is 1.
+        workers: Processes of the local pool (default: every core).
+        progress: Called once per finished pair.
+
+    Returns:
+        One row per pair, robots in the given order, then paths.
+    """
+    settings = settings or SearchSettings()
+    pairs = [(robot, path) for robot in robots for path in paths]
+    if executor is None and workers == 1:
+        rows = []
+        for robot, path in pairs:
+            rows.append(study_pair(robot, path, regeneration, settings))
+            if progress:
+                progress()
+        return rows
+    pool = executor or process_pool(min(workers or len(pairs), len(pairs)))
+    try:
+        futures = {pool.submit(study_pair, robot, path, regeneration, settings): i for i, (robot, path) in enumerate(pairs)}
+        done: dict[int, StudyRow] = {}
+        for future in as_completed(futures):
+            done[futures[future]] = future.result()
+            if progress:
+                progress()
+    finally:
+        if executor is None:
+            pool.shutdown(cancel_futures=True)
+    return [done[i] for i in range(len(pairs))]
+
