@@ -20,10 +20,10 @@ A cell file::
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Literal
+from typing import Annotated, Any, Literal
 
 import numpy as np
-from pydantic import Field, field_validator, model_validator
+from pydantic import BeforeValidator, Field, field_validator, model_validator
 
 from placement.exceptions import CellFileError, InputFileError
 from placement.schema import Number, Strict, Text, read_yaml
@@ -95,6 +95,17 @@ class Region(Strict):
         return self
 
 
+def _inertia_rows(value: Any) -> Any:
+    """Six numbers [ixx, iyy, izz, ixy, ixz, iyz] as the three rows of the symmetric tensor; three rows as they are."""
+    if isinstance(value, (list, tuple)) and len(value) == 6:
+        xx, yy, zz, xy, xz, yz = value
+        return ((xx, xy, xz), (xy, yy, yz), (xz, yz, zz))
+    if isinstance(value, (list, tuple)) and len(value) == 3 and all(isinstance(row, (list, tuple)) for row in value):
+        return value
+    raise ValueError(f"expected six numbers [ixx, iyy, izz, ixy, ixz, iyz] or three rows of three numbers (kg m^2), "
+                     f"got {str(value)[:80]}")
+
+
 class ToolBody(Posed):
     """A rigid tool (a spindle, a gripper) fixed on a frame of the robot.
 
@@ -108,13 +119,13 @@ class ToolBody(Posed):
     frame: str | None = None
     mass_kg: Positive
     com_m: Vector3 = (0.0, 0.0, 0.0)
-    inertia_kg_m2: tuple[Number, Number, Number, Number, Number, Number] | tuple[Vector3, Vector3, Vector3]
+    inertia_kg_m2: Annotated[tuple[Vector3, Vector3, Vector3], BeforeValidator(_inertia_rows)]
     collision: Shape | None = None
 
     @field_validator("inertia_kg_m2")
     @classmethod
-    def _physical(cls, value: tuple) -> tuple:
-        tensor = inertia_matrix(value)
+    def _physical(cls, value: tuple[Vector3, Vector3, Vector3]) -> tuple[Vector3, Vector3, Vector3]:
+        tensor = np.array(value, dtype=float)
         if not np.allclose(tensor, tensor.T, rtol=0.0, atol=1e-12 * max(1.0, float(np.abs(tensor).max()))):
             raise ValueError(f"a 3x3 inertia must be symmetric (got {tensor.tolist()})")
         moments = np.linalg.eigvalsh(tensor)
@@ -129,15 +140,7 @@ class ToolBody(Posed):
     @property
     def inertia_matrix(self) -> np.ndarray:
         """The 3×3 inertia about the centre of mass, in the tool frame (kg·m²)."""
-        return inertia_matrix(self.inertia_kg_m2)
-
-
-def inertia_matrix(value: tuple) -> np.ndarray:
-    """A 3×3 inertia from six numbers [ixx, iyy, izz, ixy, ixz, iyz] or from three rows (kg·m²)."""
-    if len(value) == 3:
-        return np.array(value, dtype=float)
-    xx, yy, zz, xy, xz, yz = value
-    return np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]], dtype=float)
+        return np.array(self.inertia_kg_m2, dtype=float)
 
 
 class CellFile(Strict):
