@@ -248,16 +248,16 @@ def test_a_reduced_robot_places_its_shapes_as_the_full_model_does():
             panda.model.getJointId(name)].idx_q]
     data = full.createData()
     pin.framesForwardKinematics(full, data, q_full)
-    rotation, origin = scene._placements(panda.reference_q)
+    geometry_data = pin.GeometryData(scene.geometry_model)
+    pin.updateGeometryPlacements(panda.model, panda.model.createData(), scene.geometry_model, geometry_data,
+                                 panda.reference_q)
     checked = 0
-    for g, item in enumerate(scene.geometry_model.geometryObjects):
+    for item, placement in zip(scene.geometry_model.geometryObjects, geometry_data.oMg):
         link = panda.model.frames[item.parentFrame].name
-        if item.parentJoint == 0 and not full.existFrame(link):
-            continue
         local = panda.model.frames[item.parentFrame].placement.inverse() * item.placement
         expected = data.oMf[full.getFrameId(link)] * local
-        np.testing.assert_allclose(origin[0, g], expected.translation, atol=1e-12)
-        np.testing.assert_allclose(rotation[0, g], expected.rotation, atol=1e-12)
+        np.testing.assert_allclose(placement.translation, expected.translation, atol=1e-12)
+        np.testing.assert_allclose(placement.rotation, expected.rotation, atol=1e-12)
         checked += 1
     assert checked >= 9 and "panda_link3" in {body.name for body in scene.bodies}
     assert scene.distances(panda.reference_q).shape == (1, len(scene.pairs))

@@ -5,17 +5,21 @@ of bodies (see :mod:`placement.cell.pairs`), the signed distance in metres betwe
 positive when apart, negative when they overlap (coal's penetration depth, so that a margin stays
 informative inside an obstacle). A body's distance is the smallest over its shapes.
 
-Speed: the compiled tree kinematics place every shape of every configuration in one call; a cheap
-lower bound then spares the exact computation of pairs far apart: the distance between the two
-shapes' bounding spheres, or, against a cell body, from one shape's bounding sphere to the other's
-bounding box. With ``threshold_m``, a pair whose bound exceeds it returns the bound (a value above
-the threshold, never above the exact distance); below the threshold every distance is exact, so
-that checking ``distance >= required`` with a threshold at least the largest requirement decides
-exactly as the exact distances would.
+Exact distances are coal's (GJK, EPA for penetration; converged to about 1e-6 m), computed by
+Pinocchio's loop over the geometry model's collision pairs, one configuration per call. Speed: with
+``threshold_m``, the compiled tree kinematics place every shape of every configuration in one call,
+and a cheap lower bound spares the exact computation of pairs far apart: the distance between the
+two shapes' bounding spheres, or, against a cell body, from one shape's bounding sphere to the
+other's bounding box. A pair whose bound exceeds the threshold returns the bound (a value above the
+threshold, never above the exact distance); below the threshold every distance is exact, so that
+checking ``distance >= required`` with a threshold at least the largest requirement decides exactly
+as the exact distances would. A distance does not depend on the other configurations or pairs
+computed with it (coal's warm start is off). A scene is not safe to share between threads.
 """
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import coal
@@ -78,30 +82,26 @@ class CollisionScene:
 
     def __init__(self, robot: Robot, cell: Cell | None = None) -> None:
         self._source = (robot, cell)
-        self._nq = robot.model.nq
         geometry = build_geometry(robot, cell)
         self.geometry_model = geometry.geometry_model
         self.bodies = geometry.bodies
+        self._model, self._data = robot.model, robot.model.createData()
         self._tree = _shape_tree(robot, self.geometry_model)
-        self._shapes = [item.geometry for item in self.geometry_model.geometryObjects]
-        self._sphere_center, self._sphere_radius = _bounding_spheres(self._shapes)
-        self._box_half = np.array([_box_half(shape) for shape in self._shapes]).reshape(-1, 3)
-        self._request = coal.DistanceRequest()
-        self._transforms = (coal.Transform3s(), coal.Transform3s())
-        pairs = select_pairs(robot, cell, self.bodies)
-        placements = self._placements(robot.reference_q[None])
-        reference = self._exact_pairs(pairs, placements)
-        _check_static(cell, self.bodies, pairs, reference)
-        moving = [i for i, pair in enumerate(pairs) if self._moves(pair)]
-        touching = [i for i in moving if self.bodies[pairs[i].second].is_robot and reference[i] < TOUCHING_M]
-        kept = [pairs[i] for i in moving if i not in touching]
+        shapes = [item.geometry for item in self.geometry_model.geometryObjects]
+        self._sphere_center, self._sphere_radius = _bounding_spheres(shapes)
+        self._box_half = np.array([_box_half(shape) for shape in shapes]).reshape(-1, 3)
+        candidates = select_pairs(robot, cell, self.bodies)
+        self._set_pairs(candidates)
+        reference = self._per_pair(self._exact_everywhere(self._checked(robot.reference_q)))[0]
+        _check_fixed(cell, self.bodies, candidates, reference)
+        moving = [i for i, pair in enumerate(candidates) if self.bodies[pair.first].joint or self.bodies[pair.second].joint]
+        touching = [i for i in moving if self.bodies[candidates[i].second].is_robot and reference[i] < TOUCHING_M]
+        kept = [candidates[i] for i in moving if i not in touching]
+        self._set_pairs(kept)
         self.pairs = tuple((self.bodies[p.first].name, self.bodies[p.second].name) for p in kept)
         self.required_m = np.array([p.required_m for p in kept], dtype=float)
-        self.touching_at_reference = tuple((self.bodies[pairs[i].first].name, self.bodies[pairs[i].second].name)
+        self.touching_at_reference = tuple((self.bodies[candidates[i].first].name, self.bodies[candidates[i].second].name)
                                            for i in touching)
-        self._set_shape_pairs(kept)
-        for a, b in zip(self._shape_first, self._shape_second):
-            self.geometry_model.addCollisionPair(pin.CollisionPair(int(a), int(b)))
         self.notices = geometry.notices + _touching_notice(self.touching_at_reference)
 
     def __reduce__(self) -> tuple:
@@ -123,30 +123,30 @@ class CollisionScene:
         Raises:
             ValueError: ``q`` is not finite or has the wrong width.
         """
-        rotation, origin = self._placements(q)
+        q = self._checked(q)
         if threshold_m is None:
-            needed = np.ones((len(origin), len(self._shape_first)), dtype=bool)
-            values = np.empty(needed.shape)
-        else:
-            values = self._bounds(rotation, origin)
-            needed = values <= threshold_m
-        for m, k in zip(*np.nonzero(needed)):
-            values[m, k] = self._exact(k, rotation[m], origin[m]).min_distance
-        if not len(self.pairs):
-            return np.empty((len(origin), 0))
-        return np.minimum.reduceat(values, self._pair_starts, axis=1)
+            return self._per_pair(self._exact_everywhere(q))
+        values = self._bounds(*kernels.placements(self._tree, q))
+        needed = values <= threshold_m
+        for m in np.flatnonzero(needed.any(axis=1)).tolist():
+            pin.updateGeometryPlacements(self._model, self._data, self.geometry_model, self._geometry_data, q[m])
+            for k in np.flatnonzero(needed[m]).tolist():
+                values[m, k] = pin.computeDistance(self.geometry_model, self._geometry_data, k).min_distance
+        return self._per_pair(values)
 
     def closest(self, q: np.ndarray) -> Witnesses:
         """The exact distance and the two closest points (base frame) of every pair in one configuration.
 
         Args:
             q: (nq,) a configuration (m, rad).
+
+        Raises:
+            ValueError: ``q`` is not finite or has the wrong width.
         """
-        rotation, origin = self._placements(np.asarray(q, dtype=float)[None])
+        self._exact_everywhere(self._checked(q))
         count = len(self.pairs)
         distance, first, second = np.full(count, np.inf), np.zeros((count, 3)), np.zeros((count, 3))
-        for k, pair in enumerate(self._shape_pair):
-            result = self._exact(k, rotation[0], origin[0])
+        for pair, result in zip(self._shape_pair, self._geometry_data.distanceResults):
             if result.min_distance < distance[pair]:
                 distance[pair] = result.min_distance
                 first[pair], second[pair] = result.getNearestPoint1(), result.getNearestPoint2()
@@ -154,21 +154,21 @@ class CollisionScene:
 
     # ------------------------------------------------------------ internals
 
-    def _moves(self, pair: Pair) -> bool:
-        """Whether the pair's distance can change (a body of it moves)."""
-        return bool(self.bodies[pair.first].joint or self.bodies[pair.second].joint)
-
-    def _placements(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Rotations (M, G, 3, 3) and origins (M, G, 3) of every shape in configurations q (M, nq)."""
+    def _checked(self, q: np.ndarray) -> np.ndarray:
+        """Configurations as a C-contiguous (M, nq) array of floats."""
         q = np.ascontiguousarray(np.atleast_2d(q), dtype=float)
-        if q.ndim != 2 or q.shape[1] != self._nq:
-            raise ValueError(f"configurations must be (M, {self._nq}) or ({self._nq},), got shape {q.shape}")
+        if q.ndim != 2 or q.shape[1] != self._model.nq:
+            raise ValueError(f"configurations must be (M, {self._model.nq}) or ({self._model.nq},), got shape {q.shape}")
         if not np.isfinite(q).all():
             raise ValueError("configurations must be finite to compute collision distances")
-        return kernels.placements(self._tree, q)
+        return q
 
-    def _set_shape_pairs(self, pairs: list[Pair]) -> None:
-        """The shape pairs of the body pairs, grouped by body pair, and their coal distance functors."""
+    def _set_pairs(self, pairs: list[Pair]) -> None:
+        """Make the shape pairs of the body pairs (grouped by body pair) the geometry model's collision pairs.
+
+        Coal's warm start from the previous call is turned off: a configuration's distances do not
+        depend on what was computed before (it saves about a quarter of the time along a path).
+        """
         shape_pairs = [(a, b, p) for p, pair in enumerate(pairs)
                        for a in self.bodies[pair.first].objects for b in self.bodies[pair.second].objects]
         self._shape_first = np.array([a for a, _, _ in shape_pairs], dtype=np.int64)
@@ -176,29 +176,34 @@ class CollisionScene:
         self._shape_pair = np.array([p for _, _, p in shape_pairs], dtype=np.int64)
         self._pair_starts = np.searchsorted(self._shape_pair, np.arange(len(pairs)))
         self._against_cell = np.array([not self.bodies[pairs[p].second].is_robot for _, _, p in shape_pairs], dtype=bool)
-        self._functors = [coal.ComputeDistance(self._shapes[a], self._shapes[b]) for a, b, _ in shape_pairs]
+        self.geometry_model.removeAllCollisionPairs()
+        for a, b, _ in shape_pairs:
+            self.geometry_model.addCollisionPair(pin.CollisionPair(int(a), int(b)))
+        self._geometry_data = pin.GeometryData(self.geometry_model)
+        for request in self._geometry_data.distanceRequests:
+            request.gjk_initial_guess = coal.GJKInitialGuess.DefaultGuess
+            with warnings.catch_warnings():  # Pinocchio sets coal's older flag, which coal marks deprecated
+                warnings.simplefilter("ignore", DeprecationWarning)
+                request.enable_cached_gjk_guess = False
 
-    def _exact(self, k: int, rotation: np.ndarray, origin: np.ndarray) -> coal.DistanceResult:
-        """Coal's distance result of shape pair ``k`` with shapes placed at (G, 3, 3) rotations and (G, 3) origins."""
-        a, b = self._shape_first[k], self._shape_second[k]
-        first, second = self._transforms
-        first.setTransform(rotation[a], origin[a])
-        second.setTransform(rotation[b], origin[b])
-        result = coal.DistanceResult()
-        self._functors[k](first, second, self._request, result)
-        return result
+    def _exact_everywhere(self, q: np.ndarray) -> np.ndarray:
+        """(M, K) exact distances of every shape pair in configurations q (M, nq), by Pinocchio's loop over pairs."""
+        values = np.empty((len(q), len(self._shape_pair)))
+        results = self._geometry_data.distanceResults
+        for m in range(len(q)):
+            pin.computeDistances(self._model, self._data, self.geometry_model, self._geometry_data, q[m])
+            values[m] = [result.min_distance for result in results]
+        return values
 
-    def _exact_pairs(self, pairs: list[Pair], placements: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
-        """The exact distance of each body pair in one configuration (its placements)."""
-        self._set_shape_pairs(pairs)
-        rotation, origin = placements[0][0], placements[1][0]
-        values = np.array([self._exact(k, rotation, origin).min_distance for k in range(len(self._shape_first))])
-        out = np.full(len(pairs), np.inf)
-        np.minimum.at(out, self._shape_pair, values)
-        return out
+    def _per_pair(self, values: np.ndarray) -> np.ndarray:
+        """(M, P) the smallest of each body pair's shape-pair values (M, K)."""
+        if not len(self._pair_starts):
+            return np.empty((len(values), 0))
+        return np.minimum.reduceat(values, self._pair_starts, axis=1)
 
     def _bounds(self, rotation: np.ndarray, origin: np.ndarray) -> np.ndarray:
-        """(M, K) lower bounds of the shape pairs' distances."""
+        """(M, K) lower bounds of the shape pairs' distances, shapes placed at (M, G, 3, 3) rotations and (M, G, 3)
+        origins."""
         first, second = self._shape_first, self._shape_second
         center = np.einsum("mkij,kj->mki", rotation[:, first], self._sphere_center[first]) + origin[:, first]
         radius = self._sphere_radius[first]
@@ -250,7 +255,7 @@ def _box_half(shape: coal.CollisionGeometry) -> np.ndarray:
     return (np.asarray(box.max_) - np.asarray(box.min_)) / 2
 
 
-def _check_static(cell: Cell | None, bodies: tuple[Body, ...], pairs: list[Pair], reference: np.ndarray) -> None:
+def _check_fixed(cell: Cell | None, bodies: tuple[Body, ...], pairs: list[Pair], reference: np.ndarray) -> None:
     """A robot body fixed to the base must clear the cell as required: its distance never changes."""
     for pair, distance in zip(pairs, reference):
         if bodies[pair.first].joint or bodies[pair.second].joint or distance >= pair.required_m:
