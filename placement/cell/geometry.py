@@ -142,7 +142,7 @@ def _urdf_geometry(robot: Robot, kind: pin.GeometryType) -> pin.GeometryModel:
 def _hull(mesh: coal.BVHModelBase, path: Path, field: str) -> coal.ConvexBase:
     """The convex hull of a mesh's vertices."""
     try:
-        mesh.buildConvexHull(False, "Qt")
+        mesh.buildConvexHull(True, "Qt")
     except (RuntimeError, ValueError) as error:
         raise RobotFileError(path, field, f"cannot take the convex hull of its mesh: {str(error)[:200]}") from None
     return mesh.convex
@@ -216,7 +216,7 @@ def coal_shape(shape: Shape, source: Path, field: str,
     path = mesh_path(source.parent, shape)
     try:
         mesh = coal.MeshLoader().load(str(path), np.array(shape.scale_xyz))
-        mesh.buildConvexHull(False, "Qt")
+        mesh.buildConvexHull(True, "Qt")
     except (RuntimeError, ValueError) as problem:
         raise error(source, f"{field}.file", f"cannot read {path} as a mesh with a volume: {str(problem)[:200]}") from None
     return mesh.convex, path
