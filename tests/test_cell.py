@@ -407,3 +407,24 @@ def test_mount_tool_equals_a_urdf_with_the_tool_as_a_fixed_link(ur5, tmp_path):
         np.testing.assert_allclose(pin.rnea(mounted.model, mounted.model.createData(), q, v, a),
                                    pin.rnea(reference, reference.createData(), q, v, a), atol=1e-9)
     assert tool_inertia(tool).mass == 2.0
+
+
+def test_a_sidecar_declares_a_tool_that_a_cells_tool_replaces(tmp_path):
+    document = yaml.safe_load((ROOT / "robots" / "ur5" / "ur5.yaml").read_text())
+    document["tool"] = {"name": "gripper", "mass_kg": 1.2, "inertia_kg_m2": [2e-3, 2e-3, 1e-3, 0, 0, 0],
+                        "com_m": [0, 0, 0.05], "collision": {"type": "box", "size_m": [0.08, 0.05, 0.1],
+                                                             "xyz_m": [0, 0, 0.05]}}
+    (tmp_path / "ur5.yaml").write_text(yaml.safe_dump(document))
+    robot = load_robot(tmp_path / "ur5.yaml")
+    assert ("wrist_2_link", "gripper") in CollisionScene(robot).pairs
+    scene = CollisionScene(robot, load_cell(UR5_CELL))
+    assert "spindle" in {b.name for b in scene.bodies} and "gripper" not in {b.name for b in scene.bodies}
+    document["tool"]["frame"] = "flange"
+    (tmp_path / "ur5.yaml").write_text(yaml.safe_dump(document))
+    with pytest.raises(RobotFileError, match=r"ur5.yaml, field 'tool.frame': no frame 'flange'"):
+        robot = load_robot(tmp_path / "ur5.yaml")
+        mount_tool(robot, robot.sidecar.tool)
+    document["tool"]["collision"] = {"type": "mesh", "file": "gripper.stl"}
+    (tmp_path / "ur5.yaml").write_text(yaml.safe_dump(document))
+    with pytest.raises(RobotFileError, match=r"ur5.yaml, field 'tool.collision.file': mesh file not found"):
+        load_robot(tmp_path / "ur5.yaml")
