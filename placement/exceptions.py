@@ -85,3 +85,7 @@ class UnreachableError(PlacementError):
 
 class AssemblyError(PlacementError):
     """A robot's loops cannot be closed, or its assembled configuration cannot be written."""
+
+
+class CellFileError(InputFileError):
+    """A robot cell file (obstacles, keep-out zones, tool body) is missing, malformed or inconsistent."""

@@ -137,6 +137,8 @@ def _step(annotation: Any, part: Any) -> Any:
 
 def _union_member(annotation: Any, tag: Any) -> Any:
     """The member of a tagged union whose ``type`` literal is ``tag``, if any."""
+    if hasattr(annotation, "__metadata__"):  # Annotated[Union, Field(discriminator=...)]: the union (a dict's values)
+        annotation = annotation.__origin__
     for arg in getattr(annotation, "__args__", ()):
         if isinstance(arg, type) and issubclass(arg, BaseModel) and "type" in arg.model_fields:
             if tag in getattr(arg.model_fields["type"].annotation, "__args__", ()):

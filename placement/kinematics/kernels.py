@@ -712,6 +712,22 @@ def frames(tree, q, v):
 
 
 @njit(cache=True)
+def placements(tree, q):
+    """Every solver frame's rotation (B, nf, 3, 3) and origin (B, nf, 3) for configurations q (B, nq), without
+    Jacobians: the placements of many bodies (collision shapes, say) in one call."""
+    b, nv = q.shape
+    nf = len(tree.frame_parent)
+    rotation_out = np.empty((b, nf, 3, 3))
+    origin_out = np.empty((b, nf, 3))
+    buffers = _buffers(tree, nv)
+    for i in range(b):
+        forward(tree, q[i], buffers)
+        rotation_out[i] = buffers.frame_rotation
+        origin_out[i] = buffers.frame_origin
+    return rotation_out, origin_out
+
+
+@njit(cache=True)
 def rotation_vectors(rotation):
     """(B, 3) rotation vectors of (B, 3, 3) rotation matrices."""
     out = np.empty((rotation.shape[0], 3))

@@ -13,6 +13,7 @@ from typing import Annotated, Literal
 
 from pydantic import BeforeValidator, Field, model_validator
 
+from placement.cell.schema import ToolBody, check_mesh_file
 from placement.drives.motors import Motor
 from placement.drives.transmissions import Transmission, parse_transmission
 from placement.exceptions import RobotFileError
@@ -144,6 +145,16 @@ class Workspace(Strict):
         return self
 
 
+class Collision(Strict):
+    """Self-collision settings: pairs of links never checked against each other (they touch by design).
+
+    Links adjacent in the tree, links joined by a closure and links already touching at the
+    reference configuration are skipped without being listed (see :mod:`placement.cell.pairs`).
+    """
+
+    ignore_pairs: list[tuple[str, str]] = []
+
+
 class Sidecar(Strict):
     """The whole sidecar file."""
 
@@ -161,6 +172,9 @@ class Sidecar(Strict):
     kinematics: str | None = Field(None, description="kinematics solver by name (default: chosen for the robot)")
     workspace: Workspace | None = None
     placement: PlacementDefaults | None = None
+    tool: ToolBody | None = Field(None, description="a tool body on the robot (mass and collision shape); a cell's "
+                                  "tool replaces it")
+    collision: Collision = Collision()
     sources: dict[str, str] = {}
 
 
@@ -182,6 +196,8 @@ def _check_references(path: Path, sidecar: Sidecar) -> None:
             raise RobotFileError(path, f"actuators.{i}.drive", f"unknown drive '{actuator.drive}', expected one of "
                                  f"{sorted(sidecar.drives) or 'the names under drives (none given)'}")
     _check_tool_sources(path, sidecar)
+    if sidecar.tool is not None:
+        check_mesh_file(path, "tool.collision", sidecar.tool.collision, RobotFileError)
     for key, text in sidecar.sources.items():
         status = text.split(":", 1)[0].strip()
         if status not in SOURCE_STATUSES:
