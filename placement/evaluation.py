@@ -93,6 +93,7 @@ class PlacementDetail:
         samples: The path samples in the path frame.
         tool_position_m: (N, 3) tool point in the base frame.
         position, velocity, acceleration, effort: (N, n_act) actuator motion and effort.
+        configuration: (N, nq) every joint of the spanning tree (m, rad).
         motor: Motor speed, torque and current, (N, n_act).
         power_W: (N, n_act) signed electric power of each drive at each sample (the mean of the
             adjacent intervals' power, by the drive's motor model).
@@ -111,6 +112,7 @@ class PlacementDetail:
     velocity: np.ndarray
     acceleration: np.ndarray
     effort: np.ndarray
+    configuration: np.ndarray
     motor: MotorTrace
     power_W: np.ndarray
 
@@ -243,7 +245,7 @@ class Evaluator:
             reachable=bool(reachable.all()), unreachable_samples=np.flatnonzero(~reachable),
             energy=_first(batch.energy), margins=tightest(margin_fields(batch)), samples=self.samples,
             tool_position_m=batch.tool_position_m[0], position=batch.position[0], velocity=batch.velocity[0],
-            acceleration=batch.acceleration[0], effort=batch.effort[0], motor=motor,
+            acceleration=batch.acceleration[0], effort=batch.effort[0], configuration=batch.joints.q, motor=motor,
             power_W=sample_power(self.robot, motor, self.samples.t_s, self.samples.piece))
 
 

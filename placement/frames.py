@@ -19,11 +19,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from placement.cell.schema import Region
 from placement.exceptions import PlacementError
 from placement.kinematics.trajectories import TaskTrajectory
 from placement.path import PathSamples
 from placement.robot.model import Robot
-from placement.robot.sidecar import PLANE_VARIABLES, Plane
+from placement.robot.sidecar import PLANE_VARIABLES, Plane, Workspace
 
 VARIABLES = ("x", "y", "z", "phi", "theta", "psi")
 ANGLES = ("phi", "theta", "psi")
@@ -172,7 +173,8 @@ class PlacementSpace:
 def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict[str, float] | None = None,
                   bounds: dict[str, tuple[float, float]] | None = None, half_turn: bool = False) -> PlacementSpace:
     """The placement space of a robot: by default the sidecar's ``placement`` section, else x, y, z
-    within the workspace box and phi in ±180° (the tool axis staying along Z_b).
+    within the workspace box and phi in ±180° (the tool axis staying along Z_b); a robot in a cell
+    with a workpiece region keeps x, y, z within the region too.
 
     Args:
         robot: The robot.
@@ -198,8 +200,16 @@ def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict
     limits.update(bounds or {})
     if plane is not None:
         _check_in_plane(robot.name, plane, free, fixed or {})
-    for axis, bound in _workspace_ranges(robot, plane).items():
+    for axis, bound in _box_ranges(robot.sidecar.workspace, plane).items():
         limits.setdefault(axis, bound)
+    region = robot.cell.workpiece_region if robot.cell is not None else None
+    for axis, (low, high) in _box_ranges(region, plane).items():  # the path's origin stays in the region
+        bound = limits.get(axis, (low, high))
+        limits[axis] = (max(bound[0], low), min(bound[1], high))
+        if limits[axis][0] > limits[axis][1]:
+            raise PlacementError(f"the cell's workpiece region ({axis} from {low * 1e3:.1f} to {high * 1e3:.1f} mm) "
+                                 f"does not meet the placement bounds of robot '{robot.name}' ({axis} from "
+                                 f"{bound[0] * 1e3:.1f} to {bound[1] * 1e3:.1f} mm)")
     limits.setdefault("phi", (-np.pi / 2, np.pi / 2) if half_turn else (-np.pi, np.pi))
     for angle in ("theta", "psi"):
         limits.setdefault(angle, (-np.pi, np.pi))
@@ -213,15 +223,14 @@ def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict
                           fixed=fixed_vector)
 
 
-def _workspace_ranges(robot: Robot, plane: Plane | None) -> dict[str, tuple[float, float]]:
-    """The ranges of x, y, z over the workspace box (m): in the base frame, or in the plane's frame."""
-    workspace = robot.sidecar.workspace
-    if workspace is None:
+def _box_ranges(box: Workspace | Region | None, plane: Plane | None) -> dict[str, tuple[float, float]]:
+    """The ranges of x, y, z over a box of the base frame (m): in the base frame, or in the plane's frame."""
+    if box is None:
         return {}
     if plane is None:
-        return {axis: (workspace.min_m[k], workspace.max_m[k]) for k, axis in enumerate("xyz")}
+        return {axis: (box.min_m[k], box.max_m[k]) for k, axis in enumerate("xyz")}
     turn, origin = plane_frame(plane)
-    local = (box_corners(workspace.min_m, workspace.max_m) - origin) @ turn
+    local = (box_corners(box.min_m, box.max_m) - origin) @ turn
     return {axis: (float(local[:, k].min()), float(local[:, k].max())) for k, axis in enumerate("xyz")}
 
 

@@ -17,6 +17,8 @@ import numpy as np
 from placement.evaluation import PlacementDetail
 from placement.files import staged
 from placement.frames import ANGLES, VARIABLES
+from placement.limits import Margin
+from placement.limits.collision import closest_points
 from placement.objectives import OBJECTIVES, quantity, wording
 from placement.robot.model import Robot
 from placement.search.optimize import Optimum, PlacementResult
@@ -53,14 +55,23 @@ def format_detail(title: str, robot: Robot, detail: PlacementDetail, recheck_val
     for i, actuator in enumerate(robot.actuators):
         lines.append(f"    {actuator.joint:<{width}s}{energy.per_actuator_J[i]:>10.4f}{energy.joule_J[i]:>10.4f}"
                      f"{energy.inductive_J[i]:>11.4f}{energy.back_emf_J[i]:>12.4f}{energy.mechanical_J[i]:>10.4f}")
-    lines.append("  tightest limits (margin: share of the range, speed or torque still free):")
+    lines.append("  tightest limits (margin: share of the range, speed or torque still free; for a collision, "
+                 "clearance beyond the required one, per 100 mm):")
     shown = [m for m in detail.margins if m.kind != "reachability"]  # said above when it fails
     where = max(10, max(len(m.where) for m in shown))
     for margin in sorted(shown, key=lambda m: m.margin):
         lines.append(f"    {margin.kind:<18s} {margin.where:<{where}s} margin {margin.margin * 100:6.1f} %  "
                      f"({margin.value:.4g} {margin.unit} against {margin.limit:.4g} {margin.unit}, "
-                     f"t = {detail.samples.t_s[margin.sample]:.4f} s)")
+                     f"t = {detail.samples.t_s[margin.sample]:.4f} s{_closest_text(robot, detail, margin)})")
     return "\n".join(lines)
+
+
+def _closest_text(robot: Robot, detail: PlacementDetail, margin: Margin) -> str:
+    """Where a collision margin's two bodies come nearest, in mm of the base frame ("" for other limits)."""
+    if margin.kind != "collision":
+        return ""
+    first, second = closest_points(robot, detail.configuration[margin.sample], margin.where)
+    return ", nearest at ({:.1f}, {:.1f}, {:.1f}) mm".format(*((first + second) / 2 * 1e3))
 
 
 def _value_line(title: str, value: float, unit: str, recheck: float | None) -> str:
@@ -101,14 +112,23 @@ def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None =
         "energy_per_actuator_J": dict(zip(names, map(float, detail.energy.per_actuator_J))) if detail.reachable else None,
         "energy_parts_J": {part: dict(zip(names, map(float, getattr(detail.energy, f"{part}_J"))))
                            for part in ("joule", "inductive", "back_emf", "mechanical")} if detail.reachable else None,
-        "margins": [{"kind": m.kind, "where": m.where, "margin": m.margin, "value": m.value, "limit": m.limit, "unit": m.unit,
-                     "t_s": float(detail.samples.t_s[m.sample])} for m in detail.margins] if detail.reachable else [],
+        "margins": [_margin_json(robot, detail, m) for m in detail.margins] if detail.reachable else [],
     }
     if optimum is not None:
         out["objective"]["recheck_value"] = optimum.recheck_value
         if detail.objective == "energy":
             out["recheck_energy_J"] = optimum.recheck_value
         out["evaluations"] = optimum.evaluations
+    return out
+
+
+def _margin_json(robot: Robot, detail: PlacementDetail, margin: Margin) -> dict[str, Any]:
+    """One tightest limit; a collision's also with the two bodies' nearest points (base frame, m)."""
+    out = {"kind": margin.kind, "where": margin.where, "margin": margin.margin, "value": margin.value,
+           "limit": margin.limit, "unit": margin.unit, "t_s": float(detail.samples.t_s[margin.sample])}
+    if margin.kind == "collision":
+        out["nearest_points_m"] = [p.tolist() for p in closest_points(robot, detail.configuration[margin.sample],
+                                                                       margin.where)]
     return out
 
 

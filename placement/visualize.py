@@ -1,6 +1,7 @@
 """3-D scenes in the browser (meshcat): the robot, its workspace, placed paths and maps of an objective.
 
-A :class:`Scene` draws the robot from its URDF visuals (Pinocchio's meshcat visualiser), the
+A :class:`Scene` draws the robot from its URDF visuals (Pinocchio's meshcat visualiser), with its
+tool body and its cell's obstacles and keep-out zones as they are checked for collisions, the
 workspace box as a wireframe with its named points, placed paths as coloured lines, a map
 as coloured points, and animates the robot along a path. Its camera looks at the centre of the
 box that holds everything drawn (the robot at its reference configuration: every frame origin and
@@ -17,7 +18,6 @@ from __future__ import annotations
 import base64
 import html
 import http.server
-import os
 import shutil
 import subprocess
 import tempfile
@@ -34,13 +34,18 @@ from meshcat.animation import Animation
 from meshcat.servers.tree import SceneTree, find_node, walk
 from pinocchio.visualize import MeshcatVisualizer
 
+from placement.cell.geometry import package_dirs
 from placement.exceptions import RobotFileError
 from placement.frames import box_corners
+from placement.limits.collision import collision_scene
 from placement.robot.model import Robot
 
 VIEWER_SCRIPT = Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js"
 POINT_COLORS = {"O_b": 0x1F77B4, "C": 0x2CA02C, "Q_plus": 0xD62728, "Q_minus": 0xFF7F0E}
 BEST_COLOR, WORST_COLOR, AT_COLOR, CUBE_COLOR = 0x00B050, 0xE00000, 0x0070FF, 0x303030
+CELL_COLORS = {"tool": (0x505A64, "tool"), "obstacle": (0xB08850, "obstacles"), "keep_out": (0xFF4040, "keep-out zones")}
+CELL_OPACITY = {"tool": 1.0, "obstacle": 0.5, "keep_out": 0.12}
+NEAREST_COLOR, REGION_COLOR = 0xFF00FF, 0x2080C0
 ANIMATION_FPS = 30
 CAMERA_DIRECTION = np.array([-0.45, -0.45, 0.35]) / np.linalg.norm([-0.45, -0.45, 0.35])  # from the target
 CAMERA_FOV_DEG = 75.0  # meshcat's default camera: PerspectiveCamera(75, aspect, 0.01, 100), vertical
@@ -91,12 +96,14 @@ class Scene:
         self.window = _RecordingWindow()
         self.viewer = meshcat.Visualizer(window=self.window)
         self.legend: list[tuple[str, int]] = [("robot", 0x999999)]
-        folders = [str(robot.urdf_path.parent), *_package_dirs(robot)]
         try:
             visual = pin.buildGeomFromUrdf(robot.model, str(robot.urdf_path), pin.GeometryType.VISUAL,
-                                           package_dirs=folders)
+                                           package_dirs=package_dirs(robot))
         except ValueError as error:  # a mesh the URDF names is not there
             raise RobotFileError(robot.urdf_path, "", f"cannot draw the robot: {str(error)[:200]}") from None
+        self.drawn_points_m: list[np.ndarray] = [robot_points(robot, visual)]  # the camera frames the robot, not the cell
+        if robot.cell is not None or robot.sidecar.tool is not None:
+            self._add_cell_shapes(visual)
         self.visualizer = MeshcatVisualizer(robot.model, pin.GeometryModel(), visual)
         self.visualizer.initViewer(viewer=self.viewer)
         self.visualizer.loadViewerModel(rootNodeName="robot")
@@ -104,9 +111,32 @@ class Scene:
         self.viewer["/Grid"].set_property("visible", False)
         self.viewer["/Background"].set_property("top_color", [1.0, 1.0, 1.0])
         self.viewer["/Background"].set_property("bottom_color", [0.82, 0.84, 0.88])
-        self.drawn_points_m: list[np.ndarray] = [robot_points(robot, visual)]
         self.camera_m: tuple[np.ndarray, np.ndarray] = (np.zeros(3), CAMERA_DIRECTION)
         self.fit_camera()
+
+    def _add_cell_shapes(self, visual: pin.GeometryModel) -> None:
+        """The tool body (moving with its joint) and the cell's obstacles and keep-out zones, as they are checked."""
+        scene = collision_scene(self.robot)
+        for body in scene.bodies:
+            if body.kind == "link":
+                continue
+            color, label = CELL_COLORS[body.kind]
+            for index in body.objects:
+                item = scene.geometry_model.geometryObjects[index].copy()
+                item.meshColor = np.array([((color >> s) & 255) / 255 for s in (16, 8, 0)] + [CELL_OPACITY[body.kind]])
+                visual.addGeometryObject(item)
+            if all(entry[0] != label for entry in self.legend):
+                self.legend.append((label, color))
+
+    def add_nearest(self, name: str, first_m: np.ndarray, second_m: np.ndarray, label: str) -> None:
+        """The nearest points of two bodies (base frame, m), joined by a line, with the label in the legend."""
+        points = np.array([first_m, second_m], dtype=np.float32).T
+        self.viewer[f"nearest/{name}/line"].set_object(
+            g.Line(g.PointsGeometry(points), g.LineBasicMaterial(color=NEAREST_COLOR, linewidth=3)))
+        for k, point in enumerate((first_m, second_m)):
+            self.viewer[f"nearest/{name}/end_{k}"].set_object(g.Sphere(0.004), g.MeshLambertMaterial(color=NEAREST_COLOR))
+            self.viewer[f"nearest/{name}/end_{k}"].set_transform(pin.SE3(np.eye(3), np.asarray(point)).homogeneous)
+        self.legend.append((label, NEAREST_COLOR))
 
     def extent(self) -> tuple[np.ndarray, np.ndarray]:
         """The box holding everything drawn so far: lowest and highest corners (m, base frame)."""
@@ -134,19 +164,27 @@ class Scene:
         if workspace is None:
             return
         low, high = np.array(workspace.min_m), np.array(workspace.max_m)
-        corners = box_corners(low, high)
-        self.drawn_points_m.append(corners)
-        edges = [(i, j) for i in range(8) for j in range(i + 1, 8) if bin(i ^ j).count("1") == 1]
-        segments = np.array([corners[k] for edge in edges for k in edge]).T
-        self.viewer["workspace/cube"].set_object(
-            g.LineSegments(g.PointsGeometry(segments), g.LineBasicMaterial(color=CUBE_COLOR, linewidth=2)))
-        self.legend.append(("workspace", CUBE_COLOR))
+        self._wire_box("workspace/cube", low, high, CUBE_COLOR, "workspace")
+        region = self.robot.cell.workpiece_region if self.robot.cell is not None else None
+        if region is not None:
+            self._wire_box("cell/workpiece_region", np.array(region.min_m), np.array(region.max_m), REGION_COLOR,
+                           "workpiece region")
         radius = 0.03 * float(np.max(high - low))
         for name, point in workspace.points_m.items():
             color = POINT_COLORS.get(name, 0x7F7F7F)
             self.viewer[f"workspace/{name}"].set_object(g.Sphere(radius), g.MeshLambertMaterial(color=color))
             self.viewer[f"workspace/{name}"].set_transform(pin.SE3(np.eye(3), np.array(point)).homogeneous)
             self.legend.append((name.replace("_plus", "+").replace("_minus", "-"), color))
+
+    def _wire_box(self, name: str, low: np.ndarray, high: np.ndarray, color: int, label: str) -> None:
+        """An axis-aligned box of the base frame (m) as a wireframe, framed by the camera."""
+        corners = box_corners(low, high)
+        self.drawn_points_m.append(corners)
+        edges = [(i, j) for i in range(8) for j in range(i + 1, 8) if bin(i ^ j).count("1") == 1]
+        segments = np.array([corners[k] for edge in edges for k in edge]).T
+        self.viewer[name].set_object(
+            g.LineSegments(g.PointsGeometry(segments), g.LineBasicMaterial(color=color, linewidth=2)))
+        self.legend.append((label, color))
 
     def add_path(self, name: str, tool_position_m: np.ndarray, color: int, label: str | None = None,
                  width_m: float = 0.006) -> None:
@@ -288,16 +326,6 @@ def robot_points(robot: Robot, visual: pin.GeometryModel) -> np.ndarray:
         corners = box_corners(np.asarray(box.min_) * item.meshScale, np.asarray(box.max_) * item.meshScale)
         points.append(corners @ placement.rotation.T + placement.translation)
     return np.vstack(points)
-
-
-def _package_dirs(robot: Robot) -> list[str]:
-    """Folders where meshes named package://... may live (example-robot-data's robots)."""
-    if not robot.sidecar.urdf.startswith("example-robot-data:"):
-        return []
-    from example_robot_data.robots_loader import ROBOTS
-
-    loader = ROBOTS[robot.sidecar.urdf.split(":", 1)[1]]()
-    return [os.path.dirname(os.path.dirname(loader.model_path)), loader.model_path]
 
 
 _PAGE = """<!DOCTYPE html>

@@ -11,12 +11,13 @@ import numpy as np
 import pinocchio as pin
 import pytest
 import yaml
+from robot_copies import edited_copy
 
 from placement.cell.scene import CollisionScene
 from placement.cell.schema import load_cell
-from placement.cell.tool import mount_tool, pose_placement, tool_inertia
 from placement.exceptions import CellFileError, RobotFileError
 from placement.robot import load_robot
+from placement.robot.tool import mount_tool, pose_placement, tool_inertia
 
 ROOT = Path(__file__).parent.parent
 UR5_CELL = ROOT / "examples" / "cell_ur5_table_wall.yaml"
@@ -205,8 +206,31 @@ def test_ur5_skips_adjacent_links_and_checks_the_tool_against_the_wrist(ur5):
         assert required == (0.01 if second in ("table", "wall", "fixture") else 0.0)
 
 
-def test_orthoglide_skips_tree_and_closure_neighbours():
-    robot = load_robot("orthoglide")
+def _orthoglide_with_collision_elements(folder: Path) -> Path:
+    """A copy of the Orthoglide whose URDF declares its visual shapes as collision shapes too."""
+    sidecar = edited_copy("orthoglide", folder, lambda document: None)
+    urdf = sidecar.parent / "orthoglide.urdf"
+    text = urdf.read_text()
+    collisions = re.sub(r"<material.*?</material>", "", text).replace("<visual>", "<collision>").replace(
+        "</visual>", "</collision>")
+    links = re.findall(r"(<link name=\"[^\"]+\">)(.*?)(</link>)", collisions, flags=re.S)
+    for (head, body, _), (_, original, _) in zip(links, re.findall(r"(<link name=\"[^\"]+\">)(.*?)(</link>)", text,
+                                                                       flags=re.S)):
+        text = text.replace(head + original, head + original + body, 1)
+    urdf.write_text(text)
+    return sidecar
+
+
+def test_links_drawn_by_visuals_only_are_checked_against_the_cell_not_against_each_other():
+    scene = CollisionScene(load_robot("orthoglide"), load_cell(ORTHOGLIDE_CELL))
+    robot_names = {body.name for body in scene.bodies if body.is_robot}
+    assert all(second not in robot_names for _, second in scene.pairs)
+    assert {("platform", "vice"), ("bar1_z", "table")} <= set(scene.pairs)
+    assert any("drawings are not clearances" in notice for notice in scene.notices)
+
+
+def test_orthoglide_skips_tree_and_closure_neighbours(tmp_path):
+    robot = load_robot(_orthoglide_with_collision_elements(tmp_path))
     scene = CollisionScene(robot, load_cell(ORTHOGLIDE_CELL))
     pairs = {frozenset(pair) for pair in scene.pairs}
     touching = {frozenset(pair) for pair in scene.touching_at_reference}
@@ -218,7 +242,6 @@ def test_orthoglide_skips_tree_and_closure_neighbours():
     for axis in "yz":  # the far links weld to the platform through a wrist joint without shapes
         assert frozenset((f"far_{axis}", "platform")) not in considered
     assert frozenset(("bar1_x", "bar1_y")) in pairs
-    assert any("<visual> shapes are used" in notice for notice in scene.notices)
     assert touching and not touching & pairs
     assert (scene.distances(robot.reference_q) > 0).all()
 
@@ -422,8 +445,7 @@ def test_a_sidecar_declares_a_tool_that_a_cells_tool_replaces(tmp_path):
     document["tool"]["frame"] = "flange"
     (tmp_path / "ur5.yaml").write_text(yaml.safe_dump(document))
     with pytest.raises(RobotFileError, match=r"ur5.yaml, field 'tool.frame': no frame 'flange'"):
-        robot = load_robot(tmp_path / "ur5.yaml")
-        mount_tool(robot, robot.sidecar.tool)
+        load_robot(tmp_path / "ur5.yaml")
     document["tool"]["collision"] = {"type": "mesh", "file": "gripper.stl"}
     (tmp_path / "ur5.yaml").write_text(yaml.safe_dump(document))
     with pytest.raises(RobotFileError, match=r"ur5.yaml, field 'tool.collision.file': mesh file not found"):

@@ -20,10 +20,11 @@ import numpy as np
 import pinocchio as pin
 
 from placement.cell.schema import BoxShape, Cell, CylinderShape, MeshShape, Shape, SphereShape, ToolBody, mesh_path
-from placement.cell.tool import declaring_file_error, pose_placement, tool_mount, tool_of
+from placement.cell.tool import tool_of
 from placement.exceptions import CellFileError, InputFileError, RobotFileError
 from placement.robot.load import ERD_PREFIX
 from placement.robot.model import Robot
+from placement.robot.tool import declaring_file_error, pose_placement, tool_mount
 
 LINK, TOOL, OBSTACLE, KEEP_OUT = "link", "tool", "obstacle", "keep_out"
 Declared = tuple[Path, str, type[InputFileError]]  # the file declaring a shape, its field there, and the error to raise
@@ -38,12 +39,16 @@ class Body:
         kind: "link", "tool", "obstacle" or "keep_out".
         joint: The Pinocchio joint that moves it (0: fixed to the base).
         objects: Indices of its shapes in the geometry model.
+        declared: Its shapes are declared for collisions (a URDF link's <collision> elements, a tool's
+            shape, a cell body), rather than drawings standing in for them (a link's <visual>
+            elements): only declared robot bodies are checked against each other.
     """
 
     name: str
     kind: str
     joint: int
     objects: tuple[int, ...]
+    declared: bool = True
 
     @property
     def is_robot(self) -> bool:
@@ -81,9 +86,10 @@ def build_geometry(robot: Robot, cell: Cell | None) -> SceneGeometry:
     geometry_model, used_visuals = _robot_geometry(robot)
     notices = []
     if used_visuals:
-        notices.append(f"robot '{robot.name}': {len(used_visuals)} link(s) have no <collision> element, their "
-                       f"<visual> shapes are used for collisions ({_listed(used_visuals)})")
-    bodies = _link_bodies(robot.model, geometry_model)
+        notices.append(f"robot '{robot.name}': {len(used_visuals)} link(s) have no <collision> element; their "
+                       f"<visual> shapes stand in for them against the cell, but drawings are not clearances, so "
+                       f"they are not checked against the robot's other bodies ({_listed(used_visuals)})")
+    bodies = _link_bodies(robot.model, geometry_model, set(used_visuals))
     tool = tool_of(robot, cell)
     if tool is not None:
         bodies += _tool_bodies(robot, *tool, geometry_model, {body.name for body in bodies})
@@ -148,13 +154,13 @@ def _hull(mesh: coal.BVHModelBase, path: Path, field: str) -> coal.ConvexBase:
     return mesh.convex
 
 
-def _link_bodies(model: pin.Model, geometry_model: pin.GeometryModel) -> list[Body]:
-    """One body per link that has shapes, in the order of their first shape."""
+def _link_bodies(model: pin.Model, geometry_model: pin.GeometryModel, drawn_only: set[str]) -> list[Body]:
+    """One body per link that has shapes, in the order of their first shape; ``drawn_only`` links use visuals."""
     shapes: dict[str, list[int]] = {}
     for index, item in enumerate(geometry_model.geometryObjects):
         shapes.setdefault(model.frames[item.parentFrame].name, []).append(index)
-    return [Body(name, LINK, int(geometry_model.geometryObjects[indices[0]].parentJoint), tuple(indices))
-            for name, indices in shapes.items()]
+    return [Body(name, LINK, int(geometry_model.geometryObjects[indices[0]].parentJoint), tuple(indices),
+                 declared=name not in drawn_only) for name, indices in shapes.items()]
 
 
 def _tool_bodies(robot: Robot, tool: ToolBody, source: Path, geometry_model: pin.GeometryModel,

@@ -2,7 +2,8 @@
 
 - Every robot body (link or tool) against every obstacle (clearance: the cell's ``margin_m``) and
   keep-out zone (clearance 0), except the pairs the cell's ``ignore`` lists.
-- Robot bodies against each other (clearance 0), except bodies on one joint (one rigid body);
+- Robot bodies against each other (clearance 0), when both have shapes declared for collisions (a
+  link drawn by its visuals only is checked against the cell alone), except bodies on one joint (one rigid body);
   links adjacent in the kinematic graph: parent and child, or joined by a loop closure, looking
   through bodies without shapes (a parallel robot's wrist joints, say); the pairs the sidecar's
   ``collision.ignore_pairs`` lists. The tool is skipped only against the links of its own body.
@@ -57,6 +58,8 @@ def select_pairs(robot: Robot, cell: Cell | None, bodies: Sequence[Body]) -> lis
     for a, i in enumerate(robot_bodies):
         for j in robot_bodies[a + 1:]:
             first, second = bodies[i], bodies[j]
+            if not (first.declared and second.declared):
+                continue
             joined = (first.joint == second.joint if TOOL in (first.kind, second.kind)
                       else second.joint in adjacent[first.joint])
             if not joined and frozenset((first.name, second.name)) not in ignored:

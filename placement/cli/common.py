@@ -13,12 +13,15 @@ from pathlib import Path
 import numpy as np
 from pydantic import ValidationError
 
+from placement.cell.schema import load_cell
+from placement.cell.tool import equip
 from placement.cluster import SCHEDULER_VARIABLE
 from placement.energy.regeneration import REGENERATION
 from placement.exceptions import PlacementError
 from placement.frames import ANGLES, VARIABLES
 from placement.kinematics.base import solver_name
 from placement.kinematics.batched import prepare_kernels
+from placement.limits.collision import collision_scene
 from placement.objectives import OBJECTIVES
 from placement.path import Timing, ToolPath, load_path
 from placement.robot import Robot, load_robot
@@ -270,12 +273,21 @@ def add_tool_option(parser: argparse.ArgumentParser) -> None:
                              "estimated): the link or joint that follows the path, e.g. tool0")
 
 
-def load_robot_argument(robot: str, tool: str | None) -> Robot:
-    """The robot a command line names: built-in, installed, a sidecar file, or erd:NAME with --tool.
+def add_cell_option(parser: argparse.ArgumentParser) -> None:
+    """--cell: the robot works in a cell (obstacles, keep-out zones, workpiece region, tool)."""
+    parser.add_argument("--cell", metavar="FILE",
+                        help="a cell file (YAML): obstacles the robot must clear, keep-out zones, the region where "
+                             "the workpiece may be placed, and a tool body; collisions then become a limit")
+
+
+def load_robot_argument(robot: str, tool: str | None, cell: str | None = None) -> Robot:
+    """The robot a command line names: built-in, installed, a sidecar file, or erd:NAME with --tool; in
+    the cell of the file ``cell``, if given.
 
     An ``erd:`` robot's estimates are said once, as a warning on standard error. A robot solved by the
     compiled generic kinematics has it loaded here, with a word on standard error when it is being
-    compiled (a machine's first run).
+    compiled (a machine's first run). A cell's collision scene is built here, and its notices (shapes
+    taken from visuals, convex hulls, pairs left out) are printed.
 
     Raises:
         UsageError: --tool given for a robot that is not erd:NAME.
@@ -293,7 +305,12 @@ def load_robot_argument(robot: str, tool: str | None) -> Robot:
     if solver_name(loaded) == "numeric":
         prepare_kernels(lambda: print("compiling the generic kinematics for this machine (once, about a minute; "
                                       "later runs load it from the cache) ...", file=sys.stderr, flush=True))
-    return loaded
+    if cell is None:
+        return loaded
+    equipped = equip(loaded, load_cell(cell))
+    for notice in collision_scene(equipped).notices:
+        print(f"note: {notice}")
+    return equipped
 
 
 def require_sidecar(robot: str, command: str) -> None:

@@ -12,6 +12,7 @@ import numpy as np
 
 from placement.cli.common import (
     UsageError,
+    add_cell_option,
     add_sampling_options,
     add_tool_option,
     check_outputs,
@@ -33,6 +34,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     command = commands.add_parser("feed", help="energy and time per part against the feed rate, at one placement")
     command.add_argument("--robot", required=True, help="robot name, sidecar YAML, or erd:NAME (with --tool)")
     add_tool_option(command)
+    add_cell_option(command)
     command.add_argument("--path", required=True, help="path file (YAML)")
     command.add_argument("--at", required=True, metavar="x=..,y=..,phi=..",
                          help="the placement (mm and deg unless a value ends in m or rad)")
@@ -57,10 +59,10 @@ def parse_feeds(text: str) -> np.ndarray:
 
 def run(args: argparse.Namespace) -> int:
     """Print the table (and draw the figure) of time and energy per part against feed."""
-    check_outputs(("--png", args.png), inputs=(args.path, *robot_files(args.robot)))
+    check_outputs(("--png", args.png), inputs=(args.path, *robot_files(args.robot), *([args.cell] if args.cell else [])))
     feeds = parse_feeds(args.feeds)
     given = parse_values(args.at, "--at")
-    robot = load_robot_argument(args.robot, args.tool)
+    robot = load_robot_argument(args.robot, args.tool, args.cell)
     path = configured_path(args, args.path)
     study = feed_study(robot, path, np.array([given.get(name, 0.0) for name in VARIABLES]), feeds, args.regen,
                        args.time_step)

@@ -13,6 +13,7 @@ from tqdm import tqdm
 
 from placement.cli.common import (
     UsageError,
+    add_cell_option,
     add_model_options,
     add_sampling_options,
     add_scheduler_option,
@@ -38,6 +39,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     energy_map = commands.add_parser("map", help="map of the objective over a grid of placements (saved as .npz)")
     energy_map.add_argument("--robot", required=True, help="robot name, sidecar YAML, or erd:NAME (with --tool)")
     add_tool_option(energy_map)
+    add_cell_option(energy_map)
     energy_map.add_argument("--path", required=True, help="path file (YAML)")
     energy_map.add_argument("--grid", required=True, metavar="x=-120:60:41,y=-120:60:41",
                             help="swept variables: name=start:stop:count, in mm and degrees")
@@ -87,7 +89,7 @@ def run(args: argparse.Namespace) -> int:
     """The 'map' command: a map of the objective over a grid of placements."""
     out = args.out if args.out.endswith(".npz") else f"{args.out}.npz"  # numpy's suffix, said up front
     check_outputs(("--out", out), ("--png", args.png), ("--html", args.html),
-                  inputs=(args.path, *robot_files(args.robot)))
+                  inputs=(args.path, *robot_files(args.robot), *([args.cell] if args.cell else [])))
     axes = parse_grid(args.grid)
     fixed = parse_values(args.fix or "", "--fix")
     clash = sorted(set(axes) & set(fixed))
@@ -95,7 +97,7 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"--fix: {', '.join(clash)} is also swept by --grid")
     if args.png and len(axes) != 2:
         raise UsageError(f"--png draws maps over exactly two variables; --grid gives {len(axes)}")
-    robot = load_robot_argument(args.robot, args.tool)
+    robot = load_robot_argument(args.robot, args.tool, args.cell)
     path = configured_path(args, args.path)
     total = int(np.prod([len(v) for v in axes.values()]))
     with cluster(scheduler_address(args.scheduler)) as remote, \

@@ -16,6 +16,7 @@ from tqdm import tqdm
 
 from placement.cli.common import (
     UsageError,
+    add_cell_option,
     add_model_options,
     add_sampling_options,
     add_scheduler_option,
@@ -34,6 +35,7 @@ from placement.energy.regeneration import REGENERATION
 from placement.evaluation import Evaluator
 from placement.frames import VARIABLES, default_space, describe_plane, placed_task, robot_plane
 from placement.kinematics import joint_trajectory
+from placement.limits.collision import closest_points
 from placement.objectives import OBJECTIVES, wording
 from placement.path import ToolPath
 from placement.report import detail_json, format_detail, format_result, write_atomically, write_json, write_trace
@@ -54,6 +56,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--robot", required=True, help="built-in robot name, path to a robot sidecar YAML, or "
                         "erd:NAME (an example-robot-data arm, with --tool)")
     add_tool_option(parser)
+    add_cell_option(parser)
     parser.add_argument("--path", required=True, nargs="+", help="path file(s) (YAML), e.g. examples/rect.yaml")
     direction = parser.add_mutually_exclusive_group()
     direction.add_argument("--minimize", action="store_true",
@@ -194,6 +197,11 @@ def draw(scene: Scene, robot: Robot, index: int, details: dict) -> None:
     if index == 0 and moving is not None and moving.reachable:
         task, _ = placed_task(robot, moving.samples, moving.placement[None])
         scene.animate(joint_trajectory(robot, task).q, moving.samples.t_s)
+        nearest = min((m for m in moving.margins if m.kind == "collision"), key=lambda m: m.margin, default=None)
+        if nearest is not None:
+            first, second = closest_points(robot, moving.configuration[nearest.sample], nearest.where)
+            scene.add_nearest(str(index), first, second, f"nearest: {nearest.where}, {nearest.value * 1e3:.1f} mm "
+                              f"at t = {moving.samples.t_s[nearest.sample]:.3f} s")
 
 
 def show(page: str, host: str) -> None:
@@ -235,7 +243,7 @@ def check_front_options(args: argparse.Namespace) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """The main job; returns the exit code."""
-    robot = load_robot_argument(args.robot, args.tool)
+    robot = load_robot_argument(args.robot, args.tool, args.cell)
     if args.trace and len(args.path) > 1:
         raise UsageError("--trace: give a single --path")
     if args.at is not None and (args.fix or args.free or args.minimize or args.maximize):
@@ -244,7 +252,7 @@ def run(args: argparse.Namespace) -> int:
     check_front_options(args)
     check_outputs(("--json", args.json), ("--trace", args.trace), ("--html", args.html),
                   ("--png", args.png),
-                  inputs=(*args.path, *robot_files(args.robot)))
+                  inputs=(*args.path, *robot_files(args.robot), *([args.cell] if args.cell else [])))
     scene = None
     if args.html or args.show:
         from placement.visualize import Scene

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 
 from placement.batch import EvaluatedBatch
@@ -18,12 +20,17 @@ class Workspace(Limit):
     def fields(self, batch: EvaluatedBatch) -> list[MarginField]:
         workspace = batch.robot.sidecar.workspace
         assert workspace is not None  # applies_to
-        lo, hi = np.array(workspace.min_m), np.array(workspace.max_m)
-        side, tool = hi - lo, batch.tool_position_m
-        margin = np.concatenate([(tool - lo) / side, (hi - tool) / side], axis=-1)
-        return [MarginField("workspace", margin, np.concatenate([tool, tool], axis=-1),
-                            np.broadcast_to(np.concatenate([lo, hi]), margin.shape),
-                            ("x min", "y min", "z min", "x max", "y max", "z max"), ("m",) * 6)]
+        return [box_field("workspace", batch.tool_position_m, workspace.min_m, workspace.max_m)]
+
+
+def box_field(kind: str, tool_position_m: np.ndarray, min_m: Sequence[float], max_m: Sequence[float]) -> MarginField:
+    """Margins of the tool points (K, N, 3) inside an axis-aligned box of the base frame; the scale is its side."""
+    low, high = np.array(min_m, dtype=float), np.array(max_m, dtype=float)
+    side, tool = high - low, tool_position_m
+    margin = np.concatenate([(tool - low) / side, (high - tool) / side], axis=-1)
+    return MarginField(kind, margin, np.concatenate([tool, tool], axis=-1),
+                       np.broadcast_to(np.concatenate([low, high]), margin.shape),
+                       ("x min", "y min", "z min", "x max", "y max", "z max"), ("m",) * 6)
 
 
 class Reachability(Limit):

@@ -26,7 +26,7 @@ from placement.robot.gepetto import SIDECAR_NAME, is_gepetto, read_gepetto
 from placement.robot.model import Actuator, Closure, Robot
 from placement.robot.plugins import load_plugin, make_closed_form
 from placement.robot.sidecar import Sidecar, read_sidecar
-from placement.robot.tool import add_tool_frame
+from placement.robot.tool import add_tool_frame, find_frame, mount_tool
 from placement.taylor import Taylor2
 
 CLOSURE_TOLERANCE_M = 1e-6
@@ -128,6 +128,8 @@ def build_robot(path: Path, sidecar: Sidecar, *, check_closures: bool = True) ->
         _check_mobility(robot)
         _check_plugin(robot)
     _check_solver(robot)
+    if sidecar.tool is not None:
+        robot = mount_tool(robot, sidecar.tool)
     return robot
 
 
@@ -270,15 +272,6 @@ def _frame_id(model: pin.Model, path: Path, field: str, name: str) -> int:
     if frame_id is None:
         raise RobotFileError(path, field, f"no frame '{name}' in the URDF (links and joints are frames)")
     return frame_id
-
-
-def find_frame(model: pin.Model, name: str) -> int | None:
-    """The id of the frame called ``name``: a link first, then a fixed joint, then a joint (a URDF may give a
-    link and a joint one name); None if there is none."""
-    for kind in (pin.FrameType.BODY, pin.FrameType.FIXED_JOINT, pin.FrameType.JOINT):
-        if model.existFrame(name, kind):
-            return int(model.getFrameId(name, kind))
-    return None
 
 
 def _joint_id(model: pin.Model, path: Path, field: str, name: str, locked: dict[str, float] | None = None) -> int:

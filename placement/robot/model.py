@@ -13,6 +13,7 @@ import pinocchio as pin
 from placement.robot.plugins import ClosedFormFunction, load_plugin, make_closed_form
 
 if TYPE_CHECKING:
+    from placement.cell.schema import Cell
     from placement.robot.sidecar import Drive, Sidecar
 
 
@@ -45,7 +46,7 @@ class Closure:
         return 3 if self.kind == "point" else 6
 
 
-@dataclass
+@dataclass(eq=False)
 class Robot:
     """A robot ready for kinematics and dynamics.
 
@@ -62,6 +63,8 @@ class Robot:
         plugin: The robot's kinematics plug-in module, if it has one.
         closed_form: The plug-in's closed-form position solver, if any.
         sidecar: The validated sidecar data (drives, workspace, sources, ...).
+        cell: The cell the robot works in (obstacles, keep-out zones, workpiece region, tool), if
+            any: its distances become a limit (see :func:`placement.cell.tool.equip`).
     """
 
     name: str
@@ -76,6 +79,7 @@ class Robot:
     plugin: ModuleType | None
     closed_form: ClosedFormFunction | None
     sidecar: Sidecar
+    cell: Cell | None = None
 
     def __getstate__(self) -> dict:
         """For another process: a loaded plug-in module does not travel, its file does."""

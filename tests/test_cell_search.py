@@ -1,0 +1,98 @@
+"""A robot in a cell: the tool's mass in the dynamics, collisions as a limit the search keeps, and the report."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pinocchio as pin
+import pytest
+import yaml
+
+from placement import Evaluator, load_path, load_robot
+from placement.__main__ import main
+from placement.cell.schema import load_cell
+from placement.cell.tool import equip
+from placement.frames import default_space
+from placement.limits.collision import collision_scene
+from placement.robot.tool import mount_tool
+from placement.search.optimize import SearchSettings, optimize_placement
+
+SMALL = SearchSettings(population=24, max_generations=25)
+RECT = "examples/rect.yaml"
+
+
+def _cell(tmp_path, **fields) -> str:
+    file = tmp_path / "cell.yaml"
+    file.write_text(yaml.safe_dump(fields))
+    return str(file)
+
+
+def test_a_cells_tool_replaces_the_sidecars_in_the_dynamics(tmp_path):
+    spindle = {"name": "spindle", "mass_kg": 2.0, "com_m": [0, 0, 0.075], "inertia_kg_m2": [4e-3, 4e-3, 1e-3, 0, 0, 0],
+               "collision": {"type": "cylinder", "radius_m": 0.03, "length_m": 0.15, "xyz_m": [0, 0, 0.075]}}
+    gripper = dict(spindle, name="gripper", mass_kg=1.2, com_m=[0.01, 0, 0.05])
+    document = yaml.safe_load(open("robots/ur5/ur5.yaml").read())
+    (tmp_path / "ur5.yaml").write_text(yaml.safe_dump(dict(document, tool=gripper)))
+    bare, with_gripper = load_robot("ur5"), load_robot(tmp_path / "ur5.yaml")
+    equipped = equip(with_gripper, load_cell(_cell(tmp_path, tool=spindle)))
+    expected = mount_tool(bare, equipped.cell.tool)
+    rng = np.random.default_rng(2)
+    for _ in range(4):
+        q, v, a = pin.randomConfiguration(bare.model), rng.normal(size=6), rng.normal(size=6)
+        loaded_tau = pin.rnea(with_gripper.model, with_gripper.model.createData(), q, v, a)
+        assert np.abs(loaded_tau - pin.rnea(bare.model, bare.model.createData(), q, v, a)).max() > 1e-2  # it carries the gripper
+        np.testing.assert_allclose(pin.rnea(equipped.model, equipped.model.createData(), q, v, a),
+                                   pin.rnea(expected.model, expected.model.createData(), q, v, a), atol=1e-12)
+
+
+def test_the_workpiece_region_bounds_the_search_and_is_a_limit(tmp_path):
+    robot = equip(load_robot("orthoglide"), load_cell(_cell(tmp_path, workpiece_region={
+        "min_m": [-0.05, -0.06, -0.1], "max_m": [0.02, 0.03, 0.0]})))
+    space = default_space(robot)
+    np.testing.assert_allclose(space.lower[:3], [-0.05, -0.06, -0.1])
+    np.testing.assert_allclose(space.upper[:3], [0.02, 0.03, 0.0])
+    evaluation = Evaluator(robot, load_path(RECT)).evaluate(np.array([[0.0, 0.0, -0.05, 0, 0, 0],
+                                                                      [0.0, 0.0, -0.05, np.pi / 2, 0, 0]]))
+    column = [i for i, label in enumerate(evaluation.limits) if label.startswith("workpiece region")]
+    # 30 mm wide along x, 60 mm along y: the unturned rectangle leaves the region at y = -0.06 + 0.03 ... and x,
+    # turned by 90° it spans 60 mm along x from -0.03 to 0.03, beyond the region's x max of 0.02.
+    assert evaluation.margins[0, column].min() >= 0
+    assert evaluation.margins[1, column].min() == pytest.approx((0.02 - 0.03) / 0.07)
+
+
+def test_an_obstacle_over_the_free_optimum_moves_the_answer_and_binds(tmp_path):
+    robot, path = load_robot("orthoglide"), load_path(RECT)
+    free = optimize_placement(robot, path, worst=False, settings=SMALL).best.detail
+    tool_points = free.tool_position_m
+    centre = (tool_points.max(axis=0) + tool_points.min(axis=0)) / 2
+    size = tool_points.max(axis=0) - tool_points.min(axis=0) + 0.02
+    cell = load_cell(_cell(tmp_path, margin_m=0.005, obstacles={
+        "block": {"type": "box", "size_m": [float(size[0]), float(size[1]), 0.02],
+                  "xyz_m": [float(centre[0]), float(centre[1]), float(centre[2] - 0.06)]}}))
+    boxed = equip(robot, cell)
+    before = Evaluator(boxed, path).detail(free.placement)
+    assert not before.feasible and any(m.kind == "collision" and m.margin < 0 for m in before.margins)
+    moved = optimize_placement(boxed, path, worst=False, settings=SMALL).best.detail
+    assert moved.feasible and moved.value > free.value
+    assert np.linalg.norm(moved.placement[:3] - free.placement[:3]) > 0.005
+    binding = min(moved.margins, key=lambda m: m.margin)
+    assert binding.kind == "collision" and "block" in binding.where and binding.margin < 0.01
+    dense = Evaluator(boxed, path, time_step_s=path.time_step_s / 4).detail(moved.placement)
+    assert all(m.value >= 0.005 - 1e-9 for m in dense.margins if m.kind == "collision" and "block" in m.where)
+
+
+def test_the_report_names_the_nearest_pair_with_its_points(tmp_path, capsys):
+    cell = _cell(tmp_path, margin_m=0.005, obstacles={"plate": {"type": "box", "size_m": [0.3, 0.3, 0.01],
+                                                                 "xyz_m": [-0.03, -0.03, -0.16]}})
+    out = tmp_path / "at.json"
+    assert main(["--robot", "orthoglide", "--path", RECT, "--cell", cell, "--at", "z=-40", "--json", str(out)]) == 0
+    margins = [m for m in json.loads(out.read_text())["at"]["margins"] if m["kind"] == "collision"]
+    assert margins and all(len(m["nearest_points_m"]) == 2 for m in margins)
+    robot = equip(load_robot("orthoglide"), load_cell(cell))
+    scene = collision_scene(robot)
+    pair = min(margins, key=lambda m: m["margin"])
+    first, second = (np.array(p) for p in pair["nearest_points_m"])
+    assert np.linalg.norm(first - second) == pytest.approx(pair["value"], abs=1e-9)
+    assert pair["where"].endswith("/ plate") and scene.required_m.max() == 0.005
+    assert "nearest at (" in capsys.readouterr().out
