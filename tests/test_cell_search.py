@@ -96,3 +96,21 @@ def test_the_report_names_the_nearest_pair_with_its_points(tmp_path, capsys):
     assert np.linalg.norm(first - second) == pytest.approx(pair["value"], abs=1e-9)
     assert pair["where"].endswith("/ plate") and scene.required_m.max() == 0.005
     assert "nearest at (" in capsys.readouterr().out
+
+
+def test_a_tools_tip_follows_the_path_as_the_platform_would_the_shifted_path(tmp_path):
+    # The Orthoglide's platform only translates: with a tip 10 mm along x and 60 mm below its tool frame,
+    # placing a path at p is placing it at p - tip without one (the generic solver, then the closed form).
+    tip = np.array([0.01, 0.0, -0.06])
+    spindle = {"name": "spindle", "frame": "tool", "mass_kg": 0.5, "com_m": [0, 0, 0.05],
+               "inertia_kg_m2": [3.4e-4, 3.4e-4, 1.6e-4, 0, 0, 0]}
+    with_tip = equip(load_robot("orthoglide"), load_cell(_cell(tmp_path, tool=dict(spindle, tip={"xyz_m": tip.tolist()}))))
+    without = equip(load_robot("orthoglide"), load_cell(_cell(tmp_path / "..", tool=spindle)))
+    assert with_tip.model.frames[with_tip.end_effector_frame_id].name == "spindle_tip"
+    path = load_path(RECT)
+    placements = np.array([[-0.02, 0.01, -0.03, 0.3, 0.0, 0.0], [0.01, -0.04, 0.0, -1.0, 0.0, 0.0]])
+    shifted = placements - np.hstack([tip, np.zeros(3)])
+    tipped = Evaluator(with_tip, path).evaluate(placements)
+    plain = Evaluator(without, path).evaluate(shifted)
+    assert type(Evaluator(with_tip, path).solver).__name__ != type(Evaluator(without, path).solver).__name__
+    np.testing.assert_allclose(tipped.value, plain.value, rtol=1e-7)

@@ -113,6 +113,9 @@ class ToolBody(Posed):
     ``end_effector.frame``). The centre of mass ``com_m`` (m) and the collision shape's pose are in
     the tool frame; ``inertia_kg_m2`` is about the centre of mass, in the tool frame's axes: six
     numbers [ixx, iyy, izz, ixy, ixz, iyz] (moments first, then products) or a symmetric 3×3.
+    ``tip``, a pose in the tool frame, is the tool's working point (a cutter's tip): when given, it
+    follows the path instead of the sidecar's end-effector frame (and for a pose task, its axes
+    are the ones held to the path).
     """
 
     name: Name = "tool_body"
@@ -121,6 +124,7 @@ class ToolBody(Posed):
     com_m: Vector3 = (0.0, 0.0, 0.0)
     inertia_kg_m2: Annotated[tuple[Vector3, Vector3, Vector3], BeforeValidator(_inertia_rows)]
     collision: Shape | None = None
+    tip: Posed | None = None
 
     @field_validator("inertia_kg_m2")
     @classmethod

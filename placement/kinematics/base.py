@@ -71,13 +71,14 @@ SOLVERS: Registry[type[KinematicsSolver]] = Registry("kinematics solver", "place
 
 
 def solver_name(robot: Robot, name: str = "auto") -> str:
-    """The solver's name: ``name``, or for "auto" the sidecar's, else ``closed_form`` with a plug-in, else
+    """The solver's name: ``name``, or for "auto" the sidecar's, else ``closed_form`` where it serves the robot
+    (a plug-in, and the path followed by the frame it solves for), else
     ``numeric`` where it serves the robot, else ``sequential``."""
     if name != "auto":
         return name
     if robot.sidecar.kinematics:
         return robot.sidecar.kinematics
-    if robot.closed_form is not None:
+    if SOLVERS.get("closed_form").unsuitable(robot) is None:
         return "closed_form"
     return "numeric" if SOLVERS.get("numeric").unsuitable(robot) is None else "sequential"
 

@@ -57,7 +57,11 @@ class ClosedFormSolver(KinematicsSolver):
 
     @classmethod
     def unsuitable(cls, robot: Robot) -> str | None:
-        return None if robot.closed_form is not None else "the robot has no kinematics_plugin"
+        if robot.closed_form is None:
+            return "the robot has no kinematics_plugin"
+        if robot.model.frames[robot.end_effector_frame_id].name != robot.sidecar.end_effector.frame:
+            return "a tool tip moves the path point off the frame the plug-in solves for"
+        return None
 
     def solve(self, task: TaskTrajectory, placements: int = 1) -> tuple[JointTrajectory, np.ndarray, str]:
         return _closed_form(self.robot, task)

@@ -124,7 +124,8 @@ def mount_tool(robot: Robot, tool: ToolBody, source: Path | None = None) -> Robo
         source: The file that declares the tool, for errors (default: the robot's sidecar).
 
     Returns:
-        The robot with the tool's mass; every other field is shared with ``robot``.
+        The robot with the tool's mass, and following the path with the tool's tip when it has one
+        (a new frame, TOOLNAME_tip); every other field is shared with ``robot``.
 
     Raises:
         InputFileError: The mount frame is unknown (see :func:`tool_mount`).
@@ -132,12 +133,21 @@ def mount_tool(robot: Robot, tool: ToolBody, source: Path | None = None) -> Robo
     joint, joint_M_tool = tool_mount(robot, tool, source if source is not None else robot.sidecar_path)
     model = pin.Model(robot.model)
     model.inertias[joint] = model.inertias[joint] + joint_M_tool.act(tool_inertia(tool))
-    return dataclasses.replace(robot, model=model)
+    if tool.tip is None:
+        return dataclasses.replace(robot, model=model)
+    name = tool.frame if tool.frame is not None else robot.sidecar.end_effector.frame
+    mount = find_frame(model, name)
+    tip = pin.Frame(f"{tool.name}_tip", joint, mount, joint_M_tool * pose_placement(tool.tip), pin.FrameType.OP_FRAME)
+    return dataclasses.replace(robot, model=model, end_effector_frame_id=int(model.addFrame(tip, False)))
 
 
 def unmount_tool(robot: Robot, tool: ToolBody, source: Path | None = None) -> Robot:
-    """A copy of the robot without the mass of a tool :func:`mount_tool` gave it (exact to rounding)."""
+    """A copy of the robot without the mass of a tool :func:`mount_tool` gave it (exact to rounding), following
+    the path again with the frame it followed before the tool's tip."""
     joint, joint_M_tool = tool_mount(robot, tool, source if source is not None else robot.sidecar_path)
     model = pin.Model(robot.model)
     model.inertias[joint] = model.inertias[joint] - joint_M_tool.act(tool_inertia(tool))
-    return dataclasses.replace(robot, model=model)
+    end_effector = robot.end_effector_frame_id
+    if tool.tip is not None:
+        end_effector = int(model.frames[end_effector].parentFrame)
+    return dataclasses.replace(robot, model=model, end_effector_frame_id=end_effector)
