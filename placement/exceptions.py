@@ -85,3 +85,18 @@ class UnreachableError(PlacementError):
 
 class AssemblyError(PlacementError):
     """A robot's loops cannot be closed, or its assembled configuration cannot be written."""
+
+
+class GcodeError(PathFileError):
+    """A G-code program named by a path file has a word, number or move that cannot be followed.
+
+    Attributes:
+        line: The line number in the program (counted from 1).
+        word: The word at fault as written ("" when the whole line is).
+    """
+
+    def __init__(self, path: str | Path, line: int, word: str, problem: str) -> None:
+        super().__init__(path, f"line {line}", problem)
+        self.line = line
+        self.word = word
+        Exception.__init__(self, f"{self.path}, line {line}{f', word {word!r}' if word else ''}: {problem}")
