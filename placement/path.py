@@ -372,7 +372,7 @@ def _along(run: list[Segment], s: np.ndarray, s_dot: np.ndarray, s_ddot: np.ndar
     bounds = np.cumsum([0.0] + [seg.length_m for seg in run])
     index = np.clip(np.searchsorted(bounds, s, side="right") - 1, 0, len(run) - 1)
     names = ("position", "velocity", "acceleration", "tangent")
-    out = {name: np.zeros((len(s), 3)) for name in names}
+    out: dict[str, np.ndarray] = {name: np.zeros((len(s), 3)) for name in names}
     out["rapid"] = np.zeros(len(s), dtype=bool)
     present = np.unique(index)
     starts = np.searchsorted(index, present, side="left")
