@@ -100,3 +100,19 @@ class GcodeError(PathFileError):
         self.line = line
         self.word = word
         Exception.__init__(self, f"{self.path}, line {line}{f', word {word!r}' if word else ''}: {problem}")
+
+
+class PoseFileError(PathFileError):
+    """A pose list named by a path file has a missing column, a bad value or a bad row.
+
+    Attributes:
+        row: The data row at fault, counted from 1 after a CSV header (0: the header or the whole file).
+        column: The column at fault ("" when the whole row or file is).
+    """
+
+    def __init__(self, path: str | Path, row: int, column: str, problem: str) -> None:
+        super().__init__(path, f"row {row}" if row else "", problem)
+        self.row = row
+        self.column = column
+        where = (f", row {row}" if row else "") + (f", column {column!r}" if column else "")
+        Exception.__init__(self, f"{self.path}{where}: {problem}")

@@ -28,13 +28,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass, fields
 from pathlib import Path as FilePath
-from typing import Annotated, Literal
+from typing import Annotated, Any, Literal
 
 import numpy as np
 from pydantic import Field, model_validator
 
 from placement.exceptions import PathFileError, PlacementError
 from placement.gcode import read_program
+from placement.poses import ORIENTATION_COLUMNS, TimedPoses, pose_segments, read_poses
 from placement.schema import Number, Strict, Text, read_yaml
 from placement.segments import Segment
 
@@ -44,6 +45,7 @@ CORNER_ANGLE_RAD = np.radians(1.0)  # a tangent turn above this is a corner (exa
 ARC_SAFETY = 0.98  # share of the bounds used on arcs, where they are checked on samples
 MIN_LENGTH_M = 1e-6
 GAP_M = 1e-9  # segments whose ends are farther apart leave a gap (a skipped rapid) between them
+TURNING_RATE_TOLERANCE_RAD_M = 1e-9  # a larger change of turning rate between segments is an orientation corner
 PLUNGE_COSINE = np.cos(np.radians(45.0))  # a feed move within 45° of -Z_p (into the workpiece) is plunging
 MAX_SAMPLES = 1_000_000  # samples of one path: about 0.5 GB through the whole chain
 
@@ -91,6 +93,14 @@ class Gcode(Strict):
 
     type: Literal["gcode"]
     file: Text
+
+
+class Poses(Strict):
+    """A pose list (CSV or JSON), its file named relative to the path file (:mod:`placement.poses`)."""
+
+    type: Literal["poses"]
+    file: Text
+    orientation: Literal[tuple(ORIENTATION_COLUMNS)] = "none"  # type: ignore[valid-type]
 
 
 class ProcessForces(Strict):
@@ -169,11 +179,11 @@ class Timing(Strict):
 
 
 class PathFile(Strict):
-    """The whole path file; ``units`` and ``feed_m_s`` are the program's own for G-code (see load_path)."""
+    """The whole path file; G-code has its own ``units`` and feeds, a timed pose list its own timing (load_path)."""
 
     name: Text = ""
     units: Literal["m", "mm"] | None = None
-    shape: Annotated[Rectangle | Polyline | Circle | Arc | Gcode, Field(discriminator="type")]
+    shape: Annotated[Rectangle | Polyline | Circle | Arc | Gcode | Poses, Field(discriminator="type")]
     feed_m_s: Positive | None = None
     rapids: Rapids | None = None
     process_forces_N: ForceKinds = ForceKinds()
@@ -193,6 +203,8 @@ class PathSamples:
         piece: (N,) index of the independently integrated piece each sample belongs to
             (the segment in the paper's timing law; in the realistic one a stretch of contiguous
             motion, a new piece starting after each skipped rapid).
+        rotation: (N, 3, 3) tool frame in the path frame, for a pose list with orientations (else None).
+        angular_velocity_rad_s, angular_acceleration_rad_s2: (N, 3) its rates, in the path frame.
     """
 
     t_s: np.ndarray
@@ -202,13 +214,19 @@ class PathSamples:
     tangent: np.ndarray
     force_on_tool_N: np.ndarray
     piece: np.ndarray
+    rotation: np.ndarray | None = None
+    angular_velocity_rad_s: np.ndarray | None = None
+    angular_acceleration_rad_s2: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.t_s)
 
     def rows(self, index: np.ndarray) -> PathSamples:
         """Some of the samples (an index or a mask)."""
-        return PathSamples(*(getattr(self, f.name)[index] for f in fields(PathSamples)))
+        def pick(value: Any) -> Any:  # an array, or None for absent orientation fields
+            return None if value is None else value[index]
+
+        return PathSamples(*(pick(getattr(self, f.name)) for f in fields(PathSamples)))
 
 
 @dataclass(frozen=True)
@@ -219,6 +237,8 @@ class ToolPath:
         feed_m_s: The feed of a segment whose ``feed_ratio`` is 1 (the highest F of a G-code
             program); every segment's feed scales with it.
         rapid_feed_m_s: The feed of rapid segments (timed G-code rapids), not scaled with feed_m_s.
+        timed: A pose list with times, sampled by its own interpolation instead of the segments
+            (the polyline through its points); its speeds scale by feed_m_s over its mean speed.
     """
 
     name: str
@@ -228,6 +248,7 @@ class ToolPath:
     timing: Timing
     time_step_s: float
     rapid_feed_m_s: float | None = None
+    timed: TimedPoses | None = None
 
     @property
     def length_m(self) -> float:
@@ -246,9 +267,17 @@ class ToolPath:
         step = self.time_step_s if time_step_s is None else time_step_s
         if not 0 < step < np.inf:
             raise PlacementError(f"the sampling time step must be a finite number > 0 s, got {step}")
+        if self.timed is not None:
+            count = self._sample_counts([self.timed.duration_s * self.timed.mean_speed_m_s / self.feed_m_s], step)[0]
+            return self._assemble([self.timed.sample(count, self.feed_m_s / self.timed.mean_speed_m_s)])
         if self.timing.mode == "paper":
             return self._sample_paper(step)
         return self._sample_realistic(step)
+
+    @property
+    def oriented(self) -> bool:
+        """Whether the path carries tool orientations (a pose list with orientation columns)."""
+        return any(segment.rotation is not None for segment in self.segments)
 
     def _sample_counts(self, durations_s: list[float], step: float) -> list[int]:
         """Samples of each independently timed piece; refuses more than MAX_SAMPLES in all."""
@@ -265,8 +294,10 @@ class ToolPath:
         Each independently timed piece (a segment in the paper's timing law, a corner-to-corner
         run in the realistic one) must map onto a piece run the same way at the same feed; the
         energy of such a path is then the same at phi and phi + 180°, and phi only needs a half
-        turn of range.
+        turn of range. A timed pose list, or one whose orientation changes, is taken not to be.
         """
+        if self.timed is not None or not self._constant_orientation():
+            return False
         runs = [[s] for s in self.segments] if self.timing.mode == "paper" else [run for run, _ in _runs(self.segments)]
         fractions = np.linspace(0.0, 1.0, 9)
 
@@ -278,6 +309,11 @@ class ToolPath:
         return all(any(np.allclose(t, s, atol=1e-12) and t_speeds == speeds for s, speeds in shapes)
                    for t, t_speeds in turned)
 
+    def _constant_orientation(self) -> bool:
+        rotations = [s.rotation for s in self.segments if s.rotation is not None]
+        turns = [s.turn_rad for s in self.segments if s.turn_rad is not None]
+        return all(np.array_equal(r, rotations[0]) for r in rotations) and all(not np.any(t) for t in turns)
+
     def _sample_paper(self, step: float) -> PathSamples:
         parts, start = [], 0.0
         durations = [segment.length_m / self.speed_m_s(segment) for segment in self.segments]
@@ -285,7 +321,7 @@ class ToolPath:
                                                              self._sample_counts(durations, step))):
             t = np.linspace(0.0, duration, count)
             speed = self.speed_m_s(segment)
-            motion = _along([segment], speed * t, np.full_like(t, speed), np.zeros_like(t))
+            motion = _along([segment], speed * t, np.full_like(t, speed), np.zeros_like(t), self.oriented)
             parts.append({"t": start + t, **motion, "piece": np.full(len(t), k)})
             start += duration
         return self._assemble(parts)
@@ -298,7 +334,7 @@ class ToolPath:
         for (run, after_gap), profile, count in zip(runs, profiles, counts):
             t = np.linspace(0.0, profile.duration_s, count)
             piece += after_gap
-            parts.append({"t": start + t, **_along(run, *profile(t)), "piece": np.full(len(t), piece)})
+            parts.append({"t": start + t, **_along(run, *profile(t), self.oriented), "piece": np.full(len(t), piece)})
             start += profile.duration_s
         samples = self._assemble(parts)
         # Successive runs of one piece meet at rest at a corner: drop the duplicated corner instant.
@@ -341,11 +377,13 @@ class ToolPath:
                                for name in ("feed", "radial", "axial"))
         force = -feed * tangent + radial * np.cross(z, tangent) + axial * z
         return PathSamples(column["t"], column["position"], column["velocity"], column["acceleration"], tangent,
-                           force, column["piece"])
+                           force, column["piece"], column.get("rotation"), column.get("angular_velocity"),
+                           column.get("angular_acceleration"))
 
 
 def _runs(segments: tuple[Segment, ...]) -> list[tuple[list[Segment], bool]]:
-    """Group consecutive segments into runs without a corner or a gap between them.
+    """Group consecutive segments into runs without a corner, a gap or a change of turning rate between them
+    (an orientation that turns at another rate per metre would jump in angular velocity).
 
     Returns:
         The runs, each with whether a gap (a skipped rapid) comes before it.
@@ -356,24 +394,37 @@ def _runs(segments: tuple[Segment, ...]) -> list[tuple[list[Segment], bool]]:
         end_tangent = previous.point(np.array([previous.length_m]), np.ones(1), np.zeros(1))[3][0]
         start_tangent = segment.point(np.zeros(1), np.ones(1), np.zeros(1))[3][0]
         turn = np.arccos(np.clip(end_tangent @ start_tangent, -1.0, 1.0))
-        if gap or turn > CORNER_ANGLE_RAD:
+        kink = np.linalg.norm(_turning_rate(segment) - _turning_rate(previous)) > TURNING_RATE_TOLERANCE_RAD_M
+        if gap or kink or turn > CORNER_ANGLE_RAD:
             runs.append(([segment], gap))
         else:
             runs[-1][0].append(segment)
     return runs
 
 
-def _along(run: list[Segment], s: np.ndarray, s_dot: np.ndarray, s_ddot: np.ndarray) -> dict[str, np.ndarray]:
+def _turning_rate(segment: Segment) -> np.ndarray:
+    """The tool's angular velocity per unit feed speed on a segment, in the path frame (rad/m)."""
+    if segment.rotation is None or segment.turn_rad is None:
+        return np.zeros(3)
+    return segment.rotation @ segment.turn_rad / segment.length_m
+
+
+def _along(run: list[Segment], s: np.ndarray, s_dot: np.ndarray, s_ddot: np.ndarray,
+           oriented: bool = False) -> dict[str, np.ndarray]:
     """Motion along consecutive segments at increasing arc lengths ``s`` measured from the run's start.
 
     Returns:
-        position, velocity, acceleration, tangent (N, 3) and rapid (N,): whether on a rapid segment.
+        position, velocity, acceleration, tangent (N, 3) and rapid (N,): whether on a rapid segment;
+        if ``oriented``, also rotation (N, 3, 3), angular_velocity and angular_acceleration (N, 3).
     """
     bounds = np.cumsum([0.0] + [seg.length_m for seg in run])
     index = np.clip(np.searchsorted(bounds, s, side="right") - 1, 0, len(run) - 1)
     names = ("position", "velocity", "acceleration", "tangent")
     out: dict[str, np.ndarray] = {name: np.zeros((len(s), 3)) for name in names}
     out["rapid"] = np.zeros(len(s), dtype=bool)
+    if oriented:
+        out.update(rotation=np.zeros((len(s), 3, 3)), angular_velocity=np.zeros((len(s), 3)),
+                   angular_acceleration=np.zeros((len(s), 3)))
     present = np.unique(index)
     starts = np.searchsorted(index, present, side="left")
     stops = np.searchsorted(index, present, side="right")
@@ -382,6 +433,10 @@ def _along(run: list[Segment], s: np.ndarray, s_dot: np.ndarray, s_ddot: np.ndar
         for name, value in zip(names, segment.point(s[lo:hi] - bounds[k], s_dot[lo:hi], s_ddot[lo:hi])):
             out[name][lo:hi] = value
         out["rapid"][lo:hi] = segment.rapid
+        if oriented:
+            turning = segment.orientation(s[lo:hi] - bounds[k], s_dot[lo:hi], s_ddot[lo:hi])
+            for name, value in zip(("rotation", "angular_velocity", "angular_acceleration"), turning):
+                out[name][lo:hi] = value
     return out
 
 
@@ -451,23 +506,37 @@ def load_path(path: str | FilePath) -> ToolPath:
     path = FilePath(path)
     spec = read_yaml(path, PathFile, PathFileError)
     _check_fields(path, spec)
-    rapid_feed = None
+    rapid_feed, timed = None, None
     if isinstance(spec.shape, Gcode):
         program = read_program(path.parent / spec.shape.file)
         rapids = spec.rapids or Rapids()
         segments = tuple(s for s in program.segments if not s.rapid or rapids.mode == "timed")
         feed, rapid_feed = program.feed_m_s, rapids.feed_m_s
+    elif isinstance(spec.shape, Poses):
+        assert spec.units is not None  # _check_fields
+        file = path.parent / spec.shape.file
+        table = read_poses(file, spec.shape.orientation, LENGTH_SCALE[spec.units])
+        segments = pose_segments(file, table)
+        if table.t_s is not None:
+            timed = TimedPoses(table.t_s, table.position_m, table.rotation)
+            _check_timed(path, spec, timed)
+            feed = timed.mean_speed_m_s
+        else:
+            _check_untimed(path, spec)
+            assert spec.feed_m_s is not None  # _check_untimed
+            feed = spec.feed_m_s
     else:
         segments = _segments(spec)
         assert spec.feed_m_s is not None  # _check_fields
         feed = spec.feed_m_s
     if not segments:
-        raise PathFileError(path, "shape.points", "the points must not all coincide")
+        raise PathFileError(path, "shape.file" if isinstance(spec.shape, Poses) else "shape.points",
+                            "the points must not all coincide")
     if sum(segment.length_m for segment in segments) < MIN_LENGTH_M:
         raise PathFileError(path, "shape", f"the path is shorter than {MIN_LENGTH_M * 1e6:g} µm")
     return ToolPath(name=spec.name or path.stem, segments=segments, feed_m_s=feed,
                     forces=spec.process_forces_N.resolve(), timing=spec.timing, time_step_s=spec.time_step_s,
-                    rapid_feed_m_s=rapid_feed)
+                    rapid_feed_m_s=rapid_feed, timed=timed)
 
 
 def _check_fields(path: FilePath, spec: PathFile) -> None:
@@ -480,15 +549,32 @@ def _check_fields(path: FilePath, spec: PathFile) -> None:
             raise PathFileError(path, "feed_m_s", "a G-code program's feeds are its F words: remove feed_m_s (the "
                                                   "feed command scales them all)")
         return
-    for name in ("units", "feed_m_s"):
+    for name in ("units",) if isinstance(spec.shape, Poses) else ("units", "feed_m_s"):
         if getattr(spec, name) is None:
             raise PathFileError(path, name, "required field is missing")
     if spec.rapids is not None:
         raise PathFileError(path, "rapids", f"rapids belong to G-code programs, not to a {spec.shape.type}")
 
 
+def _check_untimed(path: FilePath, spec: PathFile) -> None:
+    """A pose list without times is timed by the path's feed."""
+    if spec.feed_m_s is None:
+        raise PathFileError(path, "feed_m_s", "required field is missing (a pose list without a t column is run at "
+                                              "this feed)")
+
+
+def _check_timed(path: FilePath, spec: PathFile, timed: TimedPoses) -> None:
+    """A pose list with times is timed by them: no feed, no timing law."""
+    for name in ("feed_m_s", "timing"):
+        if name in spec.model_fields_set:
+            raise PathFileError(path, name, "the pose list's t column times the path: remove this field (the feed "
+                                            "command scales the list's speeds)")
+    if timed.mean_speed_m_s <= 0:
+        raise PathFileError(path, "shape.file", "the poses with times do not move: every point is the same")
+
+
 def _segments(spec: PathFile) -> tuple[Segment, ...]:
-    assert spec.units is not None and not isinstance(spec.shape, Gcode)  # _check_fields
+    assert spec.units is not None and not isinstance(spec.shape, (Gcode, Poses))  # _check_fields
     scale = LENGTH_SCALE[spec.units]
     shape = spec.shape
     if isinstance(shape, Rectangle):

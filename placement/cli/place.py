@@ -86,7 +86,9 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def feed_words(path: ToolPath) -> str:
-    """The path's feed, or the range of a G-code program's feeds and its rapid feed."""
+    """The path's feed, or the range of a G-code program's feeds and its rapid feed, or a timed pose list's."""
+    if path.timed is not None:
+        return f"timed by its pose list (mean speed {path.feed_m_s:.4g} m/s)"
     feeds = sorted({path.speed_m_s(segment) for segment in path.segments if not segment.rapid})
     words = f"feed {feeds[0]:g} m/s" if len(feeds) == 1 else f"feeds {feeds[0]:.4g} to {feeds[-1]:.4g} m/s"
     return words + (f", rapids {path.rapid_feed_m_s:g} m/s" if path.rapid_feed_m_s is not None else "")
