@@ -1,9 +1,18 @@
 """Tool paths in their own frame F_p: shapes, timing laws, process forces, sampling.
 
-A path file (YAML) describes the path in the path frame (the path lies in the X_p Y_p plane, the
-tool axis is Z_p, the origin is the frame origin the placement moves), the feed rate, the process
-forces and the timing law. Lengths are in the file's ``units`` (m or mm); speeds, accelerations
-and forces carry their unit in their field name.
+A path file (YAML) describes the path in the path frame (the tool axis is Z_p, pointing out of the
+workpiece; the origin is the frame origin the placement moves), the feed rate, the process forces
+and the timing law. Lengths are in the file's ``units`` (m or mm); speeds, accelerations and
+forces carry their unit in their field name. The shapes (docs/paths.md has the whole format):
+
+    rectangle, polyline, circle, arc: geometry written in the file, run at ``feed_m_s``.
+    gcode: a G-code program (:mod:`placement.gcode`), which sets its own units (G20/G21) and the
+        feed of each move (F): ``units`` and ``feed_m_s`` are refused. ``rapids`` says whether its
+        G0 moves are skipped (left out, leaving gaps) or timed at a rapid feed.
+    poses: a pose list (:mod:`placement.poses`) in the file's units: without times, a polyline
+        run at ``feed_m_s`` whose tool orientation turns uniformly along each segment; with times
+        (a t column), a C² interpolation through the poses at their times, with no ``feed_m_s``
+        or ``timing``.
 
 Process forces are the forces on the tool from the workpiece, in the path frame, with t the unit
 feed direction and z = Z_p the tool axis (pointing out of the workpiece)::
@@ -13,19 +22,30 @@ feed direction and z = Z_p the tool axis (pointing out of the workpiece)::
 so positive ``feed`` opposes the motion, positive ``radial`` pushes the tool to the left of the
 feed direction, and positive ``axial`` pushes it back along the tool axis. Negative values flip
 a component. The radial direction lies in the X_p Y_p plane: it vanishes on a segment along Z_p
-(a plunge), where only the feed and axial forces act.
+(a plunge), where only the feed and axial forces act. One set of forces acts on every feed move
+(rapids are force-free), or a set per kind of move: ``rapid`` on G0 moves, ``plunging`` where a
+feed move runs within 45° of -Z_p (into the workpiece: t·Z_p < -cos 45°, decided sample by
+sample), ``cutting`` elsewhere.
 
-Timing laws:
+Timing laws (a timed pose list has its own times instead):
     paper: constant feed on each segment, each segment independent (corners ignored), as in
-        Ur-Rehman et al.; energies are integrated segment by segment.
-    realistic: the tool stops at every sharp corner and follows a jerk-limited (double-S) feed
-        profile with bounded acceleration and jerk; on arcs the feed is lowered until the
-        tangential and centripetal acceleration and jerk together stay within the bounds; one
-        continuous motion.
+        Ur-Rehman et al.; energies are integrated segment by segment. Each segment runs at its
+        own feed (a G-code move at its F).
+    realistic: the tool stops at every sharp corner, at every gap a skipped rapid leaves, and
+        wherever a pose list's orientation changes its rate of turning; between such stops it
+        follows a jerk-limited (double-S) feed profile with bounded acceleration and jerk,
+        cruising at the lowest feed of the segments it crosses; on arcs the feed is lowered
+        until the tangential and centripetal acceleration and jerk together stay within the
+        bounds. One continuous motion between gaps, each gap starting a new piece.
+
+A segment's feed is ``feed_ratio`` times the path's ``feed_m_s`` (for G-code, the program's
+highest F), so replacing ``feed_m_s`` (the feed command) scales every feed but the rapid feed;
+for a timed pose list it scales the list's speeds (times shrink by the same factor).
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, fields
 from pathlib import Path as FilePath
 from typing import Annotated, Any, Literal
@@ -516,7 +536,8 @@ def load_path(path: str | FilePath) -> ToolPath:
         assert spec.units is not None  # _check_fields
         file = path.parent / spec.shape.file
         table = read_poses(file, spec.shape.orientation, LENGTH_SCALE[spec.units])
-        segments = pose_segments(file, table)
+        # A timed list is sampled by its splines; its polyline (length, report) needs no orientation.
+        segments = pose_segments(file, table if table.t_s is None else dataclasses.replace(table, rotation=None))
         if table.t_s is not None:
             timed = TimedPoses(table.t_s, table.position_m, table.rotation)
             _check_timed(path, spec, timed)

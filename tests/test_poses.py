@@ -185,3 +185,22 @@ def test_bad_pose_lists_name_file_row_and_column(tmp_path, table, orientation, s
     assert (f"row {row}" in message) == bool(row) and (f"column '{column}'" in message) == bool(column)
     for word in words:
         assert word in message
+
+
+def test_a_timed_list_may_turn_on_the_spot(tmp_path):
+    table = "t,x,y,z,roll_deg,pitch_deg,yaw_deg\n0,0,0,0,0,0,0\n0.5,0,0,0,0,0,30\n1,10,0,0,0,0,30\n"
+    samples = poses(tmp_path, table, "units: mm\n", "rpy_deg").sample()
+    k = int(np.argmin(np.abs(samples.t_s - 0.5)))
+    np.testing.assert_allclose(samples.rotation[k], rz(np.radians(30)), atol=1e-12)
+    np.testing.assert_allclose(samples.position_m[k], 0.0, atol=1e-15)
+
+
+@pytest.mark.parametrize("settings, field", [("units: mm\nfeed_m_s: 0.1\n", "feed_m_s"),
+                                             ("units: mm\ntiming: {mode: paper}\n", "timing"),
+                                             ("feed_m_s: 0.1\n", "units")])
+def test_fields_a_timed_list_refuses_or_needs(tmp_path, settings, field):
+    from placement.exceptions import PathFileError
+
+    with pytest.raises(PathFileError) as error:
+        poses(tmp_path, "t,x,y,z\n0,0,0,0\n1,1,0,0\n", settings)
+    assert error.value.field == field
