@@ -216,6 +216,8 @@ def _execute(file: Path, number: int, words: list[tuple[str, str]], state: _Stat
         state.motion = None if codes["motion"][0] == 80 else codes["motion"][0]
     axes = [values.get(letter) for letter in "XYZ"]
     arc_words = [letter for letter in "IJKR" if letter in values]
+    if arc_words and state.motion not in (2, 3):
+        raise fail(written[arc_words[0]], "I, J, K and R belong to arcs (G2, G3)")
     if all(value is None for value in axes):
         if arc_words:
             raise fail(written[arc_words[0]], "an arc needs its end point: at least one of X, Y, Z")
@@ -223,8 +225,6 @@ def _execute(file: Path, number: int, words: list[tuple[str, str]], state: _Stat
     move_word = next(written[a] for a in "XYZ" if a in written)  # the words below blame for the move
     if state.motion is None:
         raise fail(move_word, "an end point but no motion mode (G0, G1, G2, G3) is active")
-    if arc_words and state.motion not in (2, 3):
-        raise fail(written[arc_words[0]], "I, J, K and R belong to arcs (G2, G3)")
     start = list(state.position_m)
     target: list[float | None] = []
     for k, value in enumerate(axes):

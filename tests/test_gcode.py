@@ -282,6 +282,11 @@ def test_the_pocket_example_runs_end_to_end(capsys):
     ("G0 X0 Y0 Z0\nG1 X10 F0\n", 2, "F0", ["must be > 0"]),
     ("G0 X0 Y0 Z0\nM98 P100\n", 2, "M98", ["M-code subset"]),
     ("G0 X0 Y0 Z0\nG1 X10 F100 (open comment\n", 2, "", ["not closed"]),
+    ("G0 X0 Y0 Z0\nG1 X10 I5 F100\n", 2, "I5", ["belong to arcs"]),
+    ("G0 X0 Y0 Z0\nG2 I5 F100\n", 2, "I5", ["needs its end point"]),
+    ("G0 X0 Y0 Z0\nG80\nX10\n", 3, "X10", ["no motion mode"]),
+    ("G0 X0 Y0 Z0\nG2 X10 Y0 F100\n", 2, "X10", ["needs its centre"]),
+    ("G0 X0 Y0\nG91 Z-1\n", 2, "Z-1", ["incremental"]),
 ])
 def test_program_errors_name_the_line_and_the_word(tmp_path, code, line, word, words):
     with pytest.raises(GcodeError) as error:
@@ -341,3 +346,13 @@ def test_the_kinematics_follow_a_program_across_skipped_rapids(robot_name, at):
         np.testing.assert_allclose(data.oMf[robot.end_effector_frame_id].translation, task.position_m[k], atol=1e-9)
     detail = Evaluator(robot, path, time_step_s=0.004).detail(np.array(at))
     assert detail.reachable and np.isfinite(detail.energy.total_J)
+
+
+def test_the_feed_command_scales_every_programmed_feed(capsys):
+    assert main(["feed", "--robot", "orthoglide", "--path", str(EXAMPLES / "pocket.yaml"), "--at", "x=0,y=0",
+                 "--feeds", "0.06:0.12:2", "--time-step", "0.004"]) == 0
+    rows = [line.split() for line in capsys.readouterr().out.splitlines() if line.strip().startswith("0.")]
+    (_, reached_1, time_1), (_, reached_2, time_2) = [[float(v) for v in row[:3]] for row in rows]
+    # The program's highest F (7200 mm/min, 0.12 m/s) is the feed; at half of it every move takes twice as long.
+    assert (reached_1, reached_2) == (0.06, 0.12) and time_1 == pytest.approx(2 * time_2, rel=1e-3)
+    assert time_2 == pytest.approx(load_path(EXAMPLES / "pocket.yaml").sample(0.004).t_s[-1], abs=1e-4)  # as printed
