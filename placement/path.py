@@ -55,7 +55,7 @@ from pydantic import Field, model_validator
 
 from placement.exceptions import PathFileError, PlacementError
 from placement.gcode import read_program
-from placement.poses import ORIENTATION_COLUMNS, TimedPoses, pose_segments, read_poses
+from placement.poses import TimedPoses, pose_segments, read_poses
 from placement.schema import Number, Strict, Text, read_yaml
 from placement.segments import Segment
 
@@ -120,7 +120,7 @@ class Poses(Strict):
 
     type: Literal["poses"]
     file: Text
-    orientation: Literal[tuple(ORIENTATION_COLUMNS)] = "none"  # type: ignore[valid-type]
+    orientation: Literal["none", "quaternion_xyzw", "rpy_deg"] = "none"  # poses.ORIENTATION_COLUMNS
 
 
 class ProcessForces(Strict):

@@ -356,3 +356,12 @@ def test_the_feed_command_scales_every_programmed_feed(capsys):
     # The program's highest F (7200 mm/min, 0.12 m/s) is the feed; at half of it every move takes twice as long.
     assert (reached_1, reached_2) == (0.06, 0.12) and time_1 == pytest.approx(2 * time_2, rel=1e-3)
     assert time_2 == pytest.approx(load_path(EXAMPLES / "pocket.yaml").sample(0.004).t_s[-1], abs=1e-4)  # as printed
+
+
+def test_only_a_gap_is_a_jump_for_the_batched_march():
+    from placement.kinematics.batched import JUMP_M, jump_steps
+
+    steps = np.full(50, 0.6e-3)  # a path sampled every 0.6 mm ...
+    steps[20] = 30e-3  # ... with a 30 mm gap
+    assert jump_steps(steps).tolist() == [20]
+    assert jump_steps(np.full(50, 3 * JUMP_M)).tolist() == []  # a coarsely sampled path has no jump

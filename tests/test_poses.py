@@ -204,3 +204,12 @@ def test_fields_a_timed_list_refuses_or_needs(tmp_path, settings, field):
     with pytest.raises(PathFileError) as error:
         poses(tmp_path, "t,x,y,z\n0,0,0,0\n1,1,0,0\n", settings)
     assert error.value.field == field
+
+
+def test_the_schema_offers_every_orientation_kind():
+    from typing import get_args
+
+    from placement.path import Poses
+    from placement.poses import ORIENTATION_COLUMNS
+
+    assert set(get_args(Poses.model_fields["orientation"].annotation)) == set(ORIENTATION_COLUMNS)

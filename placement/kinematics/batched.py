@@ -8,8 +8,8 @@ Every sample of every placement is solved together, by the compiled kernels of
    reference configuration's assembly mode and branch.
 2. **Coarse march.** Samples about 2 cm apart along the path follow one another, each
    seeded by the first-order prediction ``q + D·Δx`` (``D = G·M⁺``) of the previous one. Both
-   ends of a jump (a step of at least JUMP_M, such as the gap a skipped rapid leaves) are coarse
-   samples, so a jump is marched, never interpolated across.
+   ends of a jump (a step of at least JUMP_M and JUMP_RATIO times its neighbours, such as the gap
+   a skipped rapid leaves) are coarse samples, so a jump is marched, never interpolated across.
 3. **Refinement.** The samples in between are filled in by bisection, level by level: each new
    sample is seeded by cubic interpolation of its solved neighbours (none across a jump) and Newton
    converges in one or two steps for all of them at once.
@@ -47,7 +47,8 @@ CONTINUATION_STEP_M = 0.05  # assembly: end-effector step from the reference con
 CONTINUATION_TOLERANCE = 1e-5  # assembly: residual norm enough on the way (m and rad)
 COARSE_STEP_M = 0.02  # coarse march: task displacement between marched samples (rotation counts 0.1 m/rad)
 ROTATION_LENGTH_M = 0.1  # metres per radian when measuring task displacements
-JUMP_M = COARSE_STEP_M / 4  # a task step this long (a skipped rapid's gap) is marched, never interpolated across
+JUMP_M = COARSE_STEP_M / 4  # a task step this long ...
+JUMP_RATIO = 4.0  # ... and this many times as long as both its neighbours is a jump (a skipped rapid's gap)
 BRANCH_TOLERANCE = 1e-3  # a solution this far beyond twice its local motion has left the branch (m or rad)
 SETTINGS = np.array([SOLVE_TOLERANCE, MAX_ITERATIONS, MAX_STEP, DAMPING, CONTINUATION_STEP_M, CONTINUATION_TOLERANCE,
                      ROTATION_LENGTH_M, BRANCH_TOLERANCE])  # in the order kernels.solve_paths reads them
@@ -82,7 +83,7 @@ class BatchedKinematics:
         pose = targets.rotation is not None
         rotation = targets.rotation if pose else np.zeros((len(targets.position_m), 3, 3))
         steps = step_lengths(targets, n)
-        jumps = np.flatnonzero(steps >= JUMP_M)
+        jumps = jump_steps(steps)
         coarse = coarse_samples(steps, jumps) if n > 1 else np.zeros(1, dtype=np.int64)
         return kernels.solve_paths(self.tree, self.robot.reference_q.astype(float),
                                    np.ascontiguousarray(targets.position_m, dtype=float),
@@ -114,6 +115,14 @@ def step_lengths(targets: Targets, n: int) -> np.ndarray:
     if steps.shape[1] == 6:
         length = length + ROTATION_LENGTH_M * np.linalg.norm(steps[:, 3:], axis=1)
     return length
+
+
+def jump_steps(steps: np.ndarray) -> np.ndarray:
+    """Indices k of the steps k -> k + 1 that jump: at least JUMP_M long and JUMP_RATIO times as long as the steps
+    on either side (the gap a skipped rapid leaves, not a coarsely sampled path)."""
+    before = np.concatenate([steps[:1], steps[:-1]])
+    after = np.concatenate([steps[1:], steps[-1:]])
+    return np.flatnonzero((steps >= JUMP_M) & (steps > JUMP_RATIO * np.maximum(before, after)))
 
 
 def coarse_samples(steps: np.ndarray, jumps: np.ndarray) -> np.ndarray:
