@@ -74,7 +74,6 @@ UNSUPPORTED_G = {
     **{code: "canned cycles are not expanded: output them as G0/G1 moves" for code in range(81, 90)},
 }
 WORD = re.compile(r"([A-Z])([+-]?(?:\d+\.?\d*|\.\d+))")
-NUMBER_TEXT = re.compile(r"[^A-Z]*")
 
 
 @dataclass(frozen=True)
@@ -162,7 +161,10 @@ def _words(file: Path, number: int, line: str) -> list[tuple[str, str]]:
     while at < len(compact):
         match = WORD.match(compact, at)
         if match is None or (match.end() < len(compact) and not compact[match.end()].isalpha()):
-            text = compact[at] + NUMBER_TEXT.match(compact, at + 1).group()  # type: ignore[union-attr]
+            end = at + 1
+            while end < len(compact) and not compact[end].isalpha():
+                end += 1
+            text = compact[at:end]
             if not compact[at].isalpha():
                 raise GcodeError(file, number, text, "expected a word: a letter and a number")
             raise GcodeError(file, number, text, "expected a number after the letter (e.g. X12.5, G1), without "
@@ -172,12 +174,10 @@ def _words(file: Path, number: int, line: str) -> list[tuple[str, str]]:
     return words
 
 
-def _execute(file: Path, number: int, words: list[tuple[str, str]], state: _State) -> tuple[Segment, float | None] | None:
-    """Apply one line's words to the state; the move it makes, with its feed (None for a rapid), if any."""
-
-    def fail(word: str, problem: str) -> GcodeError:
-        return GcodeError(file, number, word, problem)
-
+def _sorted_words(fail: Callable[[str, str], GcodeError],
+                  words: list[tuple[str, str]]) -> tuple[dict[str, tuple[int, str]], dict[str, float], dict[str, str]]:
+    """A line's G words by modal group (code, word), its values by letter and their words as written; refuses
+    words outside the subset and two words of one group or letter."""
     codes: dict[str, tuple[int, str]] = {}  # modal group -> (code, word)
     values: dict[str, float] = {}
     written: dict[str, str] = {}  # letter -> its word as written
@@ -202,6 +202,16 @@ def _execute(file: Path, number: int, words: list[tuple[str, str]], state: _Stat
         elif letter not in IGNORED_LETTERS:
             raise fail(word, "unknown word: the supported letters are G, M, X, Y, Z, I, J, K, R, F, and N, O, S, T, "
                              "H (ignored)")
+    return codes, values, written
+
+
+def _execute(file: Path, number: int, words: list[tuple[str, str]], state: _State) -> tuple[Segment, float | None] | None:
+    """Apply one line's words to the state; the move it makes, with its feed (None for a rapid), if any."""
+
+    def fail(word: str, problem: str) -> GcodeError:
+        return GcodeError(file, number, word, problem)
+
+    codes, values, written = _sorted_words(fail, words)
     if "units" in codes:
         state.length_m = INCH_M if codes["units"][0] == 20 else MM_M
     if "F" in values:
