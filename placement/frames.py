@@ -14,6 +14,7 @@ and psi stay 0, keeping the path in the plane: bTp = bT_pl·(the placement's tra
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -88,9 +89,13 @@ def placement_pose(placements: np.ndarray, plane: Plane | None = None) -> tuple[
 def placed_task(robot: Robot, samples: PathSamples, placements: np.ndarray) -> tuple[TaskTrajectory, np.ndarray]:
     """The end-effector task and its external load for placed paths, as the robot's task needs.
 
-    A position task follows the tool point; a pose task also holds the end-effector frame at the
-    sidecar's ``tool_rpy_in_path_rad`` in the (fixed) path frame. The load is the process force
-    on the tool from the workpiece, with a zero moment for a pose task.
+    A position task follows the tool point (a pose list's orientations are ignored, with a warning
+    once). A pose task also holds the end-effector frame at R_place·R_tool·R_ee, where R_place is
+    the placement's rotation, R_tool the tool frame in the path frame (a pose list's orientation;
+    the identity otherwise) and R_ee the sidecar's ``tool_rpy_in_path_rad``, which maps the tool
+    frame to the end-effector frame. The angular velocity and acceleration in the base frame are
+    R_place times the path frame's. The load is the process force on the tool from the workpiece,
+    with a zero moment for a pose task.
 
     Args:
         robot: The robot.
@@ -103,13 +108,37 @@ def placed_task(robot: Robot, samples: PathSamples, placements: np.ndarray) -> t
     plane = robot_plane(robot)
     task, force = transform_path_to_base(samples, placements, plane)
     if robot.task == "position":
+        if samples.rotation is not None:
+            warnings.warn_explicit(f"robot '{robot.name}' has a position task: the pose list's orientations are "
+                                   "ignored", OrientationIgnoredWarning, "placement.frames", 0, registry=_WARNED)
         return task, force
     rpy = robot.sidecar.end_effector.tool_rpy_in_path_rad or (0.0, 0.0, 0.0)
-    tool = rotation_zyx(np.array(rpy[2]), np.array(rpy[1]), np.array(rpy[0]))
-    rotation = np.repeat(placement_pose(placements, plane)[0] @ tool, len(samples), axis=0)
-    still = np.zeros_like(task.position_m)
-    pose = TaskTrajectory(task.position_m, task.velocity_m_s, task.acceleration_m_s2, rotation, still, still)
-    return pose, np.hstack([force, still])
+    end_effector = rotation_zyx(np.array(rpy[2]), np.array(rpy[1]), np.array(rpy[0]))
+    path_rotation = placement_pose(placements, plane)[0]  # (K, 3, 3)
+    if samples.rotation is None:
+        rotation = np.repeat(path_rotation @ end_effector, len(samples), axis=0)
+        still = np.zeros_like(task.position_m)
+        angular_velocity, angular_acceleration = still, still
+    else:
+        assert samples.angular_velocity_rad_s is not None and samples.angular_acceleration_rad_s2 is not None
+        rotation = (path_rotation[:, None] @ samples.rotation[None] @ end_effector).reshape(-1, 3, 3)
+        angular_velocity = _turned(path_rotation, samples.angular_velocity_rad_s)
+        angular_acceleration = _turned(path_rotation, samples.angular_acceleration_rad_s2)
+    pose = TaskTrajectory(task.position_m, task.velocity_m_s, task.acceleration_m_s2, rotation, angular_velocity,
+                          angular_acceleration)
+    return pose, np.hstack([force, np.zeros_like(force)])
+
+
+class OrientationIgnoredWarning(UserWarning):
+    """A path's tool orientations meet a robot whose task is a position."""
+
+
+_WARNED: dict = {}  # the warnings shown: once per message and process
+
+
+def _turned(rotation: np.ndarray, vectors: np.ndarray) -> np.ndarray:
+    """(K·N, 3) path-frame vectors (N, 3) turned by each placement's rotation (K, 3, 3), placement-major."""
+    return np.einsum("kij,nj->kni", rotation, vectors).reshape(-1, 3)
 
 
 def transform_path_to_base(samples: PathSamples, placements: np.ndarray,
@@ -126,13 +155,9 @@ def transform_path_to_base(samples: PathSamples, placements: np.ndarray,
         force on the tool in the base frame, (K·N, 3) N.
     """
     rotation, origin = placement_pose(placements, plane)  # (K, 3, 3), (K, 3)
-
-    def turn(vectors: np.ndarray) -> np.ndarray:
-        return np.einsum("kij,nj->kni", rotation, vectors).reshape(-1, 3)
-
-    position = turn(samples.position_m) + np.repeat(origin, len(samples), axis=0)
-    task = TaskTrajectory(position, turn(samples.velocity_m_s), turn(samples.acceleration_m_s2))
-    return task, turn(samples.force_on_tool_N)
+    position = _turned(rotation, samples.position_m) + np.repeat(origin, len(samples), axis=0)
+    task = TaskTrajectory(position, _turned(rotation, samples.velocity_m_s), _turned(rotation, samples.acceleration_m_s2))
+    return task, _turned(rotation, samples.force_on_tool_N)
 
 
 @dataclass(frozen=True)

@@ -99,6 +99,15 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def feed_words(path: ToolPath) -> str:
+    """The path's feed, or the range of a G-code program's feeds and its rapid feed, or a timed pose list's."""
+    if path.timed is not None:
+        return f"timed by its pose list (mean speed {path.feed_m_s:.4g} m/s)"
+    feeds = sorted({path.speed_m_s(segment) for segment in path.segments if not segment.rapid})
+    words = f"feed {feeds[0]:g} m/s" if len(feeds) == 1 else f"feeds {feeds[0]:.4g} to {feeds[-1]:.4g} m/s"
+    return words + (f", rapids {path.rapid_feed_m_s:g} m/s" if path.rapid_feed_m_s is not None else "")
+
+
 def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
               remote: Cluster | None = None) -> tuple[dict, dict, str | None]:
     """Search (or evaluate --at) one path and print its report; ``remote`` runs the search on a Dask cluster.
@@ -110,7 +119,7 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
     samples = path.sample(args.time_step)
     objective = OBJECTIVES.get(args.objective)
     print(f"{path.name} on {robot.name}: {len(path.segments)} segment(s), {path.length_m * 1e3:.1f} mm, "
-          f"feed {path.feed_m_s:g} m/s, {path.timing.mode} timing, {len(samples)} samples over "
+          f"{feed_words(path)}, {path.timing.mode} timing, {len(samples)} samples over "
           f"{samples.t_s[-1]:.3f} s; energy: {REGENERATION.get(args.regen).description}"
           + ("" if args.objective == "energy" else f"; objective: {objective.title} ({args.objective})"))
     document: dict = {"robot": robot.name, "path": path.name, "objective": args.objective,

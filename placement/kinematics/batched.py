@@ -7,10 +7,12 @@ Every sample of every placement is solved together, by the compiled kernels of
    continuation (small steps of the end effector), so that every placement starts on the
    reference configuration's assembly mode and branch.
 2. **Coarse march.** Samples about 2 cm apart along the path follow one another, each
-   seeded by the first-order prediction ``q + D·Δx`` (``D = G·M⁺``) of the previous one.
+   seeded by the first-order prediction ``q + D·Δx`` (``D = G·M⁺``) of the previous one. Both
+   ends of a jump (a step of at least JUMP_M and JUMP_RATIO times its neighbours, such as the gap
+   a skipped rapid leaves) are coarse samples, so a jump is marched, never interpolated across.
 3. **Refinement.** The samples in between are filled in by bisection, level by level: each new
-   sample is seeded by cubic interpolation of its solved neighbours and Newton converges in one or
-   two steps for all of them at once.
+   sample is seeded by cubic interpolation of its solved neighbours (none across a jump) and Newton
+   converges in one or two steps for all of them at once.
 
 Newton works on the stacked closure residuals and task error (damped least squares on the normal
 equations). A sample whose Newton step moves it far from its prediction has left the branch (a
@@ -45,6 +47,8 @@ CONTINUATION_STEP_M = 0.05  # assembly: end-effector step from the reference con
 CONTINUATION_TOLERANCE = 1e-5  # assembly: residual norm enough on the way (m and rad)
 COARSE_STEP_M = 0.02  # coarse march: task displacement between marched samples (rotation counts 0.1 m/rad)
 ROTATION_LENGTH_M = 0.1  # metres per radian when measuring task displacements
+JUMP_M = COARSE_STEP_M / 4  # a task step this long ...
+JUMP_RATIO = 4.0  # ... and this many times as long as both its neighbours is a jump (a skipped rapid's gap)
 BRANCH_TOLERANCE = 1e-3  # a solution this far beyond twice its local motion has left the branch (m or rad)
 SETTINGS = np.array([SOLVE_TOLERANCE, MAX_ITERATIONS, MAX_STEP, DAMPING, CONTINUATION_STEP_M, CONTINUATION_TOLERANCE,
                      ROTATION_LENGTH_M, BRANCH_TOLERANCE])  # in the order kernels.solve_paths reads them
@@ -78,11 +82,13 @@ class BatchedKinematics:
         left the branch."""
         pose = targets.rotation is not None
         rotation = targets.rotation if pose else np.zeros((len(targets.position_m), 3, 3))
-        coarse = coarse_samples(targets, n) if n > 1 else np.zeros(1, dtype=np.int64)
+        steps = step_lengths(targets, n)
+        jumps = jump_steps(steps)
+        coarse = coarse_samples(steps, jumps) if n > 1 else np.zeros(1, dtype=np.int64)
         return kernels.solve_paths(self.tree, self.robot.reference_q.astype(float),
                                    np.ascontiguousarray(targets.position_m, dtype=float),
                                    np.ascontiguousarray(rotation, dtype=float), pose, n, coarse.astype(np.int64),
-                                   bisection_schedule(coarse, n), SETTINGS)
+                                   bisection_schedule(coarse, n, jumps), SETTINGS)
 
     def rates(self, q: np.ndarray, task: TaskTrajectory) -> tuple[JointTrajectory, np.ndarray]:
         """Joint motion at solved configurations, and which samples are regular (not singular)."""
@@ -101,15 +107,30 @@ def _displacement(start: Targets, stop: Targets) -> np.ndarray:
     return np.hstack([move, log3(stop.rotation @ start.rotation.transpose(0, 2, 1))])
 
 
-def coarse_samples(targets: Targets, n: int) -> np.ndarray:
-    """Indices (within the first placement) of samples about COARSE_STEP_M apart along the task, ends included."""
+def step_lengths(targets: Targets, n: int) -> np.ndarray:
+    """(n - 1,) task displacements between the first placement's successive samples (rotation counted at
+    ROTATION_LENGTH_M per radian), m."""
     steps = _displacement(targets.rows(np.arange(n - 1)), targets.rows(np.arange(1, n)))
     length = np.linalg.norm(steps[:, :3], axis=1)
     if steps.shape[1] == 6:
         length = length + ROTATION_LENGTH_M * np.linalg.norm(steps[:, 3:], axis=1)
-    arc = np.concatenate([[0.0], np.cumsum(length)])
+    return length
+
+
+def jump_steps(steps: np.ndarray) -> np.ndarray:
+    """Indices k of the steps k -> k + 1 that jump: at least JUMP_M long and JUMP_RATIO times as long as the steps
+    on either side (the gap a skipped rapid leaves, not a coarsely sampled path)."""
+    before = np.concatenate([steps[:1], steps[:-1]])
+    after = np.concatenate([steps[1:], steps[-1:]])
+    return np.flatnonzero((steps >= JUMP_M) & (steps > JUMP_RATIO * np.maximum(before, after)))
+
+
+def coarse_samples(steps: np.ndarray, jumps: np.ndarray) -> np.ndarray:
+    """Indices (within the first placement) of samples about COARSE_STEP_M apart along the task, ends included,
+    and both ends of every jump (``steps`` and ``jumps`` as in :meth:`BatchedKinematics.solve_paths`)."""
+    arc = np.concatenate([[0.0], np.cumsum(steps)])
     marks = np.flatnonzero(np.diff(np.floor(arc / COARSE_STEP_M)) > 0) + 1
-    return np.unique(np.concatenate([[0], marks, [n - 1]]))
+    return np.unique(np.concatenate([[0], marks, jumps, jumps + 1, [len(steps)]]))
 
 
 class BatchedSolver(KinematicsSolver):
@@ -186,9 +207,12 @@ def _touch_kernels() -> None:
     kernels.rates(tree, q, np.zeros((2, 3)), np.zeros((2, 3)), DAMPING)
 
 
-def bisection_schedule(coarse: np.ndarray, n: int) -> np.ndarray:
+def bisection_schedule(coarse: np.ndarray, n: int, jumps: np.ndarray | None = None) -> np.ndarray:
     """(L, 5) order in which the samples between coarse ones are solved: middle, outer left, left, right,
-    outer right, level after level (a level's middles only use samples known before it)."""
+    outer right, level after level (a level's middles only use samples known before it). An outer node across
+    a jump (step k -> k + 1 for k in ``jumps``, both ends coarse) is left out (set to its inner neighbour)."""
+    jump = np.zeros(n + 1, dtype=bool)
+    jump[np.asarray(jumps if jumps is not None else [], dtype=np.int64)] = True
     known = np.zeros(n, dtype=bool)
     known[coarse] = True
     levels = []
@@ -200,6 +224,8 @@ def bisection_schedule(coarse: np.ndarray, n: int) -> np.ndarray:
         middle = (left + right) // 2
         outer_left = index[np.maximum(np.searchsorted(index, left) - 1, 0)]
         outer_right = index[np.minimum(np.searchsorted(index, right) + 1, len(index) - 1)]
+        outer_left = np.where(jump[outer_left] & (outer_left == left - 1), left, outer_left)
+        outer_right = np.where(jump[right] & (outer_right == right + 1), right, outer_right)
         levels.append(np.stack([middle, outer_left, left, right, outer_right], axis=1))
         known[middle] = True
     return np.concatenate(levels).astype(np.int64) if levels else np.zeros((0, 5), dtype=np.int64)

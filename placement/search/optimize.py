@@ -29,6 +29,7 @@ from placement.robot.model import Robot
 POLISH_STARTS = 3  # distinct candidates polished locally
 GIVE_UP_GENERATIONS = 25  # generations without any feasible placement after which the search stops
 RECHECK_DENSITY = 4  # the re-check samples the path this many times more densely
+INWARD_SHARES = np.array([0.0, 1e-6, 1e-5, 1e-4, 1e-3])  # a repair's pulls towards the box centre, tried in order
 GRADIENT_STEP = 1e-7  # forward-difference step of the polish, as a share of each variable's range
 POLISH_EVALUATIONS = 30  # placement evaluations of a typical polish, for the duration estimate (gradients count n + 1)
 STALL_ITERATIONS = 10  # the polish stops when this many iterations improve the objective by at most
@@ -187,8 +188,8 @@ def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: flo
     starts = ranked[(fine_margins >= 0).all(axis=1)]
     if not len(starts):  # the finer sampling breaks a limit the coarse one missed: repair the closest
         closest = ranked[np.argmin(np.clip(-fine_margins, 0.0, None).sum(axis=1))]
-        repaired = _polish(local, closest, bounds)
-        return (repaired if (local._lookup(repaired)[1] >= 0).all() else None), local
+        repaired = _inward_until_feasible(local, _polish(local, closest, bounds), space)
+        return repaired, local
     best_x, best_value = None, np.inf
     for start in _distinct(starts, space):
         x = _polish(local, start, bounds)
@@ -196,6 +197,15 @@ def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: flo
         if sign * value[0] < best_value:
             best_x, best_value = x, sign * value[0]
     return best_x, local
+
+
+def _inward_until_feasible(problem: _Problem, x: np.ndarray, space: PlacementSpace) -> np.ndarray | None:
+    """``x``, or ``x`` pulled towards the centre of the search box by the least of INWARD_SHARES of the way that
+    keeps every limit (None if none does): a repair by SLSQP often ends a hair outside a limit on the box's edge."""
+    centre = (space.lower + space.upper) / 2
+    candidates = x + INWARD_SHARES[:, None] * (centre - x)
+    feasible = (problem._lookup(candidates)[1] >= 0).all(axis=1)
+    return candidates[np.argmax(feasible)] if feasible.any() else None
 
 
 def _distinct(candidates: np.ndarray, space: PlacementSpace) -> list[np.ndarray]:

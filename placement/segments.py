@@ -1,0 +1,111 @@
+"""Path segments in the path frame F_p: lines, arcs and helices in any plane, with exact derivatives.
+
+A segment is parametrised by its arc length s (m). Given s and its time derivatives ṡ, s̈, a
+segment gives the exact position, velocity, classical acceleration and unit tangent of the tool
+point. An arc lies in the plane of two unit axes u, v through its centre and turns about their
+normal n = u × v (anticlockwise, seen from +n, for a positive sweep); a helix also moves along n,
+in proportion to the angle turned, by ``rise_m`` over the whole arc::
+
+    p(s) = c + r·(cos a·u + sin a·v) + rise·(s / L)·n,   a = a0 + sweep·s / L,
+    L = sqrt((r·sweep)² + rise²).
+
+A segment may also carry the tool's orientation, turning uniformly (a slerp) from ``rotation``
+at its start by the rotation vector ``turn_rad`` (in the start frame) at its end:
+R(s) = rotation·exp((s / L)·turn), whose angular velocity in F_p is rotation·turn·ṡ / L.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+XY_PLANE = np.eye(3)  # columns u, v, n of the X_p Y_p plane (G17)
+
+
+@dataclass(frozen=True)
+class Segment:
+    """A line (no centre) or an arc or helix of the path, in metres, in the path frame.
+
+    Attributes:
+        start_m, end_m: (3,) end points.
+        center_m: (3,) the arc's centre at its start (None: a line).
+        radius_m: The arc's radius.
+        start_angle_rad: Angle of the start point from u, about n.
+        sweep_rad: Signed angle turned (positive anticlockwise about n).
+        plane: (3, 3) columns u, v, n of the arc's plane (None: X_p, Y_p, Z_p).
+        rise_m: A helix's motion along n over the whole arc (0 for a plane arc).
+        feed_ratio: This segment's feed as a share of the path's feed (ToolPath.feed_m_s).
+        rapid: A rapid move (G0), timed at the path's rapid feed and loaded by rapid forces.
+        rotation: (3, 3) tool orientation in F_p at the start (None: no orientation).
+        turn_rad: (3,) rotation vector from the start orientation to the end one, in the start frame.
+    """
+
+    start_m: np.ndarray
+    end_m: np.ndarray
+    center_m: np.ndarray | None = None
+    radius_m: float = 0.0
+    start_angle_rad: float = 0.0
+    sweep_rad: float = 0.0
+    plane: np.ndarray | None = None
+    rise_m: float = 0.0
+    feed_ratio: float = 1.0
+    rapid: bool = False
+    rotation: np.ndarray | None = None
+    turn_rad: np.ndarray | None = None
+
+    @property
+    def length_m(self) -> float:
+        """Arc length of the segment."""
+        if self.center_m is None:
+            return float(np.linalg.norm(self.end_m - self.start_m))
+        return float(np.hypot(abs(self.sweep_rad) * self.radius_m, self.rise_m))
+
+    @property
+    def axes(self) -> np.ndarray:
+        """(3, 3) columns u, v, n of the arc's plane."""
+        return XY_PLANE if self.plane is None else self.plane
+
+    def point(self, s: np.ndarray, s_dot: np.ndarray, s_ddot: np.ndarray) -> tuple[np.ndarray, ...]:
+        """Position, velocity, acceleration (N, 3) and unit tangent at arc lengths ``s`` (m)."""
+        s, s_dot, s_ddot = (np.asarray(x, dtype=float)[:, None] for x in (s, s_dot, s_ddot))
+        if self.center_m is None:
+            tangent = (self.end_m - self.start_m) / self.length_m
+            tangent = np.broadcast_to(tangent, (len(s), 3))
+            return self.start_m + s * tangent, s_dot * tangent, s_ddot * tangent, tangent
+        u, v, n = self.axes.T
+        length = self.length_m
+        turn_rate = self.sweep_rad / length  # da/ds (rad/m)
+        angle = self.start_angle_rad + turn_rate * s
+        radial = np.cos(angle) * u + np.sin(angle) * v
+        across = -np.sin(angle) * u + np.cos(angle) * v
+        tangent = self.radius_m * turn_rate * across + self.rise_m / length * n
+        position = self.center_m + self.radius_m * radial + self.rise_m * s / length * n
+        curvature = -self.radius_m * turn_rate**2 * radial  # d²p/ds²
+        return position, s_dot * tangent, s_ddot * tangent + s_dot**2 * curvature, tangent
+
+    def orientation(self, s: np.ndarray, s_dot: np.ndarray,
+                    s_ddot: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Tool rotation (N, 3, 3), angular velocity (N, 3) rad/s and acceleration (N, 3) rad/s² in F_p.
+
+        A segment without orientation holds the identity.
+        """
+        s, s_dot, s_ddot = (np.asarray(x, dtype=float) for x in (s, s_dot, s_ddot))
+        start = np.eye(3) if self.rotation is None else self.rotation
+        turn = np.zeros(3) if self.turn_rad is None else self.turn_rad
+        axis_in_path = start @ turn / self.length_m  # dω/dṡ: constant along a slerp
+        rotation = start @ rotation_matrices(s[:, None] / self.length_m * turn)
+        return rotation, s_dot[:, None] * axis_in_path, s_ddot[:, None] * axis_in_path
+
+
+def rotation_matrices(vectors: np.ndarray) -> np.ndarray:
+    """(N, 3, 3) rotation matrices of (N, 3) rotation vectors (rad), by Rodrigues' formula."""
+    angle = np.linalg.norm(vectors, axis=1)
+    small = angle < 1e-8
+    safe = np.where(small, 1.0, angle)
+    sine = np.where(small, 1.0 - angle**2 / 6, np.sin(angle) / safe)
+    versine = np.where(small, 0.5 - angle**2 / 24, (1.0 - np.cos(angle)) / safe**2)
+    x, y, z = vectors.T
+    zero = np.zeros_like(x)
+    skew = np.stack([np.stack([zero, -z, y], -1), np.stack([z, zero, -x], -1), np.stack([-y, x, zero], -1)], -2)
+    return np.eye(3) + sine[:, None, None] * skew + versine[:, None, None] * skew @ skew
