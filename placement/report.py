@@ -82,6 +82,15 @@ def _value_line(title: str, value: float, unit: str, recheck: float | None) -> s
     return text
 
 
+def _recheck_line(optimum: Optimum) -> str:
+    """Whether every limit still holds on the 4x denser sampling, and the tightest one there."""
+    margin = f"{optimum.recheck_limit}, margin {optimum.recheck_margin * 100:.4f} %"
+    if optimum.recheck_margin >= 0:
+        return f"  4x denser sampling: every limit holds (tightest: {margin})"
+    return (f"  4x denser sampling: a limit the placement touches is exceeded between the path's samples ({margin}); "
+            f"sample the path more finely (--time-step) if that matters")
+
+
 def format_result(robot: Robot, result: PlacementResult) -> str:
     """Text report of a search: best and worst placements and the gain."""
     words = wording(result.objective)
@@ -89,7 +98,8 @@ def format_result(robot: Robot, result: PlacementResult) -> str:
     for title, optimum in ((f"best placement ({words.best} {words.subject})", result.best),
                            (f"worst placement ({words.worst} {words.subject})", result.worst)):
         if optimum is not None:
-            blocks.append(format_detail(title, robot, optimum.detail, optimum.recheck_value))
+            blocks.append(format_detail(title, robot, optimum.detail, optimum.recheck_value) + "\n"
+                          + _recheck_line(optimum))
     if result.gain is not None and result.best is not None and result.worst is not None:
         difference = abs(result.worst.detail.value - result.best.detail.value)
         per_pass = " per pass" if words.unit == "J" else ""
@@ -116,6 +126,7 @@ def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None =
     }
     if optimum is not None:
         out["objective"]["recheck_value"] = optimum.recheck_value
+        out["recheck_tightest"] = {"limit": optimum.recheck_limit, "margin": optimum.recheck_margin}
         if detail.objective == "energy":
             out["recheck_energy_J"] = optimum.recheck_value
         out["evaluations"] = optimum.evaluations

@@ -114,3 +114,17 @@ def test_a_tools_tip_follows_the_path_as_the_platform_would_the_shifted_path(tmp
     plain = Evaluator(without, path).evaluate(shifted)
     assert type(Evaluator(with_tip, path).solver).__name__ != type(Evaluator(without, path).solver).__name__
     np.testing.assert_allclose(tipped.value, plain.value, rtol=1e-7)
+
+
+def test_the_ur5_deburring_job_in_its_cell_keeps_its_clearances_between_samples():
+    robot = equip(load_robot("ur5"), load_cell("examples/cell_ur5_table_wall.yaml"))
+    path = load_path("examples/contour.yaml")
+    best = optimize_placement(robot, path, worst=False, time_step_s=0.04,
+                              settings=SearchSettings(population=16, max_generations=6)).best
+    assert best is not None and best.detail.feasible
+    assert best.recheck_margin >= -1e-4  # a limit the optimum touches may be grazed between samples, not more
+    dense = Evaluator(robot, path, time_step_s=0.005).detail(best.detail.placement)  # 8 times denser
+    scene = collision_scene(robot)
+    distances = scene.distances(dense.configuration)  # exact, every pair, every sample
+    assert (distances >= scene.required_m).all()
+    assert {"table", "wall", "fixture", "operator"} <= {second for _, second in scene.pairs}

@@ -64,11 +64,16 @@ class Optimum:
     Attributes:
         detail: Objective, energy, margins and trace of the placement (at the path's sampling).
         recheck_value: The objective at the same placement with 4x denser path sampling.
+        recheck_margin: The tightest normalised margin of every limit on that denser sampling
+            (≥ 0: every limit holds between the path's own samples too).
+        recheck_limit: Which limit that is ("kind: where").
         evaluations: Placements evaluated by the search.
     """
 
     detail: PlacementDetail
     recheck_value: float
+    recheck_margin: float
+    recheck_limit: str
     evaluations: int
 
     @property
@@ -352,8 +357,11 @@ def _optimize(coarse: Evaluator, evaluator: Evaluator, dense: Evaluator, space: 
             infeasible = _binding_limit(problem, problem.evaluator)
             break
         placement = space.full(x)[0]
-        found[direction] = Optimum(detail=evaluator.detail(placement),
-                                   recheck_value=float(dense.evaluate(placement[None]).value[0]),
+        check = dense.evaluate(placement[None])
+        tightest = int(np.argmin(check.margins[0]))
+        found[direction] = Optimum(detail=evaluator.detail(placement), recheck_value=float(check.value[0]),
+                                   recheck_margin=float(check.margins[0, tightest]),
+                                   recheck_limit=check.limits[tightest],
                                    evaluations=evaluator.evaluations + coarse.evaluations - before)
     return PlacementResult(best=found["best"], worst=found["worst"], space=space, objective=evaluator.objective_name,
                            regeneration=evaluator.regeneration, infeasible=infeasible)
