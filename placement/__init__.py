@@ -1,9 +1,9 @@
 """placement: energy-optimal placement of tool paths for serial and closed-loop robots.
 
 The public API, in data-flow order: load a robot (:func:`load_robot`) and a path
-(:func:`load_path`), search the best and worst placements by an objective
-(:func:`optimize_placement`, electric energy by default), trade two or three objectives off
-(:func:`pareto_front`), map an objective over a grid
+(:func:`load_path`), put the robot in a cell (:func:`load_cell`, :func:`equip`), search the best
+and worst placements by an objective (:func:`optimize_placement`, electric energy by default),
+trade two or three objectives off (:func:`pareto_front`), map an objective over a grid
 (:func:`sweep`), or evaluate placements yourself (:class:`Evaluator`). Underneath: the
 end-effector motion (:class:`TaskTrajectory`), every joint's motion (:func:`joint_trajectory`),
 the actuator efforts (:func:`inverse_dynamics`); :func:`check_robot` proves a robot model exact.
@@ -13,6 +13,8 @@ kinematics solvers, robots) each have a base class and a registry that installed
 through entry points; see :mod:`placement.registry`.
 """
 
+from placement.cell.schema import Cell, load_cell
+from placement.cell.tool import equip
 from placement.checks import CheckReport, check_robot
 from placement.drives.motors import MOTOR_MODELS, MotorModel, PowerParts, register_motor_model
 from placement.drives.transmissions import TRANSMISSIONS, Transmission
@@ -55,6 +57,7 @@ __all__ = [
     "TRANSMISSIONS",
     "Actuator",
     "ActuatorTrajectory",
+    "Cell",
     "CheckReport",
     "Closure",
     "Energy",
@@ -91,8 +94,10 @@ __all__ = [
     "actuator_efforts",
     "check_robot",
     "default_space",
+    "equip",
     "inverse_dynamics",
     "joint_trajectory",
+    "load_cell",
     "load_path",
     "load_robot",
     "optimize_placement",

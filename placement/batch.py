@@ -32,6 +32,8 @@ class EvaluatedBatch:
         motor: Motor speed, torque and current, (K, N, n_act).
         regeneration: The regeneration policy energies are computed under.
         joints: Motion of every joint of the spanning tree, K·N rows (placement-major).
+        exact: Every limit is to be computed exactly at every sample (for a report or a re-check);
+            else a limit may spare work that cannot change feasibility (a search's batch).
     """
 
     robot: Robot
@@ -46,6 +48,7 @@ class EvaluatedBatch:
     motor: MotorTrace
     regeneration: str
     joints: JointTrajectory
+    exact: bool = False
 
     def __len__(self) -> int:
         return len(self.placements)

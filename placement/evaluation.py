@@ -142,11 +142,13 @@ class Evaluator:
             :mod:`placement.cluster`) that evaluates batches in chunks, whatever the solver,
             instead of this process or an own process pool.
         threads: Threads of the batched kinematics and RNEA (default: every core).
+        exact: Compute every limit exactly at every sample in :meth:`evaluate` too (a re-check);
+            :meth:`detail` always does.
     """
 
     def __init__(self, robot: Robot, path: ToolPath, regeneration: str = "clip", time_step_s: float | None = None,
                  method: str = "auto", objective: str | tuple[str, ...] = "energy", workers: int | None = None,
-                 executor: Executor | None = None, threads: int | None = None) -> None:
+                 executor: Executor | None = None, threads: int | None = None, exact: bool = False) -> None:
         REGENERATION.get(regeneration)  # unknown names fail here, before any work
         self.robot = robot
         self.path = path
@@ -154,6 +156,7 @@ class Evaluator:
         self.time_step_s = time_step_s
         self.method = method
         self.threads = threads or os.cpu_count() or 1
+        self.exact = exact
         self.solver = solver_for(robot, method, self.threads)
         self.objective_names = (objective,) if isinstance(objective, str) else tuple(objective)
         self.objective_name = self.objective_names[0]
@@ -184,8 +187,13 @@ class Evaluator:
                              self.objective_names, placements,
                              runtime_members(members_used(self.robot, self.objective_names, self.regeneration, self.method)))
 
-    def batch(self, placements: np.ndarray) -> EvaluatedBatch:
-        """Run the exact chain on (K, 6) placements; arrays come back shaped (K, N, ...)."""
+    def batch(self, placements: np.ndarray, exact: bool | None = None) -> EvaluatedBatch:
+        """Run the exact chain on (K, 6) placements; arrays come back shaped (K, N, ...).
+
+        Args:
+            placements: (K, 6) placement vectors.
+            exact: Limits computed exactly at every sample (default: the evaluator's ``exact``).
+        """
         k, n = len(placements), len(self.samples)
         task, force = placed_task(self.robot, self.samples, placements)
         joints, reachable, _ = self.solver.solve(task, k)
@@ -200,7 +208,8 @@ class Evaluator:
                               reachable=reachable.reshape(k, n), tool_position_m=task.position_m.reshape(k, n, 3),
                               position=position, velocity=velocity, acceleration=acceleration, effort=effort,
                               motor=motor_trace(self.robot, effort, velocity, acceleration),
-                              regeneration=self.regeneration, joints=joints)
+                              regeneration=self.regeneration, joints=joints,
+                              exact=self.exact if exact is None else exact)
 
     def evaluate(self, placements: np.ndarray) -> Evaluation:
         """Objective and tightest margins of (K, 6) placements."""
@@ -236,7 +245,7 @@ class Evaluator:
     def detail(self, placement: np.ndarray) -> PlacementDetail:
         """Objective, energy breakdown, margins and per-sample trace of one placement."""
         placement = np.asarray(placement, dtype=float)
-        batch = self.batch(placement[None])
+        batch = self.batch(placement[None], exact=True)
         reachable = batch.reachable[0]
         motor = batch.motor[0]
         return PlacementDetail(

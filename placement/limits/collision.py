@@ -4,11 +4,15 @@
   keep-out zone, or two robot links) keeps its clearance at every sample: the cell's ``margin_m``
   from obstacles, 0 from keep-out zones and between links (see :mod:`placement.cell.scene`). The
   margin is (distance − clearance)/``CLEARANCE_SCALE_M``: negative where the bodies come closer
-  than allowed, and inside one another. In a batch of several placements (a search's), distances
+  than allowed, and inside one another. In a search's batch, distances
   above ``EXACT_BAND_M`` beyond the largest clearance may be cheap lower bounds (bounding
   spheres): never above the exact distance, so a pair they clear is clear, and every distance that
-  decides feasibility is exact. A single placement (the one a report details) gets exact
-  distances everywhere.
+  decides feasibility is exact. Such a batch is also checked only at samples ``CHECK_SPACING_M``
+  apart along the path (and at its ends), each other sample taking the value of the checked one
+  before it, and asks each pair for ``CHECK_SPACING_M`` more clearance: the bodies near the tool
+  move about that much between two checked samples, so the placement it finds keeps the real
+  clearance in between. A batch marked exact (a report's, a re-check's) gets exact distances at
+  every sample against the real clearances.
 - ``workpiece region``: every tool point inside the cell's ``workpiece_region`` box; the scale
   is the box's side, as for the robot's workspace.
 
@@ -29,6 +33,7 @@ from placement.robot.model import Robot
 
 CLEARANCE_SCALE_M = 0.1  # a margin of 1 is 100 mm of clearance beyond what is required
 EXACT_BAND_M = 0.05  # distances within this of the largest clearance are exact, not bounds
+CHECK_SPACING_M = 0.001  # a search's batch checks samples this far apart along the path
 
 _SCENES: WeakKeyDictionary[Robot, CollisionScene] = WeakKeyDictionary()
 
@@ -48,6 +53,15 @@ def closest_points(robot: Robot, configuration: np.ndarray, pair: str) -> tuple[
     return witnesses.first_m[index], witnesses.second_m[index]
 
 
+def checked_samples(position_m: np.ndarray) -> np.ndarray:
+    """Indices of the samples a search checks: the first, then each one ``CHECK_SPACING_M`` of path beyond the
+    last checked, and the last (positions (N, 3) in the path frame, m)."""
+    travelled = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(position_m, axis=0), axis=1))])
+    marks = np.floor(travelled / CHECK_SPACING_M)
+    first_of_mark = np.flatnonzero(np.concatenate([[True], np.diff(marks) > 0]))
+    return np.union1d(first_of_mark, [len(position_m) - 1])
+
+
 class Collision(Limit):
     """Every checked pair of bodies keeps its clearance."""
 
@@ -59,9 +73,17 @@ class Collision(Limit):
         k, n = batch.reachable.shape
         if not scene.pairs:
             return []
-        threshold = float(scene.required_m.max()) + EXACT_BAND_M if k > 1 else None
-        distance = scene.distances(batch.joints.q, threshold_m=threshold).reshape(k, n, -1)
-        required = np.broadcast_to(scene.required_m, distance.shape)
+        required = scene.required_m
+        if batch.exact:
+            distance = scene.distances(batch.joints.q).reshape(k, n, -1)
+        else:
+            required = required + CHECK_SPACING_M
+            checked = checked_samples(batch.samples.position_m)
+            q = batch.joints.q.reshape(k, n, -1)[:, checked].reshape(k * len(checked), -1)
+            threshold = float(required.max()) + EXACT_BAND_M
+            distance = scene.distances(q, threshold_m=threshold).reshape(k, len(checked), -1)
+            distance = distance[:, np.searchsorted(checked, np.arange(n), side="right") - 1]
+        required = np.broadcast_to(required, distance.shape)
         return [MarginField("collision", (distance - required) / CLEARANCE_SCALE_M, distance, required,
                             tuple(f"{a} / {b}" for a, b in scene.pairs), ("m",) * len(scene.pairs))]
 

@@ -317,7 +317,7 @@ def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | 
         return Evaluator(robot, path, regeneration, time_step, objective=objective, workers=workers, executor=executor)
 
     with evaluator(max(step, duration / settings.search_samples)) as coarse, evaluator(step) as fine:
-        dense = Evaluator(robot, path, regeneration, step / RECHECK_DENSITY, objective=objective, workers=1)
+        dense = Evaluator(robot, path, regeneration, step / RECHECK_DENSITY, objective=objective, workers=1, exact=True)
         if announce is not None:
             announce(estimate(coarse, fine, space, settings, best + worst))
         return _optimize(coarse, fine, dense, space, best, worst, settings, progress)

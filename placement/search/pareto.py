@@ -177,7 +177,8 @@ def pareto_front(robot: Robot, path: ToolPath, objectives: tuple[str, ...], *, s
         candidates = _evolve(coarse, space, signs, seeds[:, space.indices], settings, progress)
         evaluations += coarse.evaluations
     with Evaluator(robot, path, regeneration, step, objective=objectives, workers=workers, executor=executor) as fine, \
-            Evaluator(robot, path, regeneration, step / RECHECK_DENSITY, objective=objectives, workers=1) as dense:
+            Evaluator(robot, path, regeneration, step / RECHECK_DENSITY, objective=objectives, workers=1,
+                      exact=True) as dense:
         members = _members(fine, dense, signs, np.vstack([seeds, space.full(candidates)]))
         evaluations += fine.evaluations + dense.evaluations
     knee = knee_index(np.array([m.values for m in members]) * signs)
