@@ -16,7 +16,10 @@ Supported words:
     G20, G21: inches or millimetres (default G21) for the numbers of their line and after.
     G90, G91: absolute or incremental X, Y, Z (default G90).
     F: feed rate in the units per minute, for every later G1, G2, G3.
-    G80: cancels the motion mode (no canned cycle is active anyway).
+    G54-G59: the work coordinate system the program is written in, which is the path frame; a
+        program switches between them at most once (from the default G54 to another).
+    G80: cancels a canned cycle (none is ever active), as on Fanuc controls, where it does not
+        share the motion words' group: the safety line "G0 G90 G40 G21 G17 G94 G80" is read.
     Accepted and ignored, as they do not change the tool path: N (line numbers), O (program
     numbers), % (tape marks), S (spindle speed), T (tool), H (a length offset's register), M2,
     M3, M4, M5, M6, M7, M8, M9, M30 (program end, spindle, tool change, coolant), G94 (feed per
@@ -25,8 +28,8 @@ Supported words:
     parentheses or after a semicolon.
 
 Anything else is an error naming the line and the word: other G and M words (cutter
-compensation G41/G42 and work offsets G54-G59 move the path by amounts the program does not
-hold; canned cycles G81-G89 are not expanded), other letters (rotary axes A, B, C...),
+compensation G41/G42, a second work coordinate system and G92 move the path by amounts the
+program does not hold; canned cycles G81-G89 are not expanded), other letters (rotary axes A, B, C...),
 parameters and expressions, a feed move before any F, and an arc whose ends do not fit its
 radius (the end's distance from the I/J/K centre differs from the start's by more than
 RADIUS_TOLERANCE_M and RADIUS_TOLERANCE_SHARE of the radius; |R| smaller than half the chord by as
@@ -58,7 +61,8 @@ MAX_PROGRAM_BYTES = 50_000_000
 MAX_LINE_CHARS = 1000
 PLANES = {17: np.eye(3)[:, [0, 1, 2]], 18: np.eye(3)[:, [2, 0, 1]], 19: np.eye(3)[:, [1, 2, 0]]}  # columns u, v, n
 OFFSET_LETTERS = {17: "IJ", 18: "IK", 19: "JK"}
-G_GROUPS = {0: "motion", 1: "motion", 2: "motion", 3: "motion", 80: "motion", 17: "plane", 18: "plane", 19: "plane",
+G_GROUPS = {0: "motion", 1: "motion", 2: "motion", 3: "motion", 80: "canned cycle", 17: "plane", 18: "plane",
+            19: "plane", **{code: "coordinate system" for code in range(54, 60)},
             20: "units", 21: "units", 90: "distance", 91: "distance", 94: "feed mode", 40: "cutter compensation",
             43: "tool length offset", 49: "tool length offset"}
 IGNORED_M = {2, 3, 4, 5, 6, 7, 8, 9, 30}
@@ -69,8 +73,8 @@ UNSUPPORTED_G = {
         "compensated path (G40)",
     42: "cutter radius compensation offsets the path by the tool radius: let the CAM post-processor output the "
         "compensated path (G40)",
-    **{code: "work offsets move the program's origin: write the program in the path frame (its origin is the one "
-             "the placement moves)" for code in (54, 55, 56, 57, 58, 59, 92)},
+    92: "a coordinate system offset moves the program's origin: write the program in one work coordinate "
+        "system, the path frame (its origin is the one the placement moves)",
     **{code: "canned cycles are not expanded: output them as G0/G1 moves" for code in range(81, 90)},
 }
 WORD = re.compile(r"([A-Z])([+-]?(?:\d+\.?\d*|\.\d+))")
@@ -98,6 +102,7 @@ class _State:
     incremental: bool = False
     plane: int = 17
     motion: int | None = None
+    coordinate_system: int | None = None  # G54-G59, once given
     feed_m_s: float | None = None
     position_m: list[float | None] = dataclasses.field(default_factory=lambda: [None, None, None])
 
@@ -222,8 +227,15 @@ def _execute(file: Path, number: int, words: list[tuple[str, str]], state: _Stat
         state.plane = codes["plane"][0]
     if "distance" in codes:
         state.incremental = codes["distance"][0] == 91
+    if "coordinate system" in codes:
+        system, word = codes["coordinate system"]
+        if state.coordinate_system not in (None, system) or (state.coordinate_system is None and system != 54
+                                                            and state.position_m != [None, None, None]):
+            raise fail(word, "the program changes work coordinate system: their offsets are not in the program; "
+                             "write it in one system, the path frame")
+        state.coordinate_system = system
     if "motion" in codes:
-        state.motion = None if codes["motion"][0] == 80 else codes["motion"][0]
+        state.motion = codes["motion"][0]
     axes = [values.get(letter) for letter in "XYZ"]
     arc_words = [letter for letter in "IJKR" if letter in values]
     if arc_words and state.motion not in (2, 3):

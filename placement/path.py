@@ -68,6 +68,8 @@ GAP_M = 1e-9  # segments whose ends are farther apart leave a gap (a skipped rap
 TURNING_RATE_TOLERANCE_RAD_M = 1e-9  # a larger change of turning rate between segments is an orientation corner
 PLUNGE_COSINE = np.cos(np.radians(45.0))  # a feed move within 45° of -Z_p (into the workpiece) is plunging
 MAX_SAMPLES = 1_000_000  # samples of one path: about 0.5 GB through the whole chain
+DEFAULT_TIME_STEP_S = 0.001  # the sampling step of a file that gives none ...
+DEFAULT_SPACING_M = 0.0005  # ... or longer, to keep samples this far apart at the path's fastest feed
 
 
 class Rectangle(Strict):
@@ -208,7 +210,13 @@ class PathFile(Strict):
     rapids: Rapids | None = None
     process_forces_N: ForceKinds = ForceKinds()
     timing: Timing = Timing()
-    time_step_s: Positive = 0.001
+    time_step_s: Positive | None = None
+
+
+def default_time_step_s(feed_m_s: float) -> float:
+    """The sampling step of a file that gives none: 1 ms, or longer for a slow path, so that samples are at
+    most ``DEFAULT_SPACING_M`` apart at its fastest feed (a G-code program at F100 needs no 1 ms samples)."""
+    return max(DEFAULT_TIME_STEP_S, DEFAULT_SPACING_M / feed_m_s)
 
 
 @dataclass(frozen=True)
@@ -556,7 +564,8 @@ def load_path(path: str | FilePath) -> ToolPath:
     if sum(segment.length_m for segment in segments) < MIN_LENGTH_M:
         raise PathFileError(path, "shape", f"the path is shorter than {MIN_LENGTH_M * 1e6:g} µm")
     return ToolPath(name=spec.name or path.stem, segments=segments, feed_m_s=feed,
-                    forces=spec.process_forces_N.resolve(), timing=spec.timing, time_step_s=spec.time_step_s,
+                    forces=spec.process_forces_N.resolve(), timing=spec.timing,
+                    time_step_s=spec.time_step_s if spec.time_step_s is not None else default_time_step_s(feed),
                     rapid_feed_m_s=rapid_feed, timed=timed)
 
 

@@ -267,7 +267,8 @@ def test_the_pocket_example_runs_end_to_end(capsys):
 
 @pytest.mark.parametrize("code, line, word, words", [
     ("G0 X0 Y0 Z0\nG41 G1 X10 F100\n", 2, "G41", ["cutter radius compensation"]),
-    ("G54\nG0 X0 Y0 Z0\n", 1, "G54", ["work offsets"]),
+    ("G54\nG0 X0 Y0 Z0\nG55 X1\n", 3, "G55", ["changes work coordinate system"]),
+    ("G0 X0 Y0 Z0\nG92 X0\n", 2, "G92", ["coordinate system offset"]),
     ("G0 X0 Y0 Z0\nG81 X1 Y1 Z-3 R1 F100\n", 2, "G81", ["canned cycles"]),
     ("G0 X0 Y0 Z0\nG1 X10 A5 F100\n", 2, "A5", ["unknown word"]),
     ("G0 X0 Y0 Z0\nG1 X10\n", 2, "X10", ["before any feed rate"]),
@@ -284,7 +285,7 @@ def test_the_pocket_example_runs_end_to_end(capsys):
     ("G0 X0 Y0 Z0\nG1 X10 F100 (open comment\n", 2, "", ["not closed"]),
     ("G0 X0 Y0 Z0\nG1 X10 I5 F100\n", 2, "I5", ["belong to arcs"]),
     ("G0 X0 Y0 Z0\nG2 I5 F100\n", 2, "I5", ["needs its end point"]),
-    ("G0 X0 Y0 Z0\nG80\nX10\n", 3, "X10", ["no motion mode"]),
+    ("G21\nX10 Y0 Z0\n", 2, "X10", ["no motion mode"]),
     ("G0 X0 Y0 Z0\nG2 X10 Y0 F100\n", 2, "X10", ["needs its centre"]),
     ("G0 X0 Y0\nG91 Z-1\n", 2, "Z-1", ["incremental"]),
 ])
@@ -381,3 +382,13 @@ def test_a_repair_a_hair_outside_the_workspace_is_pulled_back_in():
         assert -1e-7 < problem.margins(outside).min() < 0
         inside = _inward_until_feasible(problem, outside, space)
         assert problem.margins(inside).min() >= 0 and np.abs(inside - outside).max() < 1e-5
+
+
+def test_a_posts_safety_line_and_one_work_coordinate_system_are_read(tmp_path):
+    # Fanuc-style posts cancel canned cycles on the same line as a rapid, and name the work system.
+    plain = program(tmp_path, "G0 X0 Y0 Z5\nG1 Z-1 F100\nG1 X10\n", name="plain")
+    posted = program(tmp_path, "G0 G90 G40 G21 G17 G94 G80\nG55 X0 Y0 Z5 S500 M3\nG1 Z-1 F100\nG80 G1 X10\n",
+                     name="posted")
+    assert len(plain.segments) == len(posted.segments)
+    for a, b in zip(plain.segments, posted.segments):
+        np.testing.assert_allclose([a.start_m, a.end_m], [b.start_m, b.end_m], atol=1e-15)
