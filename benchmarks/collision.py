@@ -17,28 +17,17 @@ for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", 
 
 import argparse  # noqa: E402
 import time  # noqa: E402
-from collections.abc import Callable  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 import pinocchio as pin  # noqa: E402
+from throughput import best_seconds  # noqa: E402  (the benchmarks' folder is on the path when run)
 
 from placement.cell.scene import CollisionScene  # noqa: E402
 from placement.cell.schema import load_cell  # noqa: E402
 from placement.robot import Robot, load_robot  # noqa: E402
 
 CELL = Path(__file__).parent.parent / "examples" / "cell_ur5_table_wall.yaml"
-
-
-def best_seconds(function: Callable[[], object], seconds: float) -> float:
-    """The shortest time (s) of repeated calls of ``function`` over about ``seconds``."""
-    function()
-    best, start = np.inf, time.perf_counter()
-    while time.perf_counter() - start < seconds:
-        tic = time.perf_counter()
-        function()
-        best = min(best, time.perf_counter() - tic)
-    return best
 
 
 def main() -> None:

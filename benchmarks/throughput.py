@@ -44,15 +44,20 @@ def circle_task(samples: int) -> TaskTrajectory:
     return TaskTrajectory(position, velocity, acceleration)
 
 
-def rate(function: Callable[[], object], samples: int, seconds: float) -> float:
-    """Samples per second of ``function`` (which evaluates ``samples`` samples), best of repeats."""
+def best_seconds(function: Callable[[], object], seconds: float) -> float:
+    """The shortest time (s) of repeated calls of ``function`` over about ``seconds``."""
     function()
     best, start = np.inf, time.perf_counter()
     while time.perf_counter() - start < seconds:
         tic = time.perf_counter()
         function()
         best = min(best, time.perf_counter() - tic)
-    return samples / best
+    return best
+
+
+def rate(function: Callable[[], object], samples: int, seconds: float) -> float:
+    """Samples per second of ``function`` (which evaluates ``samples`` samples), best of repeats."""
+    return samples / best_seconds(function, seconds)
 
 
 def main() -> None:
