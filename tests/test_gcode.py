@@ -132,7 +132,7 @@ def test_arcs_in_every_plane_and_helices_are_exact(tmp_path, code, center, norma
 def test_g18_clockwise_is_seen_from_plus_y(tmp_path):
     path = program(tmp_path, "G18 G0 X20 Y0 Z0\nG2 X0 Z0 I-10 K0 F1200\n")
     # Seen from +Y (looking towards -Y, Z up), +X points left: clockwise from X20 climbs through Z+10.
-    z = path.sample().position_m[:, 2]
+    z = path.sample(0.001).position_m[:, 2]
     assert z.max() == pytest.approx(0.01, abs=1e-6) and z.min() > -1e-12
 
 
@@ -392,3 +392,11 @@ def test_a_posts_safety_line_and_one_work_coordinate_system_are_read(tmp_path):
     assert len(plain.segments) == len(posted.segments)
     for a, b in zip(plain.segments, posted.segments):
         np.testing.assert_allclose([a.start_m, a.end_m], [b.start_m, b.end_m], atol=1e-15)
+
+
+def test_a_slow_program_without_a_time_step_is_sampled_every_half_millimetre(tmp_path):
+    slow = program(tmp_path, "G0 X0 Y0 Z0\nG1 X100 F100\n", name="slow")  # 100 mm/min
+    fast = program(tmp_path, "G0 X0 Y0 Z0\nG1 X100 F60000\n", name="fast")  # 1 m/s: 1 ms is finer than 0.5 mm
+    assert slow.time_step_s == pytest.approx(0.0005 / (0.1 / 60)) and fast.time_step_s == 0.001
+    spacing = np.diff(slow.sample().position_m[:, 0])
+    assert spacing.max() <= 0.0005 + 1e-12
