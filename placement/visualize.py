@@ -37,6 +37,7 @@ from pinocchio.visualize import MeshcatVisualizer
 from placement.cell.geometry import package_dirs
 from placement.exceptions import RobotFileError
 from placement.frames import box_corners
+from placement.kinematics.batched import jump_steps
 from placement.limits.collision import collision_scene
 from placement.robot.model import Robot
 
@@ -188,11 +189,17 @@ class Scene:
 
     def add_path(self, name: str, tool_position_m: np.ndarray, color: int, label: str | None = None,
                  width_m: float = 0.006) -> None:
-        """A placed path through its tool points (base frame, m), drawn as a line of dots."""
-        self.drawn_points_m.append(np.asarray(tool_position_m, dtype=float).reshape(-1, 3))
-        points = np.asarray(tool_position_m, dtype=np.float32).T
+        """A placed path through its tool points (base frame, m), drawn as a line of dots; the gap a skipped rapid
+        leaves (a jump, as the kinematics finds it) is not drawn."""
+        positions = np.asarray(tool_position_m, dtype=float).reshape(-1, 3)
+        self.drawn_points_m.append(positions)
+        points = positions.T.astype(np.float32)
         rgb = np.array([(color >> 16) & 255, (color >> 8) & 255, color & 255], dtype=np.float32)[:, None] / 255
-        self.viewer[f"paths/{name}/line"].set_object(g.Line(g.PointsGeometry(points), g.LineBasicMaterial(color=color)))
+        steps = np.linalg.norm(np.diff(positions, axis=0), axis=1)
+        drawn = np.setdiff1d(np.arange(len(steps)), jump_steps(steps)) if len(steps) else np.zeros(0, dtype=int)
+        pairs = points[:, np.stack([drawn, drawn + 1], axis=1).reshape(-1)]
+        self.viewer[f"paths/{name}/line"].set_object(
+            g.LineSegments(g.PointsGeometry(pairs), g.LineBasicMaterial(color=color)))
         self.viewer[f"paths/{name}/dots"].set_object(
             g.PointCloud(points, np.repeat(rgb, points.shape[1], axis=1), size=width_m))
         if label and all(entry[0] != label for entry in self.legend):

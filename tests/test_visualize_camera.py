@@ -96,3 +96,17 @@ def test_the_former_fixed_offset_misses_the_tall_chain(tmp_path):
     target = data.oMf[tall.end_effector_frame_id].translation  # the former rule: no workspace, aim at the tool
     position = target + np.array([-0.45, -0.45, 0.35]) * (0.5 / 0.3)
     assert not in_view(position, target, drawn_box(tall, np.zeros((0, 3))))
+
+
+def test_a_skipped_rapids_gap_is_not_drawn_as_a_line():
+    import umsgpack
+    from meshcat.servers.tree import find_node
+
+    scene = Scene(load_robot("orthoglide"))
+    x = np.concatenate([np.linspace(0.0, 0.01, 11), np.linspace(0.05, 0.06, 11)])  # 1 mm steps, one 40 mm gap
+    scene.add_path("gap", np.stack([x, np.zeros_like(x), np.zeros_like(x)], axis=1), 0xFF0000)
+    line = umsgpack.unpackb(find_node(scene.window.tree, ["meshcat", "paths", "gap", "line"]).object)
+    ends = np.frombuffer(line["object"]["geometries"][0]["data"]["attributes"]["position"]["array"].data, np.float32)
+    segments = ends.reshape(-1, 2, 3)
+    assert len(segments) == 20  # 21 steps less the gap
+    assert np.linalg.norm(segments[:, 1] - segments[:, 0], axis=1).max() < 0.0011
