@@ -185,7 +185,8 @@ class Evaluator:
         """Everything a worker process needs to evaluate ``placements`` as this evaluator would."""
         return EvaluationJob(self.robot, self.path, self.regeneration, self.time_step_s, self.method,
                              self.objective_names, placements,
-                             runtime_members(members_used(self.robot, self.objective_names, self.regeneration, self.method)))
+                             runtime_members(members_used(self.robot, self.objective_names, self.regeneration, self.method)),
+                             self.exact)
 
     def batch(self, placements: np.ndarray, exact: bool | None = None) -> EvaluatedBatch:
         """Run the exact chain on (K, 6) placements; arrays come back shaped (K, N, ...).
@@ -281,6 +282,7 @@ class EvaluationJob:
     objectives: tuple[str, ...]
     placements: np.ndarray
     registered: dict[str, dict[str, object]]
+    exact: bool = False
 
 
 def members_used(robot: Robot, objectives: tuple[str, ...], regeneration: str, method: str) -> dict[str, set[str]]:
@@ -296,7 +298,7 @@ def evaluate_job(job: EvaluationJob) -> Evaluation:
     """Evaluate a job's placements (in a worker process: one RNEA thread, since workers share the cores)."""
     restore_runtime_members(job.registered)
     evaluator = Evaluator(job.robot, job.path, job.regeneration, job.time_step_s, job.method, job.objectives,
-                          workers=1, threads=1)
+                          workers=1, threads=1, exact=job.exact)
     return evaluator.evaluate(job.placements)
 
 

@@ -69,3 +69,8 @@ def test_the_command_line_writes_the_front_and_refuses_a_single_objective(tmp_pa
     assert main(["--robot", "orthoglide", "--path", "examples/rect.yaml", "--objectives", "energy,dexterity",
                  "--at", "x=0"]) == 2
     assert main(["--robot", "orthoglide", "--path", "examples/rect.yaml", "--members", "knee"]) == 2
+    capsys.readouterr()
+    assert main(["--robot", "orthoglide", "--path", "examples/rect.yaml", "--objectives", "energy,dexterity",
+                 "--members", "kne"]) == 2  # refused before the search
+    captured = capsys.readouterr()
+    assert "--members: expected knee" in captured.err and "search:" not in captured.out

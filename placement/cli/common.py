@@ -331,9 +331,11 @@ def require_sidecar(robot: str, command: str) -> None:
                      "1. A serial arm by name), then give the copy's path")
 
 
-def robot_files(robot: str) -> tuple[str, ...]:
-    """The files of a robot's folder (sidecar, URDF, plug-in): inputs no output may overwrite."""
+def robot_files(robot: str, cell: str | None = None) -> tuple[str, ...]:
+    """The files of a robot's folder (sidecar, URDF, plug-in), and its cell file if given: inputs no output may
+    overwrite."""
+    cell_files = (cell,) if cell is not None else ()
     if erd_name(robot) is not None:  # example-robot-data's files, not a folder of the user's
-        return ()
+        return cell_files
     folder = sidecar_path(robot).parent
-    return tuple(str(file) for file in folder.iterdir() if file.is_file())
+    return tuple(str(file) for file in folder.iterdir() if file.is_file()) + cell_files

@@ -59,7 +59,7 @@ def parse_feeds(text: str) -> np.ndarray:
 
 def run(args: argparse.Namespace) -> int:
     """Print the table (and draw the figure) of time and energy per part against feed."""
-    check_outputs(("--png", args.png), inputs=(args.path, *robot_files(args.robot), *([args.cell] if args.cell else [])))
+    check_outputs(("--png", args.png), inputs=(args.path, *robot_files(args.robot, args.cell)))
     feeds = parse_feeds(args.feeds)
     given = parse_values(args.at, "--at")
     robot = load_robot_argument(args.robot, args.tool, args.cell)

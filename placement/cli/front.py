@@ -61,9 +61,19 @@ def place_front(robot: Robot, path: ToolPath, space: PlacementSpace, args: argpa
     return document, details, None
 
 
+def parse_members(text: str, objectives: tuple[str, ...]) -> tuple[str, ...]:
+    """The names given to --members, checked before the search: knee, an objective of the front, or a number."""
+    names = _items(text)
+    for name in names:
+        if not (name == "knee" or name in objectives or name.isdigit()):
+            raise UsageError(f"--members: expected knee, an objective of the front ({', '.join(objectives)}) or a "
+                             f"member number, got '{name[:40]}'")
+    return names
+
+
 def chosen_members(front: ParetoFront, text: str | None) -> dict[str, int]:
     """The members --members names ("knee", ends such as "energy", or indices), by label; default: knee and ends."""
-    names = _items(text) if text else ("knee", *front.objectives)
+    names = parse_members(text, front.objectives) if text else ("knee", *front.objectives)
     chosen = {}
     for name in names:
         if name == "knee" and front.knee is not None:

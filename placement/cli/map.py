@@ -89,7 +89,7 @@ def run(args: argparse.Namespace) -> int:
     """The 'map' command: a map of the objective over a grid of placements."""
     out = args.out if args.out.endswith(".npz") else f"{args.out}.npz"  # numpy's suffix, said up front
     check_outputs(("--out", out), ("--png", args.png), ("--html", args.html),
-                  inputs=(args.path, *robot_files(args.robot), *([args.cell] if args.cell else [])))
+                  inputs=(args.path, *robot_files(args.robot, args.cell)))
     axes = parse_grid(args.grid)
     fixed = parse_values(args.fix or "", "--fix")
     clash = sorted(set(axes) & set(fixed))

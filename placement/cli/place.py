@@ -29,12 +29,11 @@ from placement.cli.common import (
     robot_files,
     whole_number,
 )
-from placement.cli.front import SCENE_COLORS, parse_objectives, place_front
+from placement.cli.front import SCENE_COLORS, parse_members, parse_objectives, place_front
 from placement.cluster import Cluster, cluster, scheduler_address
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation import Evaluator
-from placement.frames import VARIABLES, default_space, describe_plane, placed_task, robot_plane
-from placement.kinematics import joint_trajectory
+from placement.frames import VARIABLES, default_space, describe_plane, robot_plane
 from placement.limits.collision import closest_points
 from placement.objectives import OBJECTIVES, wording
 from placement.path import ToolPath
@@ -204,8 +203,7 @@ def draw(scene: Scene, robot: Robot, index: int, details: dict) -> None:
         scene.add_path(f"{index}_{key.replace(' ', '_')}", detail.tool_position_m, *color)
     moving = details.get("at") or details.get("best") or details.get("knee") or details.get("worst")
     if index == 0 and moving is not None and moving.reachable:
-        task, _ = placed_task(robot, moving.samples, moving.placement[None])
-        scene.animate(joint_trajectory(robot, task).q, moving.samples.t_s)
+        scene.animate(moving.configuration, moving.samples.t_s)
         nearest = min((m for m in moving.margins if m.kind == "collision"), key=lambda m: m.margin, default=None)
         if nearest is not None:
             first, second = closest_points(robot, moving.configuration[nearest.sample], nearest.where)
@@ -242,7 +240,9 @@ def check_front_options(args: argparse.Namespace) -> None:
             if value is not None:
                 raise UsageError(f"{option} goes with --objectives (a Pareto front)")
         return
-    parse_objectives(args.objectives)
+    objectives = parse_objectives(args.objectives)
+    if args.members is not None:
+        parse_members(args.members, objectives)
     if args.at is not None or args.minimize or args.maximize or args.objective != "energy":
         raise UsageError("--objectives searches a Pareto front: give it without --at, --minimize, --maximize or "
                          "--objective")
@@ -261,7 +261,7 @@ def run(args: argparse.Namespace) -> int:
     check_front_options(args)
     check_outputs(("--json", args.json), ("--trace", args.trace), ("--html", args.html),
                   ("--png", args.png),
-                  inputs=(*args.path, *robot_files(args.robot), *([args.cell] if args.cell else [])))
+                  inputs=(*args.path, *robot_files(args.robot, args.cell)))
     scene = None
     if args.html or args.show:
         from placement.visualize import Scene
