@@ -11,12 +11,16 @@ workers need only this package installed, not the files.
 from __future__ import annotations
 
 import os
-from collections.abc import Iterator
-from concurrent.futures import Executor
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import Executor, as_completed
 from contextlib import contextmanager
 from dataclasses import dataclass
+from typing import Any, TypeVar
 
+from placement.evaluation import process_pool
 from placement.exceptions import PlacementError
+
+Result = TypeVar("Result")
 
 SCHEDULER_VARIABLE = "PLACEMENT_SCHEDULER"
 CONNECT_TIMEOUT_S = 20.0
@@ -67,3 +71,35 @@ def cluster(address: str | None) -> Iterator[Cluster | None]:
         yield Cluster(client.get_executor(), threads, address)
     finally:
         client.close()
+
+
+def run_in_order(function: Callable[..., Result], tasks: Sequence[tuple[Any, ...]], workers: int,
+                 executor: Executor | None, done: Callable[[int], None] | None = None) -> list[Result]:
+    """``function(*task)`` for every task, results in the tasks' order.
+
+    Args:
+        function: A picklable function.
+        tasks: Its arguments, one tuple per call.
+        workers: Processes of the local pool; 1 runs the tasks here, one after the other.
+        executor: Runs the tasks instead of a local pool (a Dask cluster's, :func:`cluster`).
+        done: Called with each task's index as it finishes (for a progress bar).
+    """
+    if executor is None and workers == 1:
+        results = []
+        for index, task in enumerate(tasks):
+            results.append(function(*task))
+            if done:
+                done(index)
+        return results
+    pool = executor or process_pool(min(workers, len(tasks)))
+    try:
+        futures = {pool.submit(function, *task): index for index, task in enumerate(tasks)}
+        finished: dict[int, Result] = {}
+        for future in as_completed(futures):
+            finished[futures[future]] = future.result()
+            if done:
+                done(futures[future])
+    finally:
+        if executor is None:
+            pool.shutdown(cancel_futures=True)
+    return [finished[index] for index in range(len(tasks))]

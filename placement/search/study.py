@@ -10,14 +10,15 @@ or whose search fails on an input error, becomes a row that says why; it does no
 
 from __future__ import annotations
 
+import os
 import time
 from collections.abc import Callable, Sequence
-from concurrent.futures import Executor, as_completed
+from concurrent.futures import Executor
 from dataclasses import dataclass
 
 import numpy as np
 
-from placement.evaluation import process_pool
+from placement.cluster import run_in_order
 from placement.exceptions import PlacementError
 from placement.frames import VARIABLES
 from placement.path import ToolPath
@@ -103,23 +104,7 @@ def run_study(robots: Sequence[Robot], paths: Sequence[ToolPath], *, regeneratio
     """
     settings = settings or SearchSettings()
     pairs = [(robot, path) for robot in robots for path in paths]
-    if executor is None and workers == 1:
-        rows = []
-        for robot, path in pairs:
-            rows.append(study_pair(robot, path, regeneration, settings))
-            if progress:
-                progress()
-        return rows
-    pool = executor or process_pool(min(workers or len(pairs), len(pairs)))
-    try:
-        futures = {pool.submit(study_pair, robot, path, regeneration, settings): i for i, (robot, path) in enumerate(pairs)}
-        done: dict[int, StudyRow] = {}
-        for future in as_completed(futures):
-            done[futures[future]] = future.result()
-            if progress:
-                progress()
-    finally:
-        if executor is None:
-            pool.shutdown(cancel_futures=True)
-    return [done[i] for i in range(len(pairs))]
+    tasks = [(robot, path, regeneration, settings) for robot, path in pairs]
+    return run_in_order(study_pair, tasks, workers or os.cpu_count() or 1, executor,
+                        (lambda _: progress()) if progress else None)
 

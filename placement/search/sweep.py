@@ -13,13 +13,14 @@ from __future__ import annotations
 import json
 import os
 from collections.abc import Callable
-from concurrent.futures import Executor, as_completed
+from concurrent.futures import Executor
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from placement.evaluation import Evaluation, EvaluationJob, evaluate_job, members_used, process_pool
+from placement.cluster import run_in_order
+from placement.evaluation import Evaluation, EvaluationJob, evaluate_job, members_used
 from placement.exceptions import PlacementError
 from placement.frames import VARIABLES
 from placement.objectives import OBJECTIVES
@@ -131,7 +132,8 @@ def sweep(robot: Robot, path: ToolPath, axes: dict[str, np.ndarray], fixed: dict
     registered = runtime_members(members_used(robot, (objective,), regeneration, "auto"))
     jobs = [EvaluationJob(robot, path, regeneration, time_step_s, "auto", (objective,), placements[i:i + CHUNK_PLACEMENTS],
                           registered) for i in range(0, len(placements), CHUNK_PLACEMENTS)]
-    results = _run(jobs, workers or os.cpu_count() or 1, executor, progress)
+    results = run_in_order(evaluate_job, [(job,) for job in jobs], workers or os.cpu_count() or 1, executor,
+                           (lambda k: progress(len(jobs[k].placements))) if progress else None)
     shape = tuple(len(v) for v in values)
     evaluation = Evaluation.concatenate(results)
     return SweepResult(variables=variables, axes=values, fixed=base, value=evaluation.value.reshape(shape),
@@ -139,26 +141,3 @@ def sweep(robot: Robot, path: ToolPath, axes: dict[str, np.ndarray], fixed: dict
                        tightest=evaluation.margins.argmin(axis=1).reshape(shape), limits=evaluation.limits,
                        robot=robot.name, path=path.name, regeneration=regeneration, objective=objective)
 
-
-def _run(jobs: list[EvaluationJob], workers: int, executor: Executor | None,
-         progress: Callable[[int], None] | None) -> list[Evaluation]:
-    """Evaluate the jobs here (one worker, no executor) or on the executor (default: a process pool)."""
-    if executor is None and workers == 1:
-        results = []
-        for job in jobs:
-            results.append(evaluate_job(job))
-            if progress:
-                progress(len(job.placements))
-        return results
-    pool = executor or process_pool(min(workers, len(jobs)))
-    try:
-        futures = {pool.submit(evaluate_job, job): k for k, job in enumerate(jobs)}
-        done: dict[int, Evaluation] = {}
-        for future in as_completed(futures):
-            done[futures[future]] = future.result()
-            if progress:
-                progress(len(jobs[futures[future]].placements))
-    finally:
-        if executor is None:
-            pool.shutdown()
-    return [done[k] for k in range(len(jobs))]
