@@ -12,6 +12,7 @@ from placement.energy.integration import Energy, electric_energy, interval_power
 from placement.kinematics.trajectories import JointTrajectory
 from placement.path import PathSamples
 from placement.robot.model import Robot
+from placement.timing import TimeLaw
 
 
 @dataclass(frozen=True)
@@ -34,6 +35,11 @@ class EvaluatedBatch:
         joints: Motion of every joint of the spanning tree, K·N rows (placement-major).
         exact: Every limit is to be computed exactly at every sample (for a report or a re-check);
             else a limit may spare work that cannot change feasibility (a search's batch).
+        time_law: Each placement's own timing at ``samples`` under the optimal timing law
+            (``samples`` then hold the path at unit speed), else None: every placement shares
+            ``samples.t_s``.
+        path_law: The same timing at the samples of the path geometry it was found on
+            (:class:`placement.path.PathGeometry`), or None.
     """
 
     robot: Robot
@@ -49,6 +55,8 @@ class EvaluatedBatch:
     regeneration: str
     joints: JointTrajectory
     exact: bool = False
+    time_law: TimeLaw | None = None
+    path_law: TimeLaw | None = None
 
     def __len__(self) -> int:
         return len(self.placements)
@@ -56,7 +64,7 @@ class EvaluatedBatch:
     @cached_property
     def energy(self) -> Energy:
         """Electric energy of each placement under the regeneration policy (computed once)."""
-        return electric_energy(self.robot, self.motor, self.samples.t_s, self.samples.piece, self.regeneration)
+        return electric_energy(self.robot, self.motor, self.t_s, self.samples.piece, self.regeneration)
 
     @cached_property
     def interval_power_W(self) -> np.ndarray:
@@ -64,6 +72,12 @@ class EvaluatedBatch:
         return interval_power(self.robot, self.motor, self.interval_widths_s).total_W
 
     @property
+    def t_s(self) -> np.ndarray:
+        """(N,) time of each sample, shared by the placements, or (K, N), each placement's own."""
+        return self.samples.t_s if self.time_law is None else self.time_law.t_s
+
+    @property
     def interval_widths_s(self) -> np.ndarray:
-        """(N-1,) durations between samples, 0 where a new independently integrated piece starts."""
-        return interval_widths(self.samples.t_s, self.samples.piece)
+        """(N-1,) or (K, N-1) (as ``t_s``) durations between samples, 0 where a new independently integrated
+        piece starts."""
+        return interval_widths(self.t_s, self.samples.piece)

@@ -9,6 +9,7 @@ batches shared among worker processes.
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from concurrent.futures import Executor, ProcessPoolExecutor
 from dataclasses import dataclass
@@ -22,12 +23,13 @@ from placement.energy.integration import Energy, sample_power
 from placement.energy.regeneration import REGENERATION
 from placement.exceptions import PlacementError
 from placement.frames import placed_task
-from placement.kinematics import solver_for
+from placement.kinematics import JointTrajectory, solver_for
 from placement.limits import LIMITS, Margin, margin_fields, tightest, worst_margins
 from placement.objectives import OBJECTIVES, Objective
 from placement.path import PathSamples, ToolPath
 from placement.registry import restore_runtime_members, runtime_members
 from placement.robot.model import Robot
+from placement.timing import PathDynamics, TimeLaw, time_optimal
 
 BATCH_SAMPLES = 60_000  # samples per batched call (memory: about 0.5 kB a sample)
 UNREACHABLE_MARGIN = -1.0  # every margin of an unreachable placement: how infeasible it is, to steer the search
@@ -97,6 +99,7 @@ class PlacementDetail:
         motor: Motor speed, torque and current, (N, n_act).
         power_W: (N, n_act) signed electric power of each drive at each sample (the mean of the
             adjacent intervals' power, by the drive's motor model).
+        timing: The timing law's name (under "optimal", ``samples`` are timed for this placement).
     """
 
     placement: np.ndarray
@@ -115,6 +118,7 @@ class PlacementDetail:
     configuration: np.ndarray
     motor: MotorTrace
     power_W: np.ndarray
+    timing: str = "paper"
 
     @property
     def feasible(self) -> bool:
@@ -144,16 +148,20 @@ class Evaluator:
         threads: Threads of the batched kinematics and RNEA (default: every core).
         exact: Compute every limit exactly at every sample in :meth:`evaluate` too (a re-check);
             :meth:`detail` always does.
+        refine: Under the optimal timing law, cut each interval between the path geometry's
+            samples in this many (:meth:`placement.path.ToolPath.geometry`).
     """
 
     def __init__(self, robot: Robot, path: ToolPath, regeneration: str = "clip", time_step_s: float | None = None,
                  method: str = "auto", objective: str | tuple[str, ...] = "energy", workers: int | None = None,
-                 executor: Executor | None = None, threads: int | None = None, exact: bool = False) -> None:
+                 executor: Executor | None = None, threads: int | None = None, exact: bool = False,
+                 refine: int = 1) -> None:
         REGENERATION.get(regeneration)  # unknown names fail here, before any work
         self.robot = robot
         self.path = path
         self.regeneration = regeneration
         self.time_step_s = time_step_s
+        self.refine = refine
         self.method = method
         self.threads = threads or os.cpu_count() or 1
         self.exact = exact
@@ -162,9 +170,16 @@ class Evaluator:
         self.objective_name = self.objective_names[0]
         self.objectives: tuple[Objective, ...] = tuple(OBJECTIVES.get(name) for name in self.objective_names)
         self.objective = self.objectives[0]
-        self.samples = path.sample(time_step_s)
+        for name, wanted in zip(self.objective_names, self.objectives):
+            if wanted.timing is not None and wanted.timing != path.timing.mode:
+                raise PlacementError(f"the objective '{name}' needs the {wanted.timing} timing law (--timing "
+                                     f"{wanted.timing}, or timing: {{mode: {wanted.timing}}} in the path file); the path "
+                                     f"'{path.name}' is timed by the {path.timing.mode} law")
+        self.geometry = path.geometry(time_step_s, refine) if path.timing.mode == "optimal" else None
+        self.samples = path.sample(time_step_s) if self.geometry is None else self.geometry.evaluated_samples
         self.evaluations = 0  # placements evaluated so far
-        spread = executor is not None or not self.solver.vectorized
+        # Placements are timed one by one under the optimal timing law: worth sharing among processes too.
+        spread = executor is not None or not self.solver.vectorized or self.geometry is not None
         self.workers = (workers or os.cpu_count() or 1) if spread else 1
         self.executor = executor
         self._own_pool: ProcessPoolExecutor | None = None
@@ -188,29 +203,67 @@ class Evaluator:
                              runtime_members(members_used(self.robot, self.objective_names, self.regeneration, self.method)),
                              self.exact)
 
-    def batch(self, placements: np.ndarray, exact: bool | None = None) -> EvaluatedBatch:
+    def batch(self, placements: np.ndarray, exact: bool | None = None, law: TimeLaw | None = None) -> EvaluatedBatch:
         """Run the exact chain on (K, 6) placements; arrays come back shaped (K, N, ...).
 
         Args:
             placements: (K, 6) placement vectors.
             exact: Limits computed exactly at every sample (default: the evaluator's ``exact``).
+            law: Under the optimal timing law, the placements' timing on this evaluator's path
+                geometry (:meth:`placement.timing.TimeLaw.resampled`) instead of their time-optimal one.
         """
-        k, n = len(placements), len(self.samples)
-        task, force = placed_task(self.robot, self.samples, placements)
+        k = len(placements)
+        solved = self.samples if self.geometry is None else self.geometry.samples
+        task, force = placed_task(self.robot, solved, placements)
         joints, reachable, _ = self.solver.solve(task, k)
-        effort = actuator_efforts(self.robot, joints, force, self.threads)
+        reachable, position_m = reachable.reshape(k, len(solved)), task.position_m.reshape(k, len(solved), 3)
+        timing = None
+        if self.geometry is None:
+            effort = actuator_efforts(self.robot, joints, force, self.threads)
+        else:
+            timing = self._time_optimally(joints, force, np.asarray(reachable.all(axis=1)), law)
+            joints, effort = timing.joints, timing.effort
+            reachable, position_m = reachable[:, self.geometry.grid_rows], position_m[:, self.geometry.grid_rows]
         act_v = self.robot.actuated_v_indices
-        shape = (k, n, len(act_v))
+        shape = (k, len(self.samples), len(act_v))
         position = joints.q[:, self.robot.actuated_q_indices].reshape(shape)
         velocity, acceleration = joints.v[:, act_v].reshape(shape), joints.a[:, act_v].reshape(shape)
         effort = effort.reshape(shape)
         self.evaluations += k
-        return EvaluatedBatch(robot=self.robot, samples=self.samples, placements=placements,
-                              reachable=reachable.reshape(k, n), tool_position_m=task.position_m.reshape(k, n, 3),
-                              position=position, velocity=velocity, acceleration=acceleration, effort=effort,
+        return EvaluatedBatch(robot=self.robot, samples=self.samples, placements=placements, reachable=reachable,
+                              tool_position_m=position_m, position=position, velocity=velocity,
+                              acceleration=acceleration, effort=effort,
                               motor=motor_trace(self.robot, effort, velocity, acceleration),
                               regeneration=self.regeneration, joints=joints,
-                              exact=self.exact if exact is None else exact)
+                              exact=self.exact if exact is None else exact,
+                              time_law=None if timing is None else timing.samples_law,
+                              path_law=None if timing is None else timing.law)
+
+    def _time_optimally(self, joints: JointTrajectory, force: np.ndarray, reachable: np.ndarray,
+                        given: TimeLaw | None) -> OptimalMotion:
+        """Time each placement optimally (:mod:`placement.timing`), or as ``given``, from its motion at unit speed
+        at the path geometry's samples; the motion comes back at the evaluated samples."""
+        assert self.geometry is not None
+        k, n, act = len(reachable), len(self.geometry), self.robot.actuated_v_indices
+        rest = np.zeros_like(joints.v)
+
+        def efforts(v: np.ndarray, a: np.ndarray) -> np.ndarray:
+            moving = dataclasses.replace(joints, v=v, a=a)
+            return actuator_efforts(self.robot, moving, force, self.threads).reshape(k, n, len(act))
+
+        static = efforts(rest, rest)
+        dynamics = PathDynamics(velocity=joints.v[:, act].reshape(k, n, len(act)),
+                                curvature=joints.a[:, act].reshape(k, n, len(act)),
+                                inertia=efforts(rest, joints.v) - static,
+                                centripetal=efforts(joints.v, joints.a) - static, static=static)
+        law = time_optimal(self.robot, self.geometry, dynamics, reachable) if given is None else given
+        at_samples = law.at_samples(self.geometry)
+        rows = (np.arange(k)[:, None] * n + self.geometry.grid_rows).ravel()
+        unit = JointTrajectory(*(getattr(joints, f.name)[rows] for f in dataclasses.fields(JointTrajectory)))
+        speed, acceleration = at_samples.speed_m_s.reshape(-1, 1), at_samples.acceleration_m_s2.reshape(-1, 1)
+        timed = dataclasses.replace(unit, v=unit.v * speed, a=unit.v * acceleration + unit.a * speed**2)
+        effort = dynamics.rows(self.geometry.grid_rows).efforts(at_samples.speed_m_s, at_samples.acceleration_m_s2)
+        return OptimalMotion(law, at_samples, timed, effort.reshape(-1, len(act)))
 
     def evaluate(self, placements: np.ndarray) -> Evaluation:
         """Objective and tightest margins of (K, 6) placements."""
@@ -233,8 +286,24 @@ class Evaluator:
         self.evaluations += len(placements)
         return Evaluation.concatenate(parts)
 
-    def _evaluate_batch(self, placements: np.ndarray) -> Evaluation:
-        batch = self.batch(placements)
+    def recheck(self, placements: np.ndarray, source: Evaluator) -> Evaluation:
+        """Objective and tightest margins of (K, 6) placements moving as ``source`` (the same path sampled
+        otherwise, see :func:`denser`) moves them, on this evaluator's samples: a re-check between the
+        source's samples.
+
+        Under the optimal timing law, the placements keep the timing found on the source's samples
+        (:meth:`placement.timing.TimeLaw.resampled`) instead of being timed anew; the other laws
+        time every placement alike anyway.
+        """
+        placements = np.atleast_2d(np.asarray(placements, dtype=float))
+        if self.geometry is None or source.geometry is None:
+            return self.evaluate(placements)
+        law = source.batch(placements).path_law
+        assert law is not None  # the source times its placements optimally
+        return self._evaluate_batch(placements, law.resampled(source.geometry, self.geometry))
+
+    def _evaluate_batch(self, placements: np.ndarray, law: TimeLaw | None = None) -> Evaluation:
+        batch = self.batch(placements, law=law)
         margins, labels = worst_margins(margin_fields(batch))
         reachable = np.asarray(batch.reachable.all(axis=1))
         margins[~reachable] = np.minimum(margins[~reachable], UNREACHABLE_MARGIN)
@@ -249,14 +318,32 @@ class Evaluator:
         batch = self.batch(placement[None], exact=True)
         reachable = batch.reachable[0]
         motor = batch.motor[0]
+        samples = self.samples if batch.time_law is None else batch.time_law.timed_samples(self.samples, 0)
         return PlacementDetail(
             placement=placement, objective=self.objective_name,
             value=float(self.objective(batch)[0]) if reachable.all() else self.objective.sign * np.inf,
             reachable=bool(reachable.all()), unreachable_samples=np.flatnonzero(~reachable),
-            energy=_first(batch.energy), margins=tightest(margin_fields(batch)), samples=self.samples,
+            energy=_first(batch.energy), margins=tightest(margin_fields(batch)), samples=samples,
             tool_position_m=batch.tool_position_m[0], position=batch.position[0], velocity=batch.velocity[0],
             acceleration=batch.acceleration[0], effort=batch.effort[0], configuration=batch.joints.q, motor=motor,
-            power_W=sample_power(self.robot, motor, self.samples.t_s, self.samples.piece))
+            power_W=sample_power(self.robot, motor, samples.t_s, samples.piece), timing=self.path.timing.mode)
+
+
+@dataclass(frozen=True)
+class OptimalMotion:
+    """K placements under the optimal timing law (:meth:`Evaluator._time_optimally`).
+
+    Attributes:
+        law: Their timing at the path geometry's samples.
+        samples_law: The same at the evaluated samples.
+        joints: Every joint's motion at the evaluated samples, K·N rows.
+        effort: (K·N, n_act) the actuator efforts there.
+    """
+
+    law: TimeLaw
+    samples_law: TimeLaw
+    joints: JointTrajectory
+    effort: np.ndarray
 
 
 def _first(energy: Energy) -> Energy:
@@ -300,6 +387,21 @@ def evaluate_job(job: EvaluationJob) -> Evaluation:
     evaluator = Evaluator(job.robot, job.path, job.regeneration, job.time_step_s, job.method, job.objectives,
                           workers=1, threads=1, exact=job.exact)
     return evaluator.evaluate(job.placements)
+
+
+def denser(source: Evaluator, density: int) -> Evaluator:
+    """An evaluator of the same path sampled ``density`` times more densely, for :meth:`Evaluator.recheck`.
+
+    The time step is ``density`` times shorter; under the optimal timing law, each interval of the
+    source's path geometry is cut in ``density`` instead, so that a timing found on the source's
+    samples switches at samples of this one. It computes every limit exactly, in this process.
+    """
+    step = source.path.time_step_s if source.time_step_s is None else source.time_step_s
+    if source.geometry is None:
+        return Evaluator(source.robot, source.path, source.regeneration, step / density,
+                         objective=source.objective_names, workers=1, exact=True)
+    return Evaluator(source.robot, source.path, source.regeneration, step, objective=source.objective_names,
+                     workers=1, exact=True, refine=source.refine * density)
 
 
 def process_pool(workers: int) -> ProcessPoolExecutor:

@@ -37,6 +37,12 @@ Timing laws (a timed pose list has its own times instead):
         cruising at the lowest feed of the segments it crosses; on arcs the feed is lowered
         until the tangential and centripetal acceleration and jerk together stay within the
         bounds. One continuous motion between gaps, each gap starting a new piece.
+    optimal: the fastest motion the robot allows at each placement (:mod:`placement.timing`):
+        stops where the realistic law stops, and in between the feed is as high as the robot's
+        joint speed and acceleration, motor speed and torque (and drive voltage, where given)
+        allow, never above the segment's feed. It depends on the placement, so the path is
+        sampled along its arc length here (at unit speed) and timed by the evaluator. The
+        acceleration and jerk bounds, which shape the realistic law's feed profile, are not used.
 
 A segment's feed is ``feed_ratio`` times the path's ``feed_m_s`` (for G-code, the program's
 highest F), so replacing ``feed_m_s`` (the feed command) scales every feed but the rapid feed;
@@ -47,6 +53,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, fields
+from functools import cached_property
 from pathlib import Path as FilePath
 from typing import Annotated, Any, Literal
 
@@ -70,6 +77,8 @@ PLUNGE_COSINE = np.cos(np.radians(45.0))  # a feed move within 45° of -Z_p (int
 MAX_SAMPLES = 1_000_000  # samples of one path: about 0.5 GB through the whole chain
 DEFAULT_TIME_STEP_S = 0.001  # the sampling step of a file that gives none ...
 DEFAULT_SPACING_M = 0.0005  # ... or longer, to keep samples this far apart at the path's fastest feed
+MIN_RUN_SAMPLES = 8  # samples of a run between stops, at least, for the optimal timing law
+END_SPLIT = 4  # a run's first and last intervals (leaving and reaching a stop, the slowest) are cut in this many
 
 
 class Rectangle(Strict):
@@ -189,7 +198,7 @@ class Rapids(Strict):
 class Timing(Strict):
     """Timing law; the realistic mode needs the acceleration and jerk bounds."""
 
-    mode: Literal["paper", "realistic"] = "paper"
+    mode: Literal["paper", "realistic", "optimal"] = "paper"
     max_acceleration_m_s2: Positive | None = None
     max_jerk_m_s3: Positive | None = None
 
@@ -258,6 +267,53 @@ class PathSamples:
 
 
 @dataclass(frozen=True)
+class PathGeometry:
+    """A path sampled along its arc length for the optimal timing law, run by run.
+
+    Attributes:
+        samples: The samples at unit speed (ṡ = 1 m/s, s̈ = 0): velocity is the unit tangent,
+            acceleration the curvature vector d²p/ds², angular rates per unit speed; ``t_s`` is
+            the time at the feed bound (a lower bound of the path's duration under any timing).
+        run_starts: (R + 1,) index of the first sample of each run between stops, then N.
+        arc_m: (N,) arc length from the start of the sample's run.
+        feed_m_s: (N,) the feed bound at each sample (its segment's feed).
+    """
+
+    samples: PathSamples
+    run_starts: np.ndarray
+    arc_m: np.ndarray
+    feed_m_s: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.arc_m)
+
+    @cached_property
+    def grid_rows(self) -> np.ndarray:
+        """The sample of each evaluated sample (:attr:`evaluated_samples`)."""
+        return np.concatenate([np.column_stack([j, j + 1]).ravel() for j in self._intervals()])
+
+    @cached_property
+    def interval_rows(self) -> np.ndarray:
+        """The sample starting the interval whose s̈ each evaluated sample carries."""
+        return np.concatenate([np.repeat(j, 2) for j in self._intervals()])
+
+    @cached_property
+    def evaluated_samples(self) -> PathSamples:
+        """The samples the exact chain evaluates under the optimal timing law.
+
+        The law's s̈ is constant between samples and switches at them, so each interval is
+        evaluated on its own: a sample inside a run appears twice, zero time apart, as the end of
+        the interval before it and the start of the one after. Integrals over time then follow
+        each interval's own acceleration, and every limit is checked on both sides of a switch.
+        """
+        return self.samples.rows(self.grid_rows)
+
+    def _intervals(self) -> list[np.ndarray]:
+        """The first sample of each interval between samples, run by run."""
+        return [np.arange(start, stop - 1) for start, stop in zip(self.run_starts[:-1], self.run_starts[1:])]
+
+
+@dataclass(frozen=True)
 class ToolPath:
     """A path ready to be sampled: geometry (m), feeds, forces and timing law.
 
@@ -300,7 +356,53 @@ class ToolPath:
             return self._assemble([self.timed.sample(count, self.feed_m_s / self.timed.mean_speed_m_s)])
         if self.timing.mode == "paper":
             return self._sample_paper(step)
+        if self.timing.mode == "optimal":
+            return self.geometry(step).samples
         return self._sample_realistic(step)
+
+    def geometry(self, time_step_s: float | None = None, refine: int = 1) -> PathGeometry:
+        """The path sampled along its arc length, run by run, for the optimal timing law.
+
+        Each run between stops (the realistic law's) gets samples evenly spaced in arc length,
+        its ends included, about ``time_step_s`` apart at the run's feed (at least
+        ``MIN_RUN_SAMPLES``); consecutive runs share their stop's position, each with its own tangent.
+        The first and last intervals, where the tool leaves or reaches a stop, are each cut in
+        ``END_SPLIT`` parts growing as the squares 1, 4, 9, ..., which a constant acceleration from
+        rest runs in equal times. ``refine`` then cuts every interval in as many equal parts: the
+        coarser samples are among the finer ones (a re-check's sampling).
+
+        Raises:
+            PlacementError: A timed pose list (timed by its own t column), or too many samples.
+        """
+        step = self.time_step_s if time_step_s is None else time_step_s
+        if self.timed is not None:
+            raise PlacementError(f"the path '{self.name}' is a pose list with times: it is timed by its t column, "
+                                 "not by the optimal timing law")
+        if not 0 < step < np.inf:
+            raise PlacementError(f"the sampling time step must be a finite number > 0 s, got {step}")
+        runs = _runs(self.segments)
+        nominal = [sum(s.length_m / self.speed_m_s(s) for s in run) for run, _ in runs]
+        counts = [max(MIN_RUN_SAMPLES, count) for count in self._sample_counts(nominal, step)]
+        parts, piece, arcs, feeds, starts = [], 0, [], [], [0]
+        for (run, after_gap), count in zip(runs, counts):
+            arc = _run_arc(sum(s.length_m for s in run), count, refine)
+            count = len(arc)
+            piece += after_gap
+            parts.append({"t": np.zeros(count), **_along(run, arc, np.ones(count), np.zeros(count), self.oriented),
+                          "piece": np.full(count, piece)})
+            bounds = np.cumsum([0.0] + [s.length_m for s in run])
+            segment = np.clip(np.searchsorted(bounds, arc, side="right") - 1, 0, len(run) - 1)
+            arcs.append(arc)
+            feeds.append(np.array([self.speed_m_s(s) for s in run])[segment])
+            starts.append(starts[-1] + count)
+        arc_m, feed = np.concatenate(arcs), np.concatenate(feeds)
+        # Nominal times: each run at its feed bound throughout (a lower bound of any timing's).
+        new_run = np.zeros(len(arc_m), dtype=bool)
+        new_run[starts[:-1]] = True
+        steps = np.where(new_run[1:], 0.0, np.diff(arc_m) / feed[1:])
+        parts_t = np.concatenate([[0.0], np.cumsum(steps)])
+        samples = self._assemble(parts)
+        return PathGeometry(dataclasses.replace(samples, t_s=parts_t), np.array(starts), arc_m, feed)
 
     @property
     def oriented(self) -> bool:
@@ -407,6 +509,15 @@ class ToolPath:
         return PathSamples(column["t"], column["position"], column["velocity"], column["acceleration"], tangent,
                            force, column["piece"], column.get("rotation"), column.get("angular_velocity"),
                            column.get("angular_acceleration"))
+
+
+def _run_arc(length_m: float, count: int, refine: int) -> np.ndarray:
+    """Arc lengths of a run's samples (:meth:`ToolPath.geometry`): ``count`` evenly spaced, the end intervals
+    cut in ``END_SPLIT`` growing as squares, then every interval in ``refine`` equal parts."""
+    even = np.linspace(0.0, length_m, count)
+    ends = even[1] * (np.arange(1, END_SPLIT) / END_SPLIT) ** 2
+    arc = np.concatenate([[0.0], ends, even[1:-1], length_m - ends[::-1], [length_m]])
+    return np.append(np.linspace(arc[:-1], arc[1:], refine, endpoint=False).T.ravel(), length_m)
 
 
 def _runs(segments: tuple[Segment, ...]) -> list[tuple[list[Segment], bool]]:

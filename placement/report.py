@@ -47,6 +47,8 @@ def format_detail(title: str, robot: Robot, detail: PlacementDetail, recheck_val
     lines.append(_value_line(words.subject, detail.value, words.unit, recheck_value))
     if detail.objective != "energy":
         lines.append(f"  energy {energy.total_J:.4f} J")
+    if detail.timing == "optimal" and detail.objective != "cycle_time":
+        lines.append(f"  cycle time {detail.samples.t_s[-1] - detail.samples.t_s[0]:.4f} s (optimal timing)")
     width = max(14, max(len(a.joint) for a in robot.actuators) + 2)
     if not detail.feasible:
         lines[-1] += "  INFEASIBLE: a limit is exceeded"
@@ -57,7 +59,8 @@ def format_detail(title: str, robot: Robot, detail: PlacementDetail, recheck_val
                      f"{energy.inductive_J[i]:>11.4f}{energy.back_emf_J[i]:>12.4f}{energy.mechanical_J[i]:>10.4f}")
     lines.append("  tightest limits (margin: share of the range, speed or torque still free; for a collision, "
                  "clearance beyond the required one, per 100 mm):")
-    shown = [m for m in detail.margins if m.kind != "reachability"]  # said above when it fails
+    # Reachability is said above when it fails; a timing that exists needs no line.
+    shown = [m for m in detail.margins if m.kind != "reachability" and not (m.kind == "optimal timing" and m.margin >= 0)]
     where = max(10, max(len(m.where) for m in shown))
     for margin in sorted(shown, key=lambda m: m.margin):
         lines.append(f"    {margin.kind:<18s} {margin.where:<{where}s} margin {margin.margin * 100:6.1f} %  "
@@ -122,6 +125,7 @@ def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None =
         "energy_per_actuator_J": dict(zip(names, map(float, detail.energy.per_actuator_J))) if detail.reachable else None,
         "energy_parts_J": {part: dict(zip(names, map(float, getattr(detail.energy, f"{part}_J"))))
                            for part in ("joule", "inductive", "back_emf", "mechanical")} if detail.reachable else None,
+        "cycle_time_s": float(detail.samples.t_s[-1] - detail.samples.t_s[0]) if detail.reachable else None,
         "margins": [_margin_json(robot, detail, m) for m in detail.margins] if detail.reachable else [],
     }
     if optimum is not None:

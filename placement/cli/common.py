@@ -71,7 +71,9 @@ def add_model_options(parser: argparse.ArgumentParser) -> None:
 
 def add_sampling_options(parser: argparse.ArgumentParser) -> None:
     """Options that override how a path file is timed and sampled (see configured_path)."""
-    parser.add_argument("--timing", choices=("paper", "realistic"), help="override the path file's timing law")
+    parser.add_argument("--timing", choices=("paper", "realistic", "optimal"),
+                        help="override the path file's timing law (optimal: as fast as the robot allows at each "
+                             "placement, the feed an upper bound)")
     parser.add_argument("--max-acceleration", type=positive_number, metavar="M_S2",
                         help="tool acceleration bound of the realistic timing law (m/s^2)")
     parser.add_argument("--max-jerk", type=positive_number, metavar="M_S3",
@@ -195,8 +197,14 @@ def _quantity(raw: str, name: str) -> float | None:
 
 
 def configured_path(args: argparse.Namespace, file: str) -> ToolPath:
-    """A path file with the command line's timing overrides."""
+    """A path file with the command line's timing overrides, timed optimally when an objective needs it."""
     path = load_path(file)
+    needed = needed_timing(args)
+    if needed is not None and (args.timing or path.timing.mode) != needed:
+        if args.timing is not None:
+            raise UsageError(f"--timing {args.timing}: {needed_words(args)} needs --timing {needed}")
+        print(f"note: {needed_words(args)} needs the {needed} timing law: {file} is timed by it, for every objective")
+        args.timing = needed
     overrides = (args.timing, args.max_acceleration, args.max_jerk)
     if any(value is not None for value in overrides):
         timing = path.timing
@@ -213,6 +221,24 @@ def configured_path(args: argparse.Namespace, file: str) -> ToolPath:
                              "needs --max-acceleration and --max-jerk > 0, or both in the path file") from None
         path = dataclasses.replace(path, timing=timing)
     return path
+
+
+def needed_timing(args: argparse.Namespace) -> str | None:
+    """The timing law that the command's objectives need (e.g. cycle_time: optimal), if any."""
+    timings = {OBJECTIVES.get(name).timing for name in objective_names(args)} - {None}
+    return timings.pop() if timings else None
+
+
+def needed_words(args: argparse.Namespace) -> str:
+    """The objectives that need a timing law, for a message ("the objective cycle_time")."""
+    names = [name for name in objective_names(args) if OBJECTIVES.get(name).timing is not None]
+    return f"the objective{'s' if len(names) > 1 else ''} {', '.join(names)}"
+
+
+def objective_names(args: argparse.Namespace) -> list[str]:
+    """The objectives a command was given (--objective, and --objectives where it has it), known ones only."""
+    names = [getattr(args, "objective", None)] + (getattr(args, "objectives", None) or "").split(",")
+    return [name.strip() for name in names if name and name.strip() in OBJECTIVES]
 
 
 def check_outputs(*pairs: tuple[str, str | None], inputs: tuple[str, ...] = ()) -> None:

@@ -36,7 +36,7 @@ from placement.evaluation import Evaluator
 from placement.frames import VARIABLES, default_space, describe_plane, robot_plane
 from placement.limits.collision import closest_points
 from placement.objectives import OBJECTIVES, wording
-from placement.path import ToolPath
+from placement.path import PathSamples, ToolPath
 from placement.report import detail_json, format_detail, format_result, write_atomically, write_json, write_trace
 from placement.robot import Robot
 from placement.search.optimize import SearchSettings, optimize_placement
@@ -107,6 +107,14 @@ def feed_words(path: ToolPath) -> str:
     return words + (f", rapids {path.rapid_feed_m_s:g} m/s" if path.rapid_feed_m_s is not None else "")
 
 
+def timing_words(path: ToolPath, samples: PathSamples) -> str:
+    """The timing law and sampling, as the report's first line says them."""
+    if path.timing.mode == "optimal":
+        return (f"optimal timing (as fast as the robot allows at each placement; {samples.t_s[-1]:.3f} s at the feed "
+                f"throughout), {len(samples)} samples along the path")
+    return f"{path.timing.mode} timing, {len(samples)} samples over {samples.t_s[-1]:.3f} s"
+
+
 def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
               remote: Cluster | None = None) -> tuple[dict, dict, str | None]:
     """Search (or evaluate --at) one path and print its report; ``remote`` runs the search on a Dask cluster.
@@ -118,8 +126,7 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
     samples = path.sample(args.time_step)
     objective = OBJECTIVES.get(args.objective)
     print(f"{path.name} on {robot.name}: {len(path.segments)} segment(s), {path.length_m * 1e3:.1f} mm, "
-          f"{feed_words(path)}, {path.timing.mode} timing, {len(samples)} samples over "
-          f"{samples.t_s[-1]:.3f} s; energy: {REGENERATION.get(args.regen).description}"
+          f"{feed_words(path)}, {timing_words(path, samples)}; energy: {REGENERATION.get(args.regen).description}"
           + ("" if args.objective == "energy" else f"; objective: {objective.title} ({args.objective})"))
     document: dict = {"robot": robot.name, "path": path.name, "objective": args.objective,
                       "regeneration": args.regen, "timing": path.timing.mode, "samples": len(samples)}

@@ -59,7 +59,17 @@ class Motor(Strict):
     rotor_inertia_kg_m2: NonNegative
     max_torque_Nm: Positive
     max_speed_rad_s: Positive | None = None
+    bus_voltage_V: Positive | None = Field(None, description="DC bus voltage of the drive: bounds the phase voltage "
+                                                             "R·I + L·dI/dt + K_e·ω (see phase_voltage_limit_V)")
     parameters: dict[str, Number] = Field({}, description="extra constants of a plug-in motor model")
+
+    @property
+    def phase_voltage_limit_V(self) -> float | None:
+        """The largest phase voltage amplitude the drive can apply: V_bus/√3 for a three-phase motor (space-vector
+        modulation), V_bus for one with one or two phases (an H-bridge each); None without a bus voltage."""
+        if self.bus_voltage_V is None:
+            return None
+        return self.bus_voltage_V / np.sqrt(3.0) if self.phases == 3 else self.bus_voltage_V
 
     @model_validator(mode="after")
     def _consistent_with_its_model(self) -> Motor:
@@ -85,7 +95,8 @@ class MotorModel(ABC):
             motor: The motor's constants.
             speed_rad_s: (..., N) shaft speed.
             current_A: (..., N) phase current amplitude.
-            dt_s: (N-1,) interval widths; an interval of zero width is not integrated.
+            dt_s: (N-1,) interval widths, or (..., N-1), each placement's own; an interval of zero width is
+                not integrated.
 
         Returns:
             The parts, each (..., N-1) W.

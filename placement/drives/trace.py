@@ -48,6 +48,32 @@ def drives_of(robot: Robot) -> list[Drive]:
     return drives
 
 
+def phase_voltage_V(robot: Robot, trace: MotorTrace, dt_s: np.ndarray) -> np.ndarray:
+    """(K, N, n_act) phase voltage R·I + L·dI/dt + K_e·ω of each drive at each sample.
+
+    Args:
+        robot: The robot (its drives' motor constants).
+        trace: Motor speed and current, (K, N, n_act).
+        dt_s: (K, N-1) widths of the intervals between samples; one of zero width (a piece's start, or an
+            instant where the optimal timing law switches its acceleration) carries no dI/dt.
+
+    Returns:
+        At each sample, the larger voltage of the intervals on either side of it, each with its own dI/dt.
+    """
+    motors = [d.motor for d in drives_of(robot)]
+    resistance, inductance, emf = (np.array([getattr(m, name) for m in motors]) for name in
+                                   ("resistance_ohm", "inductance_H", "back_emf_constant_V_s_per_rad"))
+    current = trace.current_A
+    dt = dt_s[..., None]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        drop = np.where(dt > 0, inductance * np.diff(current, axis=1) / dt, 0.0)  # L·dI/dt of each interval
+    before = resistance * current + emf * trace.speed_rad_s
+    after = before.copy()
+    before[:, 1:] += drop
+    after[:, :-1] += drop
+    return np.where(np.abs(before) >= np.abs(after), before, after)
+
+
 def motor_trace(robot: Robot, effort: np.ndarray, velocity: np.ndarray, acceleration: np.ndarray) -> MotorTrace:
     """Motor speed, torque and current from actuator efforts and motion.
 

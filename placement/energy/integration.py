@@ -42,7 +42,7 @@ class Energy:
 
 
 def interval_widths(t_s: np.ndarray, piece: np.ndarray) -> np.ndarray:
-    """(N-1,) durations of the intervals between samples; 0 where a new piece starts."""
+    """(..., N-1) durations of the intervals between samples of times (..., N); 0 where a new piece starts."""
     return np.where(piece[1:] == piece[:-1], np.diff(t_s), 0.0)
 
 
@@ -77,7 +77,7 @@ def electric_energy(robot: Robot, trace: MotorTrace, t_s: np.ndarray, piece: np.
     Args:
         robot: The robot (its drives).
         trace: Motor speed, torque and current, (..., N, n_act).
-        t_s: (N,) sample times.
+        t_s: (N,) sample times, or (..., N), each placement's own.
         piece: (N,) piece index of each sample (intervals across pieces are not integrated).
         regeneration: A regeneration policy's name (see :mod:`placement.energy.regeneration`).
 
@@ -95,12 +95,12 @@ def electric_energy(robot: Robot, trace: MotorTrace, t_s: np.ndarray, piece: np.
     mechanical = (shaft[..., :-1, :] + shaft[..., 1:, :]) / 2
 
     def integral(p: np.ndarray) -> np.ndarray:
-        return np.einsum("...na,n->...a", p, dt)
+        return np.einsum("...na,...n->...a", p, dt)
 
     # Every policy sums the actuators first, then integrates, so the ordering of the built-in
     # policies holds exactly in floating point, interval by interval.
     shaped = policy.axis_power(power)
-    total = np.einsum("...n,n->...", policy.supply_power(shaped.sum(axis=-1)), dt)
+    total = np.einsum("...n,...n->...", policy.supply_power(shaped.sum(axis=-1)), dt)
     per_actuator = integral(shaped)
     return Energy(total_J=total, per_actuator_J=per_actuator, joule_J=integral(parts.joule_W),
                   inductive_J=integral(parts.inductive_W), back_emf_J=integral(parts.back_emf_W),

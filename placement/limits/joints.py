@@ -1,4 +1,4 @@
-"""Joint limits of the actuated joints: position range and speed."""
+"""Joint limits of the actuated joints: position range, speed, and acceleration where the sidecar gives one."""
 
 from __future__ import annotations
 
@@ -6,6 +6,7 @@ import numpy as np
 
 from placement.batch import EvaluatedBatch
 from placement.limits.base import LIMITS, Limit, MarginField
+from placement.robot.model import Robot
 
 
 def _names_and_units(batch: EvaluatedBatch, suffix: str = "") -> tuple[tuple[str, ...], tuple[str, ...]]:
@@ -39,5 +40,22 @@ class JointSpeed(Limit):
                             np.broadcast_to(speed, velocity.shape), names, units)]
 
 
+class JointAcceleration(Limit):
+    """|joint acceleration| within acceleration_max, for the actuators that give one."""
+
+    def applies_to(self, robot: Robot) -> bool:
+        return any(a.acceleration_max is not None for a in robot.actuators)
+
+    def fields(self, batch: EvaluatedBatch) -> list[MarginField]:
+        bounded = [i for i, a in enumerate(batch.robot.actuators) if a.acceleration_max is not None]
+        top = np.array([batch.robot.actuators[i].acceleration_max for i in bounded], dtype=float)
+        acceleration = batch.acceleration[..., bounded]
+        names, units = _names_and_units(batch, "/s^2")
+        return [MarginField("joint acceleration", (top - np.abs(acceleration)) / top, acceleration,
+                            np.broadcast_to(top, acceleration.shape), tuple(names[i] for i in bounded),
+                            tuple(units[i] for i in bounded))]
+
+
 LIMITS.add("joint_range", JointRange())
 LIMITS.add("joint_speed", JointSpeed())
+LIMITS.add("joint_acceleration", JointAcceleration())

@@ -1,11 +1,12 @@
-"""Motor limits: peak torque, and speed where every drive declares one."""
+"""Motor limits: peak torque, speed where every drive declares one, and phase voltage where a drive gives its bus
+voltage."""
 
 from __future__ import annotations
 
 import numpy as np
 
 from placement.batch import EvaluatedBatch
-from placement.drives.trace import drives_of
+from placement.drives.trace import drives_of, phase_voltage_V
 from placement.limits.base import LIMITS, Limit, MarginField
 from placement.robot.model import Robot
 
@@ -35,5 +36,28 @@ class MotorSpeed(Limit):
                             names, ("rad/s",) * len(names))]
 
 
+class DriveVoltage(Limit):
+    """|R·I + L·dI/dt + K_e·ω| within the phase voltage the bus allows, for the drives that give a bus voltage.
+
+    dI/dt is each interval's (I_end − I_start)/Δt; a sample takes the larger voltage of the intervals
+    on either side of it. Intervals of zero width (a piece's start, or an instant where the optimal
+    timing law switches its acceleration) carry no dI/dt.
+    """
+
+    def applies_to(self, robot: Robot) -> bool:
+        return any(d.motor.bus_voltage_V is not None for d in drives_of(robot))
+
+    def fields(self, batch: EvaluatedBatch) -> list[MarginField]:
+        motors = [d.motor for d in drives_of(batch.robot)]
+        bounded = [i for i, m in enumerate(motors) if m.bus_voltage_V is not None]
+        dt = np.broadcast_to(batch.interval_widths_s, (len(batch), batch.motor.current_A.shape[1] - 1))
+        voltage = phase_voltage_V(batch.robot, batch.motor, dt)[..., bounded]
+        top = np.array([motors[i].phase_voltage_limit_V for i in bounded], dtype=float)
+        names = tuple(batch.robot.actuators[i].joint for i in bounded)
+        return [MarginField("drive voltage", (top - np.abs(voltage)) / top, voltage, np.broadcast_to(top, voltage.shape),
+                            names, ("V",) * len(names))]
+
+
 LIMITS.add("motor_torque", MotorTorque())
 LIMITS.add("motor_speed", MotorSpeed())
+LIMITS.add("drive_voltage", DriveVoltage())

@@ -5,7 +5,8 @@ from placement.objectives.energy import ElectricEnergy, MechanicalEnergy
 from placement.objectives.kinetostatics import Dexterity, Transmission
 from placement.objectives.motors import PeakTorque, RmsCurrent
 from placement.objectives.shaking import ShakingForce, ShakingMoment
+from placement.objectives.timing import CycleTime
 
-__all__ = ["OBJECTIVES", "Dexterity", "ElectricEnergy", "MechanicalEnergy", "Objective", "PeakTorque", "RmsCurrent",
+__all__ = ["OBJECTIVES", "CycleTime", "Dexterity", "ElectricEnergy", "MechanicalEnergy", "Objective", "PeakTorque", "RmsCurrent",
            "ShakingForce", "ShakingMoment", "Transmission", "Wording", "quantity",
            "wording"]

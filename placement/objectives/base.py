@@ -25,11 +25,14 @@ class Objective(ABC):
         title: What it is, in a few words ("electric energy").
         unit: Its unit ("J").
         better: "lower" or "higher".
+        timing: The timing law it needs ("optimal" for one that each placement's own timing
+            decides), or None: any.
     """
 
     title: ClassVar[str]
     unit: ClassVar[str]
     better: ClassVar[Literal["lower", "higher"]] = "lower"
+    timing: ClassVar[str | None] = None
 
     def __init_subclass__(cls, **kwargs: object) -> None:
         super().__init_subclass__(**kwargs)

@@ -27,7 +27,7 @@ class RmsCurrent(Objective):
     def __call__(self, batch: EvaluatedBatch) -> np.ndarray:
         dt = batch.interval_widths_s
         squared = batch.motor.current_A**2
-        mean_square = np.einsum("kna,n->ka", (squared[:, :-1] + squared[:, 1:]) / 2, dt) / dt.sum()
+        mean_square = np.einsum("kna,...n->ka", (squared[:, :-1] + squared[:, 1:]) / 2, dt) / dt.sum(axis=-1)[..., None]
         return np.sqrt(mean_square).max(axis=1)
 
 

@@ -310,6 +310,7 @@ def _actuator(model: pin.Model, path: Path, sidecar: Sidecar, i: int) -> Actuato
     drive = sidecar.drives[spec.drive] if spec.drive else None
     return Actuator(joint=spec.joint, q_index=q_index, v_index=v_index, position_min=float(lower),
                     position_max=float(upper), velocity_max=float(velocity), drive=drive,
+                    acceleration_max=spec.acceleration_max,
                     reflected_inertia=drive.reflected_inertia if drive else 0.0,
                     prismatic=model.joints[joint_id].shortname() in PRISMATIC_JOINTS)
 

@@ -30,6 +30,7 @@ class Actuator:
     drive: Drive | None
     reflected_inertia: float  # rotor and transmission inertia seen at the joint (kg or kg·m²)
     prismatic: bool  # True: m, m/s, N; False (revolute): rad, rad/s, N·m
+    acceleration_max: float | None = None  # m/s² or rad/s², where the sidecar gives one
 
 
 @dataclass(frozen=True)

@@ -55,6 +55,7 @@ class Actuator(Strict):
     position_min: Number | None = None
     position_max: Number | None = None
     velocity_max: Positive | None = None
+    acceleration_max: Positive | None = Field(None, description="joint acceleration bound (m/s² or rad/s²), if any")
 
 
 class Closure(Strict):

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import NonlinearConstraint, OptimizeResult, differential_evolution, minimize
 
-from placement.evaluation import Evaluation, Evaluator, PlacementDetail
+from placement.evaluation import Evaluation, Evaluator, PlacementDetail, denser
 from placement.frames import PlacementSpace, default_space
 from placement.path import ToolPath
 from placement.robot.model import Robot
@@ -317,7 +317,7 @@ def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | 
         return Evaluator(robot, path, regeneration, time_step, objective=objective, workers=workers, executor=executor)
 
     with evaluator(max(step, duration / settings.search_samples)) as coarse, evaluator(step) as fine:
-        dense = Evaluator(robot, path, regeneration, step / RECHECK_DENSITY, objective=objective, workers=1, exact=True)
+        dense = denser(fine, RECHECK_DENSITY)
         if announce is not None:
             announce(estimate(coarse, fine, space, settings, best + worst))
         return _optimize(coarse, fine, dense, space, best, worst, settings, progress)
@@ -357,7 +357,7 @@ def _optimize(coarse: Evaluator, evaluator: Evaluator, dense: Evaluator, space: 
             infeasible = _binding_limit(problem, problem.evaluator)
             break
         placement = space.full(x)[0]
-        check = dense.evaluate(placement[None])
+        check = dense.recheck(placement[None], evaluator)
         tightest = int(np.argmin(check.margins[0]))
         found[direction] = Optimum(detail=evaluator.detail(placement), recheck_value=float(check.value[0]),
                                    recheck_margin=float(check.margins[0, tightest]),

@@ -32,7 +32,7 @@ from pymoo.algorithms.moo.nsga2 import NSGA2
 from pymoo.core.problem import Problem
 from pymoo.optimize import minimize
 
-from placement.evaluation import Evaluation, Evaluator, PlacementDetail
+from placement.evaluation import Evaluation, Evaluator, PlacementDetail, denser
 from placement.exceptions import PlacementError
 from placement.frames import PlacementSpace, default_space
 from placement.objectives import OBJECTIVES
@@ -177,8 +177,7 @@ def pareto_front(robot: Robot, path: ToolPath, objectives: tuple[str, ...], *, s
         candidates = _evolve(coarse, space, signs, seeds[:, space.indices], settings, progress)
         evaluations += coarse.evaluations
     with Evaluator(robot, path, regeneration, step, objective=objectives, workers=workers, executor=executor) as fine, \
-            Evaluator(robot, path, regeneration, step / RECHECK_DENSITY, objective=objectives, workers=1,
-                      exact=True) as dense:
+            denser(fine, RECHECK_DENSITY) as dense:
         members = _members(fine, dense, signs, np.vstack([seeds, space.full(candidates)]))
         evaluations += fine.evaluations + dense.evaluations
     knee = knee_index(np.array([m.values for m in members]) * signs)
@@ -210,7 +209,7 @@ def _members(fine: Evaluator, dense: Evaluator, signs: np.ndarray, placements: n
     """Placements re-evaluated on the path's sampling, then densely; those feasible and non-dominated on both."""
     evaluation = fine.evaluate(placements)
     kept = _feasible_front(evaluation, signs)
-    recheck = dense.evaluate(placements[kept])
+    recheck = dense.recheck(placements[kept], fine)
     still = _feasible_front(recheck, signs)
     chosen = np.flatnonzero(kept)[still]
     members = [FrontMember(placement=placements[i], values=evaluation.values[i], recheck_values=recheck.values[j],

@@ -1,0 +1,325 @@
+"""The time-optimal timing law: the fastest motion along a placed path that the robot allows.
+
+Along a path p(s) sampled in arc length s, every joint moves as q(s), so its velocity and
+acceleration are q'·ṡ and q'·s̈ + q''·ṡ², and the dynamics (projected RNEA, linear in the
+accelerations, quadratic in the velocities) give each actuator's effort exactly as
+
+    F(s) = A(s)·s̈ + B(s)·ṡ² + C(s),
+
+with C the static load (gravity and process forces), A the inertia along the path and B the
+centripetal and Coriolis part, from three batched RNEA calls. Every limit of the robot is then
+linear in (s̈, ṡ²) at each sample, the form that TOPP-RA (Pham and Pham, IEEE T-RO 2018, the
+``toppra`` package) solves for the time-optimal ṡ(s):
+
+- joint speed, motor speed and the path's feed: bounds on ṡ²;
+- joint acceleration (where the sidecar gives ``acceleration_max``): |q'·s̈ + q''·ṡ²| ≤ a_max;
+- motor torque τ = k·(F − J_r·q̈ + friction) + J_r·q̈/ratio, k = 1/(ratio·η) when the motor drives
+  and η/ratio when it brakes (:mod:`placement.drives.trace`): both k are bounded, so braking is
+  held to the driving bound (conservative by η², exact for η = 1), and the viscous friction's
+  ṡ = √(ṡ²) is bounded by its tangent above and its chord below (exact at rest and at the
+  speed bound);
+- drive voltage (where the sidecar gives ``bus_voltage_V``): R·|I| + K_e·|ω| within the phase voltage,
+  then the whole R·I + L·dI/dt + K_e·ω is checked on the timed samples and the speed bound is
+  lowered where it is exceeded, until it holds.
+
+TOPP-RA keeps each limit at both ends of every interval between samples, with a margin of
+``SAFETY``; the exact chain then evaluates the timed samples and :mod:`placement.limits` checks
+them like any other timing's. The tool stops wherever the realistic law stops (corners, gaps,
+changes of the tool's rate of turning): each run between stops is timed rest to rest.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+from dataclasses import dataclass
+
+import numpy as np
+import toppra
+import toppra.algorithm
+import toppra.constraint
+
+from placement.drives.trace import drives_of, motor_trace, phase_voltage_V
+from placement.energy.integration import interval_widths
+from placement.path import PathGeometry, PathSamples
+from placement.robot.model import Robot
+
+SAFETY = 0.99  # share of each limit the timing law may use (the exact chain checks the rest)
+VOLTAGE_PASSES = 6  # re-timings that lower the speed where the whole drive voltage is exceeded
+VOLTAGE_SLOWDOWN = 0.9  # factor on the speed bound of the samples where it is exceeded, per pass
+
+logging.getLogger("toppra").setLevel(logging.ERROR)  # an infeasible run is an answer, reported by the limits
+
+
+@dataclass(frozen=True)
+class TimeLaw:
+    """The timing of K placements of a path sampled by a :class:`placement.path.PathGeometry`.
+
+    Attributes:
+        t_s: (K, N) time of each sample from the start of the path.
+        speed_m_s: (K, N) ṡ, the tool's speed along the path.
+        acceleration_m_s2: (K, N) s̈ on the interval after each sample (the one before, at a run's end).
+        timed: (K,) whether every run found a timing; a placement without one holds ṡ = s̈ = 0 at the
+            geometry's nominal times (its efforts are static), and :mod:`placement.limits` reports it.
+    """
+
+    t_s: np.ndarray
+    speed_m_s: np.ndarray
+    acceleration_m_s2: np.ndarray
+    timed: np.ndarray
+
+    @property
+    def duration_s(self) -> np.ndarray:
+        """(K,) the time to run the whole path (infinite without a timing)."""
+        return np.where(self.timed, self.t_s[:, -1] - self.t_s[:, 0], np.inf)
+
+    def replace(self, index: np.ndarray, other: TimeLaw) -> TimeLaw:
+        """This timing with the placements ``index`` (a mask) timed as ``other`` times them."""
+        parts = []
+        for f in dataclasses.fields(TimeLaw):
+            mine = getattr(self, f.name).copy()
+            mine[index] = getattr(other, f.name)
+            parts.append(mine)
+        return TimeLaw(*parts)
+
+    def at_samples(self, geometry: PathGeometry) -> TimeLaw:
+        """This timing (at ``geometry``'s samples) at its evaluated samples, each interval with its own s̈
+        (:attr:`placement.path.PathGeometry.evaluated_samples`)."""
+        return TimeLaw(self.t_s[:, geometry.grid_rows], self.speed_m_s[:, geometry.grid_rows],
+                       self.acceleration_m_s2[:, geometry.interval_rows], self.timed)
+
+    def resampled(self, source: PathGeometry, target: PathGeometry) -> TimeLaw:
+        """This timing, found on ``source``'s samples, at the samples of ``target``, another sampling of the
+        same path (a denser one, to check the limits between the samples): s̈ is constant between the
+        source's samples, so ṡ² grows linearly in s and each time follows exactly."""
+        k = len(self.timed)
+        speed, acceleration = np.zeros((k, len(target))), np.zeros((k, len(target)))
+        t_s = np.broadcast_to(target.samples.t_s, (k, len(target))).copy()
+        runs = zip(source.run_starts[:-1], source.run_starts[1:], target.run_starts[:-1], target.run_starts[1:])
+        for start, stop, first, last in runs:
+            arc = source.arc_m[start:stop]
+            i = start + np.clip(np.searchsorted(arc, target.arc_m[first:last], side="right") - 1, 0, len(arc) - 2)
+            ds = target.arc_m[first:last] - source.arc_m[i]
+            v0, u, t0 = self.speed_m_s[:, i], self.acceleration_m_s2[:, i], self.t_s[:, i]
+            v = np.sqrt(np.maximum(v0**2 + 2 * u * ds, 0.0))
+            with np.errstate(divide="ignore", invalid="ignore"):
+                t = t0 + np.where(v0 + v > 0, 2 * ds / (v0 + v), 0.0)
+            v[:, -1], t[:, -1] = self.speed_m_s[:, stop - 1], self.t_s[:, stop - 1]  # at rest, exactly
+            speed[:, first:last], acceleration[:, first:last] = v, u
+            t_s[self.timed, first:last] = t[self.timed]
+        speed[~self.timed], acceleration[~self.timed] = 0.0, 0.0
+        return TimeLaw(t_s, speed, acceleration, self.timed)
+
+    def timed_samples(self, unit: PathSamples, placement: int) -> PathSamples:
+        """The path's samples at unit speed (:class:`placement.path.PathGeometry`) timed as one placement is."""
+        speed, acceleration = self.speed_m_s[placement][:, None], self.acceleration_m_s2[placement][:, None]
+        timed = dataclasses.replace(unit, t_s=self.t_s[placement], velocity_m_s=unit.velocity_m_s * speed,
+                                    acceleration_m_s2=unit.velocity_m_s * acceleration + unit.acceleration_m_s2 * speed**2)
+        if unit.angular_velocity_rad_s is None or unit.angular_acceleration_rad_s2 is None:
+            return timed
+        return dataclasses.replace(timed, angular_velocity_rad_s=unit.angular_velocity_rad_s * speed,
+                                   angular_acceleration_rad_s2=unit.angular_velocity_rad_s * acceleration
+                                   + unit.angular_acceleration_rad_s2 * speed**2)
+
+
+@dataclass(frozen=True)
+class PathDynamics:
+    """What limits the motion along the path of K placements, per sample, in the actuators' units.
+
+    Attributes:
+        velocity: (K, N, n_act) q' of the actuated joints (per metre of path).
+        curvature: (K, N, n_act) q'' of the actuated joints (per metre² of path).
+        inertia, centripetal, static: (K, N, n_act) A, B and C of the efforts (module docstring).
+    """
+
+    velocity: np.ndarray
+    curvature: np.ndarray
+    inertia: np.ndarray
+    centripetal: np.ndarray
+    static: np.ndarray
+
+    def rows(self, index: np.ndarray) -> PathDynamics:
+        """The same at some samples (an index into the sample axis)."""
+        return PathDynamics(*(getattr(self, f.name)[:, index] for f in dataclasses.fields(PathDynamics)))
+
+    def placements(self, index: np.ndarray) -> PathDynamics:
+        """The same for some placements (an index or mask)."""
+        return PathDynamics(*(getattr(self, f.name)[index] for f in dataclasses.fields(PathDynamics)))
+
+    def efforts(self, speed: np.ndarray, acceleration: np.ndarray) -> np.ndarray:
+        """(K, N, n_act) actuator efforts for ṡ and s̈ of shape (K, N)."""
+        return (self.inertia * acceleration[..., None] + self.centripetal * speed[..., None] ** 2 + self.static)
+
+
+class _Given(toppra.constraint.LinearConstraint):
+    """Constraint rows a·s̈ + b·ṡ² + c ≤ 0 and bounds on ṡ², computed beforehand for one run."""
+
+    def __init__(self, a: np.ndarray | None, b: np.ndarray | None, c: np.ndarray | None, x_max: np.ndarray) -> None:
+        super().__init__()
+        self.set_discretization_type(toppra.constraint.DiscretizationType.Interpolation)
+        self.identical = True
+        self._rows = (a, b, c)
+        self._x_max = x_max
+
+    def compute_constraint_params(self, path: object, gridpoints: np.ndarray, *args: object,
+                                  **kwargs: object) -> tuple:
+        a, b, c = self._rows
+        xbound = np.column_stack([np.zeros(len(gridpoints)), self._x_max])
+        if a is None:
+            return None, None, None, None, None, None, xbound
+        rows = a.shape[1]
+        a, b, c, F, g, _, _ = toppra.constraint.canlinear_colloc_to_interpolate(
+            a, b, c, np.eye(rows), np.zeros(rows), None, None, gridpoints, identical=True)
+        return a, b, c, F, g, None, xbound
+
+
+class _Interval:
+    """The path interval of one run (what TOPP-RA asks of a path when the constraints are given)."""
+
+    def __init__(self, length_m: float) -> None:
+        self.path_interval = np.array([0.0, length_m])
+
+
+def speed_bound(robot: Robot, dynamics: PathDynamics, feed_m_s: np.ndarray) -> np.ndarray:
+    """(K, N) the highest ṡ (m/s) that the joint and motor speed limits and the feed allow at each sample."""
+    drives = drives_of(robot)
+    joint = np.array([a.velocity_max for a in robot.actuators], dtype=float)
+    motor = np.array([d.motor.max_speed_rad_s or np.inf for d in drives]) / np.array(
+        [d.transmission.speed_ratio for d in drives])
+    rate = np.abs(dynamics.velocity)
+    with np.errstate(divide="ignore"):
+        per_actuator = SAFETY * np.minimum(joint, motor) / rate
+    return np.minimum(per_actuator.min(axis=-1), feed_m_s)
+
+
+def limit_rows(robot: Robot, dynamics: PathDynamics, speed_max: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Rows a·s̈ + b·ṡ² + c ≤ 0, (K, N, rows) each, of the torque, drive voltage and joint acceleration limits.
+
+    A term linear in ṡ (viscous friction, back-EMF) is bounded by ṡ ≤ (ṡ² + x̄)/(2·√x̄) (the tangent
+    at x̄ = ``speed_max``²) where it raises the constrained value, and by ṡ ≥ ṡ²/√x̄ (the chord) where it
+    lowers it: both hold for every ṡ up to ``speed_max``, so the rows never allow what the limit forbids.
+    """
+    drives = drives_of(robot)
+    ratio = np.array([d.transmission.speed_ratio for d in drives])
+    efficiency = np.array([d.transmission.efficiency for d in drives])
+    coulomb = np.array([d.friction.coulomb for d in drives])
+    viscous = np.array([d.friction.viscous for d in drives])
+    reflected = np.array([a.reflected_inertia for a in robot.actuators])
+    d = dynamics
+    bar = np.maximum(speed_max, 1e-12)[..., None]  # √x̄, the speed bound
+    rows: list[tuple[np.ndarray, ...]] = []
+
+    def bound(a: np.ndarray, b: np.ndarray, c: np.ndarray, w: np.ndarray, top: np.ndarray, columns: np.ndarray) -> None:
+        """|a·s̈ + b·ṡ² + c + w·ṡ| ≤ top on some actuator columns."""
+        a, b, c, w = (np.broadcast_to(term, d.velocity.shape)[..., columns] for term in (a, b, c, w))
+        for sign in (1.0, -1.0):
+            raising = sign * w > 0
+            slope = np.where(raising, sign * w / (2 * bar), sign * w / bar)
+            offset = np.where(raising, sign * w * bar / 2, 0.0)
+            rows.append((sign * a, sign * b + slope, sign * c + offset - SAFETY * top[columns]))
+
+    every = np.arange(len(drives))
+    load = (d.inertia - reflected * d.velocity, d.centripetal - reflected * d.curvature,
+            d.static + coulomb * np.sign(d.velocity))
+    rotor = (reflected * d.velocity / ratio, reflected * d.curvature / ratio, 0.0)
+    torque_top = np.array([dr.motor.max_torque_Nm for dr in drives])
+    voltage_top = np.array([dr.motor.phase_voltage_limit_V or np.inf for dr in drives])
+    voltage = np.flatnonzero(np.isfinite(voltage_top))
+    ohm = np.array([dr.motor.resistance_ohm / dr.motor.torque_constant_Nm_per_A for dr in drives])  # V per N m
+    emf = np.array([dr.motor.back_emf_constant_V_s_per_rad for dr in drives]) * ratio * d.velocity  # V per m/s
+    gains = [1 / (ratio * efficiency)] + ([efficiency / ratio] if np.any(efficiency != 1.0) else [])
+    for gain in gains:  # motor torque per unit load: driving, and braking where the transmission loses power
+        a, b, c = (gain * part + turn for part, turn in zip(load, rotor))
+        w = gain * viscous * d.velocity
+        bound(a, b, c, w, torque_top, every)
+        if len(voltage):  # R·I + K_e·ω; L·dI/dt is checked once timed (time_optimal)
+            bound(ohm * a, ohm * b, ohm * c, ohm * w + emf, voltage_top, voltage)
+    acceleration_top = np.array([a.acceleration_max or np.inf for a in robot.actuators], dtype=float)
+    accelerated = np.flatnonzero(np.isfinite(acceleration_top))
+    if len(accelerated):
+        bound(d.velocity, d.curvature, np.zeros(1), np.zeros(1), acceleration_top, accelerated)
+    return tuple(np.concatenate([row[i] for row in rows], axis=-1) for i in range(3))
+
+
+def time_optimal(robot: Robot, geometry: PathGeometry, dynamics: PathDynamics, reachable: np.ndarray) -> TimeLaw:
+    """The time-optimal timing of each placement, run by run, rest to rest (module docstring).
+
+    Args:
+        robot: The robot (its actuators' limits and drives).
+        geometry: The path sampled in arc length.
+        dynamics: The K placements' joint rates and effort coefficients along it.
+        reachable: (K,) placements whose every sample has a configuration (others are not timed).
+
+    Returns:
+        The timing law of each placement.
+    """
+    speed_max = speed_bound(robot, dynamics, geometry.feed_m_s)
+    law = _solve(robot, geometry, dynamics, speed_max, np.asarray(reachable, dtype=bool))
+    if not any(d.motor.bus_voltage_V is not None for d in drives_of(robot)):
+        return law
+    for _ in range(VOLTAGE_PASSES):
+        over = _voltage_exceeded(robot, geometry, dynamics, law)
+        again = over.any(axis=1) & law.timed
+        if not again.any():
+            break
+        speed_max = np.where(over, np.minimum(speed_max, VOLTAGE_SLOWDOWN * law.speed_m_s), speed_max)
+        retimed = _solve(robot, geometry, dynamics.placements(again), speed_max[again], np.ones(again.sum(), bool))
+        law = law.replace(again, retimed)
+    return law
+
+
+def _solve(robot: Robot, geometry: PathGeometry, dynamics: PathDynamics, speed_max: np.ndarray,
+           wanted: np.ndarray) -> TimeLaw:
+    """TOPP-RA on every run of the ``wanted`` placements, within ``speed_max`` (K, N)."""
+    a, b, c = limit_rows(robot, dynamics, speed_max)
+    k, n = speed_max.shape
+    speed, acceleration = np.zeros((k, n)), np.zeros((k, n))
+    timed = wanted.copy()
+    for i in np.flatnonzero(timed):
+        for start, stop in zip(geometry.run_starts[:-1], geometry.run_starts[1:]):
+            run = slice(start, stop)
+            solved = _time_run(geometry.arc_m[run], a[i, run], b[i, run], c[i, run], speed_max[i, run] ** 2)
+            if solved is None:
+                timed[i] = False
+                break
+            speed[i, run], acceleration[i, run] = solved
+    speed[~timed], acceleration[~timed] = 0.0, 0.0
+    return TimeLaw(_times(geometry, speed, timed), speed, acceleration, timed)
+
+
+def _voltage_exceeded(robot: Robot, geometry: PathGeometry, dynamics: PathDynamics, law: TimeLaw) -> np.ndarray:
+    """(K, N) the samples next to which the whole phase voltage, L·dI/dt included, exceeds a drive's limit."""
+    at = law.at_samples(geometry)
+    rows = geometry.grid_rows
+    moving = dynamics.rows(rows)
+    speed, acceleration = at.speed_m_s[..., None], at.acceleration_m_s2[..., None]
+    trace = motor_trace(robot, moving.efforts(at.speed_m_s, at.acceleration_m_s2), moving.velocity * speed,
+                        moving.velocity * acceleration + moving.curvature * speed**2)
+    voltage = phase_voltage_V(robot, trace, interval_widths(at.t_s, geometry.evaluated_samples.piece))
+    top = np.array([d.motor.phase_voltage_limit_V or np.inf for d in drives_of(robot)])
+    over = np.zeros(law.speed_m_s.shape, dtype=bool)
+    np.logical_or.at(over.T, rows, (np.abs(voltage) > top).any(axis=-1).T)
+    return over
+
+
+def _time_run(arc_m: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray,
+              x_max: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """ṡ at each sample and s̈ after it of one run, rest to rest, or None when no timing exists."""
+    constraints = [_Given(None, None, None, x_max), _Given(a, b, c, x_max)]
+    solver = toppra.algorithm.TOPPRA(constraints, _Interval(float(arc_m[-1])), gridpoints=arc_m,
+                                     solver_wrapper="seidel")
+    s_ddot, s_dot, _ = solver.compute_parameterization(0.0, 0.0)
+    if s_dot is None or s_ddot is None or not np.isfinite(s_dot).all():
+        return None
+    return s_dot, np.append(s_ddot, s_ddot[-1])
+
+
+def _times(geometry: PathGeometry, speed: np.ndarray, timed: np.ndarray) -> np.ndarray:
+    """(K, N) sample times: s̈ is constant between samples, so each interval takes 2·Δs/(ṡ_i + ṡ_i+1)."""
+    ds = np.diff(geometry.arc_m)
+    new_run = np.zeros(len(geometry.arc_m) - 1, dtype=bool)
+    new_run[geometry.run_starts[1:-1] - 1] = True
+    with np.errstate(divide="ignore", invalid="ignore"):
+        dt = np.where(new_run, 0.0, 2 * ds / (speed[:, 1:] + speed[:, :-1]))
+    dt = np.where(timed[:, None], dt, np.diff(geometry.samples.t_s))
+    return np.concatenate([np.zeros((len(speed), 1)), np.cumsum(dt, axis=1)], axis=1)
