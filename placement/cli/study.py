@@ -76,12 +76,16 @@ def run(args: argparse.Namespace) -> int:
 
 def format_table(rows: Sequence[StudyRow]) -> str:
     """The study as a text table, one line per (robot, path) pair."""
-    lines = [f"{'robot':<14s}{'path':<34s}{'best J':>10s}{'worst J':>10s}{'gain':>8s}{'time s':>9s}  feasible"]
+    fastest = any(not math.isnan(row.fastest_cycle_time_s) for row in rows)
+    lines = [f"{'robot':<14s}{'path':<34s}{'best J':>10s}{'worst J':>10s}{'gain':>8s}{'time s':>9s}"
+             + (f"{'fastest s':>10s}" if fastest else "") + "  feasible"]
     for row in rows:
         gain = "" if math.isnan(row.gain) else f"{row.gain * 100:.1f} %"
         values = "".join(f"{'' if math.isnan(v) else f'{v:.4f}':>10s}" for v in (row.best_energy_J, row.worst_energy_J))
         verdict = "yes" if row.feasible else f"no: {row.reason}"
-        lines.append(f"{row.robot[:13]:<14s}{row.path[:33]:<34s}{values}{gain:>8s}{row.cycle_time_s:>9.3f}  {verdict}")
+        quickest = f"{row.fastest_cycle_time_s:>10.4f}" if fastest else ""
+        lines.append(f"{row.robot[:13]:<14s}{row.path[:33]:<34s}{values}{gain:>8s}{row.cycle_time_s:>9.3f}{quickest}  "
+                     f"{verdict}")
     return "\n".join(lines)
 
 
