@@ -364,7 +364,7 @@ class ToolPath:
         """The path sampled along its arc length, run by run, for the optimal timing law.
 
         Each run between stops (the realistic law's) gets samples evenly spaced in arc length,
-        its ends included, about ``time_step_s`` apart at the run's feed (at least
+        its ends included, about ``time_step_s`` apart at the path's fastest feed (at least
         ``MIN_RUN_SAMPLES``); consecutive runs share their stop's position, each with its own tangent.
         The first and last intervals, where the tool leaves or reaches a stop, are each cut in
         ``END_SPLIT`` parts growing as the squares 1, 4, 9, ..., which a constant acceleration from
@@ -381,7 +381,8 @@ class ToolPath:
         if not 0 < step < np.inf:
             raise PlacementError(f"the sampling time step must be a finite number > 0 s, got {step}")
         runs = _runs(self.segments)
-        nominal = [sum(s.length_m / self.speed_m_s(s) for s in run) for run, _ in runs]
+        fastest = max(self.speed_m_s(s) for s in self.segments)
+        nominal = [sum(s.length_m for s in run) / fastest for run, _ in runs]
         counts = [max(MIN_RUN_SAMPLES, count) for count in self._sample_counts(nominal, step)]
         parts, piece, arcs, feeds, starts = [], 0, [], [], [0]
         for (run, after_gap), count in zip(runs, counts):

@@ -23,9 +23,13 @@ linear in (s̈, ṡ²) at each sample, the form that TOPP-RA (Pham and Pham, IEE
   lowered where it is exceeded, until it holds.
 
 TOPP-RA keeps each limit at both ends of every interval between samples, with a margin of
-``SAFETY``; the exact chain then evaluates the timed samples and :mod:`placement.limits` checks
-them like any other timing's. The tool stops wherever the realistic law stops (corners, gaps,
-changes of the tool's rate of turning): each run between stops is timed rest to rest.
+``SAFETY``. Its s̈ is constant on each interval and switches at the samples, so the exact chain
+evaluates each interval on its own (a sample inside a run appears twice, zero time apart:
+:attr:`placement.path.PathGeometry.evaluated_samples`); where the current steps there, the
+energy integration counts what the windings give back and take. :mod:`placement.limits` then
+checks the timed samples like any other timing's. The tool stops wherever the realistic law stops
+(corners, gaps, changes of the tool's rate of turning): each run between stops is timed rest to
+rest, and the samples grow denser towards the stops, where the tool moves slowest.
 """
 
 from __future__ import annotations

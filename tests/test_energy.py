@@ -12,7 +12,7 @@ from placement.dynamics import inverse_dynamics
 from placement.energy.integration import electric_energy, interval_widths
 from placement.evaluation import Evaluator
 from placement.kinematics import TaskTrajectory
-from placement.path import load_path
+from placement.path import Timing, load_path
 
 PLACEMENTS = np.array([[0.0, 0.0, 0.0, 0.0, 0.0, 0.0], [-0.06, -0.05, -0.04, 0.7, 0.0, 0.0],
                        [-0.09, -0.09, -0.09, np.pi / 4, 0.0, 0.0], [0.02, -0.03, 0.01, -0.4, 0.0, 0.0]])
@@ -38,9 +38,20 @@ def energies(robot, mode, placements=PLACEMENTS, path=None):
     return Evaluator(robot, path or load_path(EXAMPLE), mode).evaluate(placements).value
 
 
-def test_lossless_motor_with_full_regeneration_draws_the_mechanical_energy(orthoglide):
+def timed(law):
+    """The example path under a timing law: the file's (paper), or the optimal one (whose current steps where
+    its acceleration switches)."""
+    path = load_path(EXAMPLE)
+    return path if law == "paper" else dataclasses.replace(path, timing=Timing(mode=law))
+
+
+TIMINGS = pytest.mark.parametrize("law", ["paper", "optimal"])
+
+
+@TIMINGS
+def test_lossless_motor_with_full_regeneration_draws_the_mechanical_energy(orthoglide, law):
     robot = with_drives(orthoglide, motor={"resistance_ohm": 0.0, "inductance_H": 0.0})
-    evaluator = Evaluator(robot, load_path(EXAMPLE), "signed")
+    evaluator = Evaluator(robot, timed(law), "signed")
     for placement in PLACEMENTS:
         detail = evaluator.detail(placement)
         assert detail.energy.total_J == pytest.approx(detail.energy.mechanical_J.sum(), rel=1e-12, abs=1e-12)
@@ -51,15 +62,17 @@ def test_lossless_motor_with_full_regeneration_draws_the_mechanical_energy(ortho
         assert detail.energy.mechanical_J.sum() == pytest.approx(trapezoid, rel=1e-12)
 
 
-def test_regeneration_modes_are_ordered(orthoglide):
-    e = {mode: energies(orthoglide, mode) for mode in ("absolute", "clip", "bus", "signed")}
+@TIMINGS
+def test_regeneration_modes_are_ordered(orthoglide, law):
+    e = {mode: energies(orthoglide, mode, path=timed(law)) for mode in ("absolute", "clip", "bus", "signed")}
     assert np.all(e["absolute"] >= e["clip"]) and np.all(e["clip"] >= e["bus"]) and np.all(e["bus"] >= e["signed"])
     assert np.all(e["absolute"] > e["signed"])  # the modes differ on these placements
 
 
-def test_inductive_part_integrates_to_the_change_of_stored_energy(orthoglide):
-    path = load_path(EXAMPLE)
-    evaluator = Evaluator(orthoglide, path)
+@TIMINGS
+def test_inductive_part_integrates_to_the_change_of_stored_energy(orthoglide, law):
+    """Step by step where the optimal law's current steps (its acceleration switches), continuously elsewhere."""
+    evaluator = Evaluator(orthoglide, timed(law))
     detail = evaluator.detail(PLACEMENTS[1])
     motor = orthoglide.actuators[0].drive.motor
     current, piece = detail.motor.current_A, detail.samples.piece

@@ -6,6 +6,7 @@ import dataclasses
 
 import numpy as np
 import pytest
+from robot_copies import edited_copy, orthoglide_motor
 
 from placement import Evaluator, load_path, load_robot
 from placement.dynamics import actuator_efforts
@@ -13,7 +14,6 @@ from placement.evaluation import denser
 from placement.exceptions import PlacementError
 from placement.frames import placed_task
 from placement.path import Timing
-from robot_copies import edited_copy, orthoglide_motor
 
 PLACEMENTS = np.array([[0.0, 0.0, -0.03, 0.0, 0.0, 0.0],
                        [0.05, 0.03, -0.12, -0.1, 0.0, 0.0],

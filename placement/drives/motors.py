@@ -86,6 +86,13 @@ class MotorModel(ABC):
         """Raise ValueError when the constants are inconsistent with this model (default: accept)."""
         return None
 
+    def step_energy(self, motor: Motor, current_before_A: np.ndarray,
+                    current_after_A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Energy exchanged when the current steps from one value to another at an instant (the optimal
+        timing law's acceleration switches), as (given back ≤ 0, taken ≥ 0), J (default: none)."""
+        zero = np.zeros(np.broadcast(current_before_A, current_after_A).shape)
+        return zero, zero
+
     @abstractmethod
     def interval_power(self, motor: Motor, speed_rad_s: np.ndarray, current_A: np.ndarray,
                        dt_s: np.ndarray) -> PowerParts:
@@ -123,6 +130,17 @@ class Pmsm(MotorModel):
         return PowerParts(joule_W=n * motor.resistance_ohm * (i0**2 + i1**2) / 2,
                           inductive_W=n * motor.inductance_H * (i0 + i1) / 2 * di_dt,
                           back_emf_W=n * motor.back_emf_constant_V_s_per_rad * (w0 * i0 + w1 * i1) / 2)
+
+    def step_energy(self, motor: Motor, current_before_A: np.ndarray,
+                    current_after_A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The windings' magnetic energy n·L·I²/2 as the current steps: what falls is given back, what rises is
+        taken; a step through zero gives back all of the first and takes all of the second."""
+        half = motor.phases * motor.inductance_H / 2
+        before, after = half * current_before_A**2, half * current_after_A**2
+        through_zero = current_before_A * current_after_A < 0
+        given = np.where(through_zero, -before, np.minimum(after - before, 0.0))
+        taken = np.where(through_zero, after, np.maximum(after - before, 0.0))
+        return given, taken
 
 
 MOTOR_MODELS: Registry[MotorModel] = Registry("motor model", "placement.motor_models", MotorModel)

@@ -3,8 +3,11 @@
 Power comes from each drive's motor model (:mod:`placement.drives.motors`) and is integrated
 interval by interval between consecutive samples of the same piece (the paper's timing law
 integrates each segment on its own): the Joule and back-EMF parts by the trapezoidal rule, the
-inductive part so that it sums exactly to n·L/2·(I_end² − I_start²) on each piece. What happens
-to negative power is the regeneration policy's (:mod:`placement.energy.regeneration`).
+inductive part so that it sums exactly to n·L/2·(I_end² − I_start²) on each piece. Where two
+samples of a piece share an instant (the optimal timing law switches its acceleration there, and
+the current steps), the model's step energy counts what the windings give back and take. What
+happens to negative power is the regeneration policy's (:mod:`placement.energy.regeneration`),
+applied to a step's energies as to an interval's.
 """
 
 from __future__ import annotations
@@ -102,6 +105,23 @@ def electric_energy(robot: Robot, trace: MotorTrace, t_s: np.ndarray, piece: np.
     shaped = policy.axis_power(power)
     total = np.einsum("...n,...n->...", policy.supply_power(shaped.sum(axis=-1)), dt)
     per_actuator = integral(shaped)
+    inductive = integral(parts.inductive_W)
+    steps = (dt == 0) & (piece[1:] == piece[:-1])
+    if steps.any():
+        given, taken = step_energies(robot, trace)
+        drawn = np.where(steps[..., None], policy.axis_power(given) + policy.axis_power(taken), 0.0)
+        total = total + np.where(steps, policy.supply_power(drawn.sum(axis=-1)), 0.0).sum(axis=-1)
+        per_actuator = per_actuator + drawn.sum(axis=-2)
+        inductive = inductive + np.where(steps[..., None], given + taken, 0.0).sum(axis=-2)
     return Energy(total_J=total, per_actuator_J=per_actuator, joule_J=integral(parts.joule_W),
-                  inductive_J=integral(parts.inductive_W), back_emf_J=integral(parts.back_emf_W),
+                  inductive_J=inductive, back_emf_J=integral(parts.back_emf_W),
                   mechanical_J=integral(mechanical), regeneration=regeneration)
+
+
+def step_energies(robot: Robot, trace: MotorTrace) -> tuple[np.ndarray, np.ndarray]:
+    """What each drive's windings give back (≤ 0) and take (≥ 0), J, if its current stepped between consecutive
+    samples at an instant, by its motor model: (..., N-1, n_act) each."""
+    drives = [(MOTOR_MODELS.get(d.motor.model), d.motor) for d in drives_of(robot)]
+    steps = [model.step_energy(motor, trace.current_A[..., :-1, i], trace.current_A[..., 1:, i])
+             for i, (model, motor) in enumerate(drives)]
+    return np.stack([s[0] for s in steps], axis=-1), np.stack([s[1] for s in steps], axis=-1)
