@@ -201,7 +201,7 @@ class Evaluator:
         return EvaluationJob(self.robot, self.path, self.regeneration, self.time_step_s, self.method,
                              self.objective_names, placements,
                              runtime_members(members_used(self.robot, self.objective_names, self.regeneration, self.method)),
-                             self.exact)
+                             self.exact, self.refine)
 
     def batch(self, placements: np.ndarray, exact: bool | None = None, law: TimeLaw | None = None) -> EvaluatedBatch:
         """Run the exact chain on (K, 6) placements; arrays come back shaped (K, N, ...).
@@ -370,6 +370,7 @@ class EvaluationJob:
     placements: np.ndarray
     registered: dict[str, dict[str, object]]
     exact: bool = False
+    refine: int = 1
 
 
 def members_used(robot: Robot, objectives: tuple[str, ...], regeneration: str, method: str) -> dict[str, set[str]]:
@@ -385,7 +386,7 @@ def evaluate_job(job: EvaluationJob) -> Evaluation:
     """Evaluate a job's placements (in a worker process: one RNEA thread, since workers share the cores)."""
     restore_runtime_members(job.registered)
     evaluator = Evaluator(job.robot, job.path, job.regeneration, job.time_step_s, job.method, job.objectives,
-                          workers=1, threads=1, exact=job.exact)
+                          workers=1, threads=1, exact=job.exact, refine=job.refine)
     return evaluator.evaluate(job.placements)
 
 
@@ -398,9 +399,9 @@ def denser(source: Evaluator, density: int) -> Evaluator:
     """
     step = source.path.time_step_s if source.time_step_s is None else source.time_step_s
     if source.geometry is None:
-        return Evaluator(source.robot, source.path, source.regeneration, step / density,
-                         objective=source.objective_names, workers=1, exact=True)
-    return Evaluator(source.robot, source.path, source.regeneration, step, objective=source.objective_names,
+        return Evaluator(source.robot, source.path, source.regeneration, step / density, source.method,
+                         source.objective_names, workers=1, exact=True)
+    return Evaluator(source.robot, source.path, source.regeneration, step, source.method, source.objective_names,
                      workers=1, exact=True, refine=source.refine * density)
 
 

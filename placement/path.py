@@ -401,9 +401,9 @@ class ToolPath:
         new_run = np.zeros(len(arc_m), dtype=bool)
         new_run[starts[:-1]] = True
         steps = np.where(new_run[1:], 0.0, np.diff(arc_m) / feed[1:])
-        parts_t = np.concatenate([[0.0], np.cumsum(steps)])
+        nominal_t = np.concatenate([[0.0], np.cumsum(steps)])
         samples = self._assemble(parts)
-        return PathGeometry(dataclasses.replace(samples, t_s=parts_t), np.array(starts), arc_m, feed)
+        return PathGeometry(dataclasses.replace(samples, t_s=nominal_t), np.array(starts), arc_m, feed)
 
     @property
     def oriented(self) -> bool:

@@ -37,11 +37,10 @@ from __future__ import annotations
 import dataclasses
 import logging
 from dataclasses import dataclass
+from functools import cache
+from types import ModuleType
 
 import numpy as np
-import toppra
-import toppra.algorithm
-import toppra.constraint
 
 from placement.drives.trace import drives_of, motor_trace, phase_voltage_V
 from placement.energy.integration import interval_widths
@@ -51,8 +50,6 @@ from placement.robot.model import Robot
 SAFETY = 0.99  # share of each limit the timing law may use (the exact chain checks the rest)
 VOLTAGE_PASSES = 6  # re-timings that lower the speed where the whole drive voltage is exceeded
 VOLTAGE_SLOWDOWN = 0.9  # factor on the speed bound of the samples where it is exceeded, per pass
-
-logging.getLogger("toppra").setLevel(logging.ERROR)  # an infeasible run is an answer, reported by the limits
 
 
 @dataclass(frozen=True)
@@ -155,26 +152,38 @@ class PathDynamics:
         return (self.inertia * acceleration[..., None] + self.centripetal * speed[..., None] ** 2 + self.static)
 
 
-class _Given(toppra.constraint.LinearConstraint):
-    """Constraint rows a·s̈ + b·ṡ² + c ≤ 0 and bounds on ṡ², computed beforehand for one run."""
+@cache
+def _toppra() -> tuple[ModuleType, type]:
+    """toppra and the constraint class built on it, imported on first use (toppra loads matplotlib: 0.4 s)."""
+    import toppra
+    import toppra.algorithm
+    import toppra.constraint
 
-    def __init__(self, a: np.ndarray | None, b: np.ndarray | None, c: np.ndarray | None, x_max: np.ndarray) -> None:
-        super().__init__()
-        self.set_discretization_type(toppra.constraint.DiscretizationType.Interpolation)
-        self.identical = True
-        self._rows = (a, b, c)
-        self._x_max = x_max
+    logging.getLogger("toppra").setLevel(logging.ERROR)  # an infeasible run is an answer, reported by the limits
 
-    def compute_constraint_params(self, path: object, gridpoints: np.ndarray, *args: object,
-                                  **kwargs: object) -> tuple:
-        a, b, c = self._rows
-        xbound = np.column_stack([np.zeros(len(gridpoints)), self._x_max])
-        if a is None:
-            return None, None, None, None, None, None, xbound
-        rows = a.shape[1]
-        a, b, c, F, g, _, _ = toppra.constraint.canlinear_colloc_to_interpolate(
-            a, b, c, np.eye(rows), np.zeros(rows), None, None, gridpoints, identical=True)
-        return a, b, c, F, g, None, xbound
+    class Given(toppra.constraint.LinearConstraint):
+        """Constraint rows a·s̈ + b·ṡ² + c ≤ 0 and bounds on ṡ², computed beforehand for one run."""
+
+        def __init__(self, a: np.ndarray | None, b: np.ndarray | None, c: np.ndarray | None,
+                     x_max: np.ndarray) -> None:
+            super().__init__()
+            self.set_discretization_type(toppra.constraint.DiscretizationType.Interpolation)
+            self.identical = True
+            self._rows = (a, b, c)
+            self._x_max = x_max
+
+        def compute_constraint_params(self, path: object, gridpoints: np.ndarray, *args: object,
+                                      **kwargs: object) -> tuple:
+            a, b, c = self._rows
+            xbound = np.column_stack([np.zeros(len(gridpoints)), self._x_max])
+            if a is None:
+                return None, None, None, None, None, None, xbound
+            rows = a.shape[1]
+            a, b, c, F, g, _, _ = toppra.constraint.canlinear_colloc_to_interpolate(
+                a, b, c, np.eye(rows), np.zeros(rows), None, None, gridpoints, identical=True)
+            return a, b, c, F, g, None, xbound
+
+    return toppra, Given
 
 
 class _Interval:
@@ -309,7 +318,8 @@ def _voltage_exceeded(robot: Robot, geometry: PathGeometry, dynamics: PathDynami
 def _time_run(arc_m: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray,
               x_max: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
     """ṡ at each sample and s̈ after it of one run, rest to rest, or None when no timing exists."""
-    constraints = [_Given(None, None, None, x_max), _Given(a, b, c, x_max)]
+    toppra, given = _toppra()
+    constraints = [given(None, None, None, x_max), given(a, b, c, x_max)]
     solver = toppra.algorithm.TOPPRA(constraints, _Interval(float(arc_m[-1])), gridpoints=arc_m,
                                      solver_wrapper="seidel")
     s_ddot, s_dot, _ = solver.compute_parameterization(0.0, 0.0)

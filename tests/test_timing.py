@@ -3,17 +3,20 @@
 from __future__ import annotations
 
 import dataclasses
+import json
 
 import numpy as np
 import pytest
 from robot_copies import edited_copy, orthoglide_motor
 
 from placement import Evaluator, load_path, load_robot
+from placement.__main__ import main
 from placement.dynamics import actuator_efforts
 from placement.evaluation import denser
 from placement.exceptions import PlacementError
 from placement.frames import placed_task
 from placement.path import Timing
+from placement.search.pareto import non_dominated
 
 PLACEMENTS = np.array([[0.0, 0.0, -0.03, 0.0, 0.0, 0.0],
                        [0.05, 0.03, -0.12, -0.1, 0.0, 0.0],
@@ -187,3 +190,22 @@ def test_a_bus_voltage_slows_the_timing_until_the_whole_phase_voltage_holds(tmp_
     # At the path's own feed, the paper's timing breaks the voltage limit: the bound is real.
     paper = Evaluator(robot, load_path("examples/rect.yaml"), workers=1).evaluate(PLACEMENTS)
     assert (paper.margins[:, voltage].min(axis=1) < 0).any()
+
+
+def test_the_command_line_times_optimally_for_cycle_time_and_writes_the_front(tmp_path, capsys):
+    out = tmp_path / "front.json"
+    assert main(["--robot", "orthoglide", "--path", "examples/rect.yaml", "--objectives", "energy,cycle_time",
+                 "--population", "24", "--generations", "12", "--json", str(out), "--quiet"]) == 0
+    printed = capsys.readouterr().out
+    assert "note: the objective cycle_time needs the optimal timing law" in printed and "optimal timing" in printed
+    document = json.loads(out.read_text())
+    values = np.array([[m["values"][name] for name in ("energy", "cycle_time")] for m in document["members"]])
+    assert len(values) >= 10 and non_dominated(values).all()
+    assert all(m["margin"] >= 0 for m in document["members"])
+    assert document["timing"] == "optimal"
+
+
+def test_cycle_time_under_another_timing_law_is_a_usage_error(capsys):
+    assert main(["--robot", "orthoglide", "--path", "examples/rect.yaml", "--objective", "cycle_time",
+                 "--timing", "paper"]) == 2
+    assert "--timing paper: the objective cycle_time needs --timing optimal" in capsys.readouterr().err
