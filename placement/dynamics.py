@@ -25,6 +25,7 @@ from placement.kinematics import JointTrajectory, TaskTrajectory, joint_trajecto
 from placement.robot.model import Robot
 
 SAMPLES_PER_THREAD = 1000  # threads pay off on large batches only
+_openmp_started = False  # whether this process has run RNEA on several OpenMP threads (see openmp_started)
 
 
 @dataclass(frozen=True)
@@ -52,10 +53,18 @@ def rnea_batch(model: pin.Model, q: np.ndarray, v: np.ndarray, a: np.ndarray, th
     Args:
         threads: Most threads of Pinocchio's parallel RNEA (default: every core; fewer on small batches).
     """
+    global _openmp_started
     threads = max(1, min(threads or os.cpu_count() or 1, len(q) // SAMPLES_PER_THREAD))
+    _openmp_started = _openmp_started or threads > 1
     pool = pin.ModelPool(model, threads)
     tau = pin.rneaInParallel(threads, pool, np.asfortranarray(q.T), np.asfortranarray(v.T), np.asfortranarray(a.T))
     return np.reshape(tau, (model.nv, len(q))).T
+
+
+def openmp_started() -> bool:
+    """Whether this process has run Pinocchio's RNEA on several OpenMP threads: a process forked from it then
+    hangs in its own first parallel RNEA (GNU OpenMP's thread pool does not survive a fork)."""
+    return _openmp_started
 
 
 def actuator_efforts(robot: Robot, joints: JointTrajectory, external_load: np.ndarray | None = None,

@@ -10,7 +10,9 @@ batches shared among worker processes.
 from __future__ import annotations
 
 import dataclasses
+import multiprocessing
 import os
+from collections.abc import Callable
 from concurrent.futures import Executor, ProcessPoolExecutor
 from dataclasses import dataclass
 
@@ -18,7 +20,7 @@ import numpy as np
 
 from placement.batch import EvaluatedBatch
 from placement.drives.trace import MotorTrace, motor_trace
-from placement.dynamics import actuator_efforts
+from placement.dynamics import actuator_efforts, openmp_started
 from placement.energy.integration import Energy, sample_power
 from placement.energy.regeneration import REGENERATION
 from placement.exceptions import PlacementError
@@ -183,6 +185,11 @@ class Evaluator:
         self.workers = (workers or os.cpu_count() or 1) if spread else 1
         self.executor = executor
         self._own_pool: ProcessPoolExecutor | None = None
+
+    @property
+    def samples_step_s(self) -> float:
+        """The sampling time step (s): the one given, else the path file's."""
+        return self.path.time_step_s if self.time_step_s is None else self.time_step_s
 
     def __enter__(self) -> Evaluator:
         return self
@@ -397,7 +404,7 @@ def denser(source: Evaluator, density: int) -> Evaluator:
     source's path geometry is cut in ``density`` instead, so that a timing found on the source's
     samples switches at samples of this one. It computes every limit exactly, in this process.
     """
-    step = source.path.time_step_s if source.time_step_s is None else source.time_step_s
+    step = source.samples_step_s
     if source.geometry is None:
         return Evaluator(source.robot, source.path, source.regeneration, step / density, source.method,
                          source.objective_names, workers=1, exact=True)
@@ -405,6 +412,11 @@ def denser(source: Evaluator, density: int) -> Evaluator:
                      workers=1, exact=True, refine=source.refine * density)
 
 
-def process_pool(workers: int) -> ProcessPoolExecutor:
-    """A pool of ``workers`` processes for :func:`evaluate_job` (the platform's start method)."""
-    return ProcessPoolExecutor(max_workers=workers)
+def process_pool(workers: int, initializer: Callable[..., None] | None = None,
+                 initargs: tuple = ()) -> ProcessPoolExecutor:
+    """A pool of ``workers`` processes: forked from this one where the platform forks, unless this process has
+    started OpenMP threads, which a forked process would hang on (:func:`placement.dynamics.openmp_started`);
+    then started afresh."""
+    fresh = openmp_started() and "fork" in multiprocessing.get_all_start_methods()
+    context = multiprocessing.get_context("spawn") if fresh else None
+    return ProcessPoolExecutor(max_workers=workers, mp_context=context, initializer=initializer, initargs=initargs)

@@ -10,6 +10,7 @@ from placement import load_robot
 from placement.__main__ import main
 from placement.robot.catalog import builtin_robots_dir
 from placement.robot.erd import GEAR_RATIO, load_erd_robot
+from placement.robot.load import erd_urdf_path
 
 CIRCLE = Path(__file__).parents[1] / "examples" / "circle.yaml"
 
@@ -102,3 +103,10 @@ def test_commands_that_need_a_sidecar_file_say_how_to_write_one(capsys, argv):
     assert err.startswith(f"error: {argv[0]} needs a robot folder or sidecar file, not erd:ur10")
     assert str(builtin_robots_dir() / "ur5" / "ur5.yaml") in err and "'urdf: example-robot-data:ur10'" in err
     assert "unknown robot" not in err and err.count("\n") == 1
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda", "ur10", "z1"])
+def test_the_urdf_is_found_where_the_loader_finds_it_without_building_the_robot(name):
+    from example_robot_data.robots_loader import ROBOTS
+
+    assert erd_urdf_path(ROBOTS[name]) == Path(ROBOTS[name]().df_path).resolve()

@@ -13,17 +13,22 @@ reported.
 
 from __future__ import annotations
 
+import multiprocessing
+import os
 import time
 from collections.abc import Callable
-from concurrent.futures import Executor
+from concurrent.futures import Executor, wait
 from dataclasses import dataclass
+from multiprocessing.sharedctypes import Synchronized
 
 import numpy as np
 from scipy.optimize import NonlinearConstraint, OptimizeResult, differential_evolution, minimize
 
-from placement.evaluation import Evaluation, Evaluator, PlacementDetail, denser
+from placement.dynamics import openmp_started
+from placement.evaluation import Evaluation, Evaluator, PlacementDetail, denser, process_pool
 from placement.frames import PlacementSpace, default_space
 from placement.path import ToolPath
+from placement.registry import restore_runtime_members
 from placement.robot.model import Robot
 
 POLISH_STARTS = 3  # distinct candidates polished locally
@@ -41,7 +46,8 @@ class SearchSettings:
     """Budget of the global search (differential evolution) and of the polish.
 
     Attributes:
-        population: Population size of the global search (at least 5 per free variable).
+        population: Placements per generation of the global search (at least 5 per free variable,
+            rounded up to a power of 2, as its Sobol initialisation needs).
         max_generations: Upper bound on generations.
         tolerance: Relative spread of the population's objective values at which the search stops.
         seed: Random seed; the same seed gives the same result.
@@ -180,7 +186,7 @@ def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: flo
 
     result = differential_evolution(
         problem.objective, bounds, constraints=constraint, vectorized=True, updating="deferred",
-        popsize=max(5, settings.population // len(bounds)), maxiter=settings.max_generations, tol=settings.tolerance,
+        popsize=_popsize(settings, len(bounds)), maxiter=settings.max_generations, tol=settings.tolerance,
         polish=False, init="sobol", rng=np.random.default_rng(settings.seed), callback=generation_done)
     population = np.asarray(result.population)
     values, margins = problem._lookup(population)
@@ -202,6 +208,12 @@ def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: flo
         if sign * value[0] < best_value:
             best_x, best_value = x, sign * value[0]
     return best_x, local
+
+
+def _popsize(settings: SearchSettings, free: int) -> int:
+    """Differential evolution's population per free variable (its population then rounds up to a power of 2,
+    as its Sobol initialisation needs)."""
+    return max(5, settings.population // free)
 
 
 def _inward_until_feasible(problem: _Problem, x: np.ndarray, space: PlacementSpace) -> np.ndarray | None:
@@ -313,13 +325,18 @@ def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | 
     step = time_step_s if time_step_s is not None else path.time_step_s
     duration = float(path.sample(step).t_s[-1])
 
+    # Directions searched at once each take a core: this process then keeps to one (and may fork, see in_parallel).
+    threads = 1 if best and worst and executor is None and not openmp_started() else None
+
     def evaluator(time_step: float) -> Evaluator:
-        return Evaluator(robot, path, regeneration, time_step, objective=objective, workers=workers, executor=executor)
+        return Evaluator(robot, path, regeneration, time_step, objective=objective, workers=workers, executor=executor,
+                         threads=threads)
 
     with evaluator(max(step, duration / settings.search_samples)) as coarse, evaluator(step) as fine:
         dense = denser(fine, RECHECK_DENSITY)
         if announce is not None:
-            announce(estimate(coarse, fine, space, settings, best + worst))
+            at_once = in_parallel(coarse, fine, best + worst)
+            announce(estimate(coarse, fine, space, settings, 1 if at_once else best + worst))
         return _optimize(coarse, fine, dense, space, best, worst, settings, progress)
 
 
@@ -329,7 +346,8 @@ def estimate(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, settings
     population on the search's sampling and one of a placement on the path's own (after a first
     evaluation, which may load the kinematics)."""
     rng = np.random.default_rng(settings.seed)
-    population = space.full(rng.uniform(space.lower, space.upper, (settings.population, len(space.free))))
+    size = 2 ** int(np.ceil(np.log2(_popsize(settings, len(space.free)) * len(space.free))))  # Sobol's, as scipy's
+    population = space.full(rng.uniform(space.lower, space.upper, (size, len(space.free))))
     fine.evaluate(population[:1])
     tic = time.perf_counter()
     coarse.evaluate(population)
@@ -341,28 +359,117 @@ def estimate(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, settings
     return directions * (settings.max_generations * generation + polish)
 
 
+@dataclass(frozen=True)
+class _Outcome:
+    """One direction's search: its best point (None if no placement is feasible), the placements it evaluated,
+    and, when none is feasible, why (the binding limit)."""
+
+    x: np.ndarray | None
+    evaluations: int
+    infeasible: str | None
+
+
+@dataclass(frozen=True)
+class _DirectionJob:
+    """One direction's search, to run in another process with its own evaluators (picklable)."""
+
+    robot: Robot
+    path: ToolPath
+    regeneration: str
+    time_steps_s: tuple[float, float]  # the global search's, the polish's
+    method: str
+    objective: str
+    space: PlacementSpace
+    sign: float
+    settings: SearchSettings
+    registered: dict[str, dict[str, object]]
+
+
+_generations: Synchronized | None = None  # in a direction's process: generations done, shared with the parent
+
+
+def _share_generations(counter: Synchronized) -> None:
+    global _generations
+    _generations = counter
+
+
+def _count_generation() -> None:
+    assert _generations is not None  # set by _share_generations when the process starts
+    with _generations.get_lock():
+        _generations.value += 1
+
+
+def _search_direction(job: _DirectionJob) -> _Outcome:
+    """A direction's search in a process of its own, on one core."""
+    restore_runtime_members(job.registered)
+    coarse_step, step = job.time_steps_s
+    with Evaluator(job.robot, job.path, job.regeneration, coarse_step, job.method, job.objective, workers=1,
+                   threads=1) as coarse, \
+            Evaluator(job.robot, job.path, job.regeneration, step, job.method, job.objective, workers=1,
+                      threads=1) as fine:
+        return _outcome(coarse, fine, job.space, job.sign, job.settings, _count_generation)
+
+
+def _outcome(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: float, settings: SearchSettings,
+             progress: Callable[[], None] | None) -> _Outcome:
+    before = coarse.evaluations + fine.evaluations
+    x, problem = _search(coarse, fine, space, sign, settings, progress)
+    infeasible = None if x is not None else _binding_limit(problem, problem.evaluator)
+    return _Outcome(x, coarse.evaluations + fine.evaluations - before, infeasible)
+
+
+def in_parallel(coarse: Evaluator, fine: Evaluator, directions: int) -> bool:
+    """Whether both directions are searched at once, a process each: when both are asked for, this machine has
+    two cores, the evaluations run in this process, and it may fork (:func:`placement.dynamics.openmp_started`)."""
+    here = all(e.executor is None and e.workers == 1 for e in (coarse, fine))
+    return directions == 2 and (os.cpu_count() or 1) >= 2 and here and not openmp_started()
+
+
+def _outcomes(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, signs: list[float], settings: SearchSettings,
+              progress: Callable[[], None] | None) -> list[_Outcome]:
+    """Each direction's search: one after the other, or at once (:func:`in_parallel`)."""
+    if not in_parallel(coarse, fine, len(signs)):
+        outcomes = []
+        for sign in signs:
+            outcomes.append(_outcome(coarse, fine, space, sign, settings, progress))
+            if outcomes[-1].x is None:  # the feasible set is the same in both directions
+                break
+        return outcomes
+    registered = fine.job(np.zeros((0, 6))).registered
+    jobs = [_DirectionJob(fine.robot, fine.path, fine.regeneration, (coarse.samples_step_s, fine.samples_step_s),
+                          fine.method, fine.objective_name, space, sign, settings, registered) for sign in signs]
+    counter = multiprocessing.Value("i", 0)
+    with process_pool(len(jobs), _share_generations, (counter,)) as pool:
+        futures = [pool.submit(_search_direction, job) for job in jobs]
+        shown = 0
+        while not all(future.done() for future in futures):
+            wait(futures, timeout=0.1)
+            for _ in range(counter.value - shown):
+                if progress is not None:
+                    progress()
+                shown += 1
+        return [future.result() for future in futures]
+
+
 def _optimize(coarse: Evaluator, evaluator: Evaluator, dense: Evaluator, space: PlacementSpace,
               best: bool, worst: bool, settings: SearchSettings,
               progress: Callable[[], None] | None) -> PlacementResult:
-    found: dict[str, Optimum | None] = {"best": None, "worst": None}
-    infeasible = None
     better = evaluator.objective.sign
-    for direction, sign, wanted in (("best", better, best), ("worst", -better, worst)):
-        if not wanted:
-            continue
-        before = evaluator.evaluations + coarse.evaluations
-        x, problem = _search(coarse, evaluator, space, sign, settings, progress)
-        if x is None:  # the feasible set is the same in both directions
-            found = {"best": None, "worst": None}
-            infeasible = _binding_limit(problem, problem.evaluator)
+    directions = [(name, sign) for name, sign, wanted in (("best", better, best), ("worst", -better, worst)) if wanted]
+    outcomes = _outcomes(coarse, evaluator, space, [sign for _, sign in directions], settings, progress)
+    found: dict[str, Optimum | None] = {"best": None, "worst": None}
+    infeasible = next((o.infeasible for o in outcomes if o.x is None), None)
+    for (direction, _), outcome in zip(directions, outcomes):
+        if infeasible is not None or outcome.x is None:
             break
-        placement = space.full(x)[0]
+        before = evaluator.evaluations
+        placement = space.full(outcome.x)[0]
         check = dense.recheck(placement[None], evaluator)
         tightest = int(np.argmin(check.margins[0]))
         found[direction] = Optimum(detail=evaluator.detail(placement), recheck_value=float(check.value[0]),
                                    recheck_margin=float(check.margins[0, tightest]),
                                    recheck_limit=check.limits[tightest],
-                                   evaluations=evaluator.evaluations + coarse.evaluations - before)
+                                   evaluations=outcome.evaluations + evaluator.evaluations - before)
     return PlacementResult(best=found["best"], worst=found["worst"], space=space, objective=evaluator.objective_name,
                            regeneration=evaluator.regeneration, infeasible=infeasible)
 
