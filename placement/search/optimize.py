@@ -420,9 +420,11 @@ def _outcome(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: fl
 
 def in_parallel(coarse: Evaluator, fine: Evaluator, directions: int) -> bool:
     """Whether both directions are searched at once, a process each: when both are asked for, this machine has
-    two cores, the evaluations run in this process, and it may fork (:func:`placement.dynamics.openmp_started`)."""
+    two cores, the evaluations run in this process, which is no pool's worker (a study's searches share the
+    cores already), and it may fork (:func:`placement.dynamics.openmp_started`)."""
     here = all(e.executor is None and e.workers == 1 for e in (coarse, fine))
-    return directions == 2 and (os.cpu_count() or 1) >= 2 and here and not openmp_started()
+    main = multiprocessing.parent_process() is None
+    return directions == 2 and (os.cpu_count() or 1) >= 2 and here and main and not openmp_started()
 
 
 def _outcomes(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, signs: list[float], settings: SearchSettings,
