@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
-from placement import load_path, load_robot
+from placement import Evaluator, load_path, load_robot
 from placement.__main__ import main
 from placement.cluster import cluster, scheduler_address
+from placement.path import Timing
 from placement.search.optimize import SearchSettings
 from placement.search.pareto import pareto_front
 from placement.search.sweep import sweep
@@ -59,3 +62,18 @@ def test_an_unreachable_scheduler_is_a_clear_error(monkeypatch, capsys, tmp_path
     assert main(["map", "--robot", "orthoglide", "--path", "examples/rect.yaml", "--grid", "x=-10:10:3",
                  "--out", str(tmp_path / "map"), "--scheduler", "tcp://127.0.0.1:9"]) == 2
     assert "cannot reach the Dask scheduler at 'tcp://127.0.0.1:9'" in capsys.readouterr().err
+
+
+def test_placements_timed_optimally_on_the_cluster_equal_those_timed_here(dask_cluster):
+    robot = load_robot("orthoglide")
+    path = dataclasses.replace(load_path("examples/rect.yaml"), timing=Timing(mode="optimal"))
+    placements = np.array([[0.0, 0.0, -0.03, 0.0, 0.0, 0.0], [0.04, -0.02, -0.1, 0.5, 0.0, 0.0],
+                           [-0.06, 0.03, 0.0, -1.0, 0.0, 0.0]])
+    objectives = ("energy", "cycle_time")
+    here = Evaluator(robot, path, objective=objectives, workers=1).evaluate(placements)
+    with cluster(dask_cluster.scheduler_address) as remote:
+        assert remote is not None
+        there = Evaluator(robot, path, objective=objectives, executor=remote.executor,
+                          workers=remote.threads).evaluate(placements)
+    np.testing.assert_array_equal(there.values, here.values)
+    np.testing.assert_array_equal(there.margins, here.margins)
