@@ -18,9 +18,11 @@ linear in (s̈, ṡ²) at each sample, the form that TOPP-RA (Pham and Pham, IEE
   held to the driving bound (conservative by η², exact for η = 1), and the viscous friction's
   ṡ = √(ṡ²) is bounded by its tangent above and its chord below (exact at rest and at the
   speed bound);
-- drive voltage (where the sidecar gives ``bus_voltage_V``): R·|I| + K_e·|ω| within the phase voltage,
-  then the whole R·I + L·dI/dt + K_e·ω is checked on the timed samples and the speed bound is
-  lowered where it is exceeded, until it holds.
+- drive voltage (where the sidecar gives ``bus_voltage_V``): R·I + K_e·ω within the phase voltage
+  (:class:`placement.limits.motors.DriveVoltage`). The inductive L·dI/dt is not linear in (s̈, ṡ²):
+  the limit checks it on the timed samples, and a placement whose timing exceeds it is infeasible.
+  Within the intervals, where s̈ is constant, the current changes slowly (with the Orthoglide's
+  6 mH, the term never binds); its steps where s̈ switches carry no dI/dt.
 
 TOPP-RA keeps each limit at both ends of every interval between samples, with a margin of
 ``SAFETY``. Its s̈ is constant on each interval and switches at the samples, so the exact chain
@@ -42,14 +44,11 @@ from types import ModuleType
 
 import numpy as np
 
-from placement.drives.trace import drives_of, motor_trace, phase_voltage_V
-from placement.energy.integration import interval_widths
+from placement.drives.trace import drives_of
 from placement.path import PathGeometry, PathSamples
 from placement.robot.model import Robot
 
 SAFETY = 0.99  # share of each limit the timing law may use (the exact chain checks the rest)
-VOLTAGE_PASSES = 6  # re-timings that lower the speed where the whole drive voltage is exceeded
-VOLTAGE_SLOWDOWN = 0.9  # factor on the speed bound of the samples where it is exceeded, per pass
 
 
 @dataclass(frozen=True)
@@ -73,15 +72,6 @@ class TimeLaw:
     def duration_s(self) -> np.ndarray:
         """(K,) the time to run the whole path (infinite without a timing)."""
         return np.where(self.timed, self.t_s[:, -1] - self.t_s[:, 0], np.inf)
-
-    def replace(self, index: np.ndarray, other: TimeLaw) -> TimeLaw:
-        """This timing with the placements ``index`` (a mask) timed as ``other`` times them."""
-        parts = []
-        for f in dataclasses.fields(TimeLaw):
-            mine = getattr(self, f.name).copy()
-            mine[index] = getattr(other, f.name)
-            parts.append(mine)
-        return TimeLaw(*parts)
 
     def at_samples(self, geometry: PathGeometry) -> TimeLaw:
         """This timing (at ``geometry``'s samples) at its evaluated samples, each interval with its own s̈
@@ -142,10 +132,6 @@ class PathDynamics:
     def rows(self, index: np.ndarray) -> PathDynamics:
         """The same at some samples (an index into the sample axis)."""
         return PathDynamics(*(getattr(self, f.name)[:, index] for f in dataclasses.fields(PathDynamics)))
-
-    def placements(self, index: np.ndarray) -> PathDynamics:
-        """The same for some placements (an index or mask)."""
-        return PathDynamics(*(getattr(self, f.name)[index] for f in dataclasses.fields(PathDynamics)))
 
     def efforts(self, speed: np.ndarray, acceleration: np.ndarray) -> np.ndarray:
         """(K, N, n_act) actuator efforts for ṡ and s̈ of shape (K, N)."""
@@ -245,7 +231,7 @@ def limit_rows(robot: Robot, dynamics: PathDynamics, speed_max: np.ndarray) -> t
         a, b, c = (gain * part + turn for part, turn in zip(load, rotor))
         w = gain * viscous * d.velocity
         bound(a, b, c, w, torque_top, every)
-        if len(voltage):  # R·I + K_e·ω; L·dI/dt is checked once timed (time_optimal)
+        if len(voltage):  # R·I + K_e·ω; the limit checks L·dI/dt on the timed samples
             bound(ohm * a, ohm * b, ohm * c, ohm * w + emf, voltage_top, voltage)
     acceleration_top = np.array([a.acceleration_max or np.inf for a in robot.actuators], dtype=float)
     accelerated = np.flatnonzero(np.isfinite(acceleration_top))
@@ -267,27 +253,10 @@ def time_optimal(robot: Robot, geometry: PathGeometry, dynamics: PathDynamics, r
         The timing law of each placement.
     """
     speed_max = speed_bound(robot, dynamics, geometry.feed_m_s)
-    law = _solve(robot, geometry, dynamics, speed_max, np.asarray(reachable, dtype=bool))
-    if not any(d.motor.bus_voltage_V is not None for d in drives_of(robot)):
-        return law
-    for _ in range(VOLTAGE_PASSES):
-        over = _voltage_exceeded(robot, geometry, dynamics, law)
-        again = over.any(axis=1) & law.timed
-        if not again.any():
-            break
-        speed_max = np.where(over, np.minimum(speed_max, VOLTAGE_SLOWDOWN * law.speed_m_s), speed_max)
-        retimed = _solve(robot, geometry, dynamics.placements(again), speed_max[again], np.ones(again.sum(), bool))
-        law = law.replace(again, retimed)
-    return law
-
-
-def _solve(robot: Robot, geometry: PathGeometry, dynamics: PathDynamics, speed_max: np.ndarray,
-           wanted: np.ndarray) -> TimeLaw:
-    """TOPP-RA on every run of the ``wanted`` placements, within ``speed_max`` (K, N)."""
     a, b, c = limit_rows(robot, dynamics, speed_max)
     k, n = speed_max.shape
     speed, acceleration = np.zeros((k, n)), np.zeros((k, n))
-    timed = wanted.copy()
+    timed = np.asarray(reachable, dtype=bool).copy()
     for i in np.flatnonzero(timed):
         for start, stop in zip(geometry.run_starts[:-1], geometry.run_starts[1:]):
             run = slice(start, stop)
@@ -298,21 +267,6 @@ def _solve(robot: Robot, geometry: PathGeometry, dynamics: PathDynamics, speed_m
             speed[i, run], acceleration[i, run] = solved
     speed[~timed], acceleration[~timed] = 0.0, 0.0
     return TimeLaw(_times(geometry, speed, timed), speed, acceleration, timed)
-
-
-def _voltage_exceeded(robot: Robot, geometry: PathGeometry, dynamics: PathDynamics, law: TimeLaw) -> np.ndarray:
-    """(K, N) the samples next to which the whole phase voltage, L·dI/dt included, exceeds a drive's limit."""
-    at = law.at_samples(geometry)
-    rows = geometry.grid_rows
-    moving = dynamics.rows(rows)
-    speed, acceleration = at.speed_m_s[..., None], at.acceleration_m_s2[..., None]
-    trace = motor_trace(robot, moving.efforts(at.speed_m_s, at.acceleration_m_s2), moving.velocity * speed,
-                        moving.velocity * acceleration + moving.curvature * speed**2)
-    voltage = phase_voltage_V(robot, trace, interval_widths(at.t_s, geometry.evaluated_samples.piece))
-    top = np.array([d.motor.phase_voltage_limit_V or np.inf for d in drives_of(robot)])
-    over = np.zeros(law.speed_m_s.shape, dtype=bool)
-    np.logical_or.at(over.T, rows, (np.abs(voltage) > top).any(axis=-1).T)
-    return over
 
 
 def _time_run(arc_m: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray,

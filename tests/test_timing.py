@@ -209,3 +209,20 @@ def test_cycle_time_under_another_timing_law_is_a_usage_error(capsys):
     assert main(["--robot", "orthoglide", "--path", "examples/rect.yaml", "--objective", "cycle_time",
                  "--timing", "paper"]) == 2
     assert "--timing paper: the objective cycle_time needs --timing optimal" in capsys.readouterr().err
+
+
+def test_a_timing_whose_inductive_voltage_breaks_the_bus_is_reported(tmp_path):
+    """L·dI/dt is checked, not timed: with a 0.2 H winding a fast small circle needs more than a 60 V bus gives."""
+    def heavy_winding(document):
+        motor = orthoglide_motor(document)
+        motor["bus_voltage_V"], motor["inductance_H"] = 60.0, 0.2
+
+    robot = load_robot(str(edited_copy("orthoglide", tmp_path, heavy_winding)))
+    (tmp_path / "circle.yaml").write_text("units: mm\nshape: {type: circle, radius: 10}\nfeed_m_s: 0.66\n"
+                                          "timing: {mode: optimal}\n")
+    detail = Evaluator(robot, load_path(tmp_path / "circle.yaml"), workers=1).detail(PLACEMENTS[0])
+    worst = min(detail.margins, key=lambda m: m.margin)
+    assert not detail.feasible and worst.kind == "drive voltage" and abs(worst.value) > worst.limit
+    motor = robot.actuators[0].drive.motor
+    steady = motor.resistance_ohm * detail.motor.current_A + motor.back_emf_constant_V_s_per_rad * detail.motor.speed_rad_s
+    assert np.abs(steady).max() <= motor.phase_voltage_limit_V  # what the timing keeps; L·dI/dt breaks it
