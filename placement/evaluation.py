@@ -3,8 +3,9 @@ drives -> objective and limits.
 
 Placements are evaluated in batches: the path samples of every placement are stacked and go
 through the robot's kinematics solver and one batched RNEA call, so that thousands of placements
-of hundreds of samples each stay cheap. A solver that is not vectorised (the generic one) has its
-batches shared among worker processes.
+of hundreds of samples each stay cheap. A solver that is not vectorised (the sequential one), and
+the optimal timing law, which times placements one by one, have their batches shared among worker
+processes.
 """
 
 from __future__ import annotations
@@ -102,6 +103,8 @@ class PlacementDetail:
         power_W: (N, n_act) signed electric power of each drive at each sample (the mean of the
             adjacent intervals' power, by the drive's motor model).
         timing: The timing law's name (under "optimal", ``samples`` are timed for this placement).
+        duration_s: The time the path takes (inf under the optimal law when no timing keeps every
+            limit: ``samples`` then hold still at the feed's times).
     """
 
     placement: np.ndarray
@@ -121,6 +124,7 @@ class PlacementDetail:
     motor: MotorTrace
     power_W: np.ndarray
     timing: str = "paper"
+    duration_s: float = 0.0
 
     @property
     def feasible(self) -> bool:
@@ -131,8 +135,9 @@ class PlacementDetail:
 class Evaluator:
     """Evaluates placements of one path on one robot.
 
-    A solver that is not vectorised (the generic one) has its batches of placements shared among
-    worker processes; call :meth:`close` (or use ``with``) to stop them.
+    A solver that is not vectorised (the sequential one), and the optimal timing law, have their
+    batches of placements shared among worker processes; call :meth:`close` (or use ``with``) to
+    stop them.
 
     Args:
         robot: The robot (its actuators need drives).
@@ -142,8 +147,9 @@ class Evaluator:
         method: Kinematics solver's name, see :func:`placement.kinematics.joint_trajectory`.
         objective: Objective's name, see :mod:`placement.objectives`; or several names, the ranking
             one first, all of which :meth:`evaluate` computes.
-        workers: Worker processes for a solver that is not vectorised, or chunks to cut a batch
-            into for ``executor`` (default: every core); 1 evaluates in this process.
+        workers: Worker processes for a solver that is not vectorised or the optimal timing law, or
+            chunks to cut a batch into for ``executor`` (default: every core, or 1 in a pool's
+            worker process, whose pool shares the cores already); 1 evaluates in this process.
         executor: Any ``concurrent.futures.Executor`` (a Dask cluster's, see
             :mod:`placement.cluster`) that evaluates batches in chunks, whatever the solver,
             instead of this process or an own process pool.
@@ -182,7 +188,8 @@ class Evaluator:
         self.evaluations = 0  # placements evaluated so far
         # Placements are timed one by one under the optimal timing law: worth sharing among processes too.
         spread = executor is not None or not self.solver.vectorized or self.geometry is not None
-        self.workers = (workers or os.cpu_count() or 1) if spread else 1
+        cores = (os.cpu_count() or 1) if multiprocessing.parent_process() is None else 1
+        self.workers = (workers or cores) if spread else 1
         self.executor = executor
         self._own_pool: ProcessPoolExecutor | None = None
 
@@ -305,9 +312,15 @@ class Evaluator:
         placements = np.atleast_2d(np.asarray(placements, dtype=float))
         if self.geometry is None or source.geometry is None:
             return self.evaluate(placements)
+        batch = max(1, BATCH_SAMPLES // len(self.samples))
+        return Evaluation.concatenate([self._evaluate_batch(chunk, self._timing_of(chunk, source))
+                                       for chunk in (placements[i:i + batch] for i in range(0, len(placements), batch))])
+
+    def _timing_of(self, placements: np.ndarray, source: Evaluator) -> TimeLaw:
+        """The optimal timing that ``source`` finds for the placements, at this evaluator's path geometry."""
         law = source.batch(placements).path_law
-        assert law is not None  # the source times its placements optimally
-        return self._evaluate_batch(placements, law.resampled(source.geometry, self.geometry))
+        assert law is not None and source.geometry is not None and self.geometry is not None  # both time optimally
+        return law.resampled(source.geometry, self.geometry)
 
     def _evaluate_batch(self, placements: np.ndarray, law: TimeLaw | None = None) -> Evaluation:
         batch = self.batch(placements, law=law)
@@ -333,7 +346,8 @@ class Evaluator:
             energy=_first(batch.energy), margins=tightest(margin_fields(batch)), samples=samples,
             tool_position_m=batch.tool_position_m[0], position=batch.position[0], velocity=batch.velocity[0],
             acceleration=batch.acceleration[0], effort=batch.effort[0], configuration=batch.joints.q, motor=motor,
-            power_W=sample_power(self.robot, motor, samples.t_s, samples.piece), timing=self.path.timing.mode)
+            power_W=sample_power(self.robot, motor, samples.t_s, samples.piece), timing=self.path.timing.mode,
+            duration_s=float(np.ptp(samples.t_s) if batch.time_law is None else batch.time_law.duration_s[0]))
 
 
 @dataclass(frozen=True)
@@ -407,9 +421,9 @@ def denser(source: Evaluator, density: int) -> Evaluator:
     step = source.samples_step_s
     if source.geometry is None:
         return Evaluator(source.robot, source.path, source.regeneration, step / density, source.method,
-                         source.objective_names, workers=1, exact=True)
+                         source.objective_names, workers=1, threads=source.threads, exact=True)
     return Evaluator(source.robot, source.path, source.regeneration, step, source.method, source.objective_names,
-                     workers=1, exact=True, refine=source.refine * density)
+                     workers=1, threads=source.threads, exact=True, refine=source.refine * density)
 
 
 def process_pool(workers: int, initializer: Callable[..., None] | None = None,

@@ -386,15 +386,19 @@ class ToolPath:
         counts = [max(MIN_RUN_SAMPLES, count) for count in self._sample_counts(nominal, step)]
         parts, piece, arcs, feeds, starts = [], 0, [], [], [0]
         for (run, after_gap), count in zip(runs, counts):
-            arc = _run_arc(sum(s.length_m for s in run), count, refine)
+            bounds = np.cumsum([0.0] + [s.length_m for s in run])
+            speeds = np.array([self.speed_m_s(s) for s in run])
+            arc = _run_arc(bounds[-1], count, refine, bounds[1:-1][np.diff(speeds) != 0])
             count = len(arc)
             piece += after_gap
             parts.append({"t": np.zeros(count), **_along(run, arc, np.ones(count), np.zeros(count), self.oriented),
                           "piece": np.full(count, piece)})
-            bounds = np.cumsum([0.0] + [s.length_m for s in run])
-            segment = np.clip(np.searchsorted(bounds, arc, side="right") - 1, 0, len(run) - 1)
+            # A sample where the feed changes (within MIN_LENGTH_M) takes the lower one: the speed never exceeds a
+            # segment's feed, between samples either (the speed changes monotonically between them).
+            after = np.clip(np.searchsorted(bounds, arc + MIN_LENGTH_M, side="right") - 1, 0, len(run) - 1)
+            before = np.clip(np.searchsorted(bounds, arc - MIN_LENGTH_M, side="right") - 1, 0, len(run) - 1)
             arcs.append(arc)
-            feeds.append(np.array([self.speed_m_s(s) for s in run])[segment])
+            feeds.append(np.minimum(speeds[after], speeds[before]))
             starts.append(starts[-1] + count)
         arc_m, feed = np.concatenate(arcs), np.concatenate(feeds)
         # Nominal times: each run at its feed bound throughout (a lower bound of any timing's).
@@ -512,12 +516,15 @@ class ToolPath:
                            column.get("angular_acceleration"))
 
 
-def _run_arc(length_m: float, count: int, refine: int) -> np.ndarray:
+def _run_arc(length_m: float, count: int, refine: int, feed_changes_m: np.ndarray) -> np.ndarray:
     """Arc lengths of a run's samples (:meth:`ToolPath.geometry`): ``count`` evenly spaced, the end intervals
-    cut in ``END_SPLIT`` growing as squares, then every interval in ``refine`` equal parts."""
+    cut in ``END_SPLIT`` growing as squares, a sample where the feed changes, then every interval in ``refine``
+    equal parts."""
     even = np.linspace(0.0, length_m, count)
     ends = even[1] * (np.arange(1, END_SPLIT) / END_SPLIT) ** 2
     arc = np.concatenate([[0.0], ends, even[1:-1], length_m - ends[::-1], [length_m]])
+    near = np.abs(arc[None, :] - feed_changes_m[:, None]).min(axis=1, initial=np.inf) <= MIN_LENGTH_M
+    arc = np.union1d(arc, feed_changes_m[~near])
     return np.append(np.linspace(arc[:-1], arc[1:], refine, endpoint=False).T.ravel(), length_m)
 
 

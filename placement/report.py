@@ -48,7 +48,8 @@ def format_detail(title: str, robot: Robot, detail: PlacementDetail, recheck_val
     if detail.objective != "energy":
         lines.append(f"  energy {energy.total_J:.4f} J")
     if detail.timing == "optimal" and detail.objective != "cycle_time":
-        lines.append(f"  cycle time {detail.samples.t_s[-1] - detail.samples.t_s[0]:.4f} s (optimal timing)")
+        lines.append(f"  cycle time {detail.duration_s:.4f} s (optimal timing)" if np.isfinite(detail.duration_s)
+                     else "  cycle time: no timing keeps every limit (optimal timing)")
     width = max(14, max(len(a.joint) for a in robot.actuators) + 2)
     if not detail.feasible:
         lines[-1] += "  INFEASIBLE: a limit is exceeded"
@@ -125,7 +126,7 @@ def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None =
         "energy_per_actuator_J": dict(zip(names, map(float, detail.energy.per_actuator_J))) if detail.reachable else None,
         "energy_parts_J": {part: dict(zip(names, map(float, getattr(detail.energy, f"{part}_J"))))
                            for part in ("joule", "inductive", "back_emf", "mechanical")} if detail.reachable else None,
-        "cycle_time_s": float(detail.samples.t_s[-1] - detail.samples.t_s[0]) if detail.reachable else None,
+        "cycle_time_s": detail.duration_s if detail.reachable and np.isfinite(detail.duration_s) else None,
         "margins": [_margin_json(robot, detail, m) for m in detail.margins] if detail.reachable else [],
     }
     if optimum is not None:

@@ -6,30 +6,44 @@
 - the peak motor torque is where the motor-torque limit is tightest.
 """
 
+import dataclasses
+
 import numpy as np
 import pytest
 from robot_copies import edited_copy, orthoglide_motor
 from test_path import EXAMPLE
 
 from placement import OBJECTIVES, Evaluator, Objective, load_path, load_robot
+from placement.path import Timing
 
 PLACEMENTS = np.array([[0.0, 0.0, 0.0, 0.0, 0.0, 0.0], [-0.06, 0.02, -0.05, 0.6, 0.0, 0.0],
                        [-0.09, -0.09, -0.1, -0.8, 0.0, 0.0]])
 
 
-def test_a_lossless_motor_draws_exactly_the_positive_shaft_work(tmp_path):
+def timed(law: str):
+    """The example path under the file's timing law (paper), or each placement timed optimally."""
+    path = load_path(EXAMPLE)
+    return path if law == "paper" else dataclasses.replace(path, timing=Timing(mode=law))
+
+
+TIMINGS = pytest.mark.parametrize("law", ["paper", "optimal"])
+
+
+@TIMINGS
+def test_a_lossless_motor_draws_exactly_the_positive_shaft_work(tmp_path, law):
     def lossless(document: dict) -> None:
         orthoglide_motor(document).update(resistance_ohm=0.0, inductance_H=0.0)
 
-    robot, path = load_robot(edited_copy("orthoglide", tmp_path, lossless)), load_path(EXAMPLE)
+    robot, path = load_robot(edited_copy("orthoglide", tmp_path, lossless)), timed(law)
     electric = Evaluator(robot, path, "clip", 0.002).evaluate(PLACEMENTS).value
     mechanical = Evaluator(robot, path, "clip", 0.002, objective="mechanical_energy").evaluate(PLACEMENTS).value
     np.testing.assert_allclose(mechanical, electric, rtol=1e-12)
     assert (mechanical > 0.5).all()
 
 
-def test_rms_current_follows_from_the_joule_energy():
-    robot, path = load_robot("orthoglide"), load_path(EXAMPLE)
+@TIMINGS
+def test_rms_current_follows_from_the_joule_energy(law):
+    robot, path = load_robot("orthoglide"), timed(law)
     evaluator = Evaluator(robot, path, "clip", 0.002, objective="rms_current")
     motor = robot.actuators[0].drive.motor
     for placement, value in zip(PLACEMENTS, evaluator.evaluate(PLACEMENTS).value):

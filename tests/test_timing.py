@@ -226,3 +226,22 @@ def test_a_timing_whose_inductive_voltage_breaks_the_bus_is_reported(tmp_path):
     motor = robot.actuators[0].drive.motor
     steady = motor.resistance_ohm * detail.motor.current_A + motor.back_emf_constant_V_s_per_rad * detail.motor.speed_rad_s
     assert np.abs(steady).max() <= motor.phase_voltage_limit_V  # what the timing keeps; L·dI/dt breaks it
+
+
+def test_the_speed_never_exceeds_a_move_s_feed_where_the_feed_changes_without_a_stop(tmp_path):
+    """A straight G-code line whose middle move is ten times slower: one run, no stop, the slow feed held."""
+    robot = gantry(tmp_path)
+    (tmp_path / "feeds.nc").write_text("G21 G90 G17\nG0 X0 Y0 Z0\nG1 X50 F6000\nG1 X60 F600\nG1 X100 F6000\n")
+    (tmp_path / "feeds.yaml").write_text("shape: {type: gcode, file: feeds.nc}\ntiming: {mode: optimal}\n"
+                                         "time_step_s: 0.002\n")
+    path = load_path(tmp_path / "feeds.yaml")
+    assert len(path.geometry().run_starts) == 2  # one run: the tool does not stop where the feed changes
+    evaluator = Evaluator(robot, path, workers=1)
+    detail = evaluator.detail(np.zeros(6))
+    dense = denser(evaluator, 8)  # the timing between its samples too
+    law = evaluator.batch(np.zeros((1, 6))).path_law
+    samples = law.resampled(evaluator.geometry, dense.geometry).timed_samples(dense.geometry.samples, 0)
+    x = samples.position_m[:, 0] - path.segments[0].start_m[0]
+    slow = (x > 0.050 - 1e-9) & (x < 0.060 + 1e-9)
+    assert detail.feasible and slow.sum() > 10
+    assert np.linalg.norm(samples.velocity_m_s[slow], axis=1).max() <= 0.01 * (1 + 1e-9)

@@ -25,9 +25,9 @@ class RmsCurrent(Objective):
     unit = "A"
 
     def __call__(self, batch: EvaluatedBatch) -> np.ndarray:
-        dt = batch.interval_widths_s
         squared = batch.motor.current_A**2
-        mean_square = np.einsum("kna,...n->ka", (squared[:, :-1] + squared[:, 1:]) / 2, dt) / dt.sum(axis=-1)[..., None]
+        dt = np.broadcast_to(batch.interval_widths_s, squared.shape[:2][:1] + (squared.shape[1] - 1,))
+        mean_square = np.einsum("kna,kn->ka", (squared[:, :-1] + squared[:, 1:]) / 2, dt) / dt.sum(axis=1)[:, None]
         return np.sqrt(mean_square).max(axis=1)
 
 

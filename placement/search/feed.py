@@ -45,7 +45,7 @@ def feed_study(robot: Robot, path: ToolPath, placement: np.ndarray, feeds_m_s: n
     for feed in feeds_m_s:
         detail = Evaluator(robot, dataclasses.replace(path, feed_m_s=float(feed)), regeneration,
                            time_step_s).detail(np.asarray(placement, dtype=float))
-        times.append(float(detail.samples.t_s[-1]))
+        times.append(detail.duration_s)
         speeds.append(float(np.linalg.norm(detail.samples.velocity_m_s, axis=1).max()))
         energies.append(float(detail.energy.total_J) if detail.reachable else np.nan)
         feasible.append(detail.feasible)

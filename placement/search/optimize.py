@@ -325,17 +325,20 @@ def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | 
     step = time_step_s if time_step_s is not None else path.time_step_s
     duration = float(path.sample(step).t_s[-1])
 
-    # Directions searched at once each take a core: this process then keeps to one (and may fork, see in_parallel).
-    threads = 1 if best and worst and executor is None and not openmp_started() else None
+    def evaluators(threads: int | None) -> tuple[Evaluator, Evaluator]:
+        """The global search's and the polish's (no worker process starts before an evaluation)."""
+        return (Evaluator(robot, path, regeneration, max(step, duration / settings.search_samples), objective=objective,
+                          workers=workers, executor=executor, threads=threads),
+                Evaluator(robot, path, regeneration, step, objective=objective, workers=workers, executor=executor,
+                          threads=threads))
 
-    def evaluator(time_step: float) -> Evaluator:
-        return Evaluator(robot, path, regeneration, time_step, objective=objective, workers=workers, executor=executor,
-                         threads=threads)
-
-    with evaluator(max(step, duration / settings.search_samples)) as coarse, evaluator(step) as fine:
+    coarse, fine = evaluators(None)
+    at_once = in_parallel(coarse, fine, best + worst)
+    if at_once:  # each direction takes a core: this process keeps to one, and starts no OpenMP threads (it forks)
+        coarse, fine = evaluators(1)
+    with coarse, fine:
         dense = denser(fine, RECHECK_DENSITY)
         if announce is not None:
-            at_once = in_parallel(coarse, fine, best + worst)
             announce(estimate(coarse, fine, space, settings, 1 if at_once else best + worst))
         return _optimize(coarse, fine, dense, space, best, worst, settings, progress)
 
@@ -444,7 +447,7 @@ def _outcomes(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, signs: 
     with process_pool(len(jobs), _share_generations, (counter,)) as pool:
         futures = [pool.submit(_search_direction, job) for job in jobs]
         shown = 0
-        while not all(future.done() for future in futures):
+        while shown < counter.value or not all(future.done() for future in futures):
             wait(futures, timeout=0.1)
             for _ in range(counter.value - shown):
                 if progress is not None:

@@ -36,7 +36,8 @@ class StudyRow:
         best_energy_J, worst_energy_J: Energy per pass at the best and worst feasible placements.
         gain: (worst − best)/worst.
         cycle_time_s: Time per pass at the best placement (the optimal timing law times each
-            placement on its own; the others, every placement alike).
+            placement on its own; the others, every placement alike); for an infeasible pair, the
+            path's time at its feed.
         fastest_cycle_time_s: Under the optimal timing law, the least time per pass of any
             feasible placement (a search of its own); NaN under the others.
         x_m, y_m, z_m, phi_rad, theta_rad, psi_rad: The best placement.
@@ -70,20 +71,23 @@ def study_pair(robot: Robot, path: ToolPath, regeneration: str, settings: Search
     cycle, fastest = float(path.sample().t_s[-1]), np.nan
     try:
         result = optimize_placement(robot, path, regeneration=regeneration, settings=settings)
-        if path.timing.mode == "optimal" and result.best is not None:
-            quickest = optimize_placement(robot, path, objective="cycle_time", regeneration=regeneration, worst=False,
-                                          settings=settings).best
-            fastest = np.nan if quickest is None else quickest.detail.value
     except PlacementError as error:
         return _row(robot, path, (cycle, fastest), None, None, np.full(6, np.nan), 0, time.perf_counter() - tic,
                     str(error))
     best, worst = result.best, result.worst
+    reason = result.infeasible or ""
+    if path.timing.mode == "optimal" and best is not None:
+        try:
+            quickest = optimize_placement(robot, path, objective="cycle_time", regeneration=regeneration,
+                                          worst=False, settings=settings).best
+            fastest = np.nan if quickest is None else quickest.detail.value
+        except PlacementError as error:  # the energy's row stands; the fastest time says why it is missing
+            reason = f"fastest cycle time: {error}"
     placement = best.detail.placement if best else np.full(6, np.nan)
-    cycle = float(best.detail.samples.t_s[-1]) if best else cycle
+    cycle = best.detail.duration_s if best else cycle
     evaluations = sum(o.evaluations for o in (best, worst) if o is not None)
     return _row(robot, path, (cycle, fastest), best.detail.value if best else None,
-                worst.detail.value if worst else None, placement, evaluations, time.perf_counter() - tic,
-                result.infeasible or "")
+                worst.detail.value if worst else None, placement, evaluations, time.perf_counter() - tic, reason)
 
 
 def _row(robot: Robot, path: ToolPath, cycle_s: tuple[float, float], best: float | None, worst: float | None,
