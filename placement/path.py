@@ -372,7 +372,8 @@ class ToolPath:
         coarser samples are among the finer ones (a re-check's sampling).
 
         Raises:
-            PlacementError: A timed pose list (timed by its own t column), or too many samples.
+            PlacementError: A timed pose list (timed by its own t column), or more than MAX_SAMPLES
+                samples at ``time_step_s`` (before ``refine``).
         """
         step = self.time_step_s if time_step_s is None else time_step_s
         if self.timed is not None:
