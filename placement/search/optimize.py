@@ -7,7 +7,9 @@ scipy's differential evolution over the free placement variables, with the limit
 they break the limits, so they steer the search and never stop it), on the path sampled with
 about ``search_samples`` samples; then a local constrained polish (SLSQP) from the best few
 distinct candidates, on the path sampled at its own time step, which the reported values use.
-The reported optima are re-evaluated with a four times denser sampling, and the difference is
+The two directions run at once, in a process and on a core each, where the machine and this
+process allow it (:func:`in_parallel`). The reported optima are re-evaluated with a four times
+denser sampling (under the optimal timing law, keeping the timing found), and the difference is
 reported.
 """
 
