@@ -49,11 +49,18 @@ def draw_map(ax: Axes, result: SweepResult, levels: int | np.ndarray = 12, title
         filled = ax.contourf(uu, vv, energy, levels=np.linspace(vmin, vmax, levels) if np.ndim(levels) == 0 else levels,
                              cmap="viridis", vmin=vmin, vmax=vmax, extend="both")
         lines = ax.contour(uu, vv, energy, levels=np.asarray(filled.levels)[::2], colors="k", linewidths=0.5)
-        ax.clabel(lines, fmt="%.1f", fontsize=7)
+        ax.clabel(lines, fmt=f"%.{label_decimals(np.asarray(lines.levels))}f", fontsize=7)
     ax.set_xlabel(LABELS[u_name])
     ax.set_ylabel(LABELS[v_name])
     ax.set_title(title, fontsize=10)
     return filled
+
+
+def label_decimals(levels: np.ndarray) -> int:
+    """Decimals that tell contour levels apart: one for levels a unit or more apart, more for closer ones."""
+    steps = np.diff(levels)
+    step = steps.min() if len(steps) and steps.min() > 0 else 1.0
+    return max(1, int(np.ceil(-np.log10(step))) + 1)
 
 
 def map_figure(result: SweepResult, title: str) -> Figure:

@@ -8,6 +8,7 @@ from test_path import EXAMPLE
 
 from placement.evaluation import Evaluator
 from placement.path import load_path
+from placement.plots import label_decimals
 from placement.search.sweep import SweepResult, sweep
 
 AXES = {"x": np.linspace(-0.12, 0.06, 7), "y": np.linspace(-0.12, 0.06, 6)}
@@ -99,3 +100,9 @@ def test_a_plug_in_robot_changed_in_memory_travels_to_the_workers(serial):
     there = sweep(calm, path, AXES, FIXED, time_step_s=0.004, workers=2)
     np.testing.assert_array_equal(here.value, there.value)
     assert not np.allclose(here.value[result.feasible], result.value[result.feasible])
+
+
+@pytest.mark.parametrize("levels", [np.linspace(4.0, 40.0, 6), np.linspace(0.3656, 0.3690, 6), np.linspace(1e-4, 9e-4, 5)])
+def test_contour_labels_tell_the_levels_apart(levels):
+    labels = [f"%.{label_decimals(levels)}f" % level for level in levels]
+    assert len(set(labels)) == len(labels)
