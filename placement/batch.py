@@ -81,3 +81,8 @@ class EvaluatedBatch:
         """(N-1,) or (K, N-1) (as ``t_s``) durations between samples, 0 where a new independently integrated
         piece starts."""
         return interval_widths(self.t_s, self.samples.piece)
+
+    @property
+    def widths_by_placement_s(self) -> np.ndarray:
+        """(K, N-1) durations between samples, placement by placement (``interval_widths_s``, broadcast)."""
+        return np.broadcast_to(self.interval_widths_s, (len(self), len(self.samples) - 1))

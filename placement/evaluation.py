@@ -123,8 +123,8 @@ class PlacementDetail:
     configuration: np.ndarray
     motor: MotorTrace
     power_W: np.ndarray
-    timing: str = "paper"
-    duration_s: float = 0.0
+    timing: str
+    duration_s: float
 
     @property
     def feasible(self) -> bool:
@@ -192,11 +192,6 @@ class Evaluator:
         self.workers = (workers or cores) if spread else 1
         self.executor = executor
         self._own_pool: ProcessPoolExecutor | None = None
-
-    @property
-    def samples_step_s(self) -> float:
-        """The sampling time step (s): the one given, else the path file's."""
-        return self.path.time_step_s if self.time_step_s is None else self.time_step_s
 
     def __enter__(self) -> Evaluator:
         return self
@@ -287,9 +282,7 @@ class Evaluator:
                                  f"{placements.shape}{'' if np.isfinite(placements).all() else ' with NaN or inf'}")
         if (self.executor is not None or self.workers > 1) and len(placements) >= 2:
             return self._evaluate_in_workers(placements)
-        batch = max(1, BATCH_SAMPLES // len(self.samples))
-        return Evaluation.concatenate([self._evaluate_batch(placements[i:i + batch])
-                                       for i in range(0, len(placements), batch)])
+        return self._in_batches(placements, self._evaluate_batch)
 
     def _evaluate_in_workers(self, placements: np.ndarray) -> Evaluation:
         executor = self.executor
@@ -312,9 +305,12 @@ class Evaluator:
         placements = np.atleast_2d(np.asarray(placements, dtype=float))
         if self.geometry is None or source.geometry is None:
             return self.evaluate(placements)
+        return self._in_batches(placements, lambda chunk: self._evaluate_batch(chunk, self._timing_of(chunk, source)))
+
+    def _in_batches(self, placements: np.ndarray, evaluate: Callable[[np.ndarray], Evaluation]) -> Evaluation:
+        """``evaluate`` on batches of at most BATCH_SAMPLES samples, the results one after the other."""
         batch = max(1, BATCH_SAMPLES // len(self.samples))
-        return Evaluation.concatenate([self._evaluate_batch(chunk, self._timing_of(chunk, source))
-                                       for chunk in (placements[i:i + batch] for i in range(0, len(placements), batch))])
+        return Evaluation.concatenate([evaluate(placements[i:i + batch]) for i in range(0, len(placements), batch)])
 
     def _timing_of(self, placements: np.ndarray, source: Evaluator) -> TimeLaw:
         """The optimal timing that ``source`` finds for the placements, at this evaluator's path geometry."""
@@ -393,6 +389,13 @@ class EvaluationJob:
     exact: bool = False
     refine: int = 1
 
+    def evaluator(self) -> Evaluator:
+        """An evaluator like the one the job came from, in this process on one thread (a worker shares the
+        cores), with the plug-in members it uses registered here."""
+        restore_runtime_members(self.registered)
+        return Evaluator(self.robot, self.path, self.regeneration, self.time_step_s, self.method, self.objectives,
+                         workers=1, threads=1, exact=self.exact, refine=self.refine)
+
 
 def members_used(robot: Robot, objectives: tuple[str, ...], regeneration: str, method: str) -> dict[str, set[str]]:
     """The plug-in members an evaluation uses, by entry-point group."""
@@ -405,10 +408,7 @@ def members_used(robot: Robot, objectives: tuple[str, ...], regeneration: str, m
 
 def evaluate_job(job: EvaluationJob) -> Evaluation:
     """Evaluate a job's placements (in a worker process: one RNEA thread, since workers share the cores)."""
-    restore_runtime_members(job.registered)
-    evaluator = Evaluator(job.robot, job.path, job.regeneration, job.time_step_s, job.method, job.objectives,
-                          workers=1, threads=1, exact=job.exact, refine=job.refine)
-    return evaluator.evaluate(job.placements)
+    return job.evaluator().evaluate(job.placements)
 
 
 def denser(source: Evaluator, density: int) -> Evaluator:
@@ -418,7 +418,7 @@ def denser(source: Evaluator, density: int) -> Evaluator:
     source's path geometry is cut in ``density`` instead, so that a timing found on the source's
     samples switches at samples of this one. It computes every limit exactly, in this process.
     """
-    step = source.samples_step_s
+    step = source.path.time_step_s if source.time_step_s is None else source.time_step_s
     if source.geometry is None:
         return Evaluator(source.robot, source.path, source.regeneration, step / density, source.method,
                          source.objective_names, workers=1, threads=source.threads, exact=True)

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from placement.drives.motors import MOTOR_MODELS, PowerParts
+from placement.drives.motors import MOTOR_MODELS, Motor, MotorModel, PowerParts
 from placement.drives.trace import MotorTrace, drives_of
 from placement.energy.regeneration import REGENERATION
 from placement.robot.model import Robot
@@ -49,11 +49,15 @@ def interval_widths(t_s: np.ndarray, piece: np.ndarray) -> np.ndarray:
     return np.where(piece[1:] == piece[:-1], np.diff(t_s), 0.0)
 
 
+def motor_models(robot: Robot) -> list[tuple[MotorModel, Motor]]:
+    """Each actuator's motor model and its constants."""
+    return [(MOTOR_MODELS.get(d.motor.model), d.motor) for d in drives_of(robot)]
+
+
 def interval_power(robot: Robot, trace: MotorTrace, dt_s: np.ndarray) -> PowerParts:
     """Power parts of every interval between samples, by each drive's motor model, (..., N-1, n_act) W."""
-    drives = [(MOTOR_MODELS.get(d.motor.model), d.motor) for d in drives_of(robot)]
     parts = [model.interval_power(motor, trace.speed_rad_s[..., i], trace.current_A[..., i], dt_s)
-             for i, (model, motor) in enumerate(drives)]
+             for i, (model, motor) in enumerate(motor_models(robot))]
     return PowerParts(*(np.stack([getattr(p, name) for p in parts], axis=-1)
                         for name in ("joule_W", "inductive_W", "back_emf_W")))
 
@@ -121,7 +125,6 @@ def electric_energy(robot: Robot, trace: MotorTrace, t_s: np.ndarray, piece: np.
 def step_energies(robot: Robot, trace: MotorTrace) -> tuple[np.ndarray, np.ndarray]:
     """What each drive's windings give back (≤ 0) and take (≥ 0), J, if its current stepped between consecutive
     samples at an instant, by its motor model: (..., N-1, n_act) each."""
-    drives = [(MOTOR_MODELS.get(d.motor.model), d.motor) for d in drives_of(robot)]
     steps = [model.step_energy(motor, trace.current_A[..., :-1, i], trace.current_A[..., 1:, i])
-             for i, (model, motor) in enumerate(drives)]
+             for i, (model, motor) in enumerate(motor_models(robot))]
     return np.stack([s[0] for s in steps], axis=-1), np.stack([s[1] for s in steps], axis=-1)

@@ -50,8 +50,7 @@ class DriveVoltage(Limit):
     def fields(self, batch: EvaluatedBatch) -> list[MarginField]:
         motors = [d.motor for d in drives_of(batch.robot)]
         bounded = [i for i, m in enumerate(motors) if m.bus_voltage_V is not None]
-        dt = np.broadcast_to(batch.interval_widths_s, (len(batch), batch.motor.current_A.shape[1] - 1))
-        voltage = phase_voltage_V(batch.robot, batch.motor, dt)[..., bounded]
+        voltage = phase_voltage_V(batch.robot, batch.motor, batch.widths_by_placement_s)[..., bounded]
         top = np.array([motors[i].phase_voltage_limit_V for i in bounded], dtype=float)
         names = tuple(batch.robot.actuators[i].joint for i in bounded)
         return [MarginField("drive voltage", (top - np.abs(voltage)) / top, voltage, np.broadcast_to(top, voltage.shape),

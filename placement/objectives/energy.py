@@ -27,7 +27,7 @@ class MechanicalEnergy(Objective):
     def __call__(self, batch: EvaluatedBatch) -> np.ndarray:
         shaft = batch.motor.torque_Nm * batch.motor.speed_rad_s  # (K, N, n_act)
         interval = np.maximum((shaft[:, :-1] + shaft[:, 1:]) / 2, 0.0).sum(axis=-1)  # as electric power is clipped
-        return (interval * np.broadcast_to(batch.interval_widths_s, interval.shape)).sum(axis=-1)
+        return (interval * batch.widths_by_placement_s).sum(axis=-1)
 
 
 OBJECTIVES.add("energy", ElectricEnergy())

@@ -26,7 +26,7 @@ class RmsCurrent(Objective):
 
     def __call__(self, batch: EvaluatedBatch) -> np.ndarray:
         squared = batch.motor.current_A**2
-        dt = np.broadcast_to(batch.interval_widths_s, squared.shape[:2][:1] + (squared.shape[1] - 1,))
+        dt = batch.widths_by_placement_s
         mean_square = np.einsum("kna,kn->ka", (squared[:, :-1] + squared[:, 1:]) / 2, dt) / dt.sum(axis=1)[:, None]
         return np.sqrt(mean_square).max(axis=1)
 

@@ -27,10 +27,9 @@ import numpy as np
 from scipy.optimize import NonlinearConstraint, OptimizeResult, differential_evolution, minimize
 
 from placement.dynamics import openmp_started
-from placement.evaluation import Evaluation, Evaluator, PlacementDetail, denser, process_pool
+from placement.evaluation import Evaluation, EvaluationJob, Evaluator, PlacementDetail, denser, process_pool
 from placement.frames import PlacementSpace, default_space
 from placement.path import ToolPath
-from placement.registry import restore_runtime_members
 from placement.robot.model import Robot
 
 POLISH_STARTS = 3  # distinct candidates polished locally
@@ -376,18 +375,13 @@ class _Outcome:
 
 @dataclass(frozen=True)
 class _DirectionJob:
-    """One direction's search, to run in another process with its own evaluators (picklable)."""
+    """One direction's search, to run in another process with evaluators like this one's (picklable)."""
 
-    robot: Robot
-    path: ToolPath
-    regeneration: str
-    time_steps_s: tuple[float, float]  # the global search's, the polish's
-    method: str
-    objective: str
+    coarse: EvaluationJob  # the global search's evaluator, as a job without placements
+    fine: EvaluationJob  # the polish's
     space: PlacementSpace
     sign: float
     settings: SearchSettings
-    registered: dict[str, dict[str, object]]
 
 
 _generations: Synchronized | None = None  # in a direction's process: generations done, shared with the parent
@@ -406,12 +400,7 @@ def _count_generation() -> None:
 
 def _search_direction(job: _DirectionJob) -> _Outcome:
     """A direction's search in a process of its own, on one core."""
-    restore_runtime_members(job.registered)
-    coarse_step, step = job.time_steps_s
-    with Evaluator(job.robot, job.path, job.regeneration, coarse_step, job.method, job.objective, workers=1,
-                   threads=1) as coarse, \
-            Evaluator(job.robot, job.path, job.regeneration, step, job.method, job.objective, workers=1,
-                      threads=1) as fine:
+    with job.coarse.evaluator() as coarse, job.fine.evaluator() as fine:
         return _outcome(coarse, fine, job.space, job.sign, job.settings, _count_generation)
 
 
@@ -442,9 +431,8 @@ def _outcomes(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, signs: 
             if outcomes[-1].x is None:  # the feasible set is the same in both directions
                 break
         return outcomes
-    registered = fine.job(np.zeros((0, 6))).registered
-    jobs = [_DirectionJob(fine.robot, fine.path, fine.regeneration, (coarse.samples_step_s, fine.samples_step_s),
-                          fine.method, fine.objective_name, space, sign, settings, registered) for sign in signs]
+    none = np.zeros((0, 6))
+    jobs = [_DirectionJob(coarse.job(none), fine.job(none), space, sign, settings) for sign in signs]
     counter = multiprocessing.Value("i", 0)
     with process_pool(len(jobs), _share_generations, (counter,)) as pool:
         futures = [pool.submit(_search_direction, job) for job in jobs]
