@@ -8,9 +8,12 @@ import pytest
 
 from placement.frames import default_space, placed_task
 from placement.kinematics import SOLVERS, TaskTrajectory, solver_for
+from placement.kinematics.base import task_error
+from placement.kinematics.batched import SOLVE_TOLERANCE
 from placement.kinematics.tree import frame_kinematics, log3
 from placement.path import load_path
 from placement.robot import load_robot
+from placement.robot.closures import closure_residuals
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 ROBOTS = ["orthoglide", "fivebar", "ur5", "panda"]
@@ -102,6 +105,23 @@ def test_batched_equals_sequential_on_random_placements(robot_name, path):
                                    err_msg=field)
     assert np.isfinite(batched.q).all() and np.isfinite(batched.a).all()
     assert per_placement_b.all() or "sample" in reason_b
+
+
+@pytest.mark.parametrize(("robot_name", "path"), [("orthoglide", "rect"), ("ur5", "rect"), ("panda", "circle"),
+                                                ("fivebar", "circle"), ("delta", "circle")])
+def test_solved_samples_reach_their_targets(robot_name, path):
+    """Every sample reported solved closes its loops and reaches its target within the solve tolerance, measured
+    by Pinocchio (Newton may stop on a short step whose linear model converges, without evaluating again)."""
+    robot, task = placed(robot_name, path, 12, samples=64)
+    joints, ok, _ = SOLVERS.get("numeric")(robot).solve(task, 12)
+    assert ok.sum() > len(ok) // 4
+    data = robot.model.createData()
+    gaps = []
+    for k in np.flatnonzero(ok):
+        rotation = task.rotation[k] if task.rotation is not None else None
+        closure = closure_residuals(robot, data, joints.q[k])  # places the frames for task_error
+        gaps.append(np.linalg.norm(np.concatenate([closure, task_error(robot, data, task.position_m[k], rotation)])))
+    assert max(gaps) < SOLVE_TOLERANCE
 
 
 def test_auto_picks_the_batched_solver_for_revolute_robots():

@@ -50,8 +50,9 @@ ROTATION_LENGTH_M = 0.1  # metres per radian when measuring task displacements
 JUMP_M = COARSE_STEP_M / 4  # a task step this long ...
 JUMP_RATIO = 4.0  # ... and this many times as long as both its neighbours is a jump (a skipped rapid's gap)
 BRANCH_TOLERANCE = 1e-3  # a solution this far beyond twice its local motion has left the branch (m or rad)
+FINAL_STEP = 1e-7  # a Newton step this short (m or rad) that the linear model says converges is the last one
 SETTINGS = np.array([SOLVE_TOLERANCE, MAX_ITERATIONS, MAX_STEP, DAMPING, CONTINUATION_STEP_M, CONTINUATION_TOLERANCE,
-                     ROTATION_LENGTH_M, BRANCH_TOLERANCE])  # in the order kernels.solve_paths reads them
+                     ROTATION_LENGTH_M, BRANCH_TOLERANCE, FINAL_STEP])  # in the order kernels.solve_paths reads them
 
 
 @dataclass(frozen=True)
