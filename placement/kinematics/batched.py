@@ -24,6 +24,7 @@ passive joints.
 
 from __future__ import annotations
 
+import functools
 import threading
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
@@ -156,7 +157,7 @@ class BatchedSolver(KinematicsSolver):
         else:  # the kernels release the GIL: one chunk of placements per thread
             with ThreadPoolExecutor(len(parts)) as pool:
                 solved = list(pool.map(lambda part: self._solve_rows(task, n, *part), parts))
-        joints = JointTrajectory.concatenate([part[0] for part in solved])
+        joints = solved[0][0] if len(solved) == 1 else JointTrajectory.concatenate([part[0] for part in solved])
         ok, flipped, regular = (np.concatenate([part[k] for part in solved]) for k in (1, 2, 3))
         reachable = ok & ~flipped & regular
         bad = np.flatnonzero(~reachable)
@@ -169,7 +170,7 @@ class BatchedSolver(KinematicsSolver):
                 reason = "the configuration leaves the reference assembly mode or branch" + where
             else:
                 reason = "singular configuration: the actuators cannot produce the task motion" + where
-            joints = _at_rest(joints, ~reachable, self.robot.reference_q)
+            _put_at_rest(joints, ~reachable, self.robot.reference_q)
         else:
             reason = ""
         return joints, reachable, reason
@@ -211,9 +212,20 @@ def _touch_kernels() -> None:
 def bisection_schedule(coarse: np.ndarray, n: int, jumps: np.ndarray | None = None) -> np.ndarray:
     """(L, 5) order in which the samples between coarse ones are solved: middle, outer left, left, right,
     outer right, level after level (a level's middles only use samples known before it). An outer node across
-    a jump (step k -> k + 1 for k in ``jumps``, both ends coarse) is left out (set to its inner neighbour)."""
+    a jump (step k -> k + 1 for k in ``jumps``, both ends coarse) is left out (set to its inner neighbour).
+
+    Every placement of a path has the same schedule, so recent ones are kept: the array is shared, not to be
+    modified."""
+    jumps = np.asarray(jumps if jumps is not None else [], dtype=np.int64)
+    return _schedule(np.asarray(coarse, dtype=np.int64).tobytes(), n, jumps.tobytes())
+
+
+@functools.lru_cache(maxsize=16)
+def _schedule(coarse_bytes: bytes, n: int, jumps_bytes: bytes) -> np.ndarray:
+    """:func:`bisection_schedule` of coarse samples and jumps given as int64 bytes."""
+    coarse, jumps = np.frombuffer(coarse_bytes, dtype=np.int64), np.frombuffer(jumps_bytes, dtype=np.int64)
     jump = np.zeros(n + 1, dtype=bool)
-    jump[np.asarray(jumps if jumps is not None else [], dtype=np.int64)] = True
+    jump[jumps] = True
     known = np.zeros(n, dtype=bool)
     known[coarse] = True
     levels = []
@@ -232,14 +244,11 @@ def bisection_schedule(coarse: np.ndarray, n: int, jumps: np.ndarray | None = No
     return np.concatenate(levels).astype(np.int64) if levels else np.zeros((0, 5), dtype=np.int64)
 
 
-def _at_rest(joints: JointTrajectory, rows: np.ndarray, reference_q: np.ndarray) -> JointTrajectory:
-    """The joint motion with some samples replaced by the reference configuration at rest."""
-    q, v, a = joints.q.copy(), joints.v.copy(), joints.a.copy()
-    basis, task_map = joints.basis.copy(), joints.task_map.copy()
-    q[rows], v[rows], a[rows] = reference_q, 0.0, 0.0
-    basis[rows] = np.nan_to_num(basis[rows])
-    task_map[rows] = np.nan_to_num(task_map[rows])
-    return JointTrajectory(q, v, a, basis, task_map)
+def _put_at_rest(joints: JointTrajectory, rows: np.ndarray, reference_q: np.ndarray) -> None:
+    """Replace some samples of a freshly solved joint motion, in place, by the reference configuration at rest."""
+    joints.q[rows], joints.v[rows], joints.a[rows] = reference_q, 0.0, 0.0
+    joints.basis[rows] = np.nan_to_num(joints.basis[rows])
+    joints.task_map[rows] = np.nan_to_num(joints.task_map[rows])
 
 
 SOLVERS.add("numeric", BatchedSolver)
