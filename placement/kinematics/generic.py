@@ -1,7 +1,7 @@
 """The sequential kinematics solver (``sequential``): any closed-loop or serial robot, sample by sample.
 
 The batched ``numeric`` solver is the generic route; this one serves joints it does not handle
-(continuous, spherical, floating) and is its independent reference in the tests.
+(spherical, floating, in Pinocchio models built by hand) and is its independent reference in the tests.
 
 Closed loops: damped Gauss–Newton on the stacked closure residuals and end-effector error,
 warm-started from a first-order prediction of the previous sample, with a homotopy from the

@@ -26,7 +26,8 @@ number the URDF does not give is an estimate, labelled ``EST`` in the sidecar's 
   its z axis pointing down (−Z_b), its rotation about that axis free, by damped least squares
   from ``q0`` first, then from ``REFERENCE_SEEDS`` seeded random postures within the joint
   limits. The first posture whose task Jacobian (linear rows divided by L) has a condition number
-  below ``GOOD_CONDITION`` is kept, else the best-conditioned one if below ``MAX_CONDITION``.
+  below ``GOOD_CONDITION``, with every joint at least ``GOOD_LIMIT_MARGIN`` of its range from its
+  limits, is kept, else the best-conditioned one if below ``MAX_CONDITION``.
   ``tool_rpy_in_path_rad`` is the tool's orientation in that posture: its z axis along −Z_p, into
   the workpiece, as the built-in ``ur5`` sidecar has it.
 - Gravity is −9.81 m/s² along the base's z; the search is over x, y, z and φ, and for a pose task
@@ -43,7 +44,15 @@ import pinocchio as pin
 from pydantic import ValidationError
 
 from placement.exceptions import PlacementError
-from placement.robot.load import ERD_PREFIX, build_robot, find_frame, reduced_model
+from placement.robot.load import (
+    ERD_PREFIX,
+    build_robot,
+    erd_urdf_path,
+    find_frame,
+    pinocchio_model,
+    reduced_model,
+    urdf_limits_missing,
+)
 from placement.robot.model import Robot
 from placement.robot.sidecar import Sidecar
 
@@ -55,6 +64,7 @@ BOX_SIDE_OF_REACH = 0.25
 BOX_SHRINK, BOX_SHRINKS = 0.8, 5
 REFERENCE_SEEDS = 32
 GOOD_CONDITION, MAX_CONDITION = 20.0, 100.0
+GOOD_LIMIT_MARGIN = 0.1  # a good reference posture keeps every joint this share of its range from its limits
 TILT_RAD = 0.35
 DAMPING, MAX_STEP_RAD = 1e-6, 0.3  # of the least-squares steps towards a reference posture
 DOWN = np.array([0.0, 0.0, -1.0])
@@ -113,7 +123,7 @@ def erd_sidecar(name: str, tool: str | None) -> Sidecar:
         "end_effector": end_effector,
         "reference_configuration": {arm.model.names[j]: float(q_ref[arm.q_index(j)]) for j in arm.active},
         "locked_joints": arm.locked,
-        "actuators": [{"joint": arm.model.names[j], "drive": arm.drive_name(j)} for j in arm.active],
+        "actuators": [arm.actuator(j, q_ref) for j in arm.active],
         "drives": drives,
         "workspace": {"type": "box", "min_m": box_low.tolist(), "max_m": box_high.tolist(),
                       "points_m": {"reference": arm.tool_point(q_ref).tolist()}},
@@ -141,6 +151,7 @@ class _Arm:
     chain: list[int]
     active: list[int]
     locked: dict[str, float]
+    unlimited: list[int]  # chain joints without position limits in the URDF (continuous ones)
 
     @classmethod
     def read(cls, name: str, tool: str | None) -> _Arm:
@@ -150,23 +161,26 @@ class _Arm:
             raise ExampleRobotError(f"example-robot-data has no robot '{name[:40]}' ({ERD_FORM}{name[:40]}); "
                                     f"its robots: {', '.join(erd_names())}")
         loader = ROBOTS[name]()
-        model = pin.buildModelFromUrdf(str(Path(loader.df_path).resolve()))
+        model = pinocchio_model(erd_urdf_path(ROBOTS[name]))
         q0 = _reference_posture(model, loader.robot.model, loader.robot.q0)
         frame_id = _tool_frame(model, name, tool)
         chain = [int(j) for j in model.supports[model.frames[frame_id].parentJoint][1:]]
         odd = [model.names[j] for j in chain if model.joints[j].nq != 1 or model.joints[j].nv != 1]
         if odd:
-            raise ExampleRobotError(f"{ERD_FORM}{name}: joints {odd} between the base and '{tool}' are not revolute "
-                                    "or prismatic joints of one coordinate (a URDF 'continuous' joint has two in "
-                                    "Pinocchio); copy the URDF, make them 'revolute' with limits, and write a sidecar "
-                                    "naming it (docs/adding_a_robot.md)")
+            raise ExampleRobotError(f"{ERD_FORM}{name}: joints {odd} between the base and '{tool}' are not revolute, "
+                                    "continuous or prismatic joints of one coordinate; write a sidecar "
+                                    "(docs/adding_a_robot.md)")
+        unlimited = [j for j in chain if urdf_limits_missing(model, j)]  # continuous, or revolute without limits
+        for j in unlimited:  # free while the reference posture is sought, a full turn about it in the sidecar
+            index = model.joints[j].idx_q
+            model.lowerPositionLimit[index], model.upperPositionLimit[index] = -np.inf, np.inf
         if not 3 <= len(chain) <= 7:
             raise ExampleRobotError(f"{ERD_FORM}{name}: {len(chain)} joint(s) from the base to '{tool}'; a path needs "
                                     "3 to 6 (or 7, the third locked): choose another --tool or write a sidecar")
         active = [j for k, j in enumerate(chain) if not (len(chain) == 7 and k == 2)]
         locked = {model.names[j]: float(_clip(model, j, q0[model.joints[j].idx_q]))
                   for j in range(1, model.njoints) if j not in active}
-        return cls(name, str(tool), model, frame_id, q0, chain, active, locked)
+        return cls(name, str(tool), model, frame_id, q0, chain, active, locked, unlimited)
 
     @property
     def pose(self) -> bool:
@@ -193,6 +207,15 @@ class _Arm:
     def drive_name(self, joint: int) -> str:
         """The drive of a joint is named after it (dots would break the sources' dotted paths)."""
         return self.model.names[joint].replace(".", "_")
+
+    def actuator(self, joint: int, q_ref: np.ndarray) -> dict:
+        """The sidecar's actuator of a joint: its drive, and where the URDF gives no range, a full turn about the
+        reference posture ``q_ref`` (full model)."""
+        entry: dict[str, object] = {"joint": self.model.names[joint], "drive": self.drive_name(joint)}
+        if joint in self.unlimited:
+            centre = float(q_ref[self.q_index(joint)])
+            entry.update(position_min=centre - np.pi, position_max=centre + np.pi)
+        return entry
 
     def drive(self, joint: int) -> dict:
         """The estimated drive of one joint (rules: module docstring)."""
@@ -226,6 +249,11 @@ class _Arm:
             entries["locked_joints"] = ("EST: joints off the base-to-tool chain held at example-robot-data's q0"
                                         + ("; the chain's third joint locked, as the built-in panda's joint 3"
                                            if len(self.chain) == 7 else ""))
+        for i, joint in enumerate(self.active):
+            if joint in self.unlimited:
+                for field in ("position_min", "position_max"):
+                    entries[f"actuators.{i}.{field}"] = ("EST: the URDF gives no limits (a continuous joint); a full "
+                                                         "turn about the reference posture")
         if self.pose:
             entries["end_effector.tool_rpy_in_path_rad"] = "DERIVED: tool z along -Z_p, yaw of the reference posture"
         for drive, spec in drives.items():
@@ -314,11 +342,18 @@ class _Solver:
             if q is None:
                 continue
             condition = self.condition(q)
-            if condition < GOOD_CONDITION:
+            if condition < GOOD_CONDITION and self.limit_margin(q) >= GOOD_LIMIT_MARGIN:
                 return q
             if condition < best_condition:
                 best, best_condition = q, condition
         return best
+
+    def limit_margin(self, q: np.ndarray) -> float:
+        """The least distance of a joint to its nearer limit, as a share of its range (1 without limits)."""
+        low, high = self.model.lowerPositionLimit, self.model.upperPositionLimit
+        bounded = np.isfinite(low) & np.isfinite(high) & (high > low)
+        shares = np.minimum(q - low, high - q)[bounded] / (high - low)[bounded]
+        return float(shares.min()) if len(shares) else 1.0
 
     def condition(self, q: np.ndarray) -> float:
         """Condition number of the task Jacobian, linear rows divided by the chain length."""
@@ -359,12 +394,18 @@ def _reference_posture(model: pin.Model, erd_model: pin.Model, erd_q0: np.ndarra
     q = pin.neutral(model)
     for j in range(1, model.njoints):
         name = model.names[j]
-        if erd_model.existJointName(name) and model.joints[j].nq == 1:
-            q[model.joints[j].idx_q] = erd_q0[erd_model.joints[erd_model.getJointId(name)].idx_q]
+        if not erd_model.existJointName(name) or model.joints[j].nq != 1:
+            continue
+        erd_joint = erd_model.joints[erd_model.getJointId(name)]
+        at = erd_q0[erd_joint.idx_q:erd_joint.idx_q + erd_joint.nq]
+        q[model.joints[j].idx_q] = at[0] if erd_joint.nq == 1 else np.arctan2(at[1], at[0])  # continuous: (cos, sin)
     return q
 
 
 def _clip(model: pin.Model, joint: int, value: float) -> float:
+    """A joint's value within its limits, if it has any."""
+    if urdf_limits_missing(model, joint):
+        return value
     index = model.joints[joint].idx_q
     return float(np.clip(value, model.lowerPositionLimit[index], model.upperPositionLimit[index]))
 

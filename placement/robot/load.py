@@ -9,6 +9,7 @@ the mechanism's degrees of freedom. Errors name the file and the field.
 from __future__ import annotations
 
 import os
+import re
 import tempfile
 from pathlib import Path
 from typing import Any
@@ -33,6 +34,8 @@ CLOSURE_TOLERANCE_M = 1e-6
 ERD_PREFIX = "example-robot-data:"
 PRISMATIC_JOINTS = ("JointModelPX", "JointModelPY", "JointModelPZ", "JointModelPrismaticUnaligned")
 NO_LIMIT = 1e10  # a position limit this large (m or rad) is Pinocchio's stand-in for none
+JOINT_ELEMENT = re.compile(r"<joint\b[^>]*>.*?</joint>", re.DOTALL)
+CONTINUOUS_TYPE = re.compile(r"""^(<joint\b[^>]*\btype\s*=\s*["'])continuous(["'])""")  # in the opening tag
 
 
 def load_robot(name_or_path: str | Path) -> Robot:
@@ -102,7 +105,7 @@ def build_robot(path: Path, sidecar: Sidecar, *, check_closures: bool = True) ->
     """
     urdf_path = _resolve_urdf(path, sidecar.urdf)
     urdf = _read_urdf(urdf_path)
-    model = _lock_joints(_pinocchio_model(urdf_path), path, sidecar.locked_joints)
+    model = _lock_joints(pinocchio_model(urdf_path), path, sidecar.locked_joints)
     plugin = load_plugin(path, sidecar.kinematics_plugin)
     model.gravity = pin.Motion(np.array(sidecar.gravity_m_s2), np.zeros(3))
     robot = Robot(
@@ -176,13 +179,15 @@ def erd_urdf_path(loader: Any) -> Path:
     return Path(os.path.join(loader.model_path or getModelPath(relative), relative)).resolve()
 
 
-def _pinocchio_model(path: Path) -> pin.Model:
-    """Pinocchio's model of the URDF; its parser's complaints (printed by C++) become the error message."""
+def pinocchio_model(path: Path) -> pin.Model:
+    """Pinocchio's model of the URDF, every ``continuous`` joint read as a ``revolute`` one without position limits
+    (:func:`one_angle_urdf`); its parser's complaints (printed by C++) become the error message."""
+    text = one_angle_urdf(path.read_text(encoding="utf-8", errors="replace"))
     with tempfile.TemporaryFile(mode="w+") as capture:
         saved = os.dup(2)
         os.dup2(capture.fileno(), 2)
         try:
-            return pin.buildModelFromUrdf(str(path))
+            return pin.buildModelFromXML(text)
         except (ValueError, RuntimeError) as error:
             os.dup2(saved, 2)
             capture.seek(0)
@@ -193,6 +198,25 @@ def _pinocchio_model(path: Path) -> pin.Model:
         finally:
             os.dup2(saved, 2)
             os.close(saved)
+
+
+def one_angle_urdf(text: str) -> str:
+    """A URDF's text with every ``continuous`` joint made ``revolute``, keeping its ``<limit>`` (effort and
+    velocity; position bounds if it gives some, else read as missing, see :func:`urdf_limits_missing`).
+
+    Pinocchio models a continuous joint by two coordinates (cos θ, sin θ); the solvers and limits here use one
+    angle θ per joint. The kinematics and dynamics are the same.
+    """
+    return JOINT_ELEMENT.sub(_one_angle, text)
+
+
+def _one_angle(joint: re.Match) -> str:
+    """A URDF joint element, made revolute if it is continuous; a revolute joint needs a ``<limit>``, so one without
+    gets effort and velocity 0 (none given, as :func:`_actuator` then says)."""
+    element, changed = CONTINUOUS_TYPE.subn(r"\1revolute\2", joint.group(0))
+    if changed and not re.search(r"<limit\b", element):
+        element = element.removesuffix("</joint>") + '<limit effort="0" velocity="0"/></joint>'
+    return element
 
 
 def _read_urdf(path: Path) -> dict[str, set[str]]:

@@ -1,0 +1,131 @@
+"""URDF ``continuous`` joints: one angle each, with the kinematics and dynamics of Pinocchio's two-coordinate joint."""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from placement.cli import main
+from placement.evaluation import Evaluator
+from placement.exceptions import RobotFileError
+from placement.frames import default_space
+from placement.path import load_path
+from placement.robot import load_robot
+from placement.robot.erd import load_erd_robot
+from placement.robot.load import pinocchio_model, urdf_limits_missing
+
+CONTINUOUS = ("shoulder_pan_joint", "wrist_3_joint")
+
+
+def continuous_ur5_urdf(keep_limit: bool = True) -> str:
+    """The built-in UR5's URDF with its first and last joints made continuous: their ``<limit>`` keeps effort and
+    velocity only, or is removed."""
+    text = load_robot("ur5").urdf_path.read_text()
+    for name in CONTINUOUS:
+        element = re.search(rf'<joint name="{name}" type="revolute">.*?</joint>', text, re.DOTALL)
+        assert element is not None
+        limit = re.search(r"<limit\b[^>]*/>", element.group(0))
+        assert limit is not None
+        effort_velocity = re.sub(r'\s(lower|upper)="[^"]*"', "", limit.group(0)) if keep_limit else ""
+        changed = element.group(0).replace('type="revolute"', 'type="continuous"').replace(limit.group(0), effort_velocity)
+        text = text.replace(element.group(0), changed)
+    return text
+
+
+def test_a_continuous_joint_is_one_angle_with_pinocchios_kinematics_and_dynamics(tmp_path):
+    """Frame placements and RNEA efforts at random angles equal those of Pinocchio's (cos, sin) joint to 1e-12."""
+    text = continuous_ur5_urdf()
+    two = pin.buildModelFromXML(text)
+    assert [two.joints[two.getJointId(n)].nq for n in CONTINUOUS] == [2, 2]
+    urdf = tmp_path / "ur5.urdf"
+    urdf.write_text(text)
+    one = pinocchio_model(urdf)
+    assert one.nq == one.nv == two.nv == 6
+    assert all(urdf_limits_missing(one, one.getJointId(n)) for n in CONTINUOUS)
+    rng = np.random.default_rng(0)
+    data_one, data_two = one.createData(), two.createData()
+    for _ in range(5):
+        angles, v, a = rng.uniform(-4.0, 4.0, 6), rng.normal(size=6), rng.normal(size=6)
+        q_two = np.concatenate([[np.cos(x), np.sin(x)] if two.joints[j + 1].nq == 2 else [x] for j, x in enumerate(angles)])
+        pin.framesForwardKinematics(one, data_one, angles)
+        pin.framesForwardKinematics(two, data_two, q_two)
+        for frame in range(one.nframes):
+            np.testing.assert_allclose(data_one.oMf[frame].homogeneous, data_two.oMf[frame].homogeneous, atol=1e-12)
+        np.testing.assert_allclose(pin.rnea(one, data_one, angles, v, a), pin.rnea(two, data_two, q_two, v, a),
+                                   atol=1e-12)
+
+
+def test_a_continuous_joint_without_limit_reads_as_giving_no_effort_or_speed(tmp_path):
+    urdf = tmp_path / "ur5.urdf"
+    urdf.write_text(continuous_ur5_urdf(keep_limit=False))
+    model = pinocchio_model(urdf)
+    joint = model.getJointId("shoulder_pan_joint")
+    assert model.nq == 6 and urdf_limits_missing(model, joint)
+    assert model.effortLimit[model.joints[joint].idx_v] == 0 and model.velocityLimit[model.joints[joint].idx_v] == 0
+
+
+def test_a_sidecar_on_continuous_joints_needs_their_range_and_then_solves(tmp_path):
+    from robot_copies import edited_copy
+
+    def continuous(document: dict) -> None:
+        document["urdf"] = "ur5.urdf"
+
+    sidecar = edited_copy("ur5", tmp_path, continuous)
+    (sidecar.parent / "ur5.urdf").write_text(continuous_ur5_urdf())
+    with pytest.raises(RobotFileError, match="joint 'shoulder_pan_joint' has no limits in the URDF") as error:
+        load_robot(sidecar)
+    assert error.value.field == "actuators.0.position_min"
+
+    def with_ranges(document: dict) -> None:
+        continuous(document)
+        for actuator in document["actuators"]:
+            if actuator["joint"] in CONTINUOUS:
+                actuator.update(position_min=-np.pi, position_max=np.pi)
+
+    ranged = edited_copy("ur5", tmp_path / "ranged", with_ranges)
+    (ranged.parent / "ur5.urdf").write_text(continuous_ur5_urdf())
+    robot = load_robot(ranged)
+    builtin = load_robot("ur5")
+    assert robot.model.nq == builtin.model.nq == 6
+    path = load_path("examples/rect.yaml")
+    placement = default_space(builtin).full(np.zeros((1, len(default_space(builtin).free))))[0]
+    energy = [Evaluator(r, path).detail(placement).energy.total_J for r in (robot, builtin)]
+    assert energy[0] == pytest.approx(energy[1], rel=1e-9) and energy[1] > 0
+
+
+def test_kinova_with_continuous_joints_loads_and_passes_check(capsys):
+    kinova = load_erd_robot("kinova", "j2s6s200_end_effector")
+    assert kinova.model.nq == kinova.model.nv == 6 and len(kinova.actuators) == 6
+    assert main(["check", "erd:kinova", "--tool", "j2s6s200_end_effector", "--samples", "30"]) == 0
+    assert "exact to round-off" in capsys.readouterr().out
+
+
+def test_an_erd_arm_with_unlimited_continuous_joints_gets_a_full_turn_about_its_reference(tmp_path, monkeypatch):
+    """example-robot-data's UR5 with two continuous joints without position limits: each gets the range of a full
+    turn about the reference posture, labelled as an estimate, and the arm moves as the revolute one."""
+    import placement.robot.erd as erd
+    import placement.robot.load as load
+
+    urdf = tmp_path / "ur5.urdf"
+    urdf.write_text(continuous_ur5_urdf())
+    monkeypatch.setattr(erd, "erd_urdf_path", lambda loader: urdf)
+    monkeypatch.setattr(load, "erd_urdf_path", lambda loader: urdf)
+    robot = load_erd_robot("ur5", "tool0")
+    for name in CONTINUOUS:
+        actuator = next(a for a in robot.actuators if a.joint == name)
+        reference = robot.reference_q[actuator.q_index]
+        assert (actuator.position_min, actuator.position_max) == pytest.approx((reference - np.pi, reference + np.pi))
+        index = [a.joint for a in robot.actuators].index(name)
+        assert "continuous" in robot.sidecar.sources[f"actuators.{index}.position_min"]
+    monkeypatch.undo()
+    revolute = load_erd_robot("ur5", "tool0")
+    data, data_revolute = robot.model.createData(), revolute.model.createData()
+    q = robot.reference_q + 0.3
+    pin.framesForwardKinematics(robot.model, data, q)
+    pin.framesForwardKinematics(revolute.model, data_revolute, q)
+    frame = robot.end_effector_frame_id
+    np.testing.assert_allclose(data.oMf[frame].homogeneous, data_revolute.oMf[revolute.end_effector_frame_id].homogeneous,
+                               atol=1e-12)
