@@ -27,6 +27,7 @@ from placement.robot.model import Robot
 AMPLITUDE_FRACTION = 0.05  # default check amplitude, as a fraction of the robot's size
 FALLBACK_AMPLITUDE_M = 0.01  # when the robot gives no size (end effector at the base, no workspace)
 HEAVY_LINK_RATIO = 100.0  # a link heavier than this many median link masses is suspicious
+PEAK_CURRENT_A = 500.0  # a motor whose peak torque takes more current than this (A) is suspicious
 
 
 def _reference_motion(robot: Robot) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -247,10 +248,28 @@ def plausibility_warnings(robot: Robot, joints: JointTrajectory, effort: np.ndar
         effort: (N, n_act) actuator efforts along it (N or N·m), rotor inertia included.
 
     Returns:
-        Warnings about heavy links, efforts beyond the drives and joints without URDF limits.
+        Warnings about heavy links, efforts beyond the drives, motors whose peak torque takes an implausible
+        current, and joints without URDF limits.
     """
     return (*heavy_link_warnings(link_masses(robot)), *effort_warnings(robot, joints, effort),
-            *limit_warnings(robot))
+            *current_warnings(robot), *limit_warnings(robot))
+
+
+def current_warnings(robot: Robot) -> list[str]:
+    """Motors whose peak torque takes more than PEAK_CURRENT_A (max_torque_Nm / torque_constant_Nm_per_A): a peak
+    torque raised without the torque constant, say, which would make every Joule loss absurd."""
+    warnings = []
+    for actuator in robot.actuators:
+        if actuator.drive is None:
+            continue
+        motor = actuator.drive.motor
+        current = motor.max_torque_Nm / motor.torque_constant_Nm_per_A
+        if current > PEAK_CURRENT_A:
+            warnings.append(f"motor of actuator '{actuator.joint}': its peak torque takes {current:.4g} A "
+                            f"(max_torque_Nm {motor.max_torque_Nm:.4g} / torque_constant_Nm_per_A "
+                            f"{motor.torque_constant_Nm_per_A:.4g}), more than {PEAK_CURRENT_A:g} A: check that both "
+                            "come from the same motor")
+    return warnings
 
 
 def link_masses(robot: Robot) -> dict[str, float]:

@@ -92,6 +92,18 @@ def test_a_drive_just_strong_enough_raises_no_warning(tmp_path, peak_motor_Nm):
     assert not [w for w in report.warnings if w.startswith("actuator ")]
 
 
+def test_a_peak_torque_raised_without_its_torque_constant_is_named_with_the_current(tmp_path):
+    """1000 times the peak torque at the same torque constant takes 1000 times the current: beyond 500 A."""
+    motor = load_robot("fivebar").actuators[0].drive.motor
+    current_A = 1000 * motor.max_torque_Nm / motor.torque_constant_Nm_per_A
+    assert current_A > 500 > current_A / 1000
+    report = check_robot(load_robot(edited_copy("fivebar", tmp_path, drive_torque(1000 * motor.max_torque_Nm))),
+                         SAMPLES)
+    lines = [w for w in report.warnings if w.startswith("motor of actuator ")]
+    assert [re.search(r"'(\w+)'", w).group(1) for w in lines] == ["a1", "a2"]
+    assert all(f"{current_A:.4g} A" in w for w in lines)
+
+
 def test_the_effort_warning_is_printed_and_the_check_still_passes(tmp_path, capsys, peak_motor_Nm):
     sidecar = edited_copy("fivebar", tmp_path, drive_torque(0.1 * peak_motor_Nm))
     assert main(["check", str(sidecar), "--samples", str(SAMPLES)]) == 0

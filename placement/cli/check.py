@@ -95,7 +95,7 @@ def run(args: argparse.Namespace) -> int:
 
 def _print_warnings(report: CheckReport) -> None:
     if not report.warnings:
-        print("  plausibility: no warnings (link masses, efforts against the drives, URDF joint limits)")
+        print("  plausibility: no warnings (link masses, efforts against the drives, peak currents, URDF joint limits)")
     else:
         print(f"  plausibility: {len(report.warnings)} warning(s)")
     for warning in report.warnings:
