@@ -15,7 +15,7 @@ from placement.frames import default_space
 from placement.path import load_path
 from placement.robot import load_robot
 from placement.robot.erd import load_erd_robot
-from placement.robot.load import pinocchio_model, urdf_limits_missing
+from placement.robot.load import one_angle_urdf, pinocchio_model, urdf_limits_missing
 
 CONTINUOUS = ("shoulder_pan_joint", "wrist_3_joint")
 
@@ -56,6 +56,18 @@ def test_a_continuous_joint_is_one_angle_with_pinocchios_kinematics_and_dynamics
             np.testing.assert_allclose(data_one.oMf[frame].homogeneous, data_two.oMf[frame].homogeneous, atol=1e-12)
         np.testing.assert_allclose(pin.rnea(one, data_one, angles, v, a), pin.rnea(two, data_two, q_two, v, a),
                                    atol=1e-12)
+
+
+def test_only_continuous_joint_elements_change():
+    """A joint named in a transmission (empty or not) is left alone, and the continuous joint after it is found."""
+    text = ('<robot name="r"><transmission><joint name="a"/></transmission>'
+            '<joint name="a" type="continuous"><parent link="p"/><child link="c"/></joint>'
+            "<joint name='b' type='continuous'><limit effort='2' velocity='3'/></joint>"
+            '<transmission><joint name="b"><hardwareInterface>x</hardwareInterface></joint></transmission></robot>')
+    assert one_angle_urdf(text) == text.replace(
+        '<joint name="a" type="continuous"><parent link="p"/><child link="c"/></joint>',
+        '<joint name="a" type="revolute"><parent link="p"/><child link="c"/><limit effort="0" velocity="0"/></joint>'
+    ).replace("type='continuous'", "type='revolute'")
 
 
 def test_a_continuous_joint_without_limit_reads_as_giving_no_effort_or_speed(tmp_path):

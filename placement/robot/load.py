@@ -34,7 +34,7 @@ CLOSURE_TOLERANCE_M = 1e-6
 ERD_PREFIX = "example-robot-data:"
 PRISMATIC_JOINTS = ("JointModelPX", "JointModelPY", "JointModelPZ", "JointModelPrismaticUnaligned")
 NO_LIMIT = 1e10  # a position limit this large (m or rad) is Pinocchio's stand-in for none
-JOINT_ELEMENT = re.compile(r"<joint\b[^>]*>.*?</joint>", re.DOTALL)
+JOINT_ELEMENT = re.compile(r"<joint\b[^>]*/>|<joint\b[^>]*>.*?</joint>", re.DOTALL)  # empty, or with its content
 CONTINUOUS_TYPE = re.compile(r"""^(<joint\b[^>]*\btype\s*=\s*["'])continuous(["'])""")  # in the opening tag
 
 
