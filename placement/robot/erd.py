@@ -8,8 +8,8 @@ number the URDF does not give is an estimate, labelled ``EST`` in the sidecar's 
   gripper's fingers) is locked at example-robot-data's reference posture ``q0``, clipped into its
   limits. Of a 7-joint chain, the third joint is locked too, as the built-in ``panda`` locks
   ``panda_joint3`` (on the usual shoulder-elbow-wrist arms, the upper arm's redundant rotation),
-  so that the path determines the motion. Chains of more than 7 joints, or fewer than 3, are
-  refused. Six moving joints or more follow a pose task, fewer a position task.
+  so that the path determines the motion. Chains of 3, 6 or 7 joints are taken: six moving
+  joints follow a pose task, three a position task; others need a sidecar.
 - **Drives** (one per joint): a gear of ratio ``GEAR_RATIO`` = 100 (revolute joint) or a ball
   screw of lead ``SCREW_LEAD_M`` = 10 mm (prismatic joint), efficiency 1, speed ratio k; a motor
   whose peak torque is the URDF's effort limit / k and top speed the URDF's velocity limit · k,
@@ -174,9 +174,11 @@ class _Arm:
         for j in unlimited:  # free while the reference posture is sought, a full turn about it in the sidecar
             index = model.joints[j].idx_q
             model.lowerPositionLimit[index], model.upperPositionLimit[index] = -np.inf, np.inf
-        if not 3 <= len(chain) <= 7:
+        if len(chain) not in (3, 6, 7):
             raise ExampleRobotError(f"{ERD_FORM}{name}: {len(chain)} joint(s) from the base to '{tool}'; a path needs "
-                                    "3 to 6 (or 7, the third locked): choose another --tool or write a sidecar")
+                                    "3 (a position task), 6 (a pose task) or 7 (the third locked): choose another "
+                                    "--tool, or write a sidecar that locks the joints the path should not move "
+                                    "(docs/adding_a_robot.md)")
         active = [j for k, j in enumerate(chain) if not (len(chain) == 7 and k == 2)]
         locked = {model.names[j]: float(_clip(model, j, q0[model.joints[j].idx_q]))
                   for j in range(1, model.njoints) if j not in active}
