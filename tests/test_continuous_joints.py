@@ -59,15 +59,17 @@ def test_a_continuous_joint_is_one_angle_with_pinocchios_kinematics_and_dynamics
 
 
 def test_only_continuous_joint_elements_change():
-    """A joint named in a transmission (empty or not) is left alone, and the continuous joint after it is found."""
-    text = ('<robot name="r"><transmission><joint name="a"/></transmission>'
-            '<joint name="a" type="continuous"><parent link="p"/><child link="c"/></joint>'
-            "<joint name='b' type='continuous'><limit effort='2' velocity='3'/></joint>"
+    """A joint named in a transmission (empty or not) or in a comment is left alone, the continuous joints after
+    them are found, and their position bounds go (the URDF ignores them for a continuous joint)."""
+    text = ('<robot name="r"><transmission><joint name="a"/></transmission><!-- <joint name="c" type="fixed"> -->'
+            '<joint name="a" type="continuous"><parent link="p"/><child link="c"/><!-- <limit effort="1"/> --></joint>'
+            "<joint name='b' type='continuous'><limit lower='-1' effort='2' upper = '1' velocity='3'/></joint >"
             '<transmission><joint name="b"><hardwareInterface>x</hardwareInterface></joint></transmission></robot>')
-    assert one_angle_urdf(text) == text.replace(
-        '<joint name="a" type="continuous"><parent link="p"/><child link="c"/></joint>',
+    assert one_angle_urdf(text) == (
+        '<robot name="r"><transmission><joint name="a"/></transmission>'
         '<joint name="a" type="revolute"><parent link="p"/><child link="c"/><limit effort="0" velocity="0"/></joint>'
-    ).replace("type='continuous'", "type='revolute'")
+        "<joint name='b' type='revolute'><limit effort='2' velocity='3'/></joint >"
+        '<transmission><joint name="b"><hardwareInterface>x</hardwareInterface></joint></transmission></robot>')
 
 
 def test_a_continuous_joint_without_limit_reads_as_giving_no_effort_or_speed(tmp_path):
@@ -141,3 +143,33 @@ def test_an_erd_arm_with_unlimited_continuous_joints_gets_a_full_turn_about_its_
     frame = robot.end_effector_frame_id
     np.testing.assert_allclose(data.oMf[frame].homogeneous, data_revolute.oMf[revolute.end_effector_frame_id].homogeneous,
                                atol=1e-12)
+
+
+def test_a_continuous_joint_locks_at_any_angle(tmp_path):
+    """Without position limits, a locked continuous joint may be held anywhere (here the UR5's wrist, at 0.5 rad,
+    the arm then following a position task with its first three joints)."""
+    from robot_copies import edited_copy
+
+    wrist = {"wrist_1_joint": -1.67, "wrist_2_joint": -1.5707963267948966, "wrist_3_joint": 0.5}
+
+    def wrist_locked(document: dict) -> None:
+        document["urdf"] = "ur5.urdf"
+        document["end_effector"] = {"frame": "tool0", "task": "position"}
+        document["locked_joints"] = wrist
+        document["reference_configuration"] = {k: v for k, v in document["reference_configuration"].items()
+                                               if k not in wrist}
+        document["actuators"] = [a for a in document["actuators"] if a["joint"] not in wrist]
+        document["actuators"][0].update(position_min=-np.pi, position_max=np.pi)
+        document["placement"] = {"free": ["x", "y", "z", "phi"]}
+
+    sidecar = edited_copy("ur5", tmp_path, wrist_locked)
+    (sidecar.parent / "ur5.urdf").write_text(continuous_ur5_urdf())
+    robot = load_robot(sidecar)
+    assert robot.model.nq == 3
+    builtin = load_robot("ur5")
+    data, data_builtin = robot.model.createData(), builtin.model.createData()
+    q = np.array([0.2, -1.9, 2.0])
+    pin.framesForwardKinematics(robot.model, data, q)
+    pin.framesForwardKinematics(builtin.model, data_builtin, np.concatenate([q, list(wrist.values())]))
+    np.testing.assert_allclose(data.oMf[robot.end_effector_frame_id].translation,
+                               data_builtin.oMf[builtin.end_effector_frame_id].translation, atol=1e-12)

@@ -214,10 +214,9 @@ def bisection_schedule(coarse: np.ndarray, n: int, jumps: np.ndarray | None = No
     outer right, level after level (a level's middles only use samples known before it). An outer node across
     a jump (step k -> k + 1 for k in ``jumps``, both ends coarse) is left out (set to its inner neighbour).
 
-    Every placement of a path has the same schedule, so recent ones are kept: the array is shared, not to be
-    modified."""
+    Every placement of a path has the same schedule, so recent ones are kept (and copied out)."""
     jumps = np.asarray(jumps if jumps is not None else [], dtype=np.int64)
-    return _schedule(np.asarray(coarse, dtype=np.int64).tobytes(), n, jumps.tobytes())
+    return _schedule(np.asarray(coarse, dtype=np.int64).tobytes(), n, jumps.tobytes()).copy()
 
 
 @functools.lru_cache(maxsize=16)

@@ -170,7 +170,7 @@ class _Arm:
             raise ExampleRobotError(f"{ERD_FORM}{name}: joints {odd} between the base and '{tool}' are not revolute, "
                                     "continuous or prismatic joints of one coordinate; write a sidecar "
                                     "(docs/adding_a_robot.md)")
-        unlimited = [j for j in chain if urdf_limits_missing(model, j)]  # continuous, or revolute without limits
+        unlimited = [j for j in chain if urdf_limits_missing(model, j)]  # continuous, or revolute without bounds
         for j in unlimited:  # free while the reference posture is sought, a full turn about it in the sidecar
             index = model.joints[j].idx_q
             model.lowerPositionLimit[index], model.upperPositionLimit[index] = -np.inf, np.inf
@@ -254,8 +254,8 @@ class _Arm:
         for i, joint in enumerate(self.active):
             if joint in self.unlimited:
                 for field in ("position_min", "position_max"):
-                    entries[f"actuators.{i}.{field}"] = ("EST: the URDF gives no limits (a continuous joint); a full "
-                                                         "turn about the reference posture")
+                    entries[f"actuators.{i}.{field}"] = ("EST: the URDF gives no position limits (a continuous joint, "
+                                                         "say); a full turn about the reference posture")
         if self.pose:
             entries["end_effector.tool_rpy_in_path_rad"] = "DERIVED: tool z along -Z_p, yaw of the reference posture"
         for drive, spec in drives.items():

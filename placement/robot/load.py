@@ -34,8 +34,12 @@ CLOSURE_TOLERANCE_M = 1e-6
 ERD_PREFIX = "example-robot-data:"
 PRISMATIC_JOINTS = ("JointModelPX", "JointModelPY", "JointModelPZ", "JointModelPrismaticUnaligned")
 NO_LIMIT = 1e10  # a position limit this large (m or rad) is Pinocchio's stand-in for none
-JOINT_ELEMENT = re.compile(r"<joint\b[^>]*/>|<joint\b[^>]*>.*?</joint>", re.DOTALL)  # empty, or with its content
+XML_COMMENT = re.compile(r"<!--.*?-->", re.DOTALL)
+JOINT_ELEMENT = re.compile(r"<joint\b[^>]*/>|<joint\b[^>]*>.*?</joint\s*>", re.DOTALL)  # empty, or with its content
 CONTINUOUS_TYPE = re.compile(r"""^(<joint\b[^>]*\btype\s*=\s*["'])continuous(["'])""")  # in the opening tag
+LIMIT_TAG = re.compile(r"<limit\b[^>]*>")
+POSITION_BOUND = re.compile(r"""\s(?:lower|upper)\s*=\s*(?:"[^"]*"|'[^']*')""")
+JOINT_END = re.compile(r"</joint\s*>$")
 
 
 def load_robot(name_or_path: str | Path) -> Robot:
@@ -201,22 +205,25 @@ def pinocchio_model(path: Path) -> pin.Model:
 
 
 def one_angle_urdf(text: str) -> str:
-    """A URDF's text with every ``continuous`` joint made ``revolute``, keeping its ``<limit>`` (effort and
-    velocity; position bounds if it gives some, else read as missing, see :func:`urdf_limits_missing`).
+    """A URDF's text (comments left out) with every ``continuous`` joint made ``revolute`` without position limits,
+    as the URDF defines a continuous joint (read as missing, see :func:`urdf_limits_missing`); its ``<limit>``
+    keeps the effort and velocity.
 
     Pinocchio models a continuous joint by two coordinates (cos θ, sin θ); the solvers and limits here use one
     angle θ per joint. The kinematics and dynamics are the same.
     """
-    return JOINT_ELEMENT.sub(_one_angle, text)
+    return JOINT_ELEMENT.sub(_one_angle, XML_COMMENT.sub("", text))
 
 
 def _one_angle(joint: re.Match) -> str:
-    """A URDF joint element, made revolute if it is continuous; a revolute joint needs a ``<limit>``, so one without
-    gets effort and velocity 0 (none given, as :func:`_actuator` then says)."""
+    """A URDF joint element, made revolute without position bounds if it is continuous; a revolute joint needs a
+    ``<limit>``, so one without gets effort and velocity 0 (none given, as :func:`_actuator` then says)."""
     element, changed = CONTINUOUS_TYPE.subn(r"\1revolute\2", joint.group(0))
-    if changed and not re.search(r"<limit\b", element):
-        element = element.removesuffix("</joint>") + '<limit effort="0" velocity="0"/></joint>'
-    return element
+    if not changed:
+        return element
+    if LIMIT_TAG.search(element):
+        return LIMIT_TAG.sub(lambda limit: POSITION_BOUND.sub("", limit.group(0)), element)
+    return JOINT_END.sub('<limit effort="0" velocity="0"/></joint>', element)
 
 
 def _read_urdf(path: Path) -> dict[str, set[str]]:
@@ -273,7 +280,7 @@ def _lock_joints(model: pin.Model, path: Path, locked: dict[str, float]) -> pin.
     for name, value in locked.items():
         joint_id = _joint_id(model, path, f"locked_joints.{name}", name)
         low, high = model.lowerPositionLimit[model.joints[joint_id].idx_q], model.upperPositionLimit[model.joints[joint_id].idx_q]
-        if not low <= value <= high:
+        if not (low <= value <= high or urdf_limits_missing(model, joint_id)):
             raise RobotFileError(path, f"locked_joints.{name}", f"{value} is outside the joint's limits [{low}, {high}]")
         q[model.joints[joint_id].idx_q] = value
         ids.append(joint_id)
