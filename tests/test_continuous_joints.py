@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -173,3 +174,35 @@ def test_a_continuous_joint_locks_at_any_angle(tmp_path):
     pin.framesForwardKinematics(builtin.model, data_builtin, np.concatenate([q, list(wrist.values())]))
     np.testing.assert_allclose(data.oMf[robot.end_effector_frame_id].translation,
                                data_builtin.oMf[builtin.end_effector_frame_id].translation, atol=1e-12)
+
+
+def test_a_gepetto_export_with_continuous_motors_assembles_with_a_full_turn_each(tmp_path, capsys):
+    """The Gepetto-format five-bar with its motor joints continuous (with bounds, which a continuous joint ignores):
+    each motor gets the estimated range of a full turn, and the robot assembles and moves as the revolute one."""
+    import shutil
+    import warnings
+
+    data = Path(__file__).parent / "data" / "gepetto_fivebar"
+    folders = {}
+    for kind in ("revolute", "continuous"):
+        folder = folders[kind] = tmp_path / kind
+        shutil.copytree(data, folder)
+        urdf = folder / "robot.urdf"
+        text = urdf.read_text()
+        if kind == "continuous":
+            for motor in ("mot1", "mot2"):
+                text = text.replace(f'<joint name="{motor}" type="revolute">', f'<joint name="{motor}" type="continuous">')
+            mot1_limit = '<child link="part_2"/><axis xyz="0 0 1"/><limit '
+            text = text.replace(mot1_limit, mot1_limit + 'lower="-0.1" upper="0.1" ')
+        urdf.write_text(text)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            assert main(["assemble", str(folder), "--write"]) == 0
+    capsys.readouterr()
+    continuous, revolute = load_robot(folders["continuous"]), load_robot(folders["revolute"])
+    assert [(a.position_min, a.position_max) for a in continuous.actuators] == [(-np.pi, np.pi)] * 2
+    np.testing.assert_allclose(continuous.reference_q, revolute.reference_q, atol=1e-12)
+    path = load_path("examples/circle.yaml")
+    placement = default_space(revolute).full(np.zeros((1, len(default_space(revolute).free))))[0]
+    energy = [Evaluator(r, path).detail(placement).energy.total_J for r in (continuous, revolute)]
+    assert energy[0] == pytest.approx(energy[1], rel=1e-9) and energy[1] > 0

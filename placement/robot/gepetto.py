@@ -283,7 +283,8 @@ def _actuator(path: Path, urdf: _Urdf, i: int, joint: str, document: dict[str, A
     assert effort is not None and velocity is not None  # checked above
     actuator: dict[str, Any] = {"joint": joint, "drive": joint}
     estimates = []
-    if not prismatic and (urdf.limit(joint, "lower") is None or urdf.limit(joint, "upper") is None):
+    unbounded = element.get("type") == "continuous" or urdf.limit(joint, "lower") is None or urdf.limit(joint, "upper") is None
+    if not prismatic and unbounded:  # a continuous joint has no position limits, whatever its <limit> says
         actuator.update(position_min=-math.pi, position_max=math.pi)
         for field in ("position_min", "position_max"):
             document["sources"][f"actuators.{i}.{field}"] = "EST: the URDF gives no limits; a full turn"
