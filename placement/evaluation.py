@@ -32,7 +32,7 @@ from placement.objectives import OBJECTIVES, Objective
 from placement.path import PathSamples, ToolPath
 from placement.registry import restore_runtime_members, runtime_members
 from placement.robot.model import Robot
-from placement.timing import PathDynamics, TimeLaw, time_optimal
+from placement.timing import PathDynamics, TimeLaw, time_optimal, timed_rates
 
 BATCH_SAMPLES = 60_000  # samples per batched call (memory: about 0.5 kB a sample)
 UNREACHABLE_MARGIN = -1.0  # every margin of an unreachable placement: how infeasible it is, to steer the search
@@ -270,7 +270,8 @@ class Evaluator:
         rows = (np.arange(k)[:, None] * n + self.geometry.grid_rows).ravel()
         unit = JointTrajectory(*(getattr(joints, f.name)[rows] for f in dataclasses.fields(JointTrajectory)))
         speed, acceleration = at_samples.speed_m_s.reshape(-1, 1), at_samples.acceleration_m_s2.reshape(-1, 1)
-        timed = dataclasses.replace(unit, v=unit.v * speed, a=unit.v * acceleration + unit.a * speed**2)
+        velocity, accelerated = timed_rates(unit.v, unit.a, speed, acceleration)
+        timed = dataclasses.replace(unit, v=velocity, a=accelerated)
         effort = dynamics.rows(self.geometry.grid_rows).efforts(at_samples.speed_m_s, at_samples.acceleration_m_s2)
         return OptimalMotion(law, at_samples, timed, effort.reshape(-1, len(act)))
 

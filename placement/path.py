@@ -403,9 +403,7 @@ class ToolPath:
             starts.append(starts[-1] + count)
         arc_m, feed = np.concatenate(arcs), np.concatenate(feeds)
         # Nominal times: each run at its feed bound throughout (a lower bound of any timing's).
-        new_run = np.zeros(len(arc_m), dtype=bool)
-        new_run[starts[:-1]] = True
-        steps = np.where(new_run[1:], 0.0, np.diff(arc_m) / feed[1:])
+        steps = np.where(run_joins(np.array(starts)), 0.0, np.diff(arc_m) / feed[1:])
         nominal_t = np.concatenate([[0.0], np.cumsum(steps)])
         samples = self._assemble(parts)
         return PathGeometry(dataclasses.replace(samples, t_s=nominal_t), np.array(starts), arc_m, feed)
@@ -515,6 +513,14 @@ class ToolPath:
         return PathSamples(column["t"], column["position"], column["velocity"], column["acceleration"], tangent,
                            force, column["piece"], column.get("rotation"), column.get("angular_velocity"),
                            column.get("angular_acceleration"))
+
+
+def run_joins(run_starts: np.ndarray) -> np.ndarray:
+    """(N-1,) which intervals between samples join two runs (:class:`PathGeometry`): zero long, the stop's position
+    shared, taking no time."""
+    joins = np.zeros(run_starts[-1] - 1, dtype=bool)
+    joins[run_starts[1:-1] - 1] = True
+    return joins
 
 
 def _run_arc(length_m: float, count: int, refine: int, feed_changes_m: np.ndarray) -> np.ndarray:

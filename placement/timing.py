@@ -45,7 +45,7 @@ from types import ModuleType
 import numpy as np
 
 from placement.drives.trace import drives_of
-from placement.path import PathGeometry, PathSamples
+from placement.path import PathGeometry, PathSamples, run_joins
 from placement.robot.model import Robot
 
 SAFETY = 0.99  # share of each limit the timing law may use (the exact chain checks the rest)
@@ -104,13 +104,20 @@ class TimeLaw:
     def timed_samples(self, unit: PathSamples, placement: int) -> PathSamples:
         """The path's samples at unit speed (:class:`placement.path.PathGeometry`) timed as one placement is."""
         speed, acceleration = self.speed_m_s[placement][:, None], self.acceleration_m_s2[placement][:, None]
-        timed = dataclasses.replace(unit, t_s=self.t_s[placement], velocity_m_s=unit.velocity_m_s * speed,
-                                    acceleration_m_s2=unit.velocity_m_s * acceleration + unit.acceleration_m_s2 * speed**2)
+        velocity, linear = timed_rates(unit.velocity_m_s, unit.acceleration_m_s2, speed, acceleration)
+        timed = dataclasses.replace(unit, t_s=self.t_s[placement], velocity_m_s=velocity, acceleration_m_s2=linear)
         if unit.angular_velocity_rad_s is None or unit.angular_acceleration_rad_s2 is None:
             return timed
-        return dataclasses.replace(timed, angular_velocity_rad_s=unit.angular_velocity_rad_s * speed,
-                                   angular_acceleration_rad_s2=unit.angular_velocity_rad_s * acceleration
-                                   + unit.angular_acceleration_rad_s2 * speed**2)
+        angular_velocity, angular = timed_rates(unit.angular_velocity_rad_s, unit.angular_acceleration_rad_s2, speed,
+                                                acceleration)
+        return dataclasses.replace(timed, angular_velocity_rad_s=angular_velocity, angular_acceleration_rad_s2=angular)
+
+
+def timed_rates(per_m: np.ndarray, per_m2: np.ndarray, speed_m_s: np.ndarray,
+                acceleration_m_s2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Rate and acceleration in time of a quantity with derivatives ``per_m`` and ``per_m2`` along the path, moved at
+    ṡ and s̈: x' · ṡ and x' · s̈ + x'' · ṡ²."""
+    return per_m * speed_m_s, per_m * acceleration_m_s2 + per_m2 * speed_m_s**2
 
 
 @dataclass(frozen=True)
@@ -285,9 +292,7 @@ def _time_run(arc_m: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray,
 def _times(geometry: PathGeometry, speed: np.ndarray, timed: np.ndarray) -> np.ndarray:
     """(K, N) sample times: s̈ is constant between samples, so each interval takes 2·Δs/(ṡ_i + ṡ_i+1)."""
     ds = np.diff(geometry.arc_m)
-    new_run = np.zeros(len(geometry.arc_m) - 1, dtype=bool)
-    new_run[geometry.run_starts[1:-1] - 1] = True
     with np.errstate(divide="ignore", invalid="ignore"):
-        dt = np.where(new_run, 0.0, 2 * ds / (speed[:, 1:] + speed[:, :-1]))
+        dt = np.where(run_joins(geometry.run_starts), 0.0, 2 * ds / (speed[:, 1:] + speed[:, :-1]))
     dt = np.where(timed[:, None], dt, np.diff(geometry.samples.t_s))
     return np.concatenate([np.zeros((len(speed), 1)), np.cumsum(dt, axis=1)], axis=1)
