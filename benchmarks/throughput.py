@@ -23,10 +23,12 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from placement.dynamics import inverse_dynamics  # noqa: E402
-from placement.evaluation import Evaluator  # noqa: E402
-from placement.kinematics import TaskTrajectory, joint_trajectory  # noqa: E402
-from placement.path import Timing, load_path  # noqa: E402
+from placement.dynamics.inverse import inverse_dynamics  # noqa: E402
+from placement.evaluation.evaluator import Evaluator  # noqa: E402
+from placement.kinematics import joint_trajectory  # noqa: E402
+from placement.kinematics.trajectories import TaskTrajectory  # noqa: E402
+from placement.path.load import load_path  # noqa: E402
+from placement.path.schema import Timing  # noqa: E402
 from placement.robot import load_robot  # noqa: E402
 from placement.search.sweep import sweep  # noqa: E402
 

@@ -34,7 +34,7 @@ STATED_KT = 0.5
 
 
 def fitted_robot(values: np.ndarray):
-    from placement.calibration import with_drive_constants
+    from placement.drives.calibration import with_drive_constants
     from placement.robot import load_robot
 
     return with_drive_constants(load_robot("orthoglide"), {DRIVE: dict(zip(CONSTANTS, values, strict=True))})
@@ -53,7 +53,7 @@ def search(width_mm: int, values: list[float] | None, time_step_s: float) -> dic
 
 
 def main() -> None:
-    from placement.evaluation import Evaluator
+    from placement.evaluation.evaluator import Evaluator
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", default="docs/paper_table.md", help="Markdown report whose calibration section to write")

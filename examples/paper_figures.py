@@ -21,11 +21,11 @@ import numpy as np
 from paper_table import PAPER, WIDTHS_MM, rectangle, run_case
 
 from placement import load_path, load_robot, optimize_placement
-from placement.frames import placed_task
 from placement.kinematics import joint_trajectory
-from placement.plots import draw_map, map_figure, save
+from placement.output.plots import draw_map, map_figure, save
+from placement.output.scene import BEST_COLOR, WORST_COLOR, Scene, screenshot
+from placement.placing.transform import placed_task
 from placement.search.sweep import sweep
-from placement.visualize import BEST_COLOR, WORST_COLOR, Scene, screenshot
 
 EXAMPLE = Path(__file__).with_name("rect.yaml")
 

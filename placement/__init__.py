@@ -15,13 +15,13 @@ through entry points; see :mod:`placement.registry`.
 
 from placement.cell.schema import Cell, load_cell
 from placement.cell.tool import equip
-from placement.checks import CheckReport, check_robot
 from placement.drives.motors import MOTOR_MODELS, MotorModel, PowerParts, register_motor_model
 from placement.drives.transmissions import TRANSMISSIONS, Transmission
-from placement.dynamics import ActuatorTrajectory, actuator_efforts, inverse_dynamics
+from placement.dynamics.inverse import ActuatorTrajectory, actuator_efforts, inverse_dynamics
 from placement.energy.integration import Energy
 from placement.energy.regeneration import REGENERATION, RegenerationPolicy
-from placement.evaluation import Evaluation, Evaluator, PlacementDetail
+from placement.evaluation.evaluator import Evaluator
+from placement.evaluation.results import Evaluation, PlacementDetail
 from placement.exceptions import (
                                   InputFileError,
                                   PathFileError,
@@ -30,22 +30,23 @@ from placement.exceptions import (
                                   UnknownRobotError,
                                   UnreachableError,
 )
-from placement.frames import PlacementSpace, default_space
-from placement.kinematics import (
-                                  SOLVERS,
-                                  JointTrajectory,
-                                  KinematicsSolver,
-                                  TaskTrajectory,
-                                  joint_trajectory,
-                                  solve_configuration,
-)
-from placement.limits import LIMITS, Limit, Margin, MarginField
-from placement.objectives import OBJECTIVES, Objective
-from placement.path import ToolPath, load_path
+from placement.kinematics import joint_trajectory
+from placement.kinematics.base import SOLVERS, KinematicsSolver
+from placement.kinematics.generic import solve_configuration
+from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
+from placement.limits.base import LIMITS, Limit, Margin, MarginField
+from placement.objectives.base import OBJECTIVES, Objective
+from placement.path.load import load_path
+from placement.path.toolpath import ToolPath
 from placement.registry import UnknownMemberError
-from placement.robot import Actuator, Closure, Robot, load_robot, robot_names
+from placement.robot import Actuator, Closure
+from placement.robot.catalog import robot_names
+from placement.robot.checks import CheckReport, check_robot
+from placement.robot.load import load_robot
+from placement.robot.model import Robot
 from placement.search.optimize import Optimum, PlacementResult, SearchSettings, optimize_placement
 from placement.search.pareto import FrontMember, ParetoFront, pareto_front
+from placement.search.space import PlacementSpace, default_space
 from placement.search.sweep import SweepResult, sweep
 
 __all__ = [

@@ -1,88 +1,14 @@
-"""What the exact chain computes for a batch of placements, handed to objectives and limits."""
+"""Deprecated module path: :class:`EvaluatedBatch` lives in :mod:`placement.evaluation.batch`.
 
-from __future__ import annotations
+Plug-ins written for placement 0.1 import it from here; this path keeps working, with a
+``DeprecationWarning``, and will be removed in a later release.
+"""
 
-from dataclasses import dataclass
-from functools import cached_property
+import warnings
 
-import numpy as np
+from placement.evaluation.batch import EvaluatedBatch
 
-from placement.drives.trace import MotorTrace
-from placement.energy.integration import Energy, electric_energy, interval_power, interval_widths
-from placement.kinematics.trajectories import JointTrajectory
-from placement.path import PathSamples
-from placement.robot.model import Robot
-from placement.timing import TimeLaw
+warnings.warn("placement.batch is deprecated: import EvaluatedBatch from placement.evaluation.batch",
+              DeprecationWarning, stacklevel=2)
 
-
-@dataclass(frozen=True)
-class EvaluatedBatch:
-    """K placements of one sampled path, through kinematics, dynamics and drives (SI units).
-
-    Arrays are shaped (K, N, ...): K placements, N samples; the actuator axis is last.
-
-    Attributes:
-        robot: The robot.
-        samples: The path sampled in its own frame.
-        placements: (K, 6) placement vectors [x, y, z, phi, theta, psi] (m, rad).
-        reachable: (K, N) whether each sample has a configuration (unreachable samples hold
-            the reference configuration at rest, so every value stays finite).
-        tool_position_m: (K, N, 3) tool point in the base frame.
-        position, velocity, acceleration: (K, N, n_act) actuator motion (m or rad, per s, per s²).
-        effort: (K, N, n_act) actuator forces (N) or torques (N·m).
-        motor: Motor speed, torque and current, (K, N, n_act).
-        regeneration: The regeneration policy energies are computed under.
-        joints: Motion of every joint of the spanning tree, K·N rows (placement-major).
-        exact: Every limit is to be computed exactly at every sample (for a report or a re-check);
-            else a limit may spare work that cannot change feasibility (a search's batch).
-        time_law: Each placement's own timing at ``samples`` under the optimal timing law
-            (``samples`` then hold the path at unit speed), else None: every placement shares
-            ``samples.t_s``.
-        path_law: The same timing at the samples of the path geometry it was found on
-            (:class:`placement.path.PathGeometry`), or None.
-    """
-
-    robot: Robot
-    samples: PathSamples
-    placements: np.ndarray
-    reachable: np.ndarray
-    tool_position_m: np.ndarray
-    position: np.ndarray
-    velocity: np.ndarray
-    acceleration: np.ndarray
-    effort: np.ndarray
-    motor: MotorTrace
-    regeneration: str
-    joints: JointTrajectory
-    exact: bool = False
-    time_law: TimeLaw | None = None
-    path_law: TimeLaw | None = None
-
-    def __len__(self) -> int:
-        return len(self.placements)
-
-    @cached_property
-    def energy(self) -> Energy:
-        """Electric energy of each placement under the regeneration policy (computed once)."""
-        return electric_energy(self.robot, self.motor, self.t_s, self.samples.piece, self.regeneration)
-
-    @cached_property
-    def interval_power_W(self) -> np.ndarray:
-        """(K, N-1, n_act) signed electric power of each drive on each interval between samples."""
-        return interval_power(self.robot, self.motor, self.interval_widths_s).total_W
-
-    @property
-    def t_s(self) -> np.ndarray:
-        """(N,) time of each sample, shared by the placements, or (K, N), each placement's own."""
-        return self.samples.t_s if self.time_law is None else self.time_law.t_s
-
-    @property
-    def interval_widths_s(self) -> np.ndarray:
-        """(N-1,) or (K, N-1) (as ``t_s``) durations between samples, 0 where a new independently integrated
-        piece starts."""
-        return interval_widths(self.t_s, self.samples.piece)
-
-    @property
-    def widths_by_placement_s(self) -> np.ndarray:
-        """(K, N-1) durations between samples, placement by placement (``interval_widths_s``, broadcast)."""
-        return np.broadcast_to(self.interval_widths_s, (len(self), len(self.samples) - 1))
+__all__ = ["EvaluatedBatch"]

@@ -6,7 +6,7 @@ L2); the two distal tips meet at the end-effector point P. Arm 1 has its elbow o
 (q_a1 = phi1 + beta1), arm 2 to the right (q_a2 = phi2 - beta2), where phi_i is the direction of
 P - A_i and beta_i the angle at A_i of the triangle A_i B_i P (law of cosines).
 
-Everything is written with :mod:`placement.taylor`, so positions seeded with velocities and
+Everything is written with :mod:`placement.kinematics.taylor`, so positions seeded with velocities and
 accelerations give exact joint rates and accelerations, and positions seeded with unit directions
 give the Jacobian dq/dP. Nothing here uses pinocchio or the placement kinematics, so it can check
 them.
@@ -17,8 +17,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from placement import taylor
-from placement.taylor import Taylor2
+from placement.kinematics import taylor
+from placement.kinematics.taylor import Taylor2
 
 A1 = (-0.1, 0.0)  # m, base frame: axis of actuated joint a1
 A2 = (0.1, 0.0)  # m, base frame: axis of actuated joint a2

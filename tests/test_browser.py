@@ -7,11 +7,11 @@ import pytest
 from PIL import Image
 from test_path import EXAMPLE
 
-from placement.evaluation import Evaluator
-from placement.frames import transform_path_to_base
+from placement.evaluation.evaluator import Evaluator
 from placement.kinematics import joint_trajectory
+from placement.output.scene import BEST_COLOR, CUBE_COLOR, WORST_COLOR, Scene, find_browser, screenshot
 from placement.path import load_path
-from placement.visualize import BEST_COLOR, CUBE_COLOR, WORST_COLOR, Scene, find_browser, screenshot
+from placement.placing.transform import transform_path_to_base
 
 
 def count_near(pixels: np.ndarray, color: int, tolerance: int) -> int:
@@ -68,7 +68,7 @@ def test_show_serves_the_page_on_loopback_only_and_stops(monkeypatch, capsys):
     import urllib.request
 
     from placement.cli import main
-    from placement.visualize import PageServer
+    from placement.output.scene import PageServer
 
     server = PageServer("<html>scene</html>")
     try:

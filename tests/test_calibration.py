@@ -12,12 +12,12 @@ import pytest
 from robot_copies import edited_copy
 
 from placement import load_robot
-from placement.calibration import FITTABLE, calibrate, read_log
-from placement.checks import demo_trajectory
 from placement.cli import main
+from placement.drives.calibration import FITTABLE, calibrate, read_log
 from placement.drives.trace import motor_trace
-from placement.dynamics import inverse_dynamics
+from placement.dynamics.inverse import inverse_dynamics
 from placement.energy.integration import sample_power
+from placement.robot.checks import demo_trajectory
 
 DRIVE = "sanyo_p30b06040d_ball_screw"
 HIDDEN = {"resistance_ohm": 1.8, "torque_constant_Nm_per_A": 0.45, "rotor_inertia_kg_m2": 3.25e-5, "coulomb": 20.0,

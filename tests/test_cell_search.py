@@ -13,10 +13,10 @@ from placement import Evaluator, load_path, load_robot
 from placement.__main__ import main
 from placement.cell.schema import load_cell
 from placement.cell.tool import equip
-from placement.frames import default_space
 from placement.limits.collision import collision_scene
 from placement.robot.tool import mount_tool
 from placement.search.optimize import SearchSettings, optimize_placement
+from placement.search.space import default_space
 
 SMALL = SearchSettings(population=24, max_generations=25)
 RECT = "examples/rect.yaml"

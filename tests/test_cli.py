@@ -11,7 +11,7 @@ import pytest
 
 from placement import Evaluator, load_path, load_robot
 from placement.__main__ import main
-from placement.frames import VARIABLES
+from placement.placing.transform import VARIABLES
 from placement.robot.catalog import builtin_robots_dir
 
 
@@ -87,7 +87,7 @@ def test_main_job_reports_best_worst_and_gain_and_writes_json_and_trace(tmp_path
         "q_1", "qd_1", "qdd_1", "force_1", "motor_speed_1", "motor_torque_1", "current_1", "power_1"]
     assert len(rows[0]) == 4 + 3 * 8 and len(rows) > 40
     # The trace is the best placement's: its tool points are the path placed there.
-    from placement.frames import transform_path_to_base
+    from placement.placing.transform import transform_path_to_base
 
     best = document["best"]["placement"]
     placed, _ = transform_path_to_base(load_path(EXAMPLE).sample(0.004), np.array([list(best.values())]))
@@ -198,7 +198,8 @@ def test_path_too_large_is_answered_with_the_binding_limit(tmp_path, capsys):
 
 
 def test_json_is_written_atomically(tmp_path, monkeypatch):
-    from placement import files, report
+    from placement import files
+    from placement.cli.calibrate import report
 
     target = tmp_path / "result.json"
     report.write_json(target, {"energy_J": 1.0})

@@ -9,8 +9,8 @@ import pytest
 
 from placement import Evaluator, load_path, load_robot
 from placement.__main__ import main
-from placement.cluster import cluster, scheduler_address
-from placement.path import Timing
+from placement.evaluation.parallel import cluster, scheduler_address
+from placement.path.schema import Timing
 from placement.search.optimize import SearchSettings
 from placement.search.pareto import pareto_front
 from placement.search.sweep import sweep
@@ -58,7 +58,7 @@ def test_the_scheduler_comes_from_the_option_else_the_environment(monkeypatch):
 
 
 def test_an_unreachable_scheduler_is_a_clear_error(monkeypatch, capsys, tmp_path):
-    monkeypatch.setattr("placement.cluster.CONNECT_TIMEOUT_S", 1.0)
+    monkeypatch.setattr("placement.evaluation.parallel.CONNECT_TIMEOUT_S", 1.0)
     assert main(["map", "--robot", "orthoglide", "--path", "examples/rect.yaml", "--grid", "x=-10:10:3",
                  "--out", str(tmp_path / "map"), "--scheduler", "tcp://127.0.0.1:9"]) == 2
     assert "cannot reach the Dask scheduler at 'tcp://127.0.0.1:9'" in capsys.readouterr().err

@@ -10,13 +10,13 @@ import pinocchio as pin
 import pytest
 
 from placement.cli import main
-from placement.evaluation import Evaluator
+from placement.evaluation.evaluator import Evaluator
 from placement.exceptions import RobotFileError
-from placement.frames import default_space
 from placement.path import load_path
 from placement.robot import load_robot
 from placement.robot.erd import load_erd_robot
 from placement.robot.load import one_angle_urdf, pinocchio_model, urdf_limits_missing
+from placement.search.space import default_space
 
 CONTINUOUS = ("shoulder_pan_joint", "wrist_3_joint")
 

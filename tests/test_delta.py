@@ -19,11 +19,11 @@ import pytest
 from trajectories import lissajous
 
 from placement import Evaluator, load_path
-from placement.checks import energy_rate, forward_accelerations
-from placement.dynamics import inverse_dynamics
+from placement.dynamics.inverse import inverse_dynamics
 from placement.kinematics import joint_trajectory
 from placement.robot import load_robot
 from placement.robot.catalog import builtin_robots_dir
+from placement.robot.checks import energy_rate, forward_accelerations
 
 DELTA_DIR = builtin_robots_dir() / "delta"
 CIRCLE = DELTA_DIR.parents[1] / "examples" / "circle.yaml"

@@ -8,11 +8,12 @@ from test_path import EXAMPLE
 
 from placement.drives.motors import MotorModel, Pmsm, PowerParts, register_motor_model
 from placement.drives.trace import motor_trace
-from placement.dynamics import inverse_dynamics
+from placement.dynamics.inverse import inverse_dynamics
 from placement.energy.integration import electric_energy, interval_widths
-from placement.evaluation import Evaluator
+from placement.evaluation.evaluator import Evaluator
 from placement.kinematics import TaskTrajectory
-from placement.path import Timing, load_path
+from placement.path.load import load_path
+from placement.path.schema import Timing
 
 PLACEMENTS = np.array([[0.0, 0.0, 0.0, 0.0, 0.0, 0.0], [-0.06, -0.05, -0.04, 0.7, 0.0, 0.0],
                        [-0.09, -0.09, -0.09, np.pi / 4, 0.0, 0.0], [0.02, -0.03, 0.01, -0.4, 0.0, 0.0]])

@@ -5,9 +5,9 @@ import numpy as np
 import pinocchio as pin
 from trajectories import lissajous
 
-from placement.checks import energy_rate, forward_accelerations
-from placement.dynamics import inverse_dynamics
+from placement.dynamics.inverse import inverse_dynamics
 from placement.kinematics import joint_trajectory
+from placement.robot.checks import energy_rate, forward_accelerations
 
 TIP_FORCE_N = np.array([4.0, -6.0, 0.0])
 
@@ -49,8 +49,8 @@ def test_power_balance(fivebar):
 
 
 def test_every_test_robot_passes_the_physics_check(fivebar):
-    from placement.checks import check_robot
     from placement.robot import load_robot, robot_names
+    from placement.robot.checks import check_robot
 
     for name in robot_names():
         report = check_robot(load_robot(name), samples=40)

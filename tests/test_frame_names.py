@@ -6,7 +6,7 @@ from example_robot_data.robots_loader import ROBOTS
 from robot_copies import edited_copy
 
 from placement.__main__ import main
-from placement.robot.load import find_frame
+from placement.robot.tool import find_frame
 
 ELBOW = '<parent link="prox1"/><child link="dist1"/>'
 

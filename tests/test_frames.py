@@ -8,10 +8,11 @@ from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 from test_path import EXAMPLE
 
-from placement.evaluation import Evaluator
+from placement.evaluation.evaluator import Evaluator
 from placement.exceptions import PlacementError
-from placement.frames import PlacementSpace, rotation_zyx, transform_path_to_base
 from placement.path import load_path
+from placement.placing.transform import rotation_zyx, transform_path_to_base
+from placement.search.space import PlacementSpace
 
 angles = st.floats(-np.pi, np.pi)
 

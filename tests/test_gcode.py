@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from placement.__main__ import main
-from placement.evaluation import Evaluator
+from placement.evaluation.evaluator import Evaluator
 from placement.exceptions import GcodeError, PathFileError
 from placement.path import load_path
 from placement.robot import load_robot
@@ -333,8 +333,8 @@ def test_a_bad_program_exits_2_with_one_line(tmp_path, capsys):
 def test_the_kinematics_follow_a_program_across_skipped_rapids(robot_name, at):
     import pinocchio as pin
 
-    from placement.frames import placed_task
     from placement.kinematics import joint_trajectory
+    from placement.placing.transform import placed_task
 
     robot = load_robot(robot_name)
     path = load_path(EXAMPLES / "pocket.yaml")
@@ -371,8 +371,8 @@ def test_only_a_gap_is_a_jump_for_the_batched_march():
 def test_a_repair_a_hair_outside_the_workspace_is_pulled_back_in():
     """The pocket's worst placement lies in a corner of the Orthoglide's workspace box, where the search's repair
     (the path's own sampling breaks a limit its coarse sampling missed: an arc's extreme) ends a hair outside."""
-    from placement.frames import default_space
     from placement.search.optimize import _inward_until_feasible, _Problem
+    from placement.search.space import default_space
 
     robot, path = load_robot("orthoglide"), load_path(EXAMPLES / "pocket.yaml")
     space = default_space(robot, half_turn=path.half_turn_symmetric())

@@ -13,7 +13,8 @@ from robot_copies import edited_copy
 
 from placement.__main__ import main
 from placement.exceptions import RobotFileError
-from placement.kinematics import TaskTrajectory, joint_trajectory
+from placement.kinematics import joint_trajectory
+from placement.kinematics.trajectories import TaskTrajectory
 from placement.robot import load_robot
 
 CIRCLE = Path(__file__).parents[1] / "examples" / "circle.yaml"

@@ -12,9 +12,9 @@ import pytest
 from test_path import EXAMPLE
 
 from placement import TaskTrajectory, load_path, load_robot
-from placement.checks import demo_trajectory
-from placement.dynamics import actuator_efforts
+from placement.dynamics.inverse import actuator_efforts
 from placement.kinematics import joint_trajectory
+from placement.robot.checks import demo_trajectory
 
 mujoco_model = pytest.importorskip("mujoco_model", reason="the optional test extra 'mujoco' is not installed")
 

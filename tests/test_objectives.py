@@ -14,7 +14,7 @@ from robot_copies import edited_copy, orthoglide_motor
 from test_path import EXAMPLE
 
 from placement import OBJECTIVES, Evaluator, Objective, load_path, load_robot
-from placement.path import Timing
+from placement.path.schema import Timing
 
 PLACEMENTS = np.array([[0.0, 0.0, 0.0, 0.0, 0.0, 0.0], [-0.06, 0.02, -0.05, 0.6, 0.0, 0.0],
                        [-0.09, -0.09, -0.1, -0.8, 0.0, 0.0]])
@@ -93,7 +93,7 @@ class Nothing(Objective):
 
 def test_a_higher_is_better_objective_searches_and_reports_the_other_way(capsys):
     from placement import SearchSettings, default_space, optimize_placement
-    from placement.report import format_result
+    from placement.output.report import format_result
 
     OBJECTIVES.register("negated_energy_for_test", NegatedEnergy())
     robot, path = load_robot("orthoglide"), load_path(EXAMPLE)

@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 from test_path import EXAMPLE
 
-from placement.evaluation import Evaluator
-from placement.frames import default_space
+from placement.evaluation.evaluator import Evaluator
 from placement.path import load_path
 from placement.search.optimize import SearchSettings, optimize_placement
+from placement.search.space import default_space
 
 GRID = 41
 ROUND_OFF = 1e-9  # "never worse than the grid" up to round-off: optima sit on limits the grid can hit exactly

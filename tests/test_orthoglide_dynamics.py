@@ -5,9 +5,9 @@ import pinocchio as pin
 import pytest
 from trajectories import orthoglide_path
 
-from placement.checks import energy_rate, forward_accelerations
-from placement.dynamics import inverse_dynamics
+from placement.dynamics.inverse import inverse_dynamics
 from placement.robot import load_robot
+from placement.robot.checks import energy_rate, forward_accelerations
 
 closed_form = load_robot("orthoglide").plugin
 

@@ -7,7 +7,8 @@ from hypothesis import strategies as st
 from trajectories import orthoglide_path
 
 from placement.exceptions import UnreachableError
-from placement.kinematics import TaskTrajectory, joint_trajectory
+from placement.kinematics import joint_trajectory
+from placement.kinematics.trajectories import TaskTrajectory
 from placement.robot import load_robot
 from placement.robot.closures import closure_jacobian, closure_residuals
 

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from placement.exceptions import PathFileError
-from placement.path import DoubleS, load_path
+from placement.path.load import load_path
+from placement.timing.realistic import DoubleS
 
 EXAMPLE = __import__("pathlib").Path(__file__).parents[1] / "examples" / "rect.yaml"
 

@@ -10,8 +10,9 @@ from robot_copies import edited_copy
 from placement import Evaluator, SearchSettings, load_path, load_robot, optimize_placement
 from placement.__main__ import main
 from placement.exceptions import PlacementError, RobotFileError
-from placement.frames import default_space, plane_frame, transform_path_to_base
+from placement.placing.transform import plane_frame, transform_path_to_base
 from placement.robot.sidecar import Plane
+from placement.search.space import default_space
 
 CIRCLE = Path(__file__).parents[1] / "examples" / "circle.yaml"
 TURN = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])  # Rx(-90 deg): base z -> y, y -> -z

@@ -4,11 +4,11 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from placement.evaluation import Evaluator
+from placement.evaluation.evaluator import Evaluator
 from placement.exceptions import PoseFileError
-from placement.frames import OrientationIgnoredWarning, placed_task
 from placement.kinematics import joint_trajectory
 from placement.path import load_path
+from placement.placing.transform import OrientationIgnoredWarning, placed_task
 from placement.robot import load_robot
 from placement.robot.closures import LWA
 
@@ -209,7 +209,7 @@ def test_fields_a_timed_list_refuses_or_needs(tmp_path, settings, field):
 def test_the_schema_offers_every_orientation_kind():
     from typing import get_args
 
-    from placement.path import Poses
-    from placement.poses import ORIENTATION_COLUMNS
+    from placement.path.poses import ORIENTATION_COLUMNS
+    from placement.path.schema import Poses
 
     assert set(get_args(Poses.model_fields["orientation"].annotation)) == set(ORIENTATION_COLUMNS)

@@ -11,7 +11,7 @@ from test_path import EXAMPLE
 from placement import Evaluator, load_path
 from placement.__main__ import main
 from placement.exceptions import RobotFileError
-from placement.frames import VARIABLES
+from placement.placing.transform import VARIABLES
 from placement.robot import load_robot, robot_names
 from placement.robot.catalog import builtin_robots_dir
 from placement.search import optimize
@@ -47,10 +47,10 @@ def test_every_robot_places_a_path_end_to_end(name, tmp_path, capsys, monkeypatc
 def test_serial_arm_tool_axis_points_into_the_workpiece():
     import pinocchio as pin
 
-    from placement.evaluation import Evaluator
-    from placement.frames import placed_task
+    from placement.evaluation.evaluator import Evaluator
     from placement.kinematics import joint_trajectory
     from placement.path import load_path
+    from placement.placing.transform import placed_task
 
     robot = load_robot("ur5")
     samples = load_path(CIRCLE).sample(0.01)
@@ -60,7 +60,7 @@ def test_serial_arm_tool_axis_points_into_the_workpiece():
     data = robot.model.createData()
     pin.framesForwardKinematics(robot.model, data, joints.q[5])
     tool_z = data.oMf[robot.end_effector_frame_id].rotation[:, 2]
-    from placement.frames import rotation_zyx
+    from placement.placing.transform import rotation_zyx
 
     path_z = rotation_zyx(*placement[3:])[:, 2]
     assert tool_z @ path_z == pytest.approx(-1.0)

@@ -26,7 +26,7 @@ def test_rotor_and_screw_inertia_act_at_the_sliders(orthoglide):
 
     from trajectories import orthoglide_path
 
-    from placement.dynamics import inverse_dynamics
+    from placement.dynamics.inverse import inverse_dynamics
 
     bare_model = orthoglide.model.copy()
     bare_model.armature[:] = 0.0

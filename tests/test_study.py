@@ -10,7 +10,7 @@ import pytest
 
 from placement import load_path, load_robot
 from placement.__main__ import main
-from placement.path import Timing
+from placement.path.schema import Timing
 from placement.search.optimize import SearchSettings, optimize_placement
 from placement.search.study import run_study
 

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from test_path import EXAMPLE
 
-from placement.evaluation import Evaluator
+from placement.evaluation.evaluator import Evaluator
+from placement.output.plots import label_decimals
 from placement.path import load_path
-from placement.plots import label_decimals
 from placement.search.sweep import SweepResult, sweep
 
 AXES = {"x": np.linspace(-0.12, 0.06, 7), "y": np.linspace(-0.12, 0.06, 6)}
@@ -59,7 +59,7 @@ def test_infeasible_points_name_a_broken_limit(serial):
 
 
 def test_map_figure_is_written(serial, tmp_path):
-    from placement.plots import map_figure, save
+    from placement.output.plots import map_figure, save
 
     *_, result = serial
     files = save(map_figure(result, "test"), tmp_path / "map")

@@ -4,8 +4,8 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from placement import taylor
-from placement.taylor import Taylor2
+from placement.kinematics import taylor
+from placement.kinematics.taylor import Taylor2
 
 
 def curve(t, c):

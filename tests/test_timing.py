@@ -11,11 +11,11 @@ from robot_copies import edited_copy, orthoglide_motor
 
 from placement import Evaluator, load_path, load_robot
 from placement.__main__ import main
-from placement.dynamics import actuator_efforts
-from placement.evaluation import denser
+from placement.dynamics.inverse import actuator_efforts
+from placement.evaluation.evaluator import denser
 from placement.exceptions import PlacementError
-from placement.frames import placed_task
-from placement.path import Timing
+from placement.path.schema import Timing
+from placement.placing.transform import placed_task
 from placement.search.pareto import non_dominated
 
 PLACEMENTS = np.array([[0.0, 0.0, -0.03, 0.0, 0.0, 0.0],

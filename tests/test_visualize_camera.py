@@ -5,7 +5,7 @@ import pinocchio as pin
 import pytest
 
 from placement import load_robot
-from placement.visualize import CAMERA_FOV_DEG, Scene
+from placement.output.scene import CAMERA_FOV_DEG, Scene
 
 HALF_VIEW = np.tan(np.radians(CAMERA_FOV_DEG / 2))  # a square window: the narrowest view meshcat gives across
 NEAR_M = 0.01

@@ -8,9 +8,9 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from placement.calibration import FITTABLE, UNITS, Calibration, calibrate, read_log, write_calibrated
 from placement.cli.common import UsageError, check_outputs, require_sidecar, robot_files
-from placement.robot import load_robot
+from placement.drives.calibration import FITTABLE, UNITS, Calibration, calibrate, read_log, write_calibrated
+from placement.robot.load import load_robot
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
@@ -46,7 +46,7 @@ def run(args: argparse.Namespace) -> int:
         sidecar = write_calibrated(robot, result, args.out, Path(args.log).name)
         print(f"calibrated robot written to {sidecar}")
     if args.png:
-        from placement.plots import calibration_figure, save
+        from placement.output.plots import calibration_figure, save
 
         save(calibration_figure(result, [a.joint for a in robot.actuators]), str(args.png).removesuffix(".png"))
         print(f"figure written to {args.png} (and .svg)")

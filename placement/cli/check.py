@@ -3,7 +3,7 @@
     placement check ROBOT [--samples N] [--amplitude AMPLITUDE_M]
 
 The check moves the end effector around its reference position by an amplitude scaled to the
-robot's size (see :func:`placement.checks.default_amplitude`) unless ``--amplitude`` gives one,
+robot's size (see :func:`placement.robot.checks.default_amplitude`) unless ``--amplitude`` gives one,
 and ends with plausibility warnings about the robot files (heavy links, efforts beyond the
 drives, joints without URDF limits).
 """
@@ -14,11 +14,11 @@ import argparse
 
 import numpy as np
 
-from placement.checks import CheckReport, check_robot
 from placement.cli.common import UsageError, add_tool_option, load_robot_argument, positive_number, whole_number
 from placement.exceptions import UnreachableError
 from placement.kinematics.base import solver_name
-from placement.robot import Robot
+from placement.robot.checks import CheckReport, check_robot
+from placement.robot.model import Robot
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:

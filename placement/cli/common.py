@@ -15,19 +15,21 @@ from pydantic import ValidationError
 
 from placement.cell.schema import load_cell
 from placement.cell.tool import equip
-from placement.cluster import SCHEDULER_VARIABLE
 from placement.energy.regeneration import REGENERATION
+from placement.evaluation.parallel import SCHEDULER_VARIABLE
 from placement.exceptions import PlacementError
-from placement.frames import ANGLES, VARIABLES
 from placement.kinematics.base import solver_name
 from placement.kinematics.batched import prepare_kernels
 from placement.limits.collision import collision_scene
-from placement.objectives import OBJECTIVES
-from placement.path import Timing, ToolPath, load_path
-from placement.robot import Robot, load_robot
+from placement.objectives.base import OBJECTIVES
+from placement.path.load import load_path
+from placement.path.schema import Timing
+from placement.path.toolpath import ToolPath
+from placement.placing.transform import ANGLES, VARIABLES
 from placement.robot.catalog import sidecar_path
 from placement.robot.erd import ERD_FORM, erd_name, estimate_warning, load_erd_robot
-from placement.robot.load import ERD_PREFIX
+from placement.robot.load import ERD_PREFIX, load_robot
+from placement.robot.model import Robot
 
 
 class UsageError(PlacementError):

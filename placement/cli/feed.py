@@ -22,7 +22,7 @@ from placement.cli.common import (
     robot_files,
 )
 from placement.energy.regeneration import REGENERATION
-from placement.frames import VARIABLES
+from placement.placing.transform import VARIABLES
 from placement.search.feed import feed_study
 
 MAX_FEEDS = 1000
@@ -74,7 +74,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"  {feed:9.3f} {study.top_speed_m_s[k]:12.3f} {study.time_s[k]:12.4f} {study.energy_J[k]:14.4f} "
               f"{study.energy_J[k] / study.time_s[k]:13.2f}  {state}")
     if args.png:
-        from placement.plots import feed_figure, save
+        from placement.output.plots import feed_figure, save
 
         save(feed_figure(study, f"{path.name} on {robot.name}"), str(args.png).removesuffix(".png"))
         print(f"figure written to {args.png} (and .svg)")

@@ -9,15 +9,17 @@ import numpy as np
 from tqdm import tqdm
 
 from placement.cli.common import UsageError
-from placement.cluster import Cluster
-from placement.evaluation import Evaluator, PlacementDetail
-from placement.frames import ANGLES, VARIABLES, PlacementSpace
-from placement.objectives import OBJECTIVES, quantity
-from placement.path import ToolPath
-from placement.report import detail_json
+from placement.evaluation.evaluator import Evaluator
+from placement.evaluation.parallel import Cluster
+from placement.evaluation.results import PlacementDetail
+from placement.objectives.base import OBJECTIVES, quantity
+from placement.output.report import detail_json
+from placement.path.toolpath import ToolPath
+from placement.placing.transform import ANGLES, VARIABLES
 from placement.robot.model import Robot
 from placement.search.optimize import SearchSettings
 from placement.search.pareto import ParetoFront, pareto_front
+from placement.search.space import PlacementSpace
 
 SCENE_COLORS = (0xFF8C00, 0x8A2BE2, 0x00A0A0, 0xC71585, 0x556B2F)  # front members drawn in the scene
 
@@ -49,7 +51,7 @@ def place_front(robot: Robot, path: ToolPath, space: PlacementSpace, args: argpa
         return document, {}, front.infeasible
     print("\n" + format_front(front))
     if args.png:
-        from placement.plots import front_figure, save
+        from placement.output.plots import front_figure, save
 
         names = save(front_figure(front, f"{path.name} on {robot.name}"), str(args.png).removesuffix(".png"))
         print(f"front plotted in {' and '.join(names)}")

@@ -25,10 +25,10 @@ from placement.cli.common import (
     robot_files,
     whole_number,
 )
-from placement.cluster import cluster, scheduler_address
-from placement.frames import ANGLES, VARIABLES, placement_pose, robot_plane
-from placement.objectives import quantity, wording
-from placement.report import write_atomically
+from placement.evaluation.parallel import cluster, scheduler_address
+from placement.objectives.base import quantity, wording
+from placement.output.report import write_atomically
+from placement.placing.transform import ANGLES, VARIABLES, placement_pose, robot_plane
 from placement.search.sweep import sweep
 
 MAX_GRID_POINTS = 1_000_000
@@ -112,12 +112,12 @@ def run(args: argparse.Namespace) -> int:
           + (f", {words.subject} {feasible.min():.4f} to {quantity(feasible.max(), words.unit)}" if len(feasible) else "")
           + f"; written to {out}")
     if args.png:
-        from placement.plots import map_figure, save
+        from placement.output.plots import map_figure, save
 
         save(map_figure(result, f"{path.name}: {words.subject} ({args.regen})"), str(args.png).removesuffix(".png"))
         print(f"figure written to {args.png} (and .svg)")
     if args.html:
-        from placement.visualize import Scene  # meshcat and trimesh load only when a scene is drawn
+        from placement.output.scene import Scene
 
         scene = Scene(robot)
         scene.add_workspace()

@@ -30,19 +30,21 @@ from placement.cli.common import (
     whole_number,
 )
 from placement.cli.front import SCENE_COLORS, parse_members, parse_objectives, place_front
-from placement.cluster import Cluster, cluster, scheduler_address
 from placement.energy.regeneration import REGENERATION
-from placement.evaluation import Evaluator
-from placement.frames import VARIABLES, default_space, describe_plane, robot_plane
+from placement.evaluation.evaluator import Evaluator
+from placement.evaluation.parallel import Cluster, cluster, scheduler_address
 from placement.limits.collision import closest_points
-from placement.objectives import OBJECTIVES, wording
-from placement.path import PathSamples, ToolPath
-from placement.report import detail_json, format_detail, format_result, write_atomically, write_json, write_trace
-from placement.robot import Robot
+from placement.objectives.base import OBJECTIVES, wording
+from placement.output.report import detail_json, format_detail, format_result, write_atomically, write_json, write_trace
+from placement.path.samples import PathSamples
+from placement.path.toolpath import ToolPath
+from placement.placing.transform import VARIABLES, describe_plane, robot_plane
+from placement.robot.model import Robot
 from placement.search.optimize import SearchSettings, optimize_placement
+from placement.search.space import default_space
 
 if TYPE_CHECKING:  # the scene's modules (meshcat, trimesh) load only for --html and --show
-    from placement.visualize import Scene
+    from placement.output.scene import Scene
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -200,7 +202,7 @@ def plane_line(plane: dict[str, list[float]]) -> str:
 
 def draw(scene: Scene, robot: Robot, index: int, details: dict) -> None:
     """Add one path's placements to the scene; animate the robot along the first path's."""
-    from placement.visualize import AT_COLOR, BEST_COLOR, WORST_COLOR
+    from placement.output.scene import AT_COLOR, BEST_COLOR, WORST_COLOR
 
     words = wording(next(iter(details.values())).objective) if details else None
     colors = {"best": (BEST_COLOR, f"{words.best} {words.subject}" if words else ""),
@@ -225,7 +227,7 @@ def show(page: str, host: str) -> None:
     if not (host == "localhost" or host.startswith("127.") or host == "::1"):
         print(f"warning: --show-host {host}: the scene is served to every machine that can reach this address",
               file=sys.stderr)
-    from placement.visualize import PageServer
+    from placement.output.scene import PageServer
 
     try:
         server = PageServer(page, host)
@@ -271,7 +273,7 @@ def run(args: argparse.Namespace) -> int:
                   inputs=(*args.path, *robot_files(args.robot, args.cell)))
     scene = None
     if args.html or args.show:
-        from placement.visualize import Scene
+        from placement.output.scene import Scene
 
         scene = Scene(robot)
     if scene:

@@ -25,9 +25,9 @@ from placement.cli.common import (
     robot_files,
     whole_number,
 )
-from placement.cluster import cluster, scheduler_address
 from placement.energy.regeneration import REGENERATION
-from placement.report import write_atomically
+from placement.evaluation.parallel import cluster, scheduler_address
+from placement.output.report import write_atomically
 from placement.search.optimize import SearchSettings
 from placement.search.study import StudyRow, run_study
 

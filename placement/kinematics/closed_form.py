@@ -1,7 +1,7 @@
 """The ``closed_form`` kinematics solver: a robot's own closed-form plug-in, batched over samples.
 
 The plug-in (``kinematics_plugin`` in the sidecar) gives every joint as a function of the platform
-position, written with second-order Taylor arithmetic (:mod:`placement.taylor`), so that one numpy
+position, written with second-order Taylor arithmetic (:mod:`placement.kinematics.taylor`), so that one numpy
 pass yields positions, exact rates and accelerations, and ``∂q/∂p`` for all samples at once.
 """
 
@@ -12,9 +12,9 @@ from typing import ClassVar
 import numpy as np
 
 from placement.kinematics.base import SINGULAR_CONDITION, SOLVERS, KinematicsSolver, condition_1
+from placement.kinematics.taylor import Taylor2
 from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
 from placement.robot.model import Robot
-from placement.taylor import Taylor2
 
 
 def _closed_form(robot: Robot, task: TaskTrajectory) -> tuple[JointTrajectory, np.ndarray, str]:

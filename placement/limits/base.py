@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from placement.batch import EvaluatedBatch
+from placement.evaluation.batch import EvaluatedBatch
 from placement.registry import Registry
 from placement.robot.model import Robot
 

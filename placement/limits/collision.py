@@ -25,8 +25,8 @@ from weakref import WeakKeyDictionary
 
 import numpy as np
 
-from placement.batch import EvaluatedBatch
 from placement.cell.scene import CollisionScene
+from placement.evaluation.batch import EvaluatedBatch
 from placement.limits.base import LIMITS, Limit, MarginField
 from placement.limits.workspace import box_field
 from placement.robot.model import Robot

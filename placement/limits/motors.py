@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from placement.batch import EvaluatedBatch
 from placement.drives.trace import drives_of, phase_voltage_V
+from placement.evaluation.batch import EvaluatedBatch
 from placement.limits.base import LIMITS, Limit, MarginField
 from placement.robot.model import Robot
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from placement.batch import EvaluatedBatch
+from placement.evaluation.batch import EvaluatedBatch
 from placement.limits.base import LIMITS, Limit, MarginField
 
 

@@ -1,7 +1,7 @@
 """Kinetostatic objectives: how well the actuators transmit motion and force to the tool along the path.
 
 Both read the task map J = J_task·G of each sample (task velocity per unit actuator velocity, see
-:class:`placement.kinematics.JointTrajectory`), made dimensionless first: linear task rows and
+:class:`placement.kinematics.trajectories.JointTrajectory`), made dimensionless first: linear task rows and
 prismatic actuator columns are divided by a characteristic length L, so that a slider moving at
 L per second and a joint turning at 1 rad/s weigh the same. L is the mean distance, at the
 reference configuration, from the actuated joints to the end-effector frame; it only matters for
@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from placement.batch import EvaluatedBatch
+from placement.evaluation.batch import EvaluatedBatch
 from placement.objectives.base import OBJECTIVES, Objective
 from placement.robot.model import Robot
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from placement.batch import EvaluatedBatch
+from placement.evaluation.batch import EvaluatedBatch
 from placement.objectives.base import OBJECTIVES, Objective
 
 

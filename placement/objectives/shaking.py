@@ -17,8 +17,8 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from placement.batch import EvaluatedBatch
-from placement.dynamics import rnea_batch
+from placement.dynamics.inverse import rnea_batch
+from placement.evaluation.batch import EvaluatedBatch
 from placement.objectives.base import OBJECTIVES, Objective
 from placement.robot.model import Robot
 

@@ -6,7 +6,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from placement.batch import EvaluatedBatch
+from placement.evaluation.batch import EvaluatedBatch
 from placement.objectives.base import OBJECTIVES, Objective
 
 

@@ -411,8 +411,8 @@ def _workspace(robot: Robot, reference: dict[str, float], sources: dict[str, str
 
 def _plane_normal(normal: np.ndarray) -> list[float]:
     """A plane's unit normal, rounded to 6 decimals, signed so that the plane's y axis (see
-    :func:`placement.frames.plane_frame`) does not point down (along -Z_b): placements read y upwards."""
-    from placement.frames import plane_frame  # here: placement.frames imports the robot package
+    :func:`placement.placing.transform.plane_frame`) does not point down (along -Z_b): placements read y upwards."""
+    from placement.placing.transform import plane_frame
     from placement.robot.sidecar import Plane
 
     rounded = [round(float(c), 6) + 0.0 for c in normal]

@@ -21,6 +21,7 @@ from pydantic import BaseModel
 
 from placement.exceptions import AssemblyError, PlacementError, RobotFileError
 from placement.files import staged
+from placement.kinematics.taylor import Taylor2
 from placement.robot.catalog import sidecar_path
 from placement.robot.closures import closure_jacobian, closure_residuals
 from placement.robot.gepetto import SIDECAR_NAME, is_gepetto, read_gepetto
@@ -28,7 +29,6 @@ from placement.robot.model import Actuator, Closure, Robot
 from placement.robot.plugins import load_plugin, make_closed_form
 from placement.robot.sidecar import Sidecar, read_sidecar
 from placement.robot.tool import add_tool_frame, find_frame, mount_tool
-from placement.taylor import Taylor2
 
 CLOSURE_TOLERANCE_M = 1e-6
 ERD_PREFIX = "example-robot-data:"

@@ -95,7 +95,7 @@ PLANE_VARIABLES = ("x", "y", "phi")
 class Plane(Strict):
     """The plane a planar mechanism moves in, in the base frame: its normal and one of its points (m).
 
-    Paths are then placed in this plane (see :func:`placement.frames.plane_frame`): the path
+    Paths are then placed in this plane (see :func:`placement.placing.transform.plane_frame`): the path
     frame's Z_p is along ``normal``; x and y are the path origin's coordinates along the plane's own
     axes, from ``point_m``; phi turns the path about the normal; z, theta and psi stay 0.
     """

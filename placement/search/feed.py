@@ -12,8 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from placement.evaluation import Evaluator
-from placement.path import ToolPath
+from placement.evaluation.evaluator import Evaluator
+from placement.path.toolpath import ToolPath
 from placement.robot.model import Robot
 
 

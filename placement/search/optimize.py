@@ -26,11 +26,13 @@ from multiprocessing.sharedctypes import Synchronized
 import numpy as np
 from scipy.optimize import NonlinearConstraint, OptimizeResult, differential_evolution, minimize
 
-from placement.dynamics import openmp_started
-from placement.evaluation import Evaluation, EvaluationJob, Evaluator, PlacementDetail, denser, process_pool
-from placement.frames import PlacementSpace, default_space
-from placement.path import ToolPath
+from placement.dynamics.inverse import openmp_started
+from placement.evaluation.evaluator import EvaluationJob, Evaluator, denser
+from placement.evaluation.parallel import process_pool
+from placement.evaluation.results import Evaluation, PlacementDetail
+from placement.path.toolpath import ToolPath
 from placement.robot.model import Robot
+from placement.search.space import PlacementSpace, default_space
 
 POLISH_STARTS = 3  # distinct candidates polished locally
 GIVE_UP_GENERATIONS = 25  # generations without any feasible placement after which the search stops
@@ -306,7 +308,7 @@ def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | 
     Args:
         robot: The robot (its actuators need drives).
         path: The tool path.
-        space: Free variables and bounds (default: :func:`placement.frames.default_space`).
+        space: Free variables and bounds (default: :func:`placement.search.space.default_space`).
         objective: Objective's name (see :mod:`placement.objectives`; default: electric energy).
         regeneration: Regeneration policy's name, see :mod:`placement.energy.regeneration`.
         best, worst: Which searches to run.
@@ -314,7 +316,7 @@ def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | 
         settings: Search budget and seed.
         progress: Called once per generation of the global search (for a progress bar).
         announce: Called with the expected duration (s) before the search starts.
-        executor: Runs the evaluations in chunks (a Dask cluster's, see :mod:`placement.cluster`);
+        executor: Runs the evaluations in chunks (a Dask cluster's, see :mod:`placement.evaluation.parallel`);
             default: this process (or a local pool for a solver that is not vectorised).
         workers: Chunks per batch of placements for ``executor`` (default: every core).
 
@@ -415,7 +417,7 @@ def _outcome(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: fl
 def in_parallel(coarse: Evaluator, fine: Evaluator, directions: int) -> bool:
     """Whether both directions are searched at once, a process each: when both are asked for, this machine has
     two cores, the evaluations run in this process, which is no pool's worker (a study's searches share the
-    cores already), and it may fork (:func:`placement.dynamics.openmp_started`)."""
+    cores already), and it may fork (:func:`placement.dynamics.inverse.openmp_started`)."""
     here = all(e.executor is None and e.workers == 1 for e in (coarse, fine))
     main = multiprocessing.parent_process() is None
     return directions == 2 and (os.cpu_count() or 1) >= 2 and here and main and not openmp_started()

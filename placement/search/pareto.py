@@ -6,7 +6,7 @@ the set of feasible placements where one objective can only improve at the cost 
 
 Strategy:
 
-1. Each objective's own optimum is searched first (:func:`placement.search.optimize_placement`,
+1. Each objective's own optimum is searched first (:func:`placement.search.optimize.optimize_placement`,
    best direction only): the front's ends are then exact single-objective optima, not
    approximations of them.
 2. NSGA-II (pymoo) evolves a population, seeded with those optima, over the free placement
@@ -32,13 +32,14 @@ from pymoo.algorithms.moo.nsga2 import NSGA2
 from pymoo.core.problem import Problem
 from pymoo.optimize import minimize
 
-from placement.evaluation import Evaluation, Evaluator, PlacementDetail, denser
+from placement.evaluation.evaluator import Evaluator, denser
+from placement.evaluation.results import Evaluation, PlacementDetail
 from placement.exceptions import PlacementError
-from placement.frames import PlacementSpace, default_space
-from placement.objectives import OBJECTIVES
-from placement.path import ToolPath
+from placement.objectives.base import OBJECTIVES
+from placement.path.toolpath import ToolPath
 from placement.robot.model import Robot
 from placement.search.optimize import RECHECK_DENSITY, SearchSettings, optimize_placement
+from placement.search.space import PlacementSpace, default_space
 
 FRONT_SIZE = 24  # members reported at most, spread evenly along the front
 UNREACHABLE_VALUE = 1e30  # what NSGA-II sees for an objective of an unreachable placement
@@ -141,13 +142,13 @@ def pareto_front(robot: Robot, path: ToolPath, objectives: tuple[str, ...], *, s
         robot: The robot (its actuators need drives).
         path: The tool path.
         objectives: Two or three objective names (see :mod:`placement.objectives`).
-        space: Free variables and bounds (default: :func:`placement.frames.default_space`).
+        space: Free variables and bounds (default: :func:`placement.search.space.default_space`).
         regeneration: Regeneration policy's name.
         time_step_s: Path sampling step (default: the path file's).
         settings: Budget and seed of the single-objective searches and of NSGA-II (its population
             and generations; default: :class:`SearchSettings`'s).
         progress: Called once per generation of every search.
-        executor: Runs the evaluations in chunks (a Dask cluster's, see :mod:`placement.cluster`);
+        executor: Runs the evaluations in chunks (a Dask cluster's, see :mod:`placement.evaluation.parallel`);
             default: this process.
         workers: Chunks per batch of placements for ``executor`` (default: every core).
 

@@ -3,8 +3,8 @@
 A production engineer choosing a machine for a family of parts asks, for each robot and each
 part: can it be done at all, how little energy does it take at the best placement, how much does
 placing it well save, and how long does a part take. Each (robot, path) pair is one independent
-search (:func:`placement.search.optimize_placement`, best and worst), run on an executor: the
-local process pool, or a Dask cluster (:mod:`placement.cluster`). A pair that cannot be placed,
+search (:func:`placement.search.optimize.optimize_placement`, best and worst), run on an executor: the
+local process pool, or a Dask cluster (:mod:`placement.evaluation.parallel`). A pair that cannot be placed,
 or whose search fails on an input error, becomes a row that says why; it does not stop the study.
 """
 
@@ -18,10 +18,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from placement.cluster import run_in_order
+from placement.evaluation.parallel import run_in_order
 from placement.exceptions import PlacementError
-from placement.frames import VARIABLES
-from placement.path import ToolPath
+from placement.path.toolpath import ToolPath
+from placement.placing.transform import VARIABLES
 from placement.robot.model import Robot
 from placement.search.optimize import SearchSettings, optimize_placement
 
@@ -110,7 +110,7 @@ def run_study(robots: Sequence[Robot], paths: Sequence[ToolPath], *, regeneratio
         robots, paths: The robots and the paths; every pair is searched.
         regeneration: Regeneration policy's name.
         settings: Budget and seed of each search (default: :class:`SearchSettings`'s).
-        executor: Runs the searches (a Dask cluster's, see :mod:`placement.cluster`); default: a
+        executor: Runs the searches (a Dask cluster's, see :mod:`placement.evaluation.parallel`); default: a
             local pool of ``workers`` processes, or this process when ``workers`` is 1.
         workers: Processes of the local pool (default: every core).
         progress: Called once per finished pair.

@@ -19,12 +19,13 @@ from pathlib import Path
 
 import numpy as np
 
-from placement.cluster import run_in_order
-from placement.evaluation import Evaluation, EvaluationJob, evaluate_job, members_used
+from placement.evaluation.evaluator import EvaluationJob, evaluate_job, members_used
+from placement.evaluation.parallel import run_in_order
+from placement.evaluation.results import Evaluation
 from placement.exceptions import PlacementError
-from placement.frames import VARIABLES
-from placement.objectives import OBJECTIVES
-from placement.path import ToolPath
+from placement.objectives.base import OBJECTIVES
+from placement.path.toolpath import ToolPath
+from placement.placing.transform import VARIABLES
 from placement.registry import runtime_members
 from placement.robot.model import Robot
 

@@ -2,7 +2,7 @@
 
 ``make_closed_form(model)`` is the kinematics plug-in named in ``orthoglide.yaml``: it returns
 every joint of the spanning tree as a function of the platform position, written with
-:mod:`placement.taylor` so that joint rates and accelerations come out exactly. In leg i's frame
+:mod:`placement.kinematics.taylor` so that joint rates and accelerations come out exactly. In leg i's frame
 (x along the slider axis e_i), with the platform at (x, y, z) and S = sqrt(L² - y² - z²):
 
     slider rho = x + S,   yoke alpha = atan2(z, S),   bar theta = atan2(-y, sqrt(L² - y²)),
@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from placement import taylor
+from placement.kinematics import taylor
 
 AXES = "xyz"
 

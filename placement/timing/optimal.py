@@ -27,7 +27,7 @@ linear in (s̈, ṡ²) at each sample, the form that TOPP-RA (Pham and Pham, IEE
 TOPP-RA keeps each limit at both ends of every interval between samples, with a margin of
 ``SAFETY``. Its s̈ is constant on each interval and switches at the samples, so the exact chain
 evaluates each interval on its own (a sample inside a run appears twice, zero time apart:
-:attr:`placement.path.PathGeometry.evaluated_samples`); where the current steps there, the
+:attr:`placement.path.samples.PathGeometry.evaluated_samples`); where the current steps there, the
 energy integration counts what the windings give back and take. :mod:`placement.limits` then
 checks the timed samples like any other timing's. The tool stops wherever the realistic law stops
 (corners, gaps, changes of the tool's rate of turning): each run between stops is timed rest to
@@ -36,113 +36,28 @@ rest, and the samples grow denser towards the stops, where the tool moves slowes
 
 from __future__ import annotations
 
-import dataclasses
 import logging
-from dataclasses import dataclass
 from functools import cache
 from types import ModuleType
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from placement.drives.trace import drives_of
-from placement.path import PathGeometry, PathSamples, run_joins
+from placement.dynamics.path import PathDynamics
 from placement.robot.model import Robot
+from placement.timing.law import TimeLaw
+
+if TYPE_CHECKING:
+    from placement.path.samples import PathGeometry
 
 SAFETY = 0.99  # share of each limit the timing law may use (the exact chain checks the rest)
 
 
-@dataclass(frozen=True)
-class TimeLaw:
-    """The timing of K placements of a path sampled by a :class:`placement.path.PathGeometry`.
-
-    Attributes:
-        t_s: (K, N) time of each sample from the start of the path.
-        speed_m_s: (K, N) ṡ, the tool's speed along the path.
-        acceleration_m_s2: (K, N) s̈ on the interval after each sample (the one before, at a run's end).
-        timed: (K,) whether every run found a timing; a placement without one holds ṡ = s̈ = 0 at the
-            geometry's nominal times (its efforts are static), and :mod:`placement.limits` reports it.
-    """
-
-    t_s: np.ndarray
-    speed_m_s: np.ndarray
-    acceleration_m_s2: np.ndarray
-    timed: np.ndarray
-
-    @property
-    def duration_s(self) -> np.ndarray:
-        """(K,) the time to run the whole path (infinite without a timing)."""
-        return np.where(self.timed, self.t_s[:, -1] - self.t_s[:, 0], np.inf)
-
-    def at_samples(self, geometry: PathGeometry) -> TimeLaw:
-        """This timing (at ``geometry``'s samples) at its evaluated samples, each interval with its own s̈
-        (:attr:`placement.path.PathGeometry.evaluated_samples`)."""
-        return TimeLaw(self.t_s[:, geometry.grid_rows], self.speed_m_s[:, geometry.grid_rows],
-                       self.acceleration_m_s2[:, geometry.interval_rows], self.timed)
-
-    def resampled(self, source: PathGeometry, target: PathGeometry) -> TimeLaw:
-        """This timing, found on ``source``'s samples, at the samples of ``target``, another sampling of the
-        same path (a denser one, to check the limits between the samples): s̈ is constant between the
-        source's samples, so ṡ² grows linearly in s and each time follows exactly."""
-        k = len(self.timed)
-        speed, acceleration = np.zeros((k, len(target))), np.zeros((k, len(target)))
-        t_s = np.broadcast_to(target.samples.t_s, (k, len(target))).copy()
-        runs = zip(source.run_starts[:-1], source.run_starts[1:], target.run_starts[:-1], target.run_starts[1:])
-        for start, stop, first, last in runs:
-            arc = source.arc_m[start:stop]
-            i = start + np.clip(np.searchsorted(arc, target.arc_m[first:last], side="right") - 1, 0, len(arc) - 2)
-            ds = target.arc_m[first:last] - source.arc_m[i]
-            v0, u, t0 = self.speed_m_s[:, i], self.acceleration_m_s2[:, i], self.t_s[:, i]
-            v = np.sqrt(np.maximum(v0**2 + 2 * u * ds, 0.0))
-            with np.errstate(divide="ignore", invalid="ignore"):
-                t = t0 + np.where(v0 + v > 0, 2 * ds / (v0 + v), 0.0)
-            v[:, -1], t[:, -1] = self.speed_m_s[:, stop - 1], self.t_s[:, stop - 1]  # at rest, exactly
-            speed[:, first:last], acceleration[:, first:last] = v, u
-            t_s[self.timed, first:last] = t[self.timed]
-        speed[~self.timed], acceleration[~self.timed] = 0.0, 0.0
-        return TimeLaw(t_s, speed, acceleration, self.timed)
-
-    def timed_samples(self, unit: PathSamples, placement: int) -> PathSamples:
-        """The path's samples at unit speed (:class:`placement.path.PathGeometry`) timed as one placement is."""
-        speed, acceleration = self.speed_m_s[placement][:, None], self.acceleration_m_s2[placement][:, None]
-        velocity, linear = timed_rates(unit.velocity_m_s, unit.acceleration_m_s2, speed, acceleration)
-        timed = dataclasses.replace(unit, t_s=self.t_s[placement], velocity_m_s=velocity, acceleration_m_s2=linear)
-        if unit.angular_velocity_rad_s is None or unit.angular_acceleration_rad_s2 is None:
-            return timed
-        angular_velocity, angular = timed_rates(unit.angular_velocity_rad_s, unit.angular_acceleration_rad_s2, speed,
-                                                acceleration)
-        return dataclasses.replace(timed, angular_velocity_rad_s=angular_velocity, angular_acceleration_rad_s2=angular)
 
 
-def timed_rates(per_m: np.ndarray, per_m2: np.ndarray, speed_m_s: np.ndarray,
-                acceleration_m_s2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Rate and acceleration in time of a quantity with derivatives ``per_m`` and ``per_m2`` along the path, moved at
-    ṡ and s̈: x' · ṡ and x' · s̈ + x'' · ṡ²."""
-    return per_m * speed_m_s, per_m * acceleration_m_s2 + per_m2 * speed_m_s**2
 
 
-@dataclass(frozen=True)
-class PathDynamics:
-    """What limits the motion along the path of K placements, per sample, in the actuators' units.
-
-    Attributes:
-        velocity: (K, N, n_act) q' of the actuated joints (per metre of path).
-        curvature: (K, N, n_act) q'' of the actuated joints (per metre² of path).
-        inertia, centripetal, static: (K, N, n_act) A, B and C of the efforts (module docstring).
-    """
-
-    velocity: np.ndarray
-    curvature: np.ndarray
-    inertia: np.ndarray
-    centripetal: np.ndarray
-    static: np.ndarray
-
-    def rows(self, index: np.ndarray) -> PathDynamics:
-        """The same at some samples (an index into the sample axis)."""
-        return PathDynamics(*(getattr(self, f.name)[:, index] for f in dataclasses.fields(PathDynamics)))
-
-    def efforts(self, speed: np.ndarray, acceleration: np.ndarray) -> np.ndarray:
-        """(K, N, n_act) actuator efforts for ṡ and s̈ of shape (K, N)."""
-        return (self.inertia * acceleration[..., None] + self.centripetal * speed[..., None] ** 2 + self.static)
 
 
 @cache
@@ -293,6 +208,6 @@ def _times(geometry: PathGeometry, speed: np.ndarray, timed: np.ndarray) -> np.n
     """(K, N) sample times: s̈ is constant between samples, so each interval takes 2·Δs/(ṡ_i + ṡ_i+1)."""
     ds = np.diff(geometry.arc_m)
     with np.errstate(divide="ignore", invalid="ignore"):
-        dt = np.where(run_joins(geometry.run_starts), 0.0, 2 * ds / (speed[:, 1:] + speed[:, :-1]))
+        dt = np.where(geometry.joins, 0.0, 2 * ds / (speed[:, 1:] + speed[:, :-1]))
     dt = np.where(timed[:, None], dt, np.diff(geometry.samples.t_s))
     return np.concatenate([np.zeros((len(speed), 1)), np.cumsum(dt, axis=1)], axis=1)

@@ -36,10 +36,10 @@ from pinocchio.visualize import MeshcatVisualizer
 
 from placement.cell.geometry import package_dirs
 from placement.exceptions import RobotFileError
-from placement.frames import box_corners
 from placement.kinematics.batched import jump_steps
 from placement.limits.collision import collision_scene
 from placement.robot.model import Robot
+from placement.search.space import box_corners
 
 VIEWER_SCRIPT = Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js"
 POINT_COLORS = {"O_b": 0x1F77B4, "C": 0x2CA02C, "Q_plus": 0xD62728, "Q_minus": 0xFF7F0E}

@@ -10,14 +10,15 @@ workers need only this package installed, not the files.
 
 from __future__ import annotations
 
+import multiprocessing
 import os
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import Executor, as_completed
+from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
 from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any, TypeVar
 
-from placement.evaluation import process_pool
+from placement.dynamics.inverse import openmp_started
 from placement.exceptions import PlacementError
 
 Result = TypeVar("Result")
@@ -103,3 +104,15 @@ def run_in_order(function: Callable[..., Result], tasks: Sequence[tuple[Any, ...
         if executor is None:
             pool.shutdown(cancel_futures=True)
     return [finished[index] for index in range(len(tasks))]
+
+
+def process_pool(workers: int, initializer: Callable[..., None] | None = None,
+                 initargs: tuple = ()) -> ProcessPoolExecutor:
+    """A pool of ``workers`` processes: forked from this one where the platform forks, unless this process has
+    started OpenMP threads, which a forked process would hang on (:func:`placement.dynamics.inverse.openmp_started`);
+    then started afresh."""
+    fresh = openmp_started() and "fork" in multiprocessing.get_all_start_methods()
+    context = multiprocessing.get_context("spawn") if fresh else None
+    return ProcessPoolExecutor(max_workers=workers, mp_context=context, initializer=initializer, initargs=initargs)
+
+

@@ -14,12 +14,12 @@ from typing import Any
 
 import numpy as np
 
-from placement.evaluation import PlacementDetail
+from placement.evaluation.results import PlacementDetail
 from placement.files import staged
-from placement.frames import ANGLES, VARIABLES
-from placement.limits import Margin
+from placement.limits.base import Margin
 from placement.limits.collision import closest_points
-from placement.objectives import OBJECTIVES, quantity, wording
+from placement.objectives.base import OBJECTIVES, quantity, wording
+from placement.placing.transform import ANGLES, VARIABLES
 from placement.robot.model import Robot
 from placement.search.optimize import Optimum, PlacementResult
 

@@ -15,7 +15,7 @@ The orientation is the tool frame's in the path frame: the identity means the to
 are the path frame's (its z axis Z_p, out of the workpiece).
 
 Without t the list is a polyline timed by the path's feed and timing law, the orientation turning
-uniformly from each pose to the next (:class:`~placement.segments.Segment`). With t the poses are
+uniformly from each pose to the next (:class:`~placement.path.segments.Segment`). With t the poses are
 passed through at their times by a C² interpolation: a cubic spline of the positions (not-a-knot
 ends) and scipy's RotationSpline of the orientations (:class:`TimedPoses`).
 """
@@ -33,7 +33,7 @@ from scipy.interpolate import CubicSpline
 from scipy.spatial.transform import Rotation, RotationSpline
 
 from placement.exceptions import PoseFileError
-from placement.segments import Segment
+from placement.path.segments import Segment
 
 ORIENTATION_COLUMNS = {"none": (), "quaternion_xyzw": ("qx", "qy", "qz", "qw"),
                        "rpy_deg": ("roll_deg", "pitch_deg", "yaw_deg")}

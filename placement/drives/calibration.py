@@ -28,10 +28,11 @@ import yaml
 from scipy.optimize import least_squares
 
 from placement.drives.trace import MotorTrace, drives_of, motor_trace
-from placement.dynamics import actuator_efforts
+from placement.dynamics.inverse import actuator_efforts
 from placement.energy.integration import sample_power
 from placement.exceptions import InputFileError, PlacementError
-from placement.kinematics import JointTrajectory, TaskTrajectory, joint_trajectory
+from placement.kinematics import joint_trajectory
+from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
 from placement.robot.model import Robot
 from placement.robot.sidecar import Drive
 

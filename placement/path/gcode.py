@@ -50,7 +50,7 @@ from pathlib import Path
 import numpy as np
 
 from placement.exceptions import GcodeError, PathFileError
-from placement.segments import Segment
+from placement.path.segments import Segment
 
 MM_M = 1e-3
 INCH_M = 0.0254

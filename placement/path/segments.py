@@ -21,6 +21,9 @@ from dataclasses import dataclass
 import numpy as np
 
 XY_PLANE = np.eye(3)  # columns u, v, n of the X_p Y_p plane (G17)
+CORNER_ANGLE_RAD = np.radians(1.0)  # a tangent turn above this is a corner (exact stop)
+GAP_M = 1e-9  # segments whose ends are farther apart leave a gap (a skipped rapid) between them
+TURNING_RATE_TOLERANCE_RAD_M = 1e-9  # a larger change of turning rate between segments is an orientation corner
 
 
 @dataclass(frozen=True)
@@ -109,3 +112,81 @@ def rotation_matrices(vectors: np.ndarray) -> np.ndarray:
     zero = np.zeros_like(x)
     skew = np.stack([np.stack([zero, -z, y], -1), np.stack([z, zero, -x], -1), np.stack([-y, x, zero], -1)], -2)
     return np.eye(3) + sine[:, None, None] * skew + versine[:, None, None] * skew @ skew
+
+
+@dataclass(frozen=True)
+class Run:
+    """Consecutive segments the tool runs through without stopping: no corner, gap or change of the tool's
+    turning rate between them (where the realistic and optimal timing laws stop).
+
+    Attributes:
+        segments: The segments, in order.
+        after_gap: Whether a gap (a skipped rapid) comes before the run.
+    """
+
+    segments: tuple[Segment, ...]
+    after_gap: bool = False
+
+    @property
+    def length_m(self) -> float:
+        """The run's length."""
+        return sum(segment.length_m for segment in self.segments)
+
+    @property
+    def bounds_m(self) -> np.ndarray:
+        """(n + 1,) arc length of each segment's start from the run's start, then the run's length."""
+        return np.cumsum([0.0] + [segment.length_m for segment in self.segments])
+
+    def along(self, s: np.ndarray, s_dot: np.ndarray, s_ddot: np.ndarray,
+              oriented: bool = False) -> dict[str, np.ndarray]:
+        """Motion along the run at increasing arc lengths ``s`` (m) from its start, moved at ṡ and s̈.
+
+        Returns:
+            position, velocity, acceleration, tangent (N, 3) and rapid (N,): whether on a rapid segment;
+            if ``oriented``, also rotation (N, 3, 3), angular_velocity and angular_acceleration (N, 3).
+        """
+        run, bounds = self.segments, self.bounds_m
+        index = np.clip(np.searchsorted(bounds, s, side="right") - 1, 0, len(run) - 1)
+        names = ("position", "velocity", "acceleration", "tangent")
+        out: dict[str, np.ndarray] = {name: np.zeros((len(s), 3)) for name in names}
+        out["rapid"] = np.zeros(len(s), dtype=bool)
+        if oriented:
+            out.update(rotation=np.zeros((len(s), 3, 3)), angular_velocity=np.zeros((len(s), 3)),
+                       angular_acceleration=np.zeros((len(s), 3)))
+        present = np.unique(index)
+        starts = np.searchsorted(index, present, side="left")
+        stops = np.searchsorted(index, present, side="right")
+        for k, lo, hi in zip(present, starts, stops):
+            segment = run[k]
+            for name, value in zip(names, segment.point(s[lo:hi] - bounds[k], s_dot[lo:hi], s_ddot[lo:hi])):
+                out[name][lo:hi] = value
+            out["rapid"][lo:hi] = segment.rapid
+            if oriented:
+                turning = segment.orientation(s[lo:hi] - bounds[k], s_dot[lo:hi], s_ddot[lo:hi])
+                for name, value in zip(("rotation", "angular_velocity", "angular_acceleration"), turning):
+                    out[name][lo:hi] = value
+        return out
+
+
+def split_runs(segments: tuple[Segment, ...]) -> list[Run]:
+    """Consecutive segments grouped into runs without a corner, a gap or a change of turning rate between them
+    (an orientation that turns at another rate per metre would jump in angular velocity)."""
+    grouped: list[tuple[list[Segment], bool]] = [([segments[0]], False)]
+    for previous, segment in zip(segments, segments[1:]):
+        gap = bool(np.linalg.norm(segment.start_m - previous.end_m) > GAP_M)
+        end_tangent = previous.point(np.array([previous.length_m]), np.ones(1), np.zeros(1))[3][0]
+        start_tangent = segment.point(np.zeros(1), np.ones(1), np.zeros(1))[3][0]
+        turn = np.arccos(np.clip(end_tangent @ start_tangent, -1.0, 1.0))
+        kink = np.linalg.norm(turning_rate(segment) - turning_rate(previous)) > TURNING_RATE_TOLERANCE_RAD_M
+        if gap or kink or turn > CORNER_ANGLE_RAD:
+            grouped.append(([segment], gap))
+        else:
+            grouped[-1][0].append(segment)
+    return [Run(tuple(run), after_gap) for run, after_gap in grouped]
+
+
+def turning_rate(segment: Segment) -> np.ndarray:
+    """The tool's angular velocity per unit feed speed on a segment, in the path frame (rad/m)."""
+    if segment.rotation is None or segment.turn_rad is None:
+        return np.zeros(3)
+    return segment.rotation @ segment.turn_rad / segment.length_m

@@ -21,7 +21,8 @@ import numpy as np
 import pinocchio as pin
 
 from placement.exceptions import PlacementError
-from placement.kinematics import JointTrajectory, TaskTrajectory, joint_trajectory
+from placement.kinematics import joint_trajectory
+from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
 from placement.robot.model import Robot
 
 SAMPLES_PER_THREAD = 1000  # threads pay off on large batches only

@@ -19,117 +19,32 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from placement.batch import EvaluatedBatch
-from placement.drives.trace import MotorTrace, motor_trace
-from placement.dynamics import actuator_efforts, openmp_started
+from placement.drives.trace import motor_trace
+from placement.dynamics.inverse import actuator_efforts
+from placement.dynamics.path import PathDynamics
 from placement.energy.integration import Energy, sample_power
 from placement.energy.regeneration import REGENERATION
+from placement.evaluation.batch import EvaluatedBatch
+from placement.evaluation.parallel import process_pool
+from placement.evaluation.results import Evaluation, PlacementDetail
 from placement.exceptions import PlacementError
-from placement.frames import placed_task
-from placement.kinematics import JointTrajectory, solver_for
-from placement.limits import LIMITS, Margin, margin_fields, tightest, worst_margins
-from placement.objectives import OBJECTIVES, Objective
-from placement.path import PathSamples, ToolPath
+from placement.kinematics.base import solver_for
+from placement.kinematics.trajectories import JointTrajectory
+from placement.limits.base import LIMITS, margin_fields, tightest, worst_margins
+from placement.objectives.base import OBJECTIVES, Objective
+from placement.path.toolpath import ToolPath
+from placement.placing.transform import placed_task
 from placement.registry import restore_runtime_members, runtime_members
 from placement.robot.model import Robot
-from placement.timing import PathDynamics, TimeLaw, time_optimal, timed_rates
+from placement.timing.law import TimeLaw, timed_rates
+from placement.timing.optimal import time_optimal
 
 BATCH_SAMPLES = 60_000  # samples per batched call (memory: about 0.5 kB a sample)
 UNREACHABLE_MARGIN = -1.0  # every margin of an unreachable placement: how infeasible it is, to steer the search
 
 
-@dataclass(frozen=True)
-class Evaluation:
-    """K placements evaluated with the exact model.
-
-    Attributes:
-        placements: (K, 6) placement vectors (m, rad).
-        objectives: The objectives' names, the ranking one first.
-        values: (K, n_objectives) the objectives (inf, or -inf when higher is better, where a sample
-            is unreachable).
-        margins: (K, n_limits) tightest normalised margin of each limit (kind and actuator or axis).
-        limits: Labels of the margin columns.
-        reachable: (K,) whether every sample has a configuration.
-    """
-
-    placements: np.ndarray
-    objectives: tuple[str, ...]
-    values: np.ndarray
-    margins: np.ndarray
-    limits: tuple[str, ...]
-    reachable: np.ndarray
-
-    @property
-    def objective(self) -> str:
-        """The ranking objective's name."""
-        return self.objectives[0]
-
-    @property
-    def value(self) -> np.ndarray:
-        """(K,) the ranking objective."""
-        return self.values[:, 0]
-
-    @property
-    def feasible(self) -> np.ndarray:
-        """(K,) every sample reachable and every margin >= 0."""
-        return self.reachable & (self.margins >= 0).all(axis=1)
-
-    @staticmethod
-    def concatenate(parts: list[Evaluation]) -> Evaluation:
-        """The placements of several evaluations, one after the other."""
-        return Evaluation(placements=np.concatenate([p.placements for p in parts]), objectives=parts[0].objectives,
-                          values=np.concatenate([p.values for p in parts]),
-                          margins=np.concatenate([p.margins for p in parts]), limits=parts[0].limits,
-                          reachable=np.concatenate([p.reachable for p in parts]))
 
 
-@dataclass(frozen=True)
-class PlacementDetail:
-    """Everything about one placement: objective, energy, margins and the per-sample trace (SI).
-
-    Attributes:
-        placement: (6,) placement vector.
-        objective: The objective's name.
-        value: Its value.
-        reachable: Whether every sample has a configuration.
-        unreachable_samples: Indices of samples without one.
-        energy: Energies (scalars, per-actuator arrays).
-        margins: Tightest point of each limit kind.
-        samples: The path samples in the path frame.
-        tool_position_m: (N, 3) tool point in the base frame.
-        position, velocity, acceleration, effort: (N, n_act) actuator motion and effort.
-        configuration: (N, nq) every joint of the spanning tree (m, rad).
-        motor: Motor speed, torque and current, (N, n_act).
-        power_W: (N, n_act) signed electric power of each drive at each sample (the mean of the
-            adjacent intervals' power, by the drive's motor model).
-        timing: The timing law's name (under "optimal", ``samples`` are timed for this placement).
-        duration_s: The time the path takes (inf under the optimal law when no timing keeps every
-            limit: ``samples`` then hold still at the feed's times).
-    """
-
-    placement: np.ndarray
-    objective: str
-    value: float
-    reachable: bool
-    unreachable_samples: np.ndarray
-    energy: Energy
-    margins: list[Margin]
-    samples: PathSamples
-    tool_position_m: np.ndarray
-    position: np.ndarray
-    velocity: np.ndarray
-    acceleration: np.ndarray
-    effort: np.ndarray
-    configuration: np.ndarray
-    motor: MotorTrace
-    power_W: np.ndarray
-    timing: str
-    duration_s: float
-
-    @property
-    def feasible(self) -> bool:
-        """Reachable and within every limit."""
-        return self.reachable and all(m.margin >= 0 for m in self.margins)
 
 
 class Evaluator:
@@ -151,13 +66,13 @@ class Evaluator:
             chunks to cut a batch into for ``executor`` (default: every core, or 1 in a pool's
             worker process, whose pool shares the cores already); 1 evaluates in this process.
         executor: Any ``concurrent.futures.Executor`` (a Dask cluster's, see
-            :mod:`placement.cluster`) that evaluates batches in chunks, whatever the solver,
+            :mod:`placement.evaluation.parallel`) that evaluates batches in chunks, whatever the solver,
             instead of this process or an own process pool.
         threads: Threads of the batched kinematics and RNEA (default: every core).
         exact: Compute every limit exactly at every sample in :meth:`evaluate` too (a re-check);
             :meth:`detail` always does.
         refine: Under the optimal timing law, cut each interval between the path geometry's
-            samples in this many (:meth:`placement.path.ToolPath.geometry`).
+            samples in this many (:meth:`placement.path.toolpath.ToolPath.geometry`).
     """
 
     def __init__(self, robot: Robot, path: ToolPath, regeneration: str = "clip", time_step_s: float | None = None,
@@ -219,7 +134,7 @@ class Evaluator:
             placements: (K, 6) placement vectors.
             exact: Limits computed exactly at every sample (default: the evaluator's ``exact``).
             law: Under the optimal timing law, the placements' timing on this evaluator's path
-                geometry (:meth:`placement.timing.TimeLaw.resampled`) instead of their time-optimal one.
+                geometry (:meth:`placement.timing.law.TimeLaw.resampled`) instead of their time-optimal one.
         """
         k = len(placements)
         solved = self.samples if self.geometry is None else self.geometry.samples
@@ -300,7 +215,7 @@ class Evaluator:
         source's samples.
 
         Under the optimal timing law, the placements keep the timing found on the source's samples
-        (:meth:`placement.timing.TimeLaw.resampled`) instead of being timed anew; the other laws
+        (:meth:`placement.timing.law.TimeLaw.resampled`) instead of being timed anew; the other laws
         time every placement alike anyway.
         """
         placements = np.atleast_2d(np.asarray(placements, dtype=float))
@@ -427,11 +342,3 @@ def denser(source: Evaluator, density: int) -> Evaluator:
                      workers=1, threads=source.threads, exact=True, refine=source.refine * density)
 
 
-def process_pool(workers: int, initializer: Callable[..., None] | None = None,
-                 initargs: tuple = ()) -> ProcessPoolExecutor:
-    """A pool of ``workers`` processes: forked from this one where the platform forks, unless this process has
-    started OpenMP threads, which a forked process would hang on (:func:`placement.dynamics.openmp_started`);
-    then started afresh."""
-    fresh = openmp_started() and "fork" in multiprocessing.get_all_start_methods()
-    context = multiprocessing.get_context("spawn") if fresh else None
-    return ProcessPoolExecutor(max_workers=workers, mp_context=context, initializer=initializer, initargs=initargs)

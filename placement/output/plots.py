@@ -15,10 +15,10 @@ import numpy as np  # noqa: E402
 from matplotlib.axes import Axes  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
-from placement.calibration import UNITS, Calibration  # noqa: E402
-from placement.frames import ANGLES  # noqa: E402
-from placement.objectives import OBJECTIVES  # noqa: E402
-from placement.objectives import quantity as with_unit  # noqa: E402
+from placement.drives.calibration import UNITS, Calibration
+from placement.objectives.base import OBJECTIVES
+from placement.objectives.base import quantity as with_unit
+from placement.placing.transform import ANGLES
 from placement.search.feed import FeedStudy  # noqa: E402
 from placement.search.pareto import ParetoFront  # noqa: E402
 from placement.search.sweep import SweepResult  # noqa: E402

@@ -18,8 +18,9 @@ import numpy as np
 import pinocchio as pin
 
 from placement.drives.trace import drives_of, motor_trace
-from placement.dynamics import actuator_efforts
-from placement.kinematics import JointTrajectory, TaskTrajectory, joint_trajectory
+from placement.dynamics.inverse import actuator_efforts
+from placement.kinematics import joint_trajectory
+from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
 from placement.robot.closures import LWA, closure_residuals
 from placement.robot.load import urdf_limits_missing
 from placement.robot.model import Robot

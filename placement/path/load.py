@@ -1,0 +1,131 @@
+"""Reading a path file: the schema checked, the shape, G-code program or pose list turned into segments."""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path as FilePath
+
+import numpy as np
+
+from placement.exceptions import PathFileError
+from placement.path.gcode import read_program
+from placement.path.poses import TimedPoses, pose_segments, read_poses
+from placement.path.samples import default_time_step_s
+from placement.path.schema import LENGTH_SCALE, Circle, Gcode, PathFile, Polyline, Poses, Rapids, Rectangle
+from placement.path.segments import Segment
+from placement.path.toolpath import MIN_LENGTH_M, ToolPath
+from placement.schema import read_yaml
+
+
+def load_path(path: str | FilePath) -> ToolPath:
+    """Read and validate a path file (and the G-code program it names, if any).
+
+    Args:
+        path: The YAML file.
+
+    Returns:
+        The path, in metres.
+
+    Raises:
+        PathFileError: The file (or its program) is missing, malformed, or breaks the schema;
+            a G-code program's errors (GcodeError) name its line and word.
+    """
+    path = FilePath(path)
+    spec = read_yaml(path, PathFile, PathFileError)
+    _check_fields(path, spec)
+    rapid_feed, timed = None, None
+    if isinstance(spec.shape, Gcode):
+        program = read_program(path.parent / spec.shape.file)
+        rapids = spec.rapids or Rapids()
+        segments = tuple(s for s in program.segments if not s.rapid or rapids.mode == "timed")
+        feed, rapid_feed = program.feed_m_s, rapids.feed_m_s
+    elif isinstance(spec.shape, Poses):
+        assert spec.units is not None  # _check_fields
+        file = path.parent / spec.shape.file
+        table = read_poses(file, spec.shape.orientation, LENGTH_SCALE[spec.units])
+        # A timed list is sampled by its splines; its polyline (length, report) needs no orientation.
+        segments = pose_segments(file, table if table.t_s is None else dataclasses.replace(table, rotation=None))
+        if table.t_s is not None:
+            timed = TimedPoses(table.t_s, table.position_m, table.rotation)
+            _check_timed(path, spec, timed)
+            feed = timed.mean_speed_m_s
+        else:
+            _check_untimed(path, spec)
+            assert spec.feed_m_s is not None  # _check_untimed
+            feed = spec.feed_m_s
+    else:
+        segments = _segments(spec)
+        assert spec.feed_m_s is not None  # _check_fields
+        feed = spec.feed_m_s
+    if not segments:
+        raise PathFileError(path, "shape.file" if isinstance(spec.shape, Poses) else "shape.points",
+                            "the points must not all coincide")
+    if sum(segment.length_m for segment in segments) < MIN_LENGTH_M:
+        raise PathFileError(path, "shape", f"the path is shorter than {MIN_LENGTH_M * 1e6:g} µm")
+    return ToolPath(name=spec.name or path.stem, segments=segments, feed_m_s=feed,
+                    forces=spec.process_forces_N.resolve(), timing=spec.timing,
+                    time_step_s=spec.time_step_s if spec.time_step_s is not None else default_time_step_s(feed),
+                    rapid_feed_m_s=rapid_feed, timed=timed)
+
+
+def _check_fields(path: FilePath, spec: PathFile) -> None:
+    """The fields a shape requires or refuses: a G-code program has its own units and feeds."""
+    if isinstance(spec.shape, Gcode):
+        if spec.units is not None:
+            raise PathFileError(path, "units", "a G-code program sets its own units (G21 mm, the default, or G20 "
+                                               "inches): remove units")
+        if spec.feed_m_s is not None:
+            raise PathFileError(path, "feed_m_s", "a G-code program's feeds are its F words: remove feed_m_s (the "
+                                                  "feed command scales them all)")
+        return
+    for name in ("units",) if isinstance(spec.shape, Poses) else ("units", "feed_m_s"):
+        if getattr(spec, name) is None:
+            raise PathFileError(path, name, "required field is missing")
+    if spec.rapids is not None:
+        raise PathFileError(path, "rapids", f"rapids belong to G-code programs, not to a {spec.shape.type}")
+
+
+def _check_untimed(path: FilePath, spec: PathFile) -> None:
+    """A pose list without times is timed by the path's feed."""
+    if spec.feed_m_s is None:
+        raise PathFileError(path, "feed_m_s", "required field is missing (a pose list without a t column is run at "
+                                              "this feed)")
+
+
+def _check_timed(path: FilePath, spec: PathFile, timed: TimedPoses) -> None:
+    """A pose list with times is timed by them: no feed, no timing law."""
+    for name in ("feed_m_s", "timing"):
+        if name in spec.model_fields_set:
+            raise PathFileError(path, name, "the pose list's t column times the path: remove this field (the feed "
+                                            "command scales the list's speeds)")
+    if timed.mean_speed_m_s <= 0:
+        raise PathFileError(path, "shape.file", "the poses with times do not move: every point is the same")
+
+
+def _segments(spec: PathFile) -> tuple[Segment, ...]:
+    assert spec.units is not None and not isinstance(spec.shape, (Gcode, Poses))  # _check_fields
+    scale = LENGTH_SCALE[spec.units]
+    shape = spec.shape
+    if isinstance(shape, Rectangle):
+        w, l = shape.width * scale / 2, shape.length * scale / 2
+        corners = [(-w, -l), (w, -l), (w, l), (-w, l)]
+        return _lines([*corners, corners[0]])
+    if isinstance(shape, Polyline):
+        points = [tuple(np.array(p, dtype=float) * scale) for p in shape.points]
+        return _lines(points + ([points[0]] if shape.closed else []))
+    radius = shape.radius * scale
+    start = 0.0 if isinstance(shape, Circle) else np.radians(shape.start_deg)
+    sweep = 2 * np.pi if isinstance(shape, Circle) else np.radians(shape.sweep_deg)
+    center = np.zeros(3)
+
+    def on_circle(angle: float) -> np.ndarray:
+        return np.array([radius * np.cos(angle), radius * np.sin(angle), 0.0])
+
+    return (Segment(on_circle(start), on_circle(start + sweep), center, radius, start, sweep),)
+
+
+def _lines(points: list) -> tuple[Segment, ...]:
+    points = [np.pad(np.asarray(p, dtype=float), (0, 3 - len(p))) for p in points]
+    return tuple(Segment(a, b) for a, b in zip(points, points[1:]) if np.linalg.norm(b - a) > 0)
+
+

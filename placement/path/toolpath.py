@@ -1,0 +1,188 @@
+"""A tool path ready to be sampled: its segments (m), feeds, process forces and timing law."""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from placement.exceptions import PlacementError
+from placement.path.poses import TimedPoses
+from placement.path.samples import END_SPLIT, MAX_SAMPLES, MIN_RUN_SAMPLES, PathGeometry, PathSamples, run_joins
+from placement.path.schema import ForceSet, Timing
+from placement.path.segments import Run, Segment, split_runs
+from placement.timing.paper import sample_paper
+from placement.timing.realistic import sample_realistic
+
+MIN_LENGTH_M = 1e-6
+PLUNGE_COSINE = np.cos(np.radians(45.0))  # a feed move within 45° of -Z_p (into the workpiece) is plunging
+
+
+@dataclass(frozen=True)
+class ToolPath:
+    """A path ready to be sampled: geometry (m), feeds, forces and timing law.
+
+    Attributes:
+        feed_m_s: The feed of a segment whose ``feed_ratio`` is 1 (the highest F of a G-code
+            program); every segment's feed scales with it.
+        rapid_feed_m_s: The feed of rapid segments (timed G-code rapids), not scaled with feed_m_s.
+        timed: A pose list with times, sampled by its own interpolation instead of the segments
+            (the polyline through its points); its speeds scale by feed_m_s over its mean speed.
+    """
+
+    name: str
+    segments: tuple[Segment, ...]
+    feed_m_s: float
+    forces: ForceSet
+    timing: Timing
+    time_step_s: float
+    rapid_feed_m_s: float | None = None
+    timed: TimedPoses | None = None
+
+    @property
+    def length_m(self) -> float:
+        """Total path length."""
+        return sum(segment.length_m for segment in self.segments)
+
+    def speed_m_s(self, segment: Segment) -> float:
+        """The feed a segment of this path is run at."""
+        if segment.rapid:
+            assert self.rapid_feed_m_s is not None  # load_path keeps rapids only with their feed
+            return self.rapid_feed_m_s
+        return segment.feed_ratio * self.feed_m_s
+
+    def sample(self, time_step_s: float | None = None) -> PathSamples:
+        """Sample the path in time with the given step (default: the file's ``time_step_s``)."""
+        step = self.time_step_s if time_step_s is None else time_step_s
+        if not 0 < step < np.inf:
+            raise PlacementError(f"the sampling time step must be a finite number > 0 s, got {step}")
+        if self.timed is not None:
+            count = self.sample_counts([self.timed.duration_s * self.timed.mean_speed_m_s / self.feed_m_s], step)[0]
+            return self.assemble([self.timed.sample(count, self.feed_m_s / self.timed.mean_speed_m_s)])
+        if self.timing.mode == "paper":
+            return sample_paper(self, step)
+        if self.timing.mode == "optimal":
+            return self.geometry(step).samples
+        return sample_realistic(self, step)
+
+    def geometry(self, time_step_s: float | None = None, refine: int = 1) -> PathGeometry:
+        """The path sampled along its arc length, run by run, for the optimal timing law.
+
+        Each run between stops (the realistic law's) gets samples evenly spaced in arc length,
+        its ends included, about ``time_step_s`` apart at the path's fastest feed (at least
+        ``MIN_RUN_SAMPLES``); consecutive runs share their stop's position, each with its own tangent.
+        The first and last intervals, where the tool leaves or reaches a stop, are each cut in
+        ``END_SPLIT`` parts growing as the squares 1, 4, 9, ..., which a constant acceleration from
+        rest runs in equal times. ``refine`` then cuts every interval in as many equal parts: the
+        coarser samples are among the finer ones (a re-check's sampling).
+
+        Raises:
+            PlacementError: A timed pose list (timed by its own t column), or more than MAX_SAMPLES
+                samples at ``time_step_s`` (before ``refine``).
+        """
+        step = self.time_step_s if time_step_s is None else time_step_s
+        if self.timed is not None:
+            raise PlacementError(f"the path '{self.name}' is a pose list with times: it is timed by its t column, "
+                                 "not by the optimal timing law")
+        if not 0 < step < np.inf:
+            raise PlacementError(f"the sampling time step must be a finite number > 0 s, got {step}")
+        runs = self.runs()
+        fastest = max(self.speed_m_s(s) for s in self.segments)
+        nominal = [run.length_m / fastest for run in runs]
+        counts = [max(MIN_RUN_SAMPLES, count) for count in self.sample_counts(nominal, step)]
+        parts, piece, arcs, feeds, starts = [], 0, [], [], [0]
+        for run, count in zip(runs, counts):
+            bounds = run.bounds_m
+            speeds = np.array([self.speed_m_s(s) for s in run.segments])
+            arc = _run_arc(bounds[-1], count, refine, bounds[1:-1][np.diff(speeds) != 0])
+            count = len(arc)
+            piece += run.after_gap
+            parts.append({"t": np.zeros(count), **run.along(arc, np.ones(count), np.zeros(count), self.oriented),
+                          "piece": np.full(count, piece)})
+            # A sample where the feed changes (within MIN_LENGTH_M) takes the lower one: the speed never exceeds a
+            # segment's feed, between samples either (the speed changes monotonically between them).
+            after = np.clip(np.searchsorted(bounds, arc + MIN_LENGTH_M, side="right") - 1, 0, len(speeds) - 1)
+            before = np.clip(np.searchsorted(bounds, arc - MIN_LENGTH_M, side="right") - 1, 0, len(speeds) - 1)
+            arcs.append(arc)
+            feeds.append(np.minimum(speeds[after], speeds[before]))
+            starts.append(starts[-1] + count)
+        arc_m, feed = np.concatenate(arcs), np.concatenate(feeds)
+        # Nominal times: each run at its feed bound throughout (a lower bound of any timing's).
+        steps = np.where(run_joins(np.array(starts)), 0.0, np.diff(arc_m) / feed[1:])
+        nominal_t = np.concatenate([[0.0], np.cumsum(steps)])
+        samples = self.assemble(parts)
+        return PathGeometry(dataclasses.replace(samples, t_s=nominal_t), np.array(starts), arc_m, feed)
+
+    @property
+    def oriented(self) -> bool:
+        """Whether the path carries tool orientations (a pose list with orientation columns)."""
+        return any(segment.rotation is not None for segment in self.segments)
+
+    def runs(self, by_segment: bool = False) -> list[Run]:
+        """The runs the tool moves through without stopping (:func:`placement.path.segments.split_runs`), or each segment
+        on its own (``by_segment``: the paper's timing law)."""
+        return [Run((segment,)) for segment in self.segments] if by_segment else split_runs(self.segments)
+
+    def sample_counts(self, durations_s: list[float], step: float) -> list[int]:
+        """Samples of each independently timed piece; refuses more than MAX_SAMPLES in all."""
+        counts = [max(2, int(np.ceil(d / step)) + 1) if d / step < MAX_SAMPLES else MAX_SAMPLES + 1 for d in durations_s]
+        if sum(counts) > MAX_SAMPLES:
+            raise PlacementError(f"the path '{self.name}' lasts {sum(durations_s):.4g} s: sampled every {step:g} s it "
+                                 f"would need more than {MAX_SAMPLES:,} samples; use a larger time step (time_step_s "
+                                 "in the path file, or --time-step), or check the path's size and feed")
+        return counts
+
+    def half_turn_symmetric(self) -> bool:
+        """Whether a half turn about Z_p maps the path onto itself, piece by piece.
+
+        Each independently timed piece (a segment in the paper's timing law, a corner-to-corner
+        run in the realistic one) must map onto a piece run the same way at the same feed; the
+        energy of such a path is then the same at phi and phi + 180°, and phi only needs a half
+        turn of range. A timed pose list, or one whose orientation changes, is taken not to be.
+        """
+        if self.timed is not None or not self._constant_orientation():
+            return False
+        fractions = np.linspace(0.0, 1.0, 9)
+
+        def points(run: Run) -> np.ndarray:
+            return run.along(fractions * run.length_m, np.zeros(9), np.zeros(9))["position"]
+
+        shapes = [(points(run), [self.speed_m_s(s) for s in run.segments])
+                  for run in self.runs(by_segment=self.timing.mode == "paper")]
+        turned = [(shape * np.array([-1.0, -1.0, 1.0]), speeds) for shape, speeds in shapes]
+        return all(any(np.allclose(t, s, atol=1e-12) and t_speeds == speeds for s, speeds in shapes)
+                   for t, t_speeds in turned)
+
+    def _constant_orientation(self) -> bool:
+        rotations = [s.rotation for s in self.segments if s.rotation is not None]
+        turns = [s.turn_rad for s in self.segments if s.turn_rad is not None]
+        return all(np.array_equal(r, rotations[0]) for r in rotations) and all(not np.any(t) for t in turns)
+
+    def assemble(self, parts: list[dict[str, np.ndarray]]) -> PathSamples:
+        """Samples from their parts (columns t, position, velocity, acceleration, tangent, rapid, piece and the
+        orientation's), with the process force of each sample's kind of move."""
+        column = {key: np.concatenate([part[key] for part in parts]) for key in parts[0]}
+        tangent = column["tangent"]
+        z = np.array([0.0, 0.0, 1.0])
+        plunging = tangent[:, 2] < -PLUNGE_COSINE
+        kind = np.where(column["rapid"], 2, np.where(plunging, 1, 0))  # cutting, plunging, rapid
+        sets = (self.forces.cutting, self.forces.plunging, self.forces.rapid)
+        feed, radial, axial = (np.array([getattr(f, name) for f in sets])[kind][:, None]
+                               for name in ("feed", "radial", "axial"))
+        force = -feed * tangent + radial * np.cross(z, tangent) + axial * z
+        return PathSamples(column["t"], column["position"], column["velocity"], column["acceleration"], tangent,
+                           force, column["piece"], column.get("rotation"), column.get("angular_velocity"),
+                           column.get("angular_acceleration"))
+
+
+def _run_arc(length_m: float, count: int, refine: int, feed_changes_m: np.ndarray) -> np.ndarray:
+    """Arc lengths of a run's samples (:meth:`ToolPath.geometry`): ``count`` evenly spaced, the end intervals
+    cut in ``END_SPLIT`` growing as squares, a sample where the feed changes, then every interval in ``refine``
+    equal parts."""
+    even = np.linspace(0.0, length_m, count)
+    ends = even[1] * (np.arange(1, END_SPLIT) / END_SPLIT) ** 2
+    arc = np.concatenate([[0.0], ends, even[1:-1], length_m - ends[::-1], [length_m]])
+    near = np.abs(arc[None, :] - feed_changes_m[:, None]).min(axis=1, initial=np.inf) <= MIN_LENGTH_M
+    arc = np.union1d(arc, feed_changes_m[~near])
+    return np.append(np.linspace(arc[:-1], arc[1:], refine, endpoint=False).T.ravel(), length_m)

@@ -1,0 +1,140 @@
+"""The search space: which placement variables are free, their bounds, and the others' values."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from placement.cell.schema import Region
+from placement.exceptions import PlacementError
+from placement.placing.transform import VARIABLES, plane_frame, robot_plane
+from placement.robot.model import Robot
+from placement.robot.sidecar import PLANE_VARIABLES, Plane, Workspace
+
+
+@dataclass(frozen=True)
+class PlacementSpace:
+    """Which placement variables are free, their bounds, and the values of the fixed ones.
+
+    Attributes:
+        free: Names of the free variables, in VARIABLES order.
+        lower, upper: Bounds of the free variables (m, rad).
+        fixed: Full 6-vector whose fixed entries are used (m, rad).
+    """
+
+    free: tuple[str, ...]
+    lower: np.ndarray
+    upper: np.ndarray
+    fixed: np.ndarray
+
+    def __post_init__(self) -> None:
+        unknown = set(self.free) - set(VARIABLES)
+        if unknown:
+            raise PlacementError(f"unknown placement variable(s) {sorted(unknown)}; expected some of {VARIABLES}")
+        if len(self.lower) != len(self.free) or np.any(np.asarray(self.lower) > np.asarray(self.upper)):
+            raise PlacementError("placement bounds must give lower <= upper for every free variable")
+
+    @property
+    def indices(self) -> np.ndarray:
+        """Positions of the free variables in the 6-vector."""
+        return np.array([VARIABLES.index(name) for name in self.free], dtype=int)
+
+    def full(self, free_values: np.ndarray) -> np.ndarray:
+        """(K, 6) placements from (K, n_free) or (n_free,) free values."""
+        values = np.atleast_2d(free_values)
+        out = np.tile(self.fixed, (len(values), 1))
+        out[:, self.indices] = values
+        return out
+
+
+def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict[str, float] | None = None,
+                  bounds: dict[str, tuple[float, float]] | None = None, half_turn: bool = False) -> PlacementSpace:
+    """The placement space of a robot: by default the sidecar's ``placement`` section, else x, y, z
+    within the workspace box and phi in ±180° (the tool axis staying along Z_b); a robot in a cell
+    with a workpiece region keeps x, y, z within the region too.
+
+    Args:
+        robot: The robot.
+        free: Free variables (default: the sidecar's, else x, y, z, phi).
+        fixed: Values of fixed variables (default 0); fixing a variable removes it from the default
+            free set, and an explicitly free variable cannot be fixed.
+        bounds: Bounds overriding the defaults (m, rad).
+        half_turn: The path is unchanged by a half turn about its tool axis
+            (:meth:`ToolPath.half_turn_symmetric`): phi then only needs ±90°.
+    """
+    defaults, plane = robot.sidecar.placement, robot_plane(robot)
+    if free is None:  # the default free set, less what the caller fixes
+        default_free = defaults.free if defaults and defaults.free else PLANE_VARIABLES if plane else ("x", "y", "z", "phi")
+        free = tuple(n for n in default_free if n not in (fixed or {}))
+    free = tuple(free)
+    unknown = sorted(set(free) - set(VARIABLES))
+    if unknown:
+        raise PlacementError(f"unknown placement variable(s) {unknown}; expected some of {', '.join(VARIABLES)}")
+    clash = sorted(set(free) & set(fixed or {}))
+    if clash:
+        raise PlacementError(f"{clash} cannot be both free and fixed")
+    limits: dict[str, tuple[float, float]] = {name: bound for name, bound in (defaults.bounds if defaults else {}).items()}
+    limits.update(bounds or {})
+    if plane is not None:
+        _check_in_plane(robot.name, plane, free, fixed or {})
+    for axis, bound in _box_ranges(robot.sidecar.workspace, plane).items():
+        limits.setdefault(axis, bound)
+    region = robot.cell.workpiece_region if robot.cell is not None else None
+    for axis, (low, high) in _box_ranges(region, plane).items():  # the path's origin stays in the region
+        bound = limits.get(axis, (low, high))
+        limits[axis] = (max(bound[0], low), min(bound[1], high))
+        if limits[axis][0] > limits[axis][1]:
+            raise PlacementError(f"the cell's workpiece region ({axis} from {low * 1e3:.1f} to {high * 1e3:.1f} mm) "
+                                 f"does not meet the placement bounds of robot '{robot.name}' ({axis} from "
+                                 f"{bound[0] * 1e3:.1f} to {bound[1] * 1e3:.1f} mm)")
+    limits.setdefault("phi", (-np.pi / 2, np.pi / 2) if half_turn else (-np.pi, np.pi))
+    for angle in ("theta", "psi"):
+        limits.setdefault(angle, (-np.pi, np.pi))
+    missing = [name for name in free if name not in limits]
+    if missing:
+        raise PlacementError(_missing_bounds(robot.name, missing))
+    fixed_vector = np.array([float((fixed or {}).get(name, 0.0)) for name in VARIABLES])
+    return PlacementSpace(free=tuple(n for n in VARIABLES if n in free),
+                          lower=np.array([limits[n][0] for n in VARIABLES if n in free], dtype=float),
+                          upper=np.array([limits[n][1] for n in VARIABLES if n in free], dtype=float),
+                          fixed=fixed_vector)
+
+
+def _box_ranges(box: Workspace | Region | None, plane: Plane | None) -> dict[str, tuple[float, float]]:
+    """The ranges of x, y, z over a box of the base frame (m): in the base frame, or in the plane's frame."""
+    if box is None:
+        return {}
+    if plane is None:
+        return {axis: (box.min_m[k], box.max_m[k]) for k, axis in enumerate("xyz")}
+    turn, origin = plane_frame(plane)
+    local = (box_corners(box.min_m, box.max_m) - origin) @ turn
+    return {axis: (float(local[:, k].min()), float(local[:, k].max())) for k, axis in enumerate("xyz")}
+
+
+def box_corners(low: Sequence[float] | np.ndarray, high: Sequence[float] | np.ndarray) -> np.ndarray:
+    """(8, 3) corners of the axis-aligned box from ``low`` to ``high``: corner k takes ``high`` along x, y, z
+    where bits 2, 1, 0 of k are set (so corners one bit apart share an edge)."""
+    return np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])],
+                    dtype=float)
+
+
+def _check_in_plane(robot: str, plane: Plane, free: tuple[str, ...], fixed: dict[str, float]) -> None:
+    """A planar robot's paths stay in its plane: only x, y and phi move, the other variables stay 0."""
+    off = [name for name in free if name not in PLANE_VARIABLES]
+    off += [name for name, value in fixed.items() if name not in PLANE_VARIABLES and value != 0.0]
+    if off:
+        raise PlacementError(f"robot '{robot}' moves in the plane of normal {list(plane.normal)} (sidecar "
+                             f"placement.plane): paths stay in it, so only {', '.join(PLANE_VARIABLES)} may be free or "
+                             f"fixed (x, y along the plane's own axes), got {', '.join(sorted(set(off)))}")
+
+
+def _missing_bounds(robot: str, missing: list[str]) -> str:
+    """What to do when free variables have no bounds: the command line's form and the sidecar's fields."""
+    example = ",".join(f"{name}=MIN:MAX" for name in missing)
+    return (f"robot '{robot}' declares no workspace, so {', '.join(missing)} {'has' if len(missing) == 1 else 'have'} "
+            f"no bounds: give them on the command line as --free {example} (mm), or in the robot's sidecar as "
+            f"workspace.min_m/max_m (a box, m) or placement.bounds (m, rad)")
+
+
