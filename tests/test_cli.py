@@ -199,7 +199,7 @@ def test_path_too_large_is_answered_with_the_binding_limit(tmp_path, capsys):
 
 def test_json_is_written_atomically(tmp_path, monkeypatch):
     from placement import files
-    from placement.cli.calibrate import report
+    from placement.output import report
 
     target = tmp_path / "result.json"
     report.write_json(target, {"energy_J": 1.0})

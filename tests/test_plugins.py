@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 from robot_copies import edited_copy, orthoglide_motor
 
-from placement import load_path, load_robot, sweep
+from placement import Evaluator, load_path, load_robot, sweep
 from placement.drives.motors import MOTOR_MODELS, Motor, MotorModel, PowerParts, register_motor_model
 from placement.objectives import OBJECTIVES
 from placement.registry import UnknownMemberError, runtime_members
@@ -80,6 +80,50 @@ def test_installed_members_reach_spawned_workers(tmp_path):
     np.testing.assert_array_equal(spawned, here)
     # With full regeneration the standby power adds exactly 7 W per drive over the path's duration.
     np.testing.assert_allclose(spawned - np.array(out["pmsm_energy"]), 3 * 7.0 * out["duration_s"], rtol=1e-9)
+
+
+LIMIT_SCRIPT = r"""
+import json, sys
+import numpy as np
+from placement import Evaluator, load_path, load_robot
+from placement.evaluation.evaluator import denser
+from placement.timing.optimal import SAFETY
+
+robot, path = load_robot("orthoglide"), load_path(sys.argv[1])
+placement = np.array([0.0, 0.0, -0.033, 0.0, 0.0, 0.0])
+with Evaluator(robot, path, time_step_s=0.004, workers=1) as evaluator:
+    detail = evaluator.detail(placement)
+    recheck = denser(evaluator, 4).recheck(placement[None], evaluator)
+top = np.array([a.velocity_max for a in robot.actuators])
+column = [i for i, label in enumerate(recheck.limits) if label.startswith("half joint speed")]
+print(json.dumps({"peak_share": float((np.abs(detail.velocity) / top).max()), "safety": SAFETY,
+                  "cycle_time_s": detail.duration_s, "recheck_margin": float(recheck.margins[0, column].min()),
+                  "recheck_feasible": bool(recheck.feasible[0])}))
+"""
+
+
+def test_an_installed_limit_bounds_the_optimal_timing_law(tmp_path):
+    """The demo distribution's half-joint-speed limit, installed through its entry point: the optimal timing
+    law runs every joint at exactly the limit's share of the bound it may use (SAFETY), no faster, and the
+    timing holds it between the samples too (the 4x denser re-check)."""
+    import json
+
+    path = tmp_path / "rect.yaml"
+    rect = (Path(__file__).parents[1] / "examples" / "rect.yaml").read_text(encoding="utf-8")
+    path.write_text(rect.replace("mode: paper", "mode: optimal"), encoding="utf-8")
+    environment = {**os.environ, "PYTHONPATH": os.pathsep.join([str(PLUGIN), *sys.path])}
+    result = subprocess.run([sys.executable, "-c", LIMIT_SCRIPT, str(path)], capture_output=True, text=True,
+                            env=environment, cwd=tmp_path, timeout=600, check=False)
+    assert result.returncode == 0, result.stderr[-3000:]
+    out = json.loads(result.stdout.strip().splitlines()[-1])
+    assert out["peak_share"] == pytest.approx(0.5 * out["safety"], rel=1e-6)  # TOPP-RA stays ~1e-8 inside a bound
+    assert out["recheck_feasible"] and out["recheck_margin"] >= 0
+    robot = load_robot("orthoglide")
+    with Evaluator(robot, load_path(path), time_step_s=0.004, workers=1) as free:
+        unbounded = free.detail(np.array([0.0, 0.0, -0.033, 0.0, 0.0, 0.0]))
+    top = np.array([a.velocity_max for a in robot.actuators])
+    assert (np.abs(unbounded.velocity) / top).max() > 0.6  # without the limit the feed (0.66 m/s) sets the pace
+    assert out["cycle_time_s"] > 1.1 * unbounded.duration_s
 
 
 def test_the_installed_members_are_not_in_a_process_without_the_distribution():

@@ -27,7 +27,7 @@ import numpy as np
 import yaml
 from scipy.optimize import least_squares
 
-from placement.drives.trace import MotorTrace, drives_of, motor_trace
+from placement.drives.trace import MotorTrace, motor_trace
 from placement.dynamics.inverse import actuator_efforts
 from placement.energy.integration import sample_power
 from placement.exceptions import InputFileError, PlacementError
@@ -260,7 +260,6 @@ def calibrate(robot: Robot, log: MeasuredLog, fit: list[str], held_out: float = 
     split = int(round(len(log.t_s) * (1 - held_out)))
     if not 10 <= split <= len(log.t_s) - 10 or not 0 < held_out < 1:
         raise PlacementError(f"held-out share {held_out}: both parts of the {len(log.t_s)}-sample log need 10 samples")
-    drives_of(robot)  # every actuator needs a drive
     names = sorted({spec.drive for spec in robot.sidecar.actuators if spec.drive})
     keys = [(drive, constant) for drive in names for constant in fit]
     start = np.array([_current(robot.sidecar.drives[d], c) for d, c in keys])

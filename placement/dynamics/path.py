@@ -12,6 +12,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from placement.dynamics.inverse import actuator_efforts
+from placement.kinematics.trajectories import JointTrajectory
+from placement.robot.model import Robot
+
 
 @dataclass(frozen=True)
 class PathDynamics:
@@ -37,4 +41,115 @@ class PathDynamics:
         """(K, N, n_act) actuator efforts for ṡ and s̈ of shape (K, N)."""
         return (self.inertia * acceleration[..., None] + self.centripetal * speed[..., None] ** 2 + self.static)
 
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """(K, N, n_act)."""
+        return self.velocity.shape
 
+    @property
+    def joint_velocity(self) -> PathForm:
+        """q̇ = q'·ṡ of the actuated joints."""
+        return PathForm(w=self.velocity)
+
+    @property
+    def joint_acceleration(self) -> PathForm:
+        """q̈ = q'·s̈ + q''·ṡ² of the actuated joints."""
+        return PathForm(a=self.velocity, b=self.curvature)
+
+    @property
+    def effort(self) -> PathForm:
+        """The actuator efforts A·s̈ + B·ṡ² + C."""
+        return PathForm(a=self.inertia, b=self.centripetal, c=self.static)
+
+
+
+
+class PathForm:
+    """A quantity along the path, affine in the path motion: a·s̈ + b·ṡ² + c + w·ṡ.
+
+    Each term is an array broadcastable to (K, N, m): K placements, N samples, m columns (actuators,
+    or some of them). Forms add, subtract and scale by arrays, so that an equation written once for
+    a motion sampled in time (arrays) gives the same quantity along the path (forms): the drives'
+    equations (:class:`placement.drives.trace.Drives`) serve the motor trace and the optimal timing
+    law alike.
+    """
+
+    __array_ufunc__ = None  # ndarray ⊙ PathForm defers to PathForm's reflected operators
+
+    def __init__(self, a: np.ndarray | float = 0.0, b: np.ndarray | float = 0.0, c: np.ndarray | float = 0.0,
+                 w: np.ndarray | float = 0.0) -> None:
+        self.a, self.b, self.c, self.w = a, b, c, w
+
+    @property
+    def terms(self) -> tuple[np.ndarray | float, ...]:
+        """(a, b, c, w)."""
+        return self.a, self.b, self.c, self.w
+
+    def __add__(self, other: PathForm | np.ndarray | float) -> PathForm:
+        if isinstance(other, PathForm):
+            return PathForm(*(x + y for x, y in zip(self.terms, other.terms)))
+        return PathForm(self.a, self.b, self.c + other, self.w)
+
+    __radd__ = __add__
+
+    def __neg__(self) -> PathForm:
+        return PathForm(*(-x for x in self.terms))
+
+    def __sub__(self, other: PathForm | np.ndarray | float) -> PathForm:
+        return self + (-other)
+
+    def __rsub__(self, other: np.ndarray | float) -> PathForm:
+        return -self + other
+
+    def __mul__(self, scale: np.ndarray | float) -> PathForm:
+        if isinstance(scale, PathForm):
+            return NotImplemented  # a product of two forms is not affine
+        return PathForm(*(x * scale for x in self.terms))
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, scale: np.ndarray | float) -> PathForm:
+        return PathForm(*(x / scale for x in self.terms))
+
+    def __call__(self, speed: np.ndarray, acceleration: np.ndarray) -> np.ndarray:
+        """The quantity for ṡ and s̈ of shape (K, N): (K, N, m)."""
+        s_dot, s_ddot = speed[..., None], acceleration[..., None]
+        return self.a * s_ddot + self.b * s_dot**2 + self.c + self.w * s_dot
+
+    @property
+    def speed_only(self) -> bool:
+        """Whether only the term in ṡ is there (a bound on the speed along the path)."""
+        return not any(np.any(term) for term in (self.a, self.b, self.c))
+
+    def columns(self, index: np.ndarray | list[int], shape: tuple[int, ...]) -> PathForm:
+        """Some columns of the form, its terms broadcast to ``shape`` (K, N, m) first."""
+        return PathForm(*(np.broadcast_to(term, shape)[..., index] for term in self.terms))
+
+
+def path_dynamics(robot: Robot, joints: JointTrajectory, force: np.ndarray, placements: int,
+                  threads: int | None = None) -> PathDynamics:
+    """The efforts along the path of K placements, from their joints' motion at unit path speed.
+
+    Args:
+        robot: The robot.
+        joints: Every joint's motion at unit speed along the path (v = q', a = q''), K·N rows.
+        force: (K·N, 3 or 6) load on the end effector, as for :func:`placement.dynamics.inverse.actuator_efforts`.
+        placements: K.
+        threads: Threads of the batched RNEA.
+
+    Returns:
+        A, B and C from three batched projected RNEA calls: C at rest, A + C with q̈ = q' and no velocity,
+        B + C with q̇ = q' and q̈ = q''.
+    """
+    act = robot.actuated_v_indices
+    shape = (placements, len(joints.q) // placements, len(act))
+    rest = np.zeros_like(joints.v)
+
+    def efforts(v: np.ndarray, a: np.ndarray) -> np.ndarray:
+        moving = dataclasses.replace(joints, v=v, a=a)
+        return actuator_efforts(robot, moving, force, threads).reshape(shape)
+
+    static = efforts(rest, rest)
+    return PathDynamics(velocity=joints.v[:, act].reshape(shape), curvature=joints.a[:, act].reshape(shape),
+                        inertia=efforts(rest, joints.v) - static, centripetal=efforts(joints.v, joints.a) - static,
+                        static=static)

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from placement.drives.motors import MOTOR_MODELS, Motor, MotorModel, PowerParts
-from placement.drives.trace import MotorTrace, drives_of
+from placement.drives.trace import MotorTrace
 from placement.energy.regeneration import REGENERATION
 from placement.robot.model import Robot
 
@@ -51,7 +51,7 @@ def interval_widths(t_s: np.ndarray, piece: np.ndarray) -> np.ndarray:
 
 def motor_models(robot: Robot) -> list[tuple[MotorModel, Motor]]:
     """Each actuator's motor model and its constants."""
-    return [(MOTOR_MODELS.get(d.motor.model), d.motor) for d in drives_of(robot)]
+    return [(MOTOR_MODELS.get(d.motor.model), d.motor) for d in robot.drives]
 
 
 def interval_power(robot: Robot, trace: MotorTrace, dt_s: np.ndarray) -> PowerParts:

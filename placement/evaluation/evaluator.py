@@ -21,7 +21,7 @@ import numpy as np
 
 from placement.drives.trace import motor_trace
 from placement.dynamics.inverse import actuator_efforts
-from placement.dynamics.path import PathDynamics
+from placement.dynamics.path import path_dynamics
 from placement.energy.integration import Energy, sample_power
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.batch import EvaluatedBatch
@@ -169,17 +169,7 @@ class Evaluator:
         at the path geometry's samples; the motion comes back at the evaluated samples."""
         assert self.geometry is not None
         k, n, act = len(reachable), len(self.geometry), self.robot.actuated_v_indices
-        rest = np.zeros_like(joints.v)
-
-        def efforts(v: np.ndarray, a: np.ndarray) -> np.ndarray:
-            moving = dataclasses.replace(joints, v=v, a=a)
-            return actuator_efforts(self.robot, moving, force, self.threads).reshape(k, n, len(act))
-
-        static = efforts(rest, rest)
-        dynamics = PathDynamics(velocity=joints.v[:, act].reshape(k, n, len(act)),
-                                curvature=joints.a[:, act].reshape(k, n, len(act)),
-                                inertia=efforts(rest, joints.v) - static,
-                                centripetal=efforts(joints.v, joints.a) - static, static=static)
+        dynamics = path_dynamics(self.robot, joints, force, k, self.threads)
         law = time_optimal(self.robot, self.geometry, dynamics, reachable) if given is None else given
         at_samples = law.at_samples(self.geometry)
         rows = (np.arange(k)[:, None] * n + self.geometry.grid_rows).ravel()

@@ -5,6 +5,11 @@ A limit turns a batch of evaluated placements into margins, normalised so that 0
 limit or the workspace side as the scale. A placement is feasible when every margin is ≥ 0 at
 every sample. A package adds a limit (an instance of a :class:`Limit` subclass) under the
 entry-point group ``placement.limits``; every limit that applies to the robot is checked.
+
+A limit on how fast the path may be run (a speed, an acceleration, a torque, a voltage) also
+states it as bounds on the motion along the path (:meth:`Limit.path_bounds`): the optimal timing
+law (:mod:`placement.timing.optimal`) keeps every bound of every limit that applies, installed
+ones included, so that its timing never breaks them.
 """
 
 from __future__ import annotations
@@ -14,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from placement.dynamics.path import PathDynamics, PathForm
 from placement.evaluation.batch import EvaluatedBatch
 from placement.registry import Registry
 from placement.robot.model import Robot
@@ -63,6 +69,21 @@ class Margin:
     unit: str
 
 
+@dataclass(frozen=True)
+class PathBound:
+    """A bound on the motion along a path: |form| ≤ top at every sample, column by column.
+
+    Attributes:
+        kind: What is bounded, as in the limit's margins ("joint speed", ...).
+        form: (K, N, m) the bounded quantity, affine in s̈, ṡ² and ṡ.
+        top: (m,) its bound (> 0).
+    """
+
+    kind: str
+    form: PathForm
+    top: np.ndarray
+
+
 class Limit(ABC):
     """One kind (or a few kinds) of limit."""
 
@@ -74,6 +95,11 @@ class Limit(ABC):
     def fields(self, batch: EvaluatedBatch) -> list[MarginField]:
         """Per-sample margins of the batch's placements."""
 
+    def path_bounds(self, robot: Robot, dynamics: PathDynamics) -> list[PathBound]:
+        """Bounds that this limit puts on the motion along the path of K placements, for the optimal timing law
+        (default: none, a limit on where the path lies rather than how fast it is run)."""
+        return []
+
 
 LIMITS: Registry[Limit] = Registry("limit", "placement.limits", Limit)
 
@@ -82,6 +108,12 @@ def margin_fields(batch: EvaluatedBatch) -> list[MarginField]:
     """The margins of every limit that applies to the batch's robot."""
     return [field for name in LIMITS.names() if LIMITS.get(name).applies_to(batch.robot)
             for field in LIMITS.get(name).fields(batch)]
+
+
+def path_bounds(robot: Robot, dynamics: PathDynamics) -> list[PathBound]:
+    """The bounds on the motion along the path of every limit that applies to the robot."""
+    return [bound for name in LIMITS.names() if LIMITS.get(name).applies_to(robot)
+            for bound in LIMITS.get(name).path_bounds(robot, dynamics)]
 
 
 def worst_margins(fields: list[MarginField]) -> tuple[np.ndarray, tuple[str, ...]]:

@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from placement.dynamics.path import PathDynamics
 from placement.evaluation.batch import EvaluatedBatch
-from placement.limits.base import LIMITS, Limit, MarginField
+from placement.limits.base import LIMITS, Limit, MarginField, PathBound
 from placement.robot.model import Robot
 
 
-def _names_and_units(batch: EvaluatedBatch, suffix: str = "") -> tuple[tuple[str, ...], tuple[str, ...]]:
-    actuators = batch.robot.actuators
+def _names_and_units(robot: Robot, suffix: str = "") -> tuple[tuple[str, ...], tuple[str, ...]]:
+    actuators = robot.actuators
     return (tuple(a.joint for a in actuators), tuple(("m" if a.prismatic else "rad") + suffix for a in actuators))
 
 
@@ -22,7 +23,7 @@ class JointRange(Limit):
         low = np.array([a.position_min for a in actuators])
         high = np.array([a.position_max for a in actuators])
         position, span = batch.position, high - low
-        names, units = _names_and_units(batch)
+        names, units = _names_and_units(batch.robot)
         return [MarginField("joint lower limit", (position - low) / span, position,
                             np.broadcast_to(low, position.shape), names, units),
                 MarginField("joint upper limit", (high - position) / span, position,
@@ -33,11 +34,14 @@ class JointSpeed(Limit):
     """|joint speed| within velocity_max."""
 
     def fields(self, batch: EvaluatedBatch) -> list[MarginField]:
-        speed = np.array([a.velocity_max for a in batch.robot.actuators])
+        speed = _speed_max(batch.robot)
         velocity = batch.velocity
-        names, units = _names_and_units(batch, "/s")
+        names, units = _names_and_units(batch.robot, "/s")
         return [MarginField("joint speed", (speed - np.abs(velocity)) / speed, velocity,
                             np.broadcast_to(speed, velocity.shape), names, units)]
+
+    def path_bounds(self, robot: Robot, dynamics: PathDynamics) -> list[PathBound]:
+        return [PathBound("joint speed", dynamics.joint_velocity, _speed_max(robot))]
 
 
 class JointAcceleration(Limit):
@@ -47,13 +51,27 @@ class JointAcceleration(Limit):
         return any(a.acceleration_max is not None for a in robot.actuators)
 
     def fields(self, batch: EvaluatedBatch) -> list[MarginField]:
-        bounded = [i for i, a in enumerate(batch.robot.actuators) if a.acceleration_max is not None]
-        top = np.array([batch.robot.actuators[i].acceleration_max for i in bounded], dtype=float)
+        bounded, top = _bounded_accelerations(batch.robot)
         acceleration = batch.acceleration[..., bounded]
-        names, units = _names_and_units(batch, "/s^2")
+        names, units = _names_and_units(batch.robot, "/s^2")
         return [MarginField("joint acceleration", (top - np.abs(acceleration)) / top, acceleration,
                             np.broadcast_to(top, acceleration.shape), tuple(names[i] for i in bounded),
                             tuple(units[i] for i in bounded))]
+
+    def path_bounds(self, robot: Robot, dynamics: PathDynamics) -> list[PathBound]:
+        bounded, top = _bounded_accelerations(robot)
+        return [PathBound("joint acceleration", dynamics.joint_acceleration.columns(bounded, dynamics.shape), top)]
+
+
+def _speed_max(robot: Robot) -> np.ndarray:
+    """(n_act,) every actuated joint's top speed."""
+    return np.array([a.velocity_max for a in robot.actuators], dtype=float)
+
+
+def _bounded_accelerations(robot: Robot) -> tuple[list[int], np.ndarray]:
+    """The actuators that give an acceleration bound, and their bounds."""
+    bounded = [i for i, a in enumerate(robot.actuators) if a.acceleration_max is not None]
+    return bounded, np.array([robot.actuators[i].acceleration_max for i in bounded], dtype=float)
 
 
 LIMITS.add("joint_range", JointRange())

@@ -17,7 +17,7 @@ from xml.etree import ElementTree
 import numpy as np
 import pinocchio as pin
 
-from placement.drives.trace import drives_of, motor_trace
+from placement.drives.trace import motor_trace
 from placement.dynamics.inverse import actuator_efforts
 from placement.kinematics import joint_trajectory
 from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
@@ -307,7 +307,7 @@ def effort_warnings(robot: Robot, joints: JointTrajectory, effort: np.ndarray) -
     columns = robot.actuated_v_indices[driven]
     torque = np.abs(motor_trace(subset, effort[:, driven], joints.v[:, columns], joints.a[:, columns]).torque_Nm)
     warnings = []
-    for k, (actuator, drive) in enumerate(zip(subset.actuators, drives_of(subset))):
+    for k, (actuator, drive) in enumerate(zip(subset.actuators, subset.drives)):
         peak, limit = float(torque[:, k].max()), drive.motor.max_torque_Nm
         if peak > limit:
             unit = "N" if actuator.prismatic else "N m"

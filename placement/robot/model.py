@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pinocchio as pin
 
+from placement.exceptions import RobotFileError
 from placement.robot.plugins import ClosedFormFunction, load_plugin, make_closed_form
 
 if TYPE_CHECKING:
@@ -92,6 +93,19 @@ class Robot:
         self.__dict__.update(state)
         self.plugin = load_plugin(self.sidecar_path, self.sidecar.kinematics_plugin)
         self.closed_form = make_closed_form(self.plugin, self.model, self.sidecar_path)
+
+    @property
+    def drives(self) -> tuple[Drive, ...]:
+        """The drive of every actuator, in actuator order.
+
+        Raises:
+            RobotFileError: An actuator has no drive (named in the message).
+        """
+        for i, actuator in enumerate(self.actuators):
+            if actuator.drive is None:
+                raise RobotFileError(self.sidecar_path, f"actuators.{i}.drive", f"actuator '{actuator.joint}' has no "
+                                     "drive; energy and motor limits need one: name an entry of drives")
+        return tuple(a.drive for a in self.actuators if a.drive is not None)
 
     @property
     def actuated_v_indices(self) -> np.ndarray:

@@ -1,30 +1,26 @@
 """The time-optimal timing law: the fastest motion along a placed path that the robot allows.
 
 Along a path p(s) sampled in arc length s, every joint moves as q(s), so its velocity and
-acceleration are q'·ṡ and q'·s̈ + q''·ṡ², and the dynamics (projected RNEA, linear in the
-accelerations, quadratic in the velocities) give each actuator's effort exactly as
+acceleration are q'·ṡ and q'·s̈ + q''·ṡ², and the dynamics give each actuator's effort exactly as
+F(s) = A(s)·s̈ + B(s)·ṡ² + C(s) (:mod:`placement.dynamics.path`). Every limit on how fast the
+path is run states its bounds in that form, |a·s̈ + b·ṡ² + c + w·ṡ| ≤ top at each sample
+(:meth:`placement.limits.base.Limit.path_bounds`), and this law keeps those of every limit that
+applies to the robot, an installed one included. The built-in ones:
 
-    F(s) = A(s)·s̈ + B(s)·ṡ² + C(s),
-
-with C the static load (gravity and process forces), A the inertia along the path and B the
-centripetal and Coriolis part, from three batched RNEA calls. Every limit of the robot is then
-linear in (s̈, ṡ²) at each sample, the form that TOPP-RA (Pham and Pham, IEEE T-RO 2018, the
-``toppra`` package) solves for the time-optimal ṡ(s):
-
-- joint speed, motor speed and the path's feed: bounds on ṡ²;
+- joint speed and motor speed (where a drive gives one), and the path's feed: bounds on ṡ;
 - joint acceleration (where the sidecar gives ``acceleration_max``): |q'·s̈ + q''·ṡ²| ≤ a_max;
-- motor torque τ = k·(F − J_r·q̈ + friction) + J_r·q̈/ratio, k = 1/(ratio·η) when the motor drives
-  and η/ratio when it brakes (:mod:`placement.drives.trace`): both k are bounded, so braking is
-  held to the driving bound (conservative by η², exact for η = 1), and the viscous friction's
-  ṡ = √(ṡ²) is bounded by its tangent above and its chord below (exact at rest and at the
-  speed bound);
+- motor torque (:class:`placement.drives.trace.Drives`), driving and braking: braking is held to
+  the driving bound too (conservative by η², exact for η = 1);
 - drive voltage (where the sidecar gives ``bus_voltage_V``): R·I + K_e·ω within the phase voltage
-  (:class:`placement.limits.motors.DriveVoltage`). The inductive L·dI/dt is not linear in (s̈, ṡ²):
-  the limit checks it on the timed samples, and a placement whose timing exceeds it is infeasible.
-  Within the intervals, where s̈ is constant, the current changes slowly (with the Orthoglide's
-  6 mH, the term never binds); its steps where s̈ switches carry no dI/dt.
+  (:class:`placement.limits.motors.DriveVoltage`, which checks L·dI/dt on the timed samples).
 
-TOPP-RA keeps each limit at both ends of every interval between samples, with a margin of
+A bound with a term in ṡ alone is a speed bound. Otherwise the term w·ṡ (viscous friction,
+back-EMF) is not linear in (s̈, ṡ²), the variables of TOPP-RA (Pham and Pham, IEEE T-RO 2018, the
+``toppra`` package): it is bounded by its tangent ṡ ≤ (ṡ² + x̄)/(2·√x̄) at the speed bound x̄ = ṡ_max²
+where it raises the bounded value, and by its chord ṡ ≥ ṡ²/√x̄ where it lowers it. Both hold for
+every ṡ up to the speed bound, so the rows never allow what the limit forbids.
+
+TOPP-RA keeps each bound at both ends of every interval between samples, with a margin of
 ``SAFETY``. Its s̈ is constant on each interval and switches at the samples, so the exact chain
 evaluates each interval on its own (a sample inside a run appears twice, zero time apart:
 :attr:`placement.path.samples.PathGeometry.evaluated_samples`); where the current steps there, the
@@ -43,8 +39,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from placement.drives.trace import drives_of
 from placement.dynamics.path import PathDynamics
+from placement.limits.base import PathBound, path_bounds
 from placement.robot.model import Robot
 from placement.timing.law import TimeLaw
 
@@ -101,65 +97,33 @@ class _Interval:
         self.path_interval = np.array([0.0, length_m])
 
 
-def speed_bound(robot: Robot, dynamics: PathDynamics, feed_m_s: np.ndarray) -> np.ndarray:
-    """(K, N) the highest ṡ (m/s) that the joint and motor speed limits and the feed allow at each sample."""
-    drives = drives_of(robot)
-    joint = np.array([a.velocity_max for a in robot.actuators], dtype=float)
-    motor = np.array([d.motor.max_speed_rad_s or np.inf for d in drives]) / np.array(
-        [d.transmission.speed_ratio for d in drives])
-    rate = np.abs(dynamics.velocity)
-    with np.errstate(divide="ignore"):
-        per_actuator = SAFETY * np.minimum(joint, motor) / rate
-    return np.minimum(per_actuator.min(axis=-1), feed_m_s)
+def speed_bound(bounds: list[PathBound], feed_m_s: np.ndarray, placements: int) -> np.ndarray:
+    """(K, N) the highest ṡ (m/s) that the speed bounds and the feed (N,) allow at each sample of K placements."""
+    speed = np.broadcast_to(feed_m_s, (placements, len(feed_m_s)))
+    for bound in bounds:
+        if bound.form.speed_only:
+            with np.errstate(divide="ignore"):
+                per_column = SAFETY * bound.top / np.abs(bound.form.w)
+            speed = np.minimum(speed, per_column.min(axis=-1, initial=np.inf))
+    return speed
 
 
-def limit_rows(robot: Robot, dynamics: PathDynamics, speed_max: np.ndarray) -> tuple[np.ndarray, ...]:
-    """Rows a·s̈ + b·ṡ² + c ≤ 0, (K, N, rows) each, of the torque, drive voltage and joint acceleration limits.
-
-    A term linear in ṡ (viscous friction, back-EMF) is bounded by ṡ ≤ (ṡ² + x̄)/(2·√x̄) (the tangent
-    at x̄ = ``speed_max``²) where it raises the constrained value, and by ṡ ≥ ṡ²/√x̄ (the chord) where it
-    lowers it: both hold for every ṡ up to ``speed_max``, so the rows never allow what the limit forbids.
-    """
-    drives = drives_of(robot)
-    ratio = np.array([d.transmission.speed_ratio for d in drives])
-    efficiency = np.array([d.transmission.efficiency for d in drives])
-    coulomb = np.array([d.friction.coulomb for d in drives])
-    viscous = np.array([d.friction.viscous for d in drives])
-    reflected = np.array([a.reflected_inertia for a in robot.actuators])
-    d = dynamics
+def bound_rows(bounds: list[PathBound], speed_max: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Rows a·s̈ + b·ṡ² + c ≤ 0, (K, N, rows) each, of the bounds that are not speed bounds (module docstring)."""
     bar = np.maximum(speed_max, 1e-12)[..., None]  # √x̄, the speed bound
     rows: list[tuple[np.ndarray, ...]] = []
-
-    def bound(a: np.ndarray, b: np.ndarray, c: np.ndarray, w: np.ndarray, top: np.ndarray, columns: np.ndarray) -> None:
-        """|a·s̈ + b·ṡ² + c + w·ṡ| ≤ top on some actuator columns."""
-        a, b, c, w = (np.broadcast_to(term, d.velocity.shape)[..., columns] for term in (a, b, c, w))
+    for bound in bounds:
+        if bound.form.speed_only:
+            continue
+        shape = speed_max.shape + np.shape(bound.top)
+        a, b, c, w = (np.broadcast_to(term, shape) for term in bound.form.terms)
         for sign in (1.0, -1.0):
             raising = sign * w > 0
             slope = np.where(raising, sign * w / (2 * bar), sign * w / bar)
             offset = np.where(raising, sign * w * bar / 2, 0.0)
-            rows.append((sign * a, sign * b + slope, sign * c + offset - SAFETY * top[columns]))
-
-    every = np.arange(len(drives))
-    load = (d.inertia - reflected * d.velocity, d.centripetal - reflected * d.curvature,
-            d.static + coulomb * np.sign(d.velocity))
-    rotor = (reflected * d.velocity / ratio, reflected * d.curvature / ratio, 0.0)
-    torque_top = np.array([dr.motor.max_torque_Nm for dr in drives])
-    voltage_top = np.array([dr.motor.phase_voltage_limit_V or np.inf for dr in drives])
-    voltage = np.flatnonzero(np.isfinite(voltage_top))
-    ohm = np.array([dr.motor.resistance_ohm / dr.motor.torque_constant_Nm_per_A for dr in drives])  # V per N m
-    emf = np.array([dr.motor.back_emf_constant_V_s_per_rad for dr in drives]) * ratio * d.velocity  # V per m/s
-    gains = [1 / (ratio * efficiency)] + ([efficiency / ratio] if np.any(efficiency != 1.0) else [])
-    for gain in gains:  # motor torque per unit load: driving, and braking where the transmission loses power
-        a, b, c = (gain * part + turn for part, turn in zip(load, rotor))
-        w = gain * viscous * d.velocity
-        bound(a, b, c, w, torque_top, every)
-        if len(voltage):  # R·I + K_e·ω; the limit checks L·dI/dt on the timed samples
-            bound(ohm * a, ohm * b, ohm * c, ohm * w + emf, voltage_top, voltage)
-    acceleration_top = np.array([a.acceleration_max or np.inf for a in robot.actuators], dtype=float)
-    accelerated = np.flatnonzero(np.isfinite(acceleration_top))
-    if len(accelerated):
-        bound(d.velocity, d.curvature, np.zeros(1), np.zeros(1), acceleration_top, accelerated)
-    return tuple(np.concatenate([row[i] for row in rows], axis=-1) for i in range(3))
+            rows.append((sign * a, sign * b + slope, sign * c + offset - SAFETY * bound.top))
+    empty = np.zeros(speed_max.shape + (0,))
+    return tuple(np.concatenate([empty] + [row[i] for row in rows], axis=-1) for i in range(3))
 
 
 def time_optimal(robot: Robot, geometry: PathGeometry, dynamics: PathDynamics, reachable: np.ndarray) -> TimeLaw:
@@ -174,8 +138,9 @@ def time_optimal(robot: Robot, geometry: PathGeometry, dynamics: PathDynamics, r
     Returns:
         The timing law of each placement.
     """
-    speed_max = speed_bound(robot, dynamics, geometry.feed_m_s)
-    a, b, c = limit_rows(robot, dynamics, speed_max)
+    bounds = path_bounds(robot, dynamics)
+    speed_max = speed_bound(bounds, geometry.feed_m_s, len(reachable))
+    a, b, c = bound_rows(bounds, speed_max)
     k, n = speed_max.shape
     speed, acceleration = np.zeros((k, n)), np.zeros((k, n))
     timed = np.asarray(reachable, dtype=bool).copy()

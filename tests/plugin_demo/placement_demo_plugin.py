@@ -1,14 +1,16 @@
 """A stand-in for a separately installed package that adds plug-in family members.
 
 It is declared as an installed distribution (``placement_demo_plugin-0.1.dist-info``) whose entry
-points register an objective and a motor model, exactly as ``pip install`` of a package with
-``[project.entry-points."placement.objectives"]`` would.
+points register an objective, a motor model and a limit, exactly as ``pip install`` of a package
+with ``[project.entry-points."placement.objectives"]`` would. It imports ``EvaluatedBatch`` from
+its 0.1 module path, ``placement.batch``, which must keep working.
 """
 
 import numpy as np
 
 from placement.batch import EvaluatedBatch
 from placement.drives.motors import Motor, Pmsm, PowerParts
+from placement.limits.base import Limit, MarginField, PathBound
 from placement.objectives import Objective
 
 
@@ -36,5 +38,24 @@ class StandbyPmsm(Pmsm):
         return PowerParts(parts.joule_W + standby, parts.inductive_W, parts.back_emf_W)
 
 
+class HalfJointSpeed(Limit):
+    """Every actuated joint at half its top speed at most (a shop's rule for a machine's first runs)."""
+
+    share = 0.5
+
+    def fields(self, batch: EvaluatedBatch) -> list[MarginField]:
+        top = self._top(batch.robot)
+        names = tuple(a.joint for a in batch.robot.actuators)
+        return [MarginField("half joint speed", (top - np.abs(batch.velocity)) / top, batch.velocity,
+                            np.broadcast_to(top, batch.velocity.shape), names, ("",) * len(names))]
+
+    def path_bounds(self, robot, dynamics) -> list[PathBound]:
+        return [PathBound("half joint speed", dynamics.joint_velocity, self._top(robot))]
+
+    def _top(self, robot) -> np.ndarray:
+        return self.share * np.array([a.velocity_max for a in robot.actuators])
+
+
 peak_motor_speed = PeakMotorSpeed()
+half_joint_speed = HalfJointSpeed()
 standby_pmsm = StandbyPmsm()
