@@ -15,6 +15,22 @@ motion(q)``; Jacobians and classical accelerations at a frame's origin in world-
 (LOCAL_WORLD_ALIGNED), linear rows before angular ones. Every joint is revolute or prismatic about
 a fixed axis, with ``idx_q == idx_v``. Closures' rotation rows use the difference of the two
 frames' angular Jacobians, as the residual's ``log3`` has that derivative at zero error.
+
+This stays one file: numba's on-disk cache does not see a change to a function it calls from
+another file. Its sections, in order (each opens with a ``# ---`` rule):
+
+1. Data: ``TreeArrays`` (the tree and the solver's frames, flat) and ``_Buffers`` (per-call scratch).
+2. Small dense linear algebra: ``_solve_square``, ``_cholesky`` / ``least_squares`` (damped normal
+   equations), products, ``log3``.
+3. Tree kinematics of one sample: ``forward`` (joint placements), ``residual`` (closures and the task),
+   ``jacobians``, ``velocities``, ``drifts`` (the classical-acceleration terms J̇·v).
+4. The solver's quantities of one sample: ``basis`` (G, the closures' null-space map from actuated to
+   all joint rates), ``passive_correction``, the task map J_task·G.
+5. Batched entry points: Newton (``_newton_one``, ``_newton_step``), ``rates`` (joint velocities and
+   accelerations from the tool's twist and acceleration), ``frames``, ``placements``, ``rotation_vectors``.
+6. Whole paths: ``solve_paths`` (each path sample by sample, seeded by interpolating the solved
+   neighbours on a bisection schedule, with the branch test ``_left_branch``) and ``_assemble`` (a
+   path's first configuration, by continuation from the reference configuration).
 """
 
 from __future__ import annotations

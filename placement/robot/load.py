@@ -21,7 +21,6 @@ from pydantic import BaseModel
 
 from placement.exceptions import AssemblyError, PlacementError, RobotFileError
 from placement.files import staged
-from placement.kinematics.taylor import Taylor2
 from placement.robot.catalog import sidecar_path
 from placement.robot.closures import closure_jacobian, closure_residuals
 from placement.robot.gepetto import SIDECAR_NAME, is_gepetto, read_gepetto
@@ -427,6 +426,8 @@ def _check_plugin(robot: Robot) -> None:
     data = robot.model.createData()
     pin.framesForwardKinematics(robot.model, data, robot.reference_q)
     position = data.oMf[robot.end_effector_frame_id].translation
+    from placement.kinematics.taylor import Taylor2  # here: the kinematics import this package
+
     joints = robot.closed_form(tuple(Taylor2.constant([c]) for c in position))
     movable = set(robot.model.names[1:])
     if set(joints) != movable:

@@ -1,0 +1,94 @@
+"""The package's layout holds: no import cycle, a short top level, files one can hold in one's head.
+
+Imports are read from the source with ``ast``, as Python runs them when a module is imported: the
+statements at a module's top level, less those under ``if TYPE_CHECKING``, each reaching the
+module it names and every package above it (whose ``__init__`` runs first), except the importing
+module's own packages. An import inside a function runs later, on use, and is left out: a few
+loaders use one to check a robot with a higher layer (its kinematics), and say so where they do.
+"""
+
+import ast
+from pathlib import Path
+
+import placement
+
+PACKAGE = Path(placement.__file__).parent
+MAX_TOP_LEVEL_MODULES = 8
+MAX_LINES = 600
+ONE_FILE_BY_NECESSITY = {"kinematics/kernels.py"}  # numba's cache does not follow calls into other files
+
+
+def module_name(file: Path) -> str:
+    parts = file.relative_to(PACKAGE.parent).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+MODULES = {module_name(file): file for file in PACKAGE.rglob("*.py")}
+
+
+def _type_checking_nodes(tree: ast.Module) -> set[int]:
+    return {id(node) for statement in tree.body if isinstance(statement, ast.If)
+            and "TYPE_CHECKING" in ast.unparse(statement.test) for node in ast.walk(statement)}
+
+
+def imported_at_import_time(name: str) -> set[str]:
+    """The package's modules that importing ``name`` runs directly."""
+    tree = ast.parse(MODULES[name].read_text(encoding="utf-8"))
+    skipped, named = _type_checking_nodes(tree), set()
+    for statement in tree.body:
+        if id(statement) in skipped:
+            continue
+        if isinstance(statement, ast.ImportFrom) and statement.module and statement.level == 0:
+            named |= {f"{statement.module}.{alias.name}" if f"{statement.module}.{alias.name}" in MODULES
+                      else statement.module for alias in statement.names}
+        elif isinstance(statement, ast.Import):
+            named |= {alias.name for alias in statement.names}
+    parents = {".".join(module.split(".")[:i]) for module in named for i in range(1, module.count(".") + 1)}
+    own = {".".join(name.split(".")[:i]) for i in range(1, name.count(".") + 2)}
+    return {module for module in named | parents if module in MODULES and module not in own}
+
+
+def cycle_through(graph: dict[str, set[str]]) -> list[str] | None:
+    """A cycle of the graph, as the modules along it, or None."""
+    state: dict[str, int] = {}  # 1: on the current path, 2: done
+
+    def visit(node: str, path: list[str]) -> list[str] | None:
+        state[node] = 1
+        for successor in sorted(graph[node]):
+            if state.get(successor) == 1:
+                return path[path.index(successor):] + [successor] if successor in path else [node, successor]
+            if successor not in state and (found := visit(successor, path + [successor])):
+                return found
+        state[node] = 2
+        return None
+
+    for start in sorted(graph):
+        if start not in state and (found := visit(start, [start])):
+            return found
+    return None
+
+
+def test_no_import_cycle():
+    graph = {name: imported_at_import_time(name) for name in MODULES}
+    assert cycle_through(graph) is None, " -> ".join(cycle_through(graph) or [])
+
+
+def test_the_cycle_finder_finds_a_cycle():
+    assert cycle_through({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": set()}) == ["a", "b", "c", "a"]
+    assert cycle_through({"a": {"b"}, "b": set()}) is None
+
+
+def test_a_package_import_also_runs_the_packages_above_it():
+    assert "placement.robot" in imported_at_import_time("placement.kinematics.base")  # via placement.robot.model
+    assert "placement.kinematics" not in imported_at_import_time("placement.kinematics.base")  # its own package
+
+
+def test_the_top_level_is_short():
+    top = sorted(file.name for file in PACKAGE.glob("*.py"))
+    assert len(top) <= MAX_TOP_LEVEL_MODULES, top
+
+
+def test_no_module_is_too_long_to_hold_in_ones_head():
+    long = {str(file.relative_to(PACKAGE)): n for file in PACKAGE.rglob("*.py")
+            if (n := len(file.read_text(encoding="utf-8").splitlines())) > MAX_LINES}
+    assert set(long) <= ONE_FILE_BY_NECESSITY, long
