@@ -1,11 +1,7 @@
-import sys
-from pathlib import Path
 
 import pytest
 
-sys.path.insert(0, str(Path(__file__).parent))
-
-from placement.robot import load_robot  # noqa: E402
+from placement.robot import load_robot
 
 
 @pytest.fixture

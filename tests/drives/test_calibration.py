@@ -1,0 +1,153 @@
+"""Calibration: hidden drive constants are recovered from logs of current and power.
+
+Logs are made by the model itself with hidden constants plus 1 % noise (the motion a smooth
+Lissajous around the Orthoglide's isotropic point), and by MuJoCo: the Orthoglide driven open
+loop, its simulated motion logged, and the power computed from the efforts MuJoCo applied.
+"""
+
+import csv
+
+import numpy as np
+import pytest
+
+from placement import load_robot
+from placement.cli import main
+from placement.drives.calibration import FITTABLE, calibrate, read_log
+from placement.drives.trace import motor_trace
+from placement.dynamics.inverse import inverse_dynamics
+from placement.energy.integration import sample_power
+from placement.robot.checks import demo_trajectory
+from tests.support.robot_copies import edited_copy
+
+DRIVE = "sanyo_p30b06040d_ball_screw"
+HIDDEN = {"resistance_ohm": 1.8, "torque_constant_Nm_per_A": 0.45, "rotor_inertia_kg_m2": 3.25e-5, "coulomb": 20.0,
+          "viscous": 30.0, "efficiency": 0.9}  # the stock sidecar: 1.5, 0.5, 2.5e-5, 0, 0, 1.0
+
+
+def hide(document: dict) -> None:
+    drive = document["drives"][DRIVE]
+    drive["motor"].update(resistance_ohm=1.8, torque_constant_Nm_per_A=0.45, back_emf_constant_V_s_per_rad=0.15,
+                          rotor_inertia_kg_m2=3.25e-5)
+    drive["friction"] = {"coulomb": 20.0, "viscous": 30.0}
+    drive["transmission"]["efficiency"] = 0.9
+
+
+def write_log(file, t, tool, power=None, current=None, names=("slider_x", "slider_y", "slider_z")):
+    header = ["t", "x", "y", "z"] + [f"power_{n}" for n in names] * (power is not None) \
+        + [f"current_{n}" for n in names] * (current is not None)
+    columns = [t[:, None], tool] + [c for c in (power, current) if c is not None]
+    with open(file, "w", newline="") as stream:
+        writer = csv.writer(stream)
+        writer.writerow(header)
+        writer.writerows(np.hstack(columns).tolist())
+    return file
+
+
+@pytest.fixture(scope="module")
+def hidden_log(tmp_path_factory):
+    """3 s of the hidden robot at 1 kHz: tool positions, power and current with 1 % noise."""
+    folder = tmp_path_factory.mktemp("hidden")
+    hidden = load_robot(edited_copy("orthoglide", folder, hide))
+    t = np.arange(0.0, 3.0, 0.001)
+    task = demo_trajectory(hidden, amplitude_m=0.04)(t)
+    motion = inverse_dynamics(hidden, task)
+    trace = motor_trace(hidden, motion.effort, motion.velocity, motion.acceleration)
+    power = sample_power(hidden, trace, t, np.zeros(len(t), dtype=int))
+    rng = np.random.default_rng(7)
+    noisy_power = power + rng.normal(0.0, 0.01 * np.abs(power).max(), power.shape)
+    noisy_current = trace.current_A + rng.normal(0.0, 0.01 * np.abs(trace.current_A).max(), power.shape)
+    return folder, t, task.position_m, noisy_power, noisy_current, 0.01 * np.abs(power).max()
+
+
+def test_hidden_constants_are_recovered_within_2_percent(hidden_log):
+    folder, t, tool, power, current, noise_W = hidden_log
+    robot = load_robot("orthoglide")
+    log = read_log(write_log(folder / "log.csv", t, tool, power, current), robot)
+    result = calibrate(robot, log, list(FITTABLE))
+    for constant, truth in HIDDEN.items():
+        assert result.values[DRIVE][constant] == pytest.approx(truth, rel=0.02), constant
+        assert result.confidence_95[DRIVE][constant] < 0.02 * truth  # and the fit knows it is that close
+    assert result.held_out_rmse["power"] < 1.5 * noise_W  # the held-out part is predicted down to the noise
+
+
+def test_the_log_must_be_able_to_tell_the_constants_apart(hidden_log, tmp_path, capsys):
+    _, t, tool, power, current, _ = hidden_log
+    only_power = write_log(tmp_path / "power.csv", t, tool, power)
+    assert main(["calibrate", "orthoglide", "--log", str(only_power), "--fit", "resistance_ohm,torque_constant_Nm_per_A"]) == 2
+    assert "cannot both be fitted to power alone" in capsys.readouterr().err
+    only_current = write_log(tmp_path / "current.csv", t, tool, current=current)
+    assert main(["calibrate", "orthoglide", "--log", str(only_current), "--fit", "resistance_ohm"]) == 2
+    assert "cannot be fitted to currents alone" in capsys.readouterr().err
+
+
+def test_the_command_writes_a_calibrated_robot_that_loads(hidden_log, tmp_path, capsys):
+    _, t, tool, power, current, _ = hidden_log
+    log = write_log(tmp_path / "log.csv", t, tool, power, current)
+    out, png = tmp_path / "calibrated", tmp_path / "fit.png"
+    assert main(["calibrate", "orthoglide", "--log", str(log), "--fit", ",".join(FITTABLE), "--out", str(out),
+                 "--png", str(png)]) == 0
+    text = capsys.readouterr().out
+    assert "resistance_ohm" in text and "held out" in text and png.is_file()
+    robot = load_robot(out / "orthoglide.yaml")  # the plug-in and URDF came along
+    drive = robot.sidecar.drives[DRIVE]
+    assert drive.motor.resistance_ohm == pytest.approx(1.8, rel=0.02) and drive.friction.coulomb == pytest.approx(20, rel=0.02)
+    assert robot.sidecar.sources[f"drives.{DRIVE}.motor.resistance_ohm"].startswith("CALIBRATED: fitted to log.csv")
+
+
+def test_a_log_whose_motion_mujoco_simulated(tmp_path):
+    mujoco = pytest.importorskip("mujoco", reason="the optional test extra 'mujoco' is not installed")
+    from placement.kinematics import joint_trajectory
+    from tests.support import mujoco_model
+
+    hidden = load_robot(edited_copy("orthoglide", tmp_path, hide))
+    simulation = mujoco_model.Simulation(hidden)
+    dt, steps_per_sample = simulation.timestep_s, 100  # simulate at 10 µs, log at 1 kHz
+    path = demo_trajectory(hidden, amplitude_m=0.04)
+    t = np.arange(0.0, 1.0, dt)
+    efforts = inverse_dynamics(hidden, path(t + dt / 2)).effort
+    start = joint_trajectory(hidden, path(t[:1]))
+    simulation.set_state(start.q[0], start.v[0])
+    act = hidden.actuated_v_indices
+    logged_t, tool, velocity, acceleration, applied = [], [], [], [], []
+    for k, effort in enumerate(efforts):
+        simulation.data.ctrl[:] = effort
+        mujoco.mj_step(simulation.model, simulation.data)
+        if (k + 1) % steps_per_sample == 0:  # the state at the end of the step, and what drove it
+            logged_t.append(simulation.data.time)
+            tool.append(simulation.data.site_xpos[simulation.tool].copy())
+            velocity.append(simulation.data.qvel[simulation.qvel[act]].copy())
+            acceleration.append(simulation.data.qacc[simulation.qvel[act]].copy())
+            applied.append(effort)
+    velocity, acceleration, applied = np.array(velocity), np.array(acceleration), np.array(applied)
+    trace = motor_trace(hidden, applied, velocity, acceleration)
+    logged_t = np.array(logged_t)
+    power = sample_power(hidden, trace, logged_t, np.zeros(len(logged_t), dtype=int))
+    robot = load_robot("orthoglide")
+    log = read_log(write_log(tmp_path / "mujoco.csv", logged_t, np.array(tool), power, trace.current_A), robot)
+    result = calibrate(robot, log, list(FITTABLE))
+    for constant, truth in HIDDEN.items():
+        assert result.values[DRIVE][constant] == pytest.approx(truth, rel=0.02), constant
+
+
+def test_a_serial_arm_logged_in_joint_positions(tmp_path):
+    def lossier(document: dict) -> None:
+        for drive in document["drives"].values():
+            drive["motor"]["resistance_ohm"] *= 1.3
+            drive["friction"] = {"coulomb": 2.0, "viscous": 5.0}
+
+    hidden = load_robot(edited_copy("ur5", tmp_path, lossier))
+    t = np.arange(0.0, 4.0, 0.002)
+    motion = inverse_dynamics(hidden, demo_trajectory(hidden, amplitude_m=0.05, duration_s=2.0)(t))
+    trace = motor_trace(hidden, motion.effort, motion.velocity, motion.acceleration)
+    power = sample_power(hidden, trace, t, np.zeros(len(t), dtype=int))
+    names = [a.joint for a in hidden.actuators]
+    file = tmp_path / "ur5.csv"
+    with open(file, "w", newline="") as stream:
+        writer = csv.writer(stream)
+        writer.writerow(["t"] + [f"q_{n}" for n in names] + [f"power_{n}" for n in names])
+        writer.writerows(np.column_stack([t, motion.position, power]).tolist())
+    robot = load_robot("ur5")
+    result = calibrate(robot, read_log(file, robot), ["resistance_ohm", "coulomb", "viscous"])
+    shoulder = result.values["size3"]  # the big joints, well excited by the motion
+    assert shoulder["resistance_ohm"] == pytest.approx(0.4 * 1.3, rel=0.01)
+    assert shoulder["coulomb"] == pytest.approx(2.0, rel=0.01) and shoulder["viscous"] == pytest.approx(5.0, rel=0.01)

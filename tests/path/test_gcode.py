@@ -1,0 +1,401 @@
+"""G-code programs as tool paths: geometry, feeds, rapids, forces by kind, errors, and energy.
+
+Expected values come from geometry written out here (circles, helices, chords) and from the
+equivalent path shapes, never from the reader itself.
+"""
+
+import dataclasses
+import re
+
+import numpy as np
+import pytest
+
+from placement.__main__ import main
+from placement.evaluation.evaluator import Evaluator
+from placement.exceptions import GcodeError, PathFileError
+from placement.path import load_path
+from placement.robot import load_robot
+from tests.support.paths import EXAMPLES
+
+PLACEMENTS = [[0.0, 0.0, 0.0, 0.0, 0.0, 0.0], [0.05, -0.04, 0.03, 0.5, 0.0, 0.0], [-0.06, 0.05, -0.05, -1.0, 0.0, 0.0]]
+TIMING = "timing: {mode: paper, max_acceleration_m_s2: 10, max_jerk_m_s3: 500}\n"
+
+
+def program(tmp_path, code, extra="", name="p"):
+    """A path file naming a G-code program written beside it."""
+    (tmp_path / f"{name}.nc").write_text(code)
+    file = tmp_path / f"{name}.yaml"
+    file.write_text(f"shape: {{type: gcode, file: {name}.nc}}\n" + extra)
+    return load_path(file)
+
+
+def path_file(tmp_path, text, name="q"):
+    file = tmp_path / f"{name}.yaml"
+    file.write_text(text)
+    return load_path(file)
+
+
+def assert_same_samples(a, b, atol=1e-9):
+    assert len(a) == len(b)
+    for field in ("t_s", "position_m", "velocity_m_s", "acceleration_m_s2", "tangent", "force_on_tool_N", "piece"):
+        np.testing.assert_allclose(getattr(a, field), getattr(b, field), atol=atol, rtol=0, err_msg=field)
+
+
+def finite_differences(samples):
+    """Central differences of position and velocity in time, within each piece: (index, velocity, acceleration)."""
+    t, p, v = samples.t_s, samples.position_m, samples.velocity_m_s
+    inside = np.flatnonzero((samples.piece[:-2] == samples.piece[2:]) & (t[2:] > t[:-2])) + 1
+    dt = (t[inside + 1] - t[inside - 1])[:, None]
+    return inside, (p[inside + 1] - p[inside - 1]) / dt, (v[inside + 1] - v[inside - 1]) / dt
+
+
+RECTANGLE = """%
+(the paper's 30 x 60 mm rectangle at 40 m/min, as examples/rect.yaml)
+G21 G90 G17
+G0 X-15 Y-30 Z0
+G1 X15 F39600
+Y30
+X-15
+Y-30
+M30
+%
+"""
+RECT_FORCES = "process_forces_N: {feed: 10, radial: 215, axial: 25}\n" + TIMING
+
+
+def test_a_rectangle_of_g1_moves_is_the_rectangle_shape(tmp_path):
+    gcode = program(tmp_path, RECTANGLE, RECT_FORCES)
+    shape = load_path(EXAMPLES / "rect.yaml")
+    assert gcode.feed_m_s == pytest.approx(0.66, rel=1e-15) and len(gcode.segments) == 4
+    assert_same_samples(gcode.sample(), shape.sample())
+    robot = load_robot("orthoglide")
+    energies = [Evaluator(robot, path).evaluate(np.array(PLACEMENTS)).value for path in (gcode, shape)]
+    np.testing.assert_allclose(energies[0], energies[1], rtol=1e-9)
+
+
+def test_arcs_by_offsets_by_radius_and_the_arc_shape_agree(tmp_path):
+    # A quarter circle of radius 10 mm about the origin, from (0, 10) clockwise to (10, 0).
+    start = "G21 G90 G0 X0 Y10 Z0\n"
+    by_offsets = program(tmp_path, start + "G2 X10 Y0 I0 J-10 F6000\n", name="ij")
+    by_radius = program(tmp_path, start + "G2 X10 Y0 R10 F6000\n", name="r")
+    shape = path_file(tmp_path, "units: mm\nshape: {type: arc, radius: 10, start_deg: 90, sweep_deg: -90}\nfeed_m_s: 0.1\n")
+    for path in (by_offsets, by_radius):
+        assert_same_samples(path.sample(), shape.sample(), atol=1e-12)
+    # The long way round (R < 0) is the other three quarters, anticlockwise by G3 with R > 0 the short one.
+    long_way = program(tmp_path, start + "G2 X10 Y0 R-10 F6000\n", name="long")
+    assert long_way.length_m == pytest.approx(1.5 * np.pi * 0.01, rel=1e-12)
+    short_ccw = program(tmp_path, start + "G3 X10 Y0 R10 F6000\n", name="ccw")
+    middle = short_ccw.segments[0].point(np.array([short_ccw.length_m / 2]), np.ones(1), np.zeros(1))[0][0]
+    # Anticlockwise from (0, 10) to (10, 0) the short way: about (10, 10), from 180° through 225° to 270°.
+    np.testing.assert_allclose(middle, [0.01 + 0.01 * np.cos(np.radians(225)), 0.01 + 0.01 * np.sin(np.radians(225)), 0],
+                               atol=1e-15)
+
+
+def test_a_full_circle_by_offsets(tmp_path):
+    path = program(tmp_path, "G0 X25 Y5 Z-1\nG2 X25 Y5 I-5 J0 F3000\n")  # radius 5 mm about (20, 5), clockwise
+    samples = path.sample()
+    center, speed = np.array([0.02, 0.005, -0.001]), 0.05
+    radial = samples.position_m - center
+    np.testing.assert_allclose(np.linalg.norm(radial, axis=1), 0.005, rtol=1e-12)
+    assert path.length_m == pytest.approx(2 * np.pi * 0.005, rel=1e-12)
+    np.testing.assert_allclose(samples.acceleration_m_s2, -radial * speed**2 / 0.005**2, atol=1e-12)
+    np.testing.assert_allclose(np.cross(radial, samples.velocity_m_s)[:, 2], -0.005 * speed, rtol=1e-12)  # clockwise
+
+
+@pytest.mark.parametrize("code, center, normal, radius, rise", [
+    # G18: the ZX plane, normal +Y; G2 is clockwise seen from +Y: from X20 Z0 about (10, 0, 0) up through Z+10.
+    ("G18 G0 X20 Y3 Z0\nG2 X0 Z0 I-10 K0 F1200\n", [0.01, 0.003, 0.0], [0, 1, 0], 0.01, 0.0),
+    # G19: the YZ plane, normal +X, anticlockwise from Y10 Z0 about (0, 0, 0) three quarters round.
+    ("G19 G0 X2 Y10 Z0\nG3 Y0 Z-10 J-10 K0 F1200\n", [0.002, 0.0, 0.0], [1, 0, 0], 0.01, 0.0),
+    # A helix in G17: one and a quarter turns down 5 mm about (0, 0) (a full turn, then a quarter).
+    ("G17 G0 X8 Y0 Z0\nG3 X8 Y0 Z-4 I-8 J0 F1200\nG3 X0 Y8 Z-5 I-8 J0\n", [0.0, 0.0, 0.0], [0, 0, 1], 0.008, -0.005),
+])
+def test_arcs_in_every_plane_and_helices_are_exact(tmp_path, code, center, normal, radius, rise):
+    path = program(tmp_path, "G21 G90\n" + code, "time_step_s: 0.0002\n")
+    samples = path.sample()
+    normal, center = np.array(normal, dtype=float), np.array(center)
+    offset = samples.position_m - center
+    along = offset @ normal
+    in_plane = offset - along[:, None] * normal
+    np.testing.assert_allclose(np.linalg.norm(in_plane, axis=1), radius, rtol=1e-12)
+    # The motion along the normal is proportional to the angle turned (the arc length): a helix.
+    travelled = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(samples.position_m, axis=0), axis=1))])
+    np.testing.assert_allclose(along, rise * travelled / travelled[-1], atol=1e-8)
+    np.testing.assert_allclose(np.linalg.norm(samples.velocity_m_s, axis=1), 0.02, rtol=1e-12)
+    inside, velocity, acceleration = finite_differences(samples)
+    np.testing.assert_allclose(samples.velocity_m_s[inside], velocity, atol=2e-7)
+    np.testing.assert_allclose(samples.acceleration_m_s2[inside], acceleration, atol=2e-5)
+    np.testing.assert_allclose(samples.tangent, samples.velocity_m_s / 0.02, atol=1e-12)
+
+
+def test_g18_clockwise_is_seen_from_plus_y(tmp_path):
+    path = program(tmp_path, "G18 G0 X20 Y0 Z0\nG2 X0 Z0 I-10 K0 F1200\n")
+    # Seen from +Y (looking towards -Y, Z up), +X points left: clockwise from X20 climbs through Z+10.
+    z = path.sample(0.001).position_m[:, 2]
+    assert z.max() == pytest.approx(0.01, abs=1e-6) and z.min() > -1e-12
+
+
+def test_inches_and_incremental_moves_equal_their_millimetre_absolute_twins(tmp_path):
+    metric = program(tmp_path, "G21 G90 G0 X0 Y0 Z0\nG1 X25.4 Y12.7 F254\nG2 X50.8 Y12.7 I12.7 J0\nG1 Z-2.54\n",
+                     name="mm")
+    inches = program(tmp_path, "G20 G90 G0 X0 Y0 Z0\nG91\nG1 X1 Y0.5 F10\nG2 X1 Y0 R0.5\nG1 Z-0.1\n", name="inch")
+    assert_same_samples(metric.sample(), inches.sample(), atol=1e-12)
+
+
+def test_feeds_of_each_move_in_both_timing_laws_and_the_feed_scale(tmp_path):
+    code = "G0 X0 Y0 Z0\nG1 X30 F3000\nG1 Y40 F6000\nG1 X0 Y0\n"
+    paper = program(tmp_path, code)
+    samples = paper.sample()
+    speed = np.linalg.norm(samples.velocity_m_s, axis=1)
+    np.testing.assert_allclose(speed[samples.piece == 0], 0.05, rtol=1e-12)
+    np.testing.assert_allclose(speed[samples.piece >= 1], 0.1, rtol=1e-12)
+    assert samples.t_s[-1] == pytest.approx(0.03 / 0.05 + 0.09 / 0.1, rel=1e-12)
+    doubled = dataclasses.replace(paper, feed_m_s=2 * paper.feed_m_s).sample()  # what `placement feed` does
+    assert doubled.t_s[-1] == pytest.approx(samples.t_s[-1] / 2, rel=1e-12)
+    # Realistic: each corner-to-corner run cruises at the lowest feed of its moves.
+    tangent = program(tmp_path, "G0 X0 Y0 Z0\nG1 X100 F3000\nG1 X200 F6000\n",
+                      "timing: {mode: realistic, max_acceleration_m_s2: 10, max_jerk_m_s3: 500}\n", name="r")
+    top = np.linalg.norm(tangent.sample().velocity_m_s, axis=1).max()
+    assert top == pytest.approx(0.05, rel=1e-12)
+
+
+ENTRY = """G21 G90 G0 X0 Y0 Z5
+G0 Z1
+G1 Z-2 F600
+G1 X20 F1200
+G0 Z5
+G0 X40
+G0 Z1
+G1 Z-2 F600
+G1 X60 F1200
+"""
+BY_KIND = ("process_forces_N: {cutting: {feed: 10, radial: 200, axial: 20}, plunging: {feed: 30, axial: 90},"
+           " rapid: {axial: 1}}\n")
+
+
+def test_rapids_skipped_or_timed_and_forces_by_kind(tmp_path):
+    skipped = program(tmp_path, ENTRY, BY_KIND, name="skip")
+    samples = skipped.sample()
+    assert len(skipped.segments) == 4 and skipped.length_m == pytest.approx(0.046)
+    plunge, cut = samples.tangent[:, 2] < -0.99, samples.tangent[:, 0] > 0.99
+    np.testing.assert_allclose(samples.force_on_tool_N[plunge], [[0, 0, 90 + 30]] * plunge.sum())
+    np.testing.assert_allclose(samples.force_on_tool_N[cut], [[-10, 200, 20]] * cut.sum())
+    timed = program(tmp_path, ENTRY, BY_KIND + "rapids: {mode: timed, feed_m_s: 0.5}\n", name="timed")
+    s = timed.sample()
+    rapid = np.array([timed.segments[k].rapid for k in s.piece])
+    assert timed.segments[0].rapid and rapid.sum() > 0 and len(timed.segments) == 8  # the first G0 starts unknown
+    np.testing.assert_allclose(np.linalg.norm(s.velocity_m_s[rapid], axis=1), 0.5, rtol=1e-12)
+    np.testing.assert_allclose(s.force_on_tool_N[rapid], [[0, 0, 1]] * rapid.sum())
+    assert s.t_s[-1] == pytest.approx(samples.t_s[-1] + (0.004 + 0.007 + 0.02 + 0.004) / 0.5, rel=1e-12)
+
+
+def test_flat_forces_keep_todays_meaning(tmp_path):
+    flat = program(tmp_path, ENTRY, "process_forces_N: {feed: 10, radial: 200, axial: 20}\n", name="flat")
+    samples = flat.sample()
+    plunge = samples.tangent[:, 2] < -0.99
+    np.testing.assert_allclose(samples.force_on_tool_N[plunge], [[0, 0, 20 + 10]] * plunge.sum())
+
+
+def test_a_skipped_rapid_starts_a_new_piece_in_the_realistic_law(tmp_path):
+    path = program(tmp_path, ENTRY, "timing: {mode: realistic, max_acceleration_m_s2: 10, max_jerk_m_s3: 500}\n")
+    samples = path.sample()
+    jump = np.flatnonzero(np.linalg.norm(np.diff(samples.position_m, axis=0), axis=1) > 0.01)
+    assert len(jump) == 1 and samples.piece[jump[0]] == 0 and samples.piece[jump[0] + 1] == 1
+    np.testing.assert_allclose(samples.position_m[jump[0]], [0.02, 0, -0.002], atol=1e-12)
+    np.testing.assert_allclose(samples.position_m[jump[0] + 1], [0.04, 0, 0.001], atol=1e-12)
+    assert np.linalg.norm(samples.velocity_m_s[[jump[0], jump[0] + 1]], axis=1).max() < 1e-9  # at rest at both ends
+
+
+def pocket_as_chords(text, chords_per_quarter):
+    """The G-code of ``text`` (absolute, G17, mm) with every G2/G3 replaced by G1 chords of its circle, the circle
+    worked out here from I/J or R."""
+    position, motion, out = {"X": 0.0, "Y": 0.0, "Z": 0.0}, None, []
+    for line in text.splitlines():
+        code = re.sub(r"\(.*?\)", "", line).upper()
+        words = dict(re.findall(r"([A-Z])([-+]?[\d.]+)", code))
+        for g in re.findall(r"G(\d+)", code):
+            if int(g) in (0, 1, 2, 3):
+                motion = int(g)
+        end = {axis: float(words[axis]) if axis in words else position[axis] for axis in "XYZ"}
+        if motion in (2, 3) and any(axis in words for axis in "XY"):
+            start = np.array([position["X"], position["Y"]])
+            stop = np.array([end["X"], end["Y"]])
+            if "R" in words:
+                half = np.linalg.norm(stop - start) / 2
+                left = np.array([-(stop - start)[1], (stop - start)[0]]) / (2 * half)
+                side = 1.0 if motion == 3 else -1.0
+                center = (start + stop) / 2 + side * np.sqrt(float(words["R"]) ** 2 - half**2) * left
+            else:
+                center = start + np.array([float(words.get("I", 0)), float(words.get("J", 0))])
+            a0 = np.arctan2(*(start - center)[::-1])
+            a1 = np.arctan2(*(stop - center)[::-1])
+            turn = (a1 - a0) % (2 * np.pi) if motion == 3 else -((a0 - a1) % (2 * np.pi))
+            turn = turn if abs(turn) > 1e-9 else (2 * np.pi if motion == 3 else -2 * np.pi)
+            count = int(np.ceil(chords_per_quarter * abs(turn) / (np.pi / 2)))
+            radius = np.linalg.norm(start - center)
+            feed = f" F{words['F']}" if "F" in words else ""
+            for k in range(1, count + 1):
+                angle = a0 + turn * k / count
+                z = position["Z"] + (end["Z"] - position["Z"]) * k / count
+                out.append(f"G1 X{center[0] + radius * np.cos(angle):.12f} Y{center[1] + radius * np.sin(angle):.12f} "
+                           f"Z{z:.12f}{feed if k == 1 else ''}")
+        else:
+            out.append(line)
+        position = end
+    return "\n".join(out) + "\n"
+
+
+def test_the_pocket_costs_the_same_energy_as_its_polyline(tmp_path):
+    """The issue's bar: the pocket from G-code within 1 % of the same moves with the arcs cut into chords."""
+    exact = load_path(EXAMPLES / "pocket.yaml")
+    (tmp_path / "chords.nc").write_text(pocket_as_chords((EXAMPLES / "pocket.nc").read_text(), 16))
+    (tmp_path / "chords.yaml").write_text((EXAMPLES / "pocket.yaml").read_text().replace("pocket.nc", "chords.nc"))
+    chords = load_path(tmp_path / "chords.yaml")
+    assert chords.length_m == pytest.approx(exact.length_m, rel=1e-4)
+    robot = load_robot("orthoglide")
+    energies = [Evaluator(robot, path).evaluate(np.array(PLACEMENTS)).value for path in (exact, chords)]
+    assert np.all(np.abs(energies[1] / energies[0] - 1) < 0.01)
+
+
+def test_the_pocket_example_runs_end_to_end(capsys):
+    code = main(["--robot", "orthoglide", "--path", str(EXAMPLES / "pocket.yaml"), "--generations", "2",
+                 "--population", "8", "--quiet", "--time-step", "0.004"])
+    out = capsys.readouterr().out
+    assert code == 0 and "pocket 40 x 30 mm" in out and "feeds 0.02 to 0.12 m/s" in out
+
+
+@pytest.mark.parametrize("code, line, word, words", [
+    ("G0 X0 Y0 Z0\nG41 G1 X10 F100\n", 2, "G41", ["cutter radius compensation"]),
+    ("G54\nG0 X0 Y0 Z0\nG55 X1\n", 3, "G55", ["changes work coordinate system"]),
+    ("G0 X0 Y0 Z0\nG92 X0\n", 2, "G92", ["coordinate system offset"]),
+    ("G0 X0 Y0 Z0\nG81 X1 Y1 Z-3 R1 F100\n", 2, "G81", ["canned cycles"]),
+    ("G0 X0 Y0 Z0\nG1 X10 A5 F100\n", 2, "A5", ["unknown word"]),
+    ("G0 X0 Y0 Z0\nG1 X10\n", 2, "X10", ["before any feed rate"]),
+    ("G0 X0 Y0 Z0\nG1 X1.2.3 F100\n", 2, "X1.2.3", ["expected a number"]),
+    ("G0 X0 Y0 Z0\nG1 X#1 F100\n", 2, "X#1", ["expected a number"]),
+    ("G0 X0 Y0 Z0\nG2 X10 Y0 I5.1 J0 F100\n", 2, "I5.1", ["radius does not fit"]),
+    ("G0 X0 Y0 Z0\nG2 X10 Y0 R4.9 F100\n", 2, "R4.9", ["smaller than half the chord"]),
+    ("G0 X0 Y0 Z0\nG2 X0 Y0 R5 F100\n", 2, "R5", ["full circle"]),
+    ("G0 X0 Y0 Z0\nG1 G2 X1 F100\n", 2, "G2", ["second motion word"]),
+    ("G0 X0 Y0 Z0\nG17 G2 X10 K3 F100\n", 2, "K3", ["G17 arcs take centre offsets I and J"]),
+    ("G0 X0 Y0\nG1 X10 F100\n", 2, "X10", ["unknown position"]),
+    ("G0 X0 Y0 Z0\nG1 X10 F0\n", 2, "F0", ["must be > 0"]),
+    ("G0 X0 Y0 Z0\nM98 P100\n", 2, "M98", ["M-code subset"]),
+    ("G0 X0 Y0 Z0\nG1 X10 F100 (open comment\n", 2, "", ["not closed"]),
+    ("G0 X0 Y0 Z0\nG1 X10 I5 F100\n", 2, "I5", ["belong to arcs"]),
+    ("G0 X0 Y0 Z0\nG2 I5 F100\n", 2, "I5", ["needs its end point"]),
+    ("G21\nX10 Y0 Z0\n", 2, "X10", ["no motion mode"]),
+    ("G0 X0 Y0 Z0\nG2 X10 Y0 F100\n", 2, "X10", ["needs its centre"]),
+    ("G0 X0 Y0\nG91 Z-1\n", 2, "Z-1", ["incremental"]),
+])
+def test_program_errors_name_the_line_and_the_word(tmp_path, code, line, word, words):
+    with pytest.raises(GcodeError) as error:
+        program(tmp_path, code)
+    assert error.value.line == line and error.value.word == word
+    message = str(error.value)
+    assert message.startswith(f"{tmp_path / 'p.nc'}, line {line}") and (not word or f"'{word}'" in message)
+    for expected in words:
+        assert expected in message
+
+
+@pytest.mark.parametrize("text, field, words", [
+    ("shape: {type: gcode, file: p.nc}\nunits: mm\n", "units", ["G20", "remove units"]),
+    ("shape: {type: gcode, file: p.nc}\nfeed_m_s: 0.1\n", "feed_m_s", ["F words"]),
+    ("shape: {type: gcode, file: p.nc}\nrapids: {mode: timed}\n", "rapids", ["feed_m_s"]),
+    ("shape: {type: gcode, file: p.nc}\nprocess_forces_N: {feed: 1, cutting: {feed: 2}}\n", "process_forces_N",
+     ["not both"]),
+    ("units: mm\nshape: {type: circle, radius: 5}\nfeed_m_s: 0.1\nrapids: {mode: skip}\n", "rapids", ["G-code"]),
+    ("shape: {type: circle, radius: 5}\nfeed_m_s: 0.1\n", "units", ["missing"]),
+    ("shape: {type: gcode, file: missing.nc}\n", "", ["not found", "missing.nc"]),
+])
+def test_path_file_fields_for_programs(tmp_path, text, field, words):
+    (tmp_path / "p.nc").write_text("G0 X0 Y0 Z0\nG1 X10 F100\n")
+    file = tmp_path / "path.yaml"
+    file.write_text(text)
+    with pytest.raises(PathFileError) as error:
+        load_path(file)
+    assert error.value.field == field
+    for expected in words:
+        assert expected in str(error.value)
+
+
+def test_a_bad_program_exits_2_with_one_line(tmp_path, capsys):
+    (tmp_path / "bad.nc").write_text("G21 G90\nG0 X0 Y0 Z0\nG41 G1 X5 F200\n")
+    (tmp_path / "bad.yaml").write_text("shape: {type: gcode, file: bad.nc}\n")
+    assert main(["--robot", "orthoglide", "--path", str(tmp_path / "bad.yaml"), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "bad.nc, line 3, word 'G41'" in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("robot_name, at", [("orthoglide", [0.0, 0.0, 0.0, 0.3, 0.0, 0.0]),
+                                            ("ur5", [0.45, 0.1, 0.2, 0.3, 0.0, 0.0])])
+def test_the_kinematics_follow_a_program_across_skipped_rapids(robot_name, at):
+    import pinocchio as pin
+
+    from placement.kinematics import joint_trajectory
+    from placement.placing.transform import placed_task
+
+    robot = load_robot(robot_name)
+    path = load_path(EXAMPLES / "pocket.yaml")
+    samples = path.sample(0.004)
+    task, _ = placed_task(robot, samples, np.array([at]))
+    joints = joint_trajectory(robot, task)  # raises if a sample is unreachable or leaves the branch
+    data = robot.model.createData()
+    for k in range(0, len(samples), 5):
+        pin.framesForwardKinematics(robot.model, data, joints.q[k])
+        np.testing.assert_allclose(data.oMf[robot.end_effector_frame_id].translation, task.position_m[k], atol=1e-9)
+    detail = Evaluator(robot, path, time_step_s=0.004).detail(np.array(at))
+    assert detail.reachable and np.isfinite(detail.energy.total_J)
+
+
+def test_the_feed_command_scales_every_programmed_feed(capsys):
+    assert main(["feed", "--robot", "orthoglide", "--path", str(EXAMPLES / "pocket.yaml"), "--at", "x=0,y=0",
+                 "--feeds", "0.06:0.12:2", "--time-step", "0.004"]) == 0
+    rows = [line.split() for line in capsys.readouterr().out.splitlines() if line.strip().startswith("0.")]
+    (_, reached_1, time_1), (_, reached_2, time_2) = [[float(v) for v in row[:3]] for row in rows]
+    # The program's highest F (7200 mm/min, 0.12 m/s) is the feed; at half of it every move takes twice as long.
+    assert (reached_1, reached_2) == (0.06, 0.12) and time_1 == pytest.approx(2 * time_2, rel=1e-3)
+    assert time_2 == pytest.approx(load_path(EXAMPLES / "pocket.yaml").sample(0.004).t_s[-1], abs=1e-4)  # as printed
+
+
+def test_only_a_gap_is_a_jump_for_the_batched_march():
+    from placement.kinematics.batched import JUMP_M, jump_steps
+
+    steps = np.full(50, 0.6e-3)  # a path sampled every 0.6 mm ...
+    steps[20] = 30e-3  # ... with a 30 mm gap
+    assert jump_steps(steps).tolist() == [20]
+    assert jump_steps(np.full(50, 3 * JUMP_M)).tolist() == []  # a coarsely sampled path has no jump
+
+
+def test_a_repair_a_hair_outside_the_workspace_is_pulled_back_in():
+    """The pocket's worst placement lies in a corner of the Orthoglide's workspace box, where the search's repair
+    (the path's own sampling breaks a limit its coarse sampling missed: an arc's extreme) ends a hair outside."""
+    from placement.search.optimize import _inward_until_feasible, _Problem
+    from placement.search.space import default_space
+
+    robot, path = load_robot("orthoglide"), load_path(EXAMPLES / "pocket.yaml")
+    space = default_space(robot, half_turn=path.half_turn_symmetric())
+    outside = np.array([-0.10800862, -0.10677171, -0.12279492, -2.18036395])
+    with Evaluator(robot, path) as evaluator:
+        problem = _Problem(evaluator, space, -1.0)
+        assert -1e-7 < problem.margins(outside).min() < 0
+        inside = _inward_until_feasible(problem, outside, space)
+        assert problem.margins(inside).min() >= 0 and np.abs(inside - outside).max() < 1e-5
+
+
+def test_a_posts_safety_line_and_one_work_coordinate_system_are_read(tmp_path):
+    # Fanuc-style posts cancel canned cycles on the same line as a rapid, and name the work system.
+    plain = program(tmp_path, "G0 X0 Y0 Z5\nG1 Z-1 F100\nG1 X10\n", name="plain")
+    posted = program(tmp_path, "G0 G90 G40 G21 G17 G94 G80\nG55 X0 Y0 Z5 S500 M3\nG1 Z-1 F100\nG80 G1 X10\n",
+                     name="posted")
+    assert len(plain.segments) == len(posted.segments)
+    for a, b in zip(plain.segments, posted.segments):
+        np.testing.assert_allclose([a.start_m, a.end_m], [b.start_m, b.end_m], atol=1e-15)
+
+
+def test_a_slow_program_without_a_time_step_is_sampled_every_half_millimetre(tmp_path):
+    slow = program(tmp_path, "G0 X0 Y0 Z0\nG1 X100 F100\n", name="slow")  # 100 mm/min
+    fast = program(tmp_path, "G0 X0 Y0 Z0\nG1 X100 F60000\n", name="fast")  # 1 m/s: 1 ms is finer than 0.5 mm
+    assert slow.time_step_s == pytest.approx(0.0005 / (0.1 / 60)) and fast.time_step_s == 0.001
+    spacing = np.diff(slow.sample().position_m[:, 0])
+    assert spacing.max() <= 0.0005 + 1e-12

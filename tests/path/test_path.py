@@ -1,0 +1,118 @@
+"""Paths: shapes, timing laws, process forces and the file format."""
+
+import numpy as np
+import pytest
+
+from placement.exceptions import PathFileError
+from placement.path.load import load_path
+from placement.timing.realistic import DoubleS
+from tests.support.paths import EXAMPLE
+
+
+def write(tmp_path, text, name="path.yaml"):
+    file = tmp_path / name
+    file.write_text(text)
+    return file
+
+
+def test_paper_rectangle_runs_each_side_at_the_feed(tmp_path):
+    path = load_path(EXAMPLE)
+    samples = path.sample()
+    assert len(path.segments) == 4 and path.length_m == pytest.approx(0.18)
+    np.testing.assert_allclose(samples.position_m[0], [-0.015, -0.030, 0.0])
+    np.testing.assert_allclose(np.linalg.norm(samples.velocity_m_s, axis=1), 0.66)
+    assert np.abs(samples.acceleration_m_s2).max() == 0.0
+    assert samples.t_s[-1] == pytest.approx(0.18 / 0.66)
+    assert list(np.unique(samples.piece)) == [0, 1, 2, 3]
+    # Anticlockwise about Z_p: A -> B runs along +X_p.
+    np.testing.assert_allclose(samples.tangent[0], [1.0, 0.0, 0.0])
+
+
+def test_process_force_sign_convention():
+    samples = load_path(EXAMPLE).sample()
+    # Feeding along +X_p: the feed force opposes the motion, the radial force points to the left
+    # of the feed (+Y_p), the axial force along +Z_p.
+    np.testing.assert_allclose(samples.force_on_tool_N[0], [-10.0, 215.0, 25.0])
+    # On side B -> C (feeding along +Y_p) the radial force points along -X_p.
+    on_bc = np.flatnonzero(samples.piece == 1)[0]
+    np.testing.assert_allclose(samples.force_on_tool_N[on_bc], [-215.0, -10.0, 25.0], atol=1e-12)
+
+
+def test_circle_has_centripetal_acceleration(tmp_path):
+    path = load_path(write(tmp_path, "units: m\nshape: {type: circle, radius: 0.02}\nfeed_m_s: 0.5\n"))
+    s = path.sample()
+    np.testing.assert_allclose(np.linalg.norm(s.position_m, axis=1), 0.02)
+    np.testing.assert_allclose(s.acceleration_m_s2, -s.position_m * 0.5**2 / 0.02**2, atol=1e-9)
+
+
+def test_arc_and_polyline_shapes(tmp_path):
+    arc = load_path(write(tmp_path, "units: mm\nshape: {type: arc, radius: 10, start_deg: 90, sweep_deg: -90}\n"
+                                    "feed_m_s: 0.1\n"))
+    np.testing.assert_allclose(arc.segments[0].end_m, [0.01, 0.0, 0.0], atol=1e-15)
+    assert arc.length_m == pytest.approx(np.pi / 2 * 0.01)
+    line = load_path(write(tmp_path, "units: mm\nshape: {type: polyline, points: [[0, 0], [30, 0], [30, 40]], "
+                                     "closed: true}\nfeed_m_s: 0.2\n"))
+    assert len(line.segments) == 3 and line.length_m == pytest.approx(0.12)
+
+
+def realistic(tmp_path):
+    return load_path(write(tmp_path, "units: mm\nshape: {type: rectangle, width: 30, length: 60}\nfeed_m_s: 0.66\n"
+                                     "timing: {mode: realistic, max_acceleration_m_s2: 10, max_jerk_m_s3: 500}\n"
+                                     "time_step_s: 0.0005\n"))
+
+
+CIRCLE = ("units: mm\nshape: {type: circle, radius: 20}\nfeed_m_s: 0.5\n"
+          "timing: {mode: realistic, max_acceleration_m_s2: 10, max_jerk_m_s3: 500}\ntime_step_s: 0.0001\n")
+ARC = ("units: mm\nshape: {type: arc, radius: 5, start_deg: 0, sweep_deg: 270}\nfeed_m_s: 0.5\n"
+       "timing: {mode: realistic, max_acceleration_m_s2: 10, max_jerk_m_s3: 500}\ntime_step_s: 0.0001\n")
+
+
+@pytest.mark.parametrize("text", [None, CIRCLE, ARC], ids=["rectangle", "circle", "arc"])
+def test_realistic_timing_respects_speed_acceleration_and_jerk(tmp_path, text):
+    path = realistic(tmp_path) if text is None else load_path(write(tmp_path, text))
+    s = path.sample()
+    speed = np.linalg.norm(s.velocity_m_s, axis=1)
+    assert speed.max() <= 0.66 + 1e-12 and speed[0] == 0 and speed[-1] == pytest.approx(0, abs=1e-9)
+    assert np.linalg.norm(s.acceleration_m_s2, axis=1).max() <= 10 + 1e-9
+    jerk = np.linalg.norm(np.diff(s.acceleration_m_s2, axis=0) / np.diff(s.t_s)[:, None], axis=1)
+    assert jerk.max() <= 500 * (1 + 1e-6)
+    assert s.t_s[-1] > path.length_m / path.feed_m_s  # stopping costs time
+    # Positions are the integral of velocities (trapezoidal rule error O(dt²)).
+    integrated = s.position_m[0] + np.concatenate([[np.zeros(3)], np.cumsum(
+        (s.velocity_m_s[1:] + s.velocity_m_s[:-1]) / 2 * np.diff(s.t_s)[:, None], axis=0)])
+    assert np.abs(integrated - s.position_m).max() < 1e-6
+    end = path.segments[-1].end_m
+    np.testing.assert_allclose(s.position_m[-1], end, atol=1e-12)
+
+
+@pytest.mark.parametrize("distance", [0.001, 0.03, 0.5])
+def test_double_s_travels_the_distance(distance):
+    profile = DoubleS(distance, 0.66, 10.0, 500.0)
+    s, v, a = profile(np.array([0.0, profile.duration_s]))
+    assert s[-1] == pytest.approx(distance, rel=1e-9) and v[-1] == pytest.approx(0, abs=1e-9)
+
+
+@pytest.mark.parametrize("text, field, words", [
+    ("units: mm\nshape: {type: rectangle, width: -30, length: 60}\nfeed_m_s: 0.66\n", "shape.width", ["greater than 0"]),
+    ("units: mm\nshape: {type: rectangle, width: 30, length: 60}\nfeed_m_s: 0\n", "feed_m_s", ["greater than 0"]),
+    ("units: inch\nshape: {type: circle, radius: 1}\nfeed_m_s: 0.1\n", "units", ["'m'", "'mm'"]),
+    ("units: mm\nshape: {type: circle, radius: 1}\nfeed: 0.1\n", "feed", ["unknown field", "feed_m_s"]),
+    ("units: mm\nshape: {type: circle, radius: 1, width: 3}\nfeed_m_s: 0.1\n", "shape.width", ["unknown field", "radius"]),
+    ("units: mm\nshape: {type: square, side: 1}\nfeed_m_s: 0.1\n", "shape", ["rectangle"]),
+    ("units: mm\nshape: {type: circle, radius: 1}\nfeed_m_s: 0.1\ntiming: {mode: realistic}\n", "timing",
+     ["max_acceleration_m_s2"]),
+    ("units: mm\nshape: {type: polyline, points: [[1, 1], [1, 1]]}\nfeed_m_s: 0.1\n", "shape.points", ["coincide"]),
+    ("units: mm\nshape: {type: circle, radius: 1\n", "", ["not valid YAML"]),
+])
+def test_bad_path_files_name_the_field(tmp_path, text, field, words):
+    file = write(tmp_path, text)
+    with pytest.raises(PathFileError) as error:
+        load_path(file)
+    assert error.value.field == field and str(file) in str(error.value)
+    for word in words:
+        assert word in str(error.value)
+
+
+def test_missing_path_file(tmp_path):
+    with pytest.raises(PathFileError, match="file not found"):
+        load_path(tmp_path / "nowhere.yaml")

@@ -1,0 +1,111 @@
+"""Planar mechanisms declare their plane (placement.plane): placements are read in it, paths stay in it."""
+
+import json
+
+import numpy as np
+import pytest
+
+from placement import Evaluator, SearchSettings, load_path, load_robot, optimize_placement
+from placement.__main__ import main
+from placement.exceptions import PlacementError, RobotFileError
+from placement.placing.transform import plane_frame, transform_path_to_base
+from placement.robot.sidecar import Plane
+from placement.search.space import default_space
+from tests.support.paths import CIRCLE
+from tests.support.robot_copies import edited_copy
+
+TURN = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])  # Rx(-90 deg): base z -> y, y -> -z
+
+
+def _vertical(document: dict) -> None:
+    """The five-bar turned by TURN: it moves in the x-z plane, and so do gravity and its workspace."""
+    document["gravity_m_s2"] = (TURN @ document["gravity_m_s2"]).tolist()
+    corners = TURN @ np.array([document["workspace"]["min_m"], document["workspace"]["max_m"]]).T
+    document["workspace"]["min_m"], document["workspace"]["max_m"] = corners.min(axis=1).tolist(), corners.max(axis=1).tolist()
+    document["workspace"]["points_m"] = {k: (TURN @ v).tolist() for k, v in document["workspace"]["points_m"].items()}
+    document["placement"] = {"plane": {"normal": [0, 1, 0]}}
+
+
+@pytest.fixture(scope="module")
+def vertical(tmp_path_factory):
+    sidecar = edited_copy("fivebar", tmp_path_factory.mktemp("vertical"), _vertical)
+    urdf = sidecar.parent / "fivebar.urdf"
+    text = urdf.read_text()
+    for joint in ("a1", "a2"):  # the joints on the base carry the turn
+        start = text.index(f'<joint name="{joint}"')
+        text = text[:start] + text[start:].replace('rpy="0 0 0"', f'rpy="{-np.pi / 2!r} 0 0"', 1)
+    urdf.write_text(text)
+    return load_robot(sidecar)
+
+
+def test_plane_frame_of_the_vertical_plane_is_the_turn():
+    rotation, origin = plane_frame(Plane(normal=(0.0, 2.0, 0.0)))
+    np.testing.assert_allclose(rotation, TURN, atol=1e-15)
+    np.testing.assert_array_equal(origin, np.zeros(3))
+    np.testing.assert_array_equal(plane_frame(Plane(normal=(0.0, 0.0, 1.0)))[0], np.eye(3))
+
+
+def test_vertical_copy_costs_what_the_horizontal_one_does(fivebar, vertical):
+    space = default_space(vertical)
+    assert space.free == ("x", "y", "phi")
+    np.testing.assert_array_equal(space.lower, default_space(fivebar).lower)
+    np.testing.assert_array_equal(space.upper, default_space(fivebar).upper)
+    path = load_path(CIRCLE)
+    placements = space.full(np.random.default_rng(3).uniform(space.lower, space.upper, (6, 3)))
+    flat, upright = (Evaluator(robot, path, time_step_s=0.01, workers=1) for robot in (fivebar, vertical))
+    a, b = flat.evaluate(placements), upright.evaluate(placements)
+    assert a.reachable.any()
+    np.testing.assert_array_equal(a.reachable, b.reachable)
+    np.testing.assert_allclose(b.value[b.reachable], a.value[a.reachable], rtol=1e-9)
+    detail_a, detail_b = flat.detail(placements[a.reachable][0]), upright.detail(placements[a.reachable][0])
+    np.testing.assert_allclose(detail_b.tool_position_m, detail_a.tool_position_m @ TURN.T, atol=1e-12)
+
+
+def test_optimum_of_the_vertical_copy_equals_the_horizontal_one(fivebar, vertical):
+    """The same search optimum (the polish stops once its gains fall below 1e-9 of the objective, so two
+    runs that differ by round-off end within about 1e-8 of each other)."""
+    path, settings = load_path(CIRCLE), SearchSettings(population=6, max_generations=3, seed=1)
+    flat = optimize_placement(fivebar, path, worst=False, settings=settings, time_step_s=0.01)
+    upright = optimize_placement(vertical, path, worst=False, settings=settings, time_step_s=0.01)
+    assert upright.best.detail.energy.total_J == pytest.approx(flat.best.detail.energy.total_J, rel=1e-7)
+    np.testing.assert_allclose(upright.best.detail.placement, flat.best.detail.placement, atol=1e-5)
+
+
+def test_a_path_in_the_plane_stays_in_it():
+    plane = Plane(normal=(0.3, -0.5, 0.8), point_m=(0.1, 0.2, -0.3))
+    samples = load_path(CIRCLE).sample(0.005)
+    rng = np.random.default_rng(0)
+    placements = np.column_stack([rng.uniform(-0.2, 0.2, (20, 2)), np.zeros(20), rng.uniform(-np.pi, np.pi, 20),
+                                  np.zeros((20, 2))])
+    task, force = transform_path_to_base(samples, placements, plane)
+    normal = np.array(plane.normal) / np.linalg.norm(plane.normal)
+    assert np.abs((task.position_m - plane.point_m) @ normal).max() < 1e-12
+    assert np.abs(task.velocity_m_s @ normal).max() < 1e-12
+    moved = np.linalg.norm(task.position_m - plane.point_m, axis=1)
+    assert moved.max() > 0.05  # the placements do move the path about the plane
+
+
+def test_paths_cannot_leave_the_plane(vertical):
+    with pytest.raises(PlacementError, match="moves in the plane.*z"):
+        default_space(vertical, free=("x", "y", "z"))
+    with pytest.raises(PlacementError, match="theta"):
+        default_space(vertical, fixed={"theta": 0.1})
+
+
+def test_a_plane_allows_only_in_plane_variables(tmp_path):
+    def bad(document: dict) -> None:
+        document["placement"] = {"plane": {"normal": [0, 0, 1]}, "free": ["x", "z"]}
+
+    with pytest.raises(RobotFileError, match="placement.*only x, y, phi") as caught:
+        load_robot(edited_copy("fivebar", tmp_path, bad))
+    assert caught.value.problem.endswith("may be free or bounded (got z)")  # one "got": the validator's
+
+
+def test_json_and_report_state_the_plane(vertical, tmp_path, capsys):
+    out = tmp_path / "at.json"
+    assert main(["--robot", str(vertical.sidecar_path), "--path", str(CIRCLE), "--at", "x=0,y=300",
+                 "--time-step", "0.01", "--json", str(out)]) == 0
+    assert "plane (sidecar placement.plane): normal [0, 1, 0]" in capsys.readouterr().out
+    document = json.loads(out.read_text())
+    np.testing.assert_allclose(document["plane"]["y_axis"], [0, 0, -1], atol=1e-15)
+    assert document["at"]["feasible"]

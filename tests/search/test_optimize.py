@@ -1,0 +1,123 @@
+"""The optimiser finds the true optimum: checked against a dense grid sweep of the exact model."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from placement.evaluation.evaluator import Evaluator
+from placement.path import load_path
+from placement.search.optimize import SearchSettings, optimize_placement
+from placement.search.space import default_space
+from tests.support.paths import EXAMPLE
+
+GRID = 41
+ROUND_OFF = 1e-9  # "never worse than the grid" up to round-off: optima sit on limits the grid can hit exactly
+
+
+@pytest.fixture(scope="module")
+def case():
+    """30 x 60 mm rectangle at z = 0, phi = 0; x and y free; a coarse time step keeps it quick."""
+    from placement.robot import load_robot
+
+    robot = load_robot("orthoglide")
+    path = load_path(EXAMPLE)
+    space = default_space(robot, free=("x", "y"))
+    step = 0.002
+    xs, ys = (np.linspace(lo, hi, GRID) for lo, hi in zip(space.lower, space.upper))
+    grid = np.stack(np.meshgrid(xs, ys, indexing="ij"), axis=-1).reshape(-1, 2)
+    evaluation = Evaluator(robot, path, time_step_s=step).evaluate(space.full(grid))
+    feasible = evaluation.value[evaluation.feasible]
+    result = optimize_placement(robot, path, space=space, time_step_s=step, settings=SearchSettings(seed=3))
+    return robot, path, space, step, feasible, result
+
+
+def test_minimum_is_at_least_as_good_as_the_grid_and_close_to_it(case):
+    *_, feasible, result = case
+    best = result.best.detail.energy.total_J
+    assert best <= feasible.min() * (1 + ROUND_OFF)
+    assert best >= feasible.min() * (1 - 0.005)
+    assert result.best.detail.feasible
+
+
+def test_maximum_is_at_least_as_bad_as_the_grid_and_close_to_it(case):
+    *_, feasible, result = case
+    worst = result.worst.detail.energy.total_J
+    assert worst >= feasible.max() * (1 - ROUND_OFF)
+    assert worst <= feasible.max() * (1 + 0.005)
+    # The gain agrees with the grid's own (E_max - E_min)/E_max, within the 0.5 % of each optimum.
+    assert result.gain == pytest.approx((feasible.max() - feasible.min()) / feasible.max(), rel=0.01)
+
+
+def test_the_denser_recheck_agrees(case):
+    *_, result = case
+    for optimum in (result.best, result.worst):
+        assert optimum.sampling_gap < 0.01
+
+
+def test_phi_range_follows_the_path_symmetry(case, tmp_path):
+    robot = case[0]
+    arc = tmp_path / "arc.yaml"
+    arc.write_text("units: mm\nshape: {type: arc, radius: 20, sweep_deg: 90}\nfeed_m_s: 0.3\n")
+    assert load_path(EXAMPLE).half_turn_symmetric() and not load_path(arc).half_turn_symmetric()
+    half = default_space(robot, half_turn=True)
+    full = default_space(robot)
+    assert half.upper[-1] == pytest.approx(np.pi / 2) and full.upper[-1] == pytest.approx(np.pi)
+
+
+def test_same_seed_same_result(case):
+    robot, path, space, step, _, result = case
+    again = optimize_placement(robot, path, space=space, time_step_s=step, settings=SearchSettings(seed=3),
+                               worst=False)
+    np.testing.assert_array_equal(again.best.detail.placement, result.best.detail.placement)
+    assert again.worst is None and again.gain is None
+
+
+def test_a_path_too_large_for_the_workspace_is_reported_with_the_binding_limit(tmp_path, case):
+    robot = case[0]
+    file = tmp_path / "big.yaml"
+    file.write_text("units: mm\nshape: {type: rectangle, width: 150, length: 300}\nfeed_m_s: 0.66\ntime_step_s: 0.004\n")
+    result = optimize_placement(robot, load_path(file))
+    assert result.best is None and result.worst is None
+    assert "workspace" in result.infeasible and "m against a limit" in result.infeasible
+
+
+def test_the_duration_is_announced_once_before_the_search_starts():
+    from placement.robot import load_robot
+
+    events: list = []
+    robot = load_robot("orthoglide")
+    optimize_placement(robot, load_path(EXAMPLE), space=default_space(robot, free=("x", "y")), time_step_s=0.004,
+                       best=True, worst=False, settings=SearchSettings(population=8, max_generations=3),
+                       progress=lambda: events.append("generation"), announce=events.append)
+    assert events[1:] == ["generation"] * (len(events) - 1) and len(events) > 1
+    assert 0 < events[0] < np.inf
+
+
+def test_both_directions_searched_at_once_find_what_one_after_the_other_finds():
+    """In a fresh process, which may fork, the best and worst searches run in a process each; in another, the same
+    searches run one after the other in that process (a one-thread pool instead of the process pool). The optima
+    are the same, number for number."""
+    script = ("import json, sys\n"
+              "from concurrent.futures import ThreadPoolExecutor\n"
+              "from placement import load_path, load_robot\n"
+              "from placement.dynamics import openmp_started\n"
+              "from placement.evaluation import Evaluator\n"
+              "from placement.search import optimize\n"
+              "robot, path = load_robot('ur5'), load_path('examples/rect.yaml')\n"
+              "probe = Evaluator(robot, path, threads=1)\n"
+              "assert not openmp_started() and optimize.in_parallel(probe, probe, 2)\n"
+              "if sys.argv[1] == 'one_after_the_other':\n"
+              "    optimize.process_pool = lambda workers, initializer, initargs: ThreadPoolExecutor(\n"
+              "        1, initializer=initializer, initargs=initargs)\n"
+              "result = optimize.optimize_placement(robot, path, settings=optimize.SearchSettings(max_generations=8))\n"
+              "print(json.dumps([o.detail.value for o in (result.best, result.worst)]))\n")
+
+    def optima(mode: str) -> list[float]:
+        output = subprocess.run([sys.executable, "-c", script, mode], capture_output=True, text=True, timeout=600,
+                                check=True)
+        return json.loads(output.stdout.strip().splitlines()[-1])
+
+    assert optima("at_once") == optima("one_after_the_other")

@@ -1,0 +1,1 @@
+"""Helpers shared by the tests: robot copies, trajectories, analytic models, the MuJoCo model, paths."""
