@@ -21,8 +21,8 @@ from placement.drives.trace import drives_of, motor_trace
 from placement.dynamics import actuator_efforts
 from placement.kinematics import JointTrajectory, TaskTrajectory, joint_trajectory
 from placement.robot.closures import LWA, closure_residuals
-from placement.robot.load import urdf_limits_missing
 from placement.robot.model import Robot
+from placement.robot.urdf import urdf_limits_missing
 
 AMPLITUDE_FRACTION = 0.05  # default check amplitude, as a fraction of the robot's size
 FALLBACK_AMPLITUDE_M = 0.01  # when the robot gives no size (end effector at the base, no workspace)

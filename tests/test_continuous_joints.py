@@ -16,7 +16,7 @@ from placement.frames import default_space
 from placement.path import load_path
 from placement.robot import load_robot
 from placement.robot.erd import load_erd_robot
-from placement.robot.load import one_angle_urdf, pinocchio_model, urdf_limits_missing
+from placement.robot.urdf import one_angle_urdf, pinocchio_model, urdf_limits_missing
 
 CONTINUOUS = ("shoulder_pan_joint", "wrist_3_joint")
 
@@ -122,12 +122,12 @@ def test_an_erd_arm_with_unlimited_continuous_joints_gets_a_full_turn_about_its_
     """example-robot-data's UR5 with two continuous joints without position limits: each gets the range of a full
     turn about the reference posture, labelled as an estimate, and the arm moves as the revolute one."""
     import placement.robot.erd as erd
-    import placement.robot.load as load
+    import placement.robot.urdf as urdf_module
 
     urdf = tmp_path / "ur5.urdf"
     urdf.write_text(continuous_ur5_urdf())
     monkeypatch.setattr(erd, "erd_urdf_path", lambda loader: urdf)
-    monkeypatch.setattr(load, "erd_urdf_path", lambda loader: urdf)
+    monkeypatch.setattr(urdf_module, "erd_urdf_path", lambda loader: urdf)
     robot = load_erd_robot("ur5", "tool0")
     for name in CONTINUOUS:
         actuator = next(a for a in robot.actuators if a.joint == name)

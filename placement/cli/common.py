@@ -27,7 +27,7 @@ from placement.path import Timing, ToolPath, load_path
 from placement.robot import Robot, load_robot
 from placement.robot.catalog import sidecar_path
 from placement.robot.erd import ERD_FORM, erd_name, estimate_warning, load_erd_robot
-from placement.robot.load import ERD_PREFIX
+from placement.robot.urdf import ERD_PREFIX
 
 
 class UsageError(PlacementError):
