@@ -2,15 +2,14 @@
 
 A sidecar names its URDF by a path relative to itself or as ``example-robot-data:KEY``
 (:func:`resolve_urdf`). The standard library's XML parser reads what loading checks (inertials,
-link and joint names, :func:`read_urdf`); the ``continuous`` joints are rewritten as one-angle
-revolute ones (:func:`one_angle_urdf`), and Pinocchio builds the model from the rewritten text
+link and joint names, :func:`read_urdf`) and rewrites the ``continuous`` joints as one-angle
+revolute ones (:func:`one_angle_urdf`); Pinocchio builds the model from the rewritten text
 (:func:`pinocchio_model`). A URDF library would add a second of imports to every command.
 """
 
 from __future__ import annotations
 
 import os
-import re
 import tempfile
 from pathlib import Path
 from typing import Any
@@ -23,12 +22,6 @@ from placement.exceptions import RobotFileError
 
 ERD_PREFIX = "example-robot-data:"
 NO_LIMIT = 1e10  # a position limit this large (m or rad) is Pinocchio's stand-in for none
-XML_COMMENT = re.compile(r"<!--.*?-->", re.DOTALL)
-JOINT_ELEMENT = re.compile(r"<joint\b[^>]*/>|<joint\b[^>]*>.*?</joint\s*>", re.DOTALL)  # empty, or with its content
-CONTINUOUS_TYPE = re.compile(r"""^(<joint\b[^>]*\btype\s*=\s*["'])continuous(["'])""")  # in the opening tag
-LIMIT_TAG = re.compile(r"<limit\b[^>]*>")
-POSITION_BOUND = re.compile(r"""\s(?:lower|upper)\s*=\s*(?:"[^"]*"|'[^']*')""")
-JOINT_END = re.compile(r"</joint\s*>$")
 
 
 def resolve_urdf(sidecar_path: Path, urdf: str) -> Path:
@@ -82,9 +75,13 @@ def pinocchio_model(path: Path) -> pin.Model:
         The model, one coordinate per revolute or prismatic joint.
 
     Raises:
-        RobotFileError: Pinocchio's parser refuses the file; its complaints (printed by C++) become the message.
+        RobotFileError: The file is not XML, or Pinocchio's parser refuses it; its complaints (printed by C++)
+            become the message.
     """
-    text = one_angle_urdf(path.read_text(encoding="utf-8", errors="replace"))
+    try:
+        text = one_angle_urdf(path.read_bytes())
+    except ElementTree.ParseError as error:
+        raise _not_xml(path, error) from None
     with tempfile.TemporaryFile(mode="w+") as capture:
         saved = os.dup(2)
         os.dup2(capture.fileno(), 2)
@@ -102,26 +99,41 @@ def pinocchio_model(path: Path) -> pin.Model:
             os.close(saved)
 
 
-def one_angle_urdf(text: str) -> str:
-    """A URDF's text (comments left out) with every ``continuous`` joint made ``revolute`` without position limits,
-    as the URDF defines a continuous joint (read as missing, see :func:`urdf_limits_missing`); its ``<limit>``
-    keeps the effort and velocity.
+def one_angle_urdf(document: str | bytes) -> str:
+    """A URDF with every ``continuous`` joint made ``revolute`` without position limits, as the URDF defines a
+    continuous joint (read as missing, see :func:`urdf_limits_missing`).
 
     Pinocchio models a continuous joint by two coordinates (cos θ, sin θ); the solvers and limits here use one
     angle θ per joint. The kinematics and dynamics are the same.
+
+    The robot's joints are the ``<joint>`` children of ``<robot>``; a ``<joint>`` inside a ``<transmission>`` only
+    names one, and is left alone. A continuous joint's ``<limit>`` loses ``lower`` and ``upper`` and keeps the
+    effort and velocity; a revolute joint needs a ``<limit>``, so one without gets ``effort="0" velocity="0"``
+    (none given, as loading then says). The standard library's XML parser reads the document and writes it back:
+    without comments, processing instructions or XML declaration, and with the namespaces declared on the root
+    element under the prefixes it chooses (``ns0``, ...); elements, attributes and text are kept.
+
+    Args:
+        document: The URDF's XML: text, or the file's bytes (decoded as its XML declaration says).
+
+    Returns:
+        The rewritten URDF's XML text.
+
+    Raises:
+        xml.etree.ElementTree.ParseError: ``document`` is not well-formed XML.
     """
-    return JOINT_ELEMENT.sub(_one_angle, XML_COMMENT.sub("", text))
-
-
-def _one_angle(joint: re.Match) -> str:
-    """A URDF joint element, made revolute without position bounds if it is continuous; a revolute joint needs a
-    ``<limit>``, so one without gets effort and velocity 0 (none given, as loading then says)."""
-    element, changed = CONTINUOUS_TYPE.subn(r"\1revolute\2", joint.group(0))
-    if not changed:
-        return element
-    if LIMIT_TAG.search(element):
-        return LIMIT_TAG.sub(lambda limit: POSITION_BOUND.sub("", limit.group(0)), element)
-    return JOINT_END.sub('<limit effort="0" velocity="0"/></joint>', element)
+    root = ElementTree.fromstring(document)
+    for joint in root.findall("joint"):
+        if joint.get("type") != "continuous":
+            continue
+        joint.set("type", "revolute")
+        limits = joint.findall("limit")
+        for limit in limits:
+            for bound in ("lower", "upper"):
+                limit.attrib.pop(bound, None)
+        if not limits:
+            ElementTree.SubElement(joint, "limit", effort="0", velocity="0")
+    return ElementTree.tostring(root, encoding="unicode")
 
 
 def read_urdf(path: Path) -> dict[str, set[str]]:
@@ -139,7 +151,7 @@ def read_urdf(path: Path) -> dict[str, set[str]]:
     try:
         root = ElementTree.parse(path).getroot()
     except (ElementTree.ParseError, UnicodeDecodeError) as error:
-        raise RobotFileError(path, "", f"not an XML file: {str(error)[:200]}") from None
+        raise _not_xml(path, error) from None
     if root.tag != "robot":
         raise RobotFileError(path, "", f"not a URDF: the root element is <{root.tag[:40]}>, expected <robot>")
     for link in root.findall("link"):
@@ -147,6 +159,11 @@ def read_urdf(path: Path) -> dict[str, set[str]]:
         if inertial is not None:
             _check_inertial(path, f"link '{link.get('name')}' inertial", inertial)
     return {kind: {str(element.get("name")) for element in root.findall(kind)} for kind in ("link", "joint")}
+
+
+def _not_xml(path: Path, error: Exception) -> RobotFileError:
+    """The error for a file the XML parser refuses, with its reason (and line and column)."""
+    return RobotFileError(path, "", f"not an XML file: {str(error)[:200]}")
 
 
 def _check_inertial(path: Path, field: str, inertial: ElementTree.Element) -> None:
