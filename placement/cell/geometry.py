@@ -22,9 +22,9 @@ import pinocchio as pin
 from placement.cell.schema import BoxShape, Cell, CylinderShape, MeshShape, Shape, SphereShape, ToolBody, mesh_path
 from placement.cell.tool import tool_of
 from placement.exceptions import CellFileError, InputFileError, RobotFileError
-from placement.robot.load import ERD_PREFIX
 from placement.robot.model import Robot
 from placement.robot.tool import declaring_file_error, pose_placement, tool_mount
+from placement.robot.urdf import ERD_PREFIX
 
 LINK, TOOL, OBSTACLE, KEEP_OUT = "link", "tool", "obstacle", "keep_out"
 Declared = tuple[Path, str, type[InputFileError]]  # the file declaring a shape, its field there, and the error to raise

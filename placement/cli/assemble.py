@@ -29,8 +29,9 @@ from placement.robot.assemble import (
 from placement.robot.catalog import builtin_robots_dir, sidecar_path
 from placement.robot.closures import closure_residuals
 from placement.robot.gepetto import YAML_NAME, is_gepetto, sidecar_beside
-from placement.robot.load import PRISMATIC_JOINTS, _load_robot, urdf_limits_missing
+from placement.robot.load import PRISMATIC_JOINTS, _load_robot
 from placement.robot.model import Robot
+from placement.robot.urdf import urdf_limits_missing
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:

@@ -1,7 +1,7 @@
 """A Pinocchio spanning tree as flat arrays, for the compiled kernels of :mod:`placement.kinematics.kernels`.
 
 Joints are revolute or prismatic about any fixed axis (URDF ``revolute``, ``continuous`` and
-``prismatic``, a continuous joint read as a revolute one by :func:`placement.robot.load.one_angle_urdf`;
+``prismatic``, a continuous joint read as a revolute one by :func:`placement.robot.urdf.one_angle_urdf`;
 fixed joints are merged into frames). The solver works on a short list of frames: the two frames
 of every loop closure, then the end effector.
 """

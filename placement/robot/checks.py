@@ -22,8 +22,8 @@ from placement.dynamics.inverse import actuator_efforts
 from placement.kinematics import joint_trajectory
 from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
 from placement.robot.closures import LWA, closure_residuals
-from placement.robot.load import urdf_limits_missing
 from placement.robot.model import Robot
+from placement.robot.urdf import urdf_limits_missing
 
 AMPLITUDE_FRACTION = 0.05  # default check amplitude, as a fraction of the robot's size
 FALLBACK_AMPLITUDE_M = 0.01  # when the robot gives no size (end effector at the base, no workspace)

@@ -44,10 +44,11 @@ import pinocchio as pin
 from pydantic import ValidationError
 
 from placement.exceptions import PlacementError
-from placement.robot.load import ERD_PREFIX, build_robot, erd_urdf_path, pinocchio_model, reduced_model, urdf_limits_missing
+from placement.robot.load import build_robot, reduced_model
 from placement.robot.model import Robot
 from placement.robot.sidecar import Sidecar
 from placement.robot.tool import find_frame
+from placement.robot.urdf import ERD_PREFIX, erd_urdf_path, pinocchio_model, urdf_limits_missing
 
 ERD_FORM = "erd:"
 GEAR_RATIO = 100.0

@@ -8,12 +8,8 @@ the mechanism's degrees of freedom. Errors name the file and the field.
 
 from __future__ import annotations
 
-import os
-import re
-import tempfile
 from pathlib import Path
 from typing import Any
-from xml.etree import ElementTree
 
 import numpy as np
 import pinocchio as pin
@@ -28,17 +24,10 @@ from placement.robot.model import Actuator, Closure, Robot
 from placement.robot.plugins import load_plugin, make_closed_form
 from placement.robot.sidecar import Sidecar, read_sidecar
 from placement.robot.tool import add_tool_frame, find_frame, mount_tool
+from placement.robot.urdf import pinocchio_model, read_urdf, resolve_urdf, urdf_limits_missing
 
 CLOSURE_TOLERANCE_M = 1e-6
-ERD_PREFIX = "example-robot-data:"
 PRISMATIC_JOINTS = ("JointModelPX", "JointModelPY", "JointModelPZ", "JointModelPrismaticUnaligned")
-NO_LIMIT = 1e10  # a position limit this large (m or rad) is Pinocchio's stand-in for none
-XML_COMMENT = re.compile(r"<!--.*?-->", re.DOTALL)
-JOINT_ELEMENT = re.compile(r"<joint\b[^>]*/>|<joint\b[^>]*>.*?</joint\s*>", re.DOTALL)  # empty, or with its content
-CONTINUOUS_TYPE = re.compile(r"""^(<joint\b[^>]*\btype\s*=\s*["'])continuous(["'])""")  # in the opening tag
-LIMIT_TAG = re.compile(r"<limit\b[^>]*>")
-POSITION_BOUND = re.compile(r"""\s(?:lower|upper)\s*=\s*(?:"[^"]*"|'[^']*')""")
-JOINT_END = re.compile(r"</joint\s*>$")
 
 
 def load_robot(name_or_path: str | Path) -> Robot:
@@ -106,8 +95,8 @@ def build_robot(path: Path, sidecar: Sidecar, *, check_closures: bool = True) ->
     Raises:
         RobotFileError: The sidecar disagrees with its URDF (the message names ``path`` and field).
     """
-    urdf_path = _resolve_urdf(path, sidecar.urdf)
-    urdf = _read_urdf(urdf_path)
+    urdf_path = resolve_urdf(path, sidecar.urdf)
+    urdf = read_urdf(urdf_path)
     model = _lock_joints(pinocchio_model(urdf_path), path, sidecar.locked_joints)
     plugin = load_plugin(path, sidecar.kinematics_plugin)
     model.gravity = pin.Motion(np.array(sidecar.gravity_m_s2), np.zeros(3))
@@ -152,122 +141,6 @@ def _check_solver(robot: Robot) -> None:
     reason = SOLVERS.get(name).unsuitable(robot)
     if reason:
         raise RobotFileError(robot.sidecar_path, "kinematics", f"the {name} solver cannot serve this robot: {reason}")
-
-
-def _resolve_urdf(sidecar_path: Path, urdf: str) -> Path:
-    if urdf.startswith(ERD_PREFIX):
-        from example_robot_data.robots_loader import ROBOTS
-
-        key = urdf.removeprefix(ERD_PREFIX)
-        if key not in ROBOTS:
-            raise RobotFileError(sidecar_path, "urdf", f"example-robot-data has no robot '{key}'")
-        return erd_urdf_path(ROBOTS[key])
-    try:
-        path = (sidecar_path.parent / urdf).resolve()
-    except (OSError, RuntimeError) as error:  # a symbolic-link loop, say
-        raise RobotFileError(sidecar_path, "urdf", f"cannot follow '{urdf[:80]}': {error}") from None
-    if not path.is_file():
-        raise RobotFileError(sidecar_path, "urdf", f"URDF file not found: {path}")
-    return path
-
-
-def erd_urdf_path(loader: Any) -> Path:
-    """The URDF file of an example-robot-data loader class, found as its constructor finds it but without building
-    the robot, which loads every mesh (0.5 s for the Panda)."""
-    from example_robot_data.robots_loader import getModelPath
-
-    if not loader.urdf_filename:  # an SDF robot: only its constructor knows
-        return Path(loader().df_path).resolve()
-    relative = os.path.join(loader.path, loader.urdf_subpath, loader.urdf_filename)
-    return Path(os.path.join(loader.model_path or getModelPath(relative), relative)).resolve()
-
-
-def pinocchio_model(path: Path) -> pin.Model:
-    """Pinocchio's model of the URDF, every ``continuous`` joint read as a ``revolute`` one without position limits
-    (:func:`one_angle_urdf`); its parser's complaints (printed by C++) become the error message."""
-    text = one_angle_urdf(path.read_text(encoding="utf-8", errors="replace"))
-    with tempfile.TemporaryFile(mode="w+") as capture:
-        saved = os.dup(2)
-        os.dup2(capture.fileno(), 2)
-        try:
-            return pin.buildModelFromXML(text)
-        except (ValueError, RuntimeError) as error:
-            os.dup2(saved, 2)
-            capture.seek(0)
-            said = [line.strip().removeprefix("Error:").strip() for line in capture.read().splitlines()
-                    if line.strip() and not line.strip().startswith("at line")]
-            reason = next((line for line in said if line), str(error))
-            raise RobotFileError(path, "", f"Pinocchio cannot build a model from it: {reason[:200]}") from None
-        finally:
-            os.dup2(saved, 2)
-            os.close(saved)
-
-
-def one_angle_urdf(text: str) -> str:
-    """A URDF's text (comments left out) with every ``continuous`` joint made ``revolute`` without position limits,
-    as the URDF defines a continuous joint (read as missing, see :func:`urdf_limits_missing`); its ``<limit>``
-    keeps the effort and velocity.
-
-    Pinocchio models a continuous joint by two coordinates (cos θ, sin θ); the solvers and limits here use one
-    angle θ per joint. The kinematics and dynamics are the same.
-    """
-    return JOINT_ELEMENT.sub(_one_angle, XML_COMMENT.sub("", text))
-
-
-def _one_angle(joint: re.Match) -> str:
-    """A URDF joint element, made revolute without position bounds if it is continuous; a revolute joint needs a
-    ``<limit>``, so one without gets effort and velocity 0 (none given, as :func:`_actuator` then says)."""
-    element, changed = CONTINUOUS_TYPE.subn(r"\1revolute\2", joint.group(0))
-    if not changed:
-        return element
-    if LIMIT_TAG.search(element):
-        return LIMIT_TAG.sub(lambda limit: POSITION_BOUND.sub("", limit.group(0)), element)
-    return JOINT_END.sub('<limit effort="0" velocity="0"/></joint>', element)
-
-
-def _read_urdf(path: Path) -> dict[str, set[str]]:
-    """Parse the URDF, check every inertial is physical, and return its link and joint names.
-
-    The standard library's XML parser reads what loading needs (inertials and names), and
-    Pinocchio builds the model: a URDF library would add a second of imports to every command.
-    """
-    try:
-        root = ElementTree.parse(path).getroot()
-    except (ElementTree.ParseError, UnicodeDecodeError) as error:
-        raise RobotFileError(path, "", f"not an XML file: {str(error)[:200]}") from None
-    if root.tag != "robot":
-        raise RobotFileError(path, "", f"not a URDF: the root element is <{root.tag[:40]}>, expected <robot>")
-    for link in root.findall("link"):
-        inertial = link.find("inertial")
-        if inertial is not None:
-            _check_inertial(path, f"link '{link.get('name')}' inertial", inertial)
-    return {kind: {str(element.get("name")) for element in root.findall(kind)} for kind in ("link", "joint")}
-
-
-def _check_inertial(path: Path, field: str, inertial: ElementTree.Element) -> None:
-    """A finite mass >= 0 and a physical inertia tensor (principal moments >= 0, triangle inequality)."""
-    mass = _attribute(path, field, inertial.find("mass"), "value")
-    if not np.isfinite(mass) or mass < 0:
-        raise RobotFileError(path, field, f"mass must be a finite number >= 0 kg (got {mass})")
-    inertia = inertial.find("inertia")
-    if inertia is None:
-        return
-    xx, xy, xz, yy, yz, zz = (_attribute(path, field, inertia, key) for key in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"))
-    tensor = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
-    moments = np.linalg.eigvalsh(tensor) if np.isfinite(tensor).all() else np.full(3, np.nan)
-    if not moments.min() >= -1e-12 or moments.sum() - 2 * moments.max() < -1e-12:
-        raise RobotFileError(path, field, f"inertia tensor must be physical: principal moments >= 0 "
-                             f"and satisfying the triangle inequality (got {moments.tolist()} kg m^2)")
-
-
-def _attribute(path: Path, field: str, element: ElementTree.Element | None, key: str) -> float:
-    """A number attribute of an inertial's element."""
-    text = None if element is None else element.get(key)
-    try:
-        return float(text)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        tag = "mass" if key == "value" else "inertia"
-        raise RobotFileError(path, field, f"<{tag} {key}=...> must be a number (got {text!r})") from None
 
 
 def _lock_joints(model: pin.Model, path: Path, locked: dict[str, float]) -> pin.Model:
@@ -354,17 +227,6 @@ def _actuator(model: pin.Model, path: Path, sidecar: Sidecar, i: int) -> Actuato
                     acceleration_max=spec.acceleration_max,
                     reflected_inertia=drive.reflected_inertia if drive else 0.0,
                     prismatic=model.joints[joint_id].shortname() in PRISMATIC_JOINTS)
-
-
-def urdf_limits_missing(model: pin.Model, joint_id: int) -> bool:
-    """Whether a one-coordinate joint has no position limits in its URDF.
-
-    Pinocchio reads a ``<limit>`` without ``lower`` and ``upper`` as [0, 0], and no limits at all
-    as a huge range (beyond ``NO_LIMIT``, m or rad).
-    """
-    index = model.joints[joint_id].idx_q
-    low, high = float(model.lowerPositionLimit[index]), float(model.upperPositionLimit[index])
-    return (low == 0.0 and high == 0.0) or not max(abs(low), abs(high)) < NO_LIMIT
 
 
 def _reference_q(model: pin.Model, path: Path, values: dict[str, float], locked: dict[str, float]) -> np.ndarray:

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import re
+from pathlib import Path
+from xml.etree import ElementTree
 
 import numpy as np
 import pinocchio as pin
@@ -14,7 +16,7 @@ from placement.exceptions import RobotFileError
 from placement.path import load_path
 from placement.robot import load_robot
 from placement.robot.erd import load_erd_robot
-from placement.robot.load import one_angle_urdf, pinocchio_model, urdf_limits_missing
+from placement.robot.urdf import one_angle_urdf, pinocchio_model, read_urdf, urdf_limits_missing
 from placement.search.space import default_space
 from tests.support.paths import DATA
 
@@ -66,12 +68,134 @@ def test_only_continuous_joint_elements_change():
             '<joint name="a" type="continuous"><parent link="p"/><child link="c"/><!-- <limit effort="1"/> --></joint>'
             "<joint name='b' type='continuous'><limit lower='-1' effort='2' upper = '1' velocity='3'/></joint >"
             '<transmission><joint name="b"><hardwareInterface>x</hardwareInterface></joint></transmission></robot>')
-    assert one_angle_urdf(text) == (
+    assert ElementTree.canonicalize(one_angle_urdf(text), with_comments=True) == ElementTree.canonicalize(
         '<robot name="r"><transmission><joint name="a"/></transmission>'
         '<joint name="a" type="revolute"><parent link="p"/><child link="c"/><limit effort="0" velocity="0"/></joint>'
         "<joint name='b' type='revolute'><limit effort='2' velocity='3'/></joint >"
         '<transmission><joint name="b"><hardwareInterface>x</hardwareInterface></joint></transmission></robot>')
 
+
+INERTIAL = '<inertial><mass value="1"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial>'
+BOUNDED = '<limit lower="-1" upper="1" effort="5" velocity="2"/>'
+
+
+def robot_text(joints: int, body: str, head: str = "") -> str:
+    """A URDF of links ``l0`` to ``l{joints}`` (1 kg each) and ``body`` (its joints, transmissions...), after
+    ``head``."""
+    links = "".join(f'<link name="l{i}">{INERTIAL}</link>' for i in range(joints + 1))
+    return f'{head}<robot name="r">{links}{body}</robot>'
+
+
+def joint(name: str, kind: str, child: int, limit: str = "") -> str:
+    """A joint element about z from link ``l{child - 1}`` to link ``l{child}``."""
+    return (f'<joint name="{name}" type="{kind}"><parent link="l{child - 1}"/><child link="l{child}"/>'
+            f'<axis xyz="0 0 1"/>{limit}</joint>')
+
+
+def robot_joints(text: str) -> dict[str, tuple[str, dict[str, str] | None]]:
+    """The ``<robot>``'s joints after :func:`one_angle_urdf`, by name: type and ``<limit>`` attributes (None if none)."""
+    joints = ElementTree.fromstring(one_angle_urdf(text)).findall("joint")
+    return {str(j.get("name")): (str(j.get("type")), None if (limit := j.find("limit")) is None else dict(limit.attrib))
+            for j in joints}
+
+
+def built(tmp_path: Path, text: str | bytes) -> pin.Model:
+    """Pinocchio's model of the URDF ``text`` (:func:`pinocchio_model`, from a file)."""
+    urdf = tmp_path / "robot.urdf"
+    urdf.write_bytes(text.encode() if isinstance(text, str) else text)
+    return pinocchio_model(urdf)
+
+
+def bounds(model: pin.Model, name: str) -> tuple[float, float]:
+    """A one-coordinate joint's position limits in ``model`` (rad or m)."""
+    index = model.joints[model.getJointId(name)].idx_q
+    return float(model.lowerPositionLimit[index]), float(model.upperPositionLimit[index])
+
+
+def test_a_commented_out_continuous_joint_is_ignored(tmp_path):
+    """A continuous joint in a comment, whole or its opening tag alone, is no joint: the revolute joint after it
+    keeps its bounds; a ``<limit>`` in a comment is no limit either."""
+    text = robot_text(2, '<!-- <joint name="c" type="continuous"> -->' + joint("a", "revolute", 1, BOUNDED)
+                      + "<!-- " + joint("d", "continuous", 2) + " -->" + joint("b", "continuous", 2, f"<!-- {BOUNDED} -->"))
+    assert robot_joints(text) == {"a": ("revolute", {"lower": "-1", "upper": "1", "effort": "5", "velocity": "2"}),
+                                  "b": ("revolute", {"effort": "0", "velocity": "0"})}
+    model = built(tmp_path, text)
+    assert list(model.names[1:]) == ["a", "b"] and bounds(model, "a") == (-1.0, 1.0)
+    assert urdf_limits_missing(model, model.getJointId("b"))
+
+def test_a_joint_end_tag_with_a_space_ends_its_joint(tmp_path):
+    """``</joint >`` closes a continuous joint without ``<limit>``: it gets one, and the next joint keeps its bounds."""
+    text = robot_text(2, joint("a", "continuous", 1).replace("</joint>", "</joint >") + joint("b", "revolute", 2, BOUNDED))
+    assert robot_joints(text) == {"a": ("revolute", {"effort": "0", "velocity": "0"}),
+                                  "b": ("revolute", {"lower": "-1", "upper": "1", "effort": "5", "velocity": "2"})}
+    model = built(tmp_path, text)
+    assert model.nq == 2 and urdf_limits_missing(model, model.getJointId("a")) and bounds(model, "b") == (-1.0, 1.0)
+
+
+def test_an_empty_joint_in_a_transmission_leaves_the_next_robot_joint_to_its_type(tmp_path):
+    """A transmission names robot joints by ``<joint name="x"/>``: that element is left as it is, and the continuous
+    joint after it is made revolute; the transmission after the joint keeps its own joint element too."""
+    transmission = '<transmission name="t{}"><joint name="{}"/><actuator name="m{}"/></transmission>'
+    text = robot_text(2, transmission.format(1, "a", 1) + joint("a", "continuous", 1, BOUNDED)
+                      + transmission.format(2, "b", 2) + joint("b", "revolute", 2, BOUNDED))
+    assert robot_joints(text) == {"a": ("revolute", {"effort": "5", "velocity": "2"}),
+                                  "b": ("revolute", {"lower": "-1", "upper": "1", "effort": "5", "velocity": "2"})}
+    kept = ElementTree.fromstring(one_angle_urdf(text)).findall("transmission/joint")
+    assert [(j.attrib, len(j)) for j in kept] == [({"name": "a"}, 0), ({"name": "b"}, 0)]
+    model = built(tmp_path, text)
+    assert model.nq == 2 and urdf_limits_missing(model, model.getJointId("a")) and bounds(model, "b") == (-1.0, 1.0)
+
+
+@pytest.mark.parametrize("limit, kept", [
+    (BOUNDED, {"effort": "5", "velocity": "2"}),
+    ("", {"effort": "0", "velocity": "0"}),
+], ids=["bounds", "none"])
+def test_a_continuous_joint_loses_its_bounds_and_keeps_effort_and_velocity(tmp_path, limit, kept):
+    """Its ``<limit>`` without ``lower`` and ``upper`` (position limits read as missing), or a ``<limit>`` giving
+    effort and velocity 0 where it had none."""
+    assert robot_joints(robot_text(1, joint("a", "continuous", 1, limit))) == {"a": ("revolute", kept)}
+    model = built(tmp_path, robot_text(1, joint("a", "continuous", 1, limit)))
+    v = model.joints[1].idx_v
+    assert model.nq == 1 and urdf_limits_missing(model, 1)
+    assert (model.effortLimit[v], model.velocityLimit[v]) == (float(kept["effort"]), float(kept["velocity"]))
+
+
+def test_single_quoted_attributes_are_read(tmp_path):
+    text = robot_text(2, joint("a", "continuous", 1, BOUNDED).replace('"', "'") + joint("b", "continuous", 2))
+    assert robot_joints(text) == {"a": ("revolute", {"effort": "5", "velocity": "2"}),
+                                  "b": ("revolute", {"effort": "0", "velocity": "0"})}
+    model = built(tmp_path, text)
+    a = model.getJointId("a")
+    assert model.nq == 2 and urdf_limits_missing(model, a) and model.velocityLimit[model.joints[a].idx_v] == 2
+
+@pytest.mark.parametrize("encoding", ["UTF-8", "ISO-8859-1"])
+def test_an_xml_declaration_and_processing_instruction_are_read(tmp_path, encoding):
+    """A URDF file opening with an XML declaration (its encoding honoured) and an ``<?xml-model?>`` instruction."""
+    head = f'<?xml version="1.0" encoding="{encoding}"?>\n<?xml-model href="urdf.xsd" type="application/xml"?>\n'
+    text = robot_text(1, joint("coude_é", "continuous", 1, BOUNDED), head)
+    assert robot_joints(text) == {"coude_é": ("revolute", {"effort": "5", "velocity": "2"})}
+    model = built(tmp_path, text.encode(encoding))
+    assert list(model.names[1:]) == ["coude_é"] and model.nq == 1 and urdf_limits_missing(model, 1)
+
+
+def test_namespaced_elements_and_attributes_are_kept(tmp_path):
+    """Elements of other namespaces (xacro's, left in a generated URDF) keep their names, attributes and text."""
+    xacro = "http://www.ros.org/wiki/xacro"
+    gazebo = '<gazebo reference="l1"><xacro:property name="p" value="1"/><sensor xacro:kind="camera">on</sensor></gazebo>'
+    text = robot_text(1, joint("a", "continuous", 1) + gazebo).replace("<robot ", f'<robot xmlns:xacro="{xacro}" ')
+    kept = ElementTree.fromstring(one_angle_urdf(text)).find("gazebo")
+    assert kept is not None and kept.attrib == {"reference": "l1"}
+    assert [(e.tag, e.attrib, e.text) for e in kept] == [
+        (f"{{{xacro}}}property", {"name": "p", "value": "1"}, None), ("sensor", {f"{{{xacro}}}kind": "camera"}, "on")]
+    assert built(tmp_path, text).nq == 1
+
+def test_a_urdf_that_is_not_xml_is_an_error_naming_the_file(tmp_path):
+    urdf = tmp_path / "robot.urdf"
+    urdf.write_text(robot_text(1, joint("a", "continuous", 1))[:-20])
+    for read in (pinocchio_model, read_urdf):
+        with pytest.raises(RobotFileError, match=r"robot\.urdf: not an XML file: .*line 1, column") as error:
+            read(urdf)
+        assert error.value.path == urdf and error.value.field == ""
 
 def test_a_continuous_joint_without_limit_reads_as_giving_no_effort_or_speed(tmp_path):
     urdf = tmp_path / "ur5.urdf"
@@ -122,12 +246,12 @@ def test_an_erd_arm_with_unlimited_continuous_joints_gets_a_full_turn_about_its_
     """example-robot-data's UR5 with two continuous joints without position limits: each gets the range of a full
     turn about the reference posture, labelled as an estimate, and the arm moves as the revolute one."""
     import placement.robot.erd as erd
-    import placement.robot.load as load
+    import placement.robot.urdf as urdf_module
 
     urdf = tmp_path / "ur5.urdf"
     urdf.write_text(continuous_ur5_urdf())
     monkeypatch.setattr(erd, "erd_urdf_path", lambda loader: urdf)
-    monkeypatch.setattr(load, "erd_urdf_path", lambda loader: urdf)
+    monkeypatch.setattr(urdf_module, "erd_urdf_path", lambda loader: urdf)
     robot = load_erd_robot("ur5", "tool0")
     for name in CONTINUOUS:
         actuator = next(a for a in robot.actuators if a.joint == name)

@@ -10,7 +10,7 @@ from placement import load_robot
 from placement.__main__ import main
 from placement.robot.catalog import builtin_robots_dir
 from placement.robot.erd import GEAR_RATIO, load_erd_robot
-from placement.robot.load import erd_urdf_path
+from placement.robot.urdf import erd_urdf_path
 from tests.support.paths import CIRCLE
 
 
