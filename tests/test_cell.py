@@ -11,7 +11,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 import yaml
-from robot_copies import edited_copy
+from robot_copies import edited_copy, with_gripper
 
 from placement.cell.scene import CollisionScene
 from placement.cell.schema import load_cell
@@ -434,9 +434,7 @@ def test_mount_tool_equals_a_urdf_with_the_tool_as_a_fixed_link(ur5, tmp_path):
 
 def test_a_sidecar_declares_a_tool_that_a_cells_tool_replaces(tmp_path):
     document = yaml.safe_load((ROOT / "robots" / "ur5" / "ur5.yaml").read_text())
-    document["tool"] = {"name": "gripper", "mass_kg": 1.2, "inertia_kg_m2": [2e-3, 2e-3, 1e-3, 0, 0, 0],
-                        "com_m": [0, 0, 0.05], "collision": {"type": "box", "size_m": [0.08, 0.05, 0.1],
-                                                             "xyz_m": [0, 0, 0.05]}}
+    with_gripper(document)
     (tmp_path / "ur5.yaml").write_text(yaml.safe_dump(document))
     robot = load_robot(tmp_path / "ur5.yaml")
     assert ("wrist_2_link", "gripper") in CollisionScene(robot).pairs
