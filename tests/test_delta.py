@@ -1,7 +1,9 @@
 """The Delta (ABB IRB 340 dimensions), solved by the generic closed-loop machinery, proved by physics.
 
 The reference for the kinematics is Williams' closed form (tests/delta_analytic.py). Nothing here
-uses the placement kinematics to compute the reference.
+uses the placement kinematics to compute the reference. The forward round trip, the power balance and
+the massless-leg limit (the lumped model of tests/delta_analytic.py) are checked with every other
+robot's in tests/robot/test_contract.py.
 """
 
 import importlib.util
@@ -11,13 +13,11 @@ import subprocess
 import sys
 
 import numpy as np
-import pinocchio as pin
 import pytest
-from delta_analytic import LEG_BODIES, lumped_torques_Nm, williams_inverse_kinematics
+from delta_analytic import lumped_torques_Nm, williams_inverse_kinematics
 from trajectories import lissajous
 
 from placement import Evaluator, load_path
-from placement.checks import energy_rate, forward_accelerations
 from placement.dynamics import inverse_dynamics
 from placement.kinematics import joint_trajectory
 from placement.robot import load_robot
@@ -25,9 +25,6 @@ from placement.robot.catalog import builtin_robots_dir
 
 DELTA_DIR = builtin_robots_dir() / "delta"
 CIRCLE = DELTA_DIR.parents[1] / "examples" / "circle.yaml"
-
-TOOL_FORCE_N = np.array([5.0, -8.0, 20.0])
-
 
 @pytest.fixture
 def delta():
@@ -51,44 +48,6 @@ def test_generic_solver_equals_williams_closed_form(delta):
     np.testing.assert_allclose(joints.q[:, delta.actuated_q_indices], theta, rtol=0, atol=1e-9)
     np.testing.assert_allclose(joints.v[:, act], theta_dot, rtol=0, atol=1e-9)
     np.testing.assert_allclose(joints.a[:, act], theta_ddot, rtol=0, atol=1e-8)
-
-
-def test_forward_dynamics_reproduces_the_prescribed_accelerations(delta):
-    # The welded wrist stubs of legs 2 and 3 carry no inertia; a tiny armature keeps the forward
-    # solver's KKT system regular. The same model serves the inverse and the forward computation.
-    passive = np.setdiff1d(np.arange(delta.model.nv), delta.actuated_v_indices)
-    delta.model.armature[passive] += 1e-9
-    task = platform_path(np.linspace(0.0, 2.0, 30))
-    load = np.tile(TOOL_FORCE_N, (len(task), 1))
-    result = inverse_dynamics(delta, task, load)
-    accelerations = forward_accelerations(delta, result.joints, result.effort, load)
-    assert np.abs(result.joints.a).max() > 10.0
-    assert np.abs(accelerations - result.joints.a).max() <= 1e-8
-
-
-def test_power_balance_with_gravity_drive_inertia_and_load(delta):
-    t = np.linspace(0.0, 2.0, 60)
-    task = platform_path(t)
-    load = np.tile(TOOL_FORCE_N, (len(t), 1))
-    result = inverse_dynamics(delta, task, load)
-    power_in = (result.effort * result.velocity).sum(axis=1) + (load * task.velocity_m_s).sum(axis=1)
-    peak = np.abs(result.effort * result.velocity).max()
-    assert peak > 20.0  # the test path is dynamic enough to mean something
-    assert np.abs(power_in - energy_rate(delta, platform_path, t)).max() <= 1e-6 * peak
-
-
-def test_massless_legs_equal_the_lumped_analytic_model(delta):
-    model = delta.model
-    for i in (1, 2, 3):
-        for body in LEG_BODIES:
-            model.inertias[model.getJointId(f"{body}_{i}")] = pin.Inertia.Zero()
-    task = platform_path(np.linspace(0.0, 2.0, 150))
-    load = np.tile(TOOL_FORCE_N, (len(task), 1))
-    result = inverse_dynamics(delta, task, load)
-    lumped = lumped_torques_Nm(task, model.inertias[model.getJointId("wrist_1")].mass,
-                               np.array([a.reflected_inertia for a in delta.actuators]), model.gravity.linear, load)
-    assert np.abs(result.effort).max() > 10.0
-    assert np.abs(result.effort - lumped).max() <= 1e-9 * np.abs(result.effort).max()
 
 
 def test_real_legs_differ_from_the_lumped_model(delta):
