@@ -18,7 +18,7 @@ from placement.exceptions import CellFileError, RobotFileError
 from placement.robot import load_robot
 from placement.robot.tool import mount_tool, pose_placement, tool_inertia
 from tests.support.paths import ROOT
-from tests.support.robot_copies import edited_copy
+from tests.support.robot_copies import edited_copy, with_gripper
 
 UR5_CELL = ROOT / "examples" / "cell_ur5_table_wall.yaml"
 ORTHOGLIDE_CELL = ROOT / "examples" / "cell_orthoglide.yaml"
@@ -434,9 +434,7 @@ def test_mount_tool_equals_a_urdf_with_the_tool_as_a_fixed_link(ur5, tmp_path):
 
 def test_a_sidecar_declares_a_tool_that_a_cells_tool_replaces(tmp_path):
     document = yaml.safe_load((ROOT / "robots" / "ur5" / "ur5.yaml").read_text())
-    document["tool"] = {"name": "gripper", "mass_kg": 1.2, "inertia_kg_m2": [2e-3, 2e-3, 1e-3, 0, 0, 0],
-                        "com_m": [0, 0, 0.05], "collision": {"type": "box", "size_m": [0.08, 0.05, 0.1],
-                                                             "xyz_m": [0, 0, 0.05]}}
+    with_gripper(document)
     (tmp_path / "ur5.yaml").write_text(yaml.safe_dump(document))
     robot = load_robot(tmp_path / "ur5.yaml")
     assert ("wrist_2_link", "gripper") in CollisionScene(robot).pairs

@@ -12,7 +12,7 @@ from placement.cli.common import UsageError, parse_free
 from placement.exceptions import RobotFileError
 from placement.robot import load_robot
 from tests.support.paths import EXAMPLE
-from tests.support.robot_copies import edited_copy
+from tests.support.robot_copies import TOOL_OFFSET_M, TOOL_RPY_RAD, edited_copy, with_tool
 
 QUICK = ["--robot", "orthoglide", "--path", str(EXAMPLE), "--time-step", "0.004", "--quiet",
          "--generations", "3", "--population", "8"]
@@ -85,20 +85,6 @@ def test_missing_bounds_name_the_option_and_the_sidecar_fields(tmp_path, capsys)
     assert abs(best["x"]) <= 0.010 + 1e-12 and abs(best["y"]) <= 0.010 + 1e-12
 
 
-D = np.array([0.0, 0.0, 0.125])  # m, along the frame's z
-RPY = (0.3, -0.2, 1.1)  # rad
-
-
-def with_tool(offset, rpy=None, source=True):
-    def edit(document):
-        document["end_effector"]["offset_m"] = [float(v) for v in offset]
-        if rpy is not None:
-            document["end_effector"]["rpy_rad"] = list(rpy)
-        if source:
-            document["sources"]["end_effector"] = "EST: a 125 mm spindle"
-    return edit
-
-
 def frame_placements(robot, q):
     data = robot.model.createData()
     pin.framesForwardKinematics(robot.model, data, q)
@@ -108,7 +94,7 @@ def frame_placements(robot, q):
 @pytest.fixture(scope="module")
 def ur5_pair(tmp_path_factory):
     plain = load_robot("ur5")
-    tipped = load_robot(edited_copy("ur5", tmp_path_factory.mktemp("tool"), with_tool(D, RPY)))
+    tipped = load_robot(edited_copy("ur5", tmp_path_factory.mktemp("tool"), with_tool(TOOL_OFFSET_M, TOOL_RPY_RAD)))
     return plain, tipped
 
 
@@ -118,19 +104,19 @@ def test_a_tool_offset_moves_the_end_effector_by_r_d(ur5_pair):
     rng = np.random.default_rng(3)
     for q in (plain.reference_q, *(pin.randomConfiguration(plain.model) for _ in range(5)), rng.normal(size=6)):
         flange, tip = frame_placements(plain, q), frame_placements(tipped, q)
-        np.testing.assert_allclose(tip.translation, flange.translation + flange.rotation @ D, rtol=0, atol=1e-12)
-        np.testing.assert_allclose(tip.rotation, flange.rotation @ pin.rpy.rpyToMatrix(*RPY), rtol=0, atol=1e-12)
+        np.testing.assert_allclose(tip.translation, flange.translation + flange.rotation @ TOOL_OFFSET_M, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(tip.rotation, flange.rotation @ pin.rpy.rpyToMatrix(*TOOL_RPY_RAD), rtol=0, atol=1e-12)
 
 
 def test_a_tool_offset_needs_its_source(tmp_path):
     with pytest.raises(RobotFileError) as error:
-        load_robot(edited_copy("ur5", tmp_path, with_tool(D, source=False)))
+        load_robot(edited_copy("ur5", tmp_path, with_tool(TOOL_OFFSET_M, source=False)))
     assert error.value.field == "end_effector.offset_m" and "sources" in str(error.value)
 
 
 def test_a_tool_source_names_a_field_of_the_sidecar(tmp_path):
     def edit(document):
-        with_tool(D, source=False)(document)
+        with_tool(TOOL_OFFSET_M, source=False)(document)
         document["sources"]["end_effector.offset_m"] = "EST: a 125 mm spindle"
     robot = load_robot(edited_copy("ur5", tmp_path, edit))
-    assert robot.sidecar.end_effector.offset_m == tuple(D)
+    assert robot.sidecar.end_effector.offset_m == tuple(TOOL_OFFSET_M)

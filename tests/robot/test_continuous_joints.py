@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import re
 from pathlib import Path
 from xml.etree import ElementTree
 
@@ -19,23 +18,7 @@ from placement.robot.erd import load_erd_robot
 from placement.robot.urdf import one_angle_urdf, pinocchio_model, read_urdf, urdf_limits_missing
 from placement.search.space import default_space
 from tests.support.paths import DATA
-
-CONTINUOUS = ("shoulder_pan_joint", "wrist_3_joint")
-
-
-def continuous_ur5_urdf(keep_limit: bool = True) -> str:
-    """The built-in UR5's URDF with its first and last joints made continuous: their ``<limit>`` keeps effort and
-    velocity only, or is removed."""
-    text = load_robot("ur5").urdf_path.read_text()
-    for name in CONTINUOUS:
-        element = re.search(rf'<joint name="{name}" type="revolute">.*?</joint>', text, re.DOTALL)
-        assert element is not None
-        limit = re.search(r"<limit\b[^>]*/>", element.group(0))
-        assert limit is not None
-        effort_velocity = re.sub(r'\s(lower|upper)="[^"]*"', "", limit.group(0)) if keep_limit else ""
-        changed = element.group(0).replace('type="revolute"', 'type="continuous"').replace(limit.group(0), effort_velocity)
-        text = text.replace(element.group(0), changed)
-    return text
+from tests.support.robot_copies import CONTINUOUS, continuous_ur5, continuous_ur5_urdf, edited_copy
 
 
 def test_a_continuous_joint_is_one_angle_with_pinocchios_kinematics_and_dynamics(tmp_path):
@@ -207,8 +190,6 @@ def test_a_continuous_joint_without_limit_reads_as_giving_no_effort_or_speed(tmp
 
 
 def test_a_sidecar_on_continuous_joints_needs_their_range_and_then_solves(tmp_path):
-    from tests.support.robot_copies import edited_copy
-
     def continuous(document: dict) -> None:
         document["urdf"] = "ur5.urdf"
 
@@ -218,15 +199,7 @@ def test_a_sidecar_on_continuous_joints_needs_their_range_and_then_solves(tmp_pa
         load_robot(sidecar)
     assert error.value.field == "actuators.0.position_min"
 
-    def with_ranges(document: dict) -> None:
-        continuous(document)
-        for actuator in document["actuators"]:
-            if actuator["joint"] in CONTINUOUS:
-                actuator.update(position_min=-np.pi, position_max=np.pi)
-
-    ranged = edited_copy("ur5", tmp_path / "ranged", with_ranges)
-    (ranged.parent / "ur5.urdf").write_text(continuous_ur5_urdf())
-    robot = load_robot(ranged)
+    robot = load_robot(continuous_ur5(tmp_path / "ranged"))  # the same, the continuous actuators given a range
     builtin = load_robot("ur5")
     assert robot.model.nq == builtin.model.nq == 6
     path = load_path("examples/rect.yaml")
@@ -273,8 +246,6 @@ def test_an_erd_arm_with_unlimited_continuous_joints_gets_a_full_turn_about_its_
 def test_a_continuous_joint_locks_at_any_angle(tmp_path):
     """Without position limits, a locked continuous joint may be held anywhere (here the UR5's wrist, at 0.5 rad,
     the arm then following a position task with its first three joints)."""
-    from tests.support.robot_copies import edited_copy
-
     wrist = {"wrist_1_joint": -1.67, "wrist_2_joint": -1.5707963267948966, "wrist_3_joint": 0.5}
 
     def wrist_locked(document: dict) -> None:

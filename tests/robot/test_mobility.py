@@ -1,7 +1,6 @@
 """Mobility: the degrees-of-freedom error names the joints left free and proposes the locked_joints that fix
 it; a planar serial arm that declares its plane follows position paths in it with 2 joints."""
 
-import copy
 import re
 
 import numpy as np
@@ -15,25 +14,7 @@ from placement.kinematics import joint_trajectory
 from placement.kinematics.trajectories import TaskTrajectory
 from placement.robot import load_robot
 from tests.support.paths import CIRCLE
-from tests.support.robot_copies import edited_copy
-
-SPIN = ('<link name="dist{i}_hub"/>'
-        '<joint name="spin{i}" type="revolute"><parent link="dist{i}_hub"/><child link="dist{i}"/>'
-        '<origin xyz="0 0 0"/><axis xyz="1 0 0"/><limit lower="-3.14" upper="3.14" effort="1" velocity="1"/></joint>')
-
-
-def spinning_rods_fivebar(folder):
-    """The five-bar with each distal rod on an extra revolute joint about its own axis (x)."""
-    sidecar = edited_copy("fivebar", folder, lambda document: None)
-    urdf = sidecar.parent / "fivebar.urdf"
-    text = urdf.read_text()
-    for i in (1, 2):
-        elbow = f'<parent link="prox{i}"/><child link="dist{i}"/>'
-        assert elbow in text
-        text = text.replace(elbow, f'<parent link="prox{i}"/><child link="dist{i}_hub"/>')
-        text = text.replace("</robot>", SPIN.format(i=i) + "\n</robot>")
-    urdf.write_text(text)
-    return sidecar
+from tests.support.robot_copies import planar_arm, spinning_rods_fivebar
 
 
 def test_the_error_names_the_spinning_joints_and_the_proposal_makes_it_load(tmp_path):
@@ -52,47 +33,6 @@ def test_the_error_names_the_spinning_joints_and_the_proposal_makes_it_load(tmp_
     sidecar.write_text(yaml.safe_dump(document))
     robot = load_robot(sidecar)
     np.testing.assert_allclose(robot.reference_q, load_robot("fivebar").reference_q, atol=1e-12)
-
-
-
-ARM_URDF = """<?xml version="1.0"?>
-<robot name="arm2">
-  <link name="base"/>
-  <link name="upper"><inertial><origin xyz="0.15 0 0"/><mass value="1.0"/>
-    <inertia ixx="1e-4" iyy="0.0075" izz="0.0075" ixy="0" ixz="0" iyz="0"/></inertial></link>
-  <link name="fore"><inertial><origin xyz="0.125 0 0"/><mass value="0.6"/>
-    <inertia ixx="6e-5" iyy="0.003125" izz="0.003125" ixy="0" ixz="0" iyz="0"/></inertial></link>
-  <link name="tip"/>
-  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/><axis xyz="0 -1 0"/>
-    <limit lower="-3.1416" upper="3.1416" effort="20" velocity="10"/></joint>
-  <joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="0.3 0 0"/><axis xyz="0 -1 0"/>
-    <limit lower="-3.1416" upper="3.1416" effort="20" velocity="10"/></joint>
-  <joint name="tip_joint" type="fixed"><parent link="fore"/><child link="tip"/><origin xyz="0.25 0 0"/></joint>
-</robot>
-"""
-ARM_SIDECAR = {
-    "name": "arm2", "description": "Two-link planar arm in the vertical x-z plane", "urdf": "arm.urdf",
-    "gravity_m_s2": [0, 0, -9.81], "end_effector": {"frame": "tip", "task": "position"},
-    "reference_configuration": {"shoulder": 1.0, "elbow": -1.6},  # the tip at (0.368, 0, 0.111) m
-    "actuators": [{"joint": "shoulder", "drive": "servo"}, {"joint": "elbow", "drive": "servo"}],
-    "drives": {"servo": {"transmission": {"type": "gear", "ratio": 50, "efficiency": 1.0},
-                         "motor": {"torque_constant_Nm_per_A": 0.1, "back_emf_constant_V_s_per_rad": 0.0333,
-                                   "resistance_ohm": 0.8, "inductance_H": 0.0008, "phases": 3,
-                                   "rotor_inertia_kg_m2": 1e-5, "max_torque_Nm": 1.0, "max_speed_rad_s": 500}}},
-    "workspace": {"type": "box", "min_m": [0.30, -0.001, 0.05], "max_m": [0.42, 0.001, 0.17]},
-    "placement": {"plane": {"normal": [0, -1, 0]}},
-    "sources": {"drives.servo": "EST: test servo", "workspace": "EST: test region"},
-}
-
-
-def planar_arm(folder, edit=lambda document: None):
-    """A two-link arm in the vertical x-z plane (joint axes along -y), its sidecar edited by ``edit``."""
-    (folder / "arm.urdf").write_text(ARM_URDF)
-    document = copy.deepcopy(ARM_SIDECAR)
-    edit(document)
-    sidecar = folder / "arm.yaml"
-    sidecar.write_text(yaml.safe_dump(document))
-    return sidecar
 
 
 def test_a_two_link_arm_with_a_plane_loads_checks_and_is_placed(tmp_path, capsys):

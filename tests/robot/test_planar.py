@@ -12,30 +12,12 @@ from placement.placing.transform import plane_frame, transform_path_to_base
 from placement.robot.sidecar import Plane
 from placement.search.space import default_space
 from tests.support.paths import CIRCLE
-from tests.support.robot_copies import edited_copy
-
-TURN = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])  # Rx(-90 deg): base z -> y, y -> -z
-
-
-def _vertical(document: dict) -> None:
-    """The five-bar turned by TURN: it moves in the x-z plane, and so do gravity and its workspace."""
-    document["gravity_m_s2"] = (TURN @ document["gravity_m_s2"]).tolist()
-    corners = TURN @ np.array([document["workspace"]["min_m"], document["workspace"]["max_m"]]).T
-    document["workspace"]["min_m"], document["workspace"]["max_m"] = corners.min(axis=1).tolist(), corners.max(axis=1).tolist()
-    document["workspace"]["points_m"] = {k: (TURN @ v).tolist() for k, v in document["workspace"]["points_m"].items()}
-    document["placement"] = {"plane": {"normal": [0, 1, 0]}}
+from tests.support.robot_copies import TURN, edited_copy, vertical_fivebar
 
 
 @pytest.fixture(scope="module")
 def vertical(tmp_path_factory):
-    sidecar = edited_copy("fivebar", tmp_path_factory.mktemp("vertical"), _vertical)
-    urdf = sidecar.parent / "fivebar.urdf"
-    text = urdf.read_text()
-    for joint in ("a1", "a2"):  # the joints on the base carry the turn
-        start = text.index(f'<joint name="{joint}"')
-        text = text[:start] + text[start:].replace('rpy="0 0 0"', f'rpy="{-np.pi / 2!r} 0 0"', 1)
-    urdf.write_text(text)
-    return load_robot(sidecar)
+    return load_robot(vertical_fivebar(tmp_path_factory.mktemp("vertical")))
 
 
 def test_plane_frame_of_the_vertical_plane_is_the_turn():

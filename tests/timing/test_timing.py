@@ -16,45 +16,13 @@ from placement.exceptions import PlacementError
 from placement.path.schema import Timing
 from placement.placing.transform import placed_task
 from placement.search.pareto import non_dominated
-from tests.support.robot_copies import edited_copy, orthoglide_motor
+from tests.support.robot_copies import edited_copy, gantry, orthoglide_motor
 
 PLACEMENTS = np.array([[0.0, 0.0, -0.03, 0.0, 0.0, 0.0],
                        [0.05, 0.03, -0.12, -0.1, 0.0, 0.0],
                        [-0.08, -0.06, -0.02, 0.7, 0.0, 0.0],
                        [0.02, -0.09, -0.1, -1.2, 0.0, 0.0]])
 
-GANTRY_URDF = """<?xml version="1.0"?>
-<robot name="gantry">
-  <link name="base"/>
-  {links}
-</robot>
-"""
-GANTRY_LINK = """
-  <joint name="{axis}" type="prismatic">
-    <parent link="{parent}"/><child link="carriage_{axis}"/>
-    <origin xyz="0 0 0"/><axis xyz="{direction}"/>
-    <limit lower="-1" upper="1" effort="1000" velocity="1"/>
-  </joint>
-  <link name="carriage_{axis}">
-    <inertial><mass value="{mass}"/><origin xyz="0 0 0"/>
-      <inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
-  </link>"""
-GANTRY_SIDECAR = """name: gantry
-urdf: gantry.urdf
-gravity_m_s2: [0.0, 0.0, -9.81]
-end_effector: {frame: carriage_z, task: position}
-reference_configuration: {x: 0.0, y: 0.0, z: 0.0}
-actuators:
-  - {joint: x, drive: screw, velocity_max: 0.5, acceleration_max: 2.0}
-  - {joint: y, drive: screw, velocity_max: 0.5, acceleration_max: 2.0}
-  - {joint: z, drive: screw, velocity_max: 0.5, acceleration_max: 2.0}
-drives:
-  screw:
-    transmission: {type: ball_screw, lead_m: 0.02, efficiency: 1.0}
-    motor: {torque_constant_Nm_per_A: 0.6, back_emf_constant_V_s_per_rad: 0.2, resistance_ohm: 1.0,
-            inductance_H: 0.001, phases: 3, rotor_inertia_kg_m2: 1.0e-5, max_torque_Nm: 100.0, max_speed_rad_s: 1000.0}
-workspace: {type: box, min_m: [-0.5, -0.5, -0.5], max_m: [0.5, 0.5, 0.5]}
-"""
 LINE = "units: mm\nshape: {{type: polyline, points: [[0, 0], [{length}, 0]]}}\nfeed_m_s: {feed}\n" \
        "timing: {{mode: optimal}}\ntime_step_s: 0.0005\n"
 
@@ -68,19 +36,9 @@ def orthoglide_rect():
     return load_robot("orthoglide"), optimal(load_path("examples/rect.yaml"))
 
 
-def gantry(folder):
-    links, parent = [], "base"
-    for axis, direction, mass in (("x", "1 0 0", 8.0), ("y", "0 1 0", 5.0), ("z", "0 0 1", 3.0)):
-        links.append(GANTRY_LINK.format(axis=axis, parent=parent, direction=direction, mass=mass))
-        parent = f"carriage_{axis}"
-    (folder / "gantry.urdf").write_text(GANTRY_URDF.format(links="".join(links)))
-    (folder / "gantry.yaml").write_text(GANTRY_SIDECAR)
-    return load_robot(str(folder / "gantry.yaml"))
-
-
 @pytest.mark.parametrize("length_mm, feed", [(100.0, 0.3), (20.0, 0.3)])
 def test_a_line_with_only_a_speed_and_an_acceleration_bound_takes_the_trapezoidal_time(tmp_path, length_mm, feed):
-    robot = gantry(tmp_path)
+    robot = load_robot(gantry(tmp_path))
     (tmp_path / "line.yaml").write_text(LINE.format(length=length_mm, feed=feed))
     path = load_path(tmp_path / "line.yaml")
     evaluator = Evaluator(robot, path, objective="cycle_time", workers=1)
@@ -230,7 +188,7 @@ def test_a_timing_whose_inductive_voltage_breaks_the_bus_is_reported(tmp_path):
 
 def test_the_speed_never_exceeds_a_move_s_feed_where_the_feed_changes_without_a_stop(tmp_path):
     """A straight G-code line whose middle move is ten times slower: one run, no stop, the slow feed held."""
-    robot = gantry(tmp_path)
+    robot = load_robot(gantry(tmp_path))
     (tmp_path / "feeds.nc").write_text("G21 G90 G17\nG0 X0 Y0 Z0\nG1 X50 F6000\nG1 X60 F600\nG1 X100 F6000\n")
     (tmp_path / "feeds.yaml").write_text("shape: {type: gcode, file: feeds.nc}\ntiming: {mode: optimal}\n"
                                          "time_step_s: 0.002\n")
