@@ -160,15 +160,16 @@ class Robot:
 
     @property
     def mount_frame(self) -> str:
-        """The frame the sidecar names as end effector (``end_effector.frame``): a tool tip, a sidecar's or a
-        cell's, and a tool body without a frame of its own mount on it, and a closed-form plug-in solves
-        for it. The path follows ``end_effector_frame_id``: this frame, or a tool tip on it."""
+        """The frame the sidecar names as the end effector (``end_effector.frame``): tool tips and tool bodies
+        that name no frame mount on it, and a closed-form plug-in solves for it. The path follows
+        ``end_effector_frame_id``: this frame, or a tool tip on it."""
         return self.sidecar.end_effector.frame
 
     @property
     def tool_rpy_in_path_rad(self) -> tuple[float, float, float]:
-        """For a pose task, the end-effector frame's orientation in the path's tool frame: roll, pitch, yaw about
-        fixed x, y, z (rad); (0, 0, 0) when the sidecar gives none (and for a position task)."""
+        """For a pose task, the end-effector frame's orientation in the tool frame the path prescribes (the path
+        frame, without a pose list): roll, pitch, yaw about fixed x, y, z (rad); (0, 0, 0) when the sidecar
+        gives none, as for a position task."""
         return self.sidecar.end_effector.tool_rpy_in_path_rad or (0.0, 0.0, 0.0)
 
     @property
