@@ -116,7 +116,7 @@ def main() -> None:
     timed = rate(lambda: optimal.evaluate(placements[:50]), 50, args.seconds)
     print(f"  the same under the optimal timing law (TOPP-RA on each of the 4 runs, {len(optimal.geometry)} path "
           f"samples): {timed:,.0f} placements/s, {per_second / timed:.0f}x fewer than under the paper's timing")
-    workspace = robot.sidecar.workspace
+    workspace = robot.workspace
     axes = {axis: np.linspace(workspace.min_m[k], workspace.max_m[k], 41) for k, axis in enumerate("xy")}
     seconds = {}
     for workers in (1, 2):

@@ -95,7 +95,7 @@ def main() -> None:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     robot, path = load_robot("orthoglide"), load_path(EXAMPLE)
-    low, high = robot.sidecar.workspace.min_m, robot.sidecar.workspace.max_m
+    low, high = robot.workspace.min_m, robot.workspace.max_m
     xs, ys, zs = (np.linspace(low[k], high[k], args.grid) for k in range(3))
     phis = np.radians(np.linspace(-90, 90, 37))
     written = []

@@ -1,4 +1,6 @@
-"""The package's layout holds: no import cycle, a short top level, files one can hold in one's head.
+"""The package's layout holds: no import cycle, a short top level, files one can hold in one's head, and only
+the robot package reads a robot's sidecar (every other module asks the robot: ``Robot.workspace``,
+``Robot.plane``, ``Robot.named_drives``, ..., so the sidecar's schema can change behind it).
 
 Imports are read from the source with ``ast``, as Python runs them when a module is imported: the
 statements at a module's top level, less those under ``if TYPE_CHECKING``, each reaching the
@@ -11,6 +13,7 @@ import ast
 from pathlib import Path
 
 import placement
+from tests.support.paths import ROOT
 
 PACKAGE = Path(placement.__file__).parent
 MAX_TOP_LEVEL_MODULES = 8
@@ -92,3 +95,25 @@ def test_no_module_is_too_long_to_hold_in_ones_head():
     long = {str(file.relative_to(PACKAGE)): n for file in PACKAGE.rglob("*.py")
             if (n := len(file.read_text(encoding="utf-8").splitlines())) > MAX_LINES}
     assert set(long) <= ONE_FILE_BY_NECESSITY, long
+
+
+def sidecar_reads(file: Path, root: Path = ROOT) -> list[str]:
+    """Where a module reads an attribute called ``sidecar`` (``robot.sidecar``, ``batch.robot.sidecar``, ...)."""
+    tree = ast.parse(file.read_text(encoding="utf-8"), filename=str(file))
+    return [f"{file.relative_to(root)}:{node.lineno}: {ast.unparse(node)}" for node in ast.walk(tree)
+            if isinstance(node, ast.Attribute) and node.attr == "sidecar"]
+
+
+def test_only_the_robot_package_reads_the_sidecar():
+    owner = PACKAGE / "robot"
+    files = [file for folder in ("placement", "examples", "benchmarks") for file in sorted((ROOT / folder).rglob("*.py"))
+             if owner not in file.parents]
+    assert len(files) > 50
+    reads = [read for file in files for read in sidecar_reads(file)]
+    assert not reads, "read it through a property of placement.robot.model.Robot:\n" + "\n".join(reads)
+
+
+def test_the_sidecar_check_sees_a_read_and_not_the_sidecar_path(tmp_path):
+    module = tmp_path / "module.py"
+    module.write_text("def f(batch):\n    return batch.robot.sidecar.workspace, batch.robot.sidecar_path\n")
+    assert sidecar_reads(module, tmp_path) == ["module.py:2: batch.robot.sidecar"]

@@ -105,10 +105,10 @@ def package_dirs(robot: Robot) -> list[str]:
     """Folders where the URDF's meshes may live: its own folder, and example-robot-data's for its robots
     (whose URDFs name meshes ``package://example-robot-data/robots/...``)."""
     folders = [str(robot.urdf_path.parent)]
-    if robot.sidecar.urdf.startswith(ERD_PREFIX):
+    if robot.urdf_source.startswith(ERD_PREFIX):
         from example_robot_data.robots_loader import ROBOTS
 
-        loader = ROBOTS[robot.sidecar.urdf.removeprefix(ERD_PREFIX)]()
+        loader = ROBOTS[robot.urdf_source.removeprefix(ERD_PREFIX)]()
         folders += [os.path.dirname(os.path.dirname(loader.model_path)), loader.model_path]
     return folders
 

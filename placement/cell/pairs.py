@@ -84,7 +84,7 @@ def _cell_ignored(robot: Robot, cell: Cell | None, bodies: Sequence[Body]) -> se
 def _sidecar_ignored(robot: Robot, bodies: Sequence[Body]) -> set[frozenset[str]]:
     """The sidecar's ``collision.ignore_pairs``, each two links of the robot (or a link and the tool)."""
     names = _link_names(robot.model) | {body.name for body in bodies if body.kind == TOOL}
-    pairs = robot.sidecar.collision.ignore_pairs
+    pairs = robot.collision_ignore_pairs
     for i, pair in enumerate(pairs):
         for k, name in enumerate(pair):
             if name not in names:

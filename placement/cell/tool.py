@@ -20,8 +20,8 @@ def tool_of(robot: Robot, cell: Cell | None) -> tuple[ToolBody, Path] | None:
     """
     if cell is not None and cell.tool is not None:
         return cell.tool, cell.path
-    if robot.sidecar.tool is not None:
-        return robot.sidecar.tool, robot.sidecar_path
+    if robot.tool is not None:
+        return robot.tool, robot.sidecar_path
     return None
 
 
@@ -38,7 +38,7 @@ def equip(robot: Robot, cell: Cell | None) -> Robot:
     if cell is None:
         return robot
     if cell.tool is not None:
-        if robot.sidecar.tool is not None:
-            robot = unmount_tool(robot, robot.sidecar.tool)
+        if robot.tool is not None:
+            robot = unmount_tool(robot, robot.tool)
         robot = mount_tool(robot, cell.tool, cell.path)
     return dataclasses.replace(robot, cell=cell)

@@ -37,7 +37,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 def _solver_text(robot: Robot) -> str:
     name = solver_name(robot)
     if name == "closed_form":
-        return f"closed-form plug-in {robot.sidecar.kinematics_plugin}"
+        return f"closed-form plug-in {robot.kinematics_plugin}"
     return "generic solver" if name == "numeric" else f"solver '{name}'"
 
 
@@ -45,13 +45,13 @@ def describe(robot: Robot) -> str:
     """A human-readable summary of a loaded robot."""
     model = robot.model
     point = sum(c.kind == "point" for c in robot.closures)
-    lines = [f"{robot.name}: {robot.sidecar.description}",
+    lines = [f"{robot.name}: {robot.description}",
              f"  files: {robot.sidecar_path} + {robot.urdf_path.name}",
              f"  joints: {model.nv} ({len(robot.actuators)} actuated); closures: {len(robot.closures)} "
              f"({point} point, {len(robot.closures) - point} weld)",
              f"  end effector: frame '{model.frames[robot.end_effector_frame_id].name}', {robot.task} task; "
              f"kinematics: {_solver_text(robot)}",
-             f"  gravity: {list(robot.sidecar.gravity_m_s2)} m/s^2",
+             f"  gravity: {list(robot.gravity_m_s2)} m/s^2",
              "  actuators:"]
     for a in robot.actuators:
         unit, mass = ("m", "kg") if a.prismatic else ("rad", "kg m^2")
@@ -61,12 +61,12 @@ def describe(robot: Robot) -> str:
             text += (f", {a.drive.transmission.describe()}, motor {a.drive.motor.max_torque_Nm:g} N m max, "
                      f"reflected inertia {a.reflected_inertia:.4g} {mass}")
         lines.append(text)
-    workspace = robot.sidecar.workspace
+    workspace = robot.workspace
     if workspace is not None:
         lines.append(f"  workspace: box {np.round(workspace.min_m, 6).tolist()} .. {np.round(workspace.max_m, 6).tolist()} m"
                      + (f"; points {', '.join(workspace.points_m)}" if workspace.points_m else ""))
-    estimated = sum(text.startswith("EST") for text in robot.sidecar.sources.values())
-    lines.append(f"  sources: {len(robot.sidecar.sources)} entries, {estimated} estimated (EST)")
+    estimated = sum(text.startswith("EST") for text in robot.sources.values())
+    lines.append(f"  sources: {len(robot.sources)} entries, {estimated} estimated (EST)")
     return "\n".join(lines)
 
 

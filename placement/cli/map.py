@@ -28,7 +28,7 @@ from placement.cli.common import (
 from placement.evaluation.parallel import cluster, scheduler_address
 from placement.objectives.base import quantity, wording
 from placement.output.report import write_atomically
-from placement.placing.transform import ANGLES, VARIABLES, placement_pose, robot_plane
+from placement.placing.transform import ANGLES, VARIABLES, placement_pose
 from placement.search.sweep import sweep
 
 MAX_GRID_POINTS = 1_000_000
@@ -122,7 +122,7 @@ def run(args: argparse.Namespace) -> int:
         scene = Scene(robot)
         scene.add_workspace()
         keep = result.feasible.ravel()
-        origins = placement_pose(result.placements()[keep], robot_plane(robot))[1]
+        origins = placement_pose(result.placements()[keep], robot.plane)[1]
         scene.add_value_points(origins, result.value.ravel()[keep], words.subject)
         write_atomically(args.html, scene.html(f"{robot.name}: {words.subject} map of {path.name}"))
         print(f"scene written to {args.html}")

@@ -38,7 +38,7 @@ from placement.objectives.base import OBJECTIVES, wording
 from placement.output.report import detail_json, format_detail, format_result, write_atomically, write_json, write_trace
 from placement.path.samples import PathSamples
 from placement.path.toolpath import ToolPath
-from placement.placing.transform import VARIABLES, describe_plane, robot_plane
+from placement.placing.transform import VARIABLES, describe_plane
 from placement.robot.model import Robot
 from placement.search.optimize import SearchSettings, optimize_placement
 from placement.search.space import default_space
@@ -132,7 +132,7 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
           + ("" if args.objective == "energy" else f"; objective: {objective.title} ({args.objective})"))
     document: dict = {"robot": robot.name, "path": path.name, "objective": args.objective,
                       "regeneration": args.regen, "timing": path.timing.mode, "samples": len(samples)}
-    plane = robot_plane(robot)
+    plane = robot.plane
     if plane is not None:
         document["plane"] = describe_plane(plane)
         print(plane_line(document["plane"]))

@@ -166,11 +166,12 @@ class Calibration:
 
 
 def with_drive_constants(robot: Robot, values: dict[str, dict[str, float]]) -> Robot:
-    """The robot with some drive constants changed ({drive: {constant: value}}); its model is shared.
+    """The robot with some drive constants changed ({drive: {constant: value}}); its model is shared
+    (see :meth:`Robot.with_drives`).
 
     A pmsm motor's back-EMF constant follows its torque constant (K_e = K_t / phases).
     """
-    drives = dict(robot.sidecar.drives)
+    drives = robot.named_drives
     for name, constants in values.items():
         drive = drives[name]
         by_part: dict[str, dict[str, float]] = {"motor": {}, "friction": {}, "transmission": {}}
@@ -182,11 +183,7 @@ def with_drive_constants(robot: Robot, values: dict[str, dict[str, float]]) -> R
         drives[name] = drive.model_copy(update={
             "motor": motor, "friction": drive.friction.model_copy(update=by_part["friction"]),
             "transmission": drive.transmission.model_copy(update=by_part["transmission"])})
-    actuators = tuple(a if spec.drive is None else
-                      dataclasses.replace(a, drive=drives[spec.drive], reflected_inertia=drives[spec.drive].reflected_inertia)
-                      for a, spec in zip(robot.actuators, robot.sidecar.actuators, strict=True))
-    sidecar = robot.sidecar.model_copy(update={"drives": drives})
-    return dataclasses.replace(robot, actuators=actuators, sidecar=sidecar)
+    return robot.with_drives(drives)
 
 
 @dataclass(frozen=True)
@@ -260,9 +257,9 @@ def calibrate(robot: Robot, log: MeasuredLog, fit: list[str], held_out: float = 
     split = int(round(len(log.t_s) * (1 - held_out)))
     if not 10 <= split <= len(log.t_s) - 10 or not 0 < held_out < 1:
         raise PlacementError(f"held-out share {held_out}: both parts of the {len(log.t_s)}-sample log need 10 samples")
-    names = sorted({spec.drive for spec in robot.sidecar.actuators if spec.drive})
+    names = sorted({a.drive_name for a in robot.actuators if a.drive_name})
     keys = [(drive, constant) for drive in names for constant in fit]
-    start = np.array([_current(robot.sidecar.drives[d], c) for d, c in keys])
+    start = np.array([_current(robot.named_drives[d], c) for d, c in keys])
     lower, upper = (np.array([FITTABLE[c][1][k] for _, c in keys]) for k in (0, 1))
     scale = np.maximum(np.abs(start), [FITTABLE[c][2] for _, c in keys])  # the search runs in these units
     motion = _motion(robot, log)
@@ -339,7 +336,7 @@ def write_calibrated(robot: Robot, calibration: Calibration, folder: str | Path,
             sources[field] = (f"CALIBRATED: fitted to {log_name}, 95 % interval "
                               f"±{calibration.confidence_95[drive][constant]:.3g}; held-out RMS error {held_out}")
         # with_drive_constants keeps the back-EMF constant consistent with the torque constant: take it from there
-        fitted_motor = calibration.robot.sidecar.drives[drive].motor
+        fitted_motor = calibration.robot.named_drives[drive].motor
         document["drives"][drive]["motor"]["back_emf_constant_V_s_per_rad"] = fitted_motor.back_emf_constant_V_s_per_rad
     sidecar.write_text(yaml.safe_dump(document, sort_keys=False), encoding="utf-8")
     return sidecar

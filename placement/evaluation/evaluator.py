@@ -309,7 +309,7 @@ def members_used(robot: Robot, objectives: tuple[str, ...], regeneration: str, m
     return {"placement.objectives": set(objectives), "placement.regeneration": {regeneration},
             "placement.motor_models": {d.motor.model for d in drives},
             "placement.transmissions": {d.transmission.type for d in drives},
-            "placement.kinematics": {method, robot.sidecar.kinematics or ""}, "placement.limits": set(LIMITS.names())}
+            "placement.kinematics": {method, robot.kinematics_name or ""}, "placement.limits": set(LIMITS.names())}
 
 
 def evaluate_job(job: EvaluationJob) -> Evaluation:

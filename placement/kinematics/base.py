@@ -76,8 +76,8 @@ def solver_name(robot: Robot, name: str = "auto") -> str:
     ``numeric`` where it serves the robot, else ``sequential``."""
     if name != "auto":
         return name
-    if robot.sidecar.kinematics:
-        return robot.sidecar.kinematics
+    if robot.kinematics_name:
+        return robot.kinematics_name
     if SOLVERS.get("closed_form").unsuitable(robot) is None:
         return "closed_form"
     return "numeric" if SOLVERS.get("numeric").unsuitable(robot) is None else "sequential"

@@ -59,7 +59,7 @@ class ClosedFormSolver(KinematicsSolver):
     def unsuitable(cls, robot: Robot) -> str | None:
         if robot.closed_form is None:
             return "the robot has no kinematics_plugin"
-        if robot.model.frames[robot.end_effector_frame_id].name != robot.sidecar.end_effector.frame:
+        if robot.model.frames[robot.end_effector_frame_id].name != robot.mount_frame:
             return "a tool tip moves the path point off the frame the plug-in solves for"
         return None
 

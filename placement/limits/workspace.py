@@ -12,13 +12,13 @@ from placement.robot.model import Robot
 
 
 class Workspace(Limit):
-    """The tool point inside the sidecar's workspace box; the scale is the box's side."""
+    """The tool point inside the robot's workspace box; the scale is the box's side."""
 
     def applies_to(self, robot: Robot) -> bool:
-        return robot.sidecar.workspace is not None
+        return robot.workspace is not None
 
     def fields(self, batch: EvaluatedBatch) -> list[MarginField]:
-        workspace = batch.robot.sidecar.workspace
+        workspace = batch.robot.workspace
         assert workspace is not None  # applies_to
         return [box_field("workspace", batch.tool_position_m, workspace.min_m, workspace.max_m)]
 

@@ -103,7 +103,7 @@ class Scene:
         except ValueError as error:  # a mesh the URDF names is not there
             raise RobotFileError(robot.urdf_path, "", f"cannot draw the robot: {str(error)[:200]}") from None
         self.drawn_points_m: list[np.ndarray] = [robot_points(robot, visual)]  # the camera frames the robot, not the cell
-        if robot.cell is not None or robot.sidecar.tool is not None:
+        if robot.cell is not None or robot.tool is not None:
             self._add_cell_shapes(visual)
         self.visualizer = MeshcatVisualizer(robot.model, pin.GeometryModel(), visual)
         self.visualizer.initViewer(viewer=self.viewer)
@@ -161,7 +161,7 @@ class Scene:
 
     def add_workspace(self) -> None:
         """The workspace box as a wireframe, and its named points as coloured spheres."""
-        workspace = self.robot.sidecar.workspace
+        workspace = self.robot.workspace
         if workspace is None:
             return
         low, high = np.array(workspace.min_m), np.array(workspace.max_m)

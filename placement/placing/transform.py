@@ -54,12 +54,6 @@ def plane_frame(plane: Plane) -> tuple[np.ndarray, np.ndarray]:
     return np.column_stack([u, np.cross(normal, u), normal]), np.asarray(plane.point_m, dtype=float)
 
 
-def robot_plane(robot: Robot) -> Plane | None:
-    """The plane a planar robot declares in its sidecar, if any."""
-    defaults = robot.sidecar.placement
-    return defaults.plane if defaults is not None else None
-
-
 def describe_plane(plane: Plane) -> dict[str, list[float]]:
     """The plane and the axes its placement coordinates x, y run along (base frame, JSON-ready)."""
     rotation, origin = plane_frame(plane)
@@ -88,7 +82,7 @@ def placed_task(robot: Robot, samples: PathSamples, placements: np.ndarray) -> t
     A position task follows the tool point (a pose list's orientations are ignored, with a warning
     once). A pose task also holds the end-effector frame at R_place·R_tool·R_ee, where R_place is
     the placement's rotation, R_tool the tool frame in the path frame (a pose list's orientation;
-    the identity otherwise) and R_ee the sidecar's ``tool_rpy_in_path_rad``, which maps the tool
+    the identity otherwise) and R_ee the robot's ``tool_rpy_in_path_rad``, which maps the tool
     frame to the end-effector frame. The angular velocity and acceleration in the base frame are
     R_place times the path frame's. The load is the process force on the tool from the workpiece,
     with a zero moment for a pose task.
@@ -101,14 +95,14 @@ def placed_task(robot: Robot, samples: PathSamples, placements: np.ndarray) -> t
     Returns:
         The task (K·N samples, placement-major) and the load, (K·N, 3 or 6).
     """
-    plane = robot_plane(robot)
+    plane = robot.plane
     task, force = transform_path_to_base(samples, placements, plane)
     if robot.task == "position":
         if samples.rotation is not None:
             warnings.warn_explicit(f"robot '{robot.name}' has a position task: the pose list's orientations are "
                                    "ignored", OrientationIgnoredWarning, "placement.placing", 0, registry=_WARNED)
         return task, force
-    rpy = robot.sidecar.end_effector.tool_rpy_in_path_rad or (0.0, 0.0, 0.0)
+    rpy = robot.tool_rpy_in_path_rad
     end_effector = rotation_zyx(np.array(rpy[2]), np.array(rpy[1]), np.array(rpy[0]))
     path_rotation = placement_pose(placements, plane)[0]  # (K, 3, 3)
     if samples.rotation is None:

@@ -61,7 +61,7 @@ def default_amplitude(robot: Robot) -> tuple[float, str]:
         The amplitude (m) and a few words saying what it was scaled to.
     """
     center, _, directions = _reference_motion(robot)
-    workspace = robot.sidecar.workspace
+    workspace = robot.workspace
     if workspace is not None:
         weight = (directions**2).sum(axis=1)  # how far each axis lies in the motion's span, 0..1
         sides = (np.array(workspace.max_m) - np.array(workspace.min_m))[weight >= 0.5 * weight.max()]

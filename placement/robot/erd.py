@@ -82,7 +82,7 @@ def erd_names() -> list[str]:
 
 def estimate_warning(robot: Robot) -> str:
     """The one warning an ``erd:`` robot deserves: its drives and workspace are estimates."""
-    count = sum(text.startswith("EST") for text in robot.sidecar.sources.values())
+    count = sum(text.startswith("EST") for text in robot.sources.values())
     return (f"{robot.name}: the drives (gear {GEAR_RATIO:g}:1, motor constants scaled from the URDF's effort and "
             f"velocity limits), the workspace box and the reference posture are estimates ({count} EST sources); "
             "absolute energies are only as good as they are (write a sidecar: docs/adding_a_robot.md)")

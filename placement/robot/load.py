@@ -132,7 +132,7 @@ def _check_solver(robot: Robot) -> None:
     """A solver named in the sidecar must exist and serve this robot."""
     from placement.kinematics.base import SOLVERS  # here: the solvers import this package's modules
 
-    name = robot.sidecar.kinematics
+    name = robot.kinematics_name
     if name is None:
         return
     if name not in SOLVERS:
@@ -224,6 +224,7 @@ def _actuator(model: pin.Model, path: Path, sidecar: Sidecar, i: int) -> Actuato
     drive = sidecar.drives[spec.drive] if spec.drive else None
     return Actuator(joint=spec.joint, q_index=q_index, v_index=v_index, position_min=float(lower),
                     position_max=float(upper), velocity_max=float(velocity), drive=drive,
+                    drive_name=spec.drive if drive else None,
                     acceleration_max=spec.acceleration_max,
                     reflected_inertia=drive.reflected_inertia if drive else 0.0,
                     prismatic=model.joints[joint_id].shortname() in PRISMATIC_JOINTS)
@@ -338,8 +339,7 @@ def _task_freedoms(robot: Robot) -> tuple[int, str]:
 
     A position task in a declared plane (``placement.plane``) asks for the 2 in-plane coordinates.
     """
-    defaults = robot.sidecar.placement
-    if robot.task == "position" and defaults is not None and defaults.plane is not None:
+    if robot.task == "position" and robot.plane is not None:
         return 2, "planar "
     return robot.task_dimension, ""
 
@@ -349,7 +349,7 @@ def _check_moves_in_plane(robot: Robot) -> None:
     data = robot.model.createData()
     jacobian = pin.computeFrameJacobian(robot.model, data, robot.reference_q, robot.end_effector_frame_id,
                                         pin.LOCAL_WORLD_ALIGNED)[:3]
-    plane = robot.sidecar.placement.plane if robot.sidecar.placement else None
+    plane = robot.plane
     assert plane is not None  # _task_freedoms found it
     normal = np.asarray(plane.normal) / np.linalg.norm(plane.normal)
     off_plane = float(np.abs(normal @ jacobian).max(initial=0.0))

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from types import ModuleType
@@ -14,8 +16,8 @@ from placement.exceptions import RobotFileError
 from placement.robot.plugins import ClosedFormFunction, load_plugin, make_closed_form
 
 if TYPE_CHECKING:
-    from placement.cell.schema import Cell
-    from placement.robot.sidecar import Drive, Sidecar
+    from placement.cell.schema import Cell, ToolBody
+    from placement.robot.sidecar import Drive, PlacementDefaults, Plane, Sidecar, Workspace
 
 
 @dataclass(frozen=True)
@@ -32,6 +34,7 @@ class Actuator:
     reflected_inertia: float  # rotor and transmission inertia seen at the joint (kg or kg·m²)
     prismatic: bool  # True: m, m/s, N; False (revolute): rad, rad/s, N·m
     acceleration_max: float | None = None  # m/s² or rad/s², where the sidecar gives one
+    drive_name: str | None = None  # the drive's name in the sidecar (a key of Robot.named_drives)
 
 
 @dataclass(frozen=True)
@@ -64,7 +67,8 @@ class Robot:
         reference_q: A configuration where every closure closes (used to start solvers).
         plugin: The robot's kinematics plug-in module, if it has one.
         closed_form: The plug-in's closed-form position solver, if any.
-        sidecar: The validated sidecar data (drives, workspace, sources, ...).
+        sidecar: The validated sidecar data, for this package only: other layers read what they need
+            through the properties below (a test holds them to it).
         cell: The cell the robot works in (obstacles, keep-out zones, workpiece region, tool), if
             any: its distances become a limit (see :func:`placement.cell.tool.equip`).
     """
@@ -126,3 +130,106 @@ class Robot:
     def is_serial(self) -> bool:
         """No closure and every joint actuated."""
         return not self.closures and len(self.actuators) == self.model.nv
+
+    @property
+    def description(self) -> str:
+        """The sidecar's one-line description of the robot ("" if it gives none)."""
+        return self.sidecar.description
+
+    @property
+    def gravity_m_s2(self) -> tuple[float, float, float]:
+        """Gravity in the base frame (m/s²), as the sidecar gives it (the model carries the same)."""
+        return self.sidecar.gravity_m_s2
+
+    @property
+    def sources(self) -> dict[str, str]:
+        """Where each number comes from: sidecar field -> "STATUS: note" (STATUS one of PAPER, DERIVED, CATALOG,
+        PUBLISHED, EST, CALIBRATED)."""
+        return self.sidecar.sources
+
+    @property
+    def urdf_source(self) -> str:
+        """The URDF as the sidecar names it: a path relative to the sidecar, or 'example-robot-data:NAME'
+        (``urdf_path`` is the file itself)."""
+        return self.sidecar.urdf
+
+    @property
+    def locked_joints(self) -> dict[str, float]:
+        """Joints of the URDF held fixed, and their values (m or rad); they are not in ``model``."""
+        return self.sidecar.locked_joints
+
+    @property
+    def mount_frame(self) -> str:
+        """The frame the sidecar names as the end effector (``end_effector.frame``): tool tips and tool bodies
+        that name no frame mount on it, and a closed-form plug-in solves for it. The path follows
+        ``end_effector_frame_id``: this frame, or a tool tip on it."""
+        return self.sidecar.end_effector.frame
+
+    @property
+    def tool_rpy_in_path_rad(self) -> tuple[float, float, float]:
+        """For a pose task, the end-effector frame's orientation in the tool frame the path prescribes (the path
+        frame, without a pose list): roll, pitch, yaw about fixed x, y, z (rad); (0, 0, 0) when the sidecar
+        gives none, as for a position task."""
+        return self.sidecar.end_effector.tool_rpy_in_path_rad or (0.0, 0.0, 0.0)
+
+    @property
+    def kinematics_name(self) -> str | None:
+        """The kinematics solver the sidecar names (``kinematics``), or None: one is then chosen for the robot
+        (see :func:`placement.kinematics.base.solver_name`)."""
+        return self.sidecar.kinematics
+
+    @property
+    def kinematics_plugin(self) -> str | None:
+        """The file name of the robot's closed-form kinematics plug-in (beside the sidecar), or None."""
+        return self.sidecar.kinematics_plugin
+
+    @property
+    def workspace(self) -> Workspace | None:
+        """The nominal workspace: an axis-aligned box in the base frame (``min_m``, ``max_m``, m) with named
+        points (``points_m``, m); None when the sidecar declares none."""
+        return self.sidecar.workspace
+
+    @property
+    def placement_defaults(self) -> PlacementDefaults | None:
+        """The default search space of path placements (the sidecar's ``placement``: free variables, bounds in
+        m and rad, and a planar mechanism's plane), or None."""
+        return self.sidecar.placement
+
+    @property
+    def plane(self) -> Plane | None:
+        """The plane a planar mechanism moves in (base frame: a normal and a point, m), if it declares one."""
+        defaults = self.sidecar.placement
+        return defaults.plane if defaults is not None else None
+
+    @property
+    def tool(self) -> ToolBody | None:
+        """The tool body of the robot's own description (the sidecar's ``tool``), which loading mounts, or None.
+        A cell's tool replaces it at work (see :func:`placement.cell.tool.tool_of`)."""
+        return self.sidecar.tool
+
+    @property
+    def collision_ignore_pairs(self) -> tuple[tuple[str, str], ...]:
+        """Pairs of links (or a link and the tool) never checked against each other: they touch by design."""
+        return tuple(self.sidecar.collision.ignore_pairs)
+
+    @property
+    def named_drives(self) -> dict[str, Drive]:
+        """Every drive the sidecar declares, by its name (the actuators name theirs: ``Actuator.drive_name``)."""
+        return dict(self.sidecar.drives)
+
+    def with_drives(self, drives: Mapping[str, Drive]) -> Robot:
+        """The robot with some of its named drives replaced ({name: drive}); its model is shared.
+
+        Every actuator with a drive carries the drive of its name, and that drive's reflected inertia
+        (the model's armature is left as it is); ``named_drives`` gives the new drives.
+
+        Raises:
+            KeyError: A name that is not one of ``named_drives``.
+        """
+        unknown = sorted(set(drives) - set(self.sidecar.drives))
+        if unknown:
+            raise KeyError(f"unknown drive(s) {unknown}, expected some of {sorted(self.sidecar.drives)}")
+        named = {**self.sidecar.drives, **drives}
+        actuators = tuple(a if a.drive_name is None else dataclasses.replace(
+            a, drive=named[a.drive_name], reflected_inertia=named[a.drive_name].reflected_inertia) for a in self.actuators)
+        return dataclasses.replace(self, actuators=actuators, sidecar=self.sidecar.model_copy(update={"drives": named}))

@@ -93,7 +93,7 @@ def tool_mount(robot: Robot, tool: ToolBody, source: Path) -> tuple[int, pin.SE3
         InputFileError: The mount frame is not a frame of the robot (a CellFileError when ``source``
             is a cell file, a RobotFileError when it is the robot's sidecar).
     """
-    name = tool.frame if tool.frame is not None else robot.sidecar.end_effector.frame
+    name = tool.frame if tool.frame is not None else robot.mount_frame
     frame_id = find_frame(robot.model, name)
     if frame_id is None:
         raise declaring_file_error(robot, source)(source, "tool.frame", f"no frame '{name[:80]}' in robot "
@@ -135,7 +135,7 @@ def mount_tool(robot: Robot, tool: ToolBody, source: Path | None = None) -> Robo
     model.inertias[joint] = model.inertias[joint] + joint_M_tool.act(tool_inertia(tool))
     if tool.tip is None:
         return dataclasses.replace(robot, model=model)
-    name = tool.frame if tool.frame is not None else robot.sidecar.end_effector.frame
+    name = tool.frame if tool.frame is not None else robot.mount_frame
     mount = find_frame(model, name)
     tip = pin.Frame(f"{tool.name}_tip", joint, mount, joint_M_tool * pose_placement(tool.tip), pin.FrameType.OP_FRAME)
     return dataclasses.replace(robot, model=model, end_effector_frame_id=int(model.addFrame(tip, False)))

@@ -9,7 +9,7 @@ import numpy as np
 
 from placement.cell.schema import Region
 from placement.exceptions import PlacementError
-from placement.placing.transform import VARIABLES, plane_frame, robot_plane
+from placement.placing.transform import VARIABLES, plane_frame
 from placement.robot.model import Robot
 from placement.robot.sidecar import PLANE_VARIABLES, Plane, Workspace
 
@@ -64,7 +64,7 @@ def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict
         half_turn: The path is unchanged by a half turn about its tool axis
             (:meth:`ToolPath.half_turn_symmetric`): phi then only needs ±90°.
     """
-    defaults, plane = robot.sidecar.placement, robot_plane(robot)
+    defaults, plane = robot.placement_defaults, robot.plane
     if free is None:  # the default free set, less what the caller fixes
         default_free = defaults.free if defaults and defaults.free else PLANE_VARIABLES if plane else ("x", "y", "z", "phi")
         free = tuple(n for n in default_free if n not in (fixed or {}))
@@ -79,7 +79,7 @@ def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict
     limits.update(bounds or {})
     if plane is not None:
         _check_in_plane(robot.name, plane, free, fixed or {})
-    for axis, bound in _box_ranges(robot.sidecar.workspace, plane).items():
+    for axis, bound in _box_ranges(robot.workspace, plane).items():
         limits.setdefault(axis, bound)
     region = robot.cell.workpiece_region if robot.cell is not None else None
     for axis, (low, high) in _box_ranges(region, plane).items():  # the path's origin stays in the region

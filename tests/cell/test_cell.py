@@ -40,7 +40,7 @@ def tool_shape_placement(robot, tool) -> pin.SE3:
     """World placement of the tool's collision shape at the reference configuration, by Pinocchio alone."""
     data = robot.model.createData()
     pin.framesForwardKinematics(robot.model, data, robot.reference_q)
-    frame = robot.model.getFrameId(tool.frame or robot.sidecar.end_effector.frame)
+    frame = robot.model.getFrameId(tool.frame or robot.mount_frame)
     return data.oMf[frame] * pose_placement(tool) * pose_placement(tool.collision)
 
 
@@ -264,7 +264,7 @@ def test_a_reduced_robot_places_its_shapes_as_the_full_model_does():
     scene = CollisionScene(panda)
     full = pin.buildModelFromUrdf(str(panda.urdf_path))
     q_full = pin.neutral(full)
-    for name, value in panda.sidecar.locked_joints.items():
+    for name, value in panda.locked_joints.items():
         q_full[full.joints[full.getJointId(name)].idx_q] = value
     for name in panda.model.names[1:]:
         q_full[full.joints[full.getJointId(name)].idx_q] = panda.reference_q[panda.model.joints[

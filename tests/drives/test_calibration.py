@@ -89,9 +89,9 @@ def test_the_command_writes_a_calibrated_robot_that_loads(hidden_log, tmp_path, 
     text = capsys.readouterr().out
     assert "resistance_ohm" in text and "held out" in text and png.is_file()
     robot = load_robot(out / "orthoglide.yaml")  # the plug-in and URDF came along
-    drive = robot.sidecar.drives[DRIVE]
+    drive = robot.named_drives[DRIVE]
     assert drive.motor.resistance_ohm == pytest.approx(1.8, rel=0.02) and drive.friction.coulomb == pytest.approx(20, rel=0.02)
-    assert robot.sidecar.sources[f"drives.{DRIVE}.motor.resistance_ohm"].startswith("CALIBRATED: fitted to log.csv")
+    assert robot.sources[f"drives.{DRIVE}.motor.resistance_ohm"].startswith("CALIBRATED: fitted to log.csv")
 
 
 def test_a_log_whose_motion_mujoco_simulated(tmp_path):
@@ -151,3 +151,21 @@ def test_a_serial_arm_logged_in_joint_positions(tmp_path):
     shoulder = result.values["size3"]  # the big joints, well excited by the motion
     assert shoulder["resistance_ohm"] == pytest.approx(0.4 * 1.3, rel=0.01)
     assert shoulder["coulomb"] == pytest.approx(2.0, rel=0.01) and shoulder["viscous"] == pytest.approx(5.0, rel=0.01)
+
+
+def test_changed_drives_reach_the_actuators_that_name_them_and_travel_to_workers():
+    import pickle
+
+    robot = load_robot("orthoglide")
+    drive = robot.named_drives[DRIVE]
+    changed = drive.model_copy(update={"motor": drive.motor.model_copy(update={"rotor_inertia_kg_m2": 1e-4})})
+    new = robot.with_drives({DRIVE: changed})
+    assert new.named_drives[DRIVE] is changed and robot.named_drives[DRIVE] is drive
+    for before, after in zip(robot.actuators, new.actuators, strict=True):
+        assert after.drive is (changed if before.drive_name == DRIVE else before.drive)
+        assert after.reflected_inertia == after.drive.reflected_inertia
+    assert new.model is robot.model
+    copy = pickle.loads(pickle.dumps(new))
+    assert copy.named_drives[DRIVE] == changed and copy.actuators == new.actuators and copy.closed_form is not None
+    with pytest.raises(KeyError, match="unknown drive"):
+        robot.with_drives({"no_such_drive": changed})

@@ -27,7 +27,7 @@ def tiny_path(tmp_path_factory):
 
 
 def _at_points(robot, path, objective, names):
-    points = robot.sidecar.workspace.points_m
+    points = robot.workspace.points_m
     placements = np.array([[*points[name], 0.0, 0.0, 0.0] for name in names])
     return Evaluator(robot, path, objective=objective).evaluate(placements).value
 

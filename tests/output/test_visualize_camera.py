@@ -39,7 +39,7 @@ def drawn_box(robot, path_points):
     data = robot.model.createData()
     pin.framesForwardKinematics(robot.model, data, robot.reference_q)
     points = [np.array([frame.translation for frame in data.oMf]), path_points]
-    workspace = robot.sidecar.workspace
+    workspace = robot.workspace
     if workspace is not None:
         points.append(np.array([workspace.min_m, workspace.max_m]))
     points = np.vstack(points)

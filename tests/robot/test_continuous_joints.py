@@ -231,7 +231,7 @@ def test_an_erd_arm_with_unlimited_continuous_joints_gets_a_full_turn_about_its_
         reference = robot.reference_q[actuator.q_index]
         assert (actuator.position_min, actuator.position_max) == pytest.approx((reference - np.pi, reference + np.pi))
         index = [a.joint for a in robot.actuators].index(name)
-        assert "continuous" in robot.sidecar.sources[f"actuators.{index}.position_min"]
+        assert "continuous" in robot.sources[f"actuators.{index}.position_min"]
     monkeypatch.undo()
     revolute = load_erd_robot("ur5", "tool0")
     data, data_revolute = robot.model.createData(), revolute.model.createData()

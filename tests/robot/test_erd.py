@@ -29,7 +29,7 @@ def test_estimated_drives_reach_exactly_the_urdf_limits(erd_ur5):
         assert drive.motor.max_speed_rad_s / GEAR_RATIO == pytest.approx(model.velocityLimit[actuator.v_index],
                                                                          rel=1e-15)
         assert drive.motor.back_emf_constant_V_s_per_rad == pytest.approx(drive.motor.torque_constant_Nm_per_A / 3)
-    sources = erd_ur5.sidecar.sources
+    sources = erd_ur5.sources
     for a in erd_ur5.actuators:
         assert sources[f"drives.{a.joint}.motor"].startswith("EST")
         assert sources[f"drives.{a.joint}.transmission"].startswith("EST")
@@ -56,14 +56,14 @@ def test_reference_posture_points_the_tool_down_away_from_singularities(erd_ur5)
     np.testing.assert_allclose(data.oMf[erd_ur5.end_effector_frame_id].rotation[:, 2], [0, 0, -1], atol=1e-9)
     jacobian = pin.computeFrameJacobian(erd_ur5.model, data, q, erd_ur5.end_effector_frame_id, pin.LOCAL_WORLD_ALIGNED)
     assert np.linalg.cond(jacobian) < 1e3
-    low, high = erd_ur5.sidecar.workspace.min_m, erd_ur5.sidecar.workspace.max_m
+    low, high = erd_ur5.workspace.min_m, erd_ur5.workspace.max_m
     assert np.all(np.array(low) <= data.oMf[erd_ur5.end_effector_frame_id].translation)
     assert np.all(data.oMf[erd_ur5.end_effector_frame_id].translation <= np.array(high))
 
 
 def test_panda_locks_its_fingers_and_third_joint():
     panda = load_erd_robot("panda", "panda_hand_tcp")
-    assert set(panda.sidecar.locked_joints) == {"panda_finger_joint1", "panda_finger_joint2", "panda_joint3"}
+    assert set(panda.locked_joints) == {"panda_finger_joint1", "panda_finger_joint2", "panda_joint3"}
     assert len(panda.actuators) == 6
 
 

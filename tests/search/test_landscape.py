@@ -26,7 +26,7 @@ def test_least_energy_near_the_isotropic_point_with_the_sides_along_the_axes(res
 
 def test_most_energy_against_the_faces_at_q_minus_turned_by_45_degrees(result):
     robot = load_robot("orthoglide")
-    q_minus = np.array(robot.sidecar.workspace.points_m["Q_minus"])
+    q_minus = np.array(robot.workspace.points_m["Q_minus"])
     x, y, z, phi = result.worst.detail.placement[:4]
     # The turned 30 x 60 mm rectangle reaches (15 + 30)/√2 = 31.8 mm from its centre along x and y.
     reach = (0.015 + 0.030) / np.sqrt(2)
