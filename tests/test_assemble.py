@@ -9,10 +9,10 @@ import yaml
 from robot_copies import edited_copy
 
 from placement.__main__ import main
-from placement.exceptions import RobotFileError
 from placement.robot import load_robot
 from placement.robot.catalog import builtin_robots_dir
 from placement.robot.closures import closure_residuals
+from placement.robot.exceptions import RobotFileError
 
 
 def largest_residual(robot) -> float:

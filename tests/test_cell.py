@@ -13,10 +13,11 @@ import pytest
 import yaml
 from robot_copies import edited_copy
 
+from placement.cell.exceptions import CellFileError
 from placement.cell.scene import CollisionScene
 from placement.cell.schema import load_cell
-from placement.exceptions import CellFileError, RobotFileError
 from placement.robot import load_robot
+from placement.robot.exceptions import RobotFileError
 from placement.robot.tool import mount_tool, pose_placement, tool_inertia
 
 ROOT = Path(__file__).parent.parent

@@ -8,9 +8,9 @@ import pytest
 from robot_copies import edited_copy
 
 from placement.__main__ import main
-from placement.exceptions import RobotFileError
 from placement.robot import load_robot
 from placement.robot.checks import check_robot, default_amplitude
+from placement.robot.exceptions import RobotFileError
 
 SAMPLES = 20
 

@@ -10,9 +10,10 @@ import pytest
 from robot_copies import edited_copy
 
 from placement.__main__ import main
-from placement.cli.common import UsageError, parse_free
-from placement.exceptions import RobotFileError
+from placement.cli.common import parse_free
+from placement.cli.exceptions import UsageError
 from placement.robot import load_robot
+from placement.robot.exceptions import RobotFileError
 
 EXAMPLE = Path(__file__).parents[1] / "examples" / "rect.yaml"
 QUICK = ["--robot", "orthoglide", "--path", str(EXAMPLE), "--time-step", "0.004", "--quiet",

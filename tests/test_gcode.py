@@ -13,8 +13,8 @@ import pytest
 
 from placement.__main__ import main
 from placement.evaluation.evaluator import Evaluator
-from placement.exceptions import GcodeError, PathFileError
 from placement.path import load_path
+from placement.path.exceptions import GcodeError, PathFileError
 from placement.robot import load_robot
 
 EXAMPLES = Path(__file__).parents[1] / "examples"

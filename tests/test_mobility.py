@@ -12,10 +12,10 @@ import yaml
 from robot_copies import edited_copy
 
 from placement.__main__ import main
-from placement.exceptions import RobotFileError
 from placement.kinematics import joint_trajectory
 from placement.kinematics.trajectories import TaskTrajectory
 from placement.robot import load_robot
+from placement.robot.exceptions import RobotFileError
 
 CIRCLE = Path(__file__).parents[1] / "examples" / "circle.yaml"
 

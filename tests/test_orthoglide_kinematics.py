@@ -6,8 +6,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from trajectories import orthoglide_path
 
-from placement.exceptions import UnreachableError
 from placement.kinematics import joint_trajectory
+from placement.kinematics.exceptions import UnreachableError
 from placement.kinematics.trajectories import TaskTrajectory
 from placement.robot import load_robot
 from placement.robot.closures import closure_jacobian, closure_residuals

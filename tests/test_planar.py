@@ -9,8 +9,9 @@ from robot_copies import edited_copy
 
 from placement import Evaluator, SearchSettings, load_path, load_robot, optimize_placement
 from placement.__main__ import main
-from placement.exceptions import PlacementError, RobotFileError
+from placement.exceptions import PlacementError
 from placement.placing.transform import plane_frame, transform_path_to_base
+from placement.robot.exceptions import RobotFileError
 from placement.robot.sidecar import Plane
 from placement.search.space import default_space
 

@@ -20,8 +20,9 @@ from robot_copies import edited_copy, orthoglide_motor
 
 from placement import Evaluator, load_path, load_robot, sweep
 from placement.drives.motors import MOTOR_MODELS, Motor, MotorModel, PowerParts, register_motor_model
+from placement.exceptions import UnknownMemberError
 from placement.objectives import OBJECTIVES
-from placement.registry import UnknownMemberError, runtime_members
+from placement.registry import runtime_members
 
 PLUGIN = Path(__file__).parent / "plugin_demo"
 
@@ -158,7 +159,8 @@ def test_members_registered_at_run_time_travel_to_spawned_workers(tmp_path):
 def test_a_workers_error_reaches_the_caller_whole():
     import pickle
 
-    from placement.exceptions import RobotFileError, UnreachableError
+    from placement.kinematics.exceptions import UnreachableError
+    from placement.robot.exceptions import RobotFileError
 
     for error in (UnknownMemberError("objective", "x", ["energy"]), RobotFileError("/r.yaml", "urdf", "not found"),
                   UnreachableError([3, 4], 2, "singular")):
@@ -176,7 +178,7 @@ def test_a_broken_installed_entry_spoils_only_its_own_name(tmp_path):
     (dist / "entry_points.txt").write_text("[placement.objectives]\naaa_broken = no_such_module:thing\n"
                                            "not_an_objective = json:dumps\n")
     script = ("import json, placement\n"
-              "from placement.registry import UnknownMemberError\n"
+              "from placement.exceptions import UnknownMemberError\n"
               "names = placement.OBJECTIVES.names()\n"
               "errors = []\n"
               "for name in ('aaa_broken', 'not_an_objective'):\n"

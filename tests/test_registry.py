@@ -10,10 +10,10 @@ from test_path import EXAMPLE
 
 from placement import Evaluator, load_path
 from placement.__main__ import main
-from placement.exceptions import RobotFileError
 from placement.placing.transform import VARIABLES
 from placement.robot import load_robot, robot_names
 from placement.robot.catalog import builtin_robots_dir
+from placement.robot.exceptions import RobotFileError
 from placement.search import optimize
 
 CIRCLE = EXAMPLE.with_name("circle.yaml")

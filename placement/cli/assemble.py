@@ -12,7 +12,8 @@ from __future__ import annotations
 
 import argparse
 
-from placement.cli.common import UsageError, parse_joint_values, require_sidecar
+from placement.cli.common import parse_joint_values, require_sidecar
+from placement.cli.exceptions import UsageError
 from placement.kinematics.base import SINGULAR_CONDITION
 from placement.robot.assemble import (
     SINGULAR_SIGMA,

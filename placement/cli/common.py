@@ -15,9 +15,9 @@ from pydantic import ValidationError
 
 from placement.cell.schema import load_cell
 from placement.cell.tool import equip
+from placement.cli.exceptions import UsageError
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.parallel import SCHEDULER_VARIABLE
-from placement.exceptions import PlacementError
 from placement.kinematics.base import solver_name
 from placement.kinematics.batched import prepare_kernels
 from placement.limits.collision import collision_scene
@@ -30,10 +30,6 @@ from placement.robot.catalog import sidecar_path
 from placement.robot.erd import ERD_FORM, erd_name, estimate_warning, load_erd_robot
 from placement.robot.load import ERD_PREFIX, load_robot
 from placement.robot.model import Robot
-
-
-class UsageError(PlacementError):
-    """A command-line option has a value it cannot take."""
 
 
 def whole_number(low: int, high: int) -> Callable[[str], int]:

@@ -11,7 +11,6 @@ import sys
 import numpy as np
 
 from placement.cli.common import (
-    UsageError,
     add_cell_option,
     add_sampling_options,
     add_tool_option,
@@ -21,6 +20,7 @@ from placement.cli.common import (
     parse_values,
     robot_files,
 )
+from placement.cli.exceptions import UsageError
 from placement.energy.regeneration import REGENERATION
 from placement.placing.transform import VARIABLES
 from placement.search.feed import feed_study

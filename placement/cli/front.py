@@ -8,7 +8,7 @@ import sys
 import numpy as np
 from tqdm import tqdm
 
-from placement.cli.common import UsageError
+from placement.cli.exceptions import UsageError
 from placement.evaluation.evaluator import Evaluator
 from placement.evaluation.parallel import Cluster
 from placement.evaluation.results import PlacementDetail

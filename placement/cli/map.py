@@ -12,7 +12,6 @@ import numpy as np
 from tqdm import tqdm
 
 from placement.cli.common import (
-    UsageError,
     add_cell_option,
     add_model_options,
     add_sampling_options,
@@ -25,6 +24,7 @@ from placement.cli.common import (
     robot_files,
     whole_number,
 )
+from placement.cli.exceptions import UsageError
 from placement.evaluation.parallel import cluster, scheduler_address
 from placement.objectives.base import quantity, wording
 from placement.output.report import write_atomically

@@ -15,7 +15,6 @@ import numpy as np
 from tqdm import tqdm
 
 from placement.cli.common import (
-    UsageError,
     add_cell_option,
     add_model_options,
     add_sampling_options,
@@ -29,6 +28,7 @@ from placement.cli.common import (
     robot_files,
     whole_number,
 )
+from placement.cli.exceptions import UsageError
 from placement.cli.front import SCENE_COLORS, parse_members, parse_objectives, place_front
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.evaluator import Evaluator

@@ -21,9 +21,9 @@ import numpy as np
 import pinocchio as pin
 import yaml
 
-from placement.exceptions import AssemblyError
 from placement.kinematics.generic import null_space_basis
 from placement.robot.closures import LWA, closure_jacobian, closure_residuals
+from placement.robot.exceptions import AssemblyError
 from placement.robot.gepetto import URDF_NAME, YAML_NAME, sidecar_beside, sidecar_text
 from placement.robot.load import write_if_it_loads
 from placement.robot.model import Robot
