@@ -17,6 +17,8 @@ from placement.exceptions import PlacementError
 from placement.path.schema import Timing
 from placement.placing.transform import placed_task
 from placement.search.pareto import non_dominated
+from placement.timing.exceptions import TimingError
+from placement.timing.rules import check_timing, needed_timing, override_timing, timing_for
 
 PLACEMENTS = np.array([[0.0, 0.0, -0.03, 0.0, 0.0, 0.0],
                        [0.05, 0.03, -0.12, -0.1, 0.0, 0.0],
@@ -167,6 +169,39 @@ def test_cycle_time_needs_the_optimal_timing_law(orthoglide_rect):
     robot, _ = orthoglide_rect
     with pytest.raises(PlacementError, match="cycle_time' needs the optimal timing law"):
         Evaluator(robot, load_path("examples/rect.yaml"), objective=("energy", "cycle_time"))
+
+
+def test_the_timing_rules_say_which_law_the_objectives_need_once_for_the_library_and_the_command_line():
+    path = load_path("examples/rect.yaml")  # the paper's law
+    assert needed_timing(("energy", "dexterity")) is None and needed_timing(("energy", "cycle_time")) == "optimal"
+    assert timing_for(("energy",), None, path) == (None, None)
+    assert timing_for(("energy",), "realistic", path) == ("realistic", None)
+    assert timing_for(("energy", "cycle_time"), None, path) == (
+        "optimal", "the objective cycle_time needs the optimal timing law")
+    assert timing_for(("cycle_time",), "optimal", path) == ("optimal", None)
+    assert timing_for(("cycle_time",), None, optimal(path)) == (None, None)
+    with pytest.raises(TimingError, match="^--timing paper: the objective cycle_time needs --timing optimal$"):
+        timing_for(("cycle_time",), "paper", path)
+    check_timing(("energy", "cycle_time"), optimal(path))
+    with pytest.raises(TimingError, match="^the objective 'cycle_time' needs the optimal timing law"):
+        check_timing(("energy", "cycle_time"), path)
+
+
+def test_the_timing_overrides_keep_the_path_files_values_where_none_is_given():
+    path = load_path("examples/rect.yaml")  # the paper's law, with bounds for the realistic one
+    assert override_timing(path) is path
+    assert override_timing(path, "realistic").timing == Timing(mode="realistic", max_acceleration_m_s2=10,
+                                                              max_jerk_m_s3=500)
+    path = dataclasses.replace(path, timing=Timing())  # the paper's law alone
+    realistic = override_timing(path, "realistic", 2.0, 50.0)
+    assert realistic.timing == Timing(mode="realistic", max_acceleration_m_s2=2.0, max_jerk_m_s3=50.0)
+    assert override_timing(realistic, max_jerk_m_s3=80.0).timing.max_acceleration_m_s2 == 2.0
+    assert override_timing(realistic, "optimal").timing == Timing(mode="optimal", max_acceleration_m_s2=2.0,
+                                                                  max_jerk_m_s3=50.0)
+    with pytest.raises(TimingError, match="^--timing: the realistic timing law needs max_acceleration_m_s2 and "
+                                          "max_jerk_m_s3; the realistic timing law needs --max-acceleration and "
+                                          "--max-jerk > 0, or both in the path file$"):
+        override_timing(path, "realistic", max_jerk_m_s3=50.0)
 
 
 def test_a_bus_voltage_slows_the_timing_until_the_whole_phase_voltage_holds(tmp_path):

@@ -38,6 +38,7 @@ from placement.registry import restore_runtime_members, runtime_members
 from placement.robot.model import Robot
 from placement.timing.law import TimeLaw, timed_rates
 from placement.timing.optimal import time_optimal
+from placement.timing.rules import check_timing
 
 BATCH_SAMPLES = 60_000  # samples per batched call (memory: about 0.5 kB a sample)
 UNREACHABLE_MARGIN = -1.0  # every margin of an unreachable placement: how infeasible it is, to steer the search
@@ -93,11 +94,7 @@ class Evaluator:
         self.objective_name = self.objective_names[0]
         self.objectives: tuple[Objective, ...] = tuple(OBJECTIVES.get(name) for name in self.objective_names)
         self.objective = self.objectives[0]
-        for name, wanted in zip(self.objective_names, self.objectives):
-            if wanted.timing is not None and wanted.timing != path.timing.mode:
-                raise PlacementError(f"the objective '{name}' needs the {wanted.timing} timing law (--timing "
-                                     f"{wanted.timing}, or timing: {{mode: {wanted.timing}}} in the path file); the path "
-                                     f"'{path.name}' is timed by the {path.timing.mode} law")
+        check_timing(self.objective_names, path)
         self.geometry = path.geometry(time_step_s, refine) if path.timing.mode == "optimal" else None
         self.samples = path.sample(time_step_s) if self.geometry is None else self.geometry.evaluated_samples
         self.evaluations = 0  # placements evaluated so far
