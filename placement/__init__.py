@@ -20,7 +20,7 @@ from placement.drives.transmissions import TRANSMISSIONS, Transmission
 from placement.dynamics.inverse import ActuatorTrajectory, actuator_efforts, inverse_dynamics
 from placement.energy.integration import Energy
 from placement.energy.regeneration import REGENERATION, RegenerationPolicy
-from placement.evaluation.evaluator import Evaluator
+from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.evaluation.results import Evaluation, PlacementDetail
 from placement.exceptions import InputFileError, PlacementError, UnknownMemberError
 from placement.kinematics import joint_trajectory
@@ -59,6 +59,7 @@ __all__ = [
     "Energy",
     "Evaluation",
     "Evaluator",
+    "EvaluatorSettings",
     "FrontMember",
     "InputFileError",
     "JointTrajectory",

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 from robot_copies import edited_copy, orthoglide_motor
 
-from placement import Evaluator, load_path, load_robot, sweep
+from placement import Evaluator, EvaluatorSettings, load_path, load_robot, sweep
 from placement.drives.motors import MOTOR_MODELS, Motor, MotorModel, PowerParts, register_motor_model
 from placement.exceptions import UnknownMemberError
 from placement.objectives import OBJECTIVES
@@ -27,7 +27,7 @@ from placement.registry import runtime_members
 PLUGIN = Path(__file__).parent / "plugin_demo"
 
 SCRIPT = r"""
-import json, sys
+import dataclasses, json, sys
 from concurrent.futures import ProcessPoolExecutor
 from multiprocessing import get_context
 from pathlib import Path
@@ -47,16 +47,16 @@ robot = placement.load_robot(folder / "orthoglide.yaml")
 path = placement.load_path(sys.argv[2])
 axes = {"x": np.linspace(-0.04, 0.04, 3), "y": np.linspace(-0.04, 0.04, 3)}
 out = {}
+signed = placement.EvaluatorSettings(regeneration="signed", time_step_s=0.005)
 with ProcessPoolExecutor(2, mp_context=get_context("spawn")) as pool:
     for objective in ("peak_motor_speed", "energy"):
-        spawned = placement.sweep(robot, path, axes, regeneration="signed", time_step_s=0.005, executor=pool,
-                                  objective=objective)
-        here = placement.sweep(robot, path, axes, regeneration="signed", time_step_s=0.005, workers=1,
-                               objective=objective)
+        settings = dataclasses.replace(signed, objective=objective)
+        spawned = placement.sweep(robot, path, axes, evaluation=settings, executor=pool)
+        here = placement.sweep(robot, path, axes, evaluation=dataclasses.replace(settings, workers=1))
         out[objective] = [spawned.value.tolist(), here.value.tolist()]
 stock = placement.load_robot("orthoglide")
-plain = placement.sweep(stock, path, axes, regeneration="signed", time_step_s=0.005, workers=1)
-evaluator = placement.Evaluator(stock, path, "signed", 0.005)
+plain = placement.sweep(stock, path, axes, evaluation=dataclasses.replace(signed, workers=1))
+evaluator = placement.Evaluator(stock, path, signed)
 batch = evaluator.batch(plain.placements())
 out["pmsm_energy"] = plain.value.tolist()
 out["speed"] = np.abs(batch.motor.speed_rad_s).max(axis=(1, 2)).reshape(3, 3).tolist()
@@ -86,13 +86,13 @@ def test_installed_members_reach_spawned_workers(tmp_path):
 LIMIT_SCRIPT = r"""
 import json, sys
 import numpy as np
-from placement import Evaluator, load_path, load_robot
+from placement import Evaluator, EvaluatorSettings, load_path, load_robot
 from placement.evaluation.evaluator import denser
 from placement.timing.optimal import SAFETY
 
 robot, path = load_robot("orthoglide"), load_path(sys.argv[1])
 placement = np.array([0.0, 0.0, -0.033, 0.0, 0.0, 0.0])
-with Evaluator(robot, path, time_step_s=0.004, workers=1) as evaluator:
+with Evaluator(robot, path, EvaluatorSettings(time_step_s=0.004, workers=1)) as evaluator:
     detail = evaluator.detail(placement)
     recheck = denser(evaluator, 4).recheck(placement[None], evaluator)
 top = np.array([a.velocity_max for a in robot.actuators])
@@ -120,7 +120,7 @@ def test_an_installed_limit_bounds_the_optimal_timing_law(tmp_path):
     assert out["peak_share"] == pytest.approx(0.5 * out["safety"], rel=1e-6)  # TOPP-RA stays ~1e-8 inside a bound
     assert out["recheck_feasible"] and out["recheck_margin"] >= 0
     robot = load_robot("orthoglide")
-    with Evaluator(robot, load_path(path), time_step_s=0.004, workers=1) as free:
+    with Evaluator(robot, load_path(path), EvaluatorSettings(time_step_s=0.004, workers=1)) as free:
         unbounded = free.detail(np.array([0.0, 0.0, -0.033, 0.0, 0.0, 0.0]))
     top = np.array([a.velocity_max for a in robot.actuators])
     assert (np.abs(unbounded.velocity) / top).max() > 0.6  # without the limit the feed (0.66 m/s) sets the pace
@@ -150,9 +150,9 @@ def test_members_registered_at_run_time_travel_to_spawned_workers(tmp_path):
     path = load_path(Path(__file__).parents[1] / "examples" / "rect.yaml")
     axes = {"x": np.array([-0.02, 0.0, 0.02])}
     with ProcessPoolExecutor(2, mp_context=get_context("spawn")) as pool:
-        spawned = sweep(robot, path, axes, time_step_s=0.01, executor=pool)
+        spawned = sweep(robot, path, axes, executor=pool, evaluation=EvaluatorSettings(time_step_s=0.01))
     assert spawned.feasible.all() and (spawned.value == 0.0).all()
-    moving = sweep(load_robot("orthoglide"), path, axes, time_step_s=0.01, workers=1)
+    moving = sweep(load_robot("orthoglide"), path, axes, evaluation=EvaluatorSettings(time_step_s=0.01, workers=1))
     assert (moving.value > 1.0).all()  # the same map with the stock motor draws energy
 
 
