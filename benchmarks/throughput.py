@@ -24,7 +24,7 @@ from pathlib import Path  # noqa: E402
 import numpy as np  # noqa: E402
 
 from placement.dynamics.inverse import inverse_dynamics  # noqa: E402
-from placement.evaluation.evaluator import Evaluator  # noqa: E402
+from placement.evaluation.evaluator import Evaluator, EvaluatorSettings  # noqa: E402
 from placement.kinematics import joint_trajectory  # noqa: E402
 from placement.kinematics.trajectories import TaskTrajectory  # noqa: E402
 from placement.path.load import load_path  # noqa: E402
@@ -105,13 +105,14 @@ def main() -> None:
     print(f"  closed-form / generic route: {ratio:.1f}x; largest joint position, rate or acceleration gap between "
           f"the routes: {route_gap:.1e}")
     print(f"  lumped - exact force gap on this path: {gap:.2f} N (exact peak {np.abs(exact.effort).max():.1f} N)")
-    evaluator = Evaluator(robot, load_path(Path(__file__).parents[1] / "examples" / "rect.yaml"), threads=1)
+    evaluator = Evaluator(robot, load_path(Path(__file__).parents[1] / "examples" / "rect.yaml"), EvaluatorSettings(threads=1))
     placements = np.random.default_rng(0).uniform([-0.1, -0.1, -0.1, -1.5, 0, 0], [0.05, 0.05, 0.05, 1.5, 0, 0],
                                                    (200, 6))
     per_second = rate(lambda: evaluator.evaluate(placements), len(placements), args.seconds)
     print(f"  whole chain (energy and margins), 30 x 60 mm rectangle, {len(evaluator.samples)} samples: "
           f"{per_second:,.0f} placements/s ({per_second * len(evaluator.samples):,.0f} samples/s)")
-    optimal = Evaluator(robot, dataclasses.replace(evaluator.path, timing=Timing(mode="optimal")), threads=1, workers=1)
+    optimal = Evaluator(robot, dataclasses.replace(evaluator.path, timing=Timing(mode="optimal")),
+                        EvaluatorSettings(threads=1, workers=1))
     assert optimal.geometry is not None
     timed = rate(lambda: optimal.evaluate(placements[:50]), 50, args.seconds)
     print(f"  the same under the optimal timing law (TOPP-RA on each of the 4 runs, {len(optimal.geometry)} path "
@@ -121,7 +122,7 @@ def main() -> None:
     seconds = {}
     for workers in (1, 2):
         tic = time.perf_counter()
-        sweep(robot, evaluator.path, axes, {"z": 0.0, "phi": 0.0}, workers=workers)
+        sweep(robot, evaluator.path, axes, {"z": 0.0, "phi": 0.0}, evaluation=EvaluatorSettings(workers=workers))
         seconds[workers] = time.perf_counter() - tic
     print(f"41 x 41 (x, y) energy map of the 30 x 60 mm rectangle at z = 0, phi = 0: {seconds[1]:.2f} s with 1 worker, "
           f"{seconds[2]:.2f} s with 2 workers (speed-up {seconds[1] / seconds[2]:.2f}, process start-up included)")

@@ -42,18 +42,19 @@ def fitted_robot(values: np.ndarray):
 
 def search(width_mm: int, values: list[float] | None, time_step_s: float) -> dict:
     """Least- and most-energy placements of one rectangle (runs in a worker)."""
+    from placement.evaluation.evaluator import EvaluatorSettings
     from placement.robot import load_robot
     from placement.search.optimize import optimize_placement
 
     robot = load_robot("orthoglide") if values is None else fitted_robot(np.array(values))
-    result = optimize_placement(robot, rectangle(width_mm), time_step_s=time_step_s)
+    result = optimize_placement(robot, rectangle(width_mm), evaluation=EvaluatorSettings(time_step_s=time_step_s))
     assert result.best is not None and result.worst is not None, result.infeasible
     return {"width": width_mm, "min": result.best.detail.energy.total_J, "max": result.worst.detail.energy.total_J,
             "placements": [result.best.detail.placement, result.worst.detail.placement]}
 
 
 def main() -> None:
-    from placement.evaluation.evaluator import Evaluator
+    from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", default="docs/paper_table.md", help="Markdown report whose calibration section to write")
@@ -69,7 +70,8 @@ def main() -> None:
 
     def residuals(x: np.ndarray) -> np.ndarray:
         robot = fitted_robot(x)
-        energies = [Evaluator(robot, paths[w], "clip", args.time_step).evaluate(np.array(unfitted[w]["placements"])).value
+        settings = EvaluatorSettings(regeneration="clip", time_step_s=args.time_step)
+        energies = [Evaluator(robot, paths[w], settings).evaluate(np.array(unfitted[w]["placements"])).value
                     for w in FITTED_WIDTHS_MM]
         return np.concatenate(energies) / target - 1.0
 

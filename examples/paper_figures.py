@@ -20,7 +20,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from paper_table import PAPER, WIDTHS_MM, rectangle, run_case
 
-from placement import load_path, load_robot, optimize_placement
+from placement import EvaluatorSettings, load_path, load_robot, optimize_placement
 from placement.kinematics import joint_trajectory
 from placement.output.plots import draw_map, map_figure, save
 from placement.output.scene import BEST_COLOR, WORST_COLOR, Scene, screenshot
@@ -101,7 +101,7 @@ def main() -> None:
     written = []
 
     def grid_sweep(axes, fixed):
-        return sweep(robot, path, axes, fixed, workers=args.workers)
+        return sweep(robot, path, axes, fixed, evaluation=EvaluatorSettings(workers=args.workers))
 
     xy = grid_sweep({"x": xs, "y": ys}, {"z": 0.0, "phi": 0.0})
     written += save(map_figure(xy, "Energy vs $x_{Op}$ and $y_{Op}$ ($z_{Op}$ = 0, $\\phi$ = 0), 30 x 60 mm"),

@@ -41,11 +41,13 @@ def rectangle(width_mm: int, timing: str = "paper"):
 
 def run_case(width_mm: int, timing: str, regeneration: str, time_step_s: float) -> dict:
     """Both searches for one rectangle, timing law and regeneration mode (runs in a worker)."""
+    from placement.evaluation.evaluator import EvaluatorSettings
     from placement.robot import load_robot
     from placement.search.optimize import optimize_placement
 
     path = rectangle(width_mm, timing)
-    result = optimize_placement(load_robot("orthoglide"), path, regeneration=regeneration, time_step_s=time_step_s)
+    result = optimize_placement(load_robot("orthoglide"), path,
+                                evaluation=EvaluatorSettings(regeneration=regeneration, time_step_s=time_step_s))
     out = {"width": width_mm, "timing": timing, "regeneration": regeneration, "gain": result.gain,
            "infeasible": result.infeasible}
     for key, optimum in (("min", result.best), ("max", result.worst)):

@@ -20,28 +20,23 @@ from placement.drives.transmissions import TRANSMISSIONS, Transmission
 from placement.dynamics.inverse import ActuatorTrajectory, actuator_efforts, inverse_dynamics
 from placement.energy.integration import Energy
 from placement.energy.regeneration import REGENERATION, RegenerationPolicy
-from placement.evaluation.evaluator import Evaluator
+from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.evaluation.results import Evaluation, PlacementDetail
-from placement.exceptions import (
-                                  InputFileError,
-                                  PathFileError,
-                                  PlacementError,
-                                  RobotFileError,
-                                  UnknownRobotError,
-                                  UnreachableError,
-)
+from placement.exceptions import InputFileError, PlacementError, UnknownMemberError
 from placement.kinematics import joint_trajectory
 from placement.kinematics.base import SOLVERS, KinematicsSolver
+from placement.kinematics.exceptions import UnreachableError
 from placement.kinematics.generic import solve_configuration
 from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
 from placement.limits.base import LIMITS, Limit, Margin, MarginField
 from placement.objectives.base import OBJECTIVES, Objective
+from placement.path.exceptions import PathFileError
 from placement.path.load import load_path
 from placement.path.toolpath import ToolPath
-from placement.registry import UnknownMemberError
 from placement.robot import Actuator, Closure
 from placement.robot.catalog import robot_names
 from placement.robot.checks import CheckReport, check_robot
+from placement.robot.exceptions import RobotFileError, UnknownRobotError
 from placement.robot.load import load_robot
 from placement.robot.model import Robot
 from placement.search.optimize import Optimum, PlacementResult, SearchSettings, optimize_placement
@@ -64,6 +59,7 @@ __all__ = [
     "Energy",
     "Evaluation",
     "Evaluator",
+    "EvaluatorSettings",
     "FrontMember",
     "InputFileError",
     "JointTrajectory",

@@ -1,7 +1,20 @@
-"""Exceptions raised by placement.
+"""Exceptions raised by placement: the root of every error, and those every package shares.
 
 Every error a user can cause derives from :class:`PlacementError`, so a caller (or the command
 line) can catch one type and report its message, which always says what was wrong and where.
+Each package defines its own errors beside its code, in its ``exceptions`` module:
+
+- :mod:`placement.path.exceptions`: path files, G-code programs, pose lists;
+- :mod:`placement.timing.exceptions`: timing laws the objectives or the path cannot take;
+- :mod:`placement.robot.exceptions`: robot files, robot names, assembly, example-robot-data arms;
+- :mod:`placement.kinematics.exceptions`: unreachable samples;
+- :mod:`placement.drives.exceptions`: measured logs;
+- :mod:`placement.cell.exceptions`: cell files;
+- :mod:`placement.cli.exceptions`: command-line options.
+
+This module holds the root, :class:`InputFileError` (the located error of any input file, whose
+subclasses the packages define), and :class:`UnknownMemberError`, which every plug-in family
+(:mod:`placement.registry`) raises.
 """
 
 from __future__ import annotations
@@ -45,78 +58,9 @@ class InputFileError(PlacementError):
         super().__init__(f"{where}: {problem}")
 
 
-class RobotFileError(InputFileError):
-    """A robot description (URDF or sidecar YAML) is missing, malformed or inconsistent."""
+class UnknownMemberError(PlacementError):
+    """A name that no member of a family has; the message lists the known names."""
 
-
-class PathFileError(InputFileError):
-    """A path file is missing, malformed or inconsistent."""
-
-
-class UnknownRobotError(PlacementError):
-    """A robot name is neither a built-in robot nor a path to a sidecar file."""
-
-    def __init__(self, name: str, known: list[str]) -> None:
-        self.name = name
-        self.known = known
-        super().__init__(
-            f"unknown robot '{name}': expected one of {', '.join(known)} "
-            "or the path to a robot sidecar YAML file"
-        )
-
-
-class UnreachableError(PlacementError):
-    """Some samples of a task-space trajectory have no valid robot configuration.
-
-    Attributes:
-        sample_indices: Indices of the unreachable samples (at most the first 20 are kept).
-        n_unreachable: How many samples are unreachable.
-        reason: Why the first one failed.
-    """
-
-    def __init__(self, sample_indices: list[int], n_unreachable: int, reason: str) -> None:
-        self.sample_indices = sample_indices[:20]
-        self.n_unreachable = n_unreachable
-        self.reason = reason
-        super().__init__(
-            f"{n_unreachable} sample(s) unreachable, first at index {sample_indices[0]}: {reason}"
-        )
-
-
-class AssemblyError(PlacementError):
-    """A robot's loops cannot be closed, or its assembled configuration cannot be written."""
-
-
-class CellFileError(InputFileError):
-    """A robot cell file (obstacles, keep-out zones, tool body) is missing, malformed or inconsistent."""
-
-
-class GcodeError(PathFileError):
-    """A G-code program named by a path file has a word, number or move that cannot be followed.
-
-    Attributes:
-        line: The line number in the program (counted from 1).
-        word: The word at fault as written ("" when the whole line is).
-    """
-
-    def __init__(self, path: str | Path, line: int, word: str, problem: str) -> None:
-        super().__init__(path, f"line {line}", problem)
-        self.line = line
-        self.word = word
-        Exception.__init__(self, f"{self.path}, line {line}{f', word {word!r}' if word else ''}: {problem}")
-
-
-class PoseFileError(PathFileError):
-    """A pose list named by a path file has a missing column, a bad value or a bad row.
-
-    Attributes:
-        row: The data row at fault, counted from 1 after a CSV header (0: the header or the whole file).
-        column: The column at fault ("" when the whole row or file is).
-    """
-
-    def __init__(self, path: str | Path, row: int, column: str, problem: str) -> None:
-        super().__init__(path, f"row {row}" if row else "", problem)
-        self.row = row
-        self.column = column
-        where = (f", row {row}" if row else "") + (f", column {column!r}" if column else "")
-        Exception.__init__(self, f"{self.path}{where}: {problem}")
+    def __init__(self, family: str, name: str, known: list[str]) -> None:
+        self.family, self.name, self.known = family, name, known
+        super().__init__(f"unknown {family} '{name}': expected one of {', '.join(known) or '(none registered)'}")

@@ -17,18 +17,10 @@ import threading
 from importlib.metadata import entry_points
 from typing import Generic, TypeVar
 
-from placement.exceptions import PlacementError
+from placement.exceptions import PlacementError, UnknownMemberError
 
 Member = TypeVar("Member")
 _REGISTRIES: dict[str, Registry] = {}
-
-
-class UnknownMemberError(PlacementError):
-    """A name that no member of a family has; the message lists the known names."""
-
-    def __init__(self, family: str, name: str, known: list[str]) -> None:
-        self.family, self.name, self.known = family, name, known
-        super().__init__(f"unknown {family} '{name}': expected one of {', '.join(known) or '(none registered)'}")
 
 
 class Registry(Generic[Member]):

@@ -19,9 +19,11 @@ import coal
 import numpy as np
 import pinocchio as pin
 
+from placement.cell.exceptions import CellFileError
 from placement.cell.schema import BoxShape, Cell, CylinderShape, MeshShape, Shape, SphereShape, ToolBody, mesh_path
 from placement.cell.tool import tool_of
-from placement.exceptions import CellFileError, InputFileError, RobotFileError
+from placement.exceptions import InputFileError
+from placement.robot.exceptions import RobotFileError
 from placement.robot.model import Robot
 from placement.robot.tool import declaring_file_error, pose_placement, tool_mount
 from placement.robot.urdf import ERD_PREFIX

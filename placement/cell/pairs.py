@@ -19,9 +19,10 @@ from dataclasses import dataclass
 
 import pinocchio as pin
 
+from placement.cell.exceptions import CellFileError
 from placement.cell.geometry import KEEP_OUT, LINK, OBSTACLE, TOOL, Body
 from placement.cell.schema import Cell
-from placement.exceptions import CellFileError, RobotFileError
+from placement.robot.exceptions import RobotFileError
 from placement.robot.model import Robot
 
 

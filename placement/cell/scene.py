@@ -26,13 +26,14 @@ import coal
 import numpy as np
 import pinocchio as pin
 
+from placement.cell.exceptions import CellFileError
 from placement.cell.geometry import Body, build_geometry
 from placement.cell.pairs import Pair, select_pairs
 from placement.cell.schema import Cell
-from placement.exceptions import CellFileError, RobotFileError
 from placement.kinematics import kernels
 from placement.kinematics.kernels import TreeArrays
 from placement.kinematics.tree import tree_arrays, unsupported_joints
+from placement.robot.exceptions import RobotFileError
 from placement.robot.model import Robot
 
 TOUCHING_M = 1e-5  # two bodies closer than this at the reference configuration touch by design (m)

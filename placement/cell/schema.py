@@ -25,7 +25,8 @@ from typing import Annotated, Any, Literal
 import numpy as np
 from pydantic import BeforeValidator, Field, field_validator, model_validator
 
-from placement.exceptions import CellFileError, InputFileError
+from placement.cell.exceptions import CellFileError
+from placement.exceptions import InputFileError
 from placement.schema import Number, Strict, Text, read_yaml
 
 Positive = Annotated[Number, Field(gt=0.0)]

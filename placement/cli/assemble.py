@@ -12,7 +12,8 @@ from __future__ import annotations
 
 import argparse
 
-from placement.cli.common import UsageError, parse_joint_values, require_sidecar
+from placement.cli.common import parse_joint_values, require_sidecar
+from placement.cli.exceptions import UsageError
 from placement.kinematics.base import SINGULAR_CONDITION
 from placement.robot.assemble import (
     SINGULAR_SIGMA,
@@ -21,6 +22,7 @@ from placement.robot.assemble import (
     assemble,
     joint_q_index,
     movable_joints,
+    outside_limits,
     reference_block,
     reference_values,
     write_gepetto_sidecar,
@@ -31,7 +33,6 @@ from placement.robot.closures import closure_residuals
 from placement.robot.gepetto import YAML_NAME, is_gepetto, sidecar_beside
 from placement.robot.load import PRISMATIC_JOINTS, _load_robot
 from placement.robot.model import Robot
-from placement.robot.urdf import urdf_limits_missing
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
@@ -69,24 +70,6 @@ def _gap_text(gaps: tuple[ClosureGap, ...]) -> str:
         worst_angle = max(angles, key=lambda gap: gap.angle_rad or 0.0)
         text += f", {worst_angle.angle_rad:.3g} rad (closure '{worst_angle.name}')"
     return text
-
-
-def _limit_warnings(robot: Robot, values: dict[str, float]) -> list[str]:
-    """Joints of the closed configuration outside their limits (the actuators', else the URDF's)."""
-    actuators = {a.joint: a for a in robot.actuators}
-    warnings = []
-    for name, value in values.items():
-        joint_id = robot.model.getJointId(name)
-        if name in actuators:
-            low, high = actuators[name].position_min, actuators[name].position_max
-        elif urdf_limits_missing(robot.model, joint_id):
-            continue
-        else:
-            index = robot.model.joints[joint_id].idx_q
-            low, high = float(robot.model.lowerPositionLimit[index]), float(robot.model.upperPositionLimit[index])
-        if not low <= value <= high:
-            warnings.append(f"joint '{name}' is at {value:.6g}, outside its limits [{low:.6g}, {high:.6g}]")
-    return warnings
 
 
 def _print_singularities(result: Assembly) -> None:
@@ -128,7 +111,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"  the passive joints alone could not close the loops: the actuated joints moved too ({', '.join(moved)})")
     _print_singularities(result)
     values = reference_values(robot, result)
-    for warning in _limit_warnings(robot, values):
+    for warning in outside_limits(robot, values):
         print(f"  warning: {warning}")
     gepetto = is_gepetto(path)
     if not args.write:

@@ -8,7 +8,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from placement.cli.common import UsageError, check_outputs, require_sidecar, robot_files
+from placement.cli.common import check_outputs, require_sidecar, robot_files
+from placement.cli.exceptions import UsageError
 from placement.drives.calibration import FITTABLE, UNITS, Calibration, calibrate, read_log, write_calibrated
 from placement.robot.load import load_robot
 

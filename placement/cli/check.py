@@ -14,9 +14,10 @@ import argparse
 
 import numpy as np
 
-from placement.cli.common import UsageError, add_tool_option, load_robot_argument, positive_number, whole_number
-from placement.exceptions import UnreachableError
+from placement.cli.common import add_tool_option, load_robot_argument, positive_number, whole_number
+from placement.cli.exceptions import UsageError
 from placement.kinematics.base import solver_name
+from placement.kinematics.exceptions import UnreachableError
 from placement.robot.checks import CheckReport, check_robot
 from placement.robot.model import Robot
 

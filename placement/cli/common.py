@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import os
 import sys
 import tempfile
@@ -11,19 +10,17 @@ from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
-from pydantic import ValidationError
 
 from placement.cell.schema import load_cell
 from placement.cell.tool import equip
+from placement.cli.exceptions import UsageError
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.parallel import SCHEDULER_VARIABLE
-from placement.exceptions import PlacementError
 from placement.kinematics.base import solver_name
 from placement.kinematics.batched import prepare_kernels
 from placement.limits.collision import collision_scene
 from placement.objectives.base import OBJECTIVES
 from placement.path.load import load_path
-from placement.path.schema import Timing
 from placement.path.toolpath import ToolPath
 from placement.placing.transform import ANGLES, VARIABLES
 from placement.robot.catalog import sidecar_path
@@ -31,10 +28,7 @@ from placement.robot.erd import ERD_FORM, erd_name, estimate_warning, load_erd_r
 from placement.robot.load import load_robot
 from placement.robot.model import Robot
 from placement.robot.urdf import ERD_PREFIX
-
-
-class UsageError(PlacementError):
-    """A command-line option has a value it cannot take."""
+from placement.timing.rules import override_timing, timing_for
 
 
 def whole_number(low: int, high: int) -> Callable[[str], int]:
@@ -200,42 +194,13 @@ def _quantity(raw: str, name: str) -> float | None:
 
 
 def configured_path(args: argparse.Namespace, file: str) -> ToolPath:
-    """A path file with the command line's timing overrides, timed optimally when an objective needs it."""
+    """A path file with the command line's timing overrides, timed by the law its objectives need (said in a note
+    when the file gives another; :func:`placement.timing.rules.timing_for`)."""
     path = load_path(file)
-    needed = needed_timing(args)
-    if needed is not None and (args.timing or path.timing.mode) != needed:
-        if args.timing is not None:
-            raise UsageError(f"--timing {args.timing}: {needed_words(args)} needs --timing {needed}")
-        print(f"note: {needed_words(args)} needs the {needed} timing law: {file} is timed by it, for every objective")
-        args.timing = needed
-    overrides = (args.timing, args.max_acceleration, args.max_jerk)
-    if any(value is not None for value in overrides):
-        timing = path.timing
-        try:
-            timing = Timing(mode=args.timing if args.timing is not None else timing.mode,
-                            max_acceleration_m_s2=(args.max_acceleration if args.max_acceleration is not None
-                                                   else timing.max_acceleration_m_s2),
-                            max_jerk_m_s3=args.max_jerk if args.max_jerk is not None else timing.max_jerk_m_s3)
-        except ValidationError as error:
-            problem = error.errors()[0]
-            field = {"max_acceleration_m_s2": "--max-acceleration", "max_jerk_m_s3": "--max-jerk"}.get(
-                str(problem["loc"][0]) if problem["loc"] else "", "--timing")
-            raise UsageError(f"{field}: {problem['msg'].removeprefix('Value error, ')}; the realistic timing law "
-                             "needs --max-acceleration and --max-jerk > 0, or both in the path file") from None
-        path = dataclasses.replace(path, timing=timing)
-    return path
-
-
-def needed_timing(args: argparse.Namespace) -> str | None:
-    """The timing law that the command's objectives need (e.g. cycle_time: optimal), if any."""
-    timings = {OBJECTIVES.get(name).timing for name in objective_names(args)} - {None}
-    return timings.pop() if timings else None
-
-
-def needed_words(args: argparse.Namespace) -> str:
-    """The objectives that need a timing law, for a message ("the objective cycle_time")."""
-    names = [name for name in objective_names(args) if OBJECTIVES.get(name).timing is not None]
-    return f"the objective{'s' if len(names) > 1 else ''} {', '.join(names)}"
+    mode, reason = timing_for(objective_names(args), args.timing, path)
+    if reason is not None:
+        print(f"note: {reason}: {file} is timed by it, for every objective")
+    return override_timing(path, mode, args.max_acceleration, args.max_jerk)
 
 
 def objective_names(args: argparse.Namespace) -> list[str]:

@@ -11,7 +11,6 @@ import sys
 import numpy as np
 
 from placement.cli.common import (
-    UsageError,
     add_cell_option,
     add_sampling_options,
     add_tool_option,
@@ -21,7 +20,9 @@ from placement.cli.common import (
     parse_values,
     robot_files,
 )
+from placement.cli.exceptions import UsageError
 from placement.energy.regeneration import REGENERATION
+from placement.evaluation.evaluator import EvaluatorSettings
 from placement.placing.transform import VARIABLES
 from placement.search.feed import feed_study
 
@@ -64,8 +65,8 @@ def run(args: argparse.Namespace) -> int:
     given = parse_values(args.at, "--at")
     robot = load_robot_argument(args.robot, args.tool, args.cell)
     path = configured_path(args, args.path)
-    study = feed_study(robot, path, np.array([given.get(name, 0.0) for name in VARIABLES]), feeds, args.regen,
-                       args.time_step)
+    study = feed_study(robot, path, np.array([given.get(name, 0.0) for name in VARIABLES]), feeds,
+                       EvaluatorSettings(regeneration=args.regen, time_step_s=args.time_step))
     print(f"{path.name} on {robot.name}, {path.timing.mode} timing, energy: {REGENERATION.get(args.regen).description}")
     print(f"  {'feed m/s':>9s} {'reached m/s':>12s} {'time/part s':>12s} {'energy/part J':>14s} {'mean power W':>13s}"
           "  limits")

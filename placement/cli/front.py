@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import sys
 
 import numpy as np
 from tqdm import tqdm
 
-from placement.cli.common import UsageError
-from placement.evaluation.evaluator import Evaluator
+from placement.cli.exceptions import UsageError
+from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.evaluation.parallel import Cluster
 from placement.evaluation.results import PlacementDetail
 from placement.objectives.base import OBJECTIVES, quantity
@@ -36,16 +37,17 @@ def parse_objectives(text: str) -> tuple[str, ...]:
 
 
 def place_front(robot: Robot, path: ToolPath, space: PlacementSpace, args: argparse.Namespace,
-                settings: SearchSettings, remote: Cluster | None) -> tuple[dict, dict[str, PlacementDetail], str | None]:
+                evaluation: EvaluatorSettings, settings: SearchSettings,
+                remote: Cluster | None) -> tuple[dict, dict[str, PlacementDetail], str | None]:
     """Search the front of one path (on ``remote``, a Dask cluster, if given), print it, and return its JSON
-    document and the members to draw."""
+    document and the members to draw; ``evaluation``'s objective is replaced by those of --objectives."""
     objectives = parse_objectives(args.objectives)
+    evaluation = dataclasses.replace(evaluation, objective=objectives)
     searches = len(objectives) + 1  # each objective's optimum, then NSGA-II
     with tqdm(desc="searching the front", total=searches * settings.max_generations, unit=" generation",
               disable=args.quiet, file=sys.stderr, leave=False) as bar:
-        front = pareto_front(robot, path, objectives, space=space, regeneration=args.regen,
-                             time_step_s=args.time_step, settings=settings, progress=bar.update,
-                             executor=remote.executor if remote else None, workers=remote.threads if remote else None)
+        front = pareto_front(robot, path, objectives, space=space, evaluation=evaluation, settings=settings,
+                             progress=bar.update, executor=remote.executor if remote else None)
     document = {"objectives": list(objectives), "evaluations": front.evaluations}
     if front.infeasible:
         return document, {}, front.infeasible
@@ -56,7 +58,7 @@ def place_front(robot: Robot, path: ToolPath, space: PlacementSpace, args: argpa
         names = save(front_figure(front, f"{path.name} on {robot.name}"), str(args.png).removesuffix(".png"))
         print(f"front plotted in {' and '.join(names)}")
     chosen = chosen_members(front, args.members)
-    with Evaluator(robot, path, args.regen, args.time_step, objective=objectives) as evaluator:
+    with Evaluator(robot, path, evaluation) as evaluator:
         details = {name: evaluator.detail(front.members[index].placement) for name, index in chosen.items()}
     document.update(front_json(front))
     document["drawn"] = {name: detail_json(robot, detail) for name, detail in details.items()}

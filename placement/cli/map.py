@@ -12,7 +12,6 @@ import numpy as np
 from tqdm import tqdm
 
 from placement.cli.common import (
-    UsageError,
     add_cell_option,
     add_model_options,
     add_sampling_options,
@@ -25,6 +24,8 @@ from placement.cli.common import (
     robot_files,
     whole_number,
 )
+from placement.cli.exceptions import UsageError
+from placement.evaluation.evaluator import EvaluatorSettings
 from placement.evaluation.parallel import cluster, scheduler_address
 from placement.objectives.base import quantity, wording
 from placement.output.report import write_atomically
@@ -102,8 +103,9 @@ def run(args: argparse.Namespace) -> int:
     total = int(np.prod([len(v) for v in axes.values()]))
     with cluster(scheduler_address(args.scheduler)) as remote, \
             tqdm(desc="mapping", total=total, unit=" placement", disable=args.quiet, file=sys.stderr, leave=False) as bar:
-        result = sweep(robot, path, axes, fixed, regeneration=args.regen, time_step_s=args.time_step,
-                       workers=args.workers, progress=bar.update, objective=args.objective,
+        evaluation = EvaluatorSettings(objective=args.objective, regeneration=args.regen, time_step_s=args.time_step,
+                                       workers=args.workers)
+        result = sweep(robot, path, axes, fixed, evaluation=evaluation, progress=bar.update,
                        executor=remote.executor if remote else None)
     result.save(out)
     feasible = result.value[result.feasible]

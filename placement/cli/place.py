@@ -15,7 +15,6 @@ import numpy as np
 from tqdm import tqdm
 
 from placement.cli.common import (
-    UsageError,
     add_cell_option,
     add_model_options,
     add_sampling_options,
@@ -29,9 +28,10 @@ from placement.cli.common import (
     robot_files,
     whole_number,
 )
+from placement.cli.exceptions import UsageError
 from placement.cli.front import SCENE_COLORS, parse_members, parse_objectives, place_front
 from placement.energy.regeneration import REGENERATION
-from placement.evaluation.evaluator import Evaluator
+from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.evaluation.parallel import Cluster, cluster, scheduler_address
 from placement.limits.collision import closest_points
 from placement.objectives.base import OBJECTIVES, wording
@@ -130,6 +130,8 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
     print(f"{path.name} on {robot.name}: {len(path.segments)} segment(s), {path.length_m * 1e3:.1f} mm, "
           f"{feed_words(path)}, {timing_words(path, samples)}; energy: {REGENERATION.get(args.regen).description}"
           + ("" if args.objective == "energy" else f"; objective: {objective.title} ({args.objective})"))
+    evaluation = EvaluatorSettings(objective=args.objective, regeneration=args.regen, time_step_s=args.time_step,
+                                   workers=remote.threads if remote else None)
     document: dict = {"robot": robot.name, "path": path.name, "objective": args.objective,
                       "regeneration": args.regen, "timing": path.timing.mode, "samples": len(samples)}
     plane = robot.plane
@@ -140,8 +142,7 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
         given = parse_values(args.at, "--at")
         if not given:
             raise UsageError("--at: give at least one value, e.g. --at x=0,phi=30")
-        detail = Evaluator(robot, path, args.regen, args.time_step, objective=args.objective).detail(
-            np.array([given.get(name, 0.0) for name in VARIABLES]))
+        detail = Evaluator(robot, path, evaluation).detail(np.array([given.get(name, 0.0) for name in VARIABLES]))
         print("\n" + format_detail("placement given by --at", robot, detail))
         document["at"] = detail_json(robot, detail)
         problem = None
@@ -155,21 +156,19 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
     space = default_space(robot, free=free, fixed=parse_values(args.fix or "", "--fix"), bounds=bounds,
                           half_turn=path.half_turn_symmetric())
     print(f"search: {', '.join(space.free)} free; seed {args.seed}")
-    settings = SearchSettings(seed=args.seed, max_generations=args.generations, population=args.population)
+    lower = objective.better == "lower"
+    settings = SearchSettings(seed=args.seed, max_generations=args.generations, population=args.population,
+                              best=not (args.maximize if lower else args.minimize),
+                              worst=not (args.minimize if lower else args.maximize))
     if args.objectives:
-        front_document, details, infeasible = place_front(robot, path, space, args, settings, remote)
+        front_document, details, infeasible = place_front(robot, path, space, args, evaluation, settings, remote)
         document.update(front_document)
         return document, details, infeasible
-    lower = objective.better == "lower"
-    find_best = not (args.maximize if lower else args.minimize)
-    find_worst = not (args.minimize if lower else args.maximize)
-    with tqdm(desc="searching", total=(find_best + find_worst) * settings.max_generations, unit=" generation",
-              disable=args.quiet, file=sys.stderr, leave=False) as bar:
-        result = optimize_placement(robot, path, space=space, objective=args.objective, regeneration=args.regen,
-                                    best=find_best, worst=find_worst, time_step_s=args.time_step, settings=settings,
+    with tqdm(desc="searching", total=(settings.best + settings.worst) * settings.max_generations,
+              unit=" generation", disable=args.quiet, file=sys.stderr, leave=False) as bar:
+        result = optimize_placement(robot, path, space=space, evaluation=evaluation, settings=settings,
                                     progress=bar.update, announce=lambda e: bar.write(duration_line(e), sys.stdout),
-                                    executor=remote.executor if remote else None,
-                                    workers=remote.threads if remote else None)
+                                    executor=remote.executor if remote else None)
     print("\n" + format_result(robot, result))
     details = {}
     for key, optimum in (("best", result.best), ("worst", result.worst)):

@@ -16,7 +16,6 @@ from dataclasses import asdict
 from tqdm import tqdm
 
 from placement.cli.common import (
-    UsageError,
     add_sampling_options,
     add_scheduler_option,
     check_outputs,
@@ -25,6 +24,7 @@ from placement.cli.common import (
     robot_files,
     whole_number,
 )
+from placement.cli.exceptions import UsageError
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.parallel import cluster, scheduler_address
 from placement.output.report import write_atomically

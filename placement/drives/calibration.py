@@ -27,10 +27,11 @@ import numpy as np
 import yaml
 from scipy.optimize import least_squares
 
+from placement.drives.exceptions import LogFileError
 from placement.drives.trace import MotorTrace, motor_trace
 from placement.dynamics.inverse import actuator_efforts
 from placement.energy.integration import sample_power
-from placement.exceptions import InputFileError, PlacementError
+from placement.exceptions import PlacementError
 from placement.kinematics import joint_trajectory
 from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
 from placement.robot.model import Robot
@@ -49,10 +50,6 @@ UNITS = {"power": "W", "current": "A"}
 MAX_LOG_ROWS = 1_000_000
 MAX_LOG_BYTES = 200_000_000
 MAX_LOG_VALUE = 1e9  # beyond any time (s), position (m, rad), power (W) or current (A) of a machine
-
-
-class LogFileError(InputFileError):
-    """A measured log is missing, malformed or does not match the robot."""
 
 
 @dataclass(frozen=True)

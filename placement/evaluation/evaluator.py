@@ -38,13 +38,49 @@ from placement.registry import restore_runtime_members, runtime_members
 from placement.robot.model import Robot
 from placement.timing.law import TimeLaw, timed_rates
 from placement.timing.optimal import time_optimal
+from placement.timing.rules import check_timing
 
 BATCH_SAMPLES = 60_000  # samples per batched call (memory: about 0.5 kB a sample)
 UNREACHABLE_MARGIN = -1.0  # every margin of an unreachable placement: how infeasible it is, to steer the search
 
 
+@dataclass(frozen=True)
+class EvaluatorSettings:
+    """How an :class:`Evaluator` evaluates placements: what it computes, on which samples, with which resources.
 
+    Attributes:
+        objective: Objective's name, see :mod:`placement.objectives`; or several names, the ranking
+            one first, all of which :meth:`Evaluator.evaluate` computes.
+        regeneration: Regeneration policy's name, see :mod:`placement.energy.regeneration`.
+        time_step_s: Sampling step (default: the path file's).
+        method: Kinematics solver's name, see :func:`placement.kinematics.joint_trajectory`.
+        workers: Worker processes for a solver that is not vectorised or the optimal timing law, or
+            chunks to cut a batch into for an executor (default: every core, or 1 in a pool's
+            worker process, whose pool shares the cores already); 1 evaluates in this process.
+        threads: Threads of the batched kinematics and RNEA (default: every core).
+        exact: Compute every limit exactly at every sample in :meth:`Evaluator.evaluate` too (a
+            re-check); :meth:`Evaluator.detail` always does.
+        refine: Under the optimal timing law, cut each interval between the path geometry's
+            samples in this many (:meth:`placement.path.toolpath.ToolPath.geometry`).
+    """
 
+    objective: str | tuple[str, ...] = "energy"
+    regeneration: str = "clip"
+    time_step_s: float | None = None
+    method: str = "auto"
+    workers: int | None = None
+    threads: int | None = None
+    exact: bool = False
+    refine: int = 1
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.objective, str):  # any sequence of names, kept as a tuple (hashable, picklable)
+            object.__setattr__(self, "objective", tuple(self.objective))
+
+    @property
+    def objectives(self) -> tuple[str, ...]:
+        """The objectives' names, the ranking one first."""
+        return (self.objective,) if isinstance(self.objective, str) else self.objective
 
 
 class Evaluator:
@@ -57,54 +93,34 @@ class Evaluator:
     Args:
         robot: The robot (its actuators need drives).
         path: The tool path.
-        regeneration: Regeneration policy's name, see :mod:`placement.energy.regeneration`.
-        time_step_s: Sampling step (default: the path file's).
-        method: Kinematics solver's name, see :func:`placement.kinematics.joint_trajectory`.
-        objective: Objective's name, see :mod:`placement.objectives`; or several names, the ranking
-            one first, all of which :meth:`evaluate` computes.
-        workers: Worker processes for a solver that is not vectorised or the optimal timing law, or
-            chunks to cut a batch into for ``executor`` (default: every core, or 1 in a pool's
-            worker process, whose pool shares the cores already); 1 evaluates in this process.
+        settings: What to compute, on which samples, with which resources (default: the electric
+            energy, on the path file's sampling, on every core).
         executor: Any ``concurrent.futures.Executor`` (a Dask cluster's, see
             :mod:`placement.evaluation.parallel`) that evaluates batches in chunks, whatever the solver,
             instead of this process or an own process pool.
-        threads: Threads of the batched kinematics and RNEA (default: every core).
-        exact: Compute every limit exactly at every sample in :meth:`evaluate` too (a re-check);
-            :meth:`detail` always does.
-        refine: Under the optimal timing law, cut each interval between the path geometry's
-            samples in this many (:meth:`placement.path.toolpath.ToolPath.geometry`).
     """
 
-    def __init__(self, robot: Robot, path: ToolPath, regeneration: str = "clip", time_step_s: float | None = None,
-                 method: str = "auto", objective: str | tuple[str, ...] = "energy", workers: int | None = None,
-                 executor: Executor | None = None, threads: int | None = None, exact: bool = False,
-                 refine: int = 1) -> None:
-        REGENERATION.get(regeneration)  # unknown names fail here, before any work
+    def __init__(self, robot: Robot, path: ToolPath, settings: EvaluatorSettings = EvaluatorSettings(),
+                 executor: Executor | None = None) -> None:
+        REGENERATION.get(settings.regeneration)  # unknown names fail here, before any work
         self.robot = robot
         self.path = path
-        self.regeneration = regeneration
-        self.time_step_s = time_step_s
-        self.refine = refine
-        self.method = method
-        self.threads = threads or os.cpu_count() or 1
-        self.exact = exact
-        self.solver = solver_for(robot, method, self.threads)
-        self.objective_names = (objective,) if isinstance(objective, str) else tuple(objective)
+        self.settings = settings
+        self.threads = settings.threads or os.cpu_count() or 1
+        self.solver = solver_for(robot, settings.method, self.threads)
+        self.objective_names = settings.objectives
         self.objective_name = self.objective_names[0]
         self.objectives: tuple[Objective, ...] = tuple(OBJECTIVES.get(name) for name in self.objective_names)
         self.objective = self.objectives[0]
-        for name, wanted in zip(self.objective_names, self.objectives):
-            if wanted.timing is not None and wanted.timing != path.timing.mode:
-                raise PlacementError(f"the objective '{name}' needs the {wanted.timing} timing law (--timing "
-                                     f"{wanted.timing}, or timing: {{mode: {wanted.timing}}} in the path file); the path "
-                                     f"'{path.name}' is timed by the {path.timing.mode} law")
-        self.geometry = path.geometry(time_step_s, refine) if path.timing.mode == "optimal" else None
-        self.samples = path.sample(time_step_s) if self.geometry is None else self.geometry.evaluated_samples
+        check_timing(self.objective_names, path)
+        step = settings.time_step_s
+        self.geometry = path.geometry(step, settings.refine) if path.timing.mode == "optimal" else None
+        self.samples = path.sample(step) if self.geometry is None else self.geometry.evaluated_samples
         self.evaluations = 0  # placements evaluated so far
         # Placements are timed one by one under the optimal timing law: worth sharing among processes too.
         spread = executor is not None or not self.solver.vectorized or self.geometry is not None
         cores = (os.cpu_count() or 1) if multiprocessing.parent_process() is None else 1
-        self.workers = (workers or cores) if spread else 1
+        self.workers = (settings.workers or cores) if spread else 1
         self.executor = executor
         self._own_pool: ProcessPoolExecutor | None = None
 
@@ -122,17 +138,16 @@ class Evaluator:
 
     def job(self, placements: np.ndarray) -> EvaluationJob:
         """Everything a worker process needs to evaluate ``placements`` as this evaluator would."""
-        return EvaluationJob(self.robot, self.path, self.regeneration, self.time_step_s, self.method,
-                             self.objective_names, placements,
-                             runtime_members(members_used(self.robot, self.objective_names, self.regeneration, self.method)),
-                             self.exact, self.refine)
+        return EvaluationJob(self.robot, self.path, self.settings, placements,
+                             runtime_members(members_used(self.robot, self.objective_names, self.settings.regeneration,
+                                                          self.settings.method)))
 
     def batch(self, placements: np.ndarray, exact: bool | None = None, law: TimeLaw | None = None) -> EvaluatedBatch:
         """Run the exact chain on (K, 6) placements; arrays come back shaped (K, N, ...).
 
         Args:
             placements: (K, 6) placement vectors.
-            exact: Limits computed exactly at every sample (default: the evaluator's ``exact``).
+            exact: Limits computed exactly at every sample (default: the settings' ``exact``).
             law: Under the optimal timing law, the placements' timing on this evaluator's path
                 geometry (:meth:`placement.timing.law.TimeLaw.resampled`) instead of their time-optimal one.
         """
@@ -158,8 +173,8 @@ class Evaluator:
                               tool_position_m=position_m, position=position, velocity=velocity,
                               acceleration=acceleration, effort=effort,
                               motor=motor_trace(self.robot, effort, velocity, acceleration),
-                              regeneration=self.regeneration, joints=joints,
-                              exact=self.exact if exact is None else exact,
+                              regeneration=self.settings.regeneration, joints=joints,
+                              exact=self.settings.exact if exact is None else exact,
                               time_law=None if timing is None else timing.samples_law,
                               path_law=None if timing is None else timing.law)
 
@@ -286,21 +301,15 @@ class EvaluationJob:
 
     robot: Robot
     path: ToolPath
-    regeneration: str
-    time_step_s: float | None
-    method: str
-    objectives: tuple[str, ...]
+    settings: EvaluatorSettings
     placements: np.ndarray
     registered: dict[str, dict[str, object]]
-    exact: bool = False
-    refine: int = 1
 
     def evaluator(self) -> Evaluator:
         """An evaluator like the one the job came from, in this process on one thread (a worker shares the
         cores), with the plug-in members it uses registered here."""
         restore_runtime_members(self.registered)
-        return Evaluator(self.robot, self.path, self.regeneration, self.time_step_s, self.method, self.objectives,
-                         workers=1, threads=1, exact=self.exact, refine=self.refine)
+        return Evaluator(self.robot, self.path, dataclasses.replace(self.settings, workers=1, threads=1))
 
 
 def members_used(robot: Robot, objectives: tuple[str, ...], regeneration: str, method: str) -> dict[str, set[str]]:
@@ -324,11 +333,11 @@ def denser(source: Evaluator, density: int) -> Evaluator:
     source's path geometry is cut in ``density`` instead, so that a timing found on the source's
     samples switches at samples of this one. It computes every limit exactly, in this process.
     """
-    step = source.path.time_step_s if source.time_step_s is None else source.time_step_s
+    settings = dataclasses.replace(source.settings, workers=1, threads=source.threads, exact=True)
+    step = source.path.time_step_s if settings.time_step_s is None else settings.time_step_s
     if source.geometry is None:
-        return Evaluator(source.robot, source.path, source.regeneration, step / density, source.method,
-                         source.objective_names, workers=1, threads=source.threads, exact=True)
-    return Evaluator(source.robot, source.path, source.regeneration, step, source.method, source.objective_names,
-                     workers=1, threads=source.threads, exact=True, refine=source.refine * density)
+        return Evaluator(source.robot, source.path, dataclasses.replace(settings, time_step_s=step / density, refine=1))
+    return Evaluator(source.robot, source.path,
+                     dataclasses.replace(settings, time_step_s=step, refine=settings.refine * density))
 
 

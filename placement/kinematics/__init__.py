@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from placement.exceptions import PlacementError, UnreachableError
+from placement.exceptions import PlacementError
 from placement.kinematics.base import SOLVERS, KinematicsSolver, solver_for
 from placement.kinematics.batched import BatchedSolver
 from placement.kinematics.closed_form import ClosedFormSolver
+from placement.kinematics.exceptions import UnreachableError
 from placement.kinematics.generic import SequentialSolver, solve_configuration
 from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
 from placement.robot.model import Robot

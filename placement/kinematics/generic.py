@@ -18,7 +18,6 @@ from collections.abc import Callable
 import numpy as np
 import pinocchio as pin
 
-from placement.exceptions import UnreachableError
 from placement.kinematics.base import (
     SINGULAR_CONDITION,
     SOLVERS,
@@ -28,6 +27,7 @@ from placement.kinematics.base import (
     task_jacobian,
     task_step,
 )
+from placement.kinematics.exceptions import UnreachableError
 from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory, task_rows
 from placement.robot.closures import LWA, closure_drift, closure_jacobian, closure_residuals
 from placement.robot.model import Robot

@@ -35,9 +35,9 @@ from meshcat.servers.tree import SceneTree, find_node, walk
 from pinocchio.visualize import MeshcatVisualizer
 
 from placement.cell.geometry import package_dirs
-from placement.exceptions import RobotFileError
 from placement.kinematics.batched import jump_steps
 from placement.limits.collision import collision_scene
+from placement.robot.exceptions import RobotFileError
 from placement.robot.model import Robot
 from placement.search.space import box_corners
 

@@ -49,7 +49,7 @@ from pathlib import Path
 
 import numpy as np
 
-from placement.exceptions import GcodeError, PathFileError
+from placement.path.exceptions import GcodeError, PathFileError
 from placement.path.segments import Segment
 
 MM_M = 1e-3

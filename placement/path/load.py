@@ -7,7 +7,7 @@ from pathlib import Path as FilePath
 
 import numpy as np
 
-from placement.exceptions import PathFileError
+from placement.path.exceptions import PathFileError
 from placement.path.gcode import read_program
 from placement.path.poses import TimedPoses, pose_segments, read_poses
 from placement.path.samples import default_time_step_s

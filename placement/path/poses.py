@@ -32,7 +32,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 from scipy.spatial.transform import Rotation, RotationSpline
 
-from placement.exceptions import PoseFileError
+from placement.path.exceptions import PoseFileError
 from placement.path.segments import Segment
 
 ORIENTATION_COLUMNS = {"none": (), "quaternion_xyzw": ("qx", "qy", "qz", "qw"),

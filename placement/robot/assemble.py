@@ -21,12 +21,13 @@ import numpy as np
 import pinocchio as pin
 import yaml
 
-from placement.exceptions import AssemblyError
 from placement.kinematics.generic import null_space_basis
 from placement.robot.closures import LWA, closure_jacobian, closure_residuals
+from placement.robot.exceptions import AssemblyError
 from placement.robot.gepetto import URDF_NAME, YAML_NAME, sidecar_beside, sidecar_text
 from placement.robot.load import write_if_it_loads
 from placement.robot.model import Robot
+from placement.robot.urdf import urdf_limits_missing
 
 CLOSED_TOLERANCE = 1e-10  # largest gap (m, rad) at which a loop counts as closed
 MAX_ITERATIONS = 500
@@ -274,6 +275,25 @@ def reference_values(robot: Robot, assembly: Assembly) -> dict[str, float]:
         value = float(assembly.q[index]) if index is not None else 0.0
         values[name] = 0.0 if abs(value) < ZERO_SNAP else value
     return values
+
+
+def outside_limits(robot: Robot, values: dict[str, float]) -> list[str]:
+    """Joints of a configuration (``values``: {joint: value (m or rad)}, as :func:`reference_values` gives them)
+    outside their limits: an actuator's, else the URDF's, none when the URDF gives none."""
+    actuators = {a.joint: a for a in robot.actuators}
+    warnings = []
+    for name, value in values.items():
+        joint_id = robot.model.getJointId(name)
+        if name in actuators:
+            low, high = actuators[name].position_min, actuators[name].position_max
+        elif urdf_limits_missing(robot.model, joint_id):
+            continue
+        else:
+            index = robot.model.joints[joint_id].idx_q
+            low, high = float(robot.model.lowerPositionLimit[index]), float(robot.model.upperPositionLimit[index])
+        if not low <= value <= high:
+            warnings.append(f"joint '{name}' is at {value:.6g}, outside its limits [{low:.6g}, {high:.6g}]")
+    return warnings
 
 
 def _number(value: float) -> str:

@@ -15,8 +15,8 @@ from pathlib import Path
 
 import yaml
 
-from placement.exceptions import UnknownRobotError
 from placement.registry import Registry
+from placement.robot.exceptions import UnknownRobotError
 from placement.robot.gepetto import folder_sidecar
 
 ROBOTS: Registry[Callable[[], str | Path]] = Registry("robot", "placement.robots")

@@ -43,7 +43,7 @@ import numpy as np
 import pinocchio as pin
 from pydantic import ValidationError
 
-from placement.exceptions import PlacementError
+from placement.robot.exceptions import ExampleRobotError
 from placement.robot.load import build_robot, reduced_model
 from placement.robot.model import Robot
 from placement.robot.sidecar import Sidecar
@@ -62,10 +62,6 @@ GOOD_LIMIT_MARGIN = 0.1  # a good reference posture keeps every joint this share
 TILT_RAD = 0.35
 DAMPING, MAX_STEP_RAD = 1e-6, 0.3  # of the least-squares steps towards a reference posture
 DOWN = np.array([0.0, 0.0, -1.0])
-
-
-class ExampleRobotError(PlacementError):
-    """An example-robot-data robot cannot be used as asked: unknown name or frame, or an arm outside the rules."""
 
 
 def erd_name(text: str) -> str | None:

@@ -55,7 +55,7 @@ import pinocchio as pin
 import yaml
 from pydantic import Field, ValidationError
 
-from placement.exceptions import RobotFileError
+from placement.robot.exceptions import RobotFileError
 from placement.robot.model import Robot
 from placement.robot.sidecar import Sidecar
 from placement.schema import MAX_FILE_BYTES, Strict, read_yaml

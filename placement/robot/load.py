@@ -15,10 +15,11 @@ import numpy as np
 import pinocchio as pin
 from pydantic import BaseModel
 
-from placement.exceptions import AssemblyError, PlacementError, RobotFileError
+from placement.exceptions import PlacementError
 from placement.files import staged
 from placement.robot.catalog import sidecar_path
 from placement.robot.closures import closure_jacobian, closure_residuals
+from placement.robot.exceptions import AssemblyError, RobotFileError
 from placement.robot.gepetto import SIDECAR_NAME, is_gepetto, read_gepetto
 from placement.robot.model import Actuator, Closure, Robot
 from placement.robot.plugins import load_plugin, make_closed_form

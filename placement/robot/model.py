@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pinocchio as pin
 
-from placement.exceptions import RobotFileError
+from placement.robot.exceptions import RobotFileError
 from placement.robot.plugins import ClosedFormFunction, load_plugin, make_closed_form
 
 if TYPE_CHECKING:

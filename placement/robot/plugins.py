@@ -14,7 +14,7 @@ from typing import Any
 
 import pinocchio as pin
 
-from placement.exceptions import RobotFileError
+from placement.robot.exceptions import RobotFileError
 
 # A closed-form solver: platform coordinates (Taylor2 or arrays, m) -> {joint name: value (m, rad)}.
 ClosedFormFunction = Any

@@ -16,7 +16,7 @@ from pydantic import BeforeValidator, Field, model_validator
 from placement.cell.schema import ToolBody, check_mesh_file
 from placement.drives.motors import Motor
 from placement.drives.transmissions import Transmission, parse_transmission
-from placement.exceptions import RobotFileError
+from placement.robot.exceptions import RobotFileError
 from placement.schema import Number, Strict, Text, read_yaml
 
 NonNegative = Annotated[Number, Field(ge=0.0)]

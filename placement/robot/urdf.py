@@ -18,7 +18,7 @@ from xml.etree import ElementTree
 import numpy as np
 import pinocchio as pin
 
-from placement.exceptions import RobotFileError
+from placement.robot.exceptions import RobotFileError
 
 ERD_PREFIX = "example-robot-data:"
 NO_LIMIT = 1e10  # a position limit this large (m or rad) is Pinocchio's stand-in for none

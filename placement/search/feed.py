@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from placement.evaluation.evaluator import Evaluator
+from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.path.toolpath import ToolPath
 from placement.robot.model import Robot
 
@@ -39,12 +39,13 @@ class FeedStudy:
 
 
 def feed_study(robot: Robot, path: ToolPath, placement: np.ndarray, feeds_m_s: np.ndarray,
-               regeneration: str = "clip", time_step_s: float | None = None) -> FeedStudy:
-    """Evaluate one placement of the path at each feed rate (m/s), timed by the path's timing law."""
+               evaluation: EvaluatorSettings = EvaluatorSettings()) -> FeedStudy:
+    """Evaluate one placement of the path at each feed rate (m/s), timed by the path's timing law, as ``evaluation``
+    says (regeneration policy, sampling step, ...; the energy is reported whatever its objective)."""
     times, speeds, energies, feasible, binding = [], [], [], [], []
     for feed in feeds_m_s:
-        detail = Evaluator(robot, dataclasses.replace(path, feed_m_s=float(feed)), regeneration,
-                           time_step_s).detail(np.asarray(placement, dtype=float))
+        detail = Evaluator(robot, dataclasses.replace(path, feed_m_s=float(feed)),
+                           evaluation).detail(np.asarray(placement, dtype=float))
         times.append(detail.duration_s)
         speeds.append(float(np.linalg.norm(detail.samples.velocity_m_s, axis=1).max()))
         energies.append(float(detail.energy.total_J) if detail.reachable else np.nan)

@@ -15,6 +15,7 @@ reported.
 
 from __future__ import annotations
 
+import dataclasses
 import multiprocessing
 import os
 import time
@@ -27,7 +28,7 @@ import numpy as np
 from scipy.optimize import NonlinearConstraint, OptimizeResult, differential_evolution, minimize
 
 from placement.dynamics.inverse import openmp_started
-from placement.evaluation.evaluator import EvaluationJob, Evaluator, denser
+from placement.evaluation.evaluator import EvaluationJob, Evaluator, EvaluatorSettings, denser
 from placement.evaluation.parallel import process_pool
 from placement.evaluation.results import Evaluation, PlacementDetail
 from placement.path.toolpath import ToolPath
@@ -46,7 +47,7 @@ STALL_TOLERANCE = 1e-9  # this share of it (SLSQP otherwise dithers on a limit u
 
 @dataclass(frozen=True)
 class SearchSettings:
-    """Budget of the global search (differential evolution) and of the polish.
+    """What the search looks for, and the budget of the global search (differential evolution) and of the polish.
 
     Attributes:
         population: Placements per generation of the global search (at least 5 per free variable,
@@ -57,6 +58,7 @@ class SearchSettings:
         search_samples: Samples of the path during the global search, at most (a coarser
             sampling than the path's own when the path has more; the polish and the reported
             energies use the path's own).
+        best, worst: Which directions to search: the best placement by the objective, the worst.
     """
 
     population: int = 48
@@ -64,6 +66,8 @@ class SearchSettings:
     tolerance: float = 1e-3
     seed: int = 0
     search_samples: int = 64
+    best: bool = True
+    worst: bool = True
 
 
 @dataclass(frozen=True)
@@ -298,52 +302,50 @@ def _feasible_towards(problem: _Problem, feasible: np.ndarray, target: np.ndarra
 
 
 def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | None = None,
-                       objective: str = "energy", regeneration: str = "clip", best: bool = True, worst: bool = True,
-                       time_step_s: float | None = None, settings: SearchSettings = SearchSettings(),
+                       evaluation: EvaluatorSettings = EvaluatorSettings(), settings: SearchSettings = SearchSettings(),
                        progress: Callable[[], None] | None = None,
                        announce: Callable[[float], None] | None = None,
-                       executor: Executor | None = None, workers: int | None = None) -> PlacementResult:
+                       executor: Executor | None = None) -> PlacementResult:
     """Find the best (and worst) feasible placement of a path on a robot by an objective.
 
     Args:
         robot: The robot (its actuators need drives).
         path: The tool path.
         space: Free variables and bounds (default: :func:`placement.search.space.default_space`).
-        objective: Objective's name (see :mod:`placement.objectives`; default: electric energy).
-        regeneration: Regeneration policy's name, see :mod:`placement.energy.regeneration`.
-        best, worst: Which searches to run.
-        time_step_s: Path sampling step (default: the path file's).
-        settings: Search budget and seed.
+        evaluation: How placements are evaluated: the objective (default: electric energy; the
+            first ranks, when several are given), regeneration policy, the path's sampling step
+            (the polish's and the reported values'; the global search's is coarser), and the
+            workers: chunks per batch of placements for ``executor`` (default: every core).
+        settings: Which directions to search, the search budget and seed.
         progress: Called once per generation of the global search (for a progress bar).
         announce: Called with the expected duration (s) before the search starts.
         executor: Runs the evaluations in chunks (a Dask cluster's, see :mod:`placement.evaluation.parallel`);
             default: this process (or a local pool for a solver that is not vectorised).
-        workers: Chunks per batch of placements for ``executor`` (default: every core).
 
     Returns:
         The optima (None in a direction not asked for), or, when no placement is feasible, the
         reason with the binding limit.
     """
     space = space or default_space(robot, half_turn=path.half_turn_symmetric())
-    step = time_step_s if time_step_s is not None else path.time_step_s
+    step = evaluation.time_step_s if evaluation.time_step_s is not None else path.time_step_s
     duration = float(path.sample(step).t_s[-1])
+    directions = settings.best + settings.worst
 
     def evaluators(threads: int | None) -> tuple[Evaluator, Evaluator]:
         """The global search's and the polish's (no worker process starts before an evaluation)."""
-        return (Evaluator(robot, path, regeneration, max(step, duration / settings.search_samples), objective=objective,
-                          workers=workers, executor=executor, threads=threads),
-                Evaluator(robot, path, regeneration, step, objective=objective, workers=workers, executor=executor,
-                          threads=threads))
+        fine = dataclasses.replace(evaluation, time_step_s=step, threads=threads or evaluation.threads)
+        coarse = dataclasses.replace(fine, time_step_s=max(step, duration / settings.search_samples))
+        return Evaluator(robot, path, coarse, executor), Evaluator(robot, path, fine, executor)
 
     coarse, fine = evaluators(None)
-    at_once = in_parallel(coarse, fine, best + worst)
+    at_once = in_parallel(coarse, fine, directions)
     if at_once:  # each direction takes a core: this process keeps to one, and starts no OpenMP threads (it forks)
         coarse, fine = evaluators(1)
     with coarse, fine:
         dense = denser(fine, RECHECK_DENSITY)
         if announce is not None:
-            announce(estimate(coarse, fine, space, settings, 1 if at_once else best + worst))
-        return _optimize(coarse, fine, dense, space, best, worst, settings, progress)
+            announce(estimate(coarse, fine, space, settings, 1 if at_once else directions))
+        return _optimize(coarse, fine, dense, space, settings, progress)
 
 
 def estimate(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, settings: SearchSettings,
@@ -449,10 +451,10 @@ def _outcomes(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, signs: 
 
 
 def _optimize(coarse: Evaluator, evaluator: Evaluator, dense: Evaluator, space: PlacementSpace,
-              best: bool, worst: bool, settings: SearchSettings,
-              progress: Callable[[], None] | None) -> PlacementResult:
+              settings: SearchSettings, progress: Callable[[], None] | None) -> PlacementResult:
     better = evaluator.objective.sign
-    directions = [(name, sign) for name, sign, wanted in (("best", better, best), ("worst", -better, worst)) if wanted]
+    directions = [(name, sign) for name, sign, wanted in (("best", better, settings.best),
+                                                           ("worst", -better, settings.worst)) if wanted]
     outcomes = _outcomes(coarse, evaluator, space, [sign for _, sign in directions], settings, progress)
     found: dict[str, Optimum | None] = {"best": None, "worst": None}
     infeasible = next((o.infeasible for o in outcomes if o.x is None), None)
@@ -468,7 +470,7 @@ def _optimize(coarse: Evaluator, evaluator: Evaluator, dense: Evaluator, space: 
                                    recheck_limit=check.limits[tightest],
                                    evaluations=outcome.evaluations + evaluator.evaluations - before)
     return PlacementResult(best=found["best"], worst=found["worst"], space=space, objective=evaluator.objective_name,
-                           regeneration=evaluator.regeneration, infeasible=infeasible)
+                           regeneration=evaluator.settings.regeneration, infeasible=infeasible)
 
 
 def _binding_limit(problem: _Problem, evaluator: Evaluator) -> str:

@@ -23,6 +23,7 @@ once each objective is scaled to [0, 1] over the front.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from concurrent.futures import Executor
 from dataclasses import dataclass
@@ -32,7 +33,7 @@ from pymoo.algorithms.moo.nsga2 import NSGA2
 from pymoo.core.problem import Problem
 from pymoo.optimize import minimize
 
-from placement.evaluation.evaluator import Evaluator, denser
+from placement.evaluation.evaluator import Evaluator, EvaluatorSettings, denser
 from placement.evaluation.results import Evaluation, PlacementDetail
 from placement.exceptions import PlacementError
 from placement.objectives.base import OBJECTIVES
@@ -133,9 +134,8 @@ class _FrontProblem(Problem):
 
 
 def pareto_front(robot: Robot, path: ToolPath, objectives: tuple[str, ...], *, space: PlacementSpace | None = None,
-                 regeneration: str = "clip", time_step_s: float | None = None,
-                 settings: SearchSettings | None = None, progress: Callable[[], None] | None = None,
-                 executor: Executor | None = None, workers: int | None = None) -> ParetoFront:
+                 evaluation: EvaluatorSettings = EvaluatorSettings(), settings: SearchSettings = SearchSettings(),
+                 progress: Callable[[], None] | None = None, executor: Executor | None = None) -> ParetoFront:
     """The Pareto front of feasible placements of a path on a robot for two or three objectives.
 
     Args:
@@ -143,44 +143,48 @@ def pareto_front(robot: Robot, path: ToolPath, objectives: tuple[str, ...], *, s
         path: The tool path.
         objectives: Two or three objective names (see :mod:`placement.objectives`).
         space: Free variables and bounds (default: :func:`placement.search.space.default_space`).
-        regeneration: Regeneration policy's name.
-        time_step_s: Path sampling step (default: the path file's).
+        evaluation: How placements are evaluated (regeneration policy, the path's sampling step,
+            workers: chunks per batch of placements for ``executor``, ...); the objectives are
+            ``objectives``, so its own objective must be left at its default or be the same.
         settings: Budget and seed of the single-objective searches and of NSGA-II (its population
-            and generations; default: :class:`SearchSettings`'s).
+            and generations); the single-objective searches look for the best placement only.
         progress: Called once per generation of every search.
         executor: Runs the evaluations in chunks (a Dask cluster's, see :mod:`placement.evaluation.parallel`);
             default: this process.
-        workers: Chunks per batch of placements for ``executor`` (default: every core).
 
     Returns:
         The front, or, when no placement is feasible, the reason.
     """
     if not 2 <= len(objectives) <= 3 or len(set(objectives)) != len(objectives):
         raise PlacementError(f"a Pareto front needs two or three different objectives, got {', '.join(objectives)}")
+    if evaluation.objectives not in (EvaluatorSettings().objectives, tuple(objectives)):
+        raise PlacementError(f"a Pareto front's objectives are given once, as objectives ({', '.join(objectives)}); "
+                             f"the evaluation settings name {', '.join(evaluation.objectives)}")
     signs = np.array([OBJECTIVES.get(name).sign for name in objectives])
-    settings = settings or SearchSettings()
     space = space or default_space(robot, half_turn=path.half_turn_symmetric())
-    step = time_step_s if time_step_s is not None else path.time_step_s
+    step = evaluation.time_step_s if evaluation.time_step_s is not None else path.time_step_s
+    regeneration = evaluation.regeneration
     optima: dict[str, PlacementDetail] = {}
     evaluations = 0
+    best_only = dataclasses.replace(settings, best=True, worst=False)
     for name in objectives:
-        result = optimize_placement(robot, path, space=space, objective=name, regeneration=regeneration, worst=False,
-                                    time_step_s=step, settings=settings, progress=progress, executor=executor,
-                                    workers=workers)
+        result = optimize_placement(robot, path, space=space,
+                                    evaluation=dataclasses.replace(evaluation, objective=name, time_step_s=step),
+                                    settings=best_only, progress=progress, executor=executor)
         if result.best is None:
             return ParetoFront(objectives, (), {}, None, space, regeneration, evaluations, result.infeasible)
         optima[name] = result.best.detail
         evaluations += result.best.evaluations
     seeds = np.array([detail.placement for detail in optima.values()])
     duration = float(path.sample(step).t_s[-1])
-    with Evaluator(robot, path, regeneration, max(step, duration / settings.search_samples), objective=objectives,
-                   workers=workers, executor=executor) as coarse:
-        candidates = _evolve(coarse, space, signs, seeds[:, space.indices], settings, progress)
-        evaluations += coarse.evaluations
-    with Evaluator(robot, path, regeneration, step, objective=objectives, workers=workers, executor=executor) as fine, \
-            denser(fine, RECHECK_DENSITY) as dense:
-        members = _members(fine, dense, signs, np.vstack([seeds, space.full(candidates)]))
-        evaluations += fine.evaluations + dense.evaluations
+    fine = dataclasses.replace(evaluation, objective=tuple(objectives), time_step_s=step)
+    coarse = dataclasses.replace(fine, time_step_s=max(step, duration / settings.search_samples))
+    with Evaluator(robot, path, coarse, executor) as coarse_evaluator:
+        candidates = _evolve(coarse_evaluator, space, signs, seeds[:, space.indices], settings, progress)
+        evaluations += coarse_evaluator.evaluations
+    with Evaluator(robot, path, fine, executor) as fine_evaluator, denser(fine_evaluator, RECHECK_DENSITY) as dense:
+        members = _members(fine_evaluator, dense, signs, np.vstack([seeds, space.full(candidates)]))
+        evaluations += fine_evaluator.evaluations + dense.evaluations
     knee = knee_index(np.array([m.values for m in members]) * signs)
     return ParetoFront(objectives, members, {name: detail.value for name, detail in optima.items()}, knee, space,
                        regeneration, evaluations)

@@ -10,6 +10,7 @@ or whose search fails on an input error, becomes a row that says why; it does no
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import time
 from collections.abc import Callable, Sequence
@@ -18,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from placement.evaluation.evaluator import EvaluatorSettings
 from placement.evaluation.parallel import run_in_order
 from placement.exceptions import PlacementError
 from placement.path.toolpath import ToolPath
@@ -70,7 +72,8 @@ def study_pair(robot: Robot, path: ToolPath, regeneration: str, settings: Search
     tic = time.perf_counter()
     cycle, fastest = float(path.sample().t_s[-1]), np.nan
     try:
-        result = optimize_placement(robot, path, regeneration=regeneration, settings=settings)
+        result = optimize_placement(robot, path, evaluation=EvaluatorSettings(regeneration=regeneration),
+                                    settings=settings)
     except PlacementError as error:
         return _row(robot, path, (cycle, fastest), None, None, np.full(6, np.nan), 0, time.perf_counter() - tic,
                     str(error))
@@ -78,8 +81,9 @@ def study_pair(robot: Robot, path: ToolPath, regeneration: str, settings: Search
     reason = result.infeasible or ""
     if path.timing.mode == "optimal" and best is not None:
         try:
-            quickest = optimize_placement(robot, path, objective="cycle_time", regeneration=regeneration,
-                                          worst=False, settings=settings).best
+            quickest = optimize_placement(robot, path,
+                                          evaluation=EvaluatorSettings(objective="cycle_time", regeneration=regeneration),
+                                          settings=dataclasses.replace(settings, worst=False)).best
             fastest = np.nan if quickest is None else quickest.detail.value
         except PlacementError as error:  # the energy's row stands; the fastest time says why it is missing
             reason = f"fastest cycle time: {error}"

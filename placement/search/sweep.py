@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from placement.evaluation.evaluator import EvaluationJob, evaluate_job, members_used
+from placement.evaluation.evaluator import EvaluationJob, EvaluatorSettings, evaluate_job, members_used
 from placement.evaluation.parallel import run_in_order
 from placement.evaluation.results import Evaluation
 from placement.exceptions import PlacementError
@@ -99,10 +99,9 @@ class SweepResult:
                        objective=meta.get("objective", "energy"))
 
 
-def sweep(robot: Robot, path: ToolPath, axes: dict[str, np.ndarray], fixed: dict[str, float] | None = None,
-          regeneration: str = "clip", time_step_s: float | None = None, workers: int | None = None,
-          executor: Executor | None = None, progress: Callable[[int], None] | None = None,
-          objective: str = "energy") -> SweepResult:
+def sweep(robot: Robot, path: ToolPath, axes: dict[str, np.ndarray], fixed: dict[str, float] | None = None, *,
+          evaluation: EvaluatorSettings = EvaluatorSettings(), executor: Executor | None = None,
+          progress: Callable[[int], None] | None = None) -> SweepResult:
     """Evaluate the exact objective over a grid of placements.
 
     Args:
@@ -110,12 +109,12 @@ def sweep(robot: Robot, path: ToolPath, axes: dict[str, np.ndarray], fixed: dict
         path: The tool path.
         axes: Swept variables and their values (m, rad), e.g. ``{"x": xs, "y": ys}``.
         fixed: Values of the other variables (default 0).
-        regeneration: Regeneration policy's name, see :mod:`placement.energy.regeneration`.
-        time_step_s: Path sampling step (default: the path file's).
-        workers: Worker processes of the default pool (default: every core; 1 runs in this process).
+        evaluation: How placements are evaluated: one objective (default: electric energy),
+            regeneration policy, path sampling step, ...; its workers are the worker processes of
+            the default pool (default: every core; 1 runs in this process), each evaluating a
+            chunk on one thread.
         executor: Any ``concurrent.futures.Executor`` to run the chunks instead of the default pool.
         progress: Called with the number of placements finished after each chunk.
-        objective: Objective's name (see :mod:`placement.objectives`; default: electric energy).
 
     Returns:
         The map.
@@ -123,6 +122,9 @@ def sweep(robot: Robot, path: ToolPath, axes: dict[str, np.ndarray], fixed: dict
     unknown = set(axes) - set(VARIABLES) | set(fixed or {}) - set(VARIABLES)
     if unknown:
         raise PlacementError(f"unknown placement variable(s) {sorted(unknown)}; expected some of {VARIABLES}")
+    if len(evaluation.objectives) != 1:
+        raise PlacementError(f"a sweep maps one objective, got {', '.join(evaluation.objectives)}")
+    objective, regeneration = evaluation.objectives[0], evaluation.regeneration
     OBJECTIVES.get(objective)  # unknown names fail before any work
     variables = tuple(axes)
     values = tuple(np.asarray(axes[name], dtype=float) for name in variables)
@@ -130,15 +132,15 @@ def sweep(robot: Robot, path: ToolPath, axes: dict[str, np.ndarray], fixed: dict
     grid = SweepResult(variables, values, base, np.zeros(0), np.zeros(0), np.zeros(0), (), robot.name, path.name,
                        regeneration, objective)
     placements = grid.placements()
-    registered = runtime_members(members_used(robot, (objective,), regeneration, "auto"))
-    jobs = [EvaluationJob(robot, path, regeneration, time_step_s, "auto", (objective,), placements[i:i + CHUNK_PLACEMENTS],
-                          registered) for i in range(0, len(placements), CHUNK_PLACEMENTS)]
-    results = run_in_order(evaluate_job, [(job,) for job in jobs], workers or os.cpu_count() or 1, executor,
+    registered = runtime_members(members_used(robot, (objective,), regeneration, evaluation.method))
+    jobs = [EvaluationJob(robot, path, evaluation, placements[i:i + CHUNK_PLACEMENTS], registered)
+            for i in range(0, len(placements), CHUNK_PLACEMENTS)]
+    results = run_in_order(evaluate_job, [(job,) for job in jobs], evaluation.workers or os.cpu_count() or 1, executor,
                            (lambda k: progress(len(jobs[k].placements))) if progress else None)
     shape = tuple(len(v) for v in values)
-    evaluation = Evaluation.concatenate(results)
-    return SweepResult(variables=variables, axes=values, fixed=base, value=evaluation.value.reshape(shape),
-                       feasible=evaluation.feasible.reshape(shape),
-                       tightest=evaluation.margins.argmin(axis=1).reshape(shape), limits=evaluation.limits,
+    evaluated = Evaluation.concatenate(results)
+    return SweepResult(variables=variables, axes=values, fixed=base, value=evaluated.value.reshape(shape),
+                       feasible=evaluated.feasible.reshape(shape),
+                       tightest=evaluated.margins.argmin(axis=1).reshape(shape), limits=evaluated.limits,
                        robot=robot.name, path=path.name, regeneration=regeneration, objective=objective)
 

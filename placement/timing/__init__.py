@@ -4,5 +4,7 @@
 - :mod:`placement.timing.realistic`: stops at corners, jerk-limited (double-S) feed profiles between them;
 - :mod:`placement.timing.optimal`: as fast as the robot allows at each placement (TOPP-RA), bounded by
   every limit that supplies path bounds (:meth:`placement.limits.base.Limit.path_bounds`);
-- :mod:`placement.timing.law`: a timing found per placement, and the chain rule of timed rates.
+- :mod:`placement.timing.law`: a timing found per placement, and the chain rule of timed rates;
+- :mod:`placement.timing.rules`: which law times a path: the one its objectives need, and the overrides
+  of the path file's.
 """

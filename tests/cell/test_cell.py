@@ -12,10 +12,11 @@ import pinocchio as pin
 import pytest
 import yaml
 
+from placement.cell.exceptions import CellFileError
 from placement.cell.scene import CollisionScene
 from placement.cell.schema import load_cell
-from placement.exceptions import CellFileError, RobotFileError
 from placement.robot import load_robot
+from placement.robot.exceptions import RobotFileError
 from placement.robot.tool import mount_tool, pose_placement, tool_inertia
 from tests.support.paths import ROOT
 from tests.support.robot_copies import edited_copy, with_gripper

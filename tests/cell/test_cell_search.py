@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 
 import numpy as np
@@ -9,7 +10,7 @@ import pinocchio as pin
 import pytest
 import yaml
 
-from placement import Evaluator, load_path, load_robot
+from placement import Evaluator, EvaluatorSettings, load_path, load_robot
 from placement.__main__ import main
 from placement.cell.schema import load_cell
 from placement.cell.tool import equip
@@ -63,7 +64,7 @@ def test_the_workpiece_region_bounds_the_search_and_is_a_limit(tmp_path):
 
 def test_an_obstacle_over_the_free_optimum_moves_the_answer_and_binds(tmp_path):
     robot, path = load_robot("orthoglide"), load_path(RECT)
-    free = optimize_placement(robot, path, worst=False, settings=SMALL).best.detail
+    free = optimize_placement(robot, path, settings=dataclasses.replace(SMALL, worst=False)).best.detail
     tool_points = free.tool_position_m
     centre = (tool_points.max(axis=0) + tool_points.min(axis=0)) / 2
     size = tool_points.max(axis=0) - tool_points.min(axis=0) + 0.02
@@ -73,12 +74,12 @@ def test_an_obstacle_over_the_free_optimum_moves_the_answer_and_binds(tmp_path):
     boxed = equip(robot, cell)
     before = Evaluator(boxed, path).detail(free.placement)
     assert not before.feasible and any(m.kind == "collision" and m.margin < 0 for m in before.margins)
-    moved = optimize_placement(boxed, path, worst=False, settings=SMALL).best.detail
+    moved = optimize_placement(boxed, path, settings=dataclasses.replace(SMALL, worst=False)).best.detail
     assert moved.feasible and moved.value > free.value
     assert np.linalg.norm(moved.placement[:3] - free.placement[:3]) > 0.005
     binding = min(moved.margins, key=lambda m: m.margin)
     assert binding.kind == "collision" and "block" in binding.where and binding.margin < 0.02  # 1 mm search buffer
-    dense = Evaluator(boxed, path, time_step_s=path.time_step_s / 4).detail(moved.placement)
+    dense = Evaluator(boxed, path, EvaluatorSettings(time_step_s=path.time_step_s / 4)).detail(moved.placement)
     assert all(m.value >= 0.005 - 1e-9 for m in dense.margins if m.kind == "collision" and "block" in m.where)
 
 
@@ -119,11 +120,11 @@ def test_a_tools_tip_follows_the_path_as_the_platform_would_the_shifted_path(tmp
 def test_the_ur5_deburring_job_in_its_cell_keeps_its_clearances_between_samples():
     robot = equip(load_robot("ur5"), load_cell("examples/cell_ur5_table_wall.yaml"))
     path = load_path("examples/contour.yaml")
-    best = optimize_placement(robot, path, worst=False, time_step_s=0.04,
-                              settings=SearchSettings(population=16, max_generations=6)).best
+    best = optimize_placement(robot, path, evaluation=EvaluatorSettings(time_step_s=0.04),
+                              settings=SearchSettings(population=16, max_generations=6, worst=False)).best
     assert best is not None and best.detail.feasible
     assert best.recheck_margin >= -1e-4  # a limit the optimum touches may be grazed between samples, not more
-    dense = Evaluator(robot, path, time_step_s=0.005).detail(best.detail.placement)  # 8 times denser
+    dense = Evaluator(robot, path, EvaluatorSettings(time_step_s=0.005)).detail(best.detail.placement)  # 8 times denser
     scene = collision_scene(robot)
     distances = scene.distances(dense.configuration)  # exact, every pair, every sample
     assert (distances >= scene.required_m).all()

@@ -8,7 +8,7 @@ import sys
 import numpy as np
 import pytest
 
-from placement import Evaluator, load_path, load_robot
+from placement import Evaluator, EvaluatorSettings, load_path, load_robot
 from placement.__main__ import main
 from placement.placing.transform import VARIABLES
 from placement.robot.catalog import builtin_robots_dir
@@ -77,7 +77,7 @@ def test_main_job_reports_best_worst_and_gain_and_writes_json_and_trace(tmp_path
         assert all(m["margin"] >= 0 for m in entry["margins"])
         assert f"{entry['energy_J']:.4f} J" in text
     # The JSON placements, evaluated again through the Python API, give the JSON energies.
-    evaluator = Evaluator(load_robot("orthoglide"), load_path(EXAMPLE), time_step_s=0.004)
+    evaluator = Evaluator(load_robot("orthoglide"), load_path(EXAMPLE), EvaluatorSettings(time_step_s=0.004))
     again = evaluator.evaluate([[document[key]["placement"][v] for v in VARIABLES] for key in ("best", "worst")])
     np.testing.assert_allclose(again.value, [document["best"]["energy_J"], document["worst"]["energy_J"]], rtol=1e-12)
     assert document["gain"] == pytest.approx((again.value[1] - again.value[0]) / again.value[1], rel=1e-12)

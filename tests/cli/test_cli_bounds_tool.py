@@ -8,9 +8,10 @@ import pinocchio as pin
 import pytest
 
 from placement.__main__ import main
-from placement.cli.common import UsageError, parse_free
-from placement.exceptions import RobotFileError
+from placement.cli.common import parse_free
+from placement.cli.exceptions import UsageError
 from placement.robot import load_robot
+from placement.robot.exceptions import RobotFileError
 from tests.support.paths import EXAMPLE
 from tests.support.robot_copies import TOOL_OFFSET_M, TOOL_RPY_RAD, edited_copy, with_tool
 

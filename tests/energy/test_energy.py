@@ -9,7 +9,7 @@ from placement.drives.motors import MotorModel, Pmsm, PowerParts, register_motor
 from placement.drives.trace import motor_trace
 from placement.dynamics.inverse import inverse_dynamics
 from placement.energy.integration import electric_energy, interval_widths
-from placement.evaluation.evaluator import Evaluator
+from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.kinematics import TaskTrajectory
 from placement.path.load import load_path
 from placement.path.schema import Timing
@@ -36,7 +36,7 @@ def with_drives(robot, motor=None, transmission=None, friction=None):
 
 
 def energies(robot, mode, placements=PLACEMENTS, path=None):
-    return Evaluator(robot, path or load_path(EXAMPLE), mode).evaluate(placements).value
+    return Evaluator(robot, path or load_path(EXAMPLE), EvaluatorSettings(regeneration=mode)).evaluate(placements).value
 
 
 def timed(law):
@@ -52,7 +52,7 @@ TIMINGS = pytest.mark.parametrize("law", ["paper", "optimal"])
 @TIMINGS
 def test_lossless_motor_with_full_regeneration_draws_the_mechanical_energy(orthoglide, law):
     robot = with_drives(orthoglide, motor={"resistance_ohm": 0.0, "inductance_H": 0.0})
-    evaluator = Evaluator(robot, timed(law), "signed")
+    evaluator = Evaluator(robot, timed(law), EvaluatorSettings(regeneration="signed"))
     for placement in PLACEMENTS:
         detail = evaluator.detail(placement)
         assert detail.energy.total_J == pytest.approx(detail.energy.mechanical_J.sum(), rel=1e-12, abs=1e-12)
@@ -119,7 +119,8 @@ def test_efficiency_acts_on_the_transmitted_load_not_on_the_rotor_inertia(orthog
 
 
 def test_sample_power_integrates_to_the_signed_energy(orthoglide):
-    detail = Evaluator(orthoglide, load_path(EXAMPLE), "signed", time_step_s=0.0005).detail(PLACEMENTS[1])
+    detail = Evaluator(orthoglide, load_path(EXAMPLE),
+                       EvaluatorSettings(regeneration="signed", time_step_s=0.0005)).detail(PLACEMENTS[1])
     dt = interval_widths(detail.samples.t_s, detail.samples.piece)
     trapezoid = (((detail.power_W[1:] + detail.power_W[:-1]) / 2) * dt[:, None]).sum()
     assert trapezoid == pytest.approx(detail.energy.total_J, rel=1e-3)
@@ -145,7 +146,8 @@ def test_energy_converges_as_sampling_grows(orthoglide, tmp_path, mode):
     file.write_text(EXAMPLE.read_text().replace("mode: paper", f"mode: {mode}"))
     path = load_path(file)
     steps = [0.002, 0.001, 0.0005, 0.00025]
-    values = np.array([Evaluator(orthoglide, path, time_step_s=s).evaluate(PLACEMENTS[1:2]).value[0] for s in steps])
+    values = np.array([Evaluator(orthoglide, path, EvaluatorSettings(time_step_s=s)).evaluate(PLACEMENTS[1:2]).value[0]
+                       for s in steps])
     changes = np.abs(np.diff(values))
     assert changes[-1] < 1e-3 * values[-1]
     assert changes[-1] < changes[0]  # differences shrink as the step halves

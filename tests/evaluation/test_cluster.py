@@ -7,7 +7,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from placement import Evaluator, load_path, load_robot
+from placement import Evaluator, EvaluatorSettings, load_path, load_robot
 from placement.__main__ import main
 from placement.evaluation.parallel import cluster, scheduler_address
 from placement.path.schema import Timing
@@ -27,7 +27,7 @@ def dask_cluster():
 def test_a_map_on_the_cluster_equals_the_map_of_the_process_pool(dask_cluster):
     robot, path = load_robot("orthoglide"), load_path("examples/rect.yaml")
     axes = {"x": np.linspace(-0.05, 0.05, 5), "phi": np.radians([0.0, 30.0, 60.0])}
-    local = sweep(robot, path, axes, {"z": -0.03}, workers=2)
+    local = sweep(robot, path, axes, {"z": -0.03}, evaluation=EvaluatorSettings(workers=2))
     with cluster(dask_cluster.scheduler_address) as remote:
         assert remote is not None and remote.threads == 2
         distant = sweep(robot, path, axes, {"z": -0.03}, executor=remote.executor)
@@ -42,7 +42,7 @@ def test_a_front_on_the_cluster_equals_the_front_found_here(dask_cluster):
     with cluster(dask_cluster.scheduler_address) as remote:
         assert remote is not None
         there = pareto_front(robot, path, ("energy", "transmission"), settings=small, executor=remote.executor,
-                             workers=remote.threads)
+                             evaluation=EvaluatorSettings(workers=remote.threads))
     assert len(there.members) == len(here.members)
     for a, b in zip(there.members, here.members):
         np.testing.assert_array_equal(a.placement, b.placement)
@@ -70,10 +70,10 @@ def test_placements_timed_optimally_on_the_cluster_equal_those_timed_here(dask_c
     placements = np.array([[0.0, 0.0, -0.03, 0.0, 0.0, 0.0], [0.04, -0.02, -0.1, 0.5, 0.0, 0.0],
                            [-0.06, 0.03, 0.0, -1.0, 0.0, 0.0]])
     objectives = ("energy", "cycle_time")
-    here = Evaluator(robot, path, objective=objectives, workers=1).evaluate(placements)
+    here = Evaluator(robot, path, EvaluatorSettings(objective=objectives, workers=1)).evaluate(placements)
     with cluster(dask_cluster.scheduler_address) as remote:
         assert remote is not None
-        there = Evaluator(robot, path, objective=objectives, executor=remote.executor,
-                          workers=remote.threads).evaluate(placements)
+        there = Evaluator(robot, path, EvaluatorSettings(objective=objectives, workers=remote.threads),
+                          remote.executor).evaluate(placements)
     np.testing.assert_array_equal(there.values, here.values)
     np.testing.assert_array_equal(there.margins, here.margins)

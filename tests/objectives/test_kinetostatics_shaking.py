@@ -8,7 +8,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from placement import Evaluator, load_path, load_robot
+from placement import Evaluator, EvaluatorSettings, load_path, load_robot
 from placement.objectives.kinetostatics import dimensionless_task_map
 from placement.objectives.shaking import base_wrench
 
@@ -29,7 +29,7 @@ def tiny_path(tmp_path_factory):
 def _at_points(robot, path, objective, names):
     points = robot.workspace.points_m
     placements = np.array([[*points[name], 0.0, 0.0, 0.0] for name in names])
-    return Evaluator(robot, path, objective=objective).evaluate(placements).value
+    return Evaluator(robot, path, EvaluatorSettings(objective=objective)).evaluate(placements).value
 
 
 def test_orthoglide_transmission_factors_are_one_at_the_isotropic_point_and_two_at_the_cube_corners(orthoglide, tiny_path):
@@ -76,7 +76,7 @@ def test_the_shaking_force_grows_with_the_square_of_the_feed_on_the_orthoglide(o
     # so doubling the feed multiplies the inertial forces by four.
     path = load_path("examples/rect.yaml")
     placement = np.array([[-0.03, -0.03, -0.03, 0.3, 0.0, 0.0]])
-    slow = Evaluator(orthoglide, path, objective="shaking_force").evaluate(placement).value[0]
+    slow = Evaluator(orthoglide, path, EvaluatorSettings(objective="shaking_force")).evaluate(placement).value[0]
     fast = Evaluator(orthoglide, dataclasses.replace(path, feed_m_s=2 * path.feed_m_s),
-                     objective="shaking_force").evaluate(placement).value[0]
+                     EvaluatorSettings(objective="shaking_force")).evaluate(placement).value[0]
     assert fast / slow == pytest.approx(4.0, rel=1e-6)

@@ -11,7 +11,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from placement import OBJECTIVES, Evaluator, Objective, load_path, load_robot
+from placement import OBJECTIVES, Evaluator, EvaluatorSettings, Objective, load_path, load_robot
 from placement.path.schema import Timing
 from tests.support.paths import EXAMPLE
 from tests.support.robot_copies import edited_copy, orthoglide_motor
@@ -35,8 +35,9 @@ def test_a_lossless_motor_draws_exactly_the_positive_shaft_work(tmp_path, law):
         orthoglide_motor(document).update(resistance_ohm=0.0, inductance_H=0.0)
 
     robot, path = load_robot(edited_copy("orthoglide", tmp_path, lossless)), timed(law)
-    electric = Evaluator(robot, path, "clip", 0.002).evaluate(PLACEMENTS).value
-    mechanical = Evaluator(robot, path, "clip", 0.002, objective="mechanical_energy").evaluate(PLACEMENTS).value
+    electric = Evaluator(robot, path, EvaluatorSettings(regeneration="clip", time_step_s=0.002)).evaluate(PLACEMENTS).value
+    mechanical = Evaluator(robot, path, EvaluatorSettings(regeneration="clip", time_step_s=0.002,
+                                                          objective="mechanical_energy")).evaluate(PLACEMENTS).value
     np.testing.assert_allclose(mechanical, electric, rtol=1e-12)
     assert (mechanical > 0.5).all()
 
@@ -44,7 +45,7 @@ def test_a_lossless_motor_draws_exactly_the_positive_shaft_work(tmp_path, law):
 @TIMINGS
 def test_rms_current_follows_from_the_joule_energy(law):
     robot, path = load_robot("orthoglide"), timed(law)
-    evaluator = Evaluator(robot, path, "clip", 0.002, objective="rms_current")
+    evaluator = Evaluator(robot, path, EvaluatorSettings(regeneration="clip", time_step_s=0.002, objective="rms_current"))
     motor = robot.actuators[0].drive.motor
     for placement, value in zip(PLACEMENTS, evaluator.evaluate(PLACEMENTS).value):
         detail = evaluator.detail(placement)
@@ -55,7 +56,7 @@ def test_rms_current_follows_from_the_joule_energy(law):
 
 def test_peak_torque_is_where_the_motor_torque_limit_is_tightest():
     robot, path = load_robot("orthoglide"), load_path(EXAMPLE)
-    evaluator = Evaluator(robot, path, "clip", 0.002, objective="peak_torque")
+    evaluator = Evaluator(robot, path, EvaluatorSettings(regeneration="clip", time_step_s=0.002, objective="peak_torque"))
     top = robot.actuators[0].drive.motor.max_torque_Nm  # the same motor on every axis
     for placement, value in zip(PLACEMENTS, evaluator.evaluate(PLACEMENTS).value):
         margin = next(m for m in evaluator.detail(placement).margins if m.kind == "motor torque")
@@ -64,7 +65,8 @@ def test_peak_torque_is_where_the_motor_torque_limit_is_tightest():
 
 
 def test_the_batch_power_integrates_to_the_energy_with_full_regeneration():
-    evaluator = Evaluator(load_robot("orthoglide"), load_path(EXAMPLE), "signed", 0.002)
+    evaluator = Evaluator(load_robot("orthoglide"), load_path(EXAMPLE),
+                          EvaluatorSettings(regeneration="signed", time_step_s=0.002))
     batch = evaluator.batch(PLACEMENTS)
     np.testing.assert_allclose(batch.interval_power_W.sum(axis=-1) @ batch.interval_widths_s, batch.energy.total_J,
                                rtol=1e-12)
@@ -98,9 +100,10 @@ def test_a_higher_is_better_objective_searches_and_reports_the_other_way(capsys)
     OBJECTIVES.register("negated_energy_for_test", NegatedEnergy())
     robot, path = load_robot("orthoglide"), load_path(EXAMPLE)
     space, settings = default_space(robot, free=("x", "y")), SearchSettings(population=12, max_generations=8)
-    energy = optimize_placement(robot, path, space=space, time_step_s=0.004, settings=settings)
-    negated = optimize_placement(robot, path, space=space, time_step_s=0.004, settings=settings,
-                                 objective="negated_energy_for_test")
+    energy = optimize_placement(robot, path, space=space, evaluation=EvaluatorSettings(time_step_s=0.004),
+                                settings=settings)
+    negated = optimize_placement(robot, path, space=space, settings=settings,
+                                 evaluation=EvaluatorSettings(time_step_s=0.004, objective="negated_energy_for_test"))
     np.testing.assert_array_equal(negated.best.detail.placement, energy.best.detail.placement)
     np.testing.assert_array_equal(negated.worst.detail.placement, energy.worst.detail.placement)
     assert negated.best.detail.value == -energy.best.detail.energy.total_J and negated.gain == energy.gain

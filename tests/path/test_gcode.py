@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 from placement.__main__ import main
-from placement.evaluation.evaluator import Evaluator
-from placement.exceptions import GcodeError, PathFileError
+from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.path import load_path
+from placement.path.exceptions import GcodeError, PathFileError
 from placement.robot import load_robot
 from tests.support.paths import EXAMPLES
 
@@ -344,7 +344,7 @@ def test_the_kinematics_follow_a_program_across_skipped_rapids(robot_name, at):
     for k in range(0, len(samples), 5):
         pin.framesForwardKinematics(robot.model, data, joints.q[k])
         np.testing.assert_allclose(data.oMf[robot.end_effector_frame_id].translation, task.position_m[k], atol=1e-9)
-    detail = Evaluator(robot, path, time_step_s=0.004).detail(np.array(at))
+    detail = Evaluator(robot, path, EvaluatorSettings(time_step_s=0.004)).detail(np.array(at))
     assert detail.reachable and np.isfinite(detail.energy.total_J)
 
 

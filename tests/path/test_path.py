@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from placement.exceptions import PathFileError
+from placement.path.exceptions import PathFileError
 from placement.path.load import load_path
 from placement.timing.realistic import DoubleS
 from tests.support.paths import EXAMPLE

@@ -5,9 +5,9 @@ import pinocchio as pin
 import pytest
 
 from placement.evaluation.evaluator import Evaluator
-from placement.exceptions import PoseFileError
 from placement.kinematics import joint_trajectory
 from placement.path import load_path
+from placement.path.exceptions import PoseFileError
 from placement.placing.transform import OrientationIgnoredWarning, placed_task
 from placement.robot import load_robot
 from placement.robot.closures import LWA
@@ -199,7 +199,7 @@ def test_a_timed_list_may_turn_on_the_spot(tmp_path):
                                              ("units: mm\ntiming: {mode: paper}\n", "timing"),
                                              ("feed_m_s: 0.1\n", "units")])
 def test_fields_a_timed_list_refuses_or_needs(tmp_path, settings, field):
-    from placement.exceptions import PathFileError
+    from placement.path.exceptions import PathFileError
 
     with pytest.raises(PathFileError) as error:
         poses(tmp_path, "t,x,y,z\n0,0,0,0\n1,1,0,0\n", settings)

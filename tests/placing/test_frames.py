@@ -7,7 +7,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
-from placement.evaluation.evaluator import Evaluator
+from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.exceptions import PlacementError
 from placement.path import load_path
 from placement.placing.transform import rotation_zyx, transform_path_to_base
@@ -45,7 +45,7 @@ def test_placement_space_rejects_unknown_variables():
 
 def test_rectangle_turned_half_a_turn_costs_the_same(orthoglide):
     """The paper's segments are independent: turning the rectangle by 180° gives the same set."""
-    evaluator = Evaluator(orthoglide, load_path(EXAMPLE), "clip")
+    evaluator = Evaluator(orthoglide, load_path(EXAMPLE), EvaluatorSettings(regeneration="clip"))
     placements = np.array([[-0.05, 0.01, -0.02, 0.3, 0.0, 0.0], [-0.05, 0.01, -0.02, 0.3 + np.pi, 0.0, 0.0]])
     energy = evaluator.evaluate(placements).value
     assert energy[0] == pytest.approx(energy[1], rel=1e-12)
@@ -59,7 +59,7 @@ def test_cyclic_symmetry_of_the_orthoglide(orthoglide, mode):
     cycle = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])  # e_x -> e_y -> e_z -> e_x
     origin, rotation = np.array([-0.04, 0.02, -0.03]), rotation_zyx(0.4, 0.2, -0.3)
     turned = Rotation.from_matrix(cycle @ rotation).as_euler("ZYX")
-    evaluator = Evaluator(orthoglide, load_path(EXAMPLE), mode)
+    evaluator = Evaluator(orthoglide, load_path(EXAMPLE), EvaluatorSettings(regeneration=mode))
     first = evaluator.detail(np.concatenate([origin, [0.4, 0.2, -0.3]]))
     second = evaluator.detail(np.concatenate([cycle @ origin, turned]))
     assert second.energy.total_J == pytest.approx(first.energy.total_J, rel=1e-10)

@@ -16,15 +16,16 @@ from multiprocessing import get_context
 import numpy as np
 import pytest
 
-from placement import Evaluator, load_path, load_robot, sweep
+from placement import Evaluator, EvaluatorSettings, load_path, load_robot, sweep
 from placement.drives.motors import MOTOR_MODELS, Motor, MotorModel, PowerParts, register_motor_model
+from placement.exceptions import UnknownMemberError
 from placement.objectives import OBJECTIVES
-from placement.registry import UnknownMemberError, runtime_members
+from placement.registry import runtime_members
 from tests.support.paths import EXAMPLE, PLUGIN
 from tests.support.robot_copies import edited_copy, orthoglide_motor
 
 SCRIPT = r"""
-import json, sys
+import dataclasses, json, sys
 from concurrent.futures import ProcessPoolExecutor
 from multiprocessing import get_context
 from pathlib import Path
@@ -44,16 +45,16 @@ robot = placement.load_robot(folder / "orthoglide.yaml")
 path = placement.load_path(sys.argv[2])
 axes = {"x": np.linspace(-0.04, 0.04, 3), "y": np.linspace(-0.04, 0.04, 3)}
 out = {}
+signed = placement.EvaluatorSettings(regeneration="signed", time_step_s=0.005)
 with ProcessPoolExecutor(2, mp_context=get_context("spawn")) as pool:
     for objective in ("peak_motor_speed", "energy"):
-        spawned = placement.sweep(robot, path, axes, regeneration="signed", time_step_s=0.005, executor=pool,
-                                  objective=objective)
-        here = placement.sweep(robot, path, axes, regeneration="signed", time_step_s=0.005, workers=1,
-                               objective=objective)
+        settings = dataclasses.replace(signed, objective=objective)
+        spawned = placement.sweep(robot, path, axes, evaluation=settings, executor=pool)
+        here = placement.sweep(robot, path, axes, evaluation=dataclasses.replace(settings, workers=1))
         out[objective] = [spawned.value.tolist(), here.value.tolist()]
 stock = placement.load_robot("orthoglide")
-plain = placement.sweep(stock, path, axes, regeneration="signed", time_step_s=0.005, workers=1)
-evaluator = placement.Evaluator(stock, path, "signed", 0.005)
+plain = placement.sweep(stock, path, axes, evaluation=dataclasses.replace(signed, workers=1))
+evaluator = placement.Evaluator(stock, path, signed)
 batch = evaluator.batch(plain.placements())
 out["pmsm_energy"] = plain.value.tolist()
 out["speed"] = np.abs(batch.motor.speed_rad_s).max(axis=(1, 2)).reshape(3, 3).tolist()
@@ -83,13 +84,13 @@ def test_installed_members_reach_spawned_workers(tmp_path):
 LIMIT_SCRIPT = r"""
 import json, sys
 import numpy as np
-from placement import Evaluator, load_path, load_robot
+from placement import Evaluator, EvaluatorSettings, load_path, load_robot
 from placement.evaluation.evaluator import denser
 from placement.timing.optimal import SAFETY
 
 robot, path = load_robot("orthoglide"), load_path(sys.argv[1])
 placement = np.array([0.0, 0.0, -0.033, 0.0, 0.0, 0.0])
-with Evaluator(robot, path, time_step_s=0.004, workers=1) as evaluator:
+with Evaluator(robot, path, EvaluatorSettings(time_step_s=0.004, workers=1)) as evaluator:
     detail = evaluator.detail(placement)
     recheck = denser(evaluator, 4).recheck(placement[None], evaluator)
 top = np.array([a.velocity_max for a in robot.actuators])
@@ -117,7 +118,7 @@ def test_an_installed_limit_bounds_the_optimal_timing_law(tmp_path):
     assert out["peak_share"] == pytest.approx(0.5 * out["safety"], rel=1e-6)  # TOPP-RA stays ~1e-8 inside a bound
     assert out["recheck_feasible"] and out["recheck_margin"] >= 0
     robot = load_robot("orthoglide")
-    with Evaluator(robot, load_path(path), time_step_s=0.004, workers=1) as free:
+    with Evaluator(robot, load_path(path), EvaluatorSettings(time_step_s=0.004, workers=1)) as free:
         unbounded = free.detail(np.array([0.0, 0.0, -0.033, 0.0, 0.0, 0.0]))
     top = np.array([a.velocity_max for a in robot.actuators])
     assert (np.abs(unbounded.velocity) / top).max() > 0.6  # without the limit the feed (0.66 m/s) sets the pace
@@ -147,16 +148,17 @@ def test_members_registered_at_run_time_travel_to_spawned_workers(tmp_path):
     path = load_path(EXAMPLE)
     axes = {"x": np.array([-0.02, 0.0, 0.02])}
     with ProcessPoolExecutor(2, mp_context=get_context("spawn")) as pool:
-        spawned = sweep(robot, path, axes, time_step_s=0.01, executor=pool)
+        spawned = sweep(robot, path, axes, executor=pool, evaluation=EvaluatorSettings(time_step_s=0.01))
     assert spawned.feasible.all() and (spawned.value == 0.0).all()
-    moving = sweep(load_robot("orthoglide"), path, axes, time_step_s=0.01, workers=1)
+    moving = sweep(load_robot("orthoglide"), path, axes, evaluation=EvaluatorSettings(time_step_s=0.01, workers=1))
     assert (moving.value > 1.0).all()  # the same map with the stock motor draws energy
 
 
 def test_a_workers_error_reaches_the_caller_whole():
     import pickle
 
-    from placement.exceptions import RobotFileError, UnreachableError
+    from placement.kinematics.exceptions import UnreachableError
+    from placement.robot.exceptions import RobotFileError
 
     for error in (UnknownMemberError("objective", "x", ["energy"]), RobotFileError("/r.yaml", "urdf", "not found"),
                   UnreachableError([3, 4], 2, "singular")):
@@ -174,7 +176,7 @@ def test_a_broken_installed_entry_spoils_only_its_own_name(tmp_path):
     (dist / "entry_points.txt").write_text("[placement.objectives]\naaa_broken = no_such_module:thing\n"
                                            "not_an_objective = json:dumps\n")
     script = ("import json, placement\n"
-              "from placement.registry import UnknownMemberError\n"
+              "from placement.exceptions import UnknownMemberError\n"
               "names = placement.OBJECTIVES.names()\n"
               "errors = []\n"
               "for name in ('aaa_broken', 'not_an_objective'):\n"

@@ -7,12 +7,12 @@ import numpy as np
 import pytest
 import yaml
 
-from placement import Evaluator, load_path
+from placement import Evaluator, EvaluatorSettings, load_path
 from placement.__main__ import main
-from placement.exceptions import RobotFileError
 from placement.placing.transform import VARIABLES
 from placement.robot import load_robot, robot_names
 from placement.robot.catalog import builtin_robots_dir
+from placement.robot.exceptions import RobotFileError
 from placement.search import optimize
 from tests.support.paths import EXAMPLE
 
@@ -39,7 +39,7 @@ def test_every_robot_places_a_path_end_to_end(name, tmp_path, capsys, monkeypatc
     assert document["best"]["feasible"] and document["worst"]["feasible"]
     # The JSON's placements, evaluated again through the Python API, give the JSON's energies.
     placements = [[document[key]["placement"][v] for v in VARIABLES] for key in ("best", "worst")]
-    again = Evaluator(load_robot(name), load_path(CIRCLE), time_step_s=0.05, workers=1).evaluate(placements)
+    again = Evaluator(load_robot(name), load_path(CIRCLE), EvaluatorSettings(time_step_s=0.05, workers=1)).evaluate(placements)
     assert again.feasible.all()
     np.testing.assert_allclose(again.value, [document["best"]["energy_J"], document["worst"]["energy_J"]], rtol=1e-9)
 
@@ -64,7 +64,8 @@ def test_serial_arm_tool_axis_points_into_the_workpiece():
 
     path_z = rotation_zyx(*placement[3:])[:, 2]
     assert tool_z @ path_z == pytest.approx(-1.0)
-    assert Evaluator(robot, load_path(CIRCLE), time_step_s=0.01, workers=1).evaluate(placement[None]).reachable[0]
+    evaluator = Evaluator(robot, load_path(CIRCLE), EvaluatorSettings(time_step_s=0.01, workers=1))
+    assert evaluator.evaluate(placement[None]).reachable[0]
 
 
 @pytest.fixture

@@ -8,10 +8,10 @@ import pytest
 import yaml
 
 from placement.__main__ import main
-from placement.exceptions import RobotFileError
 from placement.robot import load_robot
 from placement.robot.catalog import builtin_robots_dir
 from placement.robot.closures import closure_residuals
+from placement.robot.exceptions import RobotFileError
 from tests.support.robot_copies import edited_copy
 
 
@@ -159,3 +159,14 @@ def test_singular_passive_joints_are_reported_as_singular(tmp_path, capsys):
            "do not determine them" in out
     assert "    actuators to end effector: undefined while the passive joints are singular\n" in out
     assert "condition number" not in out
+
+
+def test_the_joints_outside_their_limits_are_named_with_the_limits_that_apply():
+    """An actuator's range is the sidecar's, a passive joint's the URDF's."""
+    from placement.robot.assemble import outside_limits
+
+    robot = load_robot("fivebar")
+    assert outside_limits(robot, {"a1": 3.0, "b2": -3.0}) == []
+    assert outside_limits(robot, {"a1": 4.0, "b1": 0.0, "b2": 100.0}) == [
+        "joint 'a1' is at 4, outside its limits [-3.14159, 3.14159]",
+        "joint 'b2' is at 100, outside its limits [-3.14159, 3.14159]"]

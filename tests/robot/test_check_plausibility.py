@@ -7,9 +7,9 @@ import pinocchio as pin
 import pytest
 
 from placement.__main__ import main
-from placement.exceptions import RobotFileError
 from placement.robot import load_robot
 from placement.robot.checks import check_robot, default_amplitude
+from placement.robot.exceptions import RobotFileError
 from tests.support.robot_copies import edited_copy
 
 SAMPLES = 20

@@ -11,10 +11,10 @@ import pytest
 
 from placement.cli import main
 from placement.evaluation.evaluator import Evaluator
-from placement.exceptions import RobotFileError
 from placement.path import load_path
 from placement.robot import load_robot
 from placement.robot.erd import load_erd_robot
+from placement.robot.exceptions import RobotFileError
 from placement.robot.urdf import one_angle_urdf, pinocchio_model, read_urdf, urdf_limits_missing
 from placement.search.space import default_space
 from tests.support.paths import DATA

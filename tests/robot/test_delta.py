@@ -15,7 +15,7 @@ import sys
 import numpy as np
 import pytest
 
-from placement import Evaluator, load_path
+from placement import Evaluator, EvaluatorSettings, load_path
 from placement.dynamics.inverse import inverse_dynamics
 from placement.kinematics import joint_trajectory
 from placement.robot import load_robot
@@ -70,7 +70,7 @@ def rotated_120_deg(placement):
 
 
 def test_a_path_turned_by_120_degrees_costs_the_same_energy_with_the_actuators_permuted(delta):
-    evaluator = Evaluator(delta, load_path(CIRCLE), time_step_s=0.004, workers=1)
+    evaluator = Evaluator(delta, load_path(CIRCLE), EvaluatorSettings(time_step_s=0.004, workers=1))
     placement = np.array([0.15, -0.10, -1.00, 0.3, 0.0, 0.0])
     energy = evaluator.detail(placement).energy.per_actuator_J
     turned = evaluator.detail(rotated_120_deg(placement)).energy.per_actuator_J

@@ -16,10 +16,10 @@ import pytest
 import yaml
 
 from placement.__main__ import main
-from placement.exceptions import RobotFileError
 from placement.robot import load_robot
 from placement.robot.catalog import sidecar_path
 from placement.robot.closures import closure_residuals
+from placement.robot.exceptions import RobotFileError
 from placement.robot.gepetto import EstimatesWarning, StaleSidecarWarning, estimated_drive, generate
 from tests.support.paths import CIRCLE, DATA
 

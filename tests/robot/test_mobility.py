@@ -9,10 +9,10 @@ import pytest
 import yaml
 
 from placement.__main__ import main
-from placement.exceptions import RobotFileError
 from placement.kinematics import joint_trajectory
 from placement.kinematics.trajectories import TaskTrajectory
 from placement.robot import load_robot
+from placement.robot.exceptions import RobotFileError
 from tests.support.paths import CIRCLE
 from tests.support.robot_copies import planar_arm, spinning_rods_fivebar
 

@@ -5,10 +5,11 @@ import json
 import numpy as np
 import pytest
 
-from placement import Evaluator, SearchSettings, load_path, load_robot, optimize_placement
+from placement import Evaluator, EvaluatorSettings, SearchSettings, load_path, load_robot, optimize_placement
 from placement.__main__ import main
-from placement.exceptions import PlacementError, RobotFileError
+from placement.exceptions import PlacementError
 from placement.placing.transform import plane_frame, transform_path_to_base
+from placement.robot.exceptions import RobotFileError
 from placement.robot.sidecar import Plane
 from placement.search.space import default_space
 from tests.support.paths import CIRCLE
@@ -34,7 +35,7 @@ def test_vertical_copy_costs_what_the_horizontal_one_does(fivebar, vertical):
     np.testing.assert_array_equal(space.upper, default_space(fivebar).upper)
     path = load_path(CIRCLE)
     placements = space.full(np.random.default_rng(3).uniform(space.lower, space.upper, (6, 3)))
-    flat, upright = (Evaluator(robot, path, time_step_s=0.01, workers=1) for robot in (fivebar, vertical))
+    flat, upright = (Evaluator(robot, path, EvaluatorSettings(time_step_s=0.01, workers=1)) for robot in (fivebar, vertical))
     a, b = flat.evaluate(placements), upright.evaluate(placements)
     assert a.reachable.any()
     np.testing.assert_array_equal(a.reachable, b.reachable)
@@ -46,9 +47,9 @@ def test_vertical_copy_costs_what_the_horizontal_one_does(fivebar, vertical):
 def test_optimum_of_the_vertical_copy_equals_the_horizontal_one(fivebar, vertical):
     """The same search optimum (the polish stops once its gains fall below 1e-9 of the objective, so two
     runs that differ by round-off end within about 1e-8 of each other)."""
-    path, settings = load_path(CIRCLE), SearchSettings(population=6, max_generations=3, seed=1)
-    flat = optimize_placement(fivebar, path, worst=False, settings=settings, time_step_s=0.01)
-    upright = optimize_placement(vertical, path, worst=False, settings=settings, time_step_s=0.01)
+    path, settings = load_path(CIRCLE), SearchSettings(population=6, max_generations=3, seed=1, worst=False)
+    flat = optimize_placement(fivebar, path, evaluation=EvaluatorSettings(time_step_s=0.01), settings=settings)
+    upright = optimize_placement(vertical, path, evaluation=EvaluatorSettings(time_step_s=0.01), settings=settings)
     assert upright.best.detail.energy.total_J == pytest.approx(flat.best.detail.energy.total_J, rel=1e-7)
     np.testing.assert_allclose(upright.best.detail.placement, flat.best.detail.placement, atol=1e-5)
 

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from placement import load_path, load_robot
+from placement import EvaluatorSettings, load_path, load_robot
 from placement.cli import main
 from placement.search.feed import feed_study
 from tests.support.paths import EXAMPLE
@@ -13,7 +13,7 @@ FEEDS = np.array([0.1, 0.3, 0.66, 0.9, 2.0])
 
 def test_paper_timing_takes_length_over_feed_and_breaks_the_speed_limit_when_too_fast():
     path = load_path(EXAMPLE)
-    study = feed_study(load_robot("orthoglide"), path, np.zeros(6), FEEDS, time_step_s=0.002)
+    study = feed_study(load_robot("orthoglide"), path, np.zeros(6), FEEDS, EvaluatorSettings(time_step_s=0.002))
     np.testing.assert_allclose(study.time_s, path.length_m / FEEDS, rtol=1e-12)
     np.testing.assert_allclose(study.top_speed_m_s, FEEDS, rtol=1e-12)
     assert study.feasible.tolist() == [True, True, True, True, False]  # the sliders' 1 m/s, at 2 m/s on 45° diagonals
@@ -23,7 +23,8 @@ def test_paper_timing_takes_length_over_feed_and_breaks_the_speed_limit_when_too
 def test_realistic_timing_never_outruns_the_feed_and_saturates(tmp_path):
     file = tmp_path / "rect.yaml"
     file.write_text(EXAMPLE.read_text().replace("mode: paper", "mode: realistic"))
-    study = feed_study(load_robot("orthoglide"), load_path(file), np.zeros(6), FEEDS, time_step_s=0.002)
+    study = feed_study(load_robot("orthoglide"), load_path(file), np.zeros(6), FEEDS,
+                       EvaluatorSettings(time_step_s=0.002))
     assert (study.top_speed_m_s <= FEEDS * (1 + 1e-9)).all()
     assert (np.diff(study.time_s) <= 1e-12).all()  # faster feeds never take longer
     assert study.top_speed_m_s[-1] < FEEDS[-1]  # 2 m/s is never reached on a 30 mm side at 10 m/s²

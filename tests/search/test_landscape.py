@@ -8,13 +8,13 @@ with the rectangle turned by about 45°.
 import numpy as np
 import pytest
 
-from placement import SearchSettings, load_path, load_robot, optimize_placement
+from placement import EvaluatorSettings, SearchSettings, load_path, load_robot, optimize_placement
 from tests.support.paths import EXAMPLE
 
 
 @pytest.fixture(scope="module")
 def result():
-    return optimize_placement(load_robot("orthoglide"), load_path(EXAMPLE), time_step_s=0.004,
+    return optimize_placement(load_robot("orthoglide"), load_path(EXAMPLE), evaluation=EvaluatorSettings(time_step_s=0.004),
                               settings=SearchSettings(seed=1))
 
 

@@ -7,7 +7,7 @@ import sys
 import numpy as np
 import pytest
 
-from placement.evaluation.evaluator import Evaluator
+from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.path import load_path
 from placement.search.optimize import SearchSettings, optimize_placement
 from placement.search.space import default_space
@@ -28,9 +28,10 @@ def case():
     step = 0.002
     xs, ys = (np.linspace(lo, hi, GRID) for lo, hi in zip(space.lower, space.upper))
     grid = np.stack(np.meshgrid(xs, ys, indexing="ij"), axis=-1).reshape(-1, 2)
-    evaluation = Evaluator(robot, path, time_step_s=step).evaluate(space.full(grid))
+    evaluation = Evaluator(robot, path, EvaluatorSettings(time_step_s=step)).evaluate(space.full(grid))
     feasible = evaluation.value[evaluation.feasible]
-    result = optimize_placement(robot, path, space=space, time_step_s=step, settings=SearchSettings(seed=3))
+    result = optimize_placement(robot, path, space=space, evaluation=EvaluatorSettings(time_step_s=step),
+                                settings=SearchSettings(seed=3))
     return robot, path, space, step, feasible, result
 
 
@@ -69,8 +70,8 @@ def test_phi_range_follows_the_path_symmetry(case, tmp_path):
 
 def test_same_seed_same_result(case):
     robot, path, space, step, _, result = case
-    again = optimize_placement(robot, path, space=space, time_step_s=step, settings=SearchSettings(seed=3),
-                               worst=False)
+    again = optimize_placement(robot, path, space=space, evaluation=EvaluatorSettings(time_step_s=step),
+                               settings=SearchSettings(seed=3, worst=False))
     np.testing.assert_array_equal(again.best.detail.placement, result.best.detail.placement)
     assert again.worst is None and again.gain is None
 
@@ -89,8 +90,9 @@ def test_the_duration_is_announced_once_before_the_search_starts():
 
     events: list = []
     robot = load_robot("orthoglide")
-    optimize_placement(robot, load_path(EXAMPLE), space=default_space(robot, free=("x", "y")), time_step_s=0.004,
-                       best=True, worst=False, settings=SearchSettings(population=8, max_generations=3),
+    optimize_placement(robot, load_path(EXAMPLE), space=default_space(robot, free=("x", "y")),
+                       evaluation=EvaluatorSettings(time_step_s=0.004),
+                       settings=SearchSettings(population=8, max_generations=3, best=True, worst=False),
                        progress=lambda: events.append("generation"), announce=events.append)
     assert events[1:] == ["generation"] * (len(events) - 1) and len(events) > 1
     assert 0 < events[0] < np.inf
@@ -104,10 +106,10 @@ def test_both_directions_searched_at_once_find_what_one_after_the_other_finds():
               "from concurrent.futures import ThreadPoolExecutor\n"
               "from placement import load_path, load_robot\n"
               "from placement.dynamics.inverse import openmp_started\n"
-              "from placement.evaluation.evaluator import Evaluator\n"
+              "from placement.evaluation.evaluator import Evaluator, EvaluatorSettings\n"
               "from placement.search import optimize\n"
               "robot, path = load_robot('ur5'), load_path('examples/rect.yaml')\n"
-              "probe = Evaluator(robot, path, threads=1)\n"
+              "probe = Evaluator(robot, path, EvaluatorSettings(threads=1))\n"
               "assert not openmp_started() and optimize.in_parallel(probe, probe, 2)\n"
               "if sys.argv[1] == 'one_after_the_other':\n"
               "    optimize.process_pool = lambda workers, initializer, initargs: ThreadPoolExecutor(\n"
@@ -121,3 +123,24 @@ def test_both_directions_searched_at_once_find_what_one_after_the_other_finds():
         return json.loads(output.stdout.strip().splitlines()[-1])
 
     assert optima("at_once") == optima("one_after_the_other")
+
+
+def test_the_evaluation_settings_are_plain_data_that_each_search_takes_once():
+    """EvaluatorSettings keeps several objectives as a tuple (hashable, picklable); a Pareto front takes its objectives
+    once, and a sweep maps one objective: both refuse otherwise before any work."""
+    import pickle
+
+    from placement.exceptions import PlacementError
+    from placement.robot import load_robot
+    from placement.search.pareto import pareto_front
+    from placement.search.sweep import sweep
+
+    settings = EvaluatorSettings(objective=["energy", "dexterity"], time_step_s=0.004)  # a list: kept as a tuple
+    assert settings.objectives == ("energy", "dexterity") and settings.objective == ("energy", "dexterity")
+    assert pickle.loads(pickle.dumps(settings)) == settings and hash(settings) == hash(settings)
+    assert EvaluatorSettings().objectives == ("energy",)
+    robot, path = load_robot("orthoglide"), load_path(EXAMPLE)
+    with pytest.raises(PlacementError, match="given once, as objectives"):
+        pareto_front(robot, path, ("energy", "transmission"), evaluation=EvaluatorSettings(objective="dexterity"))
+    with pytest.raises(PlacementError, match="a sweep maps one objective, got energy, dexterity"):
+        sweep(robot, path, {"x": np.zeros(2)}, evaluation=settings)

@@ -8,7 +8,7 @@ import math
 
 import pytest
 
-from placement import load_path, load_robot
+from placement import EvaluatorSettings, load_path, load_robot
 from placement.__main__ import main
 from placement.path.schema import Timing
 from placement.search.optimize import SearchSettings, optimize_placement
@@ -32,8 +32,9 @@ def test_under_the_optimal_timing_a_row_gives_the_best_placement_s_own_time_and_
     robot = load_robot("orthoglide")
     path = dataclasses.replace(load_path("examples/rect.yaml"), timing=Timing(mode="optimal"))
     (row,) = run_study([robot], [path], settings=SMALL, workers=1)
-    result = optimize_placement(robot, path, settings=SMALL, worst=False)
-    fastest = optimize_placement(robot, path, objective="cycle_time", settings=SMALL, worst=False)
+    result = optimize_placement(robot, path, settings=dataclasses.replace(SMALL, worst=False))
+    fastest = optimize_placement(robot, path, evaluation=EvaluatorSettings(objective="cycle_time"),
+                                 settings=dataclasses.replace(SMALL, worst=False))
     assert row.cycle_time_s == result.best.detail.samples.t_s[-1]
     assert row.fastest_cycle_time_s == fastest.best.detail.value <= row.cycle_time_s
 

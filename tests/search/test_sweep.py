@@ -5,7 +5,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 import pytest
 
-from placement.evaluation.evaluator import Evaluator
+from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.output.plots import label_decimals
 from placement.path import load_path
 from placement.search.sweep import SweepResult, sweep
@@ -21,12 +21,12 @@ def serial():
 
     robot = load_robot("orthoglide")
     path = load_path(EXAMPLE)
-    return robot, path, sweep(robot, path, AXES, FIXED, time_step_s=0.004, workers=1)
+    return robot, path, sweep(robot, path, AXES, FIXED, evaluation=EvaluatorSettings(time_step_s=0.004, workers=1))
 
 
 def test_map_equals_the_evaluator_point_by_point(serial):
     robot, path, result = serial
-    evaluator = Evaluator(robot, path, time_step_s=0.004)
+    evaluator = Evaluator(robot, path, EvaluatorSettings(time_step_s=0.004))
     i, j = 2, 4
     direct = evaluator.evaluate(np.array([[AXES["x"][i], AXES["y"][j], -0.01, 0.3, 0.0, 0.0]]))
     assert result.value[i, j] == direct.value[0] and result.feasible[i, j] == direct.feasible[0]
@@ -35,9 +35,9 @@ def test_map_equals_the_evaluator_point_by_point(serial):
 
 def test_parallel_workers_and_any_executor_give_the_same_map(serial):
     robot, path, result = serial
-    parallel = sweep(robot, path, AXES, FIXED, time_step_s=0.004, workers=2)
+    parallel = sweep(robot, path, AXES, FIXED, evaluation=EvaluatorSettings(time_step_s=0.004, workers=2))
     with ThreadPoolExecutor(max_workers=2) as executor:
-        threaded = sweep(robot, path, AXES, FIXED, time_step_s=0.004, executor=executor)
+        threaded = sweep(robot, path, AXES, FIXED, executor=executor, evaluation=EvaluatorSettings(time_step_s=0.004))
     for other in (parallel, threaded):
         np.testing.assert_array_equal(other.value, result.value)
         np.testing.assert_array_equal(other.tightest, result.tightest)
@@ -78,10 +78,10 @@ def test_workers_evaluate_the_robot_as_changed_in_memory():
     heavier.model.inertias[heavier.model.getJointId("b1")].mass *= 2.0
     placements = np.array([[0.0, 0.30, 0.0, 0.0, 0.0, 0.0], [0.02, 0.28, 0.0, 0.5, 0.0, 0.0],
                            [-0.02, 0.31, 0.0, -0.5, 0.0, 0.0], [0.01, 0.32, 0.0, 1.0, 0.0, 0.0]])
-    with Evaluator(heavier, path, time_step_s=0.01, workers=2) as parallel:
+    with Evaluator(heavier, path, EvaluatorSettings(time_step_s=0.01, workers=2)) as parallel:
         in_workers = parallel.evaluate(placements).value
-    here = Evaluator(heavier, path, time_step_s=0.01, workers=1).evaluate(placements).value
-    original = Evaluator(robot, path, time_step_s=0.01, workers=1).evaluate(placements).value
+    here = Evaluator(heavier, path, EvaluatorSettings(time_step_s=0.01, workers=1)).evaluate(placements).value
+    original = Evaluator(robot, path, EvaluatorSettings(time_step_s=0.01, workers=1)).evaluate(placements).value
     np.testing.assert_array_equal(in_workers, here)
     assert not np.allclose(here, original)
 
@@ -96,8 +96,8 @@ def test_a_plug_in_robot_changed_in_memory_travels_to_the_workers(serial):
     calm = pickle.loads(pickle.dumps(robot))
     assert calm.closed_form is not None
     calm.model.gravity = pin.Motion.Zero()
-    here = sweep(calm, path, AXES, FIXED, time_step_s=0.004, workers=1)
-    there = sweep(calm, path, AXES, FIXED, time_step_s=0.004, workers=2)
+    here = sweep(calm, path, AXES, FIXED, evaluation=EvaluatorSettings(time_step_s=0.004, workers=1))
+    there = sweep(calm, path, AXES, FIXED, evaluation=EvaluatorSettings(time_step_s=0.004, workers=2))
     np.testing.assert_array_equal(here.value, there.value)
     assert not np.allclose(here.value[result.feasible], result.value[result.feasible])
 

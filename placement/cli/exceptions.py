@@ -1,0 +1,9 @@
+"""Errors of the command line: options with values they cannot take."""
+
+from __future__ import annotations
+
+from placement.exceptions import PlacementError
+
+
+class UsageError(PlacementError):
+    """A command-line option has a value it cannot take."""

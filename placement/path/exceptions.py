@@ -1,0 +1,42 @@
+"""Errors of path files, the G-code programs and the pose lists they name."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from placement.exceptions import InputFileError
+
+
+class PathFileError(InputFileError):
+    """A path file is missing, malformed or inconsistent."""
+
+
+class GcodeError(PathFileError):
+    """A G-code program named by a path file has a word, number or move that cannot be followed.
+
+    Attributes:
+        line: The line number in the program (counted from 1).
+        word: The word at fault as written ("" when the whole line is).
+    """
+
+    def __init__(self, path: str | Path, line: int, word: str, problem: str) -> None:
+        super().__init__(path, f"line {line}", problem)
+        self.line = line
+        self.word = word
+        Exception.__init__(self, f"{self.path}, line {line}{f', word {word!r}' if word else ''}: {problem}")
+
+
+class PoseFileError(PathFileError):
+    """A pose list named by a path file has a missing column, a bad value or a bad row.
+
+    Attributes:
+        row: The data row at fault, counted from 1 after a CSV header (0: the header or the whole file).
+        column: The column at fault ("" when the whole row or file is).
+    """
+
+    def __init__(self, path: str | Path, row: int, column: str, problem: str) -> None:
+        super().__init__(path, f"row {row}" if row else "", problem)
+        self.row = row
+        self.column = column
+        where = (f", row {row}" if row else "") + (f", column {column!r}" if column else "")
+        Exception.__init__(self, f"{self.path}{where}: {problem}")

@@ -1,0 +1,29 @@
+"""Errors of robots: their files, their names, the closing of their loops, example-robot-data arms."""
+
+from __future__ import annotations
+
+from placement.exceptions import InputFileError, PlacementError
+
+
+class RobotFileError(InputFileError):
+    """A robot description (URDF or sidecar YAML) is missing, malformed or inconsistent."""
+
+
+class UnknownRobotError(PlacementError):
+    """A robot name is neither a built-in robot nor a path to a sidecar file."""
+
+    def __init__(self, name: str, known: list[str]) -> None:
+        self.name = name
+        self.known = known
+        super().__init__(
+            f"unknown robot '{name}': expected one of {', '.join(known)} "
+            "or the path to a robot sidecar YAML file"
+        )
+
+
+class AssemblyError(PlacementError):
+    """A robot's loops cannot be closed, or its assembled configuration cannot be written."""
+
+
+class ExampleRobotError(PlacementError):
+    """An example-robot-data robot cannot be used as asked: unknown name or frame, or an arm outside the rules."""

@@ -1,0 +1,9 @@
+"""Errors of timing laws: one that the objectives do not allow, or that cannot time the path."""
+
+from __future__ import annotations
+
+from placement.exceptions import PlacementError
+
+
+class TimingError(PlacementError):
+    """A timing law conflicts with what the objectives need, or lacks what it needs (the realistic law's bounds)."""
