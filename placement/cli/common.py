@@ -202,6 +202,8 @@ def _quantity(raw: str, name: str) -> float | None:
 def configured_path(args: argparse.Namespace, file: str) -> ToolPath:
     """A path file with the command line's timing overrides, timed optimally when an objective needs it."""
     path = load_path(file)
+    for note in path.notes:
+        print(f"note: {note}")
     needed = needed_timing(args)
     if needed is not None and (args.timing or path.timing.mode) != needed:
         if args.timing is not None:

@@ -8,7 +8,7 @@ from pathlib import Path as FilePath
 import numpy as np
 
 from placement.exceptions import PathFileError
-from placement.path.gcode import read_program
+from placement.path.gcode import MM_M, Machine, read_program
 from placement.path.poses import TimedPoses, pose_segments, read_poses
 from placement.path.samples import default_time_step_s
 from placement.path.schema import LENGTH_SCALE, Circle, Gcode, PathFile, Polyline, Poses, Rapids, Rectangle
@@ -34,8 +34,10 @@ def load_path(path: str | FilePath) -> ToolPath:
     spec = read_yaml(path, PathFile, PathFileError)
     _check_fields(path, spec)
     rapid_feed, timed = None, None
+    notes: tuple[str, ...] = ()
     if isinstance(spec.shape, Gcode):
-        program = read_program(path.parent / spec.shape.file)
+        program = read_program(path.parent / spec.shape.file, _machine(spec.shape))
+        notes = program.notes
         rapids = spec.rapids or Rapids()
         segments = tuple(s for s in program.segments if not s.rapid or rapids.mode == "timed")
         feed, rapid_feed = program.feed_m_s, rapids.feed_m_s
@@ -65,7 +67,20 @@ def load_path(path: str | FilePath) -> ToolPath:
     return ToolPath(name=spec.name or path.stem, segments=segments, feed_m_s=feed,
                     forces=spec.process_forces_N.resolve(), timing=spec.timing,
                     time_step_s=spec.time_step_s if spec.time_step_s is not None else default_time_step_s(feed),
-                    rapid_feed_m_s=rapid_feed, timed=timed)
+                    rapid_feed_m_s=rapid_feed, timed=timed, notes=notes)
+
+
+def _machine(shape: Gcode) -> Machine:
+    """The machine positions a path file gives a program, in metres."""
+    given = shape.machine
+    if given is None:
+        return Machine()
+    def point(value: tuple[float, float, float] | None) -> np.ndarray | None:
+        return None if value is None else np.array(value, dtype=float) * MM_M
+
+    offset = point(given.work_offset_mm)
+    assert offset is not None
+    return Machine(offset, point(given.g28_mm), point(given.g30_mm), given=True)
 
 
 def _check_fields(path: FilePath, spec: PathFile) -> None:

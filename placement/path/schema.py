@@ -102,11 +102,25 @@ class Arc(Strict):
         return self
 
 
+Point = tuple[Number, Number, Number]
+
+
+class MachinePositions(Strict):
+    """Positions only the machine holds, in machine coordinates (mm): where the program's origin (the path
+    frame's) is, and the reference positions G28 and G30 move to (each left out with a note when not given)."""
+
+    work_offset_mm: Point = (0.0, 0.0, 0.0)
+    g28_mm: Point | None = None
+    g30_mm: Point | None = None
+
+
 class Gcode(Strict):
-    """A G-code program, its file named relative to the path file (:mod:`placement.path.gcode`)."""
+    """A G-code program, its file named relative to the path file (:mod:`placement.path.gcode`); ``machine`` gives
+    what G28, G30 and G53 moves need."""
 
     type: Literal["gcode"]
     file: Text
+    machine: MachinePositions | None = None
 
 
 class Poses(Strict):

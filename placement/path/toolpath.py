@@ -29,6 +29,7 @@ class ToolPath:
         rapid_feed_m_s: The feed of rapid segments (timed G-code rapids), not scaled with feed_m_s.
         timed: A pose list with times, sampled by its own interpolation instead of the segments
             (the polyline through its points); its speeds scale by feed_m_s over its mean speed.
+        notes: What the reader of a G-code program left out, for the user (printed once each).
     """
 
     name: str
@@ -39,6 +40,7 @@ class ToolPath:
     time_step_s: float
     rapid_feed_m_s: float | None = None
     timed: TimedPoses | None = None
+    notes: tuple[str, ...] = ()
 
     @property
     def length_m(self) -> float:

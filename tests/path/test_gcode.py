@@ -13,7 +13,7 @@ import pytest
 from placement.__main__ import main
 from placement.evaluation.evaluator import Evaluator
 from placement.exceptions import GcodeError, PathFileError
-from placement.path import load_path
+from placement.path import load_path, ngc_flow
 from placement.robot import load_robot
 from tests.support.paths import EXAMPLES
 
@@ -268,27 +268,45 @@ def test_the_pocket_example_runs_end_to_end(capsys):
     ("G0 X0 Y0 Z0\nG41 G1 X10 F100\n", 2, "G41", ["cutter radius compensation"]),
     ("G54\nG0 X0 Y0 Z0\nG55 X1\n", 3, "G55", ["changes work coordinate system"]),
     ("G0 X0 Y0 Z0\nG92 X0\n", 2, "G92", ["coordinate system offset"]),
-    ("G0 X0 Y0 Z0\nG81 X1 Y1 Z-3 R1 F100\n", 2, "G81", ["canned cycles"]),
-    ("G0 X0 Y0 Z0\nG1 X10 A5 F100\n", 2, "A5", ["unknown word"]),
+    ("G0 X0 Y0 Z0\nG84 X1 Y1 Z-3 R1 F100\n", 2, "G84", ["tapping", "G73, G81-G83, G85, G89 are read"]),
+    ("G0 X0 Y0 Z0\nG1 X10 A5 F100\n", 2, "A5", ["rotary"]),
+    ("G0 X0 Y0 Z0\nG1 X10 E5 F100\n", 2, "E5", ["unknown word"]),
     ("G0 X0 Y0 Z0\nG1 X10\n", 2, "X10", ["before any feed rate"]),
     ("G0 X0 Y0 Z0\nG1 X1.2.3 F100\n", 2, "X1.2.3", ["expected a number"]),
-    ("G0 X0 Y0 Z0\nG1 X#1 F100\n", 2, "X#1", ["expected a number"]),
+    ("G0 X0 Y0 Z0\nG1 X#<nope> F100\n", 2, "#<NOPE>", ["read before it is set"]),
+    ("G0 X0 Y0 Z0\nG1 X[1/0] F100\n", 2, "/", ["division by zero"]),
+    ("G0 X0 Y0 Z0\nG1 X[1+2 F100\n", 2, "F", ["expected an operator"]),
+    ("G0 X0 Y0 Z0\nG1 X[1+2\n", 2, "[1+2", ["not closed"]),
+    ("G0 X0 Y0 Z0\nG1 X[sqrt[-1]] F100\n", 2, "SQRT[-1]", ["undefined"]),
+    ("G0 X0 Y0 Z0\nG1 Xfoo[1] F100\n", 2, "FOO", ["unknown function"]),
+    ("G0 X0 Y0 Z0\nO100 call\n", 2, "O100CALL", ["no subroutine O100"]),
+    ("G0 X0 Y0 Z0\nO100 while [1]\nG1 X1 F100\n", 2, "O100WHILE[1]", ["no matching endwhile"]),
+    ("G0 X0 Y0 Z0\nG1 F100\nO100 while [1]\nG1 X1\nO100 endwhile\n", 5, "", ["more than 1,000 lines run"]),
+    ("G0 X0 Y0 Z0\nO100 endsub\n", 2, "O100ENDSUB", ["outside a subroutine"]),
+    ("G0 X0 Y0 Z0\nG95 G1 X10 F0.1\n", 2, "X10", ["spindle speed S"]),
+    ("G0 X0 Y0 Z0\nG93 G1 X10 F5\nX20\n", 3, "X20", ["every feed move gives its F"]),
+    ("G0 X0 Y0 Z0\nG81 X1 Y1 Z-3 F100\n", 2, "G81", ["retract level R"]),
+    ("G0 X0 Y0 Z0\nG83 X1 Y1 Z-3 R1 F100\n", 2, "G83", ["needs Q"]),
+    ("G0 X0 Y0 Z0\nG81 X1 Y1 Z3 R1 F100\n", 2, "R1", ["below the bottom"]),
+    ("G0 X0 Y0 Z0\nG1 X1 P2 F100\n", 2, "P2", ["P belongs to G4"]),
+    ("G0 X0 Y0 Z0\nG28.1 X1\nG1 X1 F100 Q2\n", 3, "Q2", ["Q belongs to"]),
     ("G0 X0 Y0 Z0\nG2 X10 Y0 I5.1 J0 F100\n", 2, "I5.1", ["radius does not fit"]),
     ("G0 X0 Y0 Z0\nG2 X10 Y0 R4.9 F100\n", 2, "R4.9", ["smaller than half the chord"]),
     ("G0 X0 Y0 Z0\nG2 X0 Y0 R5 F100\n", 2, "R5", ["full circle"]),
     ("G0 X0 Y0 Z0\nG1 G2 X1 F100\n", 2, "G2", ["second motion word"]),
     ("G0 X0 Y0 Z0\nG17 G2 X10 K3 F100\n", 2, "K3", ["G17 arcs take centre offsets I and J"]),
-    ("G0 X0 Y0\nG1 X10 F100\n", 2, "X10", ["unknown position"]),
+    ("G0 X0 Y0\nG1 X10 F100\nG0 Z5\n", 2, "X10", ["unknown position"]),
     ("G0 X0 Y0 Z0\nG1 X10 F0\n", 2, "F0", ["must be > 0"]),
-    ("G0 X0 Y0 Z0\nM98 P100\n", 2, "M98", ["M-code subset"]),
+    ("G0 X0 Y0 Z0\nM98 P100\n", 2, "M98", ["M-code dialect", "O-word subroutines"]),
     ("G0 X0 Y0 Z0\nG1 X10 F100 (open comment\n", 2, "", ["not closed"]),
     ("G0 X0 Y0 Z0\nG1 X10 I5 F100\n", 2, "I5", ["belong to arcs"]),
-    ("G0 X0 Y0 Z0\nG2 I5 F100\n", 2, "I5", ["needs its end point"]),
+    ("G0 X0 Y0 Z0\nG4\n", 2, "G4", ["duration P"]),
     ("G21\nX10 Y0 Z0\n", 2, "X10", ["no motion mode"]),
     ("G0 X0 Y0 Z0\nG2 X10 Y0 F100\n", 2, "X10", ["needs its centre"]),
     ("G0 X0 Y0\nG91 Z-1\n", 2, "Z-1", ["incremental"]),
 ])
-def test_program_errors_name_the_line_and_the_word(tmp_path, code, line, word, words):
+def test_program_errors_name_the_line_and_the_word(tmp_path, monkeypatch, code, line, word, words):
+    monkeypatch.setattr(ngc_flow, "MAX_EXECUTED_BLOCKS", 1000)  # the endless loop's bound, reached quickly
     with pytest.raises(GcodeError) as error:
         program(tmp_path, code)
     assert error.value.line == line and error.value.word == word
