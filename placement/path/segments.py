@@ -121,6 +121,15 @@ def rotation_matrices(vectors: np.ndarray) -> np.ndarray:
 
 
 @dataclass(frozen=True)
+class Hold:
+    """The tool held at rest for a while (a G-code dwell): at the end of segment ``after`` - 1 (at the start of the
+    first segment if ``after`` is 0), for ``duration_s`` seconds."""
+
+    after: int
+    duration_s: float
+
+
+@dataclass(frozen=True)
 class Run:
     """Consecutive segments the tool runs through without stopping: no corner, gap or change of the tool's
     turning rate between them (where the realistic and optimal timing laws stop).

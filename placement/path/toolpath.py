@@ -11,7 +11,7 @@ from placement.exceptions import PlacementError
 from placement.path.poses import TimedPoses
 from placement.path.samples import END_SPLIT, MAX_SAMPLES, MIN_RUN_SAMPLES, PathGeometry, PathSamples, run_joins
 from placement.path.schema import ForceSet, Timing
-from placement.path.segments import Run, Segment, split_runs
+from placement.path.segments import Hold, Run, Segment, split_runs
 from placement.timing.paper import sample_paper
 from placement.timing.realistic import sample_realistic
 
@@ -30,6 +30,8 @@ class ToolPath:
         timed: A pose list with times, sampled by its own interpolation instead of the segments
             (the polyline through its points); its speeds scale by feed_m_s over its mean speed.
         notes: What the reader of a G-code program left out, for the user (printed once each).
+        holds: Where the tool rests for a while (G-code dwells), in order; the segment before each ends
+            in an exact stop. The paper and realistic timing laws sample each as a piece of its own.
     """
 
     name: str
@@ -41,6 +43,7 @@ class ToolPath:
     rapid_feed_m_s: float | None = None
     timed: TimedPoses | None = None
     notes: tuple[str, ...] = ()
+    holds: tuple[Hold, ...] = ()
 
     @property
     def length_m(self) -> float:
@@ -126,6 +129,32 @@ class ToolPath:
         on its own (``by_segment``: the paper's timing law)."""
         return [Run((segment,)) for segment in self.segments] if by_segment else split_runs(self.segments)
 
+    def hold_parts(self, after: int, start_s: float, piece: int) -> tuple[list[dict[str, np.ndarray]], float, int]:
+        """The samples of the holds after segment ``after`` - 1, each a piece of its own from ``piece`` on: the tool
+        at rest at the segment's end, with its end tangent and kind of move (so the process force of the move it
+        ends keeps acting), sampled at its start and end (nothing changes in between, so the trapezoidal energy of
+        the two is exact). Returns the parts, the time after them and the next piece."""
+        holds = [hold for hold in self.holds if hold.after == after]
+        if not holds:
+            return [], start_s, piece
+        segment = self.segments[after - 1] if after else self.segments[0]
+        at = np.array([segment.length_m if after else 0.0])
+        position, _, _, tangent = segment.point(at, np.zeros(1), np.zeros(1))
+        rotation = segment.orientation(at, np.zeros(1), np.zeros(1))[0] if self.oriented else None
+        parts = []
+        n = 2
+        for hold in holds:
+            part = {"t": start_s + np.linspace(0.0, hold.duration_s, n), "position": np.repeat(position, n, axis=0),
+                    "velocity": np.zeros((n, 3)), "acceleration": np.zeros((n, 3)),
+                    "tangent": np.repeat(tangent, n, axis=0), "rapid": np.full(n, segment.rapid),
+                    "piece": np.full(n, piece)}
+            if rotation is not None:
+                part.update(rotation=np.repeat(rotation, n, axis=0), angular_velocity=np.zeros((n, 3)),
+                            angular_acceleration=np.zeros((n, 3)))
+            parts.append(part)
+            start_s, piece = start_s + hold.duration_s, piece + 1
+        return parts, start_s, piece
+
     def sample_counts(self, durations_s: list[float], step: float) -> list[int]:
         """Samples of each independently timed piece; refuses more than MAX_SAMPLES in all."""
         counts = [max(2, int(np.ceil(d / step)) + 1) if d / step < MAX_SAMPLES else MAX_SAMPLES + 1 for d in durations_s]
@@ -141,9 +170,9 @@ class ToolPath:
         Each independently timed piece (a segment in the paper's timing law, a corner-to-corner
         run in the realistic one) must map onto a piece run the same way at the same feed; the
         energy of such a path is then the same at phi and phi + 180°, and phi only needs a half
-        turn of range. A timed pose list, or one whose orientation changes, is taken not to be.
+        turn of range. A timed pose list, one whose orientation changes, or one with holds is taken not to be.
         """
-        if self.timed is not None or not self._constant_orientation():
+        if self.timed is not None or self.holds or not self._constant_orientation():
             return False
         fractions = np.linspace(0.0, 1.0, 9)
 

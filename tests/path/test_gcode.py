@@ -417,3 +417,43 @@ def test_a_slow_program_without_a_time_step_is_sampled_every_half_millimetre(tmp
     assert slow.time_step_s == pytest.approx(0.0005 / (0.1 / 60)) and fast.time_step_s == 0.001
     spacing = np.diff(slow.sample().position_m[:, 0])
     assert spacing.max() <= 0.0005 + 1e-12
+
+
+@pytest.mark.parametrize("timing", ["paper", "realistic"])
+def test_a_dwell_costs_the_static_holding_joule_power_for_its_duration(tmp_path, timing):
+    # The UR5 holds the tool at rest for 2 s against gravity and an axial process force. The static joint efforts
+    # are computed here with Pinocchio (gravity torque less the Jacobian's transpose times the force on the tool),
+    # the motor currents from the gear ratio and torque constant, and the Joule power n·R·I² from them.
+    import pinocchio as pin
+
+    robot = load_robot("ur5")
+    at = np.array([0.45, 0.1, 0.2, 0.3, 0.0, 0.0])
+    forces = "process_forces_N: {feed: 0, radial: 0, axial: 40}\n"
+    law = f"timing: {{mode: {timing}, max_acceleration_m_s2: 2, max_jerk_m_s3: 50}}\n"
+    moves = "G21 G90 G0 X0 Y0 Z0\nG1 X10 F600\n{}G1 X20\nG1 Y10\n"
+    held = program(tmp_path, moves.format("G4 P2\n"), forces + law, name="held")
+    plain = program(tmp_path, moves.format("M0\n"), forces + law, name="plain")  # a stop there, no hold
+    assert held.holds and held.holds[0].duration_s == 2.0
+    details = [Evaluator(robot, path, time_step_s=0.004).detail(at) for path in (held, plain)]
+    assert all(d.reachable for d in details)
+    hold = np.flatnonzero(np.all(details[0].samples.velocity_m_s == 0, axis=1)
+                          & np.all(np.abs(details[0].samples.position_m - [0.01, 0, 0]) < 1e-12, axis=1))
+    assert len(hold) >= 2 and np.ptp(details[0].samples.t_s[hold]) == pytest.approx(2.0, abs=1e-12)
+    q = details[0].configuration[hold[0]]
+    data = robot.model.createData()
+    pin.framesForwardKinematics(robot.model, data, q)
+    phi = at[3]
+    turn = np.array([[np.cos(phi), -np.sin(phi), 0.0], [np.sin(phi), np.cos(phi), 0.0], [0.0, 0.0, 1.0]])
+    np.testing.assert_allclose(data.oMf[robot.end_effector_frame_id].translation, at[:3] + turn @ [0.01, 0, 0],
+                               atol=1e-9)
+    force = turn @ np.array([0.0, 0.0, 40.0])  # axial: along Z_p, on the tool from the workpiece
+    jacobian = pin.computeFrameJacobian(robot.model, data, q, robot.end_effector_frame_id,
+                                        pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)[:3]
+    effort = pin.computeGeneralizedGravity(robot.model, data, q) - jacobian.T @ force
+    power = sum(d.motor.phases * d.motor.resistance_ohm
+                * (tau / (d.transmission.ratio * d.transmission.efficiency * d.motor.torque_constant_Nm_per_A)) ** 2
+                for d, tau in zip(robot.drives, effort))
+    # The hold is the only difference: without it the same moves run, with a stop (M0) where the dwell was.
+    extra = details[0].energy.total_J - details[1].energy.total_J
+    assert extra == pytest.approx(power * 2.0, rel=1e-9)
+    assert details[0].duration_s - details[1].duration_s == pytest.approx(2.0, abs=1e-3)
