@@ -3,7 +3,9 @@
 In the plane of G17 (G18, G19) the hole is at X, Y (Z, X; Y, Z) and the cycle drills along Z (Y;
 X), the third axis, from the retract level R down to the bottom Z (Y; X). With ``G90`` the words
 are positions; with ``G91`` X and Y are steps from the current position, repeated ``L`` times,
-R is measured from the initial level and the bottom from R. The initial level is the drilling
+R is measured from the initial level and the bottom from R. In G17 the polar words @ (radius)
+and ^ (angle) may place the holes about the origin instead (in G91, each hole turned by ^ and
+moved out by @ from the last). The initial level is the drilling
 axis' position when the first of consecutive cycle lines starts. Each hole:
 
     a rapid up to R if the tool starts below it (the first line only), a rapid to the hole at the
@@ -24,6 +26,8 @@ The clear level is R in ``G99`` mode (LinuxCNC's default) and the initial level 
 from __future__ import annotations
 
 from dataclasses import dataclass
+
+import numpy as np
 
 CYCLES = (73, 81, 82, 83, 85, 89)
 PLANE_AXES = {17: (0, 1, 2), 18: (2, 0, 1), 19: (1, 2, 0)}  # hole's first, second axis, drilling axis
@@ -108,6 +112,10 @@ def expand_cycle(code: int, plane: int, incremental: bool, unit_m: float, inch: 
     if state.initial_level_m is None:  # the first of consecutive cycle lines (the machine clears it)
         state.initial_level_m = current
     old = state.initial_level_m
+    polar = "@" in values or "^" in values
+    if polar and plane != 17:
+        raise CycleError("@" if "@" in values else "^", "polar words (@, ^) in a drilling cycle need the XY plane (G17)")
+    step_radius, step_angle = values.get("@", 0.0) * unit_m, np.radians(values.get("^", 0.0))
     if incremental:
         step_a, step_b = (values.get(letters[k], 0.0) * unit_m for k in (first, second))
         r = state.r_m + old
@@ -118,6 +126,10 @@ def expand_cycle(code: int, plane: int, incremental: bool, unit_m: float, inch: 
         r, bottom = state.r_m, state.bottom_m
         a = values[letters[first]] * unit_m if letters[first] in values else position_m[first]
         b = values[letters[second]] * unit_m if letters[second] in values else position_m[second]
+        if polar:
+            radius = values["@"] * unit_m if "@" in values else float(np.hypot(a, b))
+            angle = np.radians(values["^"]) if "^" in values else float(np.arctan2(b, a))
+            a, b = radius * np.cos(angle), radius * np.sin(angle)
     if r < bottom:
         raise CycleError("R", f"the retract level R ({r / unit_m:g}) is below the bottom of the hole "
                               f"({bottom / unit_m:g})")
@@ -135,6 +147,12 @@ def expand_cycle(code: int, plane: int, incremental: bool, unit_m: float, inch: 
     clearance = PECK_CLEARANCE["inch" if inch else "mm"] * unit_m
     for repeat in range(int(repeats)):
         a, b = a + step_a, b + step_b
+        if incremental and polar:  # each hole turns and moves out from the last, about the origin
+            if a == 0 and b == 0:
+                raise CycleError("@" if "@" in values else "^", "incremental polar motion is indeterminate at the "
+                                                                 "origin")
+            radius, angle = float(np.hypot(a, b)) + step_radius, float(np.arctan2(b, a)) + step_angle
+            a, b = radius * np.cos(angle), radius * np.sin(angle)
         if repeat == 0 and current > r:
             move("rapid", a, b, current)
             move("rapid", a, b, r)

@@ -64,7 +64,7 @@ UNSUPPORTED_G = {
              "coordinates (G43 or G49)",
     960: "constant surface speed (G96) is not read: the feeds are per minute (G94), inverse time (G93) or per "
          "revolution at S (G95)"}
-ALLOWED_LETTERS = set("GMXYZIJKRFSTPQLHDN")
+ALLOWED_LETTERS = set("GMXYZIJKRFSTPQLHDN@^")
 REFUSED_LETTERS = "ABCUVW"
 STOPS_M = {0, 1, 60}  # program pauses: the tool stops there
 
@@ -275,7 +275,7 @@ def _sorted_words(fail: Callable[[str, str], GcodeError], words: list[tuple[str,
             raise fail(word, "rotary and extra axes (A, B, C, U, V, W) are not read: the path has X, Y, Z only")
         else:
             raise fail(word, "unknown word: the letters read are G, M, X, Y, Z, I, J, K, R, F, S, T, P, Q, L, H, D, "
-                             "N, O")
+                             "N, O and the polar @, ^")
     return codes, m_codes, values, written
 
 
@@ -319,6 +319,9 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
     if "retract mode" in codes:
         state.cycle.retract_to_r = codes["retract mode"][0] == 990
     _check_unused(fail, codes, values, written, state)
+    motion = codes["motion"][0] if "motion" in codes else state.motion
+    if ("@" in values or "^" in values) and not (motion is not None and motion // 10 in CYCLES):
+        _polar(fail, values, written, state)
     axes = [values.get(letter) for letter in "XYZ"]
     if non_modal is not None and non_modal[0] in (280, 300):
         _reference(fail, non_modal, axes, written, line, state)
@@ -339,8 +342,8 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
         arc_words = [letter for letter in "IJKR" if letter in values]
         if arc_words and state.motion not in (20, 30) and (state.motion is None or state.motion // 10 not in CYCLES):
             raise fail(written[arc_words[0]], "I, J, K and R belong to arcs (G2, G3), R also to drilling cycles")
-        if any(value is not None for value in axes) or (state.motion in (20, 30) and any(
-                letter in values for letter in "IJK")):  # an arc without end words: a full circle
+        if any(value is not None for value in axes) or "@" in values or "^" in values or (
+                state.motion in (20, 30) and any(letter in values for letter in "IJK")):  # (a full circle)
             _motion(fail, codes, axes, values, written, line, state, previous)
     if any(code in m_codes for code in STOPS_M) and state.moves:
         state.moves[-1] = dataclasses.replace(state.moves[-1], segment=dataclasses.replace(
@@ -363,6 +366,30 @@ def _check_unused(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple
                                          "Q": "Q belongs to G73, G83 (peck) and G64", "L": "L belongs to canned cycles",
                                          "H": "H belongs to G43 (tool length offset)",
                                          "D": "D belongs to cutter radius compensation (G41, G42), not read"}[letter])
+
+
+def _polar(fail: Callable[[str, str], GcodeError], values: dict[str, float], written: dict[str, str],
+           state: _State) -> None:
+    """Polar words in place of X and Y, as LinuxCNC reads them: ``@`` the radius and ``^`` the angle (degrees) of
+    the end point about the program's origin in the XY plane; in G91 both add to the current point's."""
+    word = written.get("@", written.get("^", ""))
+    if "X" in values or "Y" in values:
+        raise fail(word, "polar words (@, ^) replace X and Y: give one or the other")
+    x, y = state.position_m[0], state.position_m[1]
+    if x is None or y is None:
+        raise fail(word, "polar words need the current X and Y: move to a point first")
+    radius, angle = float(np.hypot(x, y)) / state.length_m, float(np.degrees(np.arctan2(y, x)))
+    if state.incremental:
+        if radius == 0:
+            raise fail(word, "incremental polar motion is indeterminate at the origin")
+        radius, angle = radius + values.get("@", 0.0), angle + values.get("^", 0.0)
+    else:
+        radius, angle = values.get("@", radius), values.get("^", angle)
+    end = np.array([np.cos(np.radians(angle)), np.sin(np.radians(angle))]) * radius
+    if state.incremental:
+        end -= np.array([x, y]) / state.length_m
+    values["X"], values["Y"] = float(end[0]), float(end[1])
+    written["X"] = written["Y"] = word
 
 
 def _note(state: _State, key: str, text: str) -> None:

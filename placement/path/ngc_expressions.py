@@ -3,7 +3,8 @@
 A line is read as LinuxCNC reads it: comments ``( ... )`` and after ``;`` removed, spaces and
 case ignored, a leading ``/`` (block delete, off) and ``N`` line number skipped. A word's value is
 a number, a parameter (``#5``, ``#<name>``, ``#[expr]``, ``##1``), an expression in brackets, a
-unary function (``sin[30]``, ``atan[1]/[2]``), or any of them after a sign.
+unary function (``sin[30]``, ``atan[1]/[2]``), or any of them after a sign. Besides the letters,
+LinuxCNC's polar words ``@`` (radius) and ``^`` (angle) are words.
 
 Expressions in ``[ ]`` bind, from the tightest: ``**``; ``*``, ``/``, ``MOD``; ``+``, ``-``;
 ``EQ NE GT GE LT LE``; ``AND OR XOR``; operators of one rank bind left to right. Comparisons and
@@ -38,6 +39,7 @@ FUNCTIONS: dict[str, Callable[[float], float]] = {
 DOMAINS = {"acos": (-1.0, 1.0), "asin": (-1.0, 1.0), "ln": (0.0, math.inf), "sqrt": (0.0, math.inf)}
 BINARY_RANK = {"**": 6, "*": 5, "/": 5, "mod": 5, "+": 4, "-": 4, "eq": 3, "ne": 3, "gt": 3, "ge": 3, "lt": 3,
                "le": 3, "and": 2, "or": 2, "xor": 2}
+POLAR = "@^"  # LinuxCNC's polar words: @ radius, ^ angle (degrees), in place of X and Y
 OPERATOR_ORDER = sorted(BINARY_RANK, key=len, reverse=True)  # "**" before "*", "mod" before ...
 
 
@@ -190,11 +192,11 @@ class _Reader:
             start, char = self.at, self.peek()
             if char == "#":
                 assignments.append(self.assignment())
-            elif char.isalpha():
+            elif char.isalpha() or char in POLAR:
                 self.at += 1
                 value = self.value()
-                if self.peek() and not (self.peek().isalpha() or self.peek() == "#"):
-                    while self.at < len(self.low) and not self.low[self.at].isalpha():
+                if self.peek() and not (self.peek().isalpha() or self.peek() in "#" + POLAR):
+                    while self.at < len(self.low) and not (self.low[self.at].isalpha() or self.low[self.at] in POLAR):
                         self.at += 1
                     raise self.fail(start, "expected a number after the letter (e.g. X12.5, G1), a parameter (#1, "
                                            "#<name>) or an expression in [ ]")
