@@ -457,3 +457,62 @@ def test_a_dwell_costs_the_static_holding_joule_power_for_its_duration(tmp_path,
     extra = details[0].energy.total_J - details[1].energy.total_J
     assert extra == pytest.approx(power * 2.0, rel=1e-9)
     assert details[0].duration_s - details[1].duration_s == pytest.approx(2.0, abs=1e-3)
+
+
+def test_a_fanuc_style_program_runs_end_to_end(capsys):
+    # Safety line, G28 G91 Z0., T1 M6, S12000 M3, G54, G43 Z15. H1, M8, arcs by I/J, M9, M5, a G83 cycle, M30.
+    assert main(["--robot", "orthoglide", "--path", str(EXAMPLES / "racetrack_fanuc.yaml"), "--at", "x=0,y=0",
+                 "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert out.count("note: G28") == 1 and "shape.machine.g28_mm" in out
+    path = load_path(EXAMPLES / "racetrack_fanuc.yaml")
+    slot = 2 * (36 - 16) + 2 * np.pi * 8  # two straights and two half circles of radius 8 mm, per depth
+    cutting = sum(s.length_m for s in path.segments if s.center_m is not None or abs(s.end_m[2] - s.start_m[2]) < 1e-12)
+    assert cutting == pytest.approx(2 * slot * 1e-3, rel=1e-12)
+    drilled = [s for s in path.segments if s.start_m[0] in (-0.025, 0.025) and s.end_m[2] < s.start_m[2]]
+    # R2 down to Z-8 in pecks of Q2: four pecks end at 0, -2, -4, -6, each followed by a feed from 0.254 mm above
+    assert sum(s.length_m for s in drilled) == pytest.approx(2 * (10 + 4 * 0.254) * 1e-3, rel=1e-12)
+
+
+def test_never_given_axes_stay_at_the_origin(tmp_path):
+    # A plasma or laser program in X and Y only runs in the X_p Y_p plane.
+    flat = program(tmp_path, "G21 G90 G0 X5 Y5\nG1 X10 F600\nG2 I-5 J0\nG1 Y-5\n", name="flat")
+    assert len(flat.segments) == 3 and all(np.all(np.array([s.start_m[2], s.end_m[2]]) == 0) for s in flat.segments)
+    circle = flat.segments[1]
+    assert circle.length_m == pytest.approx(2 * np.pi * 5e-3, rel=1e-12)  # a full circle without end words
+
+
+@pytest.mark.parametrize("mode, runs", [("G64", 1), ("G61", 2), ("G61.1", 3)])
+def test_path_control_modes_set_where_the_tool_stops(tmp_path, mode, runs):
+    # Three moves turning 0.5° and then 0° (collinear): blended in G64, the turn stops in G61 (exact path), every
+    # end stops in G61.1 (exact stop).
+    turn = np.radians(0.5)
+    end = 10 + 10 * np.cos(turn), 10 * np.sin(turn)
+    code = (f"G21 G90 G0 X0 Y0 Z0\n{mode}\nG1 X10 F600\nX{end[0]:.12f} Y{end[1]:.12f}\n"
+            f"X{10 + 20 * np.cos(turn):.12f} Y{20 * np.sin(turn):.12f}\n")
+    path = program(tmp_path, code, "timing: {mode: realistic, max_acceleration_m_s2: 10, max_jerk_m_s3: 500}\n")
+    assert len(path.runs()) == runs
+
+
+def test_reference_returns_with_and_without_the_machine_positions(tmp_path):
+    code = "G21 G90 G0 X0 Y0 Z0\nG1 X10 F600\nG28 Z5\nG0 X20 Y0 Z0\nG1 Y10\n"
+    machine = "shape: {type: gcode, file: m.nc, machine: {g28_mm: [100, 0, 50], work_offset_mm: [90, 0, 0]}}\n"
+    (tmp_path / "m.nc").write_text(code)
+    (tmp_path / "m.yaml").write_text(machine + "rapids: {mode: timed, feed_m_s: 0.5}\n")
+    known = load_path(tmp_path / "m.yaml")
+    ends = [tuple(np.round(s.end_m * 1e3, 9)) for s in known.segments]
+    # the intermediate point Z5, then X, Y, Z to the reference: machine (100, 0, 50) less the offset (90, 0, 0)
+    assert ends[1:4] == [(10.0, 0.0, 5.0), (10.0, 0.0, 50.0), (20.0, 0.0, 0.0)] and not known.notes
+    unknown = program(tmp_path, code, "rapids: {mode: timed, feed_m_s: 0.5}\n", name="u")
+    assert [tuple(np.round(s.end_m * 1e3, 9)) for s in unknown.segments][1:] == [(10.0, 0.0, 5.0), (20.0, 10.0, 0.0)]
+    assert "G28 (line 3)" in unknown.notes[0]
+
+
+@pytest.mark.parametrize("code, feed_mm_min", [
+    ("G93 G1 X30 F4\n", 30 * 4),  # inverse time: the move takes 1/4 min
+    ("G95 S2000 G1 X30 F0.05\n", 0.05 * 2000),  # per revolution at S
+    ("G94 G1 X30 F150\n", 150),
+])
+def test_feed_modes(tmp_path, code, feed_mm_min):
+    path = program(tmp_path, "G21 G90 G0 X0 Y0 Z0\n" + code)
+    assert path.speed_m_s(path.segments[0]) == pytest.approx(feed_mm_min / 60e3, rel=1e-12)
