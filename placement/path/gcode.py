@@ -4,7 +4,9 @@ The program's coordinates are the path frame's: its X, Y, Z are X_p, Y_p, Z_p (Z
 axis, pointing out of the workpiece) and its origin is the path frame's origin, which the
 placement moves. Lines are read by :mod:`placement.path.ngc_expressions` (parameters,
 expressions, functions) and run in the order of :mod:`placement.path.ngc_flow` (O-word
-subroutines, conditions, loops); on each line the words act in the order of RS-274/NGC (feed
+subroutines, conditions, loops); :mod:`placement.path.ngc_words` says which words are read,
+:mod:`placement.path.arcs` makes the arcs and :mod:`placement.path.canned` the drilling
+cycles' moves. On each line the words act in the order of RS-274/NGC (feed
 mode, F, S, dwell, plane, units, ..., then the move), whatever their order on the line, and
 words of one modal group may not appear twice on a line. docs/paths.md lists every word with
 what it does to the energy and the time.
@@ -25,47 +27,17 @@ from pathlib import Path
 import numpy as np
 
 from placement.exceptions import GcodeError, PathFileError
+from placement.path.arcs import SAME_POINT_M, arc_segment
 from placement.path.canned import CYCLES, CycleError, CycleState, expand_cycle
 from placement.path.ngc_expressions import Block, ExpressionError, Parameters, read_line
 from placement.path.ngc_flow import FlowError, run_blocks
+from placement.path.ngc_words import check_unused, sorted_words
 from placement.path.segments import Segment
 
 MM_M = 1e-3
 INCH_M = 0.0254
-RADIUS_TOLERANCE_M = 2e-6  # an I/J/K arc's end may be this much farther from the centre than its start ...
-RADIUS_TOLERANCE_SHARE = 1e-3  # ... or this share of the radius, whichever is larger
-SAME_POINT_M = 1e-9  # closer points are one point (a full circle, a move of no length)
 MAX_PROGRAM_BYTES = 50_000_000
 MAX_LINE_CHARS = 1000
-PLANES = {17: np.eye(3)[:, [0, 1, 2]], 18: np.eye(3)[:, [2, 0, 1]], 19: np.eye(3)[:, [1, 2, 0]]}  # columns u, v, n
-OFFSET_LETTERS = {17: "IJ", 18: "IK", 19: "JK"}
-# G codes (in tenths: G61.1 is 611) by modal group; G80 has its own group, as on Fanuc controls, so that a post's
-# safety line "G0 G90 G40 G21 G17 G94 G80" is read.
-G_GROUPS = {
-    **dict.fromkeys((0, 10, 20, 30, 730, 810, 820, 830, 850, 890), "motion"), 800: "canned cycle",
-    **dict.fromkeys((40, 280, 281, 300, 301, 530), "non-modal"), **dict.fromkeys((170, 180, 190), "plane"),
-    **dict.fromkeys(range(540, 600, 10), "coordinate system"), 200: "units", 210: "units", 900: "distance",
-    910: "distance", 901: "arc distance", 911: "arc distance", **dict.fromkeys((930, 940, 950), "feed mode"),
-    400: "cutter compensation", 430: "tool length offset", 490: "tool length offset", 980: "retract mode",
-    990: "retract mode", **dict.fromkeys((610, 611, 640), "path control")}
-ACCEPTED_M = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 30, 60}
-COMPENSATION = ("cutter radius compensation offsets the path by the tool radius, which the program does not hold: "
-                "let the CAM post-processor output the compensated path (G40)")
-UNSUPPORTED_G = {
-    410: COMPENSATION, 420: COMPENSATION, 411: COMPENSATION, 421: COMPENSATION,
-    **dict.fromkeys((920, 921, 922, 923, 100), "a coordinate system offset moves the program's origin: write the "
-                    "program in one work coordinate system, the path frame (its origin is the one the placement moves)"),
-    **dict.fromkeys((740, 760, 840, 860, 870, 880), "tapping and boring cycles (G74, G76, G84, G86-G88) need the "
-                    "spindle's motion: output them as G0/G1 moves; the drilling cycles G73, G81-G83, G85, G89 are read"),
-    **dict.fromkeys((591, 592, 593), "a second work coordinate system's offset is not in the program: write it in "
-                    "one system, the path frame"),
-    330: "spindle-synchronised motion (threading) is not read", 331: "spindle-synchronised motion is not read",
-    430 + 1: "G43.1 (a tool length offset given in the program) changes where the tool tip is: give the tip's "
-             "coordinates (G43 or G49)",
-    960: "constant surface speed (G96) is not read: the feeds are per minute (G94), inverse time (G93) or per "
-         "revolution at S (G95)"}
-ALLOWED_LETTERS = set("GMXYZIJKRFSTPQLHDN@^")
-REFUSED_LETTERS = "ABCUVW"
 STOPS_M = {0, 1, 60}  # program pauses: the tool stops there
 
 
@@ -234,55 +206,10 @@ def _program(file: Path, state: _State) -> Program:
     return Program(segments, top, tuple(dwells), tuple(state.notes.values()))
 
 
-def _code(fail: Callable[[str, str], GcodeError], value: float, word: str) -> int:
-    """A G or M number in tenths (G61.1 is 611)."""
-    tenths = round(value * 10)
-    if abs(value * 10 - tenths) > 1e-6:
-        raise fail(word, "not a G or M number (at most one decimal)")
-    return tenths
-
-
-def _sorted_words(fail: Callable[[str, str], GcodeError], words: list[tuple[str, float, str]]
-                  ) -> tuple[dict[str, tuple[int, str]], dict[int, str], dict[str, float], dict[str, str]]:
-    """A line's G words by modal group (code, word), M words, values by letter and their words as written;
-    refuses words outside the dialect and two words of one group or letter."""
-    codes: dict[str, tuple[int, str]] = {}
-    m_codes: dict[int, str] = {}
-    values: dict[str, float] = {}
-    written: dict[str, str] = {}
-    for letter, value, word in words:
-        letter = letter.upper()
-        if letter == "G":
-            code = _code(fail, value, word)
-            if code not in G_GROUPS:
-                raise fail(word, UNSUPPORTED_G.get(code, "not in the supported G-code dialect (docs/paths.md)"))
-            group = G_GROUPS[code]
-            if group in codes:
-                raise fail(word, f"a second {group} word on the line (after {codes[group][1]})")
-            codes[group] = (code, word)
-        elif letter == "M":
-            code = _code(fail, value, word)
-            if code % 10 or code // 10 not in ACCEPTED_M:
-                raise fail(word, "not in the supported M-code dialect (M0, M1, M2, M3-M9, M30, M60; docs/paths.md)"
-                           + ("; Fanuc subprograms (M98/M99) are not read: use O-word subroutines (O100 sub ... "
-                              "O100 endsub, O100 call)" if code in (980, 990) else ""))
-            m_codes[code // 10] = word
-        elif letter in ALLOWED_LETTERS:
-            if letter in values:
-                raise fail(word, f"{letter} is given twice on the line")
-            values[letter], written[letter] = value, word
-        elif letter in REFUSED_LETTERS:
-            raise fail(word, "rotary and extra axes (A, B, C, U, V, W) are not read: the path has X, Y, Z only")
-        else:
-            raise fail(word, "unknown word: the letters read are G, M, X, Y, Z, I, J, K, R, F, S, T, P, Q, L, H, D, "
-                             "N, O and the polar @, ^")
-    return codes, m_codes, values, written
-
-
 def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tuple[str, float, str]],
              state: _State) -> bool:
     """Apply one line's words to the state, in RS-274/NGC's order; False at the program's end (M2, M30)."""
-    codes, m_codes, values, written = _sorted_words(fail, words)
+    codes, m_codes, values, written = sorted_words(fail, words)
     if "feed mode" in codes:
         state.feed_mode = codes["feed mode"][0]
     if "units" in codes:  # before F and the axes: their numbers are in the line's units
@@ -318,8 +245,8 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
         state.absolute_centres = codes["arc distance"][0] == 901
     if "retract mode" in codes:
         state.cycle.retract_to_r = codes["retract mode"][0] == 990
-    _check_unused(fail, codes, values, written, state)
     motion = codes["motion"][0] if "motion" in codes else state.motion
+    check_unused(fail, codes, values, written, motion)
     if ("@" in values or "^" in values) and not (motion is not None and motion // 10 in CYCLES):
         _polar(fail, values, written, state)
     axes = [values.get(letter) for letter in "XYZ"]
@@ -349,23 +276,6 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
         state.moves[-1] = dataclasses.replace(state.moves[-1], segment=dataclasses.replace(
             state.moves[-1].segment, exact_stop=True))
     return not (2 in m_codes or 30 in m_codes)
-
-
-def _check_unused(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, str]],
-                  values: dict[str, float], written: dict[str, str], state: _State) -> None:
-    """P, Q, L, D and H only where a word uses them."""
-    motion = codes["motion"][0] if "motion" in codes else state.motion
-    cycle = motion is not None and motion // 10 in CYCLES
-    non_modal = codes.get("non-modal", (None, ""))[0]
-    users = {"P": non_modal == 40 or cycle or codes.get("path control", (0, ""))[0] == 640 or motion in (20, 30),
-             "Q": cycle or codes.get("path control", (0, ""))[0] == 640, "L": cycle,
-             "H": "tool length offset" in codes, "D": False}
-    for letter, used in users.items():
-        if letter in values and not used:
-            raise fail(written[letter], {"P": "P belongs to G4 (dwell), G64, G82, G89 and G2/G3 (turns)",
-                                         "Q": "Q belongs to G73, G83 (peck) and G64", "L": "L belongs to canned cycles",
-                                         "H": "H belongs to G43 (tool length offset)",
-                                         "D": "D belongs to cutter radius compensation (G41, G42), not read"}[letter])
 
 
 def _polar(fail: Callable[[str, str], GcodeError], values: dict[str, float], written: dict[str, str],
@@ -513,8 +423,8 @@ def _motion(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, 
         return
     start = np.array([v if v is not None else 0.0 for v in state.position_m])
     finish = np.array([v if v is not None else 0.0 for v in target])
-    segment = _arc(lambda problem, letter=None: fail(written.get(letter or "", move_word), problem), start, finish,
-                   values, state)
+    segment = arc_segment(lambda problem, letter=None: fail(written.get(letter or "", move_word), problem), start,
+                          finish, values, state.plane, state.motion == 30, state.length_m, state.absolute_centres)
     _add(state, target, _feed(fail, state, move_word, segment.length_m, values), line, move_word,
          lambda begin, end: segment)
 
@@ -543,60 +453,3 @@ def _cycle(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, s
         else:
             assert step.target_m is not None
             _add(state, list(step.target_m), feed if step.kind == "feed" else None, line, word, exact=True)
-
-
-def _arc(fail: Callable[..., GcodeError], start: np.ndarray, end: np.ndarray, values: dict[str, float],
-         state: _State) -> Segment:
-    """The arc or helix of a G2/G3 line, in metres; ``fail(problem, letter)`` makes the error blaming a word."""
-    axes = PLANES[state.plane]
-    s, e = start @ axes, end @ axes  # (u, v, n) coordinates
-    chord = e[:2] - s[:2]
-    distance = float(np.linalg.norm(chord))
-    anticlockwise = state.motion == 30
-    unit = state.length_m
-    turns = values.get("P", 1.0)
-    if turns != int(turns) or turns < 1:
-        raise fail("the number of turns P must be a whole number ≥ 1", "P")
-    if "R" in values:
-        if set("IJK") & set(values):
-            raise fail("give either R or I, J, K, not both", "R")
-        if distance <= SAME_POINT_M:
-            raise fail("R cannot describe a full circle (the end is the start): use I, J or K", "R")
-        radius, half = abs(values["R"]) * unit, distance / 2
-        if radius < half - max(RADIUS_TOLERANCE_M, RADIUS_TOLERANCE_SHARE * half):
-            raise fail(f"the radius {radius / unit:.6g} is smaller than half the chord ({half / unit:.6g})", "R")
-        height = np.sqrt(max(radius**2 - half**2, 0.0))
-        left = np.array([-chord[1], chord[0]]) / distance
-        center = (s[:2] + e[:2]) / 2 + (height if (values["R"] > 0) == anticlockwise else -height) * left
-    else:
-        allowed = OFFSET_LETTERS[state.plane]
-        wrong = [letter for letter in "IJK" if letter in values and letter not in allowed]
-        if wrong:
-            raise fail(f"G{state.plane} arcs take centre offsets {' and '.join(allowed)}", wrong[0])
-        if not any(letter in values for letter in allowed):
-            raise fail(f"an arc needs its centre: R, or offsets {' and '.join(allowed)}")
-        offset = np.array([values.get(letter, 0.0) for letter in "IJK"]) * unit
-        if state.absolute_centres:  # G90.1: I, J, K are the centre's coordinates (a missing one: the start's)
-            offset = np.array([offset[k] - start[k] if "IJK"[k] in values else 0.0 for k in range(3)])
-        center = s[:2] + (offset @ axes)[:2]
-        radius = float(np.linalg.norm(s[:2] - center))
-        end_radius = float(np.linalg.norm(e[:2] - center))
-        if radius <= SAME_POINT_M:
-            raise fail("the arc's centre is its start point (radius 0)", allowed[0])
-        tolerance = max(RADIUS_TOLERANCE_M, RADIUS_TOLERANCE_SHARE * radius)
-        if abs(end_radius - radius) > tolerance:
-            raise fail(f"the end is {end_radius / unit:.6g} from the centre but the start {radius / unit:.6g}: the "
-                       f"radius does not fit (tolerance {tolerance / unit:.3g})", allowed[0])
-        if distance > SAME_POINT_M:  # onto the chord's perpendicular bisector: both ends on one circle
-            across = np.array([-chord[1], chord[0]]) / distance
-            middle = (s[:2] + e[:2]) / 2
-            center = middle + ((center - middle) @ across) * across
-            radius = float(np.linalg.norm(s[:2] - center))
-    start_angle = float(np.arctan2(s[1] - center[1], s[0] - center[0]))
-    end_angle = float(np.arctan2(e[1] - center[1], e[0] - center[0]))
-    turn = (end_angle - start_angle) % (2 * np.pi) if anticlockwise else -((start_angle - end_angle) % (2 * np.pi))
-    if distance <= SAME_POINT_M:
-        turn = 2 * np.pi if anticlockwise else -2 * np.pi
-    turn += (turns - 1) * (2 * np.pi if anticlockwise else -2 * np.pi)
-    center_m = axes @ np.array([center[0], center[1], s[2]])
-    return Segment(start, end, center_m, radius, start_angle, turn, plane=axes, rise_m=float(e[2] - s[2]))
