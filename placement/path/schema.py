@@ -8,7 +8,8 @@ forces carry their unit in their field name. The shapes (docs/paths.md has the w
     rectangle, polyline, circle, arc: geometry written in the file, run at ``feed_m_s``.
     gcode: a G-code program (:mod:`placement.path.gcode`), which sets its own units (G20/G21) and the
         feed of each move (F): ``units`` and ``feed_m_s`` are refused. ``rapids`` says whether its
-        G0 moves are skipped (left out, leaving gaps) or timed at a rapid feed.
+        G0 moves are skipped (left out, leaving gaps) or timed at a rapid feed; ``machine`` gives the
+        machine positions G28, G30 and G53 moves need (left out, with a note, without them).
     poses: a pose list (:mod:`placement.path.poses`) in the file's units: without times, a polyline
         run at ``feed_m_s`` whose tool orientation turns uniformly along each segment; with times
         (a t column), a C² interpolation through the poses at their times, with no ``feed_m_s``
