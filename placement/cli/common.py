@@ -225,10 +225,6 @@ def configured_path(args: argparse.Namespace, file: str) -> ToolPath:
             raise UsageError(f"{field}: {problem['msg'].removeprefix('Value error, ')}; the realistic timing law "
                              "needs --max-acceleration and --max-jerk > 0, or both in the path file") from None
         path = dataclasses.replace(path, timing=timing)
-    if path.holds and path.timing.mode == "optimal":
-        print(f"note: the optimal timing law does not time holds yet: the {len(path.holds)} dwell(s) of {file} "
-              f"({sum(hold.duration_s for hold in path.holds):g} s) add no time or energy under it (the paper and "
-              "realistic laws count them)")
     return path
 
 

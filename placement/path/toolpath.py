@@ -31,7 +31,8 @@ class ToolPath:
             (the polyline through its points); its speeds scale by feed_m_s over its mean speed.
         notes: What the reader of a G-code program left out, for the user (printed once each).
         holds: Where the tool rests for a while (G-code dwells), in order; the segment before each ends
-            in an exact stop. The paper and realistic timing laws sample each as a piece of its own.
+            in an exact stop. The paper and realistic timing laws sample each as a piece of its own, the
+            optimal law as a run of two samples at rest, timed by its duration.
     """
 
     name: str
@@ -96,7 +97,17 @@ class ToolPath:
         fastest = max(self.speed_m_s(s) for s in self.segments)
         nominal = [run.length_m / fastest for run in runs]
         counts = [max(MIN_RUN_SAMPLES, count) for count in self.sample_counts(nominal, step)]
-        parts, piece, arcs, feeds, starts = [], 0, [], [], [0]
+        parts, piece, arcs, feeds, starts, hold_s, done = [], 0, [], [], [0], [], 0
+
+        def add_holds(after: int) -> None:  # each hold a run of two samples at rest, timed by its duration
+            for part, hold in zip(self.hold_parts(after, 0.0, piece)[0], [h for h in self.holds if h.after == after]):
+                parts.append({**part, "t": np.zeros(2), "piece": np.full(2, piece)})
+                arcs.append(np.zeros(2))
+                feeds.append(np.full(2, fastest))
+                starts.append(starts[-1] + 2)
+                hold_s.append(hold.duration_s)
+
+        add_holds(0)
         for run, count in zip(runs, counts):
             bounds = run.bounds_m
             speeds = np.array([self.speed_m_s(s) for s in run.segments])
@@ -112,12 +123,16 @@ class ToolPath:
             arcs.append(arc)
             feeds.append(np.minimum(speeds[after], speeds[before]))
             starts.append(starts[-1] + count)
+            hold_s.append(0.0)
+            done += len(run.segments)
+            add_holds(done)
         arc_m, feed = np.concatenate(arcs), np.concatenate(feeds)
-        # Nominal times: each run at its feed bound throughout (a lower bound of any timing's).
+        # Nominal times: each run at its feed bound throughout (a lower bound of any timing's), each hold its duration.
+        geometry = PathGeometry(self.assemble(parts), np.array(starts), arc_m, feed, np.array(hold_s))
         steps = np.where(run_joins(np.array(starts)), 0.0, np.diff(arc_m) / feed[1:])
+        steps = np.where(geometry.hold_intervals_s > 0, geometry.hold_intervals_s, steps)
         nominal_t = np.concatenate([[0.0], np.cumsum(steps)])
-        samples = self.assemble(parts)
-        return PathGeometry(dataclasses.replace(samples, t_s=nominal_t), np.array(starts), arc_m, feed)
+        return dataclasses.replace(geometry, samples=dataclasses.replace(geometry.samples, t_s=nominal_t))
 
     @property
     def oriented(self) -> bool:

@@ -419,7 +419,7 @@ def test_a_slow_program_without_a_time_step_is_sampled_every_half_millimetre(tmp
     assert spacing.max() <= 0.0005 + 1e-12
 
 
-@pytest.mark.parametrize("timing", ["paper", "realistic"])
+@pytest.mark.parametrize("timing", ["paper", "realistic", "optimal"])
 def test_a_dwell_costs_the_static_holding_joule_power_for_its_duration(tmp_path, timing):
     # The UR5 holds the tool at rest for 2 s against gravity and an axial process force. The static joint efforts
     # are computed here with Pinocchio (gravity torque less the Jacobian's transpose times the force on the tool),
