@@ -197,6 +197,8 @@ def configured_path(args: argparse.Namespace, file: str) -> ToolPath:
     """A path file with the command line's timing overrides, timed by the law its objectives need (said in a note
     when the file gives another; :func:`placement.timing.rules.timing_for`)."""
     path = load_path(file)
+    for note in path.notes:
+        print(f"note: {note}")
     mode, reason = timing_for(objective_names(args), args.timing, path)
     if reason is not None:
         print(f"note: {reason}: {file} is timed by it, for every objective")

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from placement.exceptions import InputFileError
+from placement.exceptions import InputFileError, PlacementError
 
 
 class PathFileError(InputFileError):
@@ -40,3 +40,30 @@ class PoseFileError(PathFileError):
         self.column = column
         where = (f", row {row}" if row else "") + (f", column {column!r}" if column else "")
         Exception.__init__(self, f"{self.path}{where}: {problem}")
+
+
+class CycleError(PlacementError):
+    """A drilling cycle line that cannot be run (the reader names its line in a GcodeError); ``letter`` is the word
+    at fault ("" for the cycle word)."""
+
+    def __init__(self, letter: str, problem: str) -> None:
+        super().__init__(problem)
+        self.letter, self.problem = letter, problem
+
+
+class ExpressionError(PlacementError):
+    """Inside the reader (which names the line in a GcodeError): a line that cannot be read or evaluated; ``text`` is the part at fault as written ("" for the line)."""
+
+    def __init__(self, text: str, problem: str) -> None:
+        super().__init__(problem)
+        self.text = text
+        self.problem = problem
+
+
+class FlowError(PlacementError):
+    """Inside the reader (which names the line in a GcodeError): a control-flow error at a line (index from 0),
+    blaming a text as written."""
+
+    def __init__(self, index: int, text: str, problem: str) -> None:
+        super().__init__(problem)
+        self.index, self.text, self.problem = index, text, problem

@@ -1,83 +1,75 @@
-"""G-code programs (a subset of RS-274/NGC) read into path segments.
+"""G-code programs (RS-274/NGC as LinuxCNC reads it, and what CAM posts write) read into path segments.
 
 The program's coordinates are the path frame's: its X, Y, Z are X_p, Y_p, Z_p (Z_p the tool
 axis, pointing out of the workpiece) and its origin is the path frame's origin, which the
-placement moves. Lines are read one at a time; on each line the words act in the order of
-RS-274/NGC (units and feed before the move, whatever their order on the line), and words of one
-modal group may not appear twice on a line.
+placement moves. Lines are read by :mod:`placement.path.ngc_expressions` (parameters,
+expressions, functions) and run in the order of :mod:`placement.path.ngc_flow` (O-word
+subroutines, conditions, loops); :mod:`placement.path.ngc_words` says which words are read,
+:mod:`placement.path.arcs` makes the arcs and :mod:`placement.path.canned` the drilling
+cycles' moves. On each line the words act in the order of RS-274/NGC (feed
+mode, F, S, dwell, plane, units, ..., then the move), whatever their order on the line, and
+words of one modal group may not appear twice on a line. docs/paths.md lists every word with
+what it does to the energy and the time.
 
-Supported words:
-    G0, G1: rapid and feed moves in a straight line.
-    G2, G3: clockwise and anticlockwise arcs (seen from the positive end of the plane's normal),
-        by centre offsets I, J, K (from the start point, always incremental) or by radius R
-        (R > 0: the arc of at most 180°, R < 0: the longer one); I/J/K give full circles when
-        the end is the start; a move along the plane's normal during an arc makes a helix.
-    G17, G18, G19: arc plane XY (normal Z), ZX (normal Y), YZ (normal X).
-    G20, G21: inches or millimetres (default G21) for the numbers of their line and after.
-    G90, G91: absolute or incremental X, Y, Z (default G90).
-    F: feed rate in the units per minute, for every later G1, G2, G3.
-    G54-G59: the work coordinate system the program is written in, which is the path frame; a
-        program switches between them at most once (from the default G54 to another).
-    G80: cancels a canned cycle (none is ever active), as on Fanuc controls, where it does not
-        share the motion words' group: the safety line "G0 G90 G40 G21 G17 G94 G80" is read.
-    Accepted and ignored, as they do not change the tool path: N (line numbers), O (program
-    numbers), % (tape marks), S (spindle speed), T (tool), H (a length offset's register), M2,
-    M3, M4, M5, M6, M7, M8, M9, M30 (program end, spindle, tool change, coolant), G94 (feed per
-    minute, the only feed mode), G40 (no cutter compensation), G43, G49 (tool length offset on
-    and off: the program's coordinates are the tool tip's either way), and comments in
-    parentheses or after a semicolon.
-
-Anything else is an error naming the line and the word: other G and M words (cutter
-compensation G41/G42, a second work coordinate system and G92 move the path by amounts the
-program does not hold; canned cycles G81-G89 are not expanded), other letters (rotary axes A, B, C...),
-parameters and expressions, a feed move before any F, and an arc whose ends do not fit its
-radius (the end's distance from the I/J/K centre differs from the start's by more than
-RADIUS_TOLERANCE_M and RADIUS_TOLERANCE_SHARE of the radius; |R| smaller than half the chord by as
-much). Within the tolerance the I/J/K centre is moved onto the chord's perpendicular bisector.
-
-Moves count from the first point where X, Y and Z are all known: a rapid before it is left out
-(it starts from an unknown place) and a feed move before it is an error.
+Where the tool starts: an axis the program never gives stays at the path frame's origin (a 2-D
+program runs in the X_p Y_p plane). An axis given somewhere in the program is unknown until it
+is given (or after a return to a reference point the path file does not give): a rapid from an
+unknown position is left out, a feed move from one is an error.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import re
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from placement.path.arcs import SAME_POINT_M, arc_segment
+from placement.path.canned import CYCLES, CycleError, CycleState, expand_cycle
 from placement.path.exceptions import GcodeError, PathFileError
+from placement.path.ngc_expressions import Block, ExpressionError, Parameters, read_line
+from placement.path.ngc_flow import FlowError, run_blocks
+from placement.path.ngc_words import check_unused, sorted_words
 from placement.path.segments import Segment
 
 MM_M = 1e-3
 INCH_M = 0.0254
-RADIUS_TOLERANCE_M = 2e-6  # an I/J/K arc's end may be this much farther from the centre than its start ...
-RADIUS_TOLERANCE_SHARE = 1e-3  # ... or this share of the radius, whichever is larger
-SAME_POINT_M = 1e-9  # closer points are one point (a full circle, a move of no length)
 MAX_PROGRAM_BYTES = 50_000_000
 MAX_LINE_CHARS = 1000
-PLANES = {17: np.eye(3)[:, [0, 1, 2]], 18: np.eye(3)[:, [2, 0, 1]], 19: np.eye(3)[:, [1, 2, 0]]}  # columns u, v, n
-OFFSET_LETTERS = {17: "IJ", 18: "IK", 19: "JK"}
-G_GROUPS = {0: "motion", 1: "motion", 2: "motion", 3: "motion", 80: "canned cycle", 17: "plane", 18: "plane",
-            19: "plane", **{code: "coordinate system" for code in range(54, 60)},
-            20: "units", 21: "units", 90: "distance", 91: "distance", 94: "feed mode", 40: "cutter compensation",
-            43: "tool length offset", 49: "tool length offset"}
-IGNORED_M = {2, 3, 4, 5, 6, 7, 8, 9, 30}
-IGNORED_LETTERS = set("NOSTH")
-VALUE_LETTERS = set("XYZIJKRF")
-UNSUPPORTED_G = {
-    41: "cutter radius compensation offsets the path by the tool radius: let the CAM post-processor output the "
-        "compensated path (G40)",
-    42: "cutter radius compensation offsets the path by the tool radius: let the CAM post-processor output the "
-        "compensated path (G40)",
-    92: "a coordinate system offset moves the program's origin: write the program in one work coordinate "
-        "system, the path frame (its origin is the one the placement moves)",
-    **{code: "canned cycles are not expanded: output them as G0/G1 moves" for code in range(81, 90)},
-}
-WORD = re.compile(r"([A-Z])([+-]?(?:\d+\.?\d*|\.\d+))")
+STOPS_M = {0, 1, 60}  # program pauses: the tool stops there
+
+
+@dataclass(frozen=True)
+class Machine:
+    """Positions the program may refer to that only the machine holds, in machine coordinates (metres).
+
+    Attributes:
+        work_offset_m: (3,) where the path frame's origin (the program's origin) is in machine coordinates.
+        g28_m, g30_m: (3,) the reference positions G28 and G30 move to (None: not given).
+        given: Whether the path file gave these (G53 needs it; without, G53 moves are left out).
+    """
+
+    work_offset_m: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))
+    g28_m: np.ndarray | None = None
+    g30_m: np.ndarray | None = None
+    given: bool = False
+
+
+@dataclass(frozen=True)
+class Dwell:
+    """A hold of the tool at rest (G4, or a canned cycle's P).
+
+    Attributes:
+        after: The number of segments before it (it holds at the end of the last one).
+        duration_s: How long.
+        line: The program line.
+    """
+
+    after: int
+    duration_s: float
+    line: int
 
 
 @dataclass(frozen=True)
@@ -85,40 +77,69 @@ class Program:
     """The moves of a G-code program in the path frame.
 
     Attributes:
-        segments: Every move from the first fully known point on, rapids included (``rapid``),
-            each feed move's ``feed_ratio`` its F as a share of ``feed_m_s``.
+        segments: Every move from the first known point on, rapids included (``rapid``),
+            each feed move's ``feed_ratio`` its feed as a share of ``feed_m_s``.
         feed_m_s: The highest feed rate of the program's feed moves.
+        dwells: The program's dwells, in order.
+        notes: What the reader left out and why, once per kind.
     """
 
     segments: tuple[Segment, ...]
     feed_m_s: float
+    dwells: tuple[Dwell, ...] = ()
+    notes: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class _Move:
+    """A move as executed: its segment, feed (None: rapid), line and word, and the axes unknown at its start."""
+
+    segment: Segment
+    feed_m_s: float | None
+    line: int
+    word: str
+    unknown: frozenset[int]
 
 
 @dataclass
 class _State:
     """The modal state of the interpreter between lines."""
 
+    machine: Machine
     length_m: float = MM_M  # metres per program length unit
     incremental: bool = False
+    absolute_centres: bool = False  # G90.1 (else G91.1, offsets from the start)
     plane: int = 17
-    motion: int | None = None
+    motion: int | None = None  # in tenths
     coordinate_system: int | None = None  # G54-G59, once given
-    feed_m_s: float | None = None
+    feed_mode: int = 940
+    feed: float | None = None  # F as given, in ...
+    feed_unit_m: float = MM_M  # ... the length unit of its line
+    spindle_rpm: float | None = None
+    exact_path: bool = False  # G61
+    exact_stop: bool = False  # G61.1
+    cycle: CycleState = dataclasses.field(default_factory=CycleState)
+    references: dict[int, np.ndarray | None] = dataclasses.field(default_factory=dict)  # 280, 300 -> path frame
     position_m: list[float | None] = dataclasses.field(default_factory=lambda: [None, None, None])
+    given: set[int] = dataclasses.field(default_factory=set)  # the axes given a value so far
+    moves: list[_Move] = dataclasses.field(default_factory=list)
+    dwells: list[Dwell] = dataclasses.field(default_factory=list)
+    notes: dict[str, str] = dataclasses.field(default_factory=dict)
 
 
-def read_program(file: Path) -> Program:
+def read_program(file: Path, machine: Machine | None = None) -> Program:
     """Read a G-code program.
 
     Args:
         file: The program.
+        machine: The reference positions and work offset the path file gives (default: none).
 
     Returns:
         Its moves, in metres and m/s.
 
     Raises:
         PathFileError: The file is missing or unreadable.
-        GcodeError: A line breaks the supported subset (module docstring); names line and word.
+        GcodeError: A line breaks the supported dialect (docs/paths.md); names line and word.
     """
     if not file.is_file():
         raise PathFileError(file, "", "G-code program not found" if not file.exists() else "not a regular file")
@@ -128,207 +149,307 @@ def read_program(file: Path) -> Program:
         text = file.read_text(encoding="utf-8")
     except UnicodeDecodeError:
         raise PathFileError(file, "", "not a text file in UTF-8 (or ASCII)") from None
-    state, moves = _State(), []
+    blocks: list[Block] = []
     for number, line in enumerate(text.splitlines(), start=1):
-        move = _execute(file, number, _words(file, number, line), state)
-        if move is not None:
-            moves.append(move)
-    feeds = [feed for _, feed in moves if feed is not None]
+        if len(line) > MAX_LINE_CHARS:
+            raise GcodeError(file, number, "", f"the line is longer than {MAX_LINE_CHARS} characters")
+        try:
+            blocks.append(read_line(line))
+        except ExpressionError as error:
+            raise GcodeError(file, number, error.text, error.problem) from None
+    machine = machine or Machine()
+    state = _State(machine, references={280: _path_point(machine, machine.g28_m), 300: _path_point(machine,
+                                                                                                    machine.g30_m)})
+
+    def execute(index: int, words: list[tuple[str, float, str]]) -> bool:
+        def fail(word: str, problem: str) -> GcodeError:
+            return GcodeError(file, index + 1, word, problem)
+
+        return _execute(fail, index + 1, words, state)
+
+    try:
+        run_blocks(blocks, Parameters(), execute)
+    except FlowError as error:
+        raise GcodeError(file, error.index + 1, error.text, error.problem) from None
+    return _program(file, state)
+
+
+def _path_point(machine: Machine, point: np.ndarray | None) -> np.ndarray | None:
+    """A machine position in the path frame."""
+    return None if point is None else point - machine.work_offset_m
+
+
+def _program(file: Path, state: _State) -> Program:
+    """The moves kept: a rapid from an unknown position is left out, a feed move from one is an error."""
+    kept: list[tuple[Segment, float | None]] = []
+    dwells, next_dwell = [], 0
+    for number, move in enumerate(state.moves):
+        while next_dwell < len(state.dwells) and state.dwells[next_dwell].after <= number:
+            dwells.append(dataclasses.replace(state.dwells[next_dwell], after=len(kept)))
+            next_dwell += 1
+        unknown = move.unknown & state.given
+        if unknown:
+            if move.feed_m_s is not None:
+                missing = ", ".join("XYZ"[k] for k in sorted(unknown))
+                raise GcodeError(file, move.line, move.word, f"a feed move from an unknown position ({missing} not "
+                                                             "given yet): move to a point with G0 first")
+            continue
+        kept.append((move.segment, move.feed_m_s))
+    dwells += [dataclasses.replace(d, after=len(kept)) for d in state.dwells[next_dwell:]]
+    feeds = [feed for _, feed in kept if feed is not None]
     if not feeds:
-        raise PathFileError(file, "", "the program has no feed move (G1, G2 or G3) from a known point")
+        raise PathFileError(file, "", "the program has no feed move (G1, G2, G3 or a drilling cycle) from a known "
+                                      "point")
     top = max(feeds)
-    return Program(tuple(dataclasses.replace(segment, feed_ratio=feed / top) if feed is not None else segment
-                         for segment, feed in moves), top)
+    segments = tuple(dataclasses.replace(segment, feed_ratio=feed / top) if feed is not None else segment
+                     for segment, feed in kept)
+    return Program(segments, top, tuple(dwells), tuple(state.notes.values()))
 
 
-def _words(file: Path, number: int, line: str) -> list[tuple[str, str]]:
-    """The words of a line as (letter, number text), comments and spaces removed."""
-    if len(line) > MAX_LINE_CHARS:
-        raise GcodeError(file, number, "", f"the line is longer than {MAX_LINE_CHARS} characters")
-    code, depth = [], 0
-    for char in line:
-        if char == "(":
-            if depth:
-                raise GcodeError(file, number, "", "a comment may not hold '(' (nested comments)")
-            depth = 1
-        elif char == ")" and depth:
-            depth = 0
-        elif char == ";" and not depth:
-            break
-        elif not depth:
-            code.append(char)
-    if depth:
-        raise GcodeError(file, number, "", "the comment opened by '(' is not closed on its line")
-    compact = "".join(code).upper().replace(" ", "").replace("\t", "")
-    if compact in ("", "%"):
-        return []
-    words, at = [], 0
-    while at < len(compact):
-        match = WORD.match(compact, at)
-        if match is None or (match.end() < len(compact) and not compact[match.end()].isalpha()):
-            end = at + 1
-            while end < len(compact) and not compact[end].isalpha():
-                end += 1
-            text = compact[at:end]
-            if not compact[at].isalpha():
-                raise GcodeError(file, number, text, "expected a word: a letter and a number")
-            raise GcodeError(file, number, text, "expected a number after the letter (e.g. X12.5, G1), without "
-                                                 "parameters or expressions")
-        words.append((match.group(1), match.group(2)))
-        at = match.end()
-    return words
-
-
-def _sorted_words(fail: Callable[[str, str], GcodeError],
-                  words: list[tuple[str, str]]) -> tuple[dict[str, tuple[int, str]], dict[str, float], dict[str, str]]:
-    """A line's G words by modal group (code, word), its values by letter and their words as written; refuses
-    words outside the subset and two words of one group or letter."""
-    codes: dict[str, tuple[int, str]] = {}  # modal group -> (code, word)
-    values: dict[str, float] = {}
-    written: dict[str, str] = {}  # letter -> its word as written
-    for letter, text in words:
-        word = letter + text
-        if letter == "G":
-            code = _whole(text)
-            if code not in G_GROUPS:
-                raise fail(word, UNSUPPORTED_G.get(code if code is not None else -1,
-                                                   "not in the supported G-code subset (docs/paths.md)"))
-            group = G_GROUPS[code]
-            if group in codes:
-                raise fail(word, f"a second {group} word on the line (after {codes[group][1]})")
-            codes[group] = (code, word)
-        elif letter == "M":
-            if _whole(text) not in IGNORED_M:
-                raise fail(word, "not in the supported M-code subset (M2-M9, M30; docs/paths.md)")
-        elif letter in VALUE_LETTERS:
-            if letter in values:
-                raise fail(word, f"{letter} is given twice on the line")
-            values[letter], written[letter] = float(text), word
-        elif letter not in IGNORED_LETTERS:
-            raise fail(word, "unknown word: the supported letters are G, M, X, Y, Z, I, J, K, R, F, and N, O, S, T, "
-                             "H (ignored)")
-    return codes, values, written
-
-
-def _execute(file: Path, number: int, words: list[tuple[str, str]], state: _State) -> tuple[Segment, float | None] | None:
-    """Apply one line's words to the state; the move it makes, with its feed (None for a rapid), if any."""
-
-    def fail(word: str, problem: str) -> GcodeError:
-        return GcodeError(file, number, word, problem)
-
-    codes, values, written = _sorted_words(fail, words)
-    if "units" in codes:
-        state.length_m = INCH_M if codes["units"][0] == 20 else MM_M
+def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tuple[str, float, str]],
+             state: _State) -> bool:
+    """Apply one line's words to the state, in RS-274/NGC's order; False at the program's end (M2, M30)."""
+    codes, m_codes, values, written = sorted_words(fail, words)
+    if "feed mode" in codes:
+        state.feed_mode = codes["feed mode"][0]
+    if "units" in codes:  # before F and the axes: their numbers are in the line's units
+        state.length_m = INCH_M if codes["units"][0] == 200 else MM_M
     if "F" in values:
         if not values["F"] > 0:
             raise fail(written["F"], "the feed rate must be > 0")
-        state.feed_m_s = values["F"] * state.length_m / 60.0
+        state.feed, state.feed_unit_m = values["F"], state.length_m
+    if "S" in values:
+        if values["S"] < 0:
+            raise fail(written["S"], "the spindle speed must be ≥ 0")
+        state.spindle_rpm = values["S"]
+    non_modal = codes.get("non-modal")
+    if non_modal is not None and non_modal[0] == 40:
+        if "P" not in values or values["P"] < 0:
+            raise fail(non_modal[1], "a dwell needs its duration P ≥ 0 (seconds)")
+        state.dwells.append(Dwell(len(state.moves), values["P"], line))
     if "plane" in codes:
-        state.plane = codes["plane"][0]
-    if "distance" in codes:
-        state.incremental = codes["distance"][0] == 91
+        state.plane = codes["plane"][0] // 10
     if "coordinate system" in codes:
         system, word = codes["coordinate system"]
-        if state.coordinate_system not in (None, system) or (state.coordinate_system is None and system != 54
-                                                            and state.position_m != [None, None, None]):
+        if state.coordinate_system not in (None, system) or (state.coordinate_system is None and system != 540
+                                                            and state.given):
             raise fail(word, "the program changes work coordinate system: their offsets are not in the program; "
                              "write it in one system, the path frame")
         state.coordinate_system = system
-    if "motion" in codes:
-        state.motion = codes["motion"][0]
+    if "path control" in codes:
+        code = codes["path control"][0]
+        state.exact_path, state.exact_stop = code == 610, code == 611
+    if "distance" in codes:
+        state.incremental = codes["distance"][0] == 910
+    if "arc distance" in codes:
+        state.absolute_centres = codes["arc distance"][0] == 901
+    if "retract mode" in codes:
+        state.cycle.retract_to_r = codes["retract mode"][0] == 990
+    motion = codes["motion"][0] if "motion" in codes else state.motion
+    check_unused(fail, codes, values, written, motion)
+    if ("@" in values or "^" in values) and not (motion is not None and motion // 10 in CYCLES):
+        _polar(fail, values, written, state)
     axes = [values.get(letter) for letter in "XYZ"]
-    arc_words = [letter for letter in "IJKR" if letter in values]
-    if arc_words and state.motion not in (2, 3):
-        raise fail(written[arc_words[0]], "I, J, K and R belong to arcs (G2, G3)")
-    if all(value is None for value in axes):
-        if arc_words:
-            raise fail(written[arc_words[0]], "an arc needs its end point: at least one of X, Y, Z")
-        return None
-    move_word = next(written[a] for a in "XYZ" if a in written)  # the words below blame for the move
-    if state.motion is None:
-        raise fail(move_word, "an end point but no motion mode (G0, G1, G2, G3) is active")
-    start = list(state.position_m)
+    if non_modal is not None and non_modal[0] in (280, 300):
+        _reference(fail, non_modal, axes, written, line, state)
+    elif non_modal is not None and non_modal[0] in (281, 301):
+        if any(value is None for value in state.position_m) and state.given:
+            raise fail(non_modal[1], "the position to store is not known yet")
+        state.references[non_modal[0] - 1] = np.array([p if p is not None else 0.0 for p in state.position_m])
+    else:
+        if "canned cycle" in codes:
+            state.motion = None
+            state.cycle.initial_level_m = None
+        if "motion" in codes:
+            previous, state.motion = state.motion, codes["motion"][0]
+            if state.motion // 10 not in CYCLES:
+                state.cycle.initial_level_m = None
+        else:
+            previous = state.motion
+        arc_words = [letter for letter in "IJKR" if letter in values]
+        if arc_words and state.motion not in (20, 30) and (state.motion is None or state.motion // 10 not in CYCLES):
+            raise fail(written[arc_words[0]], "I, J, K and R belong to arcs (G2, G3), R also to drilling cycles")
+        if any(value is not None for value in axes) or "@" in values or "^" in values or (
+                state.motion in (20, 30) and any(letter in values for letter in "IJK")):  # (a full circle)
+            _motion(fail, codes, axes, values, written, line, state, previous)
+    if any(code in m_codes for code in STOPS_M) and state.moves:
+        state.moves[-1] = dataclasses.replace(state.moves[-1], segment=dataclasses.replace(
+            state.moves[-1].segment, exact_stop=True))
+    return not (2 in m_codes or 30 in m_codes)
+
+
+def _polar(fail: Callable[[str, str], GcodeError], values: dict[str, float], written: dict[str, str],
+           state: _State) -> None:
+    """Polar words in place of X and Y, as LinuxCNC reads them: ``@`` the radius and ``^`` the angle (degrees) of
+    the end point about the program's origin in the XY plane; in G91 both add to the current point's."""
+    word = written.get("@", written.get("^", ""))
+    if "X" in values or "Y" in values:
+        raise fail(word, "polar words (@, ^) replace X and Y: give one or the other")
+    x, y = state.position_m[0], state.position_m[1]
+    if x is None or y is None:
+        raise fail(word, "polar words need the current X and Y: move to a point first")
+    radius, angle = float(np.hypot(x, y)) / state.length_m, float(np.degrees(np.arctan2(y, x)))
+    if state.incremental:
+        if radius == 0:
+            raise fail(word, "incremental polar motion is indeterminate at the origin")
+        radius, angle = radius + values.get("@", 0.0), angle + values.get("^", 0.0)
+    else:
+        radius, angle = values.get("@", radius), values.get("^", angle)
+    end = np.array([np.cos(np.radians(angle)), np.sin(np.radians(angle))]) * radius
+    if state.incremental:
+        end -= np.array([x, y]) / state.length_m
+    values["X"], values["Y"] = float(end[0]), float(end[1])
+    written["X"] = written["Y"] = word
+
+
+def _note(state: _State, key: str, text: str) -> None:
+    """A note printed once per kind."""
+    state.notes.setdefault(key, text)
+
+
+def _target(axes: list[float | None], state: _State, fail: Callable[[str, str], GcodeError], word: str,
+            machine_coordinates: bool = False) -> list[float | None]:
+    """The end point of a move to the given axes (None: not given), in metres."""
     target: list[float | None] = []
     for k, value in enumerate(axes):
         if value is None:
-            target.append(start[k])
+            target.append(state.position_m[k])
+        elif machine_coordinates:
+            target.append(value * state.length_m - state.machine.work_offset_m[k])
         elif state.incremental:
-            if start[k] is None:
-                raise fail(move_word, f"an incremental {'XYZ'[k]} move from an unknown position: give the absolute "
-                                  "position first (G90)")
-            target.append(start[k] + value * state.length_m)  # type: ignore[operator]
+            start = state.position_m[k]
+            if start is None and value == 0:  # "G28 G91 Z0": no move along an unknown axis
+                target.append(None)
+            elif start is None:
+                raise fail(word, f"an incremental {'XYZ'[k]} move from an unknown position: give the absolute "
+                                 "position first (G90)")
+            else:
+                target.append(start + value * state.length_m)
         else:
             target.append(value * state.length_m)
-    state.position_m = target
-    if any(value is None for value in start):
-        if state.motion != 0:
-            missing = ", ".join("XYZ"[k] for k, value in enumerate(start) if value is None)
-            raise fail(move_word, f"a feed move (G{state.motion}) from an unknown position ({missing} not given yet): "
-                                  "move to a point with G0 first")
-        return None
-    if state.motion != 0 and state.feed_m_s is None:
-        raise fail(move_word, f"a feed move (G{state.motion}) before any feed rate: give F (units per minute) first")
-    begin, end = np.array(start, dtype=float), np.array(target, dtype=float)
-    if state.motion in (0, 1):
-        if np.linalg.norm(end - begin) <= SAME_POINT_M:
-            return None
-        return Segment(begin, end, rapid=state.motion == 0), (None if state.motion == 0 else state.feed_m_s)
-    return _arc(lambda problem, letter=None: fail(written.get(letter or "", move_word), problem), begin, end, values,
-                state), state.feed_m_s
+    return target
 
 
-def _whole(text: str) -> int | None:
-    """A G or M number as an integer (None for G91.1 and the like)."""
-    value = float(text)
-    return int(value) if value == int(value) else None
-
-
-def _arc(fail: Callable[..., GcodeError], start: np.ndarray, end: np.ndarray, values: dict[str, float],
-         state: _State) -> Segment:
-    """The arc or helix of a G2/G3 line, in metres; ``fail(problem, letter)`` makes the error blaming a word."""
-    axes = PLANES[state.plane]
-    s, e = start @ axes, end @ axes  # (u, v, n) coordinates
-    chord = e[:2] - s[:2]
-    distance = float(np.linalg.norm(chord))
-    anticlockwise = state.motion == 3
-    unit = state.length_m
-    if "R" in values:
-        if set("IJK") & set(values):
-            raise fail("give either R or I, J, K, not both", "R")
-        if distance <= SAME_POINT_M:
-            raise fail("R cannot describe a full circle (the end is the start): use I, J or K", "R")
-        radius, half = abs(values["R"]) * unit, distance / 2
-        if radius < half - max(RADIUS_TOLERANCE_M, RADIUS_TOLERANCE_SHARE * half):
-            raise fail(f"the radius {radius / unit:.6g} is smaller than half the chord ({half / unit:.6g})", "R")
-        height = np.sqrt(max(radius**2 - half**2, 0.0))
-        left = np.array([-chord[1], chord[0]]) / distance
-        center = (s[:2] + e[:2]) / 2 + (height if (values["R"] > 0) == anticlockwise else -height) * left
+def _add(state: _State, end: list[float | None], feed: float | None, line: int, word: str,
+         segment: Callable[[np.ndarray, np.ndarray], Segment | None] | None = None, exact: bool = False) -> None:
+    """Record a move to ``end`` (a line, or ``segment(start, end)``) and move there; None in ``end`` leaves the
+    axis unknown."""
+    start = state.position_m
+    unknown = frozenset(k for k in range(3) if start[k] is None)
+    state.position_m = list(end)
+    state.given |= {k for k in range(3) if end[k] is not None}
+    if any(end[k] is None and start[k] is not None for k in range(3)):
+        return  # to an unknown place (a reference position not given)
+    # An axis unknown at both ends is at the origin if the program never gives it (else the move is left out).
+    begin = np.array([value if value is not None else 0.0 for value in start])
+    finish = np.array([value if value is not None else 0.0 for value in end])
+    if segment is None:
+        if np.linalg.norm(finish - begin) <= SAME_POINT_M:
+            return
+        made: Segment | None = Segment(begin, finish, rapid=feed is None)
     else:
-        allowed = OFFSET_LETTERS[state.plane]
-        wrong = [letter for letter in "IJK" if letter in values and letter not in allowed]
-        if wrong:
-            raise fail(f"G{state.plane} arcs take centre offsets {' and '.join(allowed)}", wrong[0])
-        if not any(letter in values for letter in allowed):
-            raise fail(f"an arc needs its centre: R, or offsets {' and '.join(allowed)}")
-        offset = np.array([values.get(letter, 0.0) for letter in "IJK"]) * unit
-        center = s[:2] + (offset @ axes)[:2]
-        radius = float(np.linalg.norm(s[:2] - center))
-        end_radius = float(np.linalg.norm(e[:2] - center))
-        if radius <= SAME_POINT_M:
-            raise fail("the arc's centre is its start point (radius 0)", allowed[0])
-        tolerance = max(RADIUS_TOLERANCE_M, RADIUS_TOLERANCE_SHARE * radius)
-        if abs(end_radius - radius) > tolerance:
-            raise fail(f"the end is {end_radius / unit:.6g} from the centre but the start {radius / unit:.6g}: the "
-                       f"radius does not fit (tolerance {tolerance / unit:.3g})", allowed[0])
-        if distance > SAME_POINT_M:  # onto the chord's perpendicular bisector: both ends on one circle
-            across = np.array([-chord[1], chord[0]]) / distance
-            middle = (s[:2] + e[:2]) / 2
-            center = middle + ((center - middle) @ across) * across
-            radius = float(np.linalg.norm(s[:2] - center))
-    start_angle = float(np.arctan2(s[1] - center[1], s[0] - center[0]))
-    end_angle = float(np.arctan2(e[1] - center[1], e[0] - center[0]))
-    turn = (end_angle - start_angle) % (2 * np.pi) if anticlockwise else -((start_angle - end_angle) % (2 * np.pi))
-    if distance <= SAME_POINT_M:
-        turn = 2 * np.pi if anticlockwise else -2 * np.pi
-    center_m = axes @ np.array([center[0], center[1], s[2]])
-    return Segment(start, end, center_m, radius, start_angle, turn, plane=axes, rise_m=float(e[2] - s[2]))
+        made = segment(begin, finish)
+    if made is None:
+        return
+    made = dataclasses.replace(made, exact_path=state.exact_path or exact, exact_stop=state.exact_stop)
+    state.moves.append(_Move(made, feed, line, word, unknown))
+
+
+def _reference(fail: Callable[[str, str], GcodeError], non_modal: tuple[int, str], axes: list[float | None],
+               written: dict[str, str], line: int, state: _State) -> None:
+    """G28, G30: a rapid to the point given (if any), then the given axes (all if none) to the reference."""
+    code, word = non_modal
+    move_word = next((written[a] for a in "XYZ" if a in written), word)
+    if any(value is not None for value in axes):
+        _add(state, _target(axes, state, fail, move_word), None, line, move_word)
+    reference = state.references[code]
+    moved = [k for k in range(3) if axes[k] is not None] or [0, 1, 2]
+    end = list(state.position_m)
+    for k in moved:
+        end[k] = None if reference is None else float(reference[k])
+    if reference is None:
+        _note(state, f"G{code // 10}", f"G{code // 10} (line {line}) moves to the machine's reference position, "
+                                       f"which the path file does not give (shape.machine.g{code // 10}_mm): the "
+                                       "rapids to and from it are left out")
+    _add(state, end, None, line, word)
+
+
+def _feed(fail: Callable[[str, str], GcodeError], state: _State, word: str, length_m: float,
+          values: dict[str, float]) -> float:
+    """The feed (m/s) of a feed move of the given length in the current feed mode."""
+    if state.feed_mode == 930:
+        if "F" not in values:
+            raise fail(word, "in inverse time mode (G93) every feed move gives its F (1/minutes)")
+        return length_m * values["F"] / 60.0
+    if state.feed is None:
+        raise fail(word, f"a feed move (G{(state.motion or 0) // 10}) before any feed rate: give F first")
+    if state.feed_mode == 950:
+        if not state.spindle_rpm:
+            raise fail(word, "feed per revolution (G95) needs the spindle speed S > 0")
+        return state.feed * state.feed_unit_m * state.spindle_rpm / 60.0
+    return state.feed * state.feed_unit_m / 60.0
+
+
+def _motion(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, str]], axes: list[float | None],
+            values: dict[str, float], written: dict[str, str], line: int, state: _State,
+            previous: int | None) -> None:
+    """The line's move: G0, G1, G2, G3 (in machine coordinates with G53) or a drilling cycle."""
+    move_word = next((written[a] for a in "XYZ" if a in written), codes.get("motion", ("", ""))[1])
+    if state.motion is None:
+        raise fail(move_word, "an end point but no motion mode (G0, G1, G2, G3, or a drilling cycle) is active")
+    if codes.get("non-modal", (0, ""))[0] == 530:
+        if state.motion not in (0, 10) or state.incremental:
+            raise fail(codes["non-modal"][1], "G53 moves in machine coordinates with G0 or G1, in G90")
+        if not state.machine.given:
+            _note(state, "G53", f"G53 (line {line}) moves in machine coordinates, whose offset from the program's "
+                                "origin the path file does not give (shape.machine.work_offset_mm): those moves "
+                                "are left out")
+            _add(state, [None if a is not None else p for a, p in zip(axes, state.position_m)], None, line, move_word)
+            return
+        target = _target(axes, state, fail, move_word, machine_coordinates=True)
+    elif state.motion // 10 in CYCLES:
+        _cycle(fail, codes, values, written, line, state, previous, move_word)
+        return
+    else:
+        target = _target(axes, state, fail, move_word)
+    if state.motion == 0:
+        _add(state, target, None, line, move_word)
+        return
+    if state.motion == 10:
+        start = np.array([v if v is not None else 0.0 for v in state.position_m])
+        end = np.array([v if v is not None else 0.0 for v in target])
+        _add(state, target, _feed(fail, state, move_word, float(np.linalg.norm(end - start)), values), line,
+             move_word)
+        return
+    start = np.array([v if v is not None else 0.0 for v in state.position_m])
+    finish = np.array([v if v is not None else 0.0 for v in target])
+    segment = arc_segment(lambda problem, letter=None: fail(written.get(letter or "", move_word), problem), start,
+                          finish, values, state.plane, state.motion == 30, state.length_m, state.absolute_centres)
+    _add(state, target, _feed(fail, state, move_word, segment.length_m, values), line, move_word,
+         lambda begin, end: segment)
+
+
+def _cycle(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, str]], values: dict[str, float],
+           written: dict[str, str], line: int, state: _State, previous: int | None, move_word: str) -> None:
+    """A drilling cycle's moves (:mod:`placement.path.canned`), in exact path mode as LinuxCNC runs them."""
+    word = codes.get("motion", ("", move_word))[1]
+    assert state.motion is not None
+    if state.feed_mode == 930:
+        raise fail(word, "drilling cycles cannot run in inverse time mode (G93)")
+    if any(value is None for value in state.position_m):
+        missing = ", ".join("XYZ"[k] for k in range(3) if state.position_m[k] is None)
+        raise fail(word, f"a drilling cycle from an unknown position ({missing} not given yet): move to a point with "
+                         "G0 first")
+    position = [float(v) for v in state.position_m if v is not None]
+    try:
+        steps = expand_cycle(state.motion // 10, state.plane, state.incremental, state.length_m,
+                             state.length_m == INCH_M, position, values, previous == state.motion, state.cycle)
+    except CycleError as error:
+        raise fail(written.get(error.letter, word), error.problem) from None
+    feed = _feed(fail, state, word, 1.0, values)
+    for step in steps:
+        if step.kind == "dwell":
+            state.dwells.append(Dwell(len(state.moves), step.dwell_s, line))
+        else:
+            assert step.target_m is not None
+            _add(state, list(step.target_m), feed if step.kind == "feed" else None, line, word, exact=True)

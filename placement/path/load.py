@@ -8,11 +8,11 @@ from pathlib import Path as FilePath
 import numpy as np
 
 from placement.path.exceptions import PathFileError
-from placement.path.gcode import read_program
+from placement.path.gcode import MM_M, Machine, Program, read_program
 from placement.path.poses import TimedPoses, pose_segments, read_poses
 from placement.path.samples import default_time_step_s
 from placement.path.schema import LENGTH_SCALE, Circle, Gcode, PathFile, Polyline, Poses, Rapids, Rectangle
-from placement.path.segments import Segment
+from placement.path.segments import Hold, Segment
 from placement.path.toolpath import MIN_LENGTH_M, ToolPath
 from placement.schema import read_yaml
 
@@ -34,10 +34,13 @@ def load_path(path: str | FilePath) -> ToolPath:
     spec = read_yaml(path, PathFile, PathFileError)
     _check_fields(path, spec)
     rapid_feed, timed = None, None
+    holds: tuple[Hold, ...] = ()
+    notes: tuple[str, ...] = ()
     if isinstance(spec.shape, Gcode):
-        program = read_program(path.parent / spec.shape.file)
+        program = read_program(path.parent / spec.shape.file, _machine(spec.shape))
+        notes = program.notes
         rapids = spec.rapids or Rapids()
-        segments = tuple(s for s in program.segments if not s.rapid or rapids.mode == "timed")
+        segments, holds = _kept(program, rapids.mode == "timed")
         feed, rapid_feed = program.feed_m_s, rapids.feed_m_s
     elif isinstance(spec.shape, Poses):
         assert spec.units is not None  # _check_fields
@@ -65,7 +68,33 @@ def load_path(path: str | FilePath) -> ToolPath:
     return ToolPath(name=spec.name or path.stem, segments=segments, feed_m_s=feed,
                     forces=spec.process_forces_N.resolve(), timing=spec.timing,
                     time_step_s=spec.time_step_s if spec.time_step_s is not None else default_time_step_s(feed),
-                    rapid_feed_m_s=rapid_feed, timed=timed)
+                    rapid_feed_m_s=rapid_feed, timed=timed, notes=notes, holds=holds)
+
+
+def _kept(program: Program, rapids: bool) -> tuple[tuple[Segment, ...], tuple[Hold, ...]]:
+    """A program's segments (its rapids only if timed) and its dwells as holds, each after the segment it follows
+    among those kept; the segment before a hold ends in an exact stop (the tool rests during the dwell)."""
+    kept = [segment for segment in program.segments if not segment.rapid or rapids]
+    holds = []
+    for dwell in program.dwells:
+        after = sum(1 for segment in program.segments[:dwell.after] if not segment.rapid or rapids)
+        holds.append(Hold(after, dwell.duration_s))
+        if after:
+            kept[after - 1] = dataclasses.replace(kept[after - 1], exact_stop=True)
+    return tuple(kept), tuple(holds)
+
+
+def _machine(shape: Gcode) -> Machine:
+    """The machine positions a path file gives a program, in metres."""
+    given = shape.machine
+    if given is None:
+        return Machine()
+    def point(value: tuple[float, float, float] | None) -> np.ndarray | None:
+        return None if value is None else np.array(value, dtype=float) * MM_M
+
+    offset = point(given.work_offset_mm)
+    assert offset is not None
+    return Machine(offset, point(given.g28_mm), point(given.g30_mm), given=True)
 
 
 def _check_fields(path: FilePath, spec: PathFile) -> None:

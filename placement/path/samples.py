@@ -79,15 +79,27 @@ class PathGeometry:
         run_starts: (R + 1,) index of the first sample of each run between stops, then N.
         arc_m: (N,) arc length from the start of the sample's run.
         feed_m_s: (N,) the feed bound at each sample (its segment's feed).
+        hold_s: (R,) each run's duration if it is a hold (two samples at rest, a G-code dwell), else 0
+            (None: no holds).
     """
 
     samples: PathSamples
     run_starts: np.ndarray
     arc_m: np.ndarray
     feed_m_s: np.ndarray
+    hold_s: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.arc_m)
+
+    @cached_property
+    def hold_intervals_s(self) -> np.ndarray:
+        """(N-1,) the duration of each interval between samples that is a hold, 0 for the others."""
+        durations = np.zeros(max(len(self.arc_m) - 1, 0))
+        if self.hold_s is not None:
+            held = np.flatnonzero(self.hold_s > 0)
+            durations[self.run_starts[held]] = self.hold_s[held]
+        return durations
 
     @cached_property
     def joins(self) -> np.ndarray:

@@ -8,7 +8,8 @@ forces carry their unit in their field name. The shapes (docs/paths.md has the w
     rectangle, polyline, circle, arc: geometry written in the file, run at ``feed_m_s``.
     gcode: a G-code program (:mod:`placement.path.gcode`), which sets its own units (G20/G21) and the
         feed of each move (F): ``units`` and ``feed_m_s`` are refused. ``rapids`` says whether its
-        G0 moves are skipped (left out, leaving gaps) or timed at a rapid feed.
+        G0 moves are skipped (left out, leaving gaps) or timed at a rapid feed; ``machine`` gives the
+        machine positions G28, G30 and G53 moves need (left out, with a note, without them).
     poses: a pose list (:mod:`placement.path.poses`) in the file's units: without times, a polyline
         run at ``feed_m_s`` whose tool orientation turns uniformly along each segment; with times
         (a t column), a C² interpolation through the poses at their times, with no ``feed_m_s``
@@ -102,11 +103,25 @@ class Arc(Strict):
         return self
 
 
+Point = tuple[Number, Number, Number]
+
+
+class MachinePositions(Strict):
+    """Positions only the machine holds, in machine coordinates (mm): where the program's origin (the path
+    frame's) is, and the reference positions G28 and G30 move to (each left out with a note when not given)."""
+
+    work_offset_mm: Point = (0.0, 0.0, 0.0)
+    g28_mm: Point | None = None
+    g30_mm: Point | None = None
+
+
 class Gcode(Strict):
-    """A G-code program, its file named relative to the path file (:mod:`placement.path.gcode`)."""
+    """A G-code program, its file named relative to the path file (:mod:`placement.path.gcode`); ``machine`` gives
+    what G28, G30 and G53 moves need."""
 
     type: Literal["gcode"]
     file: Text
+    machine: MachinePositions | None = None
 
 
 class Poses(Strict):

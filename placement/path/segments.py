@@ -22,6 +22,7 @@ import numpy as np
 
 XY_PLANE = np.eye(3)  # columns u, v, n of the X_p Y_p plane (G17)
 CORNER_ANGLE_RAD = np.radians(1.0)  # a tangent turn above this is a corner (exact stop)
+EXACT_PATH_ANGLE_RAD = 1e-6  # in exact path mode (G61) a tangent turn above this is a corner
 GAP_M = 1e-9  # segments whose ends are farther apart leave a gap (a skipped rapid) between them
 TURNING_RATE_TOLERANCE_RAD_M = 1e-9  # a larger change of turning rate between segments is an orientation corner
 
@@ -42,6 +43,9 @@ class Segment:
         rapid: A rapid move (G0), timed at the path's rapid feed and loaded by rapid forces.
         rotation: (3, 3) tool orientation in F_p at the start (None: no orientation).
         turn_rad: (3,) rotation vector from the start orientation to the end one, in the start frame.
+        exact_path: The tool stops at the segment's end if the next segment's tangent differs at all (G61,
+            drilling cycles), not only at a corner above CORNER_ANGLE_RAD.
+        exact_stop: The tool stops at the segment's end (G61.1, a program pause M0, M1, M60).
     """
 
     start_m: np.ndarray
@@ -56,6 +60,8 @@ class Segment:
     rapid: bool = False
     rotation: np.ndarray | None = None
     turn_rad: np.ndarray | None = None
+    exact_path: bool = False
+    exact_stop: bool = False
 
     @property
     def length_m(self) -> float:
@@ -115,6 +121,15 @@ def rotation_matrices(vectors: np.ndarray) -> np.ndarray:
 
 
 @dataclass(frozen=True)
+class Hold:
+    """The tool held at rest for a while (a G-code dwell): at the end of segment ``after`` - 1 (at the start of the
+    first segment if ``after`` is 0), for ``duration_s`` seconds."""
+
+    after: int
+    duration_s: float
+
+
+@dataclass(frozen=True)
 class Run:
     """Consecutive segments the tool runs through without stopping: no corner, gap or change of the tool's
     turning rate between them (where the realistic and optimal timing laws stop).
@@ -170,7 +185,8 @@ class Run:
 
 def split_runs(segments: tuple[Segment, ...]) -> list[Run]:
     """Consecutive segments grouped into runs without a corner, a gap or a change of turning rate between them
-    (an orientation that turns at another rate per metre would jump in angular velocity)."""
+    (an orientation that turns at another rate per metre would jump in angular velocity); a segment in exact
+    stop mode ends its run, and one in exact path mode ends it at any turn of the tangent."""
     grouped: list[tuple[list[Segment], bool]] = [([segments[0]], False)]
     for previous, segment in zip(segments, segments[1:]):
         gap = bool(np.linalg.norm(segment.start_m - previous.end_m) > GAP_M)
@@ -178,7 +194,8 @@ def split_runs(segments: tuple[Segment, ...]) -> list[Run]:
         start_tangent = segment.point(np.zeros(1), np.ones(1), np.zeros(1))[3][0]
         turn = np.arccos(np.clip(end_tangent @ start_tangent, -1.0, 1.0))
         kink = np.linalg.norm(turning_rate(segment) - turning_rate(previous)) > TURNING_RATE_TOLERANCE_RAD_M
-        if gap or kink or turn > CORNER_ANGLE_RAD:
+        corner = EXACT_PATH_ANGLE_RAD if previous.exact_path else CORNER_ANGLE_RAD
+        if gap or kink or turn > corner or previous.exact_stop:
             grouped.append(([segment], gap))
         else:
             grouped[-1][0].append(segment)

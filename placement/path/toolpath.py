@@ -11,7 +11,7 @@ from placement.exceptions import PlacementError
 from placement.path.poses import TimedPoses
 from placement.path.samples import END_SPLIT, MAX_SAMPLES, MIN_RUN_SAMPLES, PathGeometry, PathSamples, run_joins
 from placement.path.schema import ForceSet, Timing
-from placement.path.segments import Run, Segment, split_runs
+from placement.path.segments import Hold, Run, Segment, split_runs
 from placement.timing.paper import sample_paper
 from placement.timing.realistic import sample_realistic
 
@@ -29,6 +29,10 @@ class ToolPath:
         rapid_feed_m_s: The feed of rapid segments (timed G-code rapids), not scaled with feed_m_s.
         timed: A pose list with times, sampled by its own interpolation instead of the segments
             (the polyline through its points); its speeds scale by feed_m_s over its mean speed.
+        notes: What the reader of a G-code program left out, for the user (printed once each).
+        holds: Where the tool rests for a while (G-code dwells), in order; the segment before each ends
+            in an exact stop. The paper and realistic timing laws sample each as a piece of its own, the
+            optimal law as a run of two samples at rest, timed by its duration.
     """
 
     name: str
@@ -39,6 +43,8 @@ class ToolPath:
     time_step_s: float
     rapid_feed_m_s: float | None = None
     timed: TimedPoses | None = None
+    notes: tuple[str, ...] = ()
+    holds: tuple[Hold, ...] = ()
 
     @property
     def length_m(self) -> float:
@@ -91,7 +97,17 @@ class ToolPath:
         fastest = max(self.speed_m_s(s) for s in self.segments)
         nominal = [run.length_m / fastest for run in runs]
         counts = [max(MIN_RUN_SAMPLES, count) for count in self.sample_counts(nominal, step)]
-        parts, piece, arcs, feeds, starts = [], 0, [], [], [0]
+        parts, piece, arcs, feeds, starts, hold_s, done = [], 0, [], [], [0], [], 0
+
+        def add_holds(after: int) -> None:  # each hold a run of two samples at rest, timed by its duration
+            for part, hold in zip(self.hold_parts(after, 0.0, piece)[0], [h for h in self.holds if h.after == after]):
+                parts.append({**part, "t": np.zeros(2), "piece": np.full(2, piece)})
+                arcs.append(np.zeros(2))
+                feeds.append(np.full(2, fastest))
+                starts.append(starts[-1] + 2)
+                hold_s.append(hold.duration_s)
+
+        add_holds(0)
         for run, count in zip(runs, counts):
             bounds = run.bounds_m
             speeds = np.array([self.speed_m_s(s) for s in run.segments])
@@ -107,12 +123,16 @@ class ToolPath:
             arcs.append(arc)
             feeds.append(np.minimum(speeds[after], speeds[before]))
             starts.append(starts[-1] + count)
+            hold_s.append(0.0)
+            done += len(run.segments)
+            add_holds(done)
         arc_m, feed = np.concatenate(arcs), np.concatenate(feeds)
-        # Nominal times: each run at its feed bound throughout (a lower bound of any timing's).
+        # Nominal times: each run at its feed bound throughout (a lower bound of any timing's), each hold its duration.
+        geometry = PathGeometry(self.assemble(parts), np.array(starts), arc_m, feed, np.array(hold_s))
         steps = np.where(run_joins(np.array(starts)), 0.0, np.diff(arc_m) / feed[1:])
+        steps = np.where(geometry.hold_intervals_s > 0, geometry.hold_intervals_s, steps)
         nominal_t = np.concatenate([[0.0], np.cumsum(steps)])
-        samples = self.assemble(parts)
-        return PathGeometry(dataclasses.replace(samples, t_s=nominal_t), np.array(starts), arc_m, feed)
+        return dataclasses.replace(geometry, samples=dataclasses.replace(geometry.samples, t_s=nominal_t))
 
     @property
     def oriented(self) -> bool:
@@ -123,6 +143,32 @@ class ToolPath:
         """The runs the tool moves through without stopping (:func:`placement.path.segments.split_runs`), or each segment
         on its own (``by_segment``: the paper's timing law)."""
         return [Run((segment,)) for segment in self.segments] if by_segment else split_runs(self.segments)
+
+    def hold_parts(self, after: int, start_s: float, piece: int) -> tuple[list[dict[str, np.ndarray]], float, int]:
+        """The samples of the holds after segment ``after`` - 1, each a piece of its own from ``piece`` on: the tool
+        at rest at the segment's end, with its end tangent and kind of move (so the process force of the move it
+        ends keeps acting), sampled at its start and end (nothing changes in between, so the trapezoidal energy of
+        the two is exact). Returns the parts, the time after them and the next piece."""
+        holds = [hold for hold in self.holds if hold.after == after]
+        if not holds:
+            return [], start_s, piece
+        segment = self.segments[after - 1] if after else self.segments[0]
+        at = np.array([segment.length_m if after else 0.0])
+        position, _, _, tangent = segment.point(at, np.zeros(1), np.zeros(1))
+        rotation = segment.orientation(at, np.zeros(1), np.zeros(1))[0] if self.oriented else None
+        parts = []
+        n = 2
+        for hold in holds:
+            part = {"t": start_s + np.linspace(0.0, hold.duration_s, n), "position": np.repeat(position, n, axis=0),
+                    "velocity": np.zeros((n, 3)), "acceleration": np.zeros((n, 3)),
+                    "tangent": np.repeat(tangent, n, axis=0), "rapid": np.full(n, segment.rapid),
+                    "piece": np.full(n, piece)}
+            if rotation is not None:
+                part.update(rotation=np.repeat(rotation, n, axis=0), angular_velocity=np.zeros((n, 3)),
+                            angular_acceleration=np.zeros((n, 3)))
+            parts.append(part)
+            start_s, piece = start_s + hold.duration_s, piece + 1
+        return parts, start_s, piece
 
     def sample_counts(self, durations_s: list[float], step: float) -> list[int]:
         """Samples of each independently timed piece; refuses more than MAX_SAMPLES in all."""
@@ -139,9 +185,9 @@ class ToolPath:
         Each independently timed piece (a segment in the paper's timing law, a corner-to-corner
         run in the realistic one) must map onto a piece run the same way at the same feed; the
         energy of such a path is then the same at phi and phi + 180°, and phi only needs a half
-        turn of range. A timed pose list, or one whose orientation changes, is taken not to be.
+        turn of range. A timed pose list, one whose orientation changes, or one with holds is taken not to be.
         """
-        if self.timed is not None or not self._constant_orientation():
+        if self.timed is not None or self.holds or not self._constant_orientation():
             return False
         fractions = np.linspace(0.0, 1.0, 9)
 

@@ -27,7 +27,8 @@ evaluates each interval on its own (a sample inside a run appears twice, zero ti
 energy integration counts what the windings give back and take. :mod:`placement.limits` then
 checks the timed samples like any other timing's. The tool stops wherever the realistic law stops
 (corners, gaps, changes of the tool's rate of turning): each run between stops is timed rest to
-rest, and the samples grow denser towards the stops, where the tool moves slowest.
+rest, and the samples grow denser towards the stops, where the tool moves slowest. A hold (a
+G-code dwell) is a run of two samples at rest, not timed by TOPP-RA but by its duration.
 """
 
 from __future__ import annotations
@@ -146,6 +147,8 @@ def time_optimal(robot: Robot, geometry: PathGeometry, dynamics: PathDynamics, r
     timed = np.asarray(reachable, dtype=bool).copy()
     for i in np.flatnonzero(timed):
         for start, stop in zip(geometry.run_starts[:-1], geometry.run_starts[1:]):
+            if geometry.hold_intervals_s[start] > 0:
+                continue  # a hold: at rest, timed by its duration
             run = slice(start, stop)
             solved = _time_run(geometry.arc_m[run], a[i, run], b[i, run], c[i, run], speed_max[i, run] ** 2)
             if solved is None:
@@ -170,9 +173,11 @@ def _time_run(arc_m: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray,
 
 
 def _times(geometry: PathGeometry, speed: np.ndarray, timed: np.ndarray) -> np.ndarray:
-    """(K, N) sample times: s̈ is constant between samples, so each interval takes 2·Δs/(ṡ_i + ṡ_i+1)."""
+    """(K, N) sample times: s̈ is constant between samples, so each interval takes 2·Δs/(ṡ_i + ṡ_i+1); a hold its
+    duration."""
     ds = np.diff(geometry.arc_m)
     with np.errstate(divide="ignore", invalid="ignore"):
         dt = np.where(geometry.joins, 0.0, 2 * ds / (speed[:, 1:] + speed[:, :-1]))
+    dt = np.where(geometry.hold_intervals_s > 0, geometry.hold_intervals_s, dt)
     dt = np.where(timed[:, None], dt, np.diff(geometry.samples.t_s))
     return np.concatenate([np.zeros((len(speed), 1)), np.cumsum(dt, axis=1)], axis=1)

@@ -78,12 +78,18 @@ def sample_realistic(path: ToolPath, step_s: float) -> PathSamples:
     runs = path.runs()
     profiles = [run_profile(path, run) for run in runs]
     counts = path.sample_counts([profile.duration_s for profile in profiles], step_s)
-    parts, start, piece = [], 0.0, 0
+    parts, start, piece, done = [], 0.0, 0, 0
+    held, start, piece = path.hold_parts(0, start, piece)
+    parts += held
     for run, profile, count in zip(runs, profiles, counts):
         t = np.linspace(0.0, profile.duration_s, count)
         piece += run.after_gap
         parts.append({"t": start + t, **run.along(*profile(t), path.oriented), "piece": np.full(len(t), piece)})
         start += profile.duration_s
+        done += len(run.segments)
+        held, start, after = path.hold_parts(done, start, piece + 1)  # the run ends at rest before a hold
+        parts += held
+        piece = after if held else piece
     samples = path.assemble(parts)
     # Successive runs of one piece meet at rest at a corner: drop the duplicated corner instant.
     keep = np.concatenate([[True], (np.diff(samples.t_s) > 0) | (np.diff(samples.piece) != 0)])

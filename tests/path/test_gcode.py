@@ -12,8 +12,9 @@ import pytest
 
 from placement.__main__ import main
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
-from placement.path import load_path
+from placement.path import ngc_flow
 from placement.path.exceptions import GcodeError, PathFileError
+from placement.path.load import load_path
 from placement.robot import load_robot
 from tests.support.paths import EXAMPLES
 
@@ -268,27 +269,45 @@ def test_the_pocket_example_runs_end_to_end(capsys):
     ("G0 X0 Y0 Z0\nG41 G1 X10 F100\n", 2, "G41", ["cutter radius compensation"]),
     ("G54\nG0 X0 Y0 Z0\nG55 X1\n", 3, "G55", ["changes work coordinate system"]),
     ("G0 X0 Y0 Z0\nG92 X0\n", 2, "G92", ["coordinate system offset"]),
-    ("G0 X0 Y0 Z0\nG81 X1 Y1 Z-3 R1 F100\n", 2, "G81", ["canned cycles"]),
-    ("G0 X0 Y0 Z0\nG1 X10 A5 F100\n", 2, "A5", ["unknown word"]),
+    ("G0 X0 Y0 Z0\nG84 X1 Y1 Z-3 R1 F100\n", 2, "G84", ["tapping", "G73, G81-G83, G85, G89 are read"]),
+    ("G0 X0 Y0 Z0\nG1 X10 A5 F100\n", 2, "A5", ["rotary"]),
+    ("G0 X0 Y0 Z0\nG1 X10 E5 F100\n", 2, "E5", ["unknown word"]),
     ("G0 X0 Y0 Z0\nG1 X10\n", 2, "X10", ["before any feed rate"]),
     ("G0 X0 Y0 Z0\nG1 X1.2.3 F100\n", 2, "X1.2.3", ["expected a number"]),
-    ("G0 X0 Y0 Z0\nG1 X#1 F100\n", 2, "X#1", ["expected a number"]),
+    ("G0 X0 Y0 Z0\nG1 X#<nope> F100\n", 2, "#<NOPE>", ["read before it is set"]),
+    ("G0 X0 Y0 Z0\nG1 X[1/0] F100\n", 2, "/", ["division by zero"]),
+    ("G0 X0 Y0 Z0\nG1 X[1+2 F100\n", 2, "F", ["expected an operator"]),
+    ("G0 X0 Y0 Z0\nG1 X[1+2\n", 2, "[1+2", ["not closed"]),
+    ("G0 X0 Y0 Z0\nG1 X[sqrt[-1]] F100\n", 2, "SQRT[-1]", ["undefined"]),
+    ("G0 X0 Y0 Z0\nG1 Xfoo[1] F100\n", 2, "FOO", ["unknown function"]),
+    ("G0 X0 Y0 Z0\nO100 call\n", 2, "O100CALL", ["no subroutine O100"]),
+    ("G0 X0 Y0 Z0\nO100 while [1]\nG1 X1 F100\n", 2, "O100WHILE[1]", ["no matching endwhile"]),
+    ("G0 X0 Y0 Z0\nG1 F100\nO100 while [1]\nG1 X1\nO100 endwhile\n", 5, "", ["more than 1,000 lines run"]),
+    ("G0 X0 Y0 Z0\nO100 endsub\n", 2, "O100ENDSUB", ["outside a subroutine"]),
+    ("G0 X0 Y0 Z0\nG95 G1 X10 F0.1\n", 2, "X10", ["spindle speed S"]),
+    ("G0 X0 Y0 Z0\nG93 G1 X10 F5\nX20\n", 3, "X20", ["every feed move gives its F"]),
+    ("G0 X0 Y0 Z0\nG81 X1 Y1 Z-3 F100\n", 2, "G81", ["retract level R"]),
+    ("G0 X0 Y0 Z0\nG83 X1 Y1 Z-3 R1 F100\n", 2, "G83", ["needs Q"]),
+    ("G0 X0 Y0 Z0\nG81 X1 Y1 Z3 R1 F100\n", 2, "R1", ["below the bottom"]),
+    ("G0 X0 Y0 Z0\nG1 X1 P2 F100\n", 2, "P2", ["P belongs to G4"]),
+    ("G0 X0 Y0 Z0\nG28.1 X1\nG1 X1 F100 Q2\n", 3, "Q2", ["Q belongs to"]),
     ("G0 X0 Y0 Z0\nG2 X10 Y0 I5.1 J0 F100\n", 2, "I5.1", ["radius does not fit"]),
     ("G0 X0 Y0 Z0\nG2 X10 Y0 R4.9 F100\n", 2, "R4.9", ["smaller than half the chord"]),
     ("G0 X0 Y0 Z0\nG2 X0 Y0 R5 F100\n", 2, "R5", ["full circle"]),
     ("G0 X0 Y0 Z0\nG1 G2 X1 F100\n", 2, "G2", ["second motion word"]),
     ("G0 X0 Y0 Z0\nG17 G2 X10 K3 F100\n", 2, "K3", ["G17 arcs take centre offsets I and J"]),
-    ("G0 X0 Y0\nG1 X10 F100\n", 2, "X10", ["unknown position"]),
+    ("G0 X0 Y0\nG1 X10 F100\nG0 Z5\n", 2, "X10", ["unknown position"]),
     ("G0 X0 Y0 Z0\nG1 X10 F0\n", 2, "F0", ["must be > 0"]),
-    ("G0 X0 Y0 Z0\nM98 P100\n", 2, "M98", ["M-code subset"]),
+    ("G0 X0 Y0 Z0\nM98 P100\n", 2, "M98", ["M-code dialect", "O-word subroutines"]),
     ("G0 X0 Y0 Z0\nG1 X10 F100 (open comment\n", 2, "", ["not closed"]),
     ("G0 X0 Y0 Z0\nG1 X10 I5 F100\n", 2, "I5", ["belong to arcs"]),
-    ("G0 X0 Y0 Z0\nG2 I5 F100\n", 2, "I5", ["needs its end point"]),
+    ("G0 X0 Y0 Z0\nG4\n", 2, "G4", ["duration P"]),
     ("G21\nX10 Y0 Z0\n", 2, "X10", ["no motion mode"]),
     ("G0 X0 Y0 Z0\nG2 X10 Y0 F100\n", 2, "X10", ["needs its centre"]),
     ("G0 X0 Y0\nG91 Z-1\n", 2, "Z-1", ["incremental"]),
 ])
-def test_program_errors_name_the_line_and_the_word(tmp_path, code, line, word, words):
+def test_program_errors_name_the_line_and_the_word(tmp_path, monkeypatch, code, line, word, words):
+    monkeypatch.setattr(ngc_flow, "MAX_EXECUTED_BLOCKS", 1000)  # the endless loop's bound, reached quickly
     with pytest.raises(GcodeError) as error:
         program(tmp_path, code)
     assert error.value.line == line and error.value.word == word
@@ -399,3 +418,102 @@ def test_a_slow_program_without_a_time_step_is_sampled_every_half_millimetre(tmp
     assert slow.time_step_s == pytest.approx(0.0005 / (0.1 / 60)) and fast.time_step_s == 0.001
     spacing = np.diff(slow.sample().position_m[:, 0])
     assert spacing.max() <= 0.0005 + 1e-12
+
+
+@pytest.mark.parametrize("timing", ["paper", "realistic", "optimal"])
+def test_a_dwell_costs_the_static_holding_joule_power_for_its_duration(tmp_path, timing):
+    # The UR5 holds the tool at rest for 2 s against gravity and an axial process force. The static joint efforts
+    # are computed here with Pinocchio (gravity torque less the Jacobian's transpose times the force on the tool),
+    # the motor currents from the gear ratio and torque constant, and the Joule power n·R·I² from them.
+    import pinocchio as pin
+
+    robot = load_robot("ur5")
+    at = np.array([0.45, 0.1, 0.2, 0.3, 0.0, 0.0])
+    forces = "process_forces_N: {feed: 0, radial: 0, axial: 40}\n"
+    law = f"timing: {{mode: {timing}, max_acceleration_m_s2: 2, max_jerk_m_s3: 50}}\n"
+    moves = "G21 G90 G0 X0 Y0 Z0\nG1 X10 F600\n{}G1 X20\nG1 Y10\n"
+    held = program(tmp_path, moves.format("G4 P2\n"), forces + law, name="held")
+    plain = program(tmp_path, moves.format("M0\n"), forces + law, name="plain")  # a stop there, no hold
+    assert held.holds and held.holds[0].duration_s == 2.0
+    details = [Evaluator(robot, path, time_step_s=0.004).detail(at) for path in (held, plain)]
+    assert all(d.reachable for d in details)
+    hold = np.flatnonzero(np.all(details[0].samples.velocity_m_s == 0, axis=1)
+                          & np.all(np.abs(details[0].samples.position_m - [0.01, 0, 0]) < 1e-12, axis=1))
+    assert len(hold) >= 2 and np.ptp(details[0].samples.t_s[hold]) == pytest.approx(2.0, abs=1e-12)
+    q = details[0].configuration[hold[0]]
+    data = robot.model.createData()
+    pin.framesForwardKinematics(robot.model, data, q)
+    phi = at[3]
+    turn = np.array([[np.cos(phi), -np.sin(phi), 0.0], [np.sin(phi), np.cos(phi), 0.0], [0.0, 0.0, 1.0]])
+    np.testing.assert_allclose(data.oMf[robot.end_effector_frame_id].translation, at[:3] + turn @ [0.01, 0, 0],
+                               atol=1e-9)
+    force = turn @ np.array([0.0, 0.0, 40.0])  # axial: along Z_p, on the tool from the workpiece
+    jacobian = pin.computeFrameJacobian(robot.model, data, q, robot.end_effector_frame_id,
+                                        pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)[:3]
+    effort = pin.computeGeneralizedGravity(robot.model, data, q) - jacobian.T @ force
+    power = sum(d.motor.phases * d.motor.resistance_ohm
+                * (tau / (d.transmission.ratio * d.transmission.efficiency * d.motor.torque_constant_Nm_per_A)) ** 2
+                for d, tau in zip(robot.drives, effort))
+    # The hold is the only difference: without it the same moves run, with a stop (M0) where the dwell was.
+    extra = details[0].energy.total_J - details[1].energy.total_J
+    assert extra == pytest.approx(power * 2.0, rel=1e-9)
+    assert details[0].duration_s - details[1].duration_s == pytest.approx(2.0, abs=1e-3)
+
+
+def test_a_fanuc_style_program_runs_end_to_end(capsys):
+    # Safety line, G28 G91 Z0., T1 M6, S12000 M3, G54, G43 Z15. H1, M8, arcs by I/J, M9, M5, a G83 cycle, M30.
+    assert main(["--robot", "orthoglide", "--path", str(EXAMPLES / "racetrack_fanuc.yaml"), "--at", "x=0,y=0",
+                 "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert out.count("note: G28") == 1 and "shape.machine.g28_mm" in out
+    path = load_path(EXAMPLES / "racetrack_fanuc.yaml")
+    slot = 2 * (36 - 16) + 2 * np.pi * 8  # two straights and two half circles of radius 8 mm, per depth
+    cutting = sum(s.length_m for s in path.segments if s.center_m is not None or abs(s.end_m[2] - s.start_m[2]) < 1e-12)
+    assert cutting == pytest.approx(2 * slot * 1e-3, rel=1e-12)
+    drilled = [s for s in path.segments if s.start_m[0] in (-0.025, 0.025) and s.end_m[2] < s.start_m[2]]
+    # R2 down to Z-8 in pecks of Q2: four pecks end at 0, -2, -4, -6, each followed by a feed from 0.254 mm above
+    assert sum(s.length_m for s in drilled) == pytest.approx(2 * (10 + 4 * 0.254) * 1e-3, rel=1e-12)
+
+
+def test_never_given_axes_stay_at_the_origin(tmp_path):
+    # A plasma or laser program in X and Y only runs in the X_p Y_p plane.
+    flat = program(tmp_path, "G21 G90 G0 X5 Y5\nG1 X10 F600\nG2 I-5 J0\nG1 Y-5\n", name="flat")
+    assert len(flat.segments) == 3 and all(np.all(np.array([s.start_m[2], s.end_m[2]]) == 0) for s in flat.segments)
+    circle = flat.segments[1]
+    assert circle.length_m == pytest.approx(2 * np.pi * 5e-3, rel=1e-12)  # a full circle without end words
+
+
+@pytest.mark.parametrize("mode, runs", [("G64", 1), ("G61", 2), ("G61.1", 3)])
+def test_path_control_modes_set_where_the_tool_stops(tmp_path, mode, runs):
+    # Three moves turning 0.5° and then 0° (collinear): blended in G64, the turn stops in G61 (exact path), every
+    # end stops in G61.1 (exact stop).
+    turn = np.radians(0.5)
+    end = 10 + 10 * np.cos(turn), 10 * np.sin(turn)
+    code = (f"G21 G90 G0 X0 Y0 Z0\n{mode}\nG1 X10 F600\nX{end[0]:.12f} Y{end[1]:.12f}\n"
+            f"X{10 + 20 * np.cos(turn):.12f} Y{20 * np.sin(turn):.12f}\n")
+    path = program(tmp_path, code, "timing: {mode: realistic, max_acceleration_m_s2: 10, max_jerk_m_s3: 500}\n")
+    assert len(path.runs()) == runs
+
+
+def test_reference_returns_with_and_without_the_machine_positions(tmp_path):
+    code = "G21 G90 G0 X0 Y0 Z0\nG1 X10 F600\nG28 Z5\nG0 X20 Y0 Z0\nG1 Y10\n"
+    machine = "shape: {type: gcode, file: m.nc, machine: {g28_mm: [100, 0, 50], work_offset_mm: [90, 0, 0]}}\n"
+    (tmp_path / "m.nc").write_text(code)
+    (tmp_path / "m.yaml").write_text(machine + "rapids: {mode: timed, feed_m_s: 0.5}\n")
+    known = load_path(tmp_path / "m.yaml")
+    ends = [tuple(np.round(s.end_m * 1e3, 9)) for s in known.segments]
+    # the intermediate point Z5, then X, Y, Z to the reference: machine (100, 0, 50) less the offset (90, 0, 0)
+    assert ends[1:4] == [(10.0, 0.0, 5.0), (10.0, 0.0, 50.0), (20.0, 0.0, 0.0)] and not known.notes
+    unknown = program(tmp_path, code, "rapids: {mode: timed, feed_m_s: 0.5}\n", name="u")
+    assert [tuple(np.round(s.end_m * 1e3, 9)) for s in unknown.segments][1:] == [(10.0, 0.0, 5.0), (20.0, 10.0, 0.0)]
+    assert "G28 (line 3)" in unknown.notes[0]
+
+
+@pytest.mark.parametrize("code, feed_mm_min", [
+    ("G93 G1 X30 F4\n", 30 * 4),  # inverse time: the move takes 1/4 min
+    ("G95 S2000 G1 X30 F0.05\n", 0.05 * 2000),  # per revolution at S
+    ("G94 G1 X30 F150\n", 150),
+])
+def test_feed_modes(tmp_path, code, feed_mm_min):
+    path = program(tmp_path, "G21 G90 G0 X0 Y0 Z0\n" + code)
+    assert path.speed_m_s(path.segments[0]) == pytest.approx(feed_mm_min / 60e3, rel=1e-12)

@@ -1,0 +1,108 @@
+"""The words of the G-code dialect: modal groups, what is accepted, what is refused and why.
+
+G and M numbers are kept in tenths (G61.1 is 611). docs/paths.md lists every word with what it
+does to the energy and the time.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from placement.path.canned import CYCLES
+from placement.path.exceptions import GcodeError
+
+# G codes (in tenths: G61.1 is 611) by modal group; G80 has its own group, as on Fanuc controls, so that a post's
+# safety line "G0 G90 G40 G21 G17 G94 G80" is read.
+G_GROUPS = {
+    **dict.fromkeys((0, 10, 20, 30, 730, 810, 820, 830, 850, 890), "motion"), 800: "canned cycle",
+    **dict.fromkeys((40, 280, 281, 300, 301, 530), "non-modal"), **dict.fromkeys((170, 180, 190), "plane"),
+    **dict.fromkeys(range(540, 600, 10), "coordinate system"), 200: "units", 210: "units", 900: "distance",
+    910: "distance", 901: "arc distance", 911: "arc distance", **dict.fromkeys((930, 940, 950), "feed mode"),
+    400: "cutter compensation", 430: "tool length offset", 490: "tool length offset", 980: "retract mode",
+    990: "retract mode", **dict.fromkeys((610, 611, 640), "path control")}
+READ_G = ("not in the G-code dialect read: G0-G4, G17-G21, G28, G28.1, G30, G30.1, G40, G43, G49, G53-G59, G61, "
+          "G61.1, G64, G73, G80-G83, G85, G89, G90, G91, G90.1, G91.1, G93-G95, G98, G99 (docs/paths.md)")
+ACCEPTED_M = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 30, 60}
+COMPENSATION = ("cutter radius compensation offsets the path by the tool radius, which the program does not hold: "
+                "let the CAM post-processor output the compensated path (G40)")
+UNSUPPORTED_G = {
+    410: COMPENSATION, 420: COMPENSATION, 411: COMPENSATION, 421: COMPENSATION,
+    **dict.fromkeys((920, 921, 922, 923, 100), "a coordinate system offset moves the program's origin: write the "
+                    "program in one work coordinate system, the path frame (its origin is the one the placement moves)"),
+    **dict.fromkeys((740, 760, 840, 860, 870, 880), "tapping and boring cycles (G74, G76, G84, G86-G88) need the "
+                    "spindle's motion: output them as G0/G1 moves; the drilling cycles G73, G81-G83, G85, G89 are read"),
+    **dict.fromkeys((591, 592, 593), "a second work coordinate system's offset is not in the program: write it in "
+                    "one system, the path frame"),
+    330: "spindle-synchronised motion (threading) is not read", 331: "spindle-synchronised motion is not read",
+    430 + 1: "G43.1 (a tool length offset given in the program) changes where the tool tip is: give the tip's "
+             "coordinates (G43 or G49)",
+    **dict.fromkeys((382, 383, 384, 385), "probing moves until a sensor trips, which a program does not hold: give "
+                    "the moves as G0/G1"),
+    **dict.fromkeys((70, 80, 700, 710, 711, 720, 721), "lathe words (diameter mode, turning cycles) are not read: "
+                    "the path is a mill's X, Y, Z"),
+    960: "constant surface speed (G96) is not read: the feeds are per minute (G94), inverse time (G93) or per "
+         "revolution at S (G95)"}
+ALLOWED_LETTERS = set("GMXYZIJKRFSTPQLHDN@^")
+REFUSED_LETTERS = "ABCUVW"
+
+
+def code_of(fail: Callable[[str, str], GcodeError], value: float, word: str) -> int:
+    """A G or M number in tenths (G61.1 is 611)."""
+    tenths = round(value * 10)
+    if abs(value * 10 - tenths) > 1e-6:
+        raise fail(word, "not a G or M number (at most one decimal)")
+    return tenths
+
+
+def sorted_words(fail: Callable[[str, str], GcodeError], words: list[tuple[str, float, str]]
+                  ) -> tuple[dict[str, tuple[int, str]], dict[int, str], dict[str, float], dict[str, str]]:
+    """A line's G words by modal group (code, word), M words, values by letter and their words as written;
+    refuses words outside the dialect and two words of one group or letter."""
+    codes: dict[str, tuple[int, str]] = {}
+    m_codes: dict[int, str] = {}
+    values: dict[str, float] = {}
+    written: dict[str, str] = {}
+    for letter, value, word in words:
+        letter = letter.upper()
+        if letter == "G":
+            code = code_of(fail, value, word)
+            if code not in G_GROUPS:
+                raise fail(word, UNSUPPORTED_G.get(code, READ_G))
+            group = G_GROUPS[code]
+            if group in codes:
+                raise fail(word, f"a second {group} word on the line (after {codes[group][1]})")
+            codes[group] = (code, word)
+        elif letter == "M":
+            code = code_of(fail, value, word)
+            if code % 10 or code // 10 not in ACCEPTED_M:
+                raise fail(word, "not in the supported M-code dialect (M0, M1, M2, M3-M9, M30, M60; docs/paths.md)"
+                           + ("; Fanuc subprograms (M98/M99) are not read: use O-word subroutines (O100 sub ... "
+                              "O100 endsub, O100 call)" if code in (980, 990) else ""))
+            m_codes[code // 10] = word
+        elif letter in ALLOWED_LETTERS:
+            if letter in values:
+                raise fail(word, f"{letter} is given twice on the line")
+            values[letter], written[letter] = value, word
+        elif letter in REFUSED_LETTERS:
+            raise fail(word, "rotary and extra axes (A, B, C, U, V, W) are not read: the path has X, Y, Z only")
+        else:
+            raise fail(word, "unknown word: the letters read are G, M, X, Y, Z, I, J, K, R, F, S, T, P, Q, L, H, D, "
+                             "N, O and the polar @, ^")
+    return codes, m_codes, values, written
+
+
+def check_unused(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, str]],
+                 values: dict[str, float], written: dict[str, str], motion: int | None) -> None:
+    """P, Q, L, D and H only where a word uses them."""
+    motion = codes["motion"][0] if "motion" in codes else motion
+    cycle = motion is not None and motion // 10 in CYCLES
+    non_modal = codes.get("non-modal", (None, ""))[0]
+    users = {"P": non_modal == 40 or cycle or codes.get("path control", (0, ""))[0] == 640 or motion in (20, 30),
+             "Q": cycle or codes.get("path control", (0, ""))[0] == 640, "L": cycle,
+             "H": "tool length offset" in codes, "D": False}
+    for letter, used in users.items():
+        if letter in values and not used:
+            raise fail(written[letter], {"P": "P belongs to G4 (dwell), G64, G82, G89 and G2/G3 (turns)",
+                                         "Q": "Q belongs to G73, G83 (peck) and G64", "L": "L belongs to canned cycles",
+                                         "H": "H belongs to G43 (tool length offset)",
+                                         "D": "D belongs to cutter radius compensation (G41, G42), not read"}[letter])
