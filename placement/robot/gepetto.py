@@ -348,19 +348,25 @@ def _estimates_text(path: Path, estimates: list[str]) -> str:
             "from then on: replace them there")
 
 
-def sidecar_text(path: Path, robot: Robot, reference: dict[str, float]) -> str:
+def sidecar_text(path: Path, robot: Robot, reference: dict[str, float], locks: dict[str, float] | None = None,
+                 reason: str = "") -> str:
     """The sidecar of the Gepetto ``robot.yaml`` at ``path``, its loops closed at ``reference``, as YAML text
     (:func:`placement.robot.assemble.write_gepetto_sidecar` writes it beside, if it loads).
 
     Args:
         path: The ``robot.yaml``.
         robot: The robot loaded from it, its loops closed at ``reference`` or not.
-        reference: The closed configuration {joint: value (m or rad)}.
+        reference: The closed configuration {joint: value (m or rad)}, without the ``locks``.
+        locks: {joint: value (m or rad)} added to ``locked_joints``, each marked EST under ``sources``.
+        reason: Why they are locked.
     """
     document, _ = generate(path)
     document["reference_configuration"] = reference
     document["sources"]["reference_configuration"] = "DERIVED: placement assemble closed the loops"
-    document.update(_workspace(robot, reference, document["sources"]))
+    if locks:
+        document["locked_joints"] = {**document.get("locked_joints", {}), **locks}
+        document["sources"].update({f"locked_joints.{name}": f"EST: {reason}" for name in locks})
+    document.update(_workspace(robot, {**reference, **(locks or {})}, document["sources"]))
     order = ("name", "description", "urdf", "gravity_m_s2", "end_effector", "reference_configuration", "locked_joints",
              "closures", "actuators", "drives", "workspace", "placement", "sources")
     fields = {key: document[key] for key in order if key in document and key != "sources"}
