@@ -18,9 +18,11 @@ import yaml
 from placement.__main__ import main
 from placement.exceptions import RobotFileError
 from placement.robot import load_robot
+from placement.robot.assemble import _solve
 from placement.robot.catalog import sidecar_path
 from placement.robot.closures import closure_residuals
 from placement.robot.gepetto import EstimatesWarning, StaleSidecarWarning, estimated_drive, generate
+from placement.robot.load import _load_robot
 from tests.support.paths import CIRCLE, DATA
 
 DATA = DATA / "gepetto_fivebar"
@@ -199,3 +201,85 @@ def test_a_fivebar_exported_in_the_x_z_plane_gets_its_plane(folder, capsys):
     capsys.readouterr()
     assert main(["--robot", str(folder), "--path", str(CIRCLE), "--generations", "2", "--population", "6"]) == 0
     assert "plane (sidecar placement.plane): normal [0, -1, 0] through [0, 0, 0.3] m" in capsys.readouterr().out
+
+
+WELD = DATA.parent / "gepetto_fivebar_weld"
+
+
+def _closed_tool_position(robot, motors: dict[str, float]) -> np.ndarray:
+    """The end effector's position (m) with the motors at ``motors`` and the loops closed by the passive joints."""
+    data = robot.model.createData()
+    q = robot.reference_q.copy()
+    for actuator in robot.actuators:
+        q[actuator.q_index] += motors[actuator.joint]
+    passive = np.setdiff1d(np.arange(robot.model.nv), robot.actuated_v_indices)
+    q, _ = _solve(robot, data, q, passive)
+    assert np.abs(closure_residuals(robot, data, q)).max() < 1e-10
+    return data.oMf[robot.end_effector_frame_id].translation.copy()
+
+
+def test_assemble_write_locks_the_pins_a_weld_leaves_spinning(tmp_path, capsys):
+    """A weld between two coaxial pins leaves them free to turn together: assemble --write locks one, says so,
+    marks it EST, and the tool moves exactly as with the pins free (the lock removes no motion of the tool)."""
+    folder = tmp_path / "weld"
+    shutil.copytree(WELD, folder)
+    with pytest.warns(EstimatesWarning):
+        assert main(["assemble", str(folder), "--write"]) == 0
+    out = capsys.readouterr().out
+    assert "the closures leave 1 freedom(s) no actuator drives" in out and "locked closedloop1_A" in out
+    assert "locked_joints (1 joints)" in out and "condition number" in out  # measured with the pin locked
+    document = yaml.safe_load((folder / "placement.yaml").read_text())
+    assert set(document["locked_joints"]) == {"closedloop1_A"} and "closedloop1_A" not in document["reference_configuration"]
+    assert document["sources"]["locked_joints.closedloop1_A"].startswith("EST: placement assemble")
+    assert document["placement"] == {"plane": {"normal": [0.0, -1.0, 0.0], "point_m": [0.0, 0.0, 0.3]}}
+    locked = load_robot(folder)
+    assert np.abs(closure_residuals(locked, locked.model.createData(), locked.reference_q)).max() < 1e-9
+    (folder / "placement.yaml").unlink()  # back to robot.yaml: the pins free
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EstimatesWarning)
+        free = _load_robot(folder / "robot.yaml", check_closures=False)
+    free.reference_q[:] = 0.0
+    for name, value in {**document["reference_configuration"], **document["locked_joints"]}.items():
+        free.reference_q[free.model.joints[free.model.getJointId(name)].idx_q] = value
+    for motors in ({"mot1": 0.0, "mot2": 0.0}, {"mot1": 0.3, "mot2": -0.2}, {"mot1": -0.25, "mot2": 0.15}):
+        np.testing.assert_allclose(_closed_tool_position(locked, motors), _closed_tool_position(free, motors), atol=1e-10)
+
+
+def test_no_lock_refuses_and_names_the_joint_to_lock(tmp_path, capsys):
+    folder = tmp_path / "weld"
+    shutil.copytree(WELD, folder)
+    with pytest.warns(EstimatesWarning):
+        assert main(["assemble", str(folder), "--write", "--no-lock"]) == 2
+    err = capsys.readouterr().err
+    assert "joint(s) closedloop1_A, closedloop1_B still move" in err and "locked_joints: {closedloop1_A: " in err
+    assert "'placement assemble --write' locks them for you" in err
+    assert sorted(p.name for p in folder.iterdir()) == ["robot.urdf", "robot.yaml"]
+
+
+def test_assemble_write_adds_the_lock_to_a_sidecar_in_place(tmp_path, capsys):
+    """On an ordinary sidecar whose pin is free and loop open, the lock goes into locked_joints (appended, the
+    field missing) and its source at the end of sources; outside reference_configuration no line changes."""
+    folder = tmp_path / "weld"
+    shutil.copytree(WELD, folder)
+    with pytest.warns(EstimatesWarning):
+        assert main(["assemble", str(folder), "--write"]) == 0
+    sidecar = folder / "placement.yaml"
+    closed = yaml.safe_load(sidecar.read_text())
+    lines = sidecar.read_text().splitlines(keepends=True)
+    opened = "".join(line for line in lines if not line.startswith(("locked_joints:", "  locked_joints.")))
+    free1 = closed["reference_configuration"]["free1"]
+    opened = opened.replace(f"free1: {free1!r}", f"free1: {free1 + 0.2!r}")  # the loop open by 0.2 rad
+    sidecar.write_text(opened)
+    capsys.readouterr()
+    assert main(["assemble", str(sidecar), "--write"]) == 0
+    assert "and locked_joints (1 joints, EST under sources)" in capsys.readouterr().out
+    again = yaml.safe_load(sidecar.read_text())
+    assert again["locked_joints"].keys() == closed["locked_joints"].keys()  # at the value its new closure needs
+    robot = load_robot(sidecar)
+    assert np.abs(closure_residuals(robot, robot.model.createData(), robot.reference_q)).max() < 1e-9
+    assert again["sources"] == closed["sources"]
+    node = next(value for key, value in yaml.compose(opened).value if key.value == "reference_configuration")
+    unchanged = opened[:node.start_mark.index] + opened[opened.index("\n", node.end_mark.index):]
+    new = sidecar.read_text()
+    node = next(value for key, value in yaml.compose(new).value if key.value == "reference_configuration")
+    assert (new[:node.start_mark.index] + new[new.index("\n", node.end_mark.index):]).startswith(unchanged)
