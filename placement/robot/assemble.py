@@ -446,7 +446,8 @@ def write_gepetto_sidecar(path: Path, robot: Robot, reference: dict[str, float],
         AssemblyError: The sidecar would not load (nothing is written); the message says what to fix.
     """
     try:
-        return write_if_it_loads(sidecar_beside(path), sidecar_text(path, robot, reference, locks or {}, reason))
+        held = locked_robot(robot, reference, locks or {})
+        return write_if_it_loads(sidecar_beside(path), sidecar_text(path, held, reference, locks or {}, reason))
     except AssemblyError as error:
         raise AssemblyError(f"{error}; fix {YAML_NAME} (name_mot lists the actuated joints; joint_name with joint_type "
                             f"FIXED locks a joint at 0) or {URDF_NAME}, and run assemble --write again") from None
