@@ -16,13 +16,17 @@ import pytest
 import yaml
 
 from placement.__main__ import main
-from placement.exceptions import RobotFileError
+from placement.exceptions import RobotFileError, UnreachableError
+from placement.kinematics.base import SOLVERS
+from placement.kinematics.trajectories import TaskTrajectory
 from placement.robot import load_robot
 from placement.robot.assemble import _solve
 from placement.robot.catalog import sidecar_path
+from placement.robot.checks import check_robot, default_amplitude
 from placement.robot.closures import closure_residuals
 from placement.robot.gepetto import EstimatesWarning, StaleSidecarWarning, estimated_drive, generate
 from placement.robot.load import _load_robot
+from tests.support.gepetto_weld import assembled_weld_fivebar
 from tests.support.paths import CIRCLE, DATA
 
 DATA = DATA / "gepetto_fivebar"
@@ -283,3 +287,64 @@ def test_assemble_write_adds_the_lock_to_a_sidecar_in_place(tmp_path, capsys):
     new = sidecar.read_text()
     node = next(value for key, value in yaml.compose(new).value if key.value == "reference_configuration")
     assert (new[:node.start_mark.index] + new[new.index("\n", node.end_mark.index):]).startswith(unchanged)
+
+
+REACH_M = math.sqrt(0.45**2 - 0.1**2)  # the weld five-bar's highest tip: both arms straight, tip above the middle
+
+
+@pytest.fixture(scope="module")
+def stretched_weld(tmp_path_factory):
+    """The weld five-bar exported with its tip at (0, 0, 0.41) m, 29 mm below the highest it can reach, assembled."""
+    tmp = tmp_path_factory.mktemp("stretched")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EstimatesWarning)
+        robot = load_robot(assembled_weld_fivebar(tmp))
+        still = np.zeros((1, 3))
+        joints, ok, _ = SOLVERS.get("numeric")(robot).solve(TaskTrajectory(np.array([[0.0, 0.0, 0.41]]), still, still))
+        assert ok.all()
+        near = ",".join(f"{a.joint}={float(joints.q[0, a.q_index])!r}" for a in robot.actuators)
+        folder = tmp / "stretched"
+        shutil.copytree(WELD, folder)
+        assert main(["assemble", str(folder), "--near", near, "--write"]) == 0
+    return folder
+
+
+def test_the_estimated_workspace_is_the_part_within_reach(stretched_weld, capsys):
+    """The box around a tip 29 mm below its reach (half-side 82 mm) is cut at the reach: nothing above the highest
+    tip position, the reference inside, the side below (all reachable) kept whole."""
+    box = yaml.safe_load((stretched_weld / "placement.yaml").read_text())["workspace"]
+    assert REACH_M - 0.082 / 4 <= box["max_m"][2] <= REACH_M  # the grid's last reachable row (its step is 20.5 mm)
+    assert box["min_m"][2] == pytest.approx(0.41 - 0.082, abs=1e-6)
+    assert box["min_m"][0] == pytest.approx(-0.082, abs=1e-6) and box["max_m"][0] == pytest.approx(0.082, abs=1e-6)
+    capsys.readouterr()
+
+
+def test_check_halves_the_default_amplitude_until_the_motion_is_reachable(stretched_weld, tmp_path):
+    """With a workspace box 1 m wide the default amplitude (5 cm) leaves the reach (the tip is 29 mm below it);
+    check runs at its half, which stays reachable, and says so."""
+    sidecar = tmp_path / "placement.yaml"
+    document = yaml.safe_load((stretched_weld / "placement.yaml").read_text())
+    document["workspace"].update(min_m=[-0.5, -0.001, 0.0], max_m=[0.5, 0.001, 1.0])
+    sidecar.write_text(yaml.safe_dump(document, sort_keys=False))
+    shutil.copy(stretched_weld / "robot.urdf", tmp_path / "robot.urdf")
+    robot = load_robot(sidecar)
+    with pytest.raises(UnreachableError):
+        check_robot(robot, amplitude_m=default_amplitude(robot)[0])
+    report = check_robot(robot)
+    assert "halved 1 time(s)" in report.amplitude_basis and report.amplitude_m == default_amplitude(robot)[0] / 2
+
+
+def test_a_search_whose_reachable_placements_overload_a_motor_says_so(stretched_weld, tmp_path, capsys):
+    """Drives too weak for the arms' weight: every reachable placement breaks a motor's torque, some placements
+    of the box are beyond reach; the search names the motor torque, not the reach."""
+    folder = tmp_path / "weak"
+    shutil.copytree(stretched_weld, folder)
+    sidecar = folder / "placement.yaml"
+    document = yaml.safe_load(sidecar.read_text())
+    for drive in document["drives"].values():
+        drive["motor"]["max_torque_Nm"] = 1e-4
+    sidecar.write_text(yaml.safe_dump(document, sort_keys=False))
+    capsys.readouterr()
+    assert main(["--robot", str(folder), "--path", str(CIRCLE), "--generations", "3", "--population", "8"]) == 2
+    err = capsys.readouterr().err
+    assert "no feasible placement" in err and "motor torque" in err and "reach" not in err, err
