@@ -1,16 +1,20 @@
 """The 'assemble' command: close the loops of a robot exported with them open.
 
-    placement assemble ROBOT [--near joint=value,...] [--write]
+    placement assemble ROBOT [--near joint=value,...] [--write] [--no-lock]
 
 It solves the closure equations from the sidecar's ``reference_configuration`` (see
 :mod:`placement.robot.assemble`), reports the gaps before and after and how far the closed
 configuration is from a singularity, and prints the ``reference_configuration`` block to paste
-into the sidecar, or with ``--write`` rewrites that block in the sidecar file itself.
+into the sidecar, or with ``--write`` rewrites that block in the sidecar file itself. When the
+closures leave passive joints free that move neither the end effector nor any actuator (a pin cut
+by a weld closure spinning about its axis), it locks one joint of each group that moves together,
+at its closed value, under ``locked_joints`` (``--no-lock``: it refuses instead, naming them).
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 
 from placement.cli.common import parse_joint_values, require_sidecar
 from placement.cli.exceptions import UsageError
@@ -20,11 +24,14 @@ from placement.robot.assemble import (
     Assembly,
     ClosureGap,
     assemble,
+    internal_freedoms,
     joint_q_index,
+    locked_robot,
     movable_joints,
     outside_limits,
     reference_block,
     reference_values,
+    singularity_measures,
     write_gepetto_sidecar,
     write_reference_configuration,
 )
@@ -33,6 +40,9 @@ from placement.robot.closures import closure_residuals
 from placement.robot.gepetto import YAML_NAME, is_gepetto, sidecar_beside
 from placement.robot.load import PRISMATIC_JOINTS, _load_robot
 from placement.robot.model import Robot
+
+LOCK_REASON = ("placement assemble: locked at its closed value; with it free, the closures leave it and the joints "
+               "moving with it spinning about their axis, moving neither the end effector nor any actuator")
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
@@ -44,6 +54,9 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
                               "(rad or m, the joint's own unit; a value may end in rad or m)")
     command.add_argument("--write", action="store_true",
                          help="rewrite reference_configuration in the sidecar file (the rest of the file is kept)")
+    command.add_argument("--no-lock", action="store_true",
+                         help="do not lock the passive joints that no actuator drives and that do not move the end "
+                              "effector (a pin spinning about its axis): refuse, naming them, instead")
 
 
 def _near(robot: Robot, text: str | None) -> dict[str, float]:
@@ -109,23 +122,37 @@ def run(args: argparse.Namespace) -> int:
         moved = [f"{a.joint} by {result.q[a.q_index] - result.start_q[a.q_index]:+.4g} {'m' if a.prismatic else 'rad'}"
                  for a in robot.actuators]
         print(f"  the passive joints alone could not close the loops: the actuated joints moved too ({', '.join(moved)})")
-    _print_singularities(result)
     values = reference_values(robot, result)
-    for warning in outside_limits(robot, values):
+    locks = {} if args.no_lock else internal_freedoms(robot, result.q)
+    if locks:
+        values = {name: value for name, value in values.items() if name not in locks}
+        held = locked_robot(robot, values, locks)
+        sigma_min, condition = singularity_measures(held, held.model.createData(), held.reference_q)
+        result = dataclasses.replace(result, passive_sigma_min=sigma_min, task_condition=condition)
+        print(f"  the closures leave {len(locks)} freedom(s) no actuator drives, moving neither the end effector nor "
+              f"any closure (a pin spinning about its axis): locked {', '.join(locks)} at "
+              f"{'its closed value' if len(locks) == 1 else 'their closed values'}")
+    _print_singularities(result)
+    for warning in outside_limits(robot, {**values, **locks}):
         print(f"  warning: {warning}")
     gepetto = is_gepetto(path)
     if not args.write:
         print(f"--write saves it, with the estimates, as the sidecar {sidecar_beside(path)}:" if gepetto else
-              "paste into the sidecar, in place of its reference_configuration:")
+              "paste into the sidecar, in place of its reference_configuration" + (", and add to its locked_joints:"
+                                                                                     if locks else ":"))
         print(reference_block(values), end="")
+        if locks:
+            print(reference_block(locks).replace("reference_configuration:", "locked_joints:", 1), end="")
         return 0
     if gepetto:
-        written = write_gepetto_sidecar(path, robot, values)
-        print(f"wrote the sidecar {written.sidecar_path}: reference_configuration ({len(values)} joints), the estimates "
+        written = write_gepetto_sidecar(path, robot, values, locks, LOCK_REASON)
+        print(f"wrote the sidecar {written.sidecar_path}: reference_configuration ({len(values)} joints), "
+              + (f"locked_joints ({len(locks)} joints), " if locks else "") + "the estimates "
               f"(EST under sources) and an estimated workspace; it is loaded instead of {YAML_NAME} from now on")
     else:
-        written = write_reference_configuration(path, values)
-        print(f"wrote reference_configuration ({len(values)} joints) to {path}")
+        written = write_reference_configuration(path, values, locks, LOCK_REASON)
+        print(f"wrote reference_configuration ({len(values)} joints)"
+              + (f" and locked_joints ({len(locks)} joints, EST under sources)" if locks else "") + f" to {path}")
     gap = float(abs(closure_residuals(written, written.model.createData(), written.reference_q)).max(initial=0.0))
     print(f"  it loads; largest closure residual {gap:.1e} (m, rad)")
     return 0

@@ -15,7 +15,8 @@ Every sample of every placement is solved together, by the compiled kernels of
    converges in one or two steps for all of them at once.
 
 Newton works on the stacked closure residuals and task error (damped least squares on the normal
-equations). A sample whose Newton step moves it far from its prediction has left the branch (a
+equations). A sample whose Newton step moves it far from its prediction, farther than the joints
+can move on one branch over the stretch of path the prediction came from, has left the branch (a
 flip) and is reported, as is one that does not converge or is singular. Rates and accelerations
 follow from the closure Jacobian and its drift, as for the sequential solver:
 ``v = G·ρ̇`` with ``G[act] = I``, ``G[passive] = −J_p⁺·J_a``, and ``a = G·ρ̈ − J_p⁺·γ`` on the
@@ -50,7 +51,7 @@ COARSE_STEP_M = 0.02  # coarse march: task displacement between marched samples 
 ROTATION_LENGTH_M = 0.1  # metres per radian when measuring task displacements
 JUMP_M = COARSE_STEP_M / 4  # a task step this long ...
 JUMP_RATIO = 4.0  # ... and this many times as long as both its neighbours is a jump (a skipped rapid's gap)
-BRANCH_TOLERANCE = 1e-3  # a solution this far beyond twice its local motion has left the branch (m or rad)
+BRANCH_TOLERANCE = 1e-3  # a solution this far beyond twice the joint motion its stretch of path allows left the branch (m, rad)
 FINAL_STEP = 1e-7  # a Newton step this short (m or rad) that the linear model says converges is the last one
 SETTINGS = np.array([SOLVE_TOLERANCE, MAX_ITERATIONS, MAX_STEP, DAMPING, CONTINUATION_STEP_M, CONTINUATION_TOLERANCE,
                      ROTATION_LENGTH_M, BRANCH_TOLERANCE, FINAL_STEP])  # in the order kernels.solve_paths reads them
@@ -87,10 +88,11 @@ class BatchedKinematics:
         steps = step_lengths(targets, n)
         jumps = jump_steps(steps)
         coarse = coarse_samples(steps, jumps) if n > 1 else np.zeros(1, dtype=np.int64)
+        arc = np.concatenate([[0.0], np.cumsum(steps)])
         return kernels.solve_paths(self.tree, self.robot.reference_q.astype(float),
                                    np.ascontiguousarray(targets.position_m, dtype=float),
                                    np.ascontiguousarray(rotation, dtype=float), pose, n, coarse.astype(np.int64),
-                                   bisection_schedule(coarse, n, jumps), SETTINGS)
+                                   bisection_schedule(coarse, n, jumps), arc, SETTINGS)
 
     def rates(self, q: np.ndarray, task: TaskTrajectory) -> tuple[JointTrajectory, np.ndarray]:
         """Joint motion at solved configurations, and which samples are regular (not singular)."""
@@ -205,7 +207,8 @@ def _touch_kernels() -> None:
     tree = tree_arrays(model, [frame], end_effector=0, task_dimension=3, actuated=[0])
     positions = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
     q, _, _ = kernels.solve_paths(tree, np.zeros(1), positions, np.zeros((2, 3, 3)), False, 2,
-                                  np.array([0, 1], dtype=np.int64), np.zeros((0, 5), dtype=np.int64), SETTINGS)
+                                  np.array([0, 1], dtype=np.int64), np.zeros((0, 5), dtype=np.int64),
+                                  np.array([0.0, np.sqrt(2.0)]), SETTINGS)
     kernels.rates(tree, q, np.zeros((2, 3)), np.zeros((2, 3)), DAMPING)
 
 

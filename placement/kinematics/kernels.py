@@ -29,7 +29,8 @@ another file. Its sections, in order (each opens with a ``# ---`` rule):
 5. Batched entry points: Newton (``_newton_one``, ``_newton_step``), ``rates`` (joint velocities and
    accelerations from the tool's twist and acceleration), ``frames``, ``placements``, ``rotation_vectors``.
 6. Whole paths: ``solve_paths`` (each path sample by sample, seeded by interpolating the solved
-   neighbours on a bisection schedule, with the branch test ``_left_branch``) and ``_assemble`` (a
+   neighbours on a bisection schedule, with the branch test ``_left_branch`` and the joint motion a
+   stretch of path can cause, ``_branch_scale``) and ``_assemble`` (a
    path's first configuration, by continuation from the reference configuration).
 """
 
@@ -801,13 +802,37 @@ def _displacement(position_0, rotation_0, position_1, rotation_1, pose, out, scr
 
 
 @njit(cache=True)
-def _left_branch(solved, seed, motion, tolerance):
-    """Whether Newton moved a sample farther from its seed than twice the motion around it."""
-    moved, local = 0.0, 0.0
+def _left_branch(solved, seed, local, tolerance):
+    """Whether Newton moved a sample farther from its seed than twice ``local`` (m or rad), the most the
+    joints can move on one branch over the stretch of path the seed was taken from, plus ``tolerance``."""
+    moved = 0.0
     for k in range(len(solved)):
         moved = max(moved, abs(solved[k] - seed[k]))
-        local = max(local, abs(motion[k]))
     return moved > 2.0 * local + tolerance
+
+
+@njit(cache=True)
+def _branch_scale(tree, buffers, q, settings, g, identity):
+    """Largest joint motion (m or rad) per metre of task motion at ``q`` on its branch: the largest row norm of
+    D = G·M⁺, its rotation columns per ``settings[6]`` m (the length a radian counts for along the path)."""
+    tangent = _tangent_one(tree, buffers, q, settings[3], g, identity)
+    largest = 0.0
+    for k in range(tangent.shape[0]):
+        total = 0.0
+        for j in range(tangent.shape[1]):
+            weight = 1.0 if j < 3 else 1.0 / settings[6]
+            total += (weight * tangent[k, j]) ** 2
+        largest = max(largest, np.sqrt(total))
+    return largest
+
+
+@njit(cache=True)
+def _max_abs(vector):
+    """Largest magnitude of a vector's entries."""
+    largest = 0.0
+    for k in range(len(vector)):
+        largest = max(largest, abs(vector[k]))
+    return largest
 
 
 @njit(cache=True)
@@ -830,7 +855,7 @@ def _cubic(q, base, row, out):
 
 
 @njit(cache=True, nogil=True)
-def solve_paths(tree, reference_q, positions, rotations, pose, n, coarse, schedule, settings):
+def solve_paths(tree, reference_q, positions, rotations, pose, n, coarse, schedule, arc, settings):
     """Every sample of every placement's path, placement after placement (see :mod:`placement.kinematics.batched`).
 
     Args:
@@ -841,6 +866,8 @@ def solve_paths(tree, reference_q, positions, rotations, pose, n, coarse, schedu
         n: Samples per placement.
         coarse: Indices of the coarse samples, marched one after the other (0 first, n - 1 last).
         schedule: (L, 5) bisection refinement in order: middle, outer left, left, right, outer right.
+        arc: (n,) length of path from the first sample to each (m, a radian counted as ``settings[6]`` m),
+            the same for every placement.
         settings: solve tolerance, most iterations, largest step, damping, continuation step (m),
             continuation tolerance, metres per radian, branch tolerance, final step.
 
@@ -852,13 +879,21 @@ def solve_paths(tree, reference_q, positions, rotations, pose, n, coarse, schedu
     ok = np.zeros(total, dtype=np.bool_)
     flipped = np.zeros(total, dtype=np.bool_)
     for p in range(total // n):
-        _solve_path(tree, reference_q, positions, rotations, pose, p * n, coarse, schedule, settings, q, ok, flipped)
+        _solve_path(tree, reference_q, positions, rotations, pose, p * n, coarse, schedule, arc, settings, q, ok,
+                    flipped)
     return q, ok, flipped
 
 
 @njit(cache=True)
-def _solve_path(tree, reference_q, positions, rotations, pose, base, coarse, schedule, settings, q, ok, flipped):
-    """:func:`solve_paths` for the placement whose samples start at row ``base``."""
+def _solve_path(tree, reference_q, positions, rotations, pose, base, coarse, schedule, arc, settings, q, ok, flipped):
+    """:func:`solve_paths` for the placement whose samples start at row ``base``.
+
+    Branch test (``_left_branch``): a coarse sample's Newton correction is compared with its first-order
+    prediction; a refined sample's with the most the joints can move along the stretch of path its seed
+    is interpolated over (outer left to outer right): ``_branch_scale`` at the solution times that
+    stretch's length. Not with the change between the solved neighbours, which vanishes where the path
+    comes back near where it was (a small closed curve between two coarse samples) while the joints
+    move in between."""
     nv = len(reference_q)
     buffers = _buffers(tree, nv)
     rows = len(buffers.drift)
@@ -885,19 +920,19 @@ def _solve_path(tree, reference_q, positions, rotations, pose, base, coarse, sch
         ok[now] = _newton_one(tree, buffers, solved, positions[now], rotations[now], pose, settings, settings[0],
                               error, step)
         q[now] = solved if ok[now] else q[before]
-        flipped[now] = ok[before] and _left_branch(solved, seed, prediction, settings[7])
+        flipped[now] = ok[before] and _left_branch(solved, seed, _max_abs(prediction), settings[7])
     seed = np.empty(nv)
-    span = np.empty(nv)
     for r in range(len(schedule)):
-        middle, left, right = base + schedule[r, 0], base + schedule[r, 2], base + schedule[r, 3]
+        middle = base + schedule[r, 0]
         _cubic(q, base, schedule[r], seed)
         solved = q[middle]
         solved[:] = seed
         ok[middle] = _newton_one(tree, buffers, solved, positions[middle], rotations[middle], pose, settings,
                                  settings[0], error, step)
-        for k in range(nv):
-            span[k] = q[right, k] - q[left, k]
-        flipped[middle] = _left_branch(solved, seed, span, settings[7])
+        if ok[middle] and _left_branch(solved, seed, 0.0, settings[7]):  # moved beyond the tolerance: how far may it?
+            stretch = arc[schedule[r, 4]] - arc[schedule[r, 1]]
+            local = _branch_scale(tree, buffers, solved, settings, g, identity) * stretch
+            flipped[middle] = _left_branch(solved, seed, local, settings[7])
         if not ok[middle]:
             solved[:] = seed
 

@@ -52,7 +52,8 @@ class CycleError(PlacementError):
 
 
 class ExpressionError(PlacementError):
-    """Inside the reader (which names the line in a GcodeError): a line that cannot be read or evaluated; ``text`` is the part at fault as written ("" for the line)."""
+    """Inside the reader (which names the line in a GcodeError): a line that cannot be read or evaluated; ``text``
+    is the part at fault as written ("" for the line)."""
 
     def __init__(self, text: str, problem: str) -> None:
         super().__init__(problem)

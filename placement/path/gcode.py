@@ -27,10 +27,10 @@ from pathlib import Path
 import numpy as np
 
 from placement.path.arcs import SAME_POINT_M, arc_segment
-from placement.path.canned import CYCLES, CycleError, CycleState, expand_cycle
-from placement.path.exceptions import GcodeError, PathFileError
-from placement.path.ngc_expressions import Block, ExpressionError, Parameters, read_line
-from placement.path.ngc_flow import FlowError, run_blocks
+from placement.path.canned import CYCLES, CycleState, expand_cycle
+from placement.path.exceptions import CycleError, ExpressionError, FlowError, GcodeError, PathFileError
+from placement.path.ngc_expressions import Block, Parameters, read_line
+from placement.path.ngc_flow import run_blocks
 from placement.path.ngc_words import check_unused, sorted_words
 from placement.path.segments import Segment
 

@@ -16,8 +16,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from placement.path.exceptions import FlowError
-from placement.path.ngc_expressions import SUBROUTINE_PARAMETERS, Block, ExpressionError, OWord, Parameters
+from placement.path.exceptions import ExpressionError, FlowError
+from placement.path.ngc_expressions import SUBROUTINE_PARAMETERS, Block, OWord, Parameters
 
 MAX_EXECUTED_BLOCKS = 10_000_000
 MAX_CALL_DEPTH = 100

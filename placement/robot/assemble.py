@@ -25,7 +25,7 @@ from placement.kinematics.generic import null_space_basis
 from placement.robot.closures import LWA, closure_jacobian, closure_residuals
 from placement.robot.exceptions import AssemblyError
 from placement.robot.gepetto import URDF_NAME, YAML_NAME, sidecar_beside, sidecar_text
-from placement.robot.load import write_if_it_loads
+from placement.robot.load import build_robot, joints_to_lock, write_if_it_loads
 from placement.robot.model import Robot
 from placement.robot.urdf import urdf_limits_missing
 
@@ -190,7 +190,7 @@ def _solve(robot: Robot, data: pin.Data, q: np.ndarray, free_v: np.ndarray) -> t
     return q, MAX_ITERATIONS
 
 
-def _singularity_measures(robot: Robot, data: pin.Data, q: np.ndarray) -> tuple[float, float]:
+def singularity_measures(robot: Robot, data: pin.Data, q: np.ndarray) -> tuple[float, float]:
     """Smallest singular value of the passive closure Jacobian, and the condition of the task map."""
     jacobian = closure_jacobian(robot, data, q)
     actuated = robot.actuated_v_indices
@@ -250,9 +250,60 @@ def assemble(robot: Robot, near: dict[str, float] | None = None) -> Assembly:
                             f"at a gap of {worst.position_m:.3g} m{angle} (it started at "
                             f"{max(gap.largest for gap in before):.3g} m or rad); check the link lengths, or start "
                             "elsewhere with --near")
-    sigma_min, condition = _singularity_measures(robot, data, q)
+    sigma_min, condition = singularity_measures(robot, data, q)
     return Assembly(q=q, start_q=start, gaps_before=before, gaps_after=after, actuated_held=held,
                     iterations=iterations, passive_sigma_min=sigma_min, task_condition=condition)
+
+
+def internal_freedoms(robot: Robot, q: np.ndarray) -> dict[str, float]:
+    """Joints to lock so that the actuated joints determine the passive ones, at their values in ``q``.
+
+    A weld closure between two links that each end in a revolute joint about the same axis (as a
+    CAD export cuts a loop at a pin) leaves the pair free to spin together: a motion no actuator
+    drives and that moves neither the end effector nor any closure. Such a freedom is locked by
+    holding one joint of the group that moves with it (:func:`placement.robot.load.joints_to_lock`),
+    which changes neither the tool's motion nor the loads the actuators carry. A free motion that
+    moves the end effector is a missing actuator, not something to lock: then nothing is proposed.
+
+    Args:
+        robot: The robot, its loops closed at ``q``.
+        q: A closed configuration (Pinocchio order; m or rad).
+
+    Returns:
+        {joint: value at ``q`` (m or rad)}, in model order; empty when the actuated joints determine
+        the passive ones, or when a free motion moves the end effector.
+    """
+    data = robot.model.createData()
+    jacobian = closure_jacobian(robot, data, q)
+    passive = np.setdiff1d(np.arange(robot.model.nv), robot.actuated_v_indices)
+    columns = jacobian[:, passive]
+    rank = int(np.linalg.matrix_rank(columns, tol=1e-9)) if columns.size else 0
+    if rank == len(passive):
+        return {}
+    free = np.linalg.svd(columns)[2][rank:].T if columns.size else np.eye(len(passive))
+    task = pin.getFrameJacobian(robot.model, data, robot.end_effector_frame_id, LWA)[:robot.task_dimension]
+    scale = max(float(np.abs(task).max(initial=0.0)), 1e-300)
+    if np.abs(task[:, passive] @ free).max(initial=0.0) > 1e-9 * scale:
+        return {}
+    _, locked = joints_to_lock(robot, jacobian)
+    model = robot.model
+    return {name: _snapped(float(q[model.joints[model.getJointId(name)].idx_q])) for name in locked}
+
+
+def locked_robot(robot: Robot, reference: dict[str, float], locks: dict[str, float]) -> Robot:
+    """``robot`` with the ``locks`` joints held at their values and ``reference`` as its reference configuration.
+
+    Raises:
+        RobotFileError: Pinocchio cannot hold these joints (see :func:`placement.robot.load.reduced_model`).
+    """
+    sidecar = robot.sidecar.model_copy(update={"locked_joints": {**robot.sidecar.locked_joints, **locks},
+                                               "reference_configuration": reference})
+    return build_robot(robot.sidecar_path, sidecar, check_closures=False)
+
+
+def _snapped(value: float) -> float:
+    """``value``, or 0.0 when its magnitude is below ``ZERO_SNAP``."""
+    return 0.0 if abs(value) < ZERO_SNAP else value
 
 
 def reference_values(robot: Robot, assembly: Assembly) -> dict[str, float]:
@@ -272,8 +323,7 @@ def reference_values(robot: Robot, assembly: Assembly) -> dict[str, float]:
     values = {}
     for name in names:
         index = joint_q_index(robot, name)
-        value = float(assembly.q[index]) if index is not None else 0.0
-        values[name] = 0.0 if abs(value) < ZERO_SNAP else value
+        values[name] = _snapped(float(assembly.q[index])) if index is not None else 0.0
     return values
 
 
@@ -315,44 +365,72 @@ def reference_block(values: dict[str, float]) -> str:
     return "reference_configuration:\n" + "".join(f"  {_key(name)}: {_number(v)}\n" for name, v in values.items())
 
 
-def write_reference_configuration(path: Path, values: dict[str, float]) -> Robot:
-    """Replace the ``reference_configuration`` mapping of the sidecar at ``path`` with ``values``.
+def write_reference_configuration(path: Path, values: dict[str, float], locks: dict[str, float] | None = None,
+                                  reason: str = "") -> Robot:
+    """Replace the ``reference_configuration`` mapping of the sidecar at ``path`` with ``values``, and add ``locks``.
 
     Only the mapping's entries change: the key line (and its comment), every other field, the
     comments and the line endings stay byte for byte. A sidecar without the field gets it appended.
-    The file changes only if the rewritten sidecar loads (:func:`placement.robot.load.write_if_it_loads`).
+    ``locks`` go at the end of ``locked_joints``, each with an entry ``locked_joints.NAME: "EST:
+    reason"`` at the end of ``sources`` (fields appended when missing). The file changes only if the
+    rewritten sidecar loads (:func:`placement.robot.load.write_if_it_loads`).
 
     Args:
         path: The sidecar file (UTF-8 YAML).
         values: {joint: value (m or rad)}.
+        locks: {joint: value (m or rad)} to add to ``locked_joints``.
+        reason: Why they are locked, for ``sources``.
 
     Returns:
         The robot loaded from the rewritten file.
 
     Raises:
-        AssemblyError: The field is not a plain mapping that can be rewritten in place, or the
+        AssemblyError: A field is not a plain mapping that can be rewritten in place, or the
             rewritten sidecar does not load (the file is then left as it was).
     """
     text = path.read_bytes().decode("utf-8")
     root = yaml.compose(text)
     if not isinstance(root, yaml.MappingNode):
         raise AssemblyError(f"{path}: expected a mapping of fields at the top level")
-    node = next((value for key, value in root.value if key.value == "reference_configuration"), None)
-    if node is None:
-        ending = "\r\n" if "\r\n" in text else "\n"
+    fields = {"reference_configuration": [f"{_key(name)}: {_number(v)}" for name, v in values.items()]}
+    if locks:
+        fields["locked_joints"] = [f"{_key(name)}: {_number(v)}" for name, v in locks.items()]
+        fields["sources"] = [f"{_key('locked_joints.' + name)}: {_key('EST: ' + reason)}" for name in locks]
+    edits, missing = [], []
+    for field, entries in fields.items():
+        node = next((value for key, value in root.value if key.value == field), None)
+        if node is None:
+            missing.append(field)
+        elif field == "reference_configuration":
+            edits.append((node.start_mark.index, _end(text, node), _mapping_text(path, text, node, field, entries)))
+        else:
+            edits.append(_appended(path, text, node, field, entries))
+    for start, end, part in sorted(edits, reverse=True):
+        text = text[:start] + part + text[end:]
+    ending = "\r\n" if "\r\n" in text else "\n"
+    for field in missing:
         separator = "" if not text or text.endswith(("\n", "\r")) else ending
-        new = text + separator + reference_block(values).replace("\n", ending)
-    else:
-        new = text[:node.start_mark.index] + _mapping_text(path, text, node, values) + text[_end(text, node):]
-    return write_if_it_loads(path, new)
+        text += separator + f"{field}:{ending}" + "".join(f"  {entry}{ending}" for entry in fields[field])
+    return write_if_it_loads(path, text)
 
 
-def _mapping_text(path: Path, text: str, node: yaml.Node, values: dict[str, float]) -> str:
-    """The new mapping, in the style (block or flow) and indentation of ``node``."""
+def _appended(path: Path, text: str, node: yaml.Node, field: str, entries: list[str]) -> tuple[int, int, str]:
+    """The edit (start, end, new text) that adds ``entries`` at the end of the mapping ``node``, in its style."""
     if not isinstance(node, yaml.MappingNode) or any(key.value == "<<" for key, _ in node.value):
-        raise AssemblyError(f"{path}: reference_configuration is not a plain mapping of joint values; "
+        raise AssemblyError(f"{path}: {field} is not a plain mapping; add {', '.join(entries)} to it by hand")
+    if node.flow_style or not node.value:
+        return node.start_mark.index, node.end_mark.index, "{" + ", ".join(
+            [text[key.start_mark.index:value.end_mark.index] for key, value in node.value] + entries) + "}"
+    ending = "\r\n" if "\r\n" in text else "\n"
+    end = _end(text, node)
+    return end, end, "".join(ending + " " * node.start_mark.column + entry for entry in entries)
+
+
+def _mapping_text(path: Path, text: str, node: yaml.Node, field: str, entries: list[str]) -> str:
+    """The mapping of ``entries`` ("key: value" lines), in the style (block or flow) and indentation of ``node``."""
+    if not isinstance(node, yaml.MappingNode) or any(key.value == "<<" for key, _ in node.value):
+        raise AssemblyError(f"{path}: {field} is not a plain mapping of joint values; "
                             "replace it by hand with the block printed without --write")
-    entries = [f"{_key(name)}: {_number(v)}" for name, v in values.items()]
     if node.flow_style or not node.value:
         return "{" + ", ".join(entries) + "}"
     ending = "\r\n" if "\r\n" in text else "\n"
@@ -368,9 +446,18 @@ def _end(text: str, node: yaml.Node) -> int:
     return min(ends) if ends else len(text)
 
 
-def write_gepetto_sidecar(path: Path, robot: Robot, reference: dict[str, float]) -> Robot:
+def write_gepetto_sidecar(path: Path, robot: Robot, reference: dict[str, float], locks: dict[str, float] | None = None,
+                          reason: str = "") -> Robot:
     """Write the sidecar of the Gepetto ``robot.yaml`` at ``path`` to ``placement.yaml`` beside it, only if it
     loads: a ``robot.yaml`` that describes no valid robot leaves no ``placement.yaml`` to hide its fix.
+
+    Args:
+        path: The ``robot.yaml``.
+        robot: The robot loaded from it.
+        reference: The closed configuration {joint: value (m or rad)}, without the ``locks``.
+        locks: {joint: value (m or rad)} to hold, written under ``locked_joints``, each marked EST under
+            ``sources`` with ``reason``.
+        reason: Why they are locked.
 
     Returns:
         The robot loaded from the file written.
@@ -379,7 +466,8 @@ def write_gepetto_sidecar(path: Path, robot: Robot, reference: dict[str, float])
         AssemblyError: The sidecar would not load (nothing is written); the message says what to fix.
     """
     try:
-        return write_if_it_loads(sidecar_beside(path), sidecar_text(path, robot, reference))
+        held = locked_robot(robot, reference, locks or {})
+        return write_if_it_loads(sidecar_beside(path), sidecar_text(path, held, reference, locks or {}, reason))
     except AssemblyError as error:
         raise AssemblyError(f"{error}; fix {YAML_NAME} (name_mot lists the actuated joints; joint_name with joint_type "
                             f"FIXED locks a joint at 0) or {URDF_NAME}, and run assemble --write again") from None

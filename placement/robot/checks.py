@@ -20,6 +20,7 @@ import pinocchio as pin
 from placement.drives.trace import motor_trace
 from placement.dynamics.inverse import actuator_efforts
 from placement.kinematics import joint_trajectory
+from placement.kinematics.exceptions import UnreachableError
 from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
 from placement.robot.closures import LWA, closure_residuals
 from placement.robot.model import Robot
@@ -29,6 +30,7 @@ AMPLITUDE_FRACTION = 0.05  # default check amplitude, as a fraction of the robot
 FALLBACK_AMPLITUDE_M = 0.01  # when the robot gives no size (end effector at the base, no workspace)
 HEAVY_LINK_RATIO = 100.0  # a link heavier than this many median link masses is suspicious
 PEAK_CURRENT_A = 500.0  # a motor whose peak torque takes more current than this (A) is suspicious
+MAX_HALVINGS = 10  # the default amplitude is halved at most this often (to 1/1024) to stay reachable
 
 
 def _reference_motion(robot: Robot) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -196,6 +198,11 @@ class CheckReport:
 def check_robot(robot: Robot, samples: int = 100, amplitude_m: float | None = None) -> CheckReport:
     """Run the physics checks on a demonstration trajectory around the reference configuration.
 
+    With the default amplitude, a robot whose reference configuration lies near the edge of its
+    reach (a CAD export with its arms stretched, say) is checked at the largest of the default
+    amplitude halved 1 to ``MAX_HALVINGS`` times whose motion stays reachable, and the report's
+    ``amplitude_basis`` says so.
+
     Args:
         robot: The robot; it is not modified.
         samples: Samples of the one-second demonstration trajectory.
@@ -207,13 +214,29 @@ def check_robot(robot: Robot, samples: int = 100, amplitude_m: float | None = No
 
     Raises:
         ValueError: ``amplitude_m`` is not a finite number > 0.
-        UnreachableError: The motion leaves the reachable region (too large an amplitude).
+        UnreachableError: The motion leaves the reachable region (too large an amplitude; with the
+            default one, even halved ``MAX_HALVINGS`` times: the error of the default amplitude).
     """
     if amplitude_m is not None and not 0 < amplitude_m < np.inf:
         raise ValueError(f"amplitude_m must be a finite number > 0 m, got {amplitude_m}")
-    basis = "given"
-    if amplitude_m is None:
-        amplitude_m, basis = default_amplitude(robot)
+    if amplitude_m is not None:
+        return _check_at(robot, samples, amplitude_m, "given")
+    amplitude_m, basis = default_amplitude(robot)
+    try:
+        return _check_at(robot, samples, amplitude_m, basis)
+    except UnreachableError as error:
+        first = error
+    for halvings in range(1, MAX_HALVINGS + 1):
+        try:
+            return _check_at(robot, samples, amplitude_m / 2**halvings, f"{basis}, halved {halvings} time(s): the "
+                             f"larger motions leave the reachable region ({first.reason})")
+        except UnreachableError:
+            continue
+    raise first
+
+
+def _check_at(robot: Robot, samples: int, amplitude_m: float, basis: str) -> CheckReport:
+    """:func:`check_robot` at one amplitude (m), ``basis`` saying what it was scaled to."""
     model = pin.Model(robot.model)
     # Massless bodies cut from a loop (weld stubs) make the forward KKT system singular; a tiny
     # armature on the passive joints, used by both directions, keeps it regular.

@@ -35,9 +35,11 @@ under the sidecar's ``sources``:
   loading then says to run ``placement assemble``.
 
 ``placement assemble FOLDER --write`` closes the loops and writes everything, with the closed
-``reference_configuration``, an estimated workspace (a box around the end effector of
+``reference_configuration``, the joints it locks (freedoms no actuator drives, such as two coaxial
+pins a weld closure leaves spinning), an estimated workspace (a box around the end effector of
 half-side 20 % of its distance from the base, along the directions it moves in, ±1 mm across
-them) and, for a planar mechanism, its plane, to ``placement.yaml`` beside ``robot.yaml``: an
+them, shrunk to the part the solver reaches from the closed pose) and, for a planar mechanism,
+its plane, to ``placement.yaml`` beside ``robot.yaml``: an
 ordinary sidecar, loaded instead of ``robot.yaml`` from then on (for the folder or its
 ``robot.yaml``), where the estimates can be replaced. Deleting it goes back to ``robot.yaml``.
 """
@@ -72,6 +74,7 @@ ACCELERATION_TIME_S = 0.01  # time the rotor alone takes to reach its rated spee
 GRAVITY_M_S2 = (0.0, 0.0, -9.81)
 WORKSPACE_FRACTION = 0.2  # half-side of the workspace box per m of base to end-effector distance
 FLAT_HALF_SIDE_M = 0.001  # half-side across the directions the end effector cannot move in
+REACH_GRID = 9  # points per side of the grid whose reachable part bounds the estimated workspace
 JOINT_TYPES = ("revolute", "continuous", "prismatic")
 
 
@@ -348,19 +351,25 @@ def _estimates_text(path: Path, estimates: list[str]) -> str:
             "from then on: replace them there")
 
 
-def sidecar_text(path: Path, robot: Robot, reference: dict[str, float]) -> str:
+def sidecar_text(path: Path, robot: Robot, reference: dict[str, float], locks: dict[str, float] | None = None,
+                 reason: str = "") -> str:
     """The sidecar of the Gepetto ``robot.yaml`` at ``path``, its loops closed at ``reference``, as YAML text
     (:func:`placement.robot.assemble.write_gepetto_sidecar` writes it beside, if it loads).
 
     Args:
         path: The ``robot.yaml``.
-        robot: The robot loaded from it, its loops closed at ``reference`` or not.
-        reference: The closed configuration {joint: value (m or rad)}.
+        robot: The robot loaded from it with the ``locks`` held, at its closed reference configuration.
+        reference: The closed configuration {joint: value (m or rad)}, without the ``locks``.
+        locks: {joint: value (m or rad)} added to ``locked_joints``, each marked EST under ``sources``.
+        reason: Why they are locked.
     """
     document, _ = generate(path)
     document["reference_configuration"] = reference
     document["sources"]["reference_configuration"] = "DERIVED: placement assemble closed the loops"
-    document.update(_workspace(robot, reference, document["sources"]))
+    if locks:
+        document["locked_joints"] = {**document.get("locked_joints", {}), **locks}
+        document["sources"].update({f"locked_joints.{name}": f"EST: {reason}" for name in locks})
+    document.update(_workspace(robot, document["sources"]))
     order = ("name", "description", "urdf", "gravity_m_s2", "end_effector", "reference_configuration", "locked_joints",
              "closures", "actuators", "drives", "workspace", "placement", "sources")
     fields = {key: document[key] for key in order if key in document and key != "sources"}
@@ -372,30 +381,36 @@ def sidecar_text(path: Path, robot: Robot, reference: dict[str, float]) -> str:
 
 
 
-def _workspace(robot: Robot, reference: dict[str, float], sources: dict[str, str]) -> dict[str, Any]:
+def _workspace(robot: Robot, sources: dict[str, str]) -> dict[str, Any]:
     """The estimated ``workspace``, and ``placement`` for a mechanism moving in a plane: ``free: [x, y, phi]``
-    in a horizontal plane, else the plane (its normal is the direction the end effector cannot move in)."""
+    in a horizontal plane, else the plane (its normal is the direction the end effector cannot move in).
+
+    The box is first the one around the end effector at ``robot.reference_q`` (its loops closed), of
+    half-side ``WORKSPACE_FRACTION`` of its distance from the base along the directions it moves in;
+    then, along those directions, it shrinks to the bounding box of the points of a
+    ``REACH_GRID``-per-side grid over it (in the plane, for a planar mechanism) that the generic
+    solver reaches from the reference configuration without leaving its branch or meeting a singularity:
+    a CAD export with its arms stretched has its end effector at the edge of its reach, and half of
+    the box around it would lie beyond.
+    """
     from placement.kinematics.generic import null_space_basis  # here: the kinematics import this package
     from placement.robot.closures import LWA, closure_jacobian
 
-    model, data = robot.model, robot.model.createData()
-    q = robot.reference_q.copy()
-    for name, value in reference.items():
-        q[model.joints[model.getJointId(name)].idx_q] = value
+    model, data, q = robot.model, robot.model.createData(), robot.reference_q
     basis, _, _ = null_space_basis(robot, closure_jacobian(robot, data, q))
     task = pin.getFrameJacobian(model, data, robot.end_effector_frame_id, LWA)[:3] @ basis
     u, singular, _ = np.linalg.svd(task)
     directions = u[:, : int((singular > 1e-9 * max(singular.max(initial=0.0), 1e-300)).sum())]
     weight = (directions**2).sum(axis=1)
     moving = weight >= 0.5 * weight.max(initial=0.0) if weight.max(initial=0.0) > 0 else np.zeros(3, bool)
-    center = data.oMf[robot.end_effector_frame_id].translation
+    center = data.oMf[robot.end_effector_frame_id].translation.copy()
     half = max(WORKSPACE_FRACTION * float(np.linalg.norm(center)), 0.01)
-    sides = np.where(moving, half, FLAT_HALF_SIDE_M)
-    sources["workspace"] = (f"EST: a box around the end effector at reference_configuration, half-side {half:.4g} m "
-                            f"(20 % of its distance from the base) along the directions it moves in, "
-                            f"{FLAT_HALF_SIDE_M * 1e3:g} mm across them")
-    result: dict[str, Any] = {"workspace": {"type": "box", "min_m": _micrometres(center - sides),
-                                            "max_m": _micrometres(center + sides),
+    low, high = _reachable_box(robot, center, np.where(moving, half, 0.0), u[:, 2] if directions.shape[1] == 2 else None)
+    low, high = np.where(moving, low, center - FLAT_HALF_SIDE_M), np.where(moving, high, center + FLAT_HALF_SIDE_M)
+    sources["workspace"] = (f"EST: the part the solver reaches (a {REACH_GRID}-per-side grid) of a box around the end "
+                            f"effector at reference_configuration, half-side {half:.4g} m (20 % of its distance from the "
+                            f"base) along the directions it moves in, {FLAT_HALF_SIDE_M * 1e3:g} mm across them")
+    result: dict[str, Any] = {"workspace": {"type": "box", "min_m": _micrometres(low), "max_m": _micrometres(high),
                                             "points_m": {"reference": _micrometres(center)}}}
     if moving.tolist() == [True, True, False]:
         result["placement"] = {"free": ["x", "y", "phi"]}
@@ -407,6 +422,24 @@ def _workspace(robot: Robot, reference: dict[str, float], sources: dict[str, str
         sources["placement"] = (f"DERIVED: the end effector moves in the plane of normal {normal} through {point} m "
                                 "(its position at reference_configuration): paths lie in it")
     return result
+
+
+def _reachable_box(robot: Robot, center: np.ndarray, half: np.ndarray,
+                   normal: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+    """The bounding box (m) of the points of a ``REACH_GRID``-per-side grid over ``center`` ± ``half`` (m, 0 along
+    the axes the end effector does not move along), moved onto the plane through ``center`` of ``normal`` when
+    given, that the generic solver reaches from the reference configuration (on its branch, not singular)."""
+    from placement.kinematics.base import SOLVERS
+    from placement.kinematics.trajectories import TaskTrajectory
+
+    axes = [np.linspace(c - h, c + h, REACH_GRID) if h > 0 else np.array([c]) for c, h in zip(center, half)]
+    points = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+    if normal is not None:
+        points -= np.outer((points - center) @ normal, normal)
+    still = np.zeros_like(points)
+    _, reachable, _ = SOLVERS.get("numeric")(robot).solve(TaskTrajectory(points, still, still), len(points))
+    reached = np.vstack([center, points[reachable]])
+    return reached.min(axis=0), reached.max(axis=0)
 
 
 def _plane_normal(normal: np.ndarray) -> list[float]:

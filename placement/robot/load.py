@@ -313,7 +313,7 @@ def _check_mobility(robot: Robot) -> None:
     passive = np.setdiff1d(np.arange(nv), robot.actuated_v_indices)
     passive_rank = np.linalg.matrix_rank(jacobian[:, passive], tol=1e-9) if jacobian.size else 0
     if passive_rank != len(passive):
-        raise RobotFileError(robot.sidecar_path, "actuators", _free_joints_text(robot, jacobian, passive, nv - rank))
+        raise RobotFileError(robot.sidecar_path, "actuators", _free_joints_text(robot, jacobian, nv - rank))
     if nv - rank != len(robot.actuators):
         raise RobotFileError(robot.sidecar_path, "actuators",
                              f"the closures leave {nv - rank} degree(s) of freedom at reference_configuration, "
@@ -364,14 +364,23 @@ def _check_moves_in_plane(robot: Robot) -> None:
                              "reference_configuration away from a singular posture")
 
 
-def _free_joints_text(robot: Robot, jacobian: np.ndarray, passive: np.ndarray, freedoms: int) -> str:
-    """Why the actuated joints leave passive joints free: which ones move, and which to lock.
+def joints_to_lock(robot: Robot, jacobian: np.ndarray) -> tuple[list[str], list[str]]:
+    """The passive joints the actuated ones leave free, and one joint of each group that moves together.
 
     The joints that move with the actuators held are the passive ones with a part in the null
     space of the passive closure Jacobian. Going through them in model order, a joint is proposed
     for ``locked_joints`` when locking it (dropping its column) lowers that null space's
     dimension, until none is left: one joint of each group of joints that move together.
+
+    Args:
+        robot: The robot.
+        jacobian: Its closure Jacobian (closure rows, nv) at the configuration considered.
+
+    Returns:
+        The names of the free passive joints, and of those to lock, both in model order (both
+        empty when the actuated joints determine the passive ones).
     """
+    passive = np.setdiff1d(np.arange(robot.model.nv), robot.actuated_v_indices)
     columns = jacobian[:, passive]
     rank = int(np.linalg.matrix_rank(columns, tol=1e-9)) if columns.size else 0
     null_basis = np.linalg.svd(columns)[2][rank:].T if columns.size else np.eye(len(passive))
@@ -383,13 +392,20 @@ def _free_joints_text(robot: Robot, jacobian: np.ndarray, passive: np.ndarray, f
             locked.append(v)
         if _nullity(jacobian[:, kept]) == 0:
             break
-    names = {v: _joint_name_of_velocity(robot.model, v) for v in moving}
-    shown = ", ".join(names[v] for v in moving[:12]) + (", ..." if len(moving) > 12 else "")
-    proposal = ", ".join(f"{names[v]}: {_reference_text(robot, names[v])}" for v in locked)
+    return ([_joint_name_of_velocity(robot.model, v) for v in moving],
+            [_joint_name_of_velocity(robot.model, v) for v in locked])
+
+
+def _free_joints_text(robot: Robot, jacobian: np.ndarray, freedoms: int) -> str:
+    """Why the actuated joints leave passive joints free: which ones move, and which to lock (:func:`joints_to_lock`)."""
+    moving, locked = joints_to_lock(robot, jacobian)
+    shown = ", ".join(moving[:12]) + (", ..." if len(moving) > 12 else "")
+    proposal = ", ".join(f"{name}: {_reference_text(robot, name)}" for name in locked)
     return (f"the closures leave {freedoms} degree(s) of freedom at reference_configuration for the "
             f"{len(robot.actuators)} actuated joint(s): with these held, joint(s) {shown} still move (a rod spinning "
             f"about its own axis, say); actuate or lock one joint of each group that moves together, e.g. add to the "
-            f"sidecar's locked_joints: {{{proposal}}} (the values at reference_configuration)")
+            f"sidecar's locked_joints: {{{proposal}}} (the values at reference_configuration); 'placement assemble "
+            "--write' locks them for you")
 
 
 def _nullity(matrix: np.ndarray) -> int:

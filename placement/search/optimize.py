@@ -135,7 +135,9 @@ class _Problem:
     def __init__(self, evaluator: Evaluator, space: PlacementSpace, sign: float) -> None:
         self.evaluator, self.space, self.sign = evaluator, space, sign
         self._cache: dict[bytes, tuple[float, np.ndarray]] = {}
-        self.least_infeasible: tuple[float, np.ndarray, np.ndarray] | None = None  # (violation, x, margins)
+        # (unreachable, violation, x, margins) of the least infeasible point seen, a reachable one before any other:
+        # an unreachable point's margins are all UNREACHABLE_MARGIN, a small violation beside a motor overloaded 50 times
+        self.least_infeasible: tuple[bool, float, np.ndarray, np.ndarray] | None = None
         self.best_feasible: float | None = None  # signed value of the best feasible point seen
 
     def _lookup(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -150,11 +152,13 @@ class _Problem:
     def _remember(self, points: np.ndarray, evaluation: Evaluation) -> None:
         if len(self._cache) > 200_000:
             self._cache.clear()
-        for point, value, margins in zip(points, evaluation.value, evaluation.margins, strict=True):
+        for point, value, margins, reachable in zip(points, evaluation.value, evaluation.margins, evaluation.reachable,
+                                                    strict=True):
             self._cache[point.tobytes()] = (float(value), margins)
             violation = float(np.clip(-margins, 0.0, None).sum())
-            if violation > 0 and (self.least_infeasible is None or violation < self.least_infeasible[0]):
-                self.least_infeasible = (violation, point, margins)
+            rank = (not reachable, violation)
+            if violation > 0 and (self.least_infeasible is None or rank < self.least_infeasible[:2]):
+                self.least_infeasible = (not bool(reachable), violation, point, margins)
             elif violation == 0 and np.isfinite(value):
                 signed = self.sign * float(value)
                 self.best_feasible = signed if self.best_feasible is None else min(self.best_feasible, signed)
@@ -477,7 +481,7 @@ def _binding_limit(problem: _Problem, evaluator: Evaluator) -> str:
     """Describe the limit that the least infeasible placement found breaks the most."""
     if problem.least_infeasible is None:
         return "no placement could be evaluated"
-    _, point, _ = problem.least_infeasible
+    point = problem.least_infeasible[2]
     detail = evaluator.detail(problem.space.full(point)[0])
     if not detail.reachable:
         return (f"the path leaves the robot's reach at every placement tried ({len(detail.unreachable_samples)} "

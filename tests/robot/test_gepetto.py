@@ -16,11 +16,18 @@ import pytest
 import yaml
 
 from placement.__main__ import main
+from placement.kinematics.base import SOLVERS
+from placement.kinematics.exceptions import UnreachableError
+from placement.kinematics.trajectories import TaskTrajectory
 from placement.robot import load_robot
+from placement.robot.assemble import _solve
 from placement.robot.catalog import sidecar_path
+from placement.robot.checks import check_robot, default_amplitude
 from placement.robot.closures import closure_residuals
 from placement.robot.exceptions import RobotFileError
 from placement.robot.gepetto import EstimatesWarning, StaleSidecarWarning, estimated_drive, generate
+from placement.robot.load import _load_robot
+from tests.support.gepetto_weld import assembled_weld_fivebar
 from tests.support.paths import CIRCLE, DATA
 
 DATA = DATA / "gepetto_fivebar"
@@ -199,3 +206,146 @@ def test_a_fivebar_exported_in_the_x_z_plane_gets_its_plane(folder, capsys):
     capsys.readouterr()
     assert main(["--robot", str(folder), "--path", str(CIRCLE), "--generations", "2", "--population", "6"]) == 0
     assert "plane (sidecar placement.plane): normal [0, -1, 0] through [0, 0, 0.3] m" in capsys.readouterr().out
+
+
+WELD = DATA.parent / "gepetto_fivebar_weld"
+
+
+def _closed_tool_position(robot, motors: dict[str, float]) -> np.ndarray:
+    """The end effector's position (m) with the motors at ``motors`` and the loops closed by the passive joints."""
+    data = robot.model.createData()
+    q = robot.reference_q.copy()
+    for actuator in robot.actuators:
+        q[actuator.q_index] += motors[actuator.joint]
+    passive = np.setdiff1d(np.arange(robot.model.nv), robot.actuated_v_indices)
+    q, _ = _solve(robot, data, q, passive)
+    assert np.abs(closure_residuals(robot, data, q)).max() < 1e-10
+    return data.oMf[robot.end_effector_frame_id].translation.copy()
+
+
+def test_assemble_write_locks_the_pins_a_weld_leaves_spinning(tmp_path, capsys):
+    """A weld between two coaxial pins leaves them free to turn together: assemble --write locks one, says so,
+    marks it EST, and the tool moves exactly as with the pins free (the lock removes no motion of the tool)."""
+    folder = tmp_path / "weld"
+    shutil.copytree(WELD, folder)
+    with pytest.warns(EstimatesWarning):
+        assert main(["assemble", str(folder), "--write"]) == 0
+    out = capsys.readouterr().out
+    assert "the closures leave 1 freedom(s) no actuator drives" in out and "locked closedloop1_A" in out
+    assert "locked_joints (1 joints)" in out and "condition number" in out  # measured with the pin locked
+    document = yaml.safe_load((folder / "placement.yaml").read_text())
+    assert set(document["locked_joints"]) == {"closedloop1_A"} and "closedloop1_A" not in document["reference_configuration"]
+    assert document["sources"]["locked_joints.closedloop1_A"].startswith("EST: placement assemble")
+    assert document["placement"] == {"plane": {"normal": [0.0, -1.0, 0.0], "point_m": [0.0, 0.0, 0.3]}}
+    locked = load_robot(folder)
+    assert np.abs(closure_residuals(locked, locked.model.createData(), locked.reference_q)).max() < 1e-9
+    (folder / "placement.yaml").unlink()  # back to robot.yaml: the pins free
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EstimatesWarning)
+        free = _load_robot(folder / "robot.yaml", check_closures=False)
+    free.reference_q[:] = 0.0
+    for name, value in {**document["reference_configuration"], **document["locked_joints"]}.items():
+        free.reference_q[free.model.joints[free.model.getJointId(name)].idx_q] = value
+    for motors in ({"mot1": 0.0, "mot2": 0.0}, {"mot1": 0.3, "mot2": -0.2}, {"mot1": -0.25, "mot2": 0.15}):
+        np.testing.assert_allclose(_closed_tool_position(locked, motors), _closed_tool_position(free, motors), atol=1e-10)
+
+
+def test_no_lock_refuses_and_names_the_joint_to_lock(tmp_path, capsys):
+    folder = tmp_path / "weld"
+    shutil.copytree(WELD, folder)
+    with pytest.warns(EstimatesWarning):
+        assert main(["assemble", str(folder), "--write", "--no-lock"]) == 2
+    err = capsys.readouterr().err
+    assert "joint(s) closedloop1_A, closedloop1_B still move" in err and "locked_joints: {closedloop1_A: " in err
+    assert "'placement assemble --write' locks them for you" in err
+    assert sorted(p.name for p in folder.iterdir()) == ["robot.urdf", "robot.yaml"]
+
+
+def test_assemble_write_adds_the_lock_to_a_sidecar_in_place(tmp_path, capsys):
+    """On an ordinary sidecar whose pin is free and loop open, the lock goes into locked_joints (appended, the
+    field missing) and its source at the end of sources; outside reference_configuration no line changes."""
+    folder = tmp_path / "weld"
+    shutil.copytree(WELD, folder)
+    with pytest.warns(EstimatesWarning):
+        assert main(["assemble", str(folder), "--write"]) == 0
+    sidecar = folder / "placement.yaml"
+    closed = yaml.safe_load(sidecar.read_text())
+    lines = sidecar.read_text().splitlines(keepends=True)
+    opened = "".join(line for line in lines if not line.startswith(("locked_joints:", "  locked_joints.")))
+    free1 = closed["reference_configuration"]["free1"]
+    opened = opened.replace(f"free1: {free1!r}", f"free1: {free1 + 0.2!r}")  # the loop open by 0.2 rad
+    sidecar.write_text(opened)
+    capsys.readouterr()
+    assert main(["assemble", str(sidecar), "--write"]) == 0
+    assert "and locked_joints (1 joints, EST under sources)" in capsys.readouterr().out
+    again = yaml.safe_load(sidecar.read_text())
+    assert again["locked_joints"].keys() == closed["locked_joints"].keys()  # at the value its new closure needs
+    robot = load_robot(sidecar)
+    assert np.abs(closure_residuals(robot, robot.model.createData(), robot.reference_q)).max() < 1e-9
+    assert again["sources"] == closed["sources"]
+    node = next(value for key, value in yaml.compose(opened).value if key.value == "reference_configuration")
+    unchanged = opened[:node.start_mark.index] + opened[opened.index("\n", node.end_mark.index):]
+    new = sidecar.read_text()
+    node = next(value for key, value in yaml.compose(new).value if key.value == "reference_configuration")
+    assert (new[:node.start_mark.index] + new[new.index("\n", node.end_mark.index):]).startswith(unchanged)
+
+
+REACH_M = math.sqrt(0.45**2 - 0.1**2)  # the weld five-bar's highest tip: both arms straight, tip above the middle
+
+
+@pytest.fixture(scope="module")
+def stretched_weld(tmp_path_factory):
+    """The weld five-bar exported with its tip at (0, 0, 0.41) m, 29 mm below the highest it can reach, assembled."""
+    tmp = tmp_path_factory.mktemp("stretched")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EstimatesWarning)
+        robot = load_robot(assembled_weld_fivebar(tmp))
+        still = np.zeros((1, 3))
+        joints, ok, _ = SOLVERS.get("numeric")(robot).solve(TaskTrajectory(np.array([[0.0, 0.0, 0.41]]), still, still))
+        assert ok.all()
+        near = ",".join(f"{a.joint}={float(joints.q[0, a.q_index])!r}" for a in robot.actuators)
+        folder = tmp / "stretched"
+        shutil.copytree(WELD, folder)
+        assert main(["assemble", str(folder), "--near", near, "--write"]) == 0
+    return folder
+
+
+def test_the_estimated_workspace_is_the_part_within_reach(stretched_weld, capsys):
+    """The box around a tip 29 mm below its reach (half-side 82 mm) is cut at the reach: nothing above the highest
+    tip position, the reference inside, the side below (all reachable) kept whole."""
+    box = yaml.safe_load((stretched_weld / "placement.yaml").read_text())["workspace"]
+    assert REACH_M - 0.082 / 4 <= box["max_m"][2] <= REACH_M  # the grid's last reachable row (its step is 20.5 mm)
+    assert box["min_m"][2] == pytest.approx(0.41 - 0.082, abs=1e-6)
+    assert box["min_m"][0] == pytest.approx(-0.082, abs=1e-6) and box["max_m"][0] == pytest.approx(0.082, abs=1e-6)
+    capsys.readouterr()
+
+
+def test_check_halves_the_default_amplitude_until_the_motion_is_reachable(stretched_weld, tmp_path):
+    """With a workspace box 1 m wide the default amplitude (5 cm) leaves the reach (the tip is 29 mm below it);
+    check runs at its half, which stays reachable, and says so."""
+    sidecar = tmp_path / "placement.yaml"
+    document = yaml.safe_load((stretched_weld / "placement.yaml").read_text())
+    document["workspace"].update(min_m=[-0.5, -0.001, 0.0], max_m=[0.5, 0.001, 1.0])
+    sidecar.write_text(yaml.safe_dump(document, sort_keys=False))
+    shutil.copy(stretched_weld / "robot.urdf", tmp_path / "robot.urdf")
+    robot = load_robot(sidecar)
+    with pytest.raises(UnreachableError):
+        check_robot(robot, amplitude_m=default_amplitude(robot)[0])
+    report = check_robot(robot)
+    assert "halved 1 time(s)" in report.amplitude_basis and report.amplitude_m == default_amplitude(robot)[0] / 2
+
+
+def test_a_search_whose_reachable_placements_overload_a_motor_says_so(stretched_weld, tmp_path, capsys):
+    """Drives too weak for the arms' weight: every reachable placement breaks a motor's torque, some placements
+    of the box are beyond reach; the search names the motor torque, not the reach."""
+    folder = tmp_path / "weak"
+    shutil.copytree(stretched_weld, folder)
+    sidecar = folder / "placement.yaml"
+    document = yaml.safe_load(sidecar.read_text())
+    for drive in document["drives"].values():
+        drive["motor"]["max_torque_Nm"] = 1e-4
+    sidecar.write_text(yaml.safe_dump(document, sort_keys=False))
+    capsys.readouterr()
+    assert main(["--robot", str(folder), "--path", str(CIRCLE), "--generations", "3", "--population", "8"]) == 2
+    err = capsys.readouterr().err
+    assert "no feasible placement" in err and "motor torque" in err and "reach" not in err, err
