@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -134,9 +135,9 @@ class ToolPath:
         nominal_t = np.concatenate([[0.0], np.cumsum(steps)])
         return dataclasses.replace(geometry, samples=dataclasses.replace(geometry.samples, t_s=nominal_t))
 
-    @property
+    @cached_property
     def oriented(self) -> bool:
-        """Whether the path carries tool orientations (a pose list with orientation columns)."""
+        """Whether the path carries tool orientations (a pose list with orientation columns); looked up once."""
         return any(segment.rotation is not None for segment in self.segments)
 
     def runs(self, by_segment: bool = False) -> list[Run]:

@@ -435,7 +435,7 @@ def test_a_dwell_costs_the_static_holding_joule_power_for_its_duration(tmp_path,
     held = program(tmp_path, moves.format("G4 P2\n"), forces + law, name="held")
     plain = program(tmp_path, moves.format("M0\n"), forces + law, name="plain")  # a stop there, no hold
     assert held.holds and held.holds[0].duration_s == 2.0
-    details = [Evaluator(robot, path, time_step_s=0.004).detail(at) for path in (held, plain)]
+    details = [Evaluator(robot, path, EvaluatorSettings(time_step_s=0.004)).detail(at) for path in (held, plain)]
     assert all(d.reachable for d in details)
     hold = np.flatnonzero(np.all(details[0].samples.velocity_m_s == 0, axis=1)
                           & np.all(np.abs(details[0].samples.position_m - [0.01, 0, 0]) < 1e-12, axis=1))
