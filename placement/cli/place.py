@@ -24,6 +24,7 @@ from placement.cli.common import (
     check_outputs,
     configured_path,
     load_robot_argument,
+    non_negative,
     parse_free,
     parse_values,
     robot_files,
@@ -35,7 +36,14 @@ from placement.evaluation.evaluator import Evaluator
 from placement.evaluation.parallel import Cluster, cluster, scheduler_address
 from placement.limits.collision import closest_points
 from placement.objectives.base import OBJECTIVES, wording
-from placement.output.report import detail_json, format_detail, format_result, write_atomically, write_json, write_trace
+from placement.output.report import (
+    detail_json,
+    format_detail,
+    format_result,
+    write_atomically,
+    write_json,
+    write_trace,
+)
 from placement.path.samples import PathSamples
 from placement.path.toolpath import ToolPath
 from placement.placing.transform import VARIABLES, describe_plane
@@ -86,6 +94,9 @@ def build_parser() -> argparse.ArgumentParser:
                         help="with --objectives: the front members to detail and draw (knee, an objective's end, "
                              "or a member number; default: the knee and every end)")
     parser.add_argument("--png", metavar="FILE", help="with --objectives: plot the front in FILE (PNG) and beside it as SVG")
+    parser.add_argument("--rest", type=non_negative, default=0.0, metavar="S",
+                        help="rest between passes (s), holding the path's end pose, for the duty cycle's cycles per "
+                             "hour (default 0: back to back)")
     parser.add_argument("--json", metavar="FILE", help="write the results as JSON (SI units)")
     parser.add_argument("--trace", metavar="FILE",
                         help="write a per-sample CSV trace of the placement given by --at, else of the best one")
@@ -142,8 +153,8 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
             raise UsageError("--at: give at least one value, e.g. --at x=0,phi=30")
         detail = Evaluator(robot, path, args.regen, args.time_step, objective=args.objective).detail(
             np.array([given.get(name, 0.0) for name in VARIABLES]))
-        print("\n" + format_detail("placement given by --at", robot, detail))
-        document["at"] = detail_json(robot, detail)
+        print("\n" + format_detail("placement given by --at", robot, detail, rest_s=args.rest))
+        document["at"] = detail_json(robot, detail, rest_s=args.rest)
         problem = None
         if not detail.reachable:
             problem = f"the placement given by --at leaves the robot's reach ({len(detail.unreachable_samples)} samples)"
@@ -170,11 +181,11 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
                                     progress=bar.update, announce=lambda e: bar.write(duration_line(e), sys.stdout),
                                     executor=remote.executor if remote else None,
                                     workers=remote.threads if remote else None)
-    print("\n" + format_result(robot, result))
+    print("\n" + format_result(robot, result, args.rest))
     details = {}
     for key, optimum in (("best", result.best), ("worst", result.worst)):
         if optimum is not None:
-            document[key] = detail_json(robot, optimum.detail, optimum)
+            document[key] = detail_json(robot, optimum.detail, optimum, args.rest)
             details[key] = optimum.detail
     if result.gain is not None:
         document["gain"] = result.gain

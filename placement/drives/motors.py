@@ -61,6 +61,8 @@ class Motor(Strict):
     max_speed_rad_s: Positive | None = None
     bus_voltage_V: Positive | None = Field(None, description="DC bus voltage of the drive: bounds the phase voltage "
                                                              "R·I + L·dI/dt + K_e·ω (see phase_voltage_limit_V)")
+    continuous_torque_Nm: Positive | None = Field(None, description="rated continuous (RMS) torque: the thermal "
+                                                                     "limit of a duty cycle (see placement.drives.duty)")
     parameters: dict[str, Number] = Field({}, description="extra constants of a plug-in motor model")
 
     @property
@@ -70,6 +72,13 @@ class Motor(Strict):
         if self.bus_voltage_V is None:
             return None
         return self.bus_voltage_V / np.sqrt(3.0) if self.phases == 3 else self.bus_voltage_V
+
+    @model_validator(mode="after")
+    def _continuous_within_peak(self) -> Motor:
+        if self.continuous_torque_Nm is not None and self.continuous_torque_Nm > self.max_torque_Nm:
+            raise ValueError(f"continuous_torque_Nm ({self.continuous_torque_Nm:g} N m) exceeds max_torque_Nm "
+                             f"({self.max_torque_Nm:g} N m): a motor's rated continuous torque is at most its peak")
+        return self
 
     @model_validator(mode="after")
     def _consistent_with_its_model(self) -> Motor:
