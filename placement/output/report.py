@@ -25,6 +25,7 @@ from placement.objectives.base import OBJECTIVES, quantity, wording
 from placement.placing.transform import ANGLES, VARIABLES
 from placement.robot.model import Robot
 from placement.search.optimize import Optimum, PlacementResult
+from placement.search.tolerance import ToleranceBox
 
 
 def format_placement(placement: np.ndarray) -> str:
@@ -150,15 +151,34 @@ def _recheck_line(optimum: Optimum) -> str:
             f"sample the path more finely (--time-step) if that matters")
 
 
-def format_result(robot: Robot, result: PlacementResult, rest_s: float = 0.0) -> str:
-    """Text report of a search: best and worst placements and the gain (``rest_s``: rest between passes, s)."""
+def format_tolerance(box: ToleranceBox, subject: str) -> str:
+    """One line: the tolerance box's half-widths (mm, degrees) and how it was checked."""
+    widths = ", ".join(f"{name} ± {np.degrees(width):.2f} deg" if name in ANGLES else f"{name} ± {width * 1e3:.2f} mm"
+                       for name, width in zip(box.free, box.half_width, strict=True))
+    return (f"  tolerance (every limit holds and the {subject} stays within {box.within * 100:g} % of this placement's "
+            f"throughout the box): {widths} (checked at its {box.checked} corners and inside points, "
+            f"{box.evaluations} evaluations)" + ("; ± 0: a limit is already tight at this placement along that variable"
+                                                 if not box.half_width.all() else ""))
+
+
+def tolerance_json(box: ToleranceBox) -> dict[str, Any]:
+    """JSON-ready tolerance box (SI): half-widths per free variable (m, rad)."""
+    return {"within": box.within, "half_width": {name: float(w) for name, w in zip(box.free, box.half_width, strict=True)},
+            "evaluations": box.evaluations, "checked_points": box.checked}
+
+
+def format_result(robot: Robot, result: PlacementResult, rest_s: float = 0.0,
+                  boxes: dict[str, ToleranceBox] | None = None) -> str:
+    """Text report of a search: best and worst placements, their tolerance boxes where given ({"best"|"worst": box}),
+    and the gain (``rest_s``: rest between passes, s)."""
     words = wording(result.objective)
     blocks = []
-    for title, optimum in ((f"best placement ({words.best} {words.subject})", result.best),
-                           (f"worst placement ({words.worst} {words.subject})", result.worst)):
+    for key, title, optimum in (("best", f"best placement ({words.best} {words.subject})", result.best),
+                                ("worst", f"worst placement ({words.worst} {words.subject})", result.worst)):
         if optimum is not None:
+            box = (boxes or {}).get(key)
             blocks.append(format_detail(title, robot, optimum.detail, optimum.recheck_value, rest_s) + "\n"
-                          + _recheck_line(optimum))
+                          + _recheck_line(optimum) + ("" if box is None else "\n" + format_tolerance(box, words.subject)))
     if result.gain is not None and result.best is not None and result.worst is not None:
         difference = abs(result.worst.detail.value - result.best.detail.value)
         per_pass = " per pass" if words.unit == "J" else ""
