@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from placement.drives.trace import Drives
+from placement.robot.model import Robot
 
 SECONDS_PER_HOUR = 3600.0
 
@@ -38,6 +39,20 @@ def squared_torque_integral(torque_Nm: np.ndarray, widths_s: np.ndarray) -> np.n
     square = torque_Nm**2
     pieces = widths_s[..., None] * (square[..., 1:, :] + square[..., :-1, :]) / 2
     return np.concatenate([np.zeros_like(square[..., :1, :]), np.cumsum(pieces, axis=-2)], axis=-2)
+
+
+def rating_status(robot: Robot) -> tuple[str, ...]:
+    """Per actuator, the status of its continuous torque's source ("EST", "CATALOG", ...; "" when the sidecar gives
+    none for it or its drive), read from the most specific of ``drives.NAME.motor.continuous_torque_Nm``,
+    ``drives.NAME.motor`` and ``drives.NAME``."""
+    sources = robot.sources
+
+    def status(drive: str | None) -> str:
+        keys = (f"drives.{drive}.motor.continuous_torque_Nm", f"drives.{drive}.motor", f"drives.{drive}")
+        note = next((sources[key] for key in keys if key in sources), "")
+        return note.split(":", 1)[0].strip() if ":" in note else ""
+
+    return tuple(status(actuator.drive_name) for actuator in robot.actuators)
 
 
 @dataclass(frozen=True)

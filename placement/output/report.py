@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from placement.drives.duty import SECONDS_PER_HOUR, DutyCycle, duty_cycle
+from placement.drives.duty import SECONDS_PER_HOUR, DutyCycle, duty_cycle, rating_status
 from placement.drives.trace import Drives
 from placement.energy.integration import interval_widths
 from placement.evaluation.results import PlacementDetail
@@ -45,7 +45,9 @@ def placement_duty(robot: Robot, detail: PlacementDetail, rest_s: float = 0.0) -
 
 
 def format_duty(robot: Robot, duty: DutyCycle) -> list[str]:
-    """Text lines of a duty cycle: each rated motor's RMS torque against its rating, and the cycles per hour."""
+    """Text lines of a duty cycle: each rated motor's RMS torque against its rating (its source's status where the
+    sidecar gives one), and the cycles per hour."""
+    statuses = rating_status(robot)
     width = max(14, max(len(a.joint) for a in robot.actuators) + 2)
     rest = f" + a rest of {duty.rest_s:g} s holding the end pose" if duty.rest_s else " back to back"
     lines = [f"  duty cycle (RMS motor torque over a pass of {duty.cycle_s:.4f} s{rest}, against the rated "
@@ -53,7 +55,8 @@ def format_duty(robot: Robot, duty: DutyCycle) -> list[str]:
     for i, actuator in enumerate(robot.actuators):
         if np.isfinite(duty.continuous_torque_Nm[i]):
             lines.append(f"    {actuator.joint:<{width}s}RMS {duty.rms_torque_Nm[i]:.4g} N m = {duty.ratio[i] * 100:.1f} % "
-                         f"of {duty.continuous_torque_Nm[i]:.4g} N m (hold {duty.hold_torque_Nm[i]:.4g} N m)")
+                         f"of {duty.continuous_torque_Nm[i]:.4g} N m{f' {statuses[i]}' if statuses[i] else ''} "
+                         f"(hold {duty.hold_torque_Nm[i]:.4g} N m)")
     if duty.cycles_per_hour == 0:
         lines.append("  cycles per hour: none (a motor's hold torque alone exceeds its rating)")
     elif duty.limited_by is None:
@@ -76,6 +79,7 @@ def duty_json(robot: Robot, duty: DutyCycle) -> dict[str, Any]:
 
     return {"cycle_s": duty.cycle_s, "rest_s": duty.rest_s, "rms_torque_Nm": dict(zip(names, map(float, duty.rms_torque_Nm))),
             "continuous_torque_Nm": per_actuator(duty.continuous_torque_Nm), "ratio": per_actuator(duty.ratio),
+            "rating_source": dict(zip(names, rating_status(robot))),
             "hold_torque_Nm": dict(zip(names, map(float, duty.hold_torque_Nm))),
             "cycles_per_hour": duty.cycles_per_hour,
             "limited_by": None if duty.limited_by is None else names[duty.limited_by]}

@@ -60,6 +60,16 @@ def test_a_hold_torque_over_the_rating_allows_no_rest():
     assert unrated.cycles_per_hour == pytest.approx(1800) and unrated.limited_by is None
 
 
+def test_an_estimated_rating_is_reported_but_limits_nothing():
+    """The UR5's ratings are EST (UR publishes none): no thermal limit; the Orthoglide's are DERIVED: one."""
+    from placement.drives.duty import rating_status
+
+    ur5, orthoglide = load_robot("ur5"), load_robot("orthoglide")
+    assert set(rating_status(ur5)) == {"EST"} and not LIMITS.get("thermal").applies_to(ur5)
+    assert set(rating_status(orthoglide)) == {"DERIVED"} and LIMITS.get("thermal").applies_to(orthoglide)
+    assert np.isfinite(Drives.of(ur5).continuous_torque_Nm).all()
+
+
 def test_orthoglide_example_rms_and_thermal_margin():
     """The RMS torque of the paper's rectangle is scipy's trapezoid of τ² over the trace, over the pass's time, and
     the thermal limit's margin is 1 − RMS/rating at the pass's end; gravity loads the vertical slider at rest."""
