@@ -11,8 +11,9 @@ than f(x*), on the exact model (the :class:`Evaluator`, at the path's own sampli
    The scan keeps an axis along which the objective dips back (a rectangle turned by 90° costs about
    what it costs unturned) from reaching past the rise in between.
 2. The box of these h is then scaled by the largest s ≤ 1 (bisection, :data:`SCALE_BISECTIONS`
-   halvings) at which all 2^n corners of x* ± s·h are acceptable: objectives grow along several axes
-   at once, so a box of the per-axis widths is usually too wide at its corners.
+   halvings) at which the corners of x* ± s·h are acceptable (all 2^n up to four free variables, a
+   fixed draw of :data:`CORNERS_IN_SEARCH` of them beyond): objectives grow along several axes at
+   once, so a box of the per-axis widths is usually too wide at its corners.
 3. The box x* ± s·h is checked at its corners and at :data:`INTERIOR_SAMPLES` points spread through
    it (a scrambled Sobol sequence, fixed seed); if any fails, s shrinks by :data:`SHRINK` and the
    check repeats (at most :data:`MAX_SHRINKS` times; then the box is the optimum alone).
@@ -20,8 +21,9 @@ than f(x*), on the exact model (the :class:`Evaluator`, at the path's own sampli
 Residual risk: an unacceptable pocket inside the box missed by the corners, the axis points and the
 samples (a limit that only bites in a small region, such as a collision corner), and anything between
 the path's samples (the report's 4x denser re-check is of the optimum only). Cost: about
-2n·(SCAN_LEVELS + BISECTIONS) + 2^n·(SCALE_BISECTIONS + 1) + INTERIOR_SAMPLES evaluations, 296 for
-the Orthoglide's four free variables (80 more for each shrink of step 3).
+2n·(SCAN_LEVELS + BISECTIONS) + min(2^n, 16)·(SCALE_BISECTIONS + 1) + 2^n + INTERIOR_SAMPLES
+evaluations: 312 for the Orthoglide's four free variables, about 430 for six (plus 2^n + 64 for each
+shrink of step 3).
 """
 
 from __future__ import annotations
@@ -37,6 +39,7 @@ from placement.search.space import PlacementSpace
 SCAN_LEVELS = 11  # widths scanned per axis: its reach times 1, 1/2, ..., 1/1024
 BISECTIONS = 6  # halvings between the last width scanned that holds and the first that fails
 SCALE_BISECTIONS = 5  # halvings of the scale that brings the corners in
+CORNERS_IN_SEARCH = 16  # corners tried at each of those halvings (all of them up to four free variables)
 INTERIOR_SAMPLES = 64  # points of the final check spread inside the box
 SHRINK = 0.8  # the scale's factor when the final check fails
 MAX_SHRINKS = 3
@@ -109,13 +112,15 @@ def tolerance_box(evaluator: Evaluator, space: PlacementSpace, placement: np.nda
         low, high = np.where(ok & bracketed, middle, low), np.where(ok, high, middle)
     corners = np.array(np.meshgrid(*[[-1.0, 1.0]] * n, indexing="ij")).reshape(n, -1).T
     inside = qmc.Sobol(n, scramble=True, seed=0).random(INTERIOR_SAMPLES) * 2 - 1
-    if acceptable(centre + corners * low).all():
+    tried = corners if len(corners) <= CORNERS_IN_SEARCH else corners[
+        np.random.default_rng(0).choice(len(corners), CORNERS_IN_SEARCH, replace=False)]
+    if acceptable(centre + tried * low).all():
         scale = 1.0
     else:
         lo, hi = 0.0, 1.0
         for _ in range(SCALE_BISECTIONS):
             middle = (lo + hi) / 2
-            lo, hi = (middle, hi) if acceptable(centre + corners * low * middle).all() else (lo, middle)
+            lo, hi = (middle, hi) if acceptable(centre + tried * low * middle).all() else (lo, middle)
         scale = lo
     for _ in range(MAX_SHRINKS):
         if acceptable(centre + np.concatenate([corners, inside]) * low * scale).all():

@@ -41,6 +41,16 @@ def test_a_quadratic_bowl_gets_its_analytic_box():
     assert box.evaluations <= 400
 
 
+def test_six_free_variables_stay_within_a_few_hundred_evaluations():
+    space = PlacementSpace(free=("x", "y", "z", "phi", "theta", "psi"), lower=np.array([-0.1] * 3 + [-1.5] * 3),
+                           upper=np.array([0.1] * 3 + [1.5] * 3), fixed=np.zeros(6))
+    a = np.array([400.0, 100.0, 25.0, 1.0, 4.0, 9.0])
+    box = tolerance_box(Model(lambda p: 1 + (a * p**2).sum(axis=1)), space, np.zeros(6), lower_is_better=True)
+    analytic = np.sqrt(0.01 / (6 * a))
+    assert np.all(box.half_width <= analytic * (1 + 1e-9)) and np.all(box.half_width >= 0.85 * analytic)
+    assert box.evaluations <= 450
+
+
 def test_an_objective_that_dips_back_does_not_stretch_the_box():
     """Along phi, f = 1 + sin²(2·phi) is back to 1 at ±90°; the box must stop where f first leaves 1 %."""
     model = Model(lambda p: 1 + np.sin(2 * p[:, 3]) ** 2)
