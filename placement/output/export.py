@@ -137,7 +137,7 @@ def _header(frame: WorkFrame, comment: str, reference: str) -> list[str]:
 def to_gcode(frame: WorkFrame) -> str:
     """G54 work offset (``G10 L2 P1``, mm) and a rotation about Z (``G68``, deg) for a CNC controller.
 
-    ``G10 L2 P1 X Y Z`` sets the G54 origin in machine coordinates (LinuxCNC, Fanuc, Haas);
+    ``G21 G90 G10 L2 P1 X Y Z`` sets the G54 origin in machine coordinates, absolute, in mm (LinuxCNC, Fanuc, Haas);
     ``G68 X0 Y0 R`` (Fanuc, Haas; LinuxCNC has no G68) then turns programmed coordinates by R
     degrees counter-clockwise seen from +Z about the G54 origin, so a programmed point p lands at
     offset + Rz(R)·p. A G54 offset with G68 holds no tilt: a placement with theta or psi is refused.
@@ -152,9 +152,11 @@ def to_gcode(frame: WorkFrame) -> str:
     turn = np.degrees(np.arctan2(rotation[1, 0], rotation[0, 0]))
     x, y, z = frame.origin_m * 1e3
     lines = _header(frame, ";", "machine coordinates (G53)")
-    lines += ["; G54 origin at X Y Z (mm, machine coordinates); G68 turns the program about the G54 origin",
-              "; by R degrees, counter-clockwise seen from +Z (G17 plane); G69 cancels it",
-              f"G10 L2 P1 X{x:.6f} Y{y:.6f} Z{z:.6f}", "G54", "G17"]
+    lines += ["; G54 origin at X Y Z (mm, machine coordinates), G90: absolute (under G91 a Fanuc control adds them",
+              "; to the offset already there); G68 turns the program about the G54 origin by R degrees,",
+              "; counter-clockwise seen from +Z (G17 plane); G69 cancels it. LinuxCNC has no G68: there, give",
+              "; the turn as R on the G10 L2 line instead (check the sign of a turn on the machine first)",
+              f"G21 G90 G10 L2 P1 X{x:.6f} Y{y:.6f} Z{z:.6f}", "G54 G17"]
     if abs(np.radians(turn)) > ZERO_TURN:
         lines.append(f"G68 X0 Y0 R{turn:.8f}")
     return "\n".join(lines) + "\n"
