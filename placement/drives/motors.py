@@ -74,13 +74,6 @@ class Motor(Strict):
         return self.bus_voltage_V / np.sqrt(3.0) if self.phases == 3 else self.bus_voltage_V
 
     @model_validator(mode="after")
-    def _continuous_within_peak(self) -> Motor:
-        if self.continuous_torque_Nm is not None and self.continuous_torque_Nm > self.max_torque_Nm:
-            raise ValueError(f"continuous_torque_Nm ({self.continuous_torque_Nm:g} N m) exceeds max_torque_Nm "
-                             f"({self.max_torque_Nm:g} N m): a motor's rated continuous torque is at most its peak")
-        return self
-
-    @model_validator(mode="after")
     def _consistent_with_its_model(self) -> Motor:
         if self.model not in MOTOR_MODELS:
             raise ValueError(f"unknown motor model '{self.model}', expected one of {', '.join(MOTOR_MODELS.names())}")
