@@ -160,7 +160,8 @@ def format_tolerance(box: ToleranceBox, subject: str) -> str:
     widths = ", ".join(f"{name} ± {np.degrees(width):.2f} deg" if name in ANGLES else f"{name} ± {width * 1e3:.2f} mm"
                        for name, width in zip(box.free, box.half_width, strict=True))
     return (f"  tolerance (every limit holds and the {subject} stays within {box.within * 100:g} % of this placement's "
-            f"throughout the box): {widths} (checked at its {box.checked} corners and inside points, "
+            f"throughout the box): {widths} (checked at {box.corners_checked} corners and {box.inside_checked} points "
+            f"inside, "
             f"{box.evaluations} evaluations)" + ("; ± 0: a limit is already tight at this placement along that variable"
                                                  if not box.half_width.all() else ""))
 
@@ -168,7 +169,8 @@ def format_tolerance(box: ToleranceBox, subject: str) -> str:
 def tolerance_json(box: ToleranceBox) -> dict[str, Any]:
     """JSON-ready tolerance box (SI): half-widths per free variable (m, rad)."""
     return {"within": box.within, "half_width": {name: float(w) for name, w in zip(box.free, box.half_width, strict=True)},
-            "evaluations": box.evaluations, "checked_points": box.checked}
+            "evaluations": box.evaluations, "corners_checked": box.corners_checked,
+            "inside_checked": box.inside_checked}
 
 
 def format_result(robot: Robot, result: PlacementResult, rest_s: float = 0.0,

@@ -14,16 +14,16 @@ than f(x*), on the exact model (the :class:`Evaluator`, at the path's own sampli
    halvings) at which the corners of x* ± s·h are acceptable (all 2^n up to four free variables, a
    fixed draw of :data:`CORNERS_IN_SEARCH` of them beyond): objectives grow along several axes at
    once, so a box of the per-axis widths is usually too wide at its corners.
-3. The box x* ± s·h is checked at its corners and at :data:`INTERIOR_SAMPLES` points spread through
-   it (a scrambled Sobol sequence, fixed seed); if any fails, s shrinks by :data:`SHRINK` and the
+3. The box x* ± s·h is checked at the corners of step 2 and at :data:`INTERIOR_SAMPLES` points
+   spread through it (a scrambled Sobol sequence, fixed seed); if any fails, s shrinks by :data:`SHRINK` and the
    check repeats (at most :data:`MAX_SHRINKS` times; then the box is the optimum alone).
 
 Residual risk: an unacceptable pocket inside the box missed by the corners, the axis points and the
 samples (a limit that only bites in a small region, such as a collision corner), and anything between
 the path's samples (the report's 4x denser re-check is of the optimum only). Cost: about
-2n·(SCAN_LEVELS + BISECTIONS) + min(2^n, 16)·(SCALE_BISECTIONS + 1) + 2^n + INTERIOR_SAMPLES
-evaluations: 312 for the Orthoglide's four free variables, about 430 for six (plus 2^n + 64 for each
-shrink of step 3).
+2n·(SCAN_LEVELS + BISECTIONS) + min(2^n, 16)·(SCALE_BISECTIONS + 2) + INTERIOR_SAMPLES
+evaluations: 312 for the Orthoglide's four free variables, about 380 for six (plus 80 for each shrink
+of step 3). Beyond four free variables, only 16 of the 2^n corners are tried: a larger residual risk.
 """
 
 from __future__ import annotations
@@ -54,14 +54,16 @@ class ToleranceBox:
         half_width: (n_free,) half-widths (m for x, y, z; rad for angles): the box is the optimum ± these.
         within: The share of the objective allowed (0.01: 1 %).
         evaluations: Placements evaluated to find and check it.
-        checked: Points of the final check (corners and interior samples), all acceptable.
+        corners_checked: Corners of the box in its final check (all 2^n up to four free variables).
+        inside_checked: Points inside the box in its final check.
     """
 
     free: tuple[str, ...]
     half_width: np.ndarray
     within: float
     evaluations: int
-    checked: int
+    corners_checked: int
+    inside_checked: int
 
 
 def tolerance_box(evaluator: Evaluator, space: PlacementSpace, placement: np.ndarray, lower_is_better: bool,
@@ -123,9 +125,9 @@ def tolerance_box(evaluator: Evaluator, space: PlacementSpace, placement: np.nda
             lo, hi = (middle, hi) if acceptable(centre + tried * low * middle).all() else (lo, middle)
         scale = lo
     for _ in range(MAX_SHRINKS):
-        if acceptable(centre + np.concatenate([corners, inside]) * low * scale).all():
+        if acceptable(centre + np.concatenate([tried, inside]) * low * scale).all():
             break
         scale *= SHRINK
     else:
         scale = 0.0
-    return ToleranceBox(space.free, low * scale, within, count[0], len(corners) + INTERIOR_SAMPLES)
+    return ToleranceBox(space.free, low * scale, within, count[0], len(tried), INTERIOR_SAMPLES)
