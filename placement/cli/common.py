@@ -57,6 +57,17 @@ def positive_number(text: str) -> float:
     return value
 
 
+def non_negative(text: str) -> float:
+    """An argparse type: a finite number ≥ 0."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got '{text[:40]}'") from None
+    if not 0 <= value < np.inf:
+        raise argparse.ArgumentTypeError(f"expected a finite number ≥ 0, got '{text[:40]}'")
+    return value
+
+
 def add_model_options(parser: argparse.ArgumentParser) -> None:
     """--objective and --regen: what placements are ranked by, and what braking energy does."""
     parser.add_argument("--objective", default="energy", metavar="NAME",

@@ -23,8 +23,10 @@ from placement.cli.common import (
     check_outputs,
     configured_path,
     load_robot_argument,
+    non_negative,
     parse_free,
     parse_values,
+    positive_number,
     robot_files,
     whole_number,
 )
@@ -35,13 +37,22 @@ from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.evaluation.parallel import Cluster, cluster, scheduler_address
 from placement.limits.collision import closest_points
 from placement.objectives.base import OBJECTIVES, wording
-from placement.output.report import detail_json, format_detail, format_result, write_atomically, write_json, write_trace
+from placement.output.report import (
+    detail_json,
+    format_detail,
+    format_result,
+    tolerance_json,
+    write_atomically,
+    write_json,
+    write_trace,
+)
 from placement.path.samples import PathSamples
 from placement.path.toolpath import ToolPath
 from placement.placing.transform import VARIABLES, describe_plane
 from placement.robot.model import Robot
-from placement.search.optimize import SearchSettings, optimize_placement
-from placement.search.space import default_space
+from placement.search.optimize import PlacementResult, SearchSettings, optimize_placement
+from placement.search.space import PlacementSpace, default_space
+from placement.search.tolerance import ToleranceBox, tolerance_box
 
 if TYPE_CHECKING:  # the scene's modules (meshcat, trimesh) load only for --html and --show
     from placement.output.scene import Scene
@@ -86,6 +97,12 @@ def build_parser() -> argparse.ArgumentParser:
                         help="with --objectives: the front members to detail and draw (knee, an objective's end, "
                              "or a member number; default: the knee and every end)")
     parser.add_argument("--png", metavar="FILE", help="with --objectives: plot the front in FILE (PNG) and beside it as SVG")
+    parser.add_argument("--rest", type=non_negative, default=0.0, metavar="S",
+                        help="rest between passes (s), holding the path's end pose, for the duty cycle's cycles per "
+                             "hour (default 0: back to back)")
+    parser.add_argument("--within", type=positive_number, default=1.0, metavar="PERCENT",
+                        help="the tolerance box around each optimum keeps the objective within PERCENT of it "
+                             "(default 1)")
     parser.add_argument("--json", metavar="FILE", help="write the results as JSON (SI units)")
     parser.add_argument("--trace", metavar="FILE",
                         help="write a per-sample CSV trace of the placement given by --at, else of the best one")
@@ -143,8 +160,8 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
         if not given:
             raise UsageError("--at: give at least one value, e.g. --at x=0,phi=30")
         detail = Evaluator(robot, path, evaluation).detail(np.array([given.get(name, 0.0) for name in VARIABLES]))
-        print("\n" + format_detail("placement given by --at", robot, detail))
-        document["at"] = detail_json(robot, detail)
+        print("\n" + format_detail("placement given by --at", robot, detail, rest_s=args.rest))
+        document["at"] = detail_json(robot, detail, rest_s=args.rest)
         problem = None
         if not detail.reachable:
             problem = f"the placement given by --at leaves the robot's reach ({len(detail.unreachable_samples)} samples)"
@@ -169,17 +186,32 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
         result = optimize_placement(robot, path, space=space, evaluation=evaluation, settings=settings,
                                     progress=bar.update, announce=lambda e: bar.write(duration_line(e), sys.stdout),
                                     executor=remote.executor if remote else None)
-    print("\n" + format_result(robot, result))
+    boxes = tolerance_boxes(robot, path, evaluation, args.within, space, result, lower, remote)
+    print("\n" + format_result(robot, result, args.rest, boxes))
     details = {}
     for key, optimum in (("best", result.best), ("worst", result.worst)):
         if optimum is not None:
-            document[key] = detail_json(robot, optimum.detail, optimum)
+            document[key] = detail_json(robot, optimum.detail, optimum, args.rest)
+            if key in boxes:
+                document[key]["tolerance"] = tolerance_json(boxes[key])
             details[key] = optimum.detail
     if result.gain is not None:
         document["gain"] = result.gain
     if result.infeasible:
         document["infeasible"] = result.infeasible
     return document, details, result.infeasible
+
+
+def tolerance_boxes(robot: Robot, path: ToolPath, evaluation: EvaluatorSettings, within_percent: float,
+                    space: PlacementSpace, result: PlacementResult, lower: bool,
+                    remote: Cluster | None) -> dict[str, ToleranceBox]:
+    """The tolerance box around each optimum found (:mod:`placement.search.tolerance`), on the exact model."""
+    optima = {key: optimum for key, optimum in (("best", result.best), ("worst", result.worst)) if optimum is not None}
+    if not optima:
+        return {}
+    with Evaluator(robot, path, evaluation, remote.executor if remote else None) as evaluator:
+        return {key: tolerance_box(evaluator, space, optimum.detail.placement, lower == (key == "best"),
+                                   within_percent / 100) for key, optimum in optima.items()}
 
 
 def duration_line(seconds: float) -> str:

@@ -56,6 +56,7 @@ class Drives:
         reflected_inertia: Rotor and transmission inertia seen at the joint (kg or kg·m²).
         torque_constant_Nm_per_A, resistance_ohm, inductance_H, back_emf_V_s_per_rad: Motor constants.
         max_torque_Nm: Peak motor torque.
+        continuous_torque_Nm: Rated continuous (RMS) motor torque (inf where the drive gives none).
         max_speed_rad_s: Top motor speed (inf where the drive gives none).
         phase_voltage_limit_V: The largest phase voltage the drive applies (inf where it gives no bus voltage).
     """
@@ -70,6 +71,7 @@ class Drives:
     inductance_H: np.ndarray
     back_emf_V_s_per_rad: np.ndarray
     max_torque_Nm: np.ndarray
+    continuous_torque_Nm: np.ndarray
     max_speed_rad_s: np.ndarray
     phase_voltage_limit_V: np.ndarray
 
@@ -92,6 +94,7 @@ class Drives:
                    inductance_H=column([m.inductance_H for m in motors]),
                    back_emf_V_s_per_rad=column([m.back_emf_constant_V_s_per_rad for m in motors]),
                    max_torque_Nm=column([m.max_torque_Nm for m in motors]),
+                   continuous_torque_Nm=column([m.continuous_torque_Nm for m in motors]),
                    max_speed_rad_s=column([m.max_speed_rad_s for m in motors]),
                    phase_voltage_limit_V=column([m.phase_voltage_limit_V for m in motors]))
 

@@ -264,7 +264,16 @@ class Evaluator:
             tool_position_m=batch.tool_position_m[0], position=batch.position[0], velocity=batch.velocity[0],
             acceleration=batch.acceleration[0], effort=batch.effort[0], configuration=batch.joints.q, motor=motor,
             power_W=sample_power(self.robot, motor, samples.t_s, samples.piece), timing=self.path.timing.mode,
-            duration_s=float(np.ptp(samples.t_s) if batch.time_law is None else batch.time_law.duration_s[0]))
+            duration_s=float(np.ptp(samples.t_s) if batch.time_law is None else batch.time_law.duration_s[0]),
+            hold_effort=_hold_effort(self.robot, batch.joints))
+
+
+def _hold_effort(robot: Robot, joints: JointTrajectory) -> np.ndarray:
+    """(n_act,) actuator efforts holding the last sample's configuration still with no external load (gravity)."""
+    last = slice(len(joints) - 1, len(joints))
+    still = np.zeros_like(joints.v[last])
+    return actuator_efforts(robot, JointTrajectory(joints.q[last], still, still, joints.basis[last],
+                                                   joints.task_map[last]), threads=1)[0]
 
 
 @dataclass(frozen=True)

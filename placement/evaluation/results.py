@@ -79,6 +79,8 @@ class PlacementDetail:
         timing: The timing law's name (under "optimal", ``samples`` are timed for this placement).
         duration_s: The time the path takes (inf under the optimal law when no timing keeps every
             limit: ``samples`` then hold still at the feed's times).
+        hold_effort: (n_act,) actuator efforts holding the path's end pose still, the tool out of the
+            cut: gravity alone (N or N·m), for a rest between passes (:mod:`placement.drives.duty`).
     """
 
     placement: np.ndarray
@@ -99,6 +101,7 @@ class PlacementDetail:
     power_W: np.ndarray
     timing: str
     duration_s: float
+    hold_effort: np.ndarray
 
     @property
     def feasible(self) -> bool:

@@ -14,6 +14,9 @@ from typing import Any
 
 import numpy as np
 
+from placement.drives.duty import SECONDS_PER_HOUR, DutyCycle, duty_cycle, rating_status
+from placement.drives.trace import Drives
+from placement.energy.integration import interval_widths
 from placement.evaluation.results import PlacementDetail
 from placement.files import staged
 from placement.limits.base import Margin
@@ -22,6 +25,7 @@ from placement.objectives.base import OBJECTIVES, quantity, wording
 from placement.placing.transform import ANGLES, VARIABLES
 from placement.robot.model import Robot
 from placement.search.optimize import Optimum, PlacementResult
+from placement.search.tolerance import ToleranceBox
 
 
 def format_placement(placement: np.ndarray) -> str:
@@ -30,8 +34,61 @@ def format_placement(placement: np.ndarray) -> str:
                      for name, value in zip(VARIABLES, placement))
 
 
-def format_detail(title: str, robot: Robot, detail: PlacementDetail, recheck_value: float | None = None) -> str:
-    """Text block for one placement: where, objective, energy per actuator and its parts, tightest limits."""
+def placement_duty(robot: Robot, detail: PlacementDetail, rest_s: float = 0.0) -> DutyCycle | None:
+    """The placement's duty cycle with ``rest_s`` (s) between passes (:mod:`placement.drives.duty`), or None when no
+    drive gives a continuous torque or the placement has no timing."""
+    drives = Drives.of(robot)
+    if not detail.reachable or not np.isfinite(detail.duration_s) or not np.isfinite(drives.continuous_torque_Nm).any():
+        return None
+    return duty_cycle(drives, detail.motor.torque_Nm, interval_widths(detail.samples.t_s, detail.samples.piece),
+                      detail.hold_effort, rest_s)
+
+
+def format_duty(robot: Robot, duty: DutyCycle) -> list[str]:
+    """Text lines of a duty cycle: each rated motor's RMS torque against its rating (its source's status where the
+    sidecar gives one), and the cycles per hour."""
+    statuses = rating_status(robot)
+    width = max(14, max(len(a.joint) for a in robot.actuators) + 2)
+    rest = f" + a rest of {duty.rest_s:g} s holding the end pose" if duty.rest_s else " back to back"
+    lines = [f"  duty cycle (RMS motor torque over a pass of {duty.cycle_s:.4f} s{rest}, against the rated "
+             "continuous torque):"]
+    for i, actuator in enumerate(robot.actuators):
+        if np.isfinite(duty.continuous_torque_Nm[i]):
+            lines.append(f"    {actuator.joint:<{width}s}RMS {duty.rms_torque_Nm[i]:.4g} N m = {duty.ratio[i] * 100:.1f} % "
+                         f"of {duty.continuous_torque_Nm[i]:.4g} N m{f' {statuses[i]}' if statuses[i] else ''} "
+                         f"(hold {duty.hold_torque_Nm[i]:.4g} N m)")
+    if duty.cycles_per_hour == 0:
+        lines.append("  cycles per hour: none (a motor's hold torque alone exceeds its rating)")
+    elif duty.limited_by is None:
+        lines.append(f"  at most {duty.cycles_per_hour:.0f} cycles per hour (set by the pass and the rest; every motor "
+                     "stays within its rating)")
+    else:
+        needed = SECONDS_PER_HOUR / duty.cycles_per_hour - duty.cycle_s
+        lines.append(f"  at most {duty.cycles_per_hour:.0f} cycles per hour ({robot.actuators[duty.limited_by].joint} "
+                     f"needs a rest of {needed:.4g} s after each pass to stay within its rating)")
+    return lines
+
+
+def duty_json(robot: Robot, duty: DutyCycle) -> dict[str, Any]:
+    """JSON-ready duty cycle (SI): per actuator RMS torque, rating, ratio and hold torque; cycles per hour."""
+    names = [a.joint for a in robot.actuators]
+
+    def per_actuator(values: np.ndarray) -> dict[str, float | None]:
+        return {name: float(value) if np.isfinite(rated) else None
+                for name, value, rated in zip(names, values, duty.continuous_torque_Nm, strict=True)}
+
+    return {"cycle_s": duty.cycle_s, "rest_s": duty.rest_s, "rms_torque_Nm": dict(zip(names, map(float, duty.rms_torque_Nm))),
+            "continuous_torque_Nm": per_actuator(duty.continuous_torque_Nm), "ratio": per_actuator(duty.ratio),
+            "rating_source": dict(zip(names, rating_status(robot))),
+            "hold_torque_Nm": dict(zip(names, map(float, duty.hold_torque_Nm))),
+            "cycles_per_hour": duty.cycles_per_hour,
+            "limited_by": None if duty.limited_by is None else names[duty.limited_by]}
+
+
+def format_detail(title: str, robot: Robot, detail: PlacementDetail, recheck_value: float | None = None,
+                  rest_s: float = 0.0) -> str:
+    """Text block for one placement: where, objective, energy per actuator and its parts, duty cycle (with ``rest_s``
+    s between passes, where the drives give a continuous torque), tightest limits."""
     lines = [title, f"  {format_placement(detail.placement)}"]
     if not detail.reachable:
         first = detail.unreachable_samples[0]
@@ -58,6 +115,9 @@ def format_detail(title: str, robot: Robot, detail: PlacementDetail, recheck_val
     for i, actuator in enumerate(robot.actuators):
         lines.append(f"    {actuator.joint:<{width}s}{energy.per_actuator_J[i]:>10.4f}{energy.joule_J[i]:>10.4f}"
                      f"{energy.inductive_J[i]:>11.4f}{energy.back_emf_J[i]:>12.4f}{energy.mechanical_J[i]:>10.4f}")
+    duty = placement_duty(robot, detail, rest_s)
+    if duty is not None:
+        lines += format_duty(robot, duty)
     lines.append("  tightest limits (margin: share of the range, speed or torque still free; for a collision, "
                  "clearance beyond the required one, per 100 mm):")
     # Reachability is said above when it fails; a timing that exists needs no line.
@@ -95,15 +155,36 @@ def _recheck_line(optimum: Optimum) -> str:
             f"sample the path more finely (--time-step) if that matters")
 
 
-def format_result(robot: Robot, result: PlacementResult) -> str:
-    """Text report of a search: best and worst placements and the gain."""
+def format_tolerance(box: ToleranceBox, subject: str) -> str:
+    """One line: the tolerance box's half-widths (mm, degrees) and how it was checked."""
+    widths = ", ".join(f"{name} ± {np.degrees(width):.2f} deg" if name in ANGLES else f"{name} ± {width * 1e3:.2f} mm"
+                       for name, width in zip(box.free, box.half_width, strict=True))
+    return (f"  tolerance (every limit holds and the {subject} stays within {box.within * 100:g} % of this placement's "
+            f"throughout the box): {widths} (checked at {box.corners_checked} corners and {box.inside_checked} points "
+            f"inside, "
+            f"{box.evaluations} evaluations)" + ("; ± 0: a limit is already tight at this placement along that variable"
+                                                 if not box.half_width.all() else ""))
+
+
+def tolerance_json(box: ToleranceBox) -> dict[str, Any]:
+    """JSON-ready tolerance box (SI): half-widths per free variable (m, rad)."""
+    return {"within": box.within, "half_width": {name: float(w) for name, w in zip(box.free, box.half_width, strict=True)},
+            "evaluations": box.evaluations, "corners_checked": box.corners_checked,
+            "inside_checked": box.inside_checked}
+
+
+def format_result(robot: Robot, result: PlacementResult, rest_s: float = 0.0,
+                  boxes: dict[str, ToleranceBox] | None = None) -> str:
+    """Text report of a search: best and worst placements, their tolerance boxes where given ({"best"|"worst": box}),
+    and the gain (``rest_s``: rest between passes, s)."""
     words = wording(result.objective)
     blocks = []
-    for title, optimum in ((f"best placement ({words.best} {words.subject})", result.best),
-                           (f"worst placement ({words.worst} {words.subject})", result.worst)):
+    for key, title, optimum in (("best", f"best placement ({words.best} {words.subject})", result.best),
+                                ("worst", f"worst placement ({words.worst} {words.subject})", result.worst)):
         if optimum is not None:
-            blocks.append(format_detail(title, robot, optimum.detail, optimum.recheck_value) + "\n"
-                          + _recheck_line(optimum))
+            box = (boxes or {}).get(key)
+            blocks.append(format_detail(title, robot, optimum.detail, optimum.recheck_value, rest_s) + "\n"
+                          + _recheck_line(optimum) + ("" if box is None else "\n" + format_tolerance(box, words.subject)))
     if result.gain is not None and result.best is not None and result.worst is not None:
         difference = abs(result.worst.detail.value - result.best.detail.value)
         per_pass = " per pass" if words.unit == "J" else ""
@@ -112,8 +193,9 @@ def format_result(robot: Robot, result: PlacementResult) -> str:
     return "\n\n".join(blocks)
 
 
-def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None = None) -> dict[str, Any]:
-    """JSON-ready dictionary of one placement (SI units)."""
+def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None = None,
+                rest_s: float = 0.0) -> dict[str, Any]:
+    """JSON-ready dictionary of one placement (SI units); ``duty`` where the drives give a continuous torque."""
     names = [a.joint for a in robot.actuators]
     objective = OBJECTIVES.get(detail.objective)
     out: dict[str, Any] = {
@@ -129,6 +211,9 @@ def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None =
         "cycle_time_s": detail.duration_s if detail.reachable and np.isfinite(detail.duration_s) else None,
         "margins": [_margin_json(robot, detail, m) for m in detail.margins] if detail.reachable else [],
     }
+    duty = placement_duty(robot, detail, rest_s)
+    if duty is not None:
+        out["duty"] = duty_json(robot, duty)
     if optimum is not None:
         out["objective"]["recheck_value"] = optimum.recheck_value
         out["recheck_tightest"] = {"limit": optimum.recheck_limit, "margin": optimum.recheck_margin}

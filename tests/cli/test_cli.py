@@ -92,6 +92,20 @@ def test_main_job_reports_best_worst_and_gain_and_writes_json_and_trace(tmp_path
     placed, _ = transform_path_to_base(load_path(EXAMPLE).sample(0.004), np.array([list(best.values())]))
     np.testing.assert_allclose(np.array(rows[1:], dtype=float)[:, 1:4], placed.position_m, atol=1e-8)
     assert list(tmp_path.iterdir()) and not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
+    # The duty cycle: the best's RMS motor torques are those of the trace's torque column (trapezoid rule), the
+    # ratio is to the Orthoglide's rating, and nothing but the pass limits the rate (no rest asked for)
+    table = np.array(rows[1:], dtype=float)
+    torque = table[:, [4 + 8 * i + 5 for i in range(3)]]
+    duty = document["best"]["duty"]
+    rms = np.sqrt(np.trapezoid(torque**2, table[:, 0], axis=0) / (table[-1, 0] - table[0, 0]))
+    np.testing.assert_allclose(list(duty["rms_torque_Nm"].values()), rms, rtol=1e-6)
+    np.testing.assert_allclose(list(duty["ratio"].values()), rms / (400 / (3000 * 2 * np.pi / 60)), rtol=1e-6)
+    assert duty["cycles_per_hour"] == pytest.approx(3600 / document["best"]["cycle_time_s"]) and "cycles per hour" in text
+    # The tolerance box of the best placement: positive widths for every free variable, printed in the report
+    assert all(document["best"]["tolerance"]["half_width"][name] > 0 for name in ("x", "y", "z", "phi"))
+    assert text.count("tolerance (every limit holds") == 2
+    for name in ("gcode", "abb", "kuka", "ur", "fanuc"):
+        assert main(["export", str(out_json), "--to", name, "--out", str(tmp_path / f"frame.{name}")]) == 0
 
 
 def test_at_evaluates_one_placement(tmp_path, capsys):
