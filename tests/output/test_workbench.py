@@ -1,0 +1,63 @@
+"""The workbench's model without a page: live readings, the exact value, bounds, choices, a search cancelled."""
+
+import numpy as np
+import pytest
+
+from placement.app.bench import Bench, Choices
+from placement.evaluation.evaluator import Evaluator
+from placement.exceptions import PlacementError
+from placement.path import load_path
+from placement.robot import load_robot
+from tests.support.paths import EXAMPLE
+
+AT = np.array([0.0125, -0.007, -0.02, np.radians(30), 0.0, 0.0])
+
+
+@pytest.fixture(scope="module")
+def bench():
+    bench = Bench(load_robot("orthoglide"), load_path(EXAMPLE))
+    yield bench
+    bench.close()
+
+
+def test_the_exact_value_is_the_at_evaluators(bench):
+    expected = Evaluator(bench.robot, load_path(EXAMPLE)).detail(AT)
+    assert bench.exact(AT).value == expected.value
+
+
+def test_the_live_reading_is_on_the_search_sampling_and_poses_the_robot(bench):
+    reading = bench.live(AT)
+    assert reading.reachable and reading.feasible
+    assert len(reading.t_s) < len(bench.exact_evaluator.samples)  # coarser
+    assert reading.configuration.shape == (len(reading.t_s), bench.robot.model.nq)
+    assert abs(reading.value - bench.exact(AT).value) / bench.exact(AT).value < 0.05
+    assert reading.tightest[0] and np.isfinite(reading.tightest[1])
+
+
+def test_an_unreachable_placement_says_where_it_fails(bench):
+    reading = bench.live(np.array([0.5, 0.5, 0.5, 0.0, 0.0, 0.0]))
+    assert not reading.reachable and not reading.feasible and reading.first_unreachable[0] == 0
+    assert np.isnan(reading.energy_per_actuator_J).all()
+    assert not bench.exact(np.array([0.5, 0.5, 0.5, 0.0, 0.0, 0.0])).reachable
+
+
+def test_clamp_keeps_the_free_variables_in_their_bounds_and_the_others_fixed(bench):
+    clamped = bench.clamp(np.array([1.0, -1.0, 0.0, 4.0, 0.3, 0.2]))
+    space = bench.space
+    assert np.all(clamped[space.indices] <= space.upper) and np.all(clamped[space.indices] >= space.lower)
+    assert clamped[4] == 0.0 and clamped[5] == 0.0  # theta and psi are not free on the Orthoglide
+
+
+def test_bad_input_raises_placement_error_and_changes_nothing(bench):
+    with pytest.raises(PlacementError):
+        bench.live(np.array([np.nan, 0, 0, 0, 0, 0]))
+    with pytest.raises(PlacementError):
+        bench.choose(Choices(regeneration="no such policy"))
+    assert bench.choices == Choices()
+
+
+def test_a_search_is_cancelled_at_once(bench):
+    search = bench.search(best=True, worst=False)
+    search.cancel()
+    assert search.poll() and search.result is None and search.error == "cancelled"
+    assert not search.process.is_alive()
