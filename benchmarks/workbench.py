@@ -6,6 +6,11 @@ same path (examples/rect.yaml), it prints the median and the slowest time of the
 per-actuator energy and the robot's pose at every sample) and of the exact value (``--at``'s), on
 placements drawn at random within the search's bounds, as dragging visits them. The targets are
 50 ms (Orthoglide) and 100 ms (UR5) for a live reading; nothing here is asserted.
+
+``--browser PNG`` also serves the Orthoglide's page, opens it in headless Chromium (selenium and
+chromium-driver), times the round trip from a value typed in a field to the new exact value shown
+in the page, runs Optimise, goes to the best placement and saves the page as PNG (the README's
+``docs/figures/workbench.png``).
 """
 
 from __future__ import annotations
@@ -37,6 +42,7 @@ def timings(call, placements: np.ndarray) -> np.ndarray:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=50, help="placements timed per robot (default 50)")
+    parser.add_argument("--browser", metavar="PNG", help="also time the page in headless Chromium and save it as PNG")
     args = parser.parse_args()
     rng = np.random.default_rng(0)
     path = load_path(EXAMPLE)
@@ -56,6 +62,55 @@ def main() -> None:
               f"at 0: median {np.median(at_zero):.1f} ms); exact "
               f"({len(bench.exact_evaluator.samples)} samples): median {np.median(exact):6.1f} ms")
         bench.close()
+    if args.browser:
+        browser(args.browser)
+
+
+def browser(png: str) -> None:
+    """The page's round trip in headless Chromium, then its screenshot after Optimise and Go to best."""
+    from selenium import webdriver
+    from selenium.webdriver.chrome.service import Service
+    from selenium.webdriver.common.by import By
+    from selenium.webdriver.common.keys import Keys
+
+    from placement.cli import app, build_command_parser
+
+    workbench = app.start(build_command_parser().parse_args(["app", "--robot", "orthoglide", "--path", str(EXAMPLE)]))
+    options = webdriver.ChromeOptions()
+    for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader",
+                 "--use-angle=swiftshader", "--window-size=1500,1000", "--proxy-server=127.0.0.1:9"):
+        options.add_argument(flag)
+    driver = webdriver.Chrome(options=options, service=Service("/usr/bin/chromedriver"))
+    try:
+        driver.get(workbench.url)
+        exact = "return (document.getElementById('exact-value') || {}).textContent"
+        while driver.execute_script(exact) is None:
+            time.sleep(0.05)
+        field = driver.find_element(By.XPATH, "//label[normalize-space()='x (mm)']/following::input[1]")
+        trips = []
+        for k in range(10):
+            before = driver.execute_script(exact)
+            field.send_keys(Keys.CONTROL, "a", Keys.BACKSPACE)
+            start = time.perf_counter()
+            field.send_keys(str(k + 1))  # one keystroke: one update
+            while driver.execute_script(exact) == before:
+                time.sleep(0.002)
+            trips.append((time.perf_counter() - start) * 1e3)
+        print(f"page round trip (typed value -> exact value shown, through viser's websocket): median "
+              f"{np.median(trips):.0f} ms, slowest {max(trips):.0f} ms")
+        driver.find_element(By.XPATH, "//button[normalize-space()='Optimise']").click()
+        while not driver.find_elements(By.ID, "best-value"):
+            time.sleep(0.5)
+        driver.find_element(By.XPATH, "//button[normalize-space()='Go to best']").click()
+        time.sleep(4)
+        for button in driver.find_elements(By.XPATH, "//button[contains(@class, 'CloseButton')]"):
+            button.click()  # the note that WebGL runs in software
+        time.sleep(1)
+        driver.save_screenshot(png)
+        print(f"page after Optimise and Go to best: {png}")
+    finally:
+        driver.quit()
+        workbench.close()
 
 
 if __name__ == "__main__":

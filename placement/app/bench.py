@@ -115,6 +115,14 @@ class Bench:
         out[self.space.indices] = np.clip(values[self.space.indices], self.space.lower, self.space.upper)
         return out
 
+    def start(self) -> np.ndarray:
+        """Where the page starts: the origin (the workspace's reference point) if the bounds hold it, else the
+        middle of the bounds."""
+        zero = self.clamp(np.zeros(6))
+        if np.allclose(zero[self.space.indices], 0.0):
+            return zero
+        return self.clamp(self.space.full((self.space.lower + self.space.upper) / 2)[0])
+
     def live(self, placement: np.ndarray) -> Reading:
         """The placement on the live (coarse) sampling: objective, feasibility, tightest limit, energies, pose."""
         placement = _finite(placement)

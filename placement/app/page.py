@@ -32,7 +32,7 @@ from placement.robot.model import Robot
 from placement.search.optimize import PlacementResult
 from placement.search.space import box_corners
 
-PATH_COLOR, CUBE_COLOR, BEST_COLOR, WORST_COLOR = (0, 112, 255), (48, 48, 48), (0, 176, 80), (224, 0, 0)
+PATH_COLOR, CUBE_COLOR = (0, 176, 80), (48, 48, 48)
 CELL_COLORS = {"tool": (80, 90, 100), "obstacle": (176, 136, 80), "keep_out": (255, 64, 64)}
 CELL_OPACITY = {"tool": 1.0, "obstacle": 0.5, "keep_out": 0.15}
 TIMINGS = ("path file's", "paper", "realistic", "optimal")
@@ -136,7 +136,7 @@ class Workbench:
         self.bench, self.robot = bench, bench.robot
         self.server = viser.ViserServer(host=host, port=port or 8080, verbose=False)
         self.server.gui.configure_theme(control_width="large", show_logo=False)
-        self.placement = bench.clamp(np.zeros(6))
+        self.placement = bench.start()
         self.reading: Reading | None = None
         self.exact_detail: PlacementDetail | None = None
         self.search: Search | None = None
@@ -176,14 +176,14 @@ class Workbench:
         free = set(self.bench.space.free)
         lower, upper = self._bounds()
         self.gizmo = scene.add_transform_controls(
-            "/plane/path", scale=0.12, depth_test=False,
+            "/plane/path", scale=0.08, depth_test=False,
             active_axes=(True, True, True), disable_rotations=not free & set(ANGLES),
             disable_axes=not free & {"x", "y", "z"}, disable_sliders=len(free & {"x", "y", "z"}) < 2,
             translation_limits=tuple((lower[k], upper[k]) for k in range(3)),
             rotation_limits=tuple((lower[k], upper[k]) for k in (5, 4, 3)))
         local = self._path_in_frame()
         segments = np.stack([local[:-1], local[1:]], axis=1)
-        scene.add_line_segments("/plane/path/line", segments, PATH_COLOR, thickness=4, thickness_units="screen")
+        scene.add_line_segments("/plane/path/line", segments, PATH_COLOR, thickness=7, thickness_units="screen")
         self._aim_camera()
         self.gizmo.on_update(self._gizmo_event)
 
