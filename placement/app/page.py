@@ -33,6 +33,7 @@ from placement.search.optimize import PlacementResult
 from placement.search.space import box_corners
 
 PATH_COLOR, CUBE_COLOR = (0, 176, 80), (48, 48, 48)
+ROBOT_OPACITY = 0.6  # the path and the tool point stay in sight inside the moving platform
 CELL_COLORS = {"tool": (80, 90, 100), "obstacle": (176, 136, 80), "keep_out": (255, 64, 64)}
 CELL_OPACITY = {"tool": 1.0, "obstacle": 0.5, "keep_out": 0.15}
 TIMINGS = ("path file's", "paper", "realistic", "optimal")
@@ -85,7 +86,7 @@ class RobotDrawing:
         self.handles: list[tuple[int, Any]] = []
         for k, item in enumerate(self.visual.geometryObjects):
             geometry, color = item.geometry, tuple(int(255 * c) for c in item.meshColor[:3])
-            name, alpha = f"/robot/{k}", opacity.get(k, float(item.meshColor[3]) or 1.0)
+            name, alpha = f"/robot/{k}", opacity.get(k, ROBOT_OPACITY * (float(item.meshColor[3]) or 1.0))
             kind = type(geometry).__name__
             if kind == "Box":
                 handle = scene.add_box(name, color=color, dimensions=tuple(2 * np.asarray(geometry.halfSide)),
@@ -206,7 +207,7 @@ class Workbench:
         direction = np.array([1.0, -1.2, 0.8]) / np.linalg.norm([1.0, -1.2, 0.8])
         camera = self.server.initial_camera
         camera.look_at = tuple(centre)
-        camera.position = tuple(centre + direction * 2.2 * radius)
+        camera.position = tuple(centre + direction * 1.7 * radius)
         camera.up = (0.0, 0.0, 1.0)
 
     def _bounds(self) -> tuple[np.ndarray, np.ndarray]:

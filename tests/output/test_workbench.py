@@ -61,3 +61,26 @@ def test_a_search_is_cancelled_at_once(bench):
     search.cancel()
     assert search.poll() and search.result is None and search.error == "cancelled"
     assert not search.process.is_alive()
+
+
+def test_the_app_serves_on_loopback_only_prints_its_address_and_stops(monkeypatch, capsys):
+    import io
+    import socket
+    import urllib.request
+
+    from placement.cli import app, build_command_parser, main
+
+    workbench = app.start(build_command_parser().parse_args(["app", "--robot", "orthoglide", "--path", str(EXAMPLE)]))
+    try:
+        assert workbench.server.get_host() == "127.0.0.1"  # no other machine can connect
+        with urllib.request.urlopen(workbench.url, timeout=30) as response:
+            assert response.status == 200 and b"<html" in response.read().lower()
+    finally:
+        workbench.close()
+    with socket.socket() as probe:  # nothing listens there any more
+        assert probe.connect_ex(("127.0.0.1", workbench.server.get_port())) != 0
+    monkeypatch.setattr("sys.stdin", io.StringIO("\n"))  # the user presses Enter
+    assert main(["app", "--robot", "orthoglide", "--path", str(EXAMPLE)]) == 0
+    assert "workbench at http://127.0.0.1:" in capsys.readouterr().out
+    assert main(["app", "--robot", "orthoglide", "--path", str(EXAMPLE), "--host", " "]) == 2
+    assert "--host: expected an address" in capsys.readouterr().err
