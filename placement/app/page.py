@@ -369,7 +369,6 @@ class Workbench:
 
     # --- the readings --------------------------------------------------------------------------------------
     def _show_live(self, reading: Reading) -> None:
-        self.reading = reading
         words = wording(self.bench.choices.objective)
         unit = OBJECTIVES.get(self.bench.choices.objective).unit
         if not reading.reachable:
@@ -389,6 +388,7 @@ class Workbench:
                 lines.append(f'<div style="font:12px sans-serif">{html.escape(actuator.joint)} {energy:.3f} J'
                              f'<div style="background:#0070ff;height:8px;width:{width:.1f}%"></div></div>')
         self.live_html.content = "".join(lines)
+        self.reading = reading  # after the text: a reading in place is a reading shown
         self.time.max = max(float(reading.t_s[-1]), 1e-3)
         self._show_time()
 

@@ -1,5 +1,7 @@
 """The workbench's model without a page: live readings, the exact value, bounds, choices, a search cancelled."""
 
+import time
+
 import numpy as np
 import pytest
 
@@ -84,3 +86,40 @@ def test_the_app_serves_on_loopback_only_prints_its_address_and_stops(monkeypatc
     assert "workbench at http://127.0.0.1:" in capsys.readouterr().out
     assert main(["app", "--robot", "orthoglide", "--path", str(EXAMPLE), "--host", " "]) == 2
     assert "--host: expected an address" in capsys.readouterr().err
+
+
+def test_the_gizmo_is_held_to_the_free_variables_and_read_in_the_placement_angles_and_unreachable_is_said():
+    from types import SimpleNamespace
+
+    from placement.app.page import Workbench, _wxyz
+    from placement.placing.transform import rotation_zyx
+
+    workbench = Workbench(Bench(load_robot("orthoglide"), load_path(EXAMPLE)))
+    try:
+        workbench.gizmo.position = (0.0125, -0.007, -0.02)
+        workbench.gizmo.wxyz = tuple(_wxyz(rotation_zyx(np.radians(30), np.radians(10), 0.0)))  # theta is fixed at 0
+        workbench._gizmo_event(SimpleNamespace(phase="end"))  # let go
+        assert np.allclose(workbench.placement, AT, atol=1e-12)
+        assert np.allclose(workbench.gizmo.position, AT[:3]) and np.allclose(
+            workbench.gizmo.wxyz, _wxyz(rotation_zyx(np.radians(30), 0.0, 0.0)))  # the gizmo is put back
+        assert workbench.exact_detail is not None and workbench.exact_detail.value == bench_value(AT)
+        assert workbench.fields["phi"].value == pytest.approx(30.0)
+        workbench.gizmo.position = (5.0, 0.0, 0.0)  # far beyond the workspace: held at its bound
+        workbench._gizmo_event(SimpleNamespace(phase="update"))
+        assert workbench.placement[0] == workbench.bench.space.upper[0]
+        for _ in range(600):  # the live reading of that drag is shown by the page's own thread: wait for it
+            if workbench.reading is not None and np.array_equal(workbench.reading.placement, workbench.placement):
+                break
+            time.sleep(0.05)
+        assert np.array_equal(workbench.reading.placement, workbench.placement)
+        far = np.array([0.5, 0.5, 0.5, 0.0, 0.0, 0.0])  # (beyond the bounds too, as a cell's robot may be)
+        workbench._show_live(workbench.bench.live(far))
+        workbench._show_exact(workbench.bench.exact(far))
+        assert "unreachable" in workbench.live_html.content and "sample 0" in workbench.live_html.content
+        assert "unreachable" in workbench.exact_html.content
+    finally:
+        workbench.close()
+
+
+def bench_value(placement: np.ndarray) -> float:
+    return Evaluator(load_robot("orthoglide"), load_path(EXAMPLE)).detail(placement).value
