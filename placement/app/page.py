@@ -275,6 +275,13 @@ class Workbench:
         with gui.add_folder("Motion"):
             self.time = gui.add_slider("time (s)", min=0.0, max=1.0, step=0.001, initial_value=0.0)
             self.play = gui.add_checkbox("play", False)
+            colors = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b")
+            series = ({"label": "t (s)"},) + tuple(
+                {"label": actuator.joint, "stroke": colors[i % len(colors)], "width": 1.5}
+                for i, actuator in enumerate(self.robot.actuators))
+            empty = tuple(np.zeros(2) for _ in series)
+            self.power_plot = gui.add_uplot(empty, series, title="electric power per actuator (W), exact",
+                                            scales={"x": {"time": False}}, aspect=1.6)
             self.time.on_update(lambda _: self._guard(self._show_time))
             self.play.on_update(lambda _: self._guard(self._start_playing))
 
@@ -394,6 +401,11 @@ class Workbench:
 
     def _show_exact(self, detail: PlacementDetail) -> None:
         self.exact_detail = detail
+        self.power_plot.visible = detail.reachable
+        if detail.reachable:
+            t_s = np.asarray(detail.samples.t_s, dtype=float)
+            self.power_plot.data = (t_s, *(np.asarray(detail.power_W[:, i], dtype=float)
+                                           for i in range(detail.power_W.shape[1])))
         words = wording(detail.objective)
         unit = OBJECTIVES.get(detail.objective).unit
         if not detail.reachable:
