@@ -28,7 +28,7 @@ from placement.path.toolpath import ToolPath
 from placement.robot.model import Robot
 from placement.search.optimize import PlacementResult, SearchSettings, optimize_placement
 from placement.search.space import PlacementSpace, default_space
-from placement.timing.rules import check_timing, override_timing
+from placement.timing.rules import check_timing, override_timing, timing_for
 
 
 @dataclass(frozen=True)
@@ -87,11 +87,13 @@ class Bench:
         self.robot, self.source_path, self.time_step_s, self.search_settings = robot, path, time_step_s, search
         self.space = space or default_space(robot, half_turn=path.half_turn_symmetric())
         self.lock = threading.Lock()  # evaluators are not shared between threads
+        self.note: str | None = None  # why the timing law is not the one chosen (an objective needs another)
         self.choose(choices)
 
     def choose(self, choices: Choices) -> None:
         """Rebuild the evaluators for new choices (a bad combination raises PlacementError and changes nothing)."""
-        path = override_timing(self.source_path, choices.timing)
+        mode, self.note = timing_for([choices.objective], choices.timing, self.source_path)  # as the command line
+        path = override_timing(self.source_path, mode)
         check_timing((choices.objective,), path)
         settings = EvaluatorSettings(objective=choices.objective, regeneration=choices.regeneration,
                                      time_step_s=self.time_step_s)

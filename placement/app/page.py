@@ -258,6 +258,7 @@ class Workbench:
             self.regen = gui.add_dropdown("regeneration", tuple(REGENERATION.names()),
                                           initial_value=self.bench.choices.regeneration)
             self.timing = gui.add_dropdown("timing", TIMINGS, initial_value=self.bench.choices.timing or TIMINGS[0])
+            self.model_note = gui.add_html("")
             for control in (self.objective, self.regen, self.timing):
                 control.on_update(lambda _: self._guard(self._choices_changed))
         with gui.add_folder("Optimise"):
@@ -458,6 +459,8 @@ class Workbench:
             self.objective.value, self.regen.value = old.objective, old.regeneration
             self.timing.value = old.timing or TIMINGS[0]
             raise
+        note = self.bench.note
+        self.model_note.content = f'<p id="model-note">note: {html.escape(note)}</p>' if note else ""
         self.optima.clear()
         self.best_button.visible = self.worst_button.visible = False
         self.optima_html.content = ""

@@ -123,3 +123,16 @@ def test_the_gizmo_is_held_to_the_free_variables_and_read_in_the_placement_angle
 
 def bench_value(placement: np.ndarray) -> float:
     return Evaluator(load_robot("orthoglide"), load_path(EXAMPLE)).detail(placement).value
+
+
+def test_an_objective_that_needs_the_optimal_law_takes_it_as_the_command_line_does():
+    bench = Bench(load_robot("orthoglide"), load_path(EXAMPLE), choices=Choices(objective="cycle_time"))
+    try:
+        assert bench.path.timing.mode == "optimal" and "optimal" in (bench.note or "")
+        reading = bench.live(np.zeros(6))
+        assert reading.feasible and 0 < reading.value < bench.exact(np.zeros(6)).value * 1.05
+        with pytest.raises(PlacementError, match="optimal"):
+            bench.choose(Choices(objective="cycle_time", timing="paper"))
+        assert bench.choices.objective == "cycle_time"  # unchanged
+    finally:
+        bench.close()
