@@ -207,7 +207,7 @@ class Workbench:
         direction = np.array([1.0, -1.2, 0.8]) / np.linalg.norm([1.0, -1.2, 0.8])
         camera = self.server.initial_camera
         camera.look_at = tuple(centre)
-        camera.position = tuple(centre + direction * 1.7 * radius)
+        camera.position = tuple(centre + direction * 2.0 * radius)
         camera.up = (0.0, 0.0, 1.0)
 
     def _bounds(self) -> tuple[np.ndarray, np.ndarray]:
