@@ -9,6 +9,7 @@
     placement calibrate ROBOT --log LOG --fit NAMES            fit drive constants to measurements
     placement study --robots A,B --paths P Q --out study.csv   every path on every robot, one table
     placement export RESULT.json --to kuka [--out FILE]        a placement as a controller's work frame
+    placement app --robot orthoglide --path rect.yaml          the workbench in the browser (:mod:`placement.cli.app`)
 
 Exit codes: 0 success, 1 a physics check failed, 2 bad input or no feasible placement (the
 message says what and where), 130 interrupted. ``--debug`` anywhere on the line shows the
@@ -21,12 +22,12 @@ import argparse
 import sys
 import warnings
 
-from placement.cli import assemble, calibrate, check, export, feed, place, robots, study
+from placement.cli import app, assemble, calibrate, check, export, feed, place, robots, study
 from placement.cli import map as map_command
 from placement.exceptions import PlacementError
 
 SUBCOMMANDS = {"robots": robots, "check": check, "map": map_command, "feed": feed, "calibrate": calibrate,
-               "assemble": assemble, "study": study, "export": export}
+               "assemble": assemble, "study": study, "export": export, "app": app}
 
 
 def build_command_parser() -> argparse.ArgumentParser:

@@ -1,0 +1,117 @@
+"""How live the workbench is: one evaluation while the path is dragged, and the exact one on release.
+
+Run: ``python benchmarks/workbench.py [--repeats N]``. For the Orthoglide groove and the UR5 on the
+same path (examples/rect.yaml), it prints the median and the slowest time of the live reading
+(:meth:`placement.app.bench.Bench.live`: the search's coarse sampling, feasibility, tightest limit,
+per-actuator energy and the robot's pose at every sample) and of the exact value (``--at``'s), on
+placements drawn at random within the search's bounds, as dragging visits them. The targets are
+50 ms (Orthoglide) and 100 ms (UR5) for a live reading; nothing here is asserted.
+
+``--browser PNG`` also serves the Orthoglide's page, opens it in headless Chromium (selenium and
+chromium-driver), times the round trip from a value typed in a field to the new exact value shown
+in the page, runs Optimise, goes to the best placement and saves the page as PNG (the README's
+``docs/figures/workbench.png``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+import numpy as np
+
+from placement.app.bench import Bench
+from placement.path.load import load_path
+from placement.robot import load_robot
+
+EXAMPLE = Path(__file__).parents[1] / "examples" / "rect.yaml"
+TARGETS_MS = {"orthoglide": 50.0, "ur5": 100.0}
+
+
+def timings(call, placements: np.ndarray) -> np.ndarray:
+    """Milliseconds of ``call`` at each placement."""
+    out = []
+    for placement in placements:
+        start = time.perf_counter()
+        call(placement)
+        out.append((time.perf_counter() - start) * 1e3)
+    return np.array(out)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=50, help="placements timed per robot (default 50)")
+    parser.add_argument("--browser", metavar="PNG", help="also time the page in headless Chromium and save it as PNG")
+    args = parser.parse_args()
+    rng = np.random.default_rng(0)
+    path = load_path(EXAMPLE)
+    for name, target in TARGETS_MS.items():
+        bench = Bench(load_robot(name), path)
+        space = bench.space
+        placements = space.full(space.lower + rng.random((args.repeats, len(space.free))) * (space.upper - space.lower))
+        bench.live(placements[0])  # compiles and warms what a first call loads
+        bench.exact(placements[0])
+        live = timings(bench.live, placements)
+        feasible = sum(bench.live(p).feasible for p in placements)
+        at_zero = timings(bench.live, np.repeat(bench.clamp(np.zeros(6))[None], max(5, args.repeats // 5), axis=0))
+        exact = timings(bench.exact, placements[: max(5, args.repeats // 5)])
+        samples = len(bench.live_evaluator.samples)
+        print(f"{name:<11s} live ({samples} samples): median {np.median(live):6.1f} ms, slowest {live.max():6.1f} ms "
+              f"(target {target:.0f} ms: {'met' if live.max() <= target else 'MISSED'}; {feasible}/{len(live)} feasible; "
+              f"at 0: median {np.median(at_zero):.1f} ms); exact "
+              f"({len(bench.exact_evaluator.samples)} samples): median {np.median(exact):6.1f} ms")
+        bench.close()
+    if args.browser:
+        browser(args.browser)
+
+
+def browser(png: str) -> None:
+    """The page's round trip in headless Chromium, then its screenshot after Optimise and Go to best."""
+    from selenium import webdriver
+    from selenium.webdriver.chrome.service import Service
+    from selenium.webdriver.common.by import By
+    from selenium.webdriver.common.keys import Keys
+
+    from placement.cli import app, build_command_parser
+
+    workbench = app.start(build_command_parser().parse_args(["app", "--robot", "orthoglide", "--path", str(EXAMPLE)]))
+    options = webdriver.ChromeOptions()
+    for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader",
+                 "--use-angle=swiftshader", "--window-size=1500,1000", "--proxy-server=127.0.0.1:9"):
+        options.add_argument(flag)
+    driver = webdriver.Chrome(options=options, service=Service("/usr/bin/chromedriver"))
+    try:
+        driver.get(workbench.url)
+        exact = "return (document.getElementById('exact-value') || {}).textContent"
+        while driver.execute_script(exact) is None:
+            time.sleep(0.05)
+        field = driver.find_element(By.XPATH, "//label[normalize-space()='x (mm)']/following::input[1]")
+        trips = []
+        for k in range(10):
+            before = driver.execute_script(exact)
+            field.send_keys(Keys.CONTROL, "a", Keys.BACKSPACE)
+            start = time.perf_counter()
+            field.send_keys(str(k + 1))  # one keystroke: one update
+            while driver.execute_script(exact) == before:
+                time.sleep(0.002)
+            trips.append((time.perf_counter() - start) * 1e3)
+        print(f"page round trip (typed value -> exact value shown, through viser's websocket): median "
+              f"{np.median(trips):.0f} ms, slowest {max(trips):.0f} ms")
+        driver.find_element(By.XPATH, "//button[normalize-space()='Optimise']").click()
+        while not driver.find_elements(By.ID, "best-value"):
+            time.sleep(0.5)
+        driver.find_element(By.XPATH, "//button[normalize-space()='Go to best']").click()
+        time.sleep(4)
+        for button in driver.find_elements(By.XPATH, "//button[contains(@class, 'CloseButton')]"):
+            button.click()  # the note that WebGL runs in software
+        time.sleep(1)
+        driver.save_screenshot(png)
+        print(f"page after Optimise and Go to best: {png}")
+    finally:
+        driver.quit()
+        workbench.close()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,1 @@
+"""The workbench: the placement of one path on one robot, live in the browser (``python -m placement app``)."""

@@ -1,0 +1,528 @@
+"""The workbench's page (viser): the robot, its cell and workspace, the placed path with a gizmo, and the numbers.
+
+Every number on the page comes from :class:`placement.app.bench.Bench`: while the path's gizmo is
+dragged, readings on the search's coarse sampling (objective, feasibility, tightest limit,
+per-actuator energy, the robot posed along the path); on release, or when a value is typed, the
+exact value at the path's own sampling, the number ``--at`` prints. Whatever the user types that
+is not valid is answered by a message in the page; the server goes on.
+"""
+
+from __future__ import annotations
+
+import functools
+import html
+import threading
+import time
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+import viser
+
+from placement.app.bench import Bench, Choices, Reading, Search
+from placement.cell.geometry import package_dirs
+from placement.energy.regeneration import REGENERATION
+from placement.evaluation.results import PlacementDetail
+from placement.exceptions import PlacementError
+from placement.limits.collision import collision_scene
+from placement.objectives.base import OBJECTIVES, quantity, wording
+from placement.placing.transform import ANGLES, VARIABLES, placement_pose
+from placement.robot.model import Robot
+from placement.search.optimize import PlacementResult
+from placement.search.space import box_corners
+
+PATH_COLOR, CUBE_COLOR = (0, 176, 80), (48, 48, 48)
+ROBOT_OPACITY = 0.6  # the path and the tool point stay in sight inside the moving platform
+CELL_COLORS = {"tool": (80, 90, 100), "obstacle": (176, 136, 80), "keep_out": (255, 64, 64)}
+CELL_OPACITY = {"tool": 1.0, "obstacle": 0.5, "keep_out": 0.15}
+TIMINGS = ("path file's", "paper", "realistic", "optimal")
+DIRECTIONS = ("best", "worst", "both")
+
+
+def _wxyz(rotation: np.ndarray) -> np.ndarray:
+    """A rotation matrix as viser's quaternion (w, x, y, z)."""
+    quaternion = pin.Quaternion(np.asarray(rotation, dtype=float))
+    return np.array([quaternion.w, quaternion.x, quaternion.y, quaternion.z])
+
+
+def _rotation(wxyz: np.ndarray) -> np.ndarray:
+    w, x, y, z = (float(v) for v in wxyz)
+    return pin.Quaternion(w, x, y, z).normalized().toRotationMatrix()
+
+
+def unit_value(name: str, value: float) -> float:
+    """A placement variable (m, rad) as the page shows it (mm, degrees)."""
+    return float(np.degrees(value)) if name in ANGLES else float(value) * 1e3
+
+
+def si_value(name: str, shown: float) -> float:
+    """A value typed in the page (mm, degrees) in SI units (m, rad)."""
+    return float(np.radians(shown)) if name in ANGLES else float(shown) / 1e3
+
+
+class RobotDrawing:
+    """The robot's URDF visuals (and its cell's shapes, as they are checked) as viser meshes, posed by q."""
+
+    def __init__(self, server: viser.ViserServer, robot: Robot) -> None:
+        import trimesh
+
+        self.robot = robot
+        self.model = robot.model
+        self.visual = pin.buildGeomFromUrdf(robot.model, str(robot.urdf_path), pin.GeometryType.VISUAL,
+                                            package_dirs=package_dirs(robot))
+        opacity: dict[int, float] = {}
+        scene: Any = server.scene  # viser's own annotations are narrower than what it takes
+        if robot.cell is not None or robot.tool is not None:
+            scene = collision_scene(robot)
+            for body in scene.bodies:
+                if body.kind == "link":
+                    continue
+                for index in body.objects:
+                    item = scene.geometry_model.geometryObjects[index].copy()
+                    item.meshColor = np.array([c / 255 for c in CELL_COLORS[body.kind]] + [CELL_OPACITY[body.kind]])
+                    opacity[self.visual.addGeometryObject(item)] = CELL_OPACITY[body.kind]
+        self.data, self.geometry_data = self.model.createData(), self.visual.createData()
+        self.handles: list[tuple[int, Any]] = []
+        for k, item in enumerate(self.visual.geometryObjects):
+            geometry, color = item.geometry, tuple(int(255 * c) for c in item.meshColor[:3])
+            name, alpha = f"/robot/{k}", opacity.get(k, ROBOT_OPACITY * (float(item.meshColor[3]) or 1.0))
+            kind = type(geometry).__name__
+            if kind == "Box":
+                handle = scene.add_box(name, color=color, dimensions=tuple(2 * np.asarray(geometry.halfSide)),
+                                              opacity=alpha)
+            elif kind == "Cylinder":
+                handle = scene.add_cylinder(name, radius=geometry.radius, height=2 * geometry.halfLength,
+                                                   color=color, opacity=alpha)
+            elif kind == "Sphere":
+                handle = scene.add_icosphere(name, radius=geometry.radius, color=color, opacity=alpha)
+            elif item.meshPath and not item.meshPath.startswith("BV"):
+                mesh: Any = trimesh.load(item.meshPath, force="mesh")
+                mesh.apply_scale(np.asarray(item.meshScale))
+                handle = scene.add_mesh_simple(name, np.asarray(mesh.vertices, dtype=np.float32),
+                                                      np.asarray(mesh.faces, dtype=np.uint32), color=color,
+                                                      opacity=alpha)
+            else:  # a convex hull or another shape of the collision scene: its vertices' hull
+                try:
+                    points = np.array([geometry.points(i) for i in range(geometry.num_points)])
+                    hull = trimesh.Trimesh(points).convex_hull
+                    handle = scene.add_mesh_simple(name, np.asarray(hull.vertices, dtype=np.float32),
+                                                          np.asarray(hull.faces, dtype=np.uint32), color=color,
+                                                          opacity=alpha)
+                except (AttributeError, RuntimeError, ValueError, IndexError):
+                    continue
+            self.handles.append((k, handle))
+        self.pose(robot.reference_q)
+
+    def pose(self, q: np.ndarray) -> None:
+        """Place every drawn body at the configuration q."""
+        pin.forwardKinematics(self.model, self.data, np.asarray(q, dtype=float))
+        pin.updateGeometryPlacements(self.model, self.data, self.visual, self.geometry_data)
+        for k, handle in self.handles:
+            placement = self.geometry_data.oMg[k]
+            handle.position = tuple(placement.translation)
+            handle.wxyz = tuple(_wxyz(placement.rotation))
+
+
+class Workbench:
+    """The page of one bench: built on a viser server, updated from the bench's evaluations.
+
+    Args:
+        bench: The model.
+        host: Address to listen on (127.0.0.1: this machine only).
+        port: Port (0: the first free one from 8080).
+    """
+
+    def __init__(self, bench: Bench, host: str = "127.0.0.1", port: int = 0) -> None:
+        self.bench, self.robot = bench, bench.robot
+        self.server = viser.ViserServer(host=host, port=port or 8080, verbose=False)
+        self.server.gui.configure_theme(control_width="large", show_logo=False)
+        self.placement = bench.start()
+        self.reading: Reading | None = None
+        self.exact_detail: PlacementDetail | None = None
+        self.search: Search | None = None
+        self.optima: dict[str, PlacementDetail] = {}
+        self._syncing = False
+        self._wanted: np.ndarray | None = None  # the latest placement asked for a live reading
+        self._wake = threading.Condition()
+        self._closed = False
+        self._draw_scene()
+        self._build_gui()
+        threading.Thread(target=self._live_loop, daemon=True).start()
+        self.set_placement(self.placement, exact=True)
+
+    @property
+    def url(self) -> str:
+        """The page's address."""
+        host = self.server.get_host()
+        return f"http://{host if ':' not in host else f'[{host}]'}:{self.server.get_port()}/"
+
+    # --- the scene -------------------------------------------------------------------------------------
+    def _draw_scene(self) -> None:
+        scene: Any = self.server.scene
+        scene.set_up_direction("+z")
+        self.drawing = RobotDrawing(self.server, self.robot)
+        workspace = self.robot.workspace
+        if workspace is not None:
+            self._wire_box("/workspace/cube", np.array(workspace.min_m), np.array(workspace.max_m), CUBE_COLOR)
+            radius = 0.02 * float(np.max(np.subtract(workspace.max_m, workspace.min_m)))
+            for name, point in workspace.points_m.items():
+                scene.add_icosphere(f"/workspace/{name}", radius=radius, color=(31, 119, 180), position=tuple(point))
+                scene.add_label(f"/workspace/{name}/label", name.replace("_plus", "+").replace("_minus", "-"))
+        region = self.robot.cell.workpiece_region if self.robot.cell is not None else None
+        if region is not None:
+            self._wire_box("/cell/workpiece_region", np.array(region.min_m), np.array(region.max_m), (32, 128, 192))
+        turn, origin = placement_pose(np.zeros(6), self.robot.plane)
+        self.plane_frame = scene.add_frame("/plane", show_axes=False, position=tuple(origin[0]), wxyz=_wxyz(turn[0]))
+        free = set(self.bench.space.free)
+        lower, upper = self._bounds()
+        self.gizmo = scene.add_transform_controls(
+            "/plane/path", scale=0.08, depth_test=False,
+            active_axes=(True, True, True), disable_rotations=not free & set(ANGLES),
+            disable_axes=not free & {"x", "y", "z"}, disable_sliders=len(free & {"x", "y", "z"}) < 2,
+            translation_limits=tuple((lower[k], upper[k]) for k in range(3)),
+            rotation_limits=tuple((lower[k], upper[k]) for k in (5, 4, 3)))
+        local = self._path_in_frame()
+        segments = np.stack([local[:-1], local[1:]], axis=1)
+        scene.add_line_segments("/plane/path/line", segments, PATH_COLOR, thickness=7, thickness_units="screen")
+        self._aim_camera()
+        self.gizmo.on_update(self._gizmo_event)
+
+    def _gizmo_event(self, event: object) -> None:
+        """Live readings while the gizmo moves; the exact value when it is let go."""
+        self._guard(self._gizmo_moved)
+        if getattr(event, "phase", None) == "end":
+            self._guard(lambda: self.set_placement(self.placement, exact=True, move_gizmo=False))
+
+    def _aim_camera(self) -> None:
+        """The first view looks at the centre of the robot and its workspace, from far enough to see them whole."""
+        data = self.drawing.data
+        points = [np.array([placement.translation for placement in self.drawing.geometry_data.oMg]),
+                  np.array([frame.translation for frame in data.oMi])]
+        if self.robot.workspace is not None:
+            points.append(box_corners(self.robot.workspace.min_m, self.robot.workspace.max_m))
+        cloud = np.vstack(points)
+        low, high = cloud.min(axis=0), cloud.max(axis=0)
+        centre, radius = (low + high) / 2, max(float(np.linalg.norm(high - low)) / 2, 0.05)
+        direction = np.array([1.0, -1.2, 0.8]) / np.linalg.norm([1.0, -1.2, 0.8])
+        camera = self.server.initial_camera
+        camera.look_at = tuple(centre)
+        camera.position = tuple(centre + direction * 2.0 * radius)
+        camera.up = (0.0, 0.0, 1.0)
+
+    def _bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """Each variable's bounds (fixed ones: their value), m and rad."""
+        space = self.bench.space
+        lower, upper = np.array(space.fixed, dtype=float), np.array(space.fixed, dtype=float)
+        lower[space.indices], upper[space.indices] = space.lower, space.upper
+        return lower, upper
+
+    def _path_in_frame(self) -> np.ndarray:
+        """The path's samples in its own frame (m)."""
+        zero = np.zeros(6)
+        points = self.bench.live(zero).tool_position_m
+        turn, origin = placement_pose(zero, self.robot.plane)
+        return (points - origin[0]) @ turn[0]
+
+    def _wire_box(self, name: str, low: np.ndarray, high: np.ndarray, color: tuple[int, int, int]) -> None:
+        corners = box_corners(low, high)
+        edges = [(i, j) for i in range(8) for j in range(i + 1, 8) if bin(i ^ j).count("1") == 1]
+        self.server.scene.add_line_segments(name, np.array([[corners[i], corners[j]] for i, j in edges]), color,
+                                            thickness=2, thickness_units="screen")
+
+    # --- the controls ----------------------------------------------------------------------------------
+    def _build_gui(self) -> None:
+        gui: Any = self.server.gui  # handles whose values are set by the page too
+        path, robot = self.bench.path, self.robot
+        gui.add_markdown(f"**{html.escape(robot.name)}**: {html.escape(path.name)}")
+        lower, upper = self._bounds()
+        self.fields: dict[str, Any] = {}
+        with gui.add_folder("Placement (mm, degrees)"):
+            for k, name in enumerate(VARIABLES):
+                unit = "deg" if name in ANGLES else "mm"
+                field = gui.add_number(f"{name} ({unit})", round(unit_value(name, self.placement[k]), 6),
+                                       min=round(unit_value(name, lower[k]), 6), max=round(unit_value(name, upper[k]), 6),
+                                       step=0.01, disabled=name not in self.bench.space.free)
+                field.on_update(lambda _, name=name: self._guard(lambda: self._field_changed()))
+                self.fields[name] = field
+            self.at_text = gui.add_text("--at", "", hint="a placement as --at takes it: x=0,y=0,z=-20,phi=30 (mm, deg)")
+            self.at_button = gui.add_button("Evaluate")
+            self.at_button.on_click(lambda _: self._guard(self._at_given))
+        self.message = gui.add_html("")
+        with gui.add_folder("Live (coarse sampling)"):
+            self.live_html = gui.add_html("")
+        with gui.add_folder("Exact (the path's own sampling)"):
+            self.exact_html = gui.add_html("")
+        with gui.add_folder("Model"):
+            self.objective = gui.add_dropdown("objective", tuple(OBJECTIVES.names()), initial_value=self.bench.choices.objective)
+            self.regen = gui.add_dropdown("regeneration", tuple(REGENERATION.names()),
+                                          initial_value=self.bench.choices.regeneration)
+            self.timing = gui.add_dropdown("timing", TIMINGS, initial_value=self.bench.choices.timing or TIMINGS[0])
+            self.model_note = gui.add_html("")
+            for control in (self.objective, self.regen, self.timing):
+                control.on_update(lambda _: self._guard(self._choices_changed))
+        with gui.add_folder("Optimise"):
+            self.direction = gui.add_dropdown("direction", DIRECTIONS, initial_value="both")
+            self.optimise_button = gui.add_button("Optimise")
+            self.cancel_button = gui.add_button("Cancel", disabled=True)
+            self.progress = gui.add_progress_bar(0.0, visible=False)
+            self.optima_html = gui.add_html("")
+            self.best_button = gui.add_button("Go to best", visible=False)
+            self.worst_button = gui.add_button("Go to worst", visible=False)
+            self.optimise_button.on_click(lambda _: self._guard(self._optimise))
+            self.cancel_button.on_click(lambda _: self._guard(self._cancel))
+            self.best_button.on_click(lambda _: self._guard(lambda: self._go_to("best")))
+            self.worst_button.on_click(lambda _: self._guard(lambda: self._go_to("worst")))
+        with gui.add_folder("Motion"):
+            self.time = gui.add_slider("time (s)", min=0.0, max=1.0, step=0.001, initial_value=0.0)
+            self.play = gui.add_checkbox("play", False)
+            colors = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b")
+            series = ({"label": "t (s)"},) + tuple(
+                {"label": actuator.joint, "stroke": colors[i % len(colors)], "width": 1.5}
+                for i, actuator in enumerate(self.robot.actuators))
+            empty = tuple(np.zeros(2) for _ in series)
+            self.power_plot = gui.add_uplot(empty, series, title="electric power per actuator (W), exact",
+                                            scales={"x": {"time": False}}, aspect=1.6)
+            self.time.on_update(lambda _: self._guard(self._show_time))
+            self.play.on_update(lambda _: self._guard(self._start_playing))
+
+    def _guard(self, action: Callable[[], None]) -> None:
+        """Run a page action; what goes wrong is said in the page, and the server goes on."""
+        try:
+            action()
+            self.message.content = ""
+        except PlacementError as error:
+            self.message.content = f'<p id="message" style="color:#c00">{html.escape(str(error))}</p>'
+        except Exception as error:  # the last resort: the page says it, the server lives
+            text = " ".join(str(error).split())[:300]
+            self.message.content = f'<p id="message" style="color:#c00">unexpected {type(error).__name__}: ' \
+                                   f"{html.escape(text)}</p>"
+
+    # --- placements --------------------------------------------------------------------------------------
+    def set_placement(self, placement: np.ndarray, exact: bool, move_gizmo: bool = True) -> None:
+        """Go to a placement (clamped to the free variables' bounds): the fields, the gizmo, the readings."""
+        self.placement = self.bench.clamp(placement)
+        self._syncing = True
+        try:
+            for k, name in enumerate(VARIABLES):
+                self.fields[name].value = round(unit_value(name, self.placement[k]), 6)
+            if move_gizmo:
+                self.gizmo.position = tuple(self.placement[:3])
+                self.gizmo.wxyz = tuple(_wxyz(placement_pose(self.placement)[0][0]))
+        finally:
+            self._syncing = False
+        self._show_live(self.bench.live(self.placement))
+        if exact:
+            self._show_exact(self.bench.exact(self.placement))
+
+    def _gizmo_moved(self) -> None:
+        if self._syncing:
+            return
+        rotation = _rotation(self.gizmo.wxyz)
+        psi, theta, phi = pin.rpy.matrixToRpy(rotation)  # R = Rz(phi) Ry(theta) Rx(psi)
+        wanted = np.array([*self.gizmo.position, phi, theta, psi], dtype=float)
+        self.placement = self.bench.clamp(wanted)
+        if not np.allclose(self.placement, wanted, atol=1e-9):  # held within the free variables and their bounds
+            self._syncing = True
+            self.gizmo.position = tuple(self.placement[:3])
+            self.gizmo.wxyz = tuple(_wxyz(placement_pose(self.placement)[0][0]))
+            self._syncing = False
+        with self._wake:
+            self._wanted = self.placement.copy()
+            self._wake.notify()
+
+    def _live_loop(self) -> None:
+        """Evaluate the latest dragged placement, never a backlog of stale ones."""
+        while not self._closed:
+            with self._wake:
+                while self._wanted is None and not self._closed:
+                    self._wake.wait(0.5)
+                wanted, self._wanted = self._wanted, None
+            if wanted is None:
+                continue
+            self._guard(functools.partial(self._dragged_to, wanted))
+
+    def _dragged_to(self, placement: np.ndarray) -> None:
+        self._syncing = True
+        try:
+            for k, name in enumerate(VARIABLES):
+                self.fields[name].value = round(unit_value(name, placement[k]), 6)
+        finally:
+            self._syncing = False
+        self._show_live(self.bench.live(placement))
+
+    def _field_changed(self) -> None:
+        if self._syncing:
+            return
+        values = np.array([si_value(name, float(self.fields[name].value)) for name in VARIABLES])
+        self.set_placement(values, exact=True)
+
+    def _at_given(self) -> None:
+        from placement.cli.common import parse_values
+
+        text = self.at_text.value.strip()
+        given = parse_values(text, "--at")
+        if not given:
+            raise PlacementError("--at: give at least one value, e.g. x=0,phi=30")
+        fixed = [name for name in given if name not in self.bench.space.free
+                 and given[name] != self.bench.space.fixed[VARIABLES.index(name)]]
+        if fixed:
+            raise PlacementError(f"--at: {', '.join(fixed)} is fixed here (free: {', '.join(self.bench.space.free)})")
+        placement = np.array([given.get(name, 0.0) for name in VARIABLES])
+        clamped = self.bench.clamp(placement)
+        if not np.allclose(clamped, placement, atol=1e-12):
+            outside = [name for k, name in enumerate(VARIABLES) if abs(clamped[k] - placement[k]) > 1e-12]
+            raise PlacementError(f"--at: {', '.join(outside)} outside the bounds of the search (see the fields' limits)")
+        self.set_placement(placement, exact=True)
+
+    # --- the readings --------------------------------------------------------------------------------------
+    def _show_live(self, reading: Reading) -> None:
+        words = wording(self.bench.choices.objective)
+        unit = OBJECTIVES.get(self.bench.choices.objective).unit
+        if not reading.reachable:
+            sample, t = reading.first_unreachable
+            lines = [f'<p id="live-state" style="color:#c00"><b>unreachable</b>: sample {sample} (t = {t:.4f} s) has no '
+                     "configuration; the robot is drawn where it last could be</p>"]
+        else:
+            state = "feasible" if reading.feasible else "INFEASIBLE"
+            label, margin = reading.tightest
+            lines = [f'<p id="live-value">{html.escape(words.subject)} {html.escape(quantity(reading.value, unit))} '
+                     f'<b style="color:{"#080" if reading.feasible else "#c00"}">{state}</b></p>',
+                     f'<p id="live-tightest">tightest: {html.escape(label)}, margin {margin * 100:.1f} %</p>']
+            energies = reading.energy_per_actuator_J
+            top = max(float(np.nanmax(np.abs(energies))), 1e-12)
+            for actuator, energy in zip(self.robot.actuators, energies):
+                width = 100 * abs(float(energy)) / top
+                lines.append(f'<div style="font:12px sans-serif">{html.escape(actuator.joint)} {energy:.3f} J'
+                             f'<div style="background:#0070ff;height:8px;width:{width:.1f}%"></div></div>')
+        self.live_html.content = "".join(lines)
+        self.reading = reading  # after the text: a reading in place is a reading shown
+        self.time.max = max(float(reading.t_s[-1]), 1e-3)
+        self._show_time()
+
+    def _show_exact(self, detail: PlacementDetail) -> None:
+        self.exact_detail = detail
+        self.power_plot.visible = detail.reachable
+        if detail.reachable:
+            t_s = np.asarray(detail.samples.t_s, dtype=float)
+            self.power_plot.data = (t_s, *(np.asarray(detail.power_W[:, i], dtype=float)
+                                           for i in range(detail.power_W.shape[1])))
+        words = wording(detail.objective)
+        unit = OBJECTIVES.get(detail.objective).unit
+        if not detail.reachable:
+            first = int(detail.unreachable_samples[0])
+            self.exact_html.content = (f'<p id="exact-state" style="color:#c00">unreachable: {len(detail.unreachable_samples)} '
+                                       f"of {len(detail.samples)} samples have no configuration (first at t = "
+                                       f"{detail.samples.t_s[first]:.4f} s)</p>")
+            return
+        tight = min(detail.margins, key=lambda m: m.margin, default=None)
+        where = f"{tight.kind} {tight.where}, margin {tight.margin * 100:.1f} %" if tight is not None else "none"
+        self.exact_html.content = (
+            f'<p>{html.escape(words.subject)} <b><span id="exact-value">{detail.value!r}</span></b> {html.escape(unit)}'
+            f' ({"feasible" if detail.feasible else "INFEASIBLE"})</p>'
+            + ("" if detail.objective == "energy" else
+               f'<p>energy <span id="exact-energy">{float(detail.energy.total_J)!r}</span> J</p>') +
+            f"<p>tightest: {html.escape(where)}</p>")
+
+    def _show_time(self) -> None:
+        reading = self.reading
+        if reading is None:
+            return
+        index = int(np.clip(np.searchsorted(reading.t_s, float(self.time.value)), 0, len(reading.t_s) - 1))
+        if not reading.reachable and reading.first_unreachable[0] >= 0:
+            index = max(0, min(index, reading.first_unreachable[0] - 1))
+            if reading.first_unreachable[0] == 0:
+                self.drawing.pose(self.robot.reference_q)
+                return
+        self.drawing.pose(reading.configuration[index])
+
+    def _start_playing(self) -> None:
+        if self.play.value:
+            threading.Thread(target=self._play, daemon=True).start()
+
+    def _play(self) -> None:
+        start = time.monotonic()
+        while self.play.value and not self._closed:
+            reading = self.reading
+            if reading is not None:
+                self.time.value = float((time.monotonic() - start) % max(float(reading.t_s[-1]), 1e-3))
+            time.sleep(1 / 30)
+
+    # --- choices and searches ----------------------------------------------------------------------------------
+    def _choices_changed(self) -> None:
+        timing = None if self.timing.value == TIMINGS[0] else self.timing.value
+        choices = Choices(objective=self.objective.value, regeneration=self.regen.value, timing=timing)
+        try:
+            self.bench.choose(choices)
+        except PlacementError:
+            old = self.bench.choices
+            self.objective.value, self.regen.value = old.objective, old.regeneration
+            self.timing.value = old.timing or TIMINGS[0]
+            raise
+        note = self.bench.note
+        self.model_note.content = f'<p id="model-note">note: {html.escape(note)}</p>' if note else ""
+        self.optima.clear()
+        self.best_button.visible = self.worst_button.visible = False
+        self.optima_html.content = ""
+        self.set_placement(self.placement, exact=True)
+
+    def _optimise(self) -> None:
+        if self.search is not None:
+            raise PlacementError("a search is running: wait for it or cancel it")
+        direction = self.direction.value
+        search = self.search = self.bench.search(best=direction in ("best", "both"), worst=direction in ("worst", "both"))
+        self.optimise_button.disabled, self.cancel_button.disabled = True, False
+        self.progress.value, self.progress.visible = 0.0, True
+        self.optima_html.content = '<p id="search-state">searching...</p>'
+        threading.Thread(target=self._follow, args=(search,), daemon=True).start()
+
+    def _follow(self, search: Search) -> None:
+        def shown(done: int, total: int) -> None:
+            self.progress.value = 100.0 * min(done, total) / max(total, 1)
+
+        search.wait(shown)
+        self.search = None
+        self.optimise_button.disabled, self.cancel_button.disabled = False, True
+        self.progress.visible = False
+        if search.result is None:
+            self.optima_html.content = f'<p id="search-state">{html.escape(search.error or "no result")}</p>'
+            return
+        self._show_optima(search.result)
+
+    def _show_optima(self, result: PlacementResult) -> None:
+        words = wording(result.objective)
+        unit = OBJECTIVES.get(result.objective).unit
+        lines = []
+        if result.infeasible:
+            lines.append(f'<p id="search-state" style="color:#c00">no feasible placement: {html.escape(result.infeasible)}</p>')
+        for key, optimum in (("best", result.best), ("worst", result.worst)):
+            button = self.best_button if key == "best" else self.worst_button
+            button.visible = optimum is not None
+            if optimum is None:
+                continue
+            self.optima[key] = optimum.detail
+            where = ", ".join(f"{name} {unit_value(name, v):.2f}" for name, v in zip(VARIABLES, optimum.detail.placement))
+            lines.append(f'<p>{key} ({html.escape(getattr(words, key))} {html.escape(words.subject)}): '
+                         f'<span id="{key}-value">{optimum.detail.value!r}</span> {html.escape(unit)}<br>'
+                         f'<span id="{key}-placement">{where}</span></p>')
+        if result.gain is not None:
+            lines.append(f'<p id="gain">gain {result.gain * 100:.1f} %</p>')
+        lines.append('<p id="search-state">done</p>')
+        self.optima_html.content = "".join(lines)
+
+    def _cancel(self) -> None:
+        if self.search is not None:
+            self.search.cancel()
+
+    def _go_to(self, key: str) -> None:
+        if key not in self.optima:
+            raise PlacementError(f"no {key} placement yet: optimise first")
+        self.set_placement(self.optima[key].placement, exact=True)
+
+    def close(self) -> None:
+        """Stop the server, the search and the evaluators."""
+        self._closed = True
+        if self.search is not None:
+            self.search.cancel()
+        self.server.stop()
+        self.bench.close()

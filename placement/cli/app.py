@@ -1,0 +1,84 @@
+"""The workbench in the browser: ``placement app --robot NAME --path FILE [--cell FILE] [--port N]``.
+
+Serves a page on this machine (127.0.0.1, unless ``--host`` says otherwise, with a warning) where
+the path's placement is dragged or typed and read live, searched, and the robot played along it
+(:mod:`placement.app.page`); prints its address and serves until Enter is pressed or the input ends.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from placement.cli.common import (
+    add_cell_option,
+    add_model_options,
+    add_sampling_options,
+    add_tool_option,
+    configured_path,
+    load_robot_argument,
+    parse_free,
+    parse_values,
+    whole_number,
+)
+from placement.cli.exceptions import UsageError
+
+
+def add_parser(commands: argparse._SubParsersAction) -> None:
+    """The ``app`` subcommand's options."""
+    parser = commands.add_parser("app", help="the workbench: drag, read, search and play a placement in the browser",
+                                 description="Serve the workbench page: the robot, its workspace and the placed "
+                                             "path with a gizmo, live and exact readings, searches, the motion.")
+    parser.add_argument("--robot", required=True, help="built-in robot name or robot sidecar YAML")
+    add_tool_option(parser)
+    add_cell_option(parser)
+    parser.add_argument("--path", required=True, help="path file (YAML)")
+    parser.add_argument("--free", metavar="y=-40:40,x,phi", help="free placement variables and bounds, as the main job's")
+    parser.add_argument("--fix", metavar="z=0,theta=0", help="values of fixed variables (mm, deg; default 0)")
+    add_model_options(parser)
+    add_sampling_options(parser)
+    parser.add_argument("--seed", type=whole_number(0, 2**32 - 1), default=0, help="random seed of the search (default 0)")
+    parser.add_argument("--port", type=whole_number(0, 65535), default=0,
+                        help="port to serve on (default: the first free one from 8080)")
+    parser.add_argument("--host", default="127.0.0.1",
+                        help="address to serve on (default 127.0.0.1: this machine only)")
+
+
+def start(args: argparse.Namespace):  # -> placement.app.page.Workbench (viser loads only here)
+    """Build the bench and serve its page; returns the workbench (its ``url``, ``close()``)."""
+    from placement.app.bench import Bench, Choices
+    from placement.app.page import Workbench
+    from placement.search.optimize import SearchSettings
+    from placement.search.space import default_space
+
+    if not args.host.strip():
+        raise UsageError("--host: expected an address, got ''")
+    if not (args.host == "localhost" or args.host.startswith("127.") or args.host == "::1"):
+        print(f"warning: --host {args.host}: the workbench is served to every machine that can reach this address",
+              file=sys.stderr)
+    robot = load_robot_argument(args.robot, args.tool, args.cell)
+    path = configured_path(args, args.path)
+    free, bounds = parse_free(args.free, "--free") if args.free is not None else (None, {})
+    space = default_space(robot, free=free, fixed=parse_values(args.fix or "", "--fix"), bounds=bounds,
+                          half_turn=path.half_turn_symmetric())
+    bench = Bench(robot, path, space=space, time_step_s=args.time_step,
+                  choices=Choices(objective=args.objective, regeneration=args.regen),
+                  search=SearchSettings(seed=args.seed))
+    try:
+        return Workbench(bench, host=args.host, port=args.port)
+    except OSError as error:
+        bench.close()
+        raise UsageError(f"--host/--port: cannot serve on '{args.host}': {error.strerror or error}") from None
+
+
+def run(args: argparse.Namespace) -> int:
+    """Serve the workbench until Enter is pressed (or the input ends)."""
+    workbench = start(args)
+    print(f"workbench at {workbench.url} (press Enter to stop)", flush=True)
+    try:
+        input()
+    except EOFError:
+        pass
+    finally:
+        workbench.close()
+    return 0

@@ -1,0 +1,138 @@
+"""The workbench's model without a page: live readings, the exact value, bounds, choices, a search cancelled."""
+
+import time
+
+import numpy as np
+import pytest
+
+from placement.app.bench import Bench, Choices
+from placement.evaluation.evaluator import Evaluator
+from placement.exceptions import PlacementError
+from placement.path import load_path
+from placement.robot import load_robot
+from tests.support.paths import EXAMPLE
+
+AT = np.array([0.0125, -0.007, -0.02, np.radians(30), 0.0, 0.0])
+
+
+@pytest.fixture(scope="module")
+def bench():
+    bench = Bench(load_robot("orthoglide"), load_path(EXAMPLE))
+    yield bench
+    bench.close()
+
+
+def test_the_exact_value_is_the_at_evaluators(bench):
+    expected = Evaluator(bench.robot, load_path(EXAMPLE)).detail(AT)
+    assert bench.exact(AT).value == pytest.approx(expected.value, abs=1e-9)
+
+
+def test_the_live_reading_is_on_the_search_sampling_and_poses_the_robot(bench):
+    reading = bench.live(AT)
+    assert reading.reachable and reading.feasible
+    assert len(reading.t_s) < len(bench.exact_evaluator.samples)  # coarser
+    assert reading.configuration.shape == (len(reading.t_s), bench.robot.model.nq)
+    assert abs(reading.value - bench.exact(AT).value) / bench.exact(AT).value < 0.05
+    assert reading.tightest[0] and np.isfinite(reading.tightest[1])
+
+
+def test_an_unreachable_placement_says_where_it_fails(bench):
+    reading = bench.live(np.array([0.5, 0.5, 0.5, 0.0, 0.0, 0.0]))
+    assert not reading.reachable and not reading.feasible and reading.first_unreachable[0] == 0
+    assert np.isnan(reading.energy_per_actuator_J).all()
+    assert not bench.exact(np.array([0.5, 0.5, 0.5, 0.0, 0.0, 0.0])).reachable
+
+
+def test_clamp_keeps_the_free_variables_in_their_bounds_and_the_others_fixed(bench):
+    clamped = bench.clamp(np.array([1.0, -1.0, 0.0, 4.0, 0.3, 0.2]))
+    space = bench.space
+    assert np.all(clamped[space.indices] <= space.upper) and np.all(clamped[space.indices] >= space.lower)
+    assert clamped[4] == 0.0 and clamped[5] == 0.0  # theta and psi are not free on the Orthoglide
+
+
+def test_bad_input_raises_placement_error_and_changes_nothing(bench):
+    with pytest.raises(PlacementError):
+        bench.live(np.array([np.nan, 0, 0, 0, 0, 0]))
+    with pytest.raises(PlacementError):
+        bench.choose(Choices(regeneration="no such policy"))
+    assert bench.choices == Choices()
+
+
+def test_a_search_is_cancelled_at_once(bench):
+    search = bench.search(best=True, worst=False)
+    search.cancel()
+    assert search.poll() and search.result is None and search.error == "cancelled"
+    assert not search.process.is_alive()
+
+
+def test_the_app_serves_on_loopback_only_prints_its_address_and_stops(monkeypatch, capsys):
+    import io
+    import socket
+    import urllib.request
+
+    from placement.cli import app, build_command_parser, main
+
+    workbench = app.start(build_command_parser().parse_args(["app", "--robot", "orthoglide", "--path", str(EXAMPLE)]))
+    try:
+        assert workbench.server.get_host() == "127.0.0.1"  # no other machine can connect
+        with urllib.request.urlopen(workbench.url, timeout=30) as response:
+            assert response.status == 200 and b"<html" in response.read().lower()
+    finally:
+        workbench.close()
+    with socket.socket() as probe:  # nothing listens there any more
+        assert probe.connect_ex(("127.0.0.1", workbench.server.get_port())) != 0
+    monkeypatch.setattr("sys.stdin", io.StringIO("\n"))  # the user presses Enter
+    assert main(["app", "--robot", "orthoglide", "--path", str(EXAMPLE)]) == 0
+    assert "workbench at http://127.0.0.1:" in capsys.readouterr().out
+    assert main(["app", "--robot", "orthoglide", "--path", str(EXAMPLE), "--host", " "]) == 2
+    assert "--host: expected an address" in capsys.readouterr().err
+
+
+def test_the_gizmo_is_held_to_the_free_variables_and_read_in_the_placement_angles_and_unreachable_is_said():
+    from types import SimpleNamespace
+
+    from placement.app.page import Workbench, _wxyz
+    from placement.placing.transform import rotation_zyx
+
+    workbench = Workbench(Bench(load_robot("orthoglide"), load_path(EXAMPLE)))
+    try:
+        workbench.gizmo.position = (0.0125, -0.007, -0.02)
+        workbench.gizmo.wxyz = tuple(_wxyz(rotation_zyx(np.radians(30), np.radians(10), 0.0)))  # theta is fixed at 0
+        workbench._gizmo_event(SimpleNamespace(phase="end"))  # let go
+        assert np.allclose(workbench.placement, AT, atol=1e-12)
+        assert np.allclose(workbench.gizmo.position, AT[:3]) and np.allclose(
+            workbench.gizmo.wxyz, _wxyz(rotation_zyx(np.radians(30), 0.0, 0.0)))  # the gizmo is put back
+        assert workbench.exact_detail is not None and workbench.exact_detail.value == pytest.approx(bench_value(AT), abs=1e-9)
+        assert workbench.fields["phi"].value == pytest.approx(30.0)
+        workbench.gizmo.position = (5.0, 0.0, 0.0)  # far beyond the workspace: held at its bound
+        workbench._gizmo_event(SimpleNamespace(phase="update"))
+        assert workbench.placement[0] == workbench.bench.space.upper[0]
+        for _ in range(600):  # the live reading of that drag is shown by the page's own thread: wait for it
+            if workbench.reading is not None and np.array_equal(workbench.reading.placement, workbench.placement):
+                break
+            time.sleep(0.05)
+        assert np.array_equal(workbench.reading.placement, workbench.placement)
+        far = np.array([0.5, 0.5, 0.5, 0.0, 0.0, 0.0])  # (beyond the bounds too, as a cell's robot may be)
+        workbench._show_live(workbench.bench.live(far))
+        workbench._show_exact(workbench.bench.exact(far))
+        assert "unreachable" in workbench.live_html.content and "sample 0" in workbench.live_html.content
+        assert "unreachable" in workbench.exact_html.content
+    finally:
+        workbench.close()
+
+
+def bench_value(placement: np.ndarray) -> float:
+    return Evaluator(load_robot("orthoglide"), load_path(EXAMPLE)).detail(placement).value
+
+
+def test_an_objective_that_needs_the_optimal_law_takes_it_as_the_command_line_does():
+    bench = Bench(load_robot("orthoglide"), load_path(EXAMPLE), choices=Choices(objective="cycle_time"))
+    try:
+        assert bench.path.timing.mode == "optimal" and "optimal" in (bench.note or "")
+        reading = bench.live(np.zeros(6))
+        assert reading.feasible and 0 < reading.value < bench.exact(np.zeros(6)).value * 1.05
+        with pytest.raises(PlacementError, match="optimal"):
+            bench.choose(Choices(objective="cycle_time", timing="paper"))
+        assert bench.choices.objective == "cycle_time"  # unchanged
+    finally:
+        bench.close()
