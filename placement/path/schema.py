@@ -33,10 +33,11 @@ Timing laws (a timed pose list has its own times instead):
         own feed (a G-code move at its F).
     realistic: the tool stops at every sharp corner, at every gap a skipped rapid leaves, and
         wherever a pose list's orientation changes its rate of turning; between such stops it
-        follows a jerk-limited (double-S) feed profile with bounded acceleration and jerk,
-        cruising at the lowest feed of the segments it crosses; on arcs the feed is lowered
-        until the tangential and centripetal acceleration and jerk together stay within the
-        bounds. One continuous motion between gaps, each gap starting a new piece.
+        follows a jerk-limited feed profile with look-ahead (:mod:`placement.timing.realistic`):
+        each segment runs at its own feed where its length allows, slowed only where the
+        geometry requires it (on arcs, until the tangential and centripetal acceleration and
+        jerk together stay within the bounds; where the curvature jumps), and accelerates
+        again after. One continuous motion between gaps, each gap starting a new piece.
     optimal: the fastest motion the robot allows at each placement (:mod:`placement.timing`):
         stops where the realistic law stops, and in between the feed is as high as the robot's
         joint speed and acceleration, motor speed and torque (and drive voltage, where given)
