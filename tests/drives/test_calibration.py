@@ -12,7 +12,7 @@ import pytest
 
 from placement import load_robot
 from placement.cli import main
-from placement.drives.calibration import FITTABLE, calibrate, read_log
+from placement.drives.calibration import FITTABLE, MeasuredLog, calibrate, read_log
 from placement.drives.trace import motor_trace
 from placement.dynamics.inverse import inverse_dynamics
 from placement.energy.integration import sample_power
@@ -68,6 +68,56 @@ def test_hidden_constants_are_recovered_within_2_percent(hidden_log):
         assert result.values[DRIVE][constant] == pytest.approx(truth, rel=0.02), constant
         assert result.confidence_95[DRIVE][constant] < 0.02 * truth  # and the fit knows it is that close
     assert result.held_out_rmse["power"] < 1.5 * noise_W  # the held-out part is predicted down to the noise
+
+
+def model_log(robot, t):
+    """The tool positions, power and current the model itself predicts for the demo motion at times ``t``."""
+    task = demo_trajectory(robot, amplitude_m=0.04)(t)
+    motion = inverse_dynamics(robot, task)
+    trace = motor_trace(robot, motion.effort, motion.velocity, motion.acceleration)
+    return task.position_m, sample_power(robot, trace, t, np.zeros(len(t), dtype=int)), trace.current_A
+
+
+def test_a_noise_free_log_made_by_the_model_gives_back_the_truth(hidden_log):
+    """The fit reads the motion's rates off the logged positions as exactly as the model made them (a quintic
+    spline: finite differences erred by O(Δt²) in the acceleration and biased the friction well outside its
+    interval), and starts the stock's zero friction inside its range."""
+    folder = hidden_log[0]
+    hidden = load_robot(folder / "orthoglide" / "orthoglide.yaml")
+    t = np.arange(0.0, 1.0, 0.001)
+    tool, power, current = model_log(hidden, t)
+    robot = load_robot("orthoglide")
+    result = calibrate(robot, MeasuredLog(t, tool, None, {"power": power, "current": current}), list(FITTABLE))
+    for constant, truth in HIDDEN.items():
+        assert result.values[DRIVE][constant] == pytest.approx(truth, rel=1e-6), constant
+    friction = calibrate(robot, MeasuredLog(t, tool, None, {"power": power}), ["coulomb", "viscous"])
+    assert friction.values[DRIVE]["coulomb"] != pytest.approx(HIDDEN["coulomb"], rel=1e-3)  # the motor differs too
+    only = load_robot(edited_copy("orthoglide", folder / "friction", lambda d: d["drives"][DRIVE].update(
+        friction={"coulomb": 15.0, "viscous": 25.0})))
+    tool, power, _ = model_log(only, t)
+    friction = calibrate(robot, MeasuredLog(t, tool, None, {"power": power}), ["coulomb", "viscous"])
+    assert friction.values[DRIVE] == pytest.approx({"coulomb": 15.0, "viscous": 25.0}, rel=1e-6)
+
+
+def test_the_95_percent_intervals_cover_the_truth_at_their_rate(tmp_path):
+    """100 short logs (200 samples) of one motion, each with its own 1 % noise on the power: each 95 % interval
+    holds the hidden constant in at least 90 of them (a binomial(100, 0.95) falls below 90 with probability 0.3 %)."""
+    truth = {"coulomb": 15.0, "viscous": 25.0, "resistance_ohm": 1.8}
+
+    def lossier(document: dict) -> None:
+        document["drives"][DRIVE]["friction"] = {"coulomb": 15.0, "viscous": 25.0}
+        document["drives"][DRIVE]["motor"]["resistance_ohm"] = 1.8
+
+    t = np.arange(0.0, 1.0, 0.005)
+    tool, power, _ = model_log(load_robot(edited_copy("orthoglide", tmp_path, lossier)), t)
+    robot = load_robot("orthoglide")
+    covered = dict.fromkeys(truth, 0)
+    for seed in range(100):
+        noisy = power + np.random.default_rng(seed).normal(0.0, 0.01 * np.abs(power).max(), power.shape)
+        result = calibrate(robot, MeasuredLog(t, tool, None, {"power": noisy}), list(truth))
+        for constant, value in truth.items():
+            covered[constant] += abs(result.values[DRIVE][constant] - value) <= result.confidence_95[DRIVE][constant]
+    assert min(covered.values()) >= 90, covered
 
 
 def test_the_log_must_be_able_to_tell_the_constants_apart(hidden_log, tmp_path, capsys):
