@@ -19,12 +19,14 @@ from __future__ import annotations
 
 import csv
 import dataclasses
+import io
 import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-import yaml
+from ruamel.yaml import YAML
+from ruamel.yaml.comments import CommentedMap
 from scipy.interpolate import make_interp_spline
 from scipy.optimize import least_squares
 
@@ -267,7 +269,7 @@ def calibrate(robot: Robot, log: MeasuredLog, fit: list[str], held_out: float = 
         raise PlacementError(f"held-out share {held_out}: both parts of the {len(log.t_s)}-sample log need 10 samples")
     names = sorted({a.drive_name for a in robot.actuators if a.drive_name})
     keys = [(drive, constant) for drive in names for constant in fit]
-    start = np.array([_current(robot.named_drives[d], c) for d, c in keys])
+    start = np.array([constant_value(robot.named_drives[d], c) for d, c in keys])
     lower, upper = (np.array([FITTABLE[c][1][k] for _, c in keys]) for k in (0, 1))
     typical = np.array([FITTABLE[c][2] for _, c in keys])
     scale = np.maximum(np.abs(start), typical)  # the search runs in these units
@@ -318,37 +320,54 @@ def calibrate(robot: Robot, log: MeasuredLog, fit: list[str], held_out: float = 
                                        if min(value - low, high - value) <= 1e-9 * (high - low)))
 
 
-def _current(drive: Drive, constant: str) -> float:
+def constant_value(drive: Drive, constant: str) -> float:
+    """A fittable constant's value in a drive (SI)."""
     part = getattr(drive, FITTABLE[constant][0])
     return float(getattr(part, constant))
 
 
 def write_calibrated(robot: Robot, calibration: Calibration, folder: str | Path, log_name: str) -> Path:
-    """Copy the robot's folder to ``folder`` with its sidecar carrying the fitted constants.
+    """Copy the robot's folder to ``folder`` with a sidecar carrying the fitted constants, named after the folder.
 
-    Each fitted constant gets a ``CALIBRATED`` entry under ``sources`` with its 95 % interval.
+    The sidecar is the original, its comments and layout kept (a ruamel.yaml round trip), renamed
+    ``FOLDER_NAME.yaml`` with ``name: FOLDER_NAME``, so that ``--robot FOLDER`` loads it. Each fitted
+    constant gets a ``CALIBRATED`` entry under ``sources`` with its 95 % interval.
 
     Returns:
         The calibrated sidecar's path.
+
+    Raises:
+        PlacementError: ``folder`` exists.
     """
     target = Path(folder)
     if target.exists():
         raise PlacementError(f"--out: '{target}' exists; name a new folder")
     shutil.copytree(robot.sidecar_path.parent, target, ignore=shutil.ignore_patterns("__pycache__"))
-    sidecar = target / robot.sidecar_path.name
-    document = yaml.safe_load(robot.sidecar_path.read_text(encoding="utf-8"))
-    sources = document.setdefault("sources", {})
+    (target / robot.sidecar_path.name).unlink()
+    sidecar = target / f"{target.name}.yaml"
+    round_trip = YAML()  # keeps the original's comments, order and flow style
+    round_trip.allow_unicode = True  # '±' as is
+    round_trip.width = 4096  # long source entries on one line, as written
+    document = round_trip.load(robot.sidecar_path.read_text(encoding="utf-8"))
+    document["name"] = target.name
+    if "sources" not in document:
+        document["sources"] = CommentedMap()
+    sources = document["sources"]
+    held_out = ", ".join(f"{v:.3g} {UNITS[q]}" for q, v in calibration.held_out_rmse.items())
     for drive, constants in calibration.values.items():
+        entry = document["drives"][drive]
         for constant, value in constants.items():
             part = FITTABLE[constant][0]
-            entry = document["drives"][drive].setdefault(part, {})
-            entry[constant] = value
-            field = f"drives.{drive}.{part}.{constant}"
-            held_out = ", ".join(f"{v:.3g} {UNITS[q]}" for q, v in calibration.held_out_rmse.items())
-            sources[field] = (f"CALIBRATED: fitted to {log_name}, 95 % interval "
-                              f"±{calibration.confidence_95[drive][constant]:.3g}; held-out RMS error {held_out}")
+            if part not in entry:
+                entry[part] = CommentedMap()
+            entry[part][constant] = value
+            sources[f"drives.{drive}.{part}.{constant}"] = (
+                f"CALIBRATED: fitted to {log_name}, 95 % interval ±{calibration.confidence_95[drive][constant]:.3g}; "
+                f"held-out RMS error {held_out}")
         # with_drive_constants keeps the back-EMF constant consistent with the torque constant: take it from there
-        fitted_motor = calibration.robot.named_drives[drive].motor
-        document["drives"][drive]["motor"]["back_emf_constant_V_s_per_rad"] = fitted_motor.back_emf_constant_V_s_per_rad
-    sidecar.write_text(yaml.safe_dump(document, sort_keys=False), encoding="utf-8")
+        entry["motor"]["back_emf_constant_V_s_per_rad"] = \
+            calibration.robot.named_drives[drive].motor.back_emf_constant_V_s_per_rad
+    stream = io.StringIO()
+    round_trip.dump(document, stream)
+    sidecar.write_text(stream.getvalue(), encoding="utf-8")
     return sidecar

@@ -82,9 +82,10 @@ def test_main_job_reports_best_worst_and_gain_and_writes_json_and_trace(tmp_path
     np.testing.assert_allclose(again.value, [document["best"]["energy_J"], document["worst"]["energy_J"]], rtol=1e-12)
     assert document["gain"] == pytest.approx((again.value[1] - again.value[0]) / again.value[1], rel=1e-12)
     rows = list(csv.reader(out_csv.open()))
-    assert rows[0][:4] == ["t", "x", "y", "z"] and rows[0][4:12] == [
-        "q_1", "qd_1", "qdd_1", "force_1", "motor_speed_1", "motor_torque_1", "current_1", "power_1"]
-    assert len(rows[0]) == 4 + 3 * 8 and len(rows) > 40
+    assert rows[0][:5] == ["t", "x", "y", "z", "speed"] and rows[0][5:13] == [
+        "q_slider_x", "qd_slider_x", "qdd_slider_x", "force_slider_x", "motor_speed_slider_x", "motor_torque_slider_x",
+        "current_slider_x", "power_slider_x"]  # a calibration log's names
+    assert len(rows[0]) == 5 + 3 * 8 and len(rows) > 40
     # The trace is the best placement's: its tool points are the path placed there.
     from placement.placing.transform import transform_path_to_base
 
