@@ -11,7 +11,7 @@ from placement.path.exceptions import PathFileError
 from placement.path.gcode import read_program
 from placement.path.poses import TimedPoses, pose_segments, read_poses
 from placement.path.samples import default_time_step_s
-from placement.path.schema import LENGTH_SCALE, Circle, Gcode, PathFile, Polyline, Poses, Rapids, Rectangle
+from placement.path.schema import LENGTH_SCALE, Circle, Gcode, PathFile, Polyline, Poses, Rapids, Rectangle, Slot
 from placement.path.segments import Segment
 from placement.path.toolpath import MIN_LENGTH_M, ToolPath
 from placement.schema import read_yaml
@@ -106,10 +106,14 @@ def _segments(spec: PathFile) -> tuple[Segment, ...]:
     assert spec.units is not None and not isinstance(spec.shape, (Gcode, Poses))  # _check_fields
     scale = LENGTH_SCALE[spec.units]
     shape = spec.shape
+    if isinstance(shape, Rectangle) and shape.corner_radius > 0:
+        return _rounded(shape.width * scale, shape.length * scale, shape.corner_radius * scale)
     if isinstance(shape, Rectangle):
         w, l = shape.width * scale / 2, shape.length * scale / 2
         corners = [(-w, -l), (w, -l), (w, l), (-w, l)]
         return _lines([*corners, corners[0]])
+    if isinstance(shape, Slot):
+        return _rounded(shape.length * scale, shape.width * scale, shape.width * scale / 2)
     if isinstance(shape, Polyline):
         points = [tuple(np.array(p, dtype=float) * scale) for p in shape.points]
         return _lines(points + ([points[0]] if shape.closed else []))
@@ -122,6 +126,24 @@ def _segments(spec: PathFile) -> tuple[Segment, ...]:
         return np.array([radius * np.cos(angle), radius * np.sin(angle), 0.0])
 
     return (Segment(on_circle(start), on_circle(start + sweep), center, radius, start, sweep),)
+
+
+def _rounded(width_m: float, length_m: float, radius_m: float) -> tuple[Segment, ...]:
+    """A width x length rectangle centred on the origin with quarter-circle corners of radius r, anticlockwise from
+    (-width/2 + r, -length/2): each side (left out where the corners meet, as on a slot's ends), then its corner."""
+    w, l = width_m / 2 - radius_m, length_m / 2 - radius_m  # the corners' centres are at (±w, ±l)
+    segments = []
+    for k, (cx, cy) in enumerate([(w, -l), (w, l), (-w, l), (-w, -l)]):
+        angle = np.radians(-90.0 + 90.0 * k)  # the corner's start, from its centre
+        center = np.array([cx, cy, 0.0])
+        start = center + radius_m * np.array([np.cos(angle), np.sin(angle), 0.0])
+        end = center + radius_m * np.array([np.cos(angle + np.pi / 2), np.sin(angle + np.pi / 2), 0.0])
+        previous = np.array([-cx, cy, 0.0]) if k % 2 == 0 else np.array([cx, -cy, 0.0])  # the side's other corner
+        side_start = previous + radius_m * np.array([np.cos(angle), np.sin(angle), 0.0])
+        if np.linalg.norm(start - side_start) > 0:
+            segments.append(Segment(side_start, start))
+        segments.append(Segment(start, end, center, radius_m, float(angle), np.pi / 2))
+    return tuple(segments)
 
 
 def _lines(points: list) -> tuple[Segment, ...]:

@@ -55,6 +55,67 @@ def test_arc_and_polyline_shapes(tmp_path):
     assert len(line.segments) == 3 and line.length_m == pytest.approx(0.12)
 
 
+def on_rounded_outline(points, half_width, half_length, radius):
+    """Distance of each point (N, 3) from the outline of a rectangle with rounded corners centred on the origin."""
+    x, y = np.abs(points[:, 0]), np.abs(points[:, 1])
+    cx, cy = half_width - radius, half_length - radius  # the corners' centres
+    corner = np.hypot(np.maximum(x - cx, 0.0), np.maximum(y - cy, 0.0))
+    in_corner = (x > cx) & (y > cy)
+    side = np.minimum(np.abs(x - half_width) + np.where(y > cy, np.inf, 0.0),
+                      np.abs(y - half_length) + np.where(x > cx, np.inf, 0.0))
+    return np.where(in_corner, np.abs(corner - radius), side)
+
+
+def joins_are_tangent(path):
+    """Each segment's end tangent is the next one's start tangent (the last joins the first: a closed outline)."""
+    segments = path.segments
+    for before, after in zip(segments, segments[1:] + segments[:1]):
+        end = before.point(np.array([before.length_m]), np.ones(1), np.zeros(1))
+        start = after.point(np.zeros(1), np.ones(1), np.zeros(1))
+        np.testing.assert_allclose(end[0], start[0], atol=1e-15)  # continuous position ...
+        np.testing.assert_allclose(end[3], start[3], atol=1e-12)  # ... and tangent
+
+
+@pytest.mark.parametrize("units, scale", [("mm", 1e-3), ("in", 0.0254)])
+def test_a_rectangle_with_rounded_corners(tmp_path, units, scale):
+    path = load_path(write(tmp_path, f"units: {units}\nshape: {{type: rectangle, width: 80, length: 40, "
+                                     "corner_radius: 8}\nfeed_m_s: 0.04\n"
+                                     "timing: {mode: realistic, max_acceleration_m_s2: 10, max_jerk_m_s3: 500}\n"))
+    assert len(path.segments) == 8 and len(path.runs()) == 1  # tangent all round: the tool never stops
+    assert path.length_m == pytest.approx((2 * (80 - 16) + 2 * (40 - 16) + 2 * np.pi * 8) * scale, rel=1e-12)
+    joins_are_tangent(path)
+    samples = path.sample()
+    assert on_rounded_outline(samples.position_m, 40 * scale, 20 * scale, 8 * scale).max() < 1e-12
+    np.testing.assert_allclose(samples.position_m[0], [-32 * scale, -20 * scale, 0.0], atol=1e-15)
+    with pytest.raises(PathFileError, match="half the shorter side"):
+        load_path(write(tmp_path, "units: mm\nshape: {type: rectangle, width: 80, length: 40, corner_radius: 21}\n"
+                                  "feed_m_s: 0.04\n"))
+
+
+def test_a_slot_is_a_stadium(tmp_path):
+    path = load_path(write(tmp_path, "units: mm\nshape: {type: slot, length: 50, width: 10}\nfeed_m_s: 0.05\n"
+                                     "timing: {mode: realistic, max_acceleration_m_s2: 10, max_jerk_m_s3: 500}\n"))
+    # Two straights of length - width and two half circles of the width's diameter.
+    assert [s.center_m is None for s in path.segments] == [True, False, False, True, False, False]
+    assert path.length_m == pytest.approx(2 * (50 - 10) * 1e-3 + np.pi * 10e-3, rel=1e-12)
+    assert len(path.runs()) == 1
+    joins_are_tangent(path)
+    samples = path.sample()
+    assert on_rounded_outline(samples.position_m, 0.025, 0.005, 0.005).max() < 1e-12
+    circle = load_path(write(tmp_path, "units: mm\nshape: {type: slot, length: 10, width: 10}\nfeed_m_s: 0.05\n"))
+    assert circle.length_m == pytest.approx(np.pi * 10e-3, rel=1e-12) and all(s.center_m is not None
+                                                                             for s in circle.segments)
+    with pytest.raises(PathFileError, match="at least the width"):
+        load_path(write(tmp_path, "units: mm\nshape: {type: slot, length: 5, width: 10}\nfeed_m_s: 0.05\n"))
+
+
+def test_inches(tmp_path):
+    path = load_path(write(tmp_path, "units: in\nshape: {type: polyline, points: [[0, 0], [1, 0], [1, 2]]}\n"
+                                     "feed_m_s: 0.1\n"))
+    assert path.length_m == pytest.approx(3 * 0.0254, rel=1e-15)
+    np.testing.assert_allclose(path.segments[-1].end_m, [0.0254, 0.0508, 0.0], rtol=1e-15)
+
+
 def realistic(tmp_path):
     return load_path(write(tmp_path, "units: mm\nshape: {type: rectangle, width: 30, length: 60}\nfeed_m_s: 0.66\n"
                                      "timing: {mode: realistic, max_acceleration_m_s2: 10, max_jerk_m_s3: 500}\n"
