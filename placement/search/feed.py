@@ -53,7 +53,7 @@ def feed_study(robot: Robot, path: ToolPath, placement: np.ndarray, feeds_m_s: n
         detail = Evaluator(robot, fed, evaluation).detail(np.asarray(placement, dtype=float))
         times.append(detail.duration_s)
         speeds.append(float(np.linalg.norm(detail.samples.velocity_m_s, axis=1).max()))
-        bounds.append(_speed_bound(fed, speeds[-1], evaluation.time_step_s))
+        bounds.append(_speed_bound(fed, speeds[-1]))
         energies.append(float(detail.energy.total_J) if detail.reachable else np.nan)
         feasible.append(detail.feasible)
         tightest = min(detail.margins, key=lambda m: m.margin)
@@ -62,10 +62,10 @@ def feed_study(robot: Robot, path: ToolPath, placement: np.ndarray, feeds_m_s: n
                      np.array(energies), np.array(feasible), tuple(binding))
 
 
-def _speed_bound(path: ToolPath, top_speed_m_s: float, time_step_s: float | None) -> str:
+def _speed_bound(path: ToolPath, top_speed_m_s: float) -> str:
     """What bounds the top speed of ``path`` at its feed (:attr:`FeedStudy.speed_bound`)."""
     if path.timing.mode == "realistic" and path.timed is None:
-        fastest = max(segment_speeds(path, time_step_s), key=lambda segment: segment.reached_m_s)
+        fastest = max(segment_speeds(path), key=lambda segment: segment.reached_m_s)
         return fastest.bound
     fastest_feed = max(path.speed_m_s(segment) for segment in path.segments)
     if path.timing.mode == "optimal" and top_speed_m_s < fastest_feed * (1 - 1e-6):

@@ -12,8 +12,9 @@ Between stops the feed drops only where the geometry requires it and rises again
   two together stay within the bounds (on a line the whole bounds are tangential);
 - where two stretches meet the speed is at most both caps; where the curvature jumps (a line
   entering an arc, an arc reversing), the centripetal acceleration jumps by v²·|Δ(κn)|, which no
-  finite jerk does: the controller spreads it over one interpolation period, taken as the path's
-  sampling step Δt, so the speed there is at most ``sqrt(j_max·Δt / |Δ(κn)|)``;
+  finite jerk does: the controller spreads it over one interpolation period, taken as the path
+  file's sampling step Δt (``time_step_s``; a finer sampling, ``--time-step``, leaves the motion
+  as it is), so the speed there is at most ``sqrt(j_max·Δt / |Δ(κn)|)``;
 - forward and backward passes over the stretch ends find the highest speeds each stretch can
   join under its tangential bounds, every change of speed a jerk-limited S-curve from and to
   zero acceleration; in each stretch the speed rises to the highest peak its length allows
@@ -206,13 +207,13 @@ def _stretches(path: ToolPath, run: Run) -> tuple[list[Stretch], list[float]]:
     return stretches, jumps
 
 
-def _plan(stretches: list[Stretch], jumps: list[float], step_s: float,
+def _plan(stretches: list[Stretch], jumps: list[float], period_s: float,
           jerk: float) -> tuple[list[tuple[float, float]], np.ndarray]:
     """The phases of a run through its stretches, and the speed at each stretch's start then at the end."""
     limit = np.zeros(len(stretches) + 1)
     for k in range(1, len(stretches)):
         limit[k] = min(stretches[k - 1].cap_m_s, stretches[k].cap_m_s,
-                       np.sqrt(jerk * step_s / jumps[k - 1]) if jumps[k - 1] > CURVATURE_TOLERANCE_1_M else np.inf)
+                       np.sqrt(jerk * period_s / jumps[k - 1]) if jumps[k - 1] > CURVATURE_TOLERANCE_1_M else np.inf)
     speed = limit.copy()
     for k, stretch in enumerate(stretches):  # forward: as fast as accelerating from the stretch's start allows
         speed[k + 1] = _reach(speed[k], speed[k + 1], stretch)
@@ -232,13 +233,13 @@ def _reach(start_m_s: float, bound_m_s: float, stretch: Stretch) -> float:
         start_m_s, v, stretch.acceleration_m_s2, stretch.jerk_m_s3) <= stretch.length_m)
 
 
-def run_profile(path: ToolPath, run: Run, step_s: float) -> RunProfile:
+def run_profile(path: ToolPath, run: Run) -> RunProfile:
     """The feed profile of a corner-to-corner run with look-ahead (module docstring).
 
     Args:
-        path: The path, with the realistic law's acceleration and jerk bounds.
+        path: The path, with the realistic law's acceleration and jerk bounds and its file's sampling step
+            (the controller's interpolation period at curvature jumps).
         run: One of its runs.
-        step_s: The sampling step, taken as the controller's interpolation period at curvature jumps.
 
     Raises:
         PlacementError: No cap keeps a curved stretch's sampled acceleration and jerk within the bounds.
@@ -248,7 +249,7 @@ def run_profile(path: ToolPath, run: Run, step_s: float) -> RunProfile:
     stretches, jumps = _stretches(path, run)
     bounds = run.bounds_m
     for _ in range(80):
-        phases, speeds = _plan(stretches, jumps, step_s, jerk)
+        phases, speeds = _plan(stretches, jumps, path.time_step_s, jerk)
         profile = RunProfile(phases, stretches, speeds)
         over = [stretch for stretch in stretches if stretch.curvature_1_m > CURVATURE_TOLERANCE_1_M
                 and not _within(profile, run, bounds[stretch.first], bounds[stretch.stop], acceleration, jerk)]
@@ -277,7 +278,7 @@ def _within(profile: Profile, run: Run, start_m: float, stop_m: float, accelerat
 def sample_realistic(path: ToolPath, step_s: float) -> PathSamples:
     """The path's samples, ``step_s`` apart at most within each run, each run along its feed profile."""
     runs = path.runs()
-    profiles = [run_profile(path, run, step_s) for run in runs]
+    profiles = [run_profile(path, run) for run in runs]
     counts = path.sample_counts([profile.duration_s for profile in profiles], step_s)
     parts, start, piece = [], 0.0, 0
     for run, profile, count in zip(runs, profiles, counts):
@@ -308,12 +309,11 @@ class SegmentSpeed:
     bound: str
 
 
-def segment_speeds(path: ToolPath, step_s: float | None = None) -> list[SegmentSpeed]:
-    """The speed each segment reaches under the realistic law and what bounds it (the path's own step by default)."""
-    step = path.time_step_s if step_s is None else step_s
+def segment_speeds(path: ToolPath) -> list[SegmentSpeed]:
+    """The speed each segment reaches under the realistic law and what bounds it."""
     out: list[SegmentSpeed] = []
     for run in path.runs():
-        profile = run_profile(path, run, step)
+        profile = run_profile(path, run)
         t = np.linspace(0.0, profile.duration_s, 20 * CHECK_SAMPLES)
         s, v, _ = profile(t)
         index = np.clip(np.searchsorted(run.bounds_m, s, side="right") - 1, 0, len(run.segments) - 1)

@@ -78,6 +78,25 @@ def test_the_straights_of_a_rounded_rectangle_reach_the_feed(tmp_path):
     assert path.length_m / 0.04 < s.t_s[-1] < path.length_m / 0.04 + 0.05
 
 
+def test_the_rounded_rectangle_shape_runs_as_its_program(tmp_path):
+    (tmp_path / "shape.yaml").write_text("units: mm\nshape: {type: rectangle, width: 80, length: 40, corner_radius: 8}\n"
+                                         f"feed_m_s: 0.04\n{TIMING}time_step_s: 0.0005\n")
+    shape, gcode = load_path(tmp_path / "shape.yaml"), program(tmp_path, ROUNDED.format(feed=2400))
+    ours, theirs = shape.sample(), gcode.sample()
+    np.testing.assert_allclose(ours.t_s, theirs.t_s, rtol=1e-12)
+    np.testing.assert_allclose(ours.position_m, theirs.position_m, atol=1e-12)
+
+
+def test_a_finer_sampling_samples_the_same_motion(tmp_path):
+    """The interpolation period at curvature jumps is the file's time_step_s: sampling finer (--time-step) leaves the
+    motion, hence the duration, as it is."""
+    path = program(tmp_path, ROUNDED.format(feed=30000))
+    coarse, fine = path.sample(), path.sample(path.time_step_s / 4)
+    assert fine.t_s[-1] == pytest.approx(coarse.t_s[-1], rel=1e-12)
+    speeds = [np.linalg.norm(samples.velocity_m_s, axis=1) for samples in (coarse, fine)]
+    np.testing.assert_allclose(np.interp(coarse.t_s, fine.t_s, speeds[1]), speeds[0], atol=1e-4 * speeds[0].max())
+
+
 def test_faster_feeds_slow_down_only_on_the_arcs(tmp_path):
     path = program(tmp_path, ROUNDED.format(feed=30000))  # 0.5 m/s
     _, speed = check_bounds(path)
