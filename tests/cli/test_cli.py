@@ -2,6 +2,7 @@
 
 import json
 import math
+import re
 import subprocess
 import sys
 
@@ -35,6 +36,26 @@ def test_unknown_robot_exits_2_with_the_known_names(capsys):
     assert main(["check", "orthoglyde"]) == 2
     err = capsys.readouterr().err
     assert err.startswith("error: unknown robot 'orthoglyde'") and "orthoglide" in err
+
+
+def test_close_names_are_suggested(capsys):
+    assert main(["check", "orthoglyde"]) == 2
+    assert "did you mean orthoglide?" in capsys.readouterr().err
+    assert main(["--robot", "ur10", "--path", "examples/circle.yaml"]) == 2
+    assert "did you mean erd:ur10?" in capsys.readouterr().err
+
+
+def test_help_lists_every_command_and_version_prints_it(capsys):
+    from placement.cli import SUBCOMMANDS
+
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    text = capsys.readouterr().out
+    for name in SUBCOMMANDS:
+        assert re.search(rf"^  {name} +\S", text, re.MULTILINE), name  # one line each, with what it does
+    assert "--version" in text and "--debug" in text
+    assert main(["--version"]) == 0
+    assert re.fullmatch(r"placement \S+\n", capsys.readouterr().out)
 
 
 def test_bad_sidecar_exits_2_naming_the_field(tmp_path, capsys):
