@@ -177,3 +177,20 @@ def test_bad_path_files_name_the_field(tmp_path, text, field, words):
 def test_missing_path_file(tmp_path):
     with pytest.raises(PathFileError, match="file not found"):
         load_path(tmp_path / "nowhere.yaml")
+
+
+def test_short_reprs():
+    """print(path), print(robot) and the results say what they are in a line, not pages of arrays or Pinocchio."""
+    import numpy as np
+
+    from placement import Evaluator, EvaluatorSettings, load_robot
+
+    path, robot = load_path(EXAMPLE), load_robot("orthoglide")
+    assert repr(path) == "ToolPath('rectangle 30 x 60 mm, groove milling', 4 segments, 180 mm, feed 0.66 m/s, paper timing)"
+    assert repr(robot).startswith("Robot('orthoglide', 3 actuators (slider_x, slider_y, slider_z), position task")
+    evaluator = Evaluator(robot, path, EvaluatorSettings(workers=1))
+    at = np.array([0.0, 0.0, -0.03, 0.0, 0.0, 0.0])
+    assert repr(evaluator.evaluate(at[None])).startswith("Evaluation(1 placements, 1 feasible, energy ")
+    text = repr(evaluator.detail(at))
+    assert text.startswith("PlacementDetail(at (0.00, 0.00, -30.00) mm, (0.00, 0.00, 0.00) deg: energy ")
+    assert len(text) < 200 and "\n" not in repr(robot)
