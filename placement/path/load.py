@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 from pathlib import Path as FilePath
+from typing import Any
 
 import numpy as np
 
@@ -14,14 +15,18 @@ from placement.path.samples import default_time_step_s
 from placement.path.schema import LENGTH_SCALE, Circle, Gcode, PathFile, Polyline, Poses, Rapids, Rectangle, Slot
 from placement.path.segments import Segment
 from placement.path.toolpath import MIN_LENGTH_M, ToolPath
-from placement.schema import read_yaml
+from placement.schema import read_yaml, validate_document
+
+DICT_NAME = "<dict>"  # a path given as a dict, in errors
 
 
-def load_path(path: str | FilePath) -> ToolPath:
-    """Read and validate a path file (and the G-code program it names, if any).
+def load_path(path: str | FilePath | dict[str, Any], folder: str | FilePath = ".") -> ToolPath:
+    """Read and validate a path file (and the G-code program it names, if any), or a path file's fields as a dict.
 
     Args:
-        path: The YAML file.
+        path: The YAML file, or its fields as a dict (``{"units": "mm", "shape": {"type": "circle", "radius": 20},
+            "feed_m_s": 0.2}``), named ``<dict>`` in errors.
+        folder: Where the files a dict names (a G-code program, a pose list) are; a file's are beside it.
 
     Returns:
         The path, in metres.
@@ -30,8 +35,13 @@ def load_path(path: str | FilePath) -> ToolPath:
         PathFileError: The file (or its program) is missing, malformed, or breaks the schema;
             a G-code program's errors (GcodeError) name its line and word.
     """
-    path = FilePath(path)
-    spec = read_yaml(path, PathFile, PathFileError)
+    if isinstance(path, dict):
+        document = path
+        path = FilePath(folder) / DICT_NAME
+        spec = validate_document(document, path, PathFile, PathFileError)
+    else:
+        path = FilePath(path)
+        spec = read_yaml(path, PathFile, PathFileError)
     _check_fields(path, spec)
     rapid_feed, timed = None, None
     if isinstance(spec.shape, Gcode):
@@ -62,7 +72,7 @@ def load_path(path: str | FilePath) -> ToolPath:
                             "the points must not all coincide")
     if sum(segment.length_m for segment in segments) < MIN_LENGTH_M:
         raise PathFileError(path, "shape", f"the path is shorter than {MIN_LENGTH_M * 1e6:g} µm")
-    return ToolPath(name=spec.name or path.stem, segments=segments, feed_m_s=feed,
+    return ToolPath(name=spec.name or ("path" if path.name == DICT_NAME else path.stem), segments=segments, feed_m_s=feed,
                     forces=spec.process_forces_N.resolve(), timing=spec.timing,
                     time_step_s=spec.time_step_s if spec.time_step_s is not None else default_time_step_s(feed),
                     rapid_feed_m_s=rapid_feed, timed=timed)

@@ -194,3 +194,17 @@ def test_short_reprs():
     text = repr(evaluator.detail(at))
     assert text.startswith("PlacementDetail(at (0.00, 0.00, -30.00) mm, (0.00, 0.00, 0.00) deg: energy ")
     assert len(text) < 200 and "\n" not in repr(robot)
+
+
+def test_a_path_given_as_a_dict(tmp_path):
+    fields = {"units": "mm", "shape": {"type": "circle", "radius": 20}, "feed_m_s": 0.2}
+    path = load_path(fields)
+    assert path.name == "path" and path.length_m == pytest.approx(2 * np.pi * 0.02, rel=1e-12)
+    assert repr(load_path(write(tmp_path, "units: mm\nshape: {type: circle, radius: 20}\nfeed_m_s: 0.2\n", "path.yaml"))) \
+        == repr(path)
+    with pytest.raises(PathFileError) as error:
+        load_path({**fields, "feed_m_s": -1})
+    assert error.value.field == "feed_m_s" and "<dict>" in str(error.value)
+    (tmp_path / "job.nc").write_text("G21 G0 X0 Y0 Z0\nG1 X10 F600\n")
+    job = load_path({"shape": {"type": "gcode", "file": "job.nc"}}, folder=tmp_path)  # files beside ``folder``
+    assert job.length_m == pytest.approx(0.01)
