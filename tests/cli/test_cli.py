@@ -248,6 +248,13 @@ def test_map_command_writes_the_map_figure_and_scene(tmp_path, capsys):
     assert "energy map" in (tmp_path / "map.html").read_text()
     assert "20 placements" in capsys.readouterr().out
     assert main(["map", "--robot", "orthoglide", "--path", str(EXAMPLE), "--grid", "x=1:2", "--out", str(out)]) == 2
+    # A figure alone will do; nothing to write is refused before any work.
+    png = tmp_path / "alone.png"
+    assert main(["map", "--robot", "orthoglide", "--path", str(EXAMPLE), "--grid", "x=-110:50:3,y=-90:30:3",
+                 "--time-step", "0.004", "--workers", "1", "--quiet", "--png", str(png)]) == 0
+    assert png.is_file() and "written to" not in capsys.readouterr().out.split("figure")[0]
+    assert main(["map", "--robot", "orthoglide", "--path", str(EXAMPLE), "--grid", "x=-110:50:3"]) == 2
+    assert "give what to write" in capsys.readouterr().err
 
 
 def test_html_scene_of_two_paths(tmp_path, capsys):
