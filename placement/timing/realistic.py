@@ -251,8 +251,11 @@ def run_profile(path: ToolPath, run: Run) -> RunProfile:
     for _ in range(80):
         phases, speeds = _plan(stretches, jumps, path.time_step_s, jerk)
         profile = RunProfile(phases, stretches, speeds)
+        dense = np.linspace(0.0, profile.duration_s, 20 * CHECK_SAMPLES)  # where each stretch is, in time
+        arc = profile(dense)[0]
         over = [stretch for stretch in stretches if stretch.curvature_1_m > CURVATURE_TOLERANCE_1_M
-                and not _within(profile, run, bounds[stretch.first], bounds[stretch.stop], acceleration, jerk)]
+                and not _within(profile, run, dense[(arc > bounds[stretch.first]) & (arc < bounds[stretch.stop])],
+                                acceleration, jerk)]
         if not over:
             return profile
         for stretch in over:
@@ -260,15 +263,12 @@ def run_profile(path: ToolPath, run: Run) -> RunProfile:
     raise PlacementError(f"no feed profile keeps the path within {acceleration} m/s^2 and {jerk} m/s^3")
 
 
-def _within(profile: Profile, run: Run, start_m: float, stop_m: float, acceleration: float, jerk: float) -> bool:
-    """Whether the sampled acceleration and its rate stay within ``ARC_SAFETY`` of the bounds between two arc lengths
-    of the run (their ends excluded: the curvature may jump there)."""
-    t_all = np.linspace(0.0, profile.duration_s, 20 * CHECK_SAMPLES)
-    s_all = profile(t_all)[0]
-    inside = np.flatnonzero((s_all > start_m) & (s_all < stop_m))
-    if len(inside) < 2:
+def _within(profile: Profile, run: Run, inside_s: np.ndarray, acceleration: float, jerk: float) -> bool:
+    """Whether the sampled acceleration and its rate stay within ``ARC_SAFETY`` of the bounds between the first and
+    last of the times ``inside_s`` (a stretch's, its ends excluded: the curvature may jump there)."""
+    if len(inside_s) < 2:
         return True
-    t = np.linspace(t_all[inside[0]], t_all[inside[-1]], CHECK_SAMPLES)
+    t = np.linspace(inside_s[0], inside_s[-1], CHECK_SAMPLES)
     acc = run.along(*profile(t))["acceleration"]
     rate = np.diff(acc, axis=0) / np.diff(t)[:, None]
     return bool(np.linalg.norm(acc, axis=1).max() <= ARC_SAFETY * acceleration
