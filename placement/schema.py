@@ -75,6 +75,16 @@ def read_yaml(path: Path, schema: type[Model], error: type[InputFileError]) -> M
         raise error(path, "", "nested too deeply") from None
     except yaml.YAMLError as problem:
         raise error(path, "", f"not valid YAML: {_one_line(problem)}") from None
+    return validate_document(raw, path, schema, error)
+
+
+def validate_document(raw: Any, path: Path, schema: type[Model], error: type[InputFileError]) -> Model:
+    """Validate a document already read (a file's YAML, or a dict given in Python) against ``schema``.
+
+    Raises:
+        InputFileError: (as ``error``, naming ``path``) not a mapping, too large, or breaks the schema; the
+            message names the field and what was expected.
+    """
     if not isinstance(raw, dict):
         raise error(path, "", "expected a mapping of fields at the top level")
     if _node_count(raw, MAX_NODES) > MAX_NODES:  # aliases can make a small file a huge document

@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import sys
 import warnings
+from importlib import metadata
 
 from placement.cli import app, assemble, calibrate, check, export, feed, place, robots, study
 from placement.cli import map as map_command
@@ -37,6 +38,29 @@ def build_command_parser() -> argparse.ArgumentParser:
     for module in SUBCOMMANDS.values():
         module.add_parser(commands)
     return parser
+
+
+def main_parser() -> argparse.ArgumentParser:
+    """The main job's parser, its help closing with every command in one line each, ``--version`` and ``--debug``."""
+    parser = place.build_parser()
+    commands = argparse.ArgumentParser(prog="placement").add_subparsers()
+    for module in SUBCOMMANDS.values():
+        module.add_parser(commands)
+    lines = [f"  {action.dest:<10s} {action.help}" for action in commands._choices_actions]
+    parser.formatter_class = argparse.RawDescriptionHelpFormatter
+    parser.epilog = "\n".join(["commands (placement COMMAND --help for each):", *lines, "",
+                                "  --version  print the version and exit",
+                                "  --debug    anywhere on the line: the traceback of an unexpected error instead of "
+                                "its one-line summary"])
+    return parser
+
+
+def version() -> str:
+    """The installed package's version ("unknown (not installed)" when run from a source tree never installed)."""
+    try:
+        return metadata.version("placement")
+    except metadata.PackageNotFoundError:
+        return "unknown (not installed)"
 
 
 def _format_warning(message: Warning | str, category: type[Warning], filename: str, lineno: int,
@@ -73,7 +97,10 @@ def _main(argv: list[str]) -> int:
         if argv and argv[0] in SUBCOMMANDS:
             args = build_command_parser().parse_args(argv)
             return SUBCOMMANDS[args.command].run(args)
-        return place.run(place.build_parser().parse_args(argv))
+        if "--version" in argv:
+            print(f"placement {version()}")
+            return 0
+        return place.run(main_parser().parse_args(argv))
     except PlacementError as error:
         print(f"error: {error}", file=sys.stderr)
         return 2

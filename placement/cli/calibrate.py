@@ -10,8 +10,17 @@ from pathlib import Path
 
 from placement.cli.common import check_outputs, require_sidecar, robot_files
 from placement.cli.exceptions import UsageError
-from placement.drives.calibration import FITTABLE, UNITS, Calibration, calibrate, read_log, write_calibrated
+from placement.drives.calibration import (
+    FITTABLE,
+    UNITS,
+    Calibration,
+    calibrate,
+    constant_value,
+    read_log,
+    write_calibrated,
+)
 from placement.robot.load import load_robot
+from placement.robot.model import Robot
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
@@ -42,7 +51,7 @@ def run(args: argparse.Namespace) -> int:
     robot = load_robot(args.robot)
     log = read_log(args.log, robot)
     result = calibrate(robot, log, fit, args.held_out)
-    print(report(result, len(log.t_s)))
+    print(report(result, len(log.t_s), robot))
     if args.out:
         sidecar = write_calibrated(robot, result, args.out, Path(args.log).name)
         print(f"calibrated robot written to {sidecar}")
@@ -54,13 +63,15 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def report(result: Calibration, samples: int) -> str:
-    """The fitted constants with their 95 % intervals, and the fit's and the prediction's errors."""
+def report(result: Calibration, samples: int, before: Robot) -> str:
+    """The constants before and after the fit, with the 95 % intervals, and the fit's and the prediction's errors."""
     lines = [f"fitted on the first {result.split} of {samples} samples; the last {samples - result.split} held out"]
     for drive, values in result.values.items():
         lines.append(f"  drive {drive}")
+        lines.append(f"    {'constant':<26s} {'before':>12s}    {'after':>12s}  95 % interval")
         for constant, value in values.items():
-            lines.append(f"    {constant:<26s} {value:12.6g}  ± {result.confidence_95[drive][constant]:.3g} (95 %)")
+            old = constant_value(before.named_drives[drive], constant)
+            lines.append(f"    {constant:<26s} {old:12.6g} -> {value:12.6g}  ± {result.confidence_95[drive][constant]:.3g}")
     if result.at_bounds:
         lines.append(f"  note: {', '.join(result.at_bounds)} ended on a bound of its range (see FITTABLE): the log "
                      "asks for a value the range excludes, or the constant is not needed")

@@ -68,12 +68,13 @@ def run(args: argparse.Namespace) -> int:
     study = feed_study(robot, path, np.array([given.get(name, 0.0) for name in VARIABLES]), feeds,
                        EvaluatorSettings(regeneration=args.regen, time_step_s=args.time_step))
     print(f"{path.name} on {robot.name}, {path.timing.mode} timing, energy: {REGENERATION.get(args.regen).description}")
+    width = max(16, *map(len, study.speed_bound))
     print(f"  {'feed m/s':>9s} {'reached m/s':>12s} {'time/part s':>12s} {'energy/part J':>14s} {'mean power W':>13s}"
-          "  limits")
+          f"  {'speed bounded by':<{width}s}  limits")
     for k, feed in enumerate(study.feeds_m_s):
         state = "hold" if study.feasible[k] else f"BROKEN: {study.binding[k]}"
         print(f"  {feed:9.3f} {study.top_speed_m_s[k]:12.3f} {study.time_s[k]:12.4f} {study.energy_J[k]:14.4f} "
-              f"{study.energy_J[k] / study.time_s[k]:13.2f}  {state}")
+              f"{study.energy_J[k] / study.time_s[k]:13.2f}  {study.speed_bound[k]:<{width}s}  {state}")
     if args.png:
         from placement.output.plots import feed_figure, save
 

@@ -1,6 +1,6 @@
 """The 'map' command: the objective over a grid of placements, saved as .npz, drawn as PNG or 3-D.
 
-    placement map --robot orthoglide --path rect.yaml --grid x=-120:60:41,y=-120:60:41 --out map.npz
+    placement map --robot orthoglide --path rect.yaml --grid x=-120:60:41,y=-120:60:41 [--out map.npz] [--png map.png]
 """
 
 from __future__ import annotations
@@ -49,7 +49,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     add_sampling_options(energy_map)
     energy_map.add_argument("--workers", type=whole_number(1, 1024), help="worker processes (default: every core)")
     add_scheduler_option(energy_map)
-    energy_map.add_argument("--out", required=True, help="the map file to write (.npz; reload with SweepResult.load)")
+    energy_map.add_argument("--out", help="the map file to write (.npz; reload with SweepResult.load); at least one "
+                                          "of --out, --png and --html")
     energy_map.add_argument("--png", help="also draw the map (two variables) as PNG and SVG")
     energy_map.add_argument("--html", help="also draw the feasible placements as coloured points in a 3-D scene")
     energy_map.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -88,7 +89,9 @@ def parse_grid(text: str) -> dict[str, np.ndarray]:
 
 def run(args: argparse.Namespace) -> int:
     """The 'map' command: a map of the objective over a grid of placements."""
-    out = args.out if args.out.endswith(".npz") else f"{args.out}.npz"  # numpy's suffix, said up front
+    if not (args.out or args.png or args.html):
+        raise UsageError("map: give what to write: --out (the map, .npz), --png (a figure) or --html (a scene)")
+    out = None if not args.out else args.out if args.out.endswith(".npz") else f"{args.out}.npz"  # numpy's suffix
     check_outputs(("--out", out), ("--png", args.png), ("--html", args.html),
                   inputs=(args.path, *robot_files(args.robot, args.cell)))
     axes = parse_grid(args.grid)
@@ -107,12 +110,13 @@ def run(args: argparse.Namespace) -> int:
                                        workers=args.workers)
         result = sweep(robot, path, axes, fixed, evaluation=evaluation, progress=bar.update,
                        executor=remote.executor if remote else None)
-    result.save(out)
+    if out:
+        result.save(out)
     feasible = result.value[result.feasible]
     words = wording(args.objective)
     print(f"{total} placements of {path.name} on {robot.name}: {len(feasible)} feasible"
           + (f", {words.subject} {feasible.min():.4f} to {quantity(feasible.max(), words.unit)}" if len(feasible) else "")
-          + f"; written to {out}")
+          + (f"; written to {out}" if out else ""))
     if args.png:
         from placement.output.plots import map_figure, save
 

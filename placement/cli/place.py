@@ -62,9 +62,7 @@ def build_parser() -> argparse.ArgumentParser:
     """The parser of the main job: place a path on a robot."""
     parser = argparse.ArgumentParser(
         prog="placement", description="Find where to place a tool path in a robot's workspace so that the "
-        "actuators draw the least electric energy while every limit holds.",
-        epilog="Other commands: 'placement robots' lists the robots; 'placement check ROBOT' describes a robot "
-               "and proves its dynamic model exact; 'placement map' draws a map of the objective over placements.")
+        "actuators draw the least electric energy while every limit holds.")  # the commands: cli.main_parser
     parser.add_argument("--robot", required=True, help="built-in robot name, path to a robot sidecar YAML, or "
                         "erd:NAME (an example-robot-data arm, with --tool)")
     add_tool_option(parser)

@@ -38,6 +38,12 @@ class Evaluation:
         """The ranking objective's name."""
         return self.objectives[0]
 
+    def __repr__(self) -> str:
+        """A short summary: how many placements, how many feasible, the range of their objective."""
+        feasible = self.value[self.feasible]
+        spread = f", {self.objective} {feasible.min():.6g} to {feasible.max():.6g}" if len(feasible) else ""
+        return f"Evaluation({len(self.placements)} placements, {len(feasible)} feasible{spread})"
+
     @property
     def value(self) -> np.ndarray:
         """(K,) the ranking objective."""
@@ -102,6 +108,14 @@ class PlacementDetail:
     timing: str
     duration_s: float
     hold_effort: np.ndarray
+
+    def __repr__(self) -> str:
+        """A short summary: the placement (mm, deg), the objective and whether every limit holds."""
+        where = ", ".join(f"{value * 1e3:.2f}" for value in self.placement[:3])
+        angles = ", ".join(f"{np.degrees(value):.2f}" for value in self.placement[3:])
+        state = "feasible" if self.feasible else "INFEASIBLE" if self.reachable else "unreachable"
+        return (f"PlacementDetail(at ({where}) mm, ({angles}) deg: {self.objective} {self.value:.6g}, {state}, "
+                f"{len(self.samples)} samples, {self.timing} timing)")
 
     @property
     def feasible(self) -> bool:

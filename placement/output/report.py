@@ -247,17 +247,20 @@ def write_json(path: str | Path, document: dict[str, Any]) -> None:
 def write_trace(path: str | Path, robot: Robot, detail: PlacementDetail) -> None:
     """Write the per-sample CSV trace of one placement (SI units), atomically.
 
-    Columns: t, x, y, z (tool point in the base frame), then for each actuator i = 1..n:
-    q_i, qd_i, qdd_i, force_i (N or N·m at the joint), motor_speed_i (rad/s), motor_torque_i (N·m),
-    current_i (A), power_i (W, electric).
+    Columns: t, x, y, z (tool point in the base frame), speed (the tool's speed along the path, m/s),
+    then for each actuator, named by its joint: q_JOINT, qd_JOINT, qdd_JOINT, force_JOINT (N or N·m at
+    the joint), motor_speed_JOINT (rad/s), motor_torque_JOINT (N·m), current_JOINT (A), power_JOINT
+    (W, electric). The names are a calibration log's (:func:`placement.drives.calibration.read_log`),
+    so a trace whose times increase (no repeated instant) calibrates the drives it was made with.
     """
-    n = len(robot.actuators)
-    columns = ["t", "x", "y", "z"] + [f"{name}_{i}" for i in range(1, n + 1) for name in
-                                       ("q", "qd", "qdd", "force", "motor_speed", "motor_torque", "current", "power")]
+    names = [actuator.joint for actuator in robot.actuators]
+    quantities = ("q", "qd", "qdd", "force", "motor_speed", "motor_torque", "current", "power")
+    columns = ["t", "x", "y", "z", "speed"] + [f"{quantity}_{name}" for name in names for quantity in quantities]
     per_actuator = [detail.position, detail.velocity, detail.acceleration, detail.effort, detail.motor.speed_rad_s,
                     detail.motor.torque_Nm, detail.motor.current_A, detail.power_W]
-    table = np.column_stack([detail.samples.t_s, detail.tool_position_m]
-                            + [values[:, i] for i in range(n) for values in per_actuator])
+    speed = np.linalg.norm(detail.samples.velocity_m_s, axis=1)
+    table = np.column_stack([detail.samples.t_s, detail.tool_position_m, speed]
+                            + [values[:, i] for i in range(len(names)) for values in per_actuator])
     buffer = io.StringIO()
     writer = csv.writer(buffer)
     writer.writerow(columns)

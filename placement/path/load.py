@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 from pathlib import Path as FilePath
+from typing import Any
 
 import numpy as np
 
@@ -11,17 +12,21 @@ from placement.path.exceptions import PathFileError
 from placement.path.gcode import MM_M, Machine, Program, read_program
 from placement.path.poses import TimedPoses, pose_segments, read_poses
 from placement.path.samples import default_time_step_s
-from placement.path.schema import LENGTH_SCALE, Circle, Gcode, PathFile, Polyline, Poses, Rapids, Rectangle
+from placement.path.schema import LENGTH_SCALE, Circle, Gcode, PathFile, Polyline, Poses, Rapids, Rectangle, Slot
 from placement.path.segments import Hold, Segment
 from placement.path.toolpath import MIN_LENGTH_M, ToolPath
-from placement.schema import read_yaml
+from placement.schema import read_yaml, validate_document
+
+DICT_NAME = "<dict>"  # a path given as a dict, in errors
 
 
-def load_path(path: str | FilePath) -> ToolPath:
-    """Read and validate a path file (and the G-code program it names, if any).
+def load_path(path: str | FilePath | dict[str, Any], folder: str | FilePath = ".") -> ToolPath:
+    """Read and validate a path file (and the G-code program it names, if any), or a path file's fields as a dict.
 
     Args:
-        path: The YAML file.
+        path: The YAML file, or its fields as a dict (``{"units": "mm", "shape": {"type": "circle", "radius": 20},
+            "feed_m_s": 0.2}``), named ``<dict>`` in errors.
+        folder: Where the files a dict names (a G-code program, a pose list) are; a file's are beside it.
 
     Returns:
         The path, in metres.
@@ -30,8 +35,13 @@ def load_path(path: str | FilePath) -> ToolPath:
         PathFileError: The file (or its program) is missing, malformed, or breaks the schema;
             a G-code program's errors (GcodeError) name its line and word.
     """
-    path = FilePath(path)
-    spec = read_yaml(path, PathFile, PathFileError)
+    if isinstance(path, dict):
+        document = path
+        path = FilePath(folder) / DICT_NAME
+        spec = validate_document(document, path, PathFile, PathFileError)
+    else:
+        path = FilePath(path)
+        spec = read_yaml(path, PathFile, PathFileError)
     _check_fields(path, spec)
     rapid_feed, timed = None, None
     holds: tuple[Hold, ...] = ()
@@ -65,7 +75,7 @@ def load_path(path: str | FilePath) -> ToolPath:
                             "the points must not all coincide")
     if sum(segment.length_m for segment in segments) < MIN_LENGTH_M:
         raise PathFileError(path, "shape", f"the path is shorter than {MIN_LENGTH_M * 1e6:g} µm")
-    return ToolPath(name=spec.name or path.stem, segments=segments, feed_m_s=feed,
+    return ToolPath(name=spec.name or ("path" if path.name == DICT_NAME else path.stem), segments=segments, feed_m_s=feed,
                     forces=spec.process_forces_N.resolve(), timing=spec.timing,
                     time_step_s=spec.time_step_s if spec.time_step_s is not None else default_time_step_s(feed),
                     rapid_feed_m_s=rapid_feed, timed=timed, notes=notes, holds=holds)
@@ -135,10 +145,14 @@ def _segments(spec: PathFile) -> tuple[Segment, ...]:
     assert spec.units is not None and not isinstance(spec.shape, (Gcode, Poses))  # _check_fields
     scale = LENGTH_SCALE[spec.units]
     shape = spec.shape
+    if isinstance(shape, Rectangle) and shape.corner_radius > 0:
+        return _rounded(shape.width * scale, shape.length * scale, shape.corner_radius * scale)
     if isinstance(shape, Rectangle):
         w, l = shape.width * scale / 2, shape.length * scale / 2
         corners = [(-w, -l), (w, -l), (w, l), (-w, l)]
         return _lines([*corners, corners[0]])
+    if isinstance(shape, Slot):
+        return _rounded(shape.length * scale, shape.width * scale, shape.width * scale / 2)
     if isinstance(shape, Polyline):
         points = [tuple(np.array(p, dtype=float) * scale) for p in shape.points]
         return _lines(points + ([points[0]] if shape.closed else []))
@@ -151,6 +165,24 @@ def _segments(spec: PathFile) -> tuple[Segment, ...]:
         return np.array([radius * np.cos(angle), radius * np.sin(angle), 0.0])
 
     return (Segment(on_circle(start), on_circle(start + sweep), center, radius, start, sweep),)
+
+
+def _rounded(width_m: float, length_m: float, radius_m: float) -> tuple[Segment, ...]:
+    """A width x length rectangle centred on the origin with quarter-circle corners of radius r, anticlockwise from
+    (-width/2 + r, -length/2): each side (left out where the corners meet, as on a slot's ends), then its corner."""
+    w, l = width_m / 2 - radius_m, length_m / 2 - radius_m  # the corners' centres are at (±w, ±l)
+    segments = []
+    for k, (cx, cy) in enumerate([(w, -l), (w, l), (-w, l), (-w, -l)]):
+        angle = np.radians(-90.0 + 90.0 * k)  # the corner's start, from its centre
+        center = np.array([cx, cy, 0.0])
+        start = center + radius_m * np.array([np.cos(angle), np.sin(angle), 0.0])
+        end = center + radius_m * np.array([np.cos(angle + np.pi / 2), np.sin(angle + np.pi / 2), 0.0])
+        previous = np.array([-cx, cy, 0.0]) if k % 2 == 0 else np.array([cx, -cy, 0.0])  # the side's other corner
+        side_start = previous + radius_m * np.array([np.cos(angle), np.sin(angle), 0.0])
+        if np.linalg.norm(start - side_start) > 0:
+            segments.append(Segment(side_start, start))
+        segments.append(Segment(start, end, center, radius_m, float(angle), np.pi / 2))
+    return tuple(segments)
 
 
 def _lines(points: list) -> tuple[Segment, ...]:

@@ -5,7 +5,8 @@ workpiece; the origin is the frame origin the placement moves), the feed rate, t
 and the timing law. Lengths are in the file's ``units`` (m or mm); speeds, accelerations and
 forces carry their unit in their field name. The shapes (docs/paths.md has the whole format):
 
-    rectangle, polyline, circle, arc: geometry written in the file, run at ``feed_m_s``.
+    rectangle (with rounded corners: corner_radius), slot, polyline, circle, arc: geometry written in the
+        file, run at ``feed_m_s``.
     gcode: a G-code program (:mod:`placement.path.gcode`), which sets its own units (G20/G21) and the
         feed of each move (F): ``units`` and ``feed_m_s`` are refused. ``rapids`` says whether its
         G0 moves are skipped (left out, leaving gaps) or timed at a rapid feed; ``machine`` gives the
@@ -34,10 +35,11 @@ Timing laws (a timed pose list has its own times instead):
         own feed (a G-code move at its F).
     realistic: the tool stops at every sharp corner, at every gap a skipped rapid leaves, and
         wherever a pose list's orientation changes its rate of turning; between such stops it
-        follows a jerk-limited (double-S) feed profile with bounded acceleration and jerk,
-        cruising at the lowest feed of the segments it crosses; on arcs the feed is lowered
-        until the tangential and centripetal acceleration and jerk together stay within the
-        bounds. One continuous motion between gaps, each gap starting a new piece.
+        follows a jerk-limited feed profile with look-ahead (:mod:`placement.timing.realistic`):
+        each segment runs at its own feed where its length allows, slowed only where the
+        geometry requires it (on arcs, until the tangential and centripetal acceleration and
+        jerk together stay within the bounds; where the curvature jumps), and accelerates
+        again after. One continuous motion between gaps, each gap starting a new piece.
     optimal: the fastest motion the robot allows at each placement (:mod:`placement.timing`):
         stops where the realistic law stops, and in between the feed is as high as the robot's
         joint speed and acceleration, motor speed and torque (and drive voltage, where given)
@@ -62,15 +64,43 @@ from placement.schema import Number, Strict, Text
 Positive = Annotated[Number, Field(gt=0.0)]
 
 
-LENGTH_SCALE = {"m": 1.0, "mm": 1e-3}
+LENGTH_SCALE = {"m": 1.0, "mm": 1e-3, "in": 0.0254}
 
 
 class Rectangle(Strict):
-    """W x L rectangle centred on the origin, W along X_p; run A(-W/2,-L/2) -> B -> C -> D."""
+    """W x L rectangle centred on the origin, W along X_p; run A(-W/2,-L/2) -> B -> C -> D, anticlockwise.
+
+    With ``corner_radius`` r > 0 its corners are quarter circles of radius r (tangent to the sides): the run
+    starts at (-W/2 + r, -L/2) and never stops (no sharp corner).
+    """
 
     type: Literal["rectangle"]
     width: Positive
     length: Positive
+    corner_radius: Annotated[Number, Field(ge=0.0)] = 0.0
+
+    @model_validator(mode="after")
+    def _radius_fits(self) -> Rectangle:
+        if 2 * self.corner_radius > min(self.width, self.length):
+            raise ValueError(f"corner_radius {self.corner_radius:g} must be at most half the shorter side "
+                             f"({min(self.width, self.length) / 2:g})")
+        return self
+
+
+class Slot(Strict):
+    """A slot's outline (a stadium) centred on the origin: ``length`` end to end along X_p, ``width`` along Y_p,
+    half circles of radius width/2 at the ends; run anticlockwise from (-length/2 + width/2, -width/2)."""
+
+    type: Literal["slot"]
+    length: Positive
+    width: Positive
+
+    @model_validator(mode="after")
+    def _longer_than_wide(self) -> Slot:
+        if self.length < self.width:
+            raise ValueError(f"length {self.length:g} must be at least the width {self.width:g} (a slot's ends are "
+                             "half circles of the width's diameter)")
+        return self
 
 
 class Polyline(Strict):
@@ -211,8 +241,8 @@ class PathFile(Strict):
     """The whole path file; G-code has its own ``units`` and feeds, a timed pose list its own timing (load_path)."""
 
     name: Text = ""
-    units: Literal["m", "mm"] | None = None
-    shape: Annotated[Rectangle | Polyline | Circle | Arc | Gcode | Poses, Field(discriminator="type")]
+    units: Literal["m", "mm", "in"] | None = None
+    shape: Annotated[Rectangle | Slot | Polyline | Circle | Arc | Gcode | Poses, Field(discriminator="type")]
     feed_m_s: Positive | None = None
     rapids: Rapids | None = None
     process_forces_N: ForceKinds = ForceKinds()

@@ -52,6 +52,11 @@ class ToolPath:
         """Total path length."""
         return sum(segment.length_m for segment in self.segments)
 
+    def __repr__(self) -> str:
+        """A short summary (the segments' arrays left out)."""
+        return (f"ToolPath('{self.name}', {len(self.segments)} segments, {self.length_m * 1e3:.4g} mm, feed "
+                f"{self.feed_m_s:.4g} m/s, {self.timing.mode} timing)")
+
     def speed_m_s(self, segment: Segment) -> float:
         """The feed a segment of this path is run at."""
         if segment.rapid:

@@ -9,6 +9,7 @@ loaded until a robot is asked for.
 
 from __future__ import annotations
 
+import difflib
 from collections.abc import Callable
 from importlib import resources
 from pathlib import Path
@@ -59,7 +60,16 @@ def sidecar_path(name_or_path: str | Path) -> Path:
     found = folder_sidecar(Path(text))
     if found is not None:
         return found
-    raise UnknownRobotError(text, robot_names())
+    raise UnknownRobotError(text, robot_names(), close_names(text))
+
+
+def close_names(text: str) -> list[str]:
+    """Robot arguments close to ``text`` (a misspelt name; an example-robot-data name without its ``erd:``)."""
+    from placement.robot.erd import ERD_FORM, erd_names  # example-robot-data's list, read only on a miss
+
+    arms = [f"{ERD_FORM}{name}" for name in erd_names()]
+    exact = [arm for arm in arms if arm == f"{ERD_FORM}{text}"]
+    return exact or difflib.get_close_matches(text, robot_names() + arms, n=3, cutoff=0.75)
 
 
 def robot_description(name: str) -> str:

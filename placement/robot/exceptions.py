@@ -12,11 +12,13 @@ class RobotFileError(InputFileError):
 class UnknownRobotError(PlacementError):
     """A robot name is neither a built-in robot nor a path to a sidecar file."""
 
-    def __init__(self, name: str, known: list[str]) -> None:
+    def __init__(self, name: str, known: list[str], suggestions: list[str] | None = None) -> None:
         self.name = name
         self.known = known
+        self.suggestions = suggestions or []
+        hint = f" (did you mean {' or '.join(self.suggestions)}?)" if self.suggestions else ""
         super().__init__(
-            f"unknown robot '{name}': expected one of {', '.join(known)} "
+            f"unknown robot '{name}'{hint}: expected one of {', '.join(known)} "
             "or the path to a robot sidecar YAML file"
         )
 

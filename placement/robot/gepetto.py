@@ -137,7 +137,8 @@ def is_gepetto(path: Path) -> bool:
 def folder_sidecar(path: Path) -> Path | None:
     """The file a robot path loads from, or None when ``path`` names no file or robot folder.
 
-    A folder loads from its ``placement.yaml``, else its ``robot.yaml``; a Gepetto ``robot.yaml``
+    A folder loads from its ``placement.yaml``, else the sidecar named after it (``FOLDER/FOLDER.yaml``, as the
+    built-in robots and ``calibrate --out`` lay them out), else its ``robot.yaml``; a Gepetto ``robot.yaml``
     with a ``placement.yaml`` beside it loads from that ``placement.yaml``; any other file is itself.
     A ``placement.yaml`` older than the Gepetto ``robot.yaml`` beside it is loaded all the same,
     with a :class:`StaleSidecarWarning`.
@@ -146,10 +147,11 @@ def folder_sidecar(path: Path) -> Path | None:
         RobotFileError: A folder holds neither file.
     """
     if path.is_dir():
-        for name in (SIDECAR_NAME, YAML_NAME):
+        for name in (SIDECAR_NAME, f"{path.name}.yaml", YAML_NAME):
             if (path / name).is_file():
                 return _warned_if_stale(path / name)
-        raise RobotFileError(path, "", f"a robot folder needs a sidecar {SIDECAR_NAME}, or {YAML_NAME} and {URDF_NAME} "
+        raise RobotFileError(path, "", f"a robot folder needs a sidecar {SIDECAR_NAME} or {path.name}.yaml, or "
+                             f"{YAML_NAME} and {URDF_NAME} "
                              "in Gepetto's example-parallel-robots format")
     if not path.is_file():
         return None

@@ -89,6 +89,11 @@ class Optimum:
     recheck_limit: str
     evaluations: int
 
+    def __repr__(self) -> str:
+        """A short summary: the placement's detail and the 4x denser re-check."""
+        return (f"Optimum({self.detail!r}, 4x denser: {self.recheck_value:.6g}, tightest {self.recheck_limit} "
+                f"{self.recheck_margin:.3g}, {self.evaluations} evaluations)")
+
     @property
     def sampling_gap(self) -> float:
         """Relative change of the objective when the path is sampled 4x more densely (absolute at 0)."""
@@ -114,6 +119,14 @@ class PlacementResult:
     objective: str
     regeneration: str
     infeasible: str | None = None
+
+    def __repr__(self) -> str:
+        """A short summary: the best and worst objective values and the gain."""
+        found = {label: f"{optimum.detail.value:.6g}" for label, optimum in (("best", self.best), ("worst", self.worst))
+                 if optimum is not None}
+        text = ", ".join(f"{label} {value}" for label, value in found.items()) or f"infeasible: {self.infeasible}"
+        gain = f", gain {self.gain:.1%}" if self.gain is not None else ""
+        return f"PlacementResult({self.objective}: {text}{gain})"
 
     @property
     def gain(self) -> float | None:

@@ -2,6 +2,7 @@
 
 import json
 import math
+import re
 import subprocess
 import sys
 
@@ -35,6 +36,26 @@ def test_unknown_robot_exits_2_with_the_known_names(capsys):
     assert main(["check", "orthoglyde"]) == 2
     err = capsys.readouterr().err
     assert err.startswith("error: unknown robot 'orthoglyde'") and "orthoglide" in err
+
+
+def test_close_names_are_suggested(capsys):
+    assert main(["check", "orthoglyde"]) == 2
+    assert "did you mean orthoglide?" in capsys.readouterr().err
+    assert main(["--robot", "ur10", "--path", "examples/circle.yaml"]) == 2
+    assert "did you mean erd:ur10?" in capsys.readouterr().err
+
+
+def test_help_lists_every_command_and_version_prints_it(capsys):
+    from placement.cli import SUBCOMMANDS
+
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    text = capsys.readouterr().out
+    for name in SUBCOMMANDS:
+        assert re.search(rf"^  {name} +\S", text, re.MULTILINE), name  # one line each, with what it does
+    assert "--version" in text and "--debug" in text
+    assert main(["--version"]) == 0
+    assert re.fullmatch(r"placement \S+\n", capsys.readouterr().out)
 
 
 def test_bad_sidecar_exits_2_naming_the_field(tmp_path, capsys):
@@ -82,9 +103,10 @@ def test_main_job_reports_best_worst_and_gain_and_writes_json_and_trace(tmp_path
     np.testing.assert_allclose(again.value, [document["best"]["energy_J"], document["worst"]["energy_J"]], rtol=1e-12)
     assert document["gain"] == pytest.approx((again.value[1] - again.value[0]) / again.value[1], rel=1e-12)
     rows = list(csv.reader(out_csv.open()))
-    assert rows[0][:4] == ["t", "x", "y", "z"] and rows[0][4:12] == [
-        "q_1", "qd_1", "qdd_1", "force_1", "motor_speed_1", "motor_torque_1", "current_1", "power_1"]
-    assert len(rows[0]) == 4 + 3 * 8 and len(rows) > 40
+    assert rows[0][:5] == ["t", "x", "y", "z", "speed"] and rows[0][5:13] == [
+        "q_slider_x", "qd_slider_x", "qdd_slider_x", "force_slider_x", "motor_speed_slider_x", "motor_torque_slider_x",
+        "current_slider_x", "power_slider_x"]  # a calibration log's names
+    assert len(rows[0]) == 5 + 3 * 8 and len(rows) > 40
     # The trace is the best placement's: its tool points are the path placed there.
     from placement.placing.transform import transform_path_to_base
 
@@ -240,6 +262,13 @@ def test_map_command_writes_the_map_figure_and_scene(tmp_path, capsys):
     assert "energy map" in (tmp_path / "map.html").read_text()
     assert "20 placements" in capsys.readouterr().out
     assert main(["map", "--robot", "orthoglide", "--path", str(EXAMPLE), "--grid", "x=1:2", "--out", str(out)]) == 2
+    # A figure alone will do; nothing to write is refused before any work.
+    png = tmp_path / "alone.png"
+    assert main(["map", "--robot", "orthoglide", "--path", str(EXAMPLE), "--grid", "x=-110:50:3,y=-90:30:3",
+                 "--time-step", "0.004", "--workers", "1", "--quiet", "--png", str(png)]) == 0
+    assert png.is_file() and "written to" not in capsys.readouterr().out.split("figure")[0]
+    assert main(["map", "--robot", "orthoglide", "--path", str(EXAMPLE), "--grid", "x=-110:50:3"]) == 2
+    assert "give what to write" in capsys.readouterr().err
 
 
 def test_html_scene_of_two_paths(tmp_path, capsys):

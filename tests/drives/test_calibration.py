@@ -6,16 +6,18 @@ loop, its simulated motion logged, and the power computed from the efforts MuJoC
 """
 
 import csv
+import re
 
 import numpy as np
 import pytest
 
 from placement import load_robot
 from placement.cli import main
-from placement.drives.calibration import FITTABLE, calibrate, read_log
+from placement.drives.calibration import FITTABLE, MeasuredLog, calibrate, read_log
 from placement.drives.trace import motor_trace
 from placement.dynamics.inverse import inverse_dynamics
 from placement.energy.integration import sample_power
+from placement.robot.catalog import builtin_robots_dir
 from placement.robot.checks import demo_trajectory
 from tests.support.robot_copies import edited_copy
 
@@ -70,6 +72,56 @@ def test_hidden_constants_are_recovered_within_2_percent(hidden_log):
     assert result.held_out_rmse["power"] < 1.5 * noise_W  # the held-out part is predicted down to the noise
 
 
+def model_log(robot, t):
+    """The tool positions, power and current the model itself predicts for the demo motion at times ``t``."""
+    task = demo_trajectory(robot, amplitude_m=0.04)(t)
+    motion = inverse_dynamics(robot, task)
+    trace = motor_trace(robot, motion.effort, motion.velocity, motion.acceleration)
+    return task.position_m, sample_power(robot, trace, t, np.zeros(len(t), dtype=int)), trace.current_A
+
+
+def test_a_noise_free_log_made_by_the_model_gives_back_the_truth(hidden_log):
+    """The fit reads the motion's rates off the logged positions as exactly as the model made them (a quintic
+    spline: finite differences erred by O(Δt²) in the acceleration and biased the friction well outside its
+    interval), and starts the stock's zero friction inside its range."""
+    folder = hidden_log[0]
+    hidden = load_robot(folder / "orthoglide" / "orthoglide.yaml")
+    t = np.arange(0.0, 1.0, 0.001)
+    tool, power, current = model_log(hidden, t)
+    robot = load_robot("orthoglide")
+    result = calibrate(robot, MeasuredLog(t, tool, None, {"power": power, "current": current}), list(FITTABLE))
+    for constant, truth in HIDDEN.items():
+        assert result.values[DRIVE][constant] == pytest.approx(truth, rel=1e-6), constant
+    friction = calibrate(robot, MeasuredLog(t, tool, None, {"power": power}), ["coulomb", "viscous"])
+    assert friction.values[DRIVE]["coulomb"] != pytest.approx(HIDDEN["coulomb"], rel=1e-3)  # the motor differs too
+    only = load_robot(edited_copy("orthoglide", folder / "friction", lambda d: d["drives"][DRIVE].update(
+        friction={"coulomb": 15.0, "viscous": 25.0})))
+    tool, power, _ = model_log(only, t)
+    friction = calibrate(robot, MeasuredLog(t, tool, None, {"power": power}), ["coulomb", "viscous"])
+    assert friction.values[DRIVE] == pytest.approx({"coulomb": 15.0, "viscous": 25.0}, rel=1e-6)
+
+
+def test_the_95_percent_intervals_cover_the_truth_at_their_rate(tmp_path):
+    """100 short logs (200 samples) of one motion, each with its own 1 % noise on the power: each 95 % interval
+    holds the hidden constant in at least 90 of them (a binomial(100, 0.95) falls below 90 with probability 0.3 %)."""
+    truth = {"coulomb": 15.0, "viscous": 25.0, "resistance_ohm": 1.8}
+
+    def lossier(document: dict) -> None:
+        document["drives"][DRIVE]["friction"] = {"coulomb": 15.0, "viscous": 25.0}
+        document["drives"][DRIVE]["motor"]["resistance_ohm"] = 1.8
+
+    t = np.arange(0.0, 1.0, 0.005)
+    tool, power, _ = model_log(load_robot(edited_copy("orthoglide", tmp_path, lossier)), t)
+    robot = load_robot("orthoglide")
+    covered = dict.fromkeys(truth, 0)
+    for seed in range(100):
+        noisy = power + np.random.default_rng(seed).normal(0.0, 0.01 * np.abs(power).max(), power.shape)
+        result = calibrate(robot, MeasuredLog(t, tool, None, {"power": noisy}), list(truth))
+        for constant, value in truth.items():
+            covered[constant] += abs(result.values[DRIVE][constant] - value) <= result.confidence_95[DRIVE][constant]
+    assert min(covered.values()) >= 90, covered
+
+
 def test_the_log_must_be_able_to_tell_the_constants_apart(hidden_log, tmp_path, capsys):
     _, t, tool, power, current, _ = hidden_log
     only_power = write_log(tmp_path / "power.csv", t, tool, power)
@@ -83,15 +135,42 @@ def test_the_log_must_be_able_to_tell_the_constants_apart(hidden_log, tmp_path, 
 def test_the_command_writes_a_calibrated_robot_that_loads(hidden_log, tmp_path, capsys):
     _, t, tool, power, current, _ = hidden_log
     log = write_log(tmp_path / "log.csv", t, tool, power, current)
-    out, png = tmp_path / "calibrated", tmp_path / "fit.png"
+    out, png = tmp_path / "orthoglide_shop2", tmp_path / "fit.png"
     assert main(["calibrate", "orthoglide", "--log", str(log), "--fit", ",".join(FITTABLE), "--out", str(out),
                  "--png", str(png)]) == 0
     text = capsys.readouterr().out
     assert "resistance_ohm" in text and "held out" in text and png.is_file()
-    robot = load_robot(out / "orthoglide.yaml")  # the plug-in and URDF came along
+    assert re.search(r"resistance_ohm +1\.5 -> +1\.8\d* +± ", text)  # before -> after
+    robot = load_robot(out)  # the folder, named after the calibration; the plug-in and URDF came along
+    assert robot.name == "orthoglide_shop2" and robot.sidecar_path == out / "orthoglide_shop2.yaml"
+    assert sorted(p.name for p in out.glob("*.yaml")) == ["orthoglide_shop2.yaml"]
+    written = robot.sidecar_path.read_text(encoding="utf-8")
+    original = (builtin_robots_dir() / "orthoglide" / "orthoglide.yaml").read_text(encoding="utf-8")
+    assert written.splitlines()[:3] == original.splitlines()[:3]  # the comments and layout kept
+    assert "reference_configuration:      # the isotropic point O_b" in written
+    assert "95 % interval ±" in written and "\\xB1" not in written
     drive = robot.named_drives[DRIVE]
     assert drive.motor.resistance_ohm == pytest.approx(1.8, rel=0.02) and drive.friction.coulomb == pytest.approx(20, rel=0.02)
     assert robot.sources[f"drives.{DRIVE}.motor.resistance_ohm"].startswith("CALIBRATED: fitted to log.csv")
+
+
+def test_a_trace_is_a_calibration_log(tmp_path):
+    """placement --trace writes a log calibrate reads: a hidden robot's trace along the realistic circle, without
+    process forces, gives back its friction to 5 %. Not closer: the trace starts and ends at rest, where Coulomb
+    friction is 0 (sign(0)), but the speed read off the logged positions there is ~1e-7 m/s of either sign."""
+    from placement import Evaluator, EvaluatorSettings, load_path
+    from placement.output.report import write_trace
+
+    hidden = load_robot(edited_copy("orthoglide", tmp_path, lambda d: d["drives"][DRIVE].update(
+        friction={"coulomb": 15.0, "viscous": 25.0})))
+    circle = tmp_path / "circle.yaml"  # the example's circle without its process forces, which a log does not see
+    circle.write_text(re.sub(r"process_forces_N:.*\n", "", open("examples/circle.yaml").read()))
+    detail = Evaluator(hidden, load_path(circle), EvaluatorSettings(workers=1)).detail(
+        np.array([0.0, 0.0, -0.03, 0.0, 0.6, 0.4]))  # tilted: every slider moves (Coulomb friction needs a sign)
+    write_trace(tmp_path / "trace.csv", hidden, detail)
+    robot = load_robot("orthoglide")
+    result = calibrate(robot, read_log(tmp_path / "trace.csv", robot), ["coulomb", "viscous"])
+    assert result.values[DRIVE] == pytest.approx({"coulomb": 15.0, "viscous": 25.0}, rel=0.05)
 
 
 def test_a_log_whose_motion_mujoco_simulated(tmp_path):

@@ -55,6 +55,67 @@ def test_arc_and_polyline_shapes(tmp_path):
     assert len(line.segments) == 3 and line.length_m == pytest.approx(0.12)
 
 
+def on_rounded_outline(points, half_width, half_length, radius):
+    """Distance of each point (N, 3) from the outline of a rectangle with rounded corners centred on the origin."""
+    x, y = np.abs(points[:, 0]), np.abs(points[:, 1])
+    cx, cy = half_width - radius, half_length - radius  # the corners' centres
+    corner = np.hypot(np.maximum(x - cx, 0.0), np.maximum(y - cy, 0.0))
+    in_corner = (x > cx) & (y > cy)
+    side = np.minimum(np.abs(x - half_width) + np.where(y > cy, np.inf, 0.0),
+                      np.abs(y - half_length) + np.where(x > cx, np.inf, 0.0))
+    return np.where(in_corner, np.abs(corner - radius), side)
+
+
+def joins_are_tangent(path):
+    """Each segment's end tangent is the next one's start tangent (the last joins the first: a closed outline)."""
+    segments = path.segments
+    for before, after in zip(segments, segments[1:] + segments[:1]):
+        end = before.point(np.array([before.length_m]), np.ones(1), np.zeros(1))
+        start = after.point(np.zeros(1), np.ones(1), np.zeros(1))
+        np.testing.assert_allclose(end[0], start[0], atol=1e-15)  # continuous position ...
+        np.testing.assert_allclose(end[3], start[3], atol=1e-12)  # ... and tangent
+
+
+@pytest.mark.parametrize("units, scale", [("mm", 1e-3), ("in", 0.0254)])
+def test_a_rectangle_with_rounded_corners(tmp_path, units, scale):
+    path = load_path(write(tmp_path, f"units: {units}\nshape: {{type: rectangle, width: 80, length: 40, "
+                                     "corner_radius: 8}\nfeed_m_s: 0.04\n"
+                                     "timing: {mode: realistic, max_acceleration_m_s2: 10, max_jerk_m_s3: 500}\n"))
+    assert len(path.segments) == 8 and len(path.runs()) == 1  # tangent all round: the tool never stops
+    assert path.length_m == pytest.approx((2 * (80 - 16) + 2 * (40 - 16) + 2 * np.pi * 8) * scale, rel=1e-12)
+    joins_are_tangent(path)
+    samples = path.sample()
+    assert on_rounded_outline(samples.position_m, 40 * scale, 20 * scale, 8 * scale).max() < 1e-12
+    np.testing.assert_allclose(samples.position_m[0], [-32 * scale, -20 * scale, 0.0], atol=1e-15)
+    with pytest.raises(PathFileError, match="half the shorter side"):
+        load_path(write(tmp_path, "units: mm\nshape: {type: rectangle, width: 80, length: 40, corner_radius: 21}\n"
+                                  "feed_m_s: 0.04\n"))
+
+
+def test_a_slot_is_a_stadium(tmp_path):
+    path = load_path(write(tmp_path, "units: mm\nshape: {type: slot, length: 50, width: 10}\nfeed_m_s: 0.05\n"
+                                     "timing: {mode: realistic, max_acceleration_m_s2: 10, max_jerk_m_s3: 500}\n"))
+    # Two straights of length - width and two half circles of the width's diameter.
+    assert [s.center_m is None for s in path.segments] == [True, False, False, True, False, False]
+    assert path.length_m == pytest.approx(2 * (50 - 10) * 1e-3 + np.pi * 10e-3, rel=1e-12)
+    assert len(path.runs()) == 1
+    joins_are_tangent(path)
+    samples = path.sample()
+    assert on_rounded_outline(samples.position_m, 0.025, 0.005, 0.005).max() < 1e-12
+    circle = load_path(write(tmp_path, "units: mm\nshape: {type: slot, length: 10, width: 10}\nfeed_m_s: 0.05\n"))
+    assert circle.length_m == pytest.approx(np.pi * 10e-3, rel=1e-12) and all(s.center_m is not None
+                                                                             for s in circle.segments)
+    with pytest.raises(PathFileError, match="at least the width"):
+        load_path(write(tmp_path, "units: mm\nshape: {type: slot, length: 5, width: 10}\nfeed_m_s: 0.05\n"))
+
+
+def test_inches(tmp_path):
+    path = load_path(write(tmp_path, "units: in\nshape: {type: polyline, points: [[0, 0], [1, 0], [1, 2]]}\n"
+                                     "feed_m_s: 0.1\n"))
+    assert path.length_m == pytest.approx(3 * 0.0254, rel=1e-15)
+    np.testing.assert_allclose(path.segments[-1].end_m, [0.0254, 0.0508, 0.0], rtol=1e-15)
+
+
 def realistic(tmp_path):
     return load_path(write(tmp_path, "units: mm\nshape: {type: rectangle, width: 30, length: 60}\nfeed_m_s: 0.66\n"
                                      "timing: {mode: realistic, max_acceleration_m_s2: 10, max_jerk_m_s3: 500}\n"
@@ -116,3 +177,34 @@ def test_bad_path_files_name_the_field(tmp_path, text, field, words):
 def test_missing_path_file(tmp_path):
     with pytest.raises(PathFileError, match="file not found"):
         load_path(tmp_path / "nowhere.yaml")
+
+
+def test_short_reprs():
+    """print(path), print(robot) and the results say what they are in a line, not pages of arrays or Pinocchio."""
+    import numpy as np
+
+    from placement import Evaluator, EvaluatorSettings, load_robot
+
+    path, robot = load_path(EXAMPLE), load_robot("orthoglide")
+    assert repr(path) == "ToolPath('rectangle 30 x 60 mm, groove milling', 4 segments, 180 mm, feed 0.66 m/s, paper timing)"
+    assert repr(robot).startswith("Robot('orthoglide', 3 actuators (slider_x, slider_y, slider_z), position task")
+    evaluator = Evaluator(robot, path, EvaluatorSettings(workers=1))
+    at = np.array([0.0, 0.0, -0.03, 0.0, 0.0, 0.0])
+    assert repr(evaluator.evaluate(at[None])).startswith("Evaluation(1 placements, 1 feasible, energy ")
+    text = repr(evaluator.detail(at))
+    assert text.startswith("PlacementDetail(at (0.00, 0.00, -30.00) mm, (0.00, 0.00, 0.00) deg: energy ")
+    assert len(text) < 200 and "\n" not in repr(robot)
+
+
+def test_a_path_given_as_a_dict(tmp_path):
+    fields = {"units": "mm", "shape": {"type": "circle", "radius": 20}, "feed_m_s": 0.2}
+    path = load_path(fields)
+    assert path.name == "path" and path.length_m == pytest.approx(2 * np.pi * 0.02, rel=1e-12)
+    assert repr(load_path(write(tmp_path, "units: mm\nshape: {type: circle, radius: 20}\nfeed_m_s: 0.2\n", "path.yaml"))) \
+        == repr(path)
+    with pytest.raises(PathFileError) as error:
+        load_path({**fields, "feed_m_s": -1})
+    assert error.value.field == "feed_m_s" and "<dict>" in str(error.value)
+    (tmp_path / "job.nc").write_text("G21 G0 X0 Y0 Z0\nG1 X10 F600\n")
+    job = load_path({"shape": {"type": "gcode", "file": "job.nc"}}, folder=tmp_path)  # files beside ``folder``
+    assert job.length_m == pytest.approx(0.01)

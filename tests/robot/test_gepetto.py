@@ -137,7 +137,8 @@ def test_fixed_joints_are_locked_and_a_named_end_effector_is_no_estimate(folder)
 
 
 def test_a_folder_without_robot_files_is_an_error(tmp_path):
-    with pytest.raises(RobotFileError, match="needs a sidecar placement.yaml, or robot.yaml and robot.urdf"):
+    with pytest.raises(RobotFileError, match=f"needs a sidecar placement.yaml or {tmp_path.name}.yaml, or robot.yaml "
+                                             "and robot.urdf"):
         load_robot(tmp_path)
 
 

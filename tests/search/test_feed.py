@@ -18,6 +18,7 @@ def test_paper_timing_takes_length_over_feed_and_breaks_the_speed_limit_when_too
     np.testing.assert_allclose(study.top_speed_m_s, FEEDS, rtol=1e-12)
     assert study.feasible.tolist() == [True, True, True, True, False]  # the sliders' 1 m/s, at 2 m/s on 45° diagonals
     assert "speed" in study.binding[-1]
+    assert set(study.speed_bound) == {"feed"}
 
 
 def test_realistic_timing_never_outruns_the_feed_and_saturates(tmp_path):
@@ -28,6 +29,8 @@ def test_realistic_timing_never_outruns_the_feed_and_saturates(tmp_path):
     assert (study.top_speed_m_s <= FEEDS * (1 + 1e-9)).all()
     assert (np.diff(study.time_s) <= 1e-12).all()  # faster feeds never take longer
     assert study.top_speed_m_s[-1] < FEEDS[-1]  # 2 m/s is never reached on a 30 mm side at 10 m/s²
+    # And it says why: the feed where it is reached, the sides' length where it is not.
+    assert study.speed_bound[0] == "feed" and study.speed_bound[-1] == "length (short of the feed cap)"
 
 
 @pytest.mark.parametrize("feeds", ["0:1:3", "0.1:1", "0.1:1:0", "a:b:c", "0.1:inf:3", "0.1:1e300:3"])
