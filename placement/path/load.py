@@ -77,7 +77,8 @@ def load_path(path: str | FilePath | dict[str, Any], folder: str | FilePath = ".
         raise PathFileError(path, "shape", f"the path is shorter than {MIN_LENGTH_M * 1e6:g} µm")
     return ToolPath(name=spec.name or ("path" if path.name == DICT_NAME else path.stem), segments=segments, feed_m_s=feed,
                     forces=spec.process_forces_N.resolve(), timing=spec.timing,
-                    time_step_s=spec.time_step_s if spec.time_step_s is not None else default_time_step_s(feed),
+                    time_step_s=(spec.time_step_s if spec.time_step_s is not None
+                                 else default_time_step_s(feed, sum(s.length_m for s in segments))),
                     rapid_feed_m_s=rapid_feed, timed=timed, notes=notes, holds=holds)
 
 

@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 MAX_SAMPLES = 1_000_000  # samples of one path: about 0.5 GB through the whole chain
+MIN_PATH_STEPS = 10  # a sampling step longer than a tenth of the path's duration cannot sample it
 
 
 DEFAULT_TIME_STEP_S = 0.001  # the sampling step of a file that gives none ...
@@ -24,10 +25,11 @@ MIN_RUN_SAMPLES = 8  # samples of a run between stops, at least, for the optimal
 END_SPLIT = 4  # a run's first and last intervals (leaving and reaching a stop, the slowest) are cut in this many
 
 
-def default_time_step_s(feed_m_s: float) -> float:
+def default_time_step_s(feed_m_s: float, length_m: float) -> float:
     """The sampling step of a file that gives none: 1 ms, or longer for a slow path, so that samples are at
-    most ``DEFAULT_SPACING_M`` apart at its fastest feed (a G-code program at F100 needs no 1 ms samples)."""
-    return max(DEFAULT_TIME_STEP_S, DEFAULT_SPACING_M / feed_m_s)
+    most ``DEFAULT_SPACING_M`` apart at its fastest feed (a G-code program at F100 needs no 1 ms samples);
+    shorter for a path run in less than 2·MIN_PATH_STEPS ms, so that it gets 2·MIN_PATH_STEPS samples at least."""
+    return min(max(DEFAULT_TIME_STEP_S, DEFAULT_SPACING_M / feed_m_s), length_m / feed_m_s / (2 * MIN_PATH_STEPS))
 
 
 @dataclass(frozen=True)

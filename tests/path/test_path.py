@@ -208,3 +208,21 @@ def test_a_path_given_as_a_dict(tmp_path):
     (tmp_path / "job.nc").write_text("G21 G0 X0 Y0 Z0\nG1 X10 F600\n")
     job = load_path({"shape": {"type": "gcode", "file": "job.nc"}}, folder=tmp_path)  # files beside ``folder``
     assert job.length_m == pytest.approx(0.01)
+
+
+def test_a_time_step_that_cannot_sample_the_path_is_refused_naming_the_option(capsys):
+    """--time-step 1e6 on the 0.27 s groove would leave 8 samples and 4.39 J instead of 4.80 J: refused."""
+    from placement.__main__ import main
+
+    assert main(["--robot", "orthoglide", "--path", str(EXAMPLE), "--time-step", "1e6", "--at", "x=0"]) == 2
+    error = capsys.readouterr().err
+    assert "--time-step" in error and "time_step_s" in error and "0.2727 s" in error
+
+
+def test_a_short_path_without_a_time_step_gets_enough_samples(tmp_path):
+    """A 5 mm stroke at 1 m/s lasts 5 ms: the default step shrinks so that it has 20 samples, not 6."""
+    short = tmp_path / "short.yaml"
+    short.write_text("units: mm\nshape: {type: polyline, points: [[0, 0], [5, 0]]}\nfeed_m_s: 1.0\n")
+    path = load_path(short)
+    assert path.time_step_s == pytest.approx(0.005 / 20)
+    assert len(path.sample()) == 21
