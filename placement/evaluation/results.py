@@ -24,6 +24,8 @@ class Evaluation:
         margins: (K, n_limits) tightest normalised margin of each limit (kind and actuator or axis).
         limits: Labels of the margin columns.
         reachable: (K,) whether every sample has a configuration.
+        required_margin: The margin a feasible placement keeps from every limit (a share, see
+            :class:`placement.evaluation.evaluator.EvaluatorSettings`).
     """
 
     placements: np.ndarray
@@ -32,6 +34,7 @@ class Evaluation:
     margins: np.ndarray
     limits: tuple[str, ...]
     reachable: np.ndarray
+    required_margin: float = 0.0
 
     @property
     def objective(self) -> str:
@@ -45,8 +48,8 @@ class Evaluation:
 
     @property
     def feasible(self) -> np.ndarray:
-        """(K,) every sample reachable and every margin >= 0."""
-        return self.reachable & (self.margins >= 0).all(axis=1)
+        """(K,) every sample reachable and every margin at least the required one."""
+        return self.reachable & (self.margins >= self.required_margin).all(axis=1)
 
     @staticmethod
     def concatenate(parts: list[Evaluation]) -> Evaluation:
@@ -54,7 +57,8 @@ class Evaluation:
         return Evaluation(placements=np.concatenate([p.placements for p in parts]), objectives=parts[0].objectives,
                           values=np.concatenate([p.values for p in parts]),
                           margins=np.concatenate([p.margins for p in parts]), limits=parts[0].limits,
-                          reachable=np.concatenate([p.reachable for p in parts]))
+                          reachable=np.concatenate([p.reachable for p in parts]),
+                          required_margin=parts[0].required_margin)
 
 
 @dataclass(frozen=True)
@@ -79,6 +83,7 @@ class PlacementDetail:
         timing: The timing law's name (under "optimal", ``samples`` are timed for this placement).
         duration_s: The time the path takes (inf under the optimal law when no timing keeps every
             limit: ``samples`` then hold still at the feed's times).
+        required_margin: The margin a feasible placement keeps from every limit (a share).
     """
 
     placement: np.ndarray
@@ -99,10 +104,11 @@ class PlacementDetail:
     power_W: np.ndarray
     timing: str
     duration_s: float
+    required_margin: float = 0.0
 
     @property
     def feasible(self) -> bool:
-        """Reachable and within every limit."""
-        return self.reachable and all(m.margin >= 0 for m in self.margins)
+        """Reachable and within every limit, keeping the required margin."""
+        return self.reachable and all(m.margin >= self.required_margin for m in self.margins)
 
 
