@@ -502,10 +502,16 @@ def _grid_corners(placement: np.ndarray, free: np.ndarray) -> np.ndarray:
 
 def _failure(check: Evaluation) -> str:
     """The limit that binds most at the first placement of ``check``: "kind: where, margin M %"."""
-    if not check.reachable[0]:
-        return "reachability: some samples have no configuration"
-    tightest = int(np.argmin(check.margins[0]))
+    tightest = binding(check)
     return f"{check.limits[tightest]}, margin {check.margins[0, tightest] * 100:.4f} %"
+
+
+def binding(check: Evaluation, placement: int = 0) -> int:
+    """The column of the limit that binds most at a placement of ``check``: reachability where a sample has no
+    configuration (every margin is then at most -1, the workspace's first side included), else the tightest."""
+    if not check.reachable[placement]:
+        return check.limits.index("reachability: path")
+    return int(np.argmin(check.margins[placement]))
 
 
 def in_parallel(coarse: Evaluator, fine: Evaluator, directions: int) -> bool:
@@ -556,8 +562,7 @@ def _optimize(coarse: Evaluator, evaluator: Evaluator, dense: Evaluator, space: 
         before = evaluator.evaluations
         placement = space.full(outcome.x)[0]
         check = dense.recheck(placement[None], evaluator)
-        tightest = (int(np.argmin(check.margins[0])) if check.reachable[0]
-                    else check.limits.index("reachability: path"))
+        tightest = binding(check)
         found[direction] = Optimum(detail=evaluator.detail(placement), recheck_value=float(check.value[0]),
                                    recheck_margin=float(check.margins[0, tightest]),
                                    recheck_limit=check.limits[tightest],
