@@ -465,8 +465,10 @@ def _reportable(candidates: list[np.ndarray], fine: Evaluator, dense: Evaluator,
     centre = (space.lower + space.upper) / 2
     first_failure = ""
     for number, x in enumerate(candidates[:REPORT_CANDIDATES]):
-        trials = np.array([as_printed(p) for p in np.vstack([_grid_corners(space.full(x)[0], space.indices),
-                                                              space.full(x + RETREAT_SHARES[:, None] * (centre - x))])])
+        near = np.vstack([_grid_corners(space.full(x)[0], space.indices),
+                          space.full(x + RETREAT_SHARES[:, None] * (centre - x))])
+        trials = near.copy()  # the free variables as printed, the fixed ones as the space fixes them
+        trials[:, space.indices] = np.array([as_printed(p) for p in near])[:, space.indices]
         fine_check = fine.evaluate(trials)
         corners = len(trials) - len(RETREAT_SHARES)
         order = [k for k in np.argsort(sign * fine_check.value[:corners], kind="stable") if fine_check.feasible[k]]
