@@ -52,6 +52,7 @@ RETREAT_SHARES = np.array([0.0, 1e-5, 1e-4, 1e-3, 1e-2])  # a reported optimum's
 REPORTED_DECIMALS = 2  # a reported placement's decimals, in mm and degrees (the report's)
 REPORT_CANDIDATES = 20  # candidates tried, best first, when the optimum fails to keep its limits once printed
 RECHECK_TRIES = 5  # printed placements near a candidate re-checked on the denser sampling, at most
+BOUND_ROUND_OFF = 1e-12  # m or rad: a printed placement may pass a search bound by this much (its decimal digits)
 GRADIENT_STEP = 1e-7  # forward-difference step of the polish, as a share of each variable's range
 POLISH_EVALUATIONS = 30  # placement evaluations of a typical polish, for the duration estimate (gradients count n + 1)
 STALL_ITERATIONS = 10  # the polish stops when this many iterations improve the objective by at most
@@ -470,9 +471,12 @@ def _reportable(candidates: list[np.ndarray], fine: Evaluator, dense: Evaluator,
         trials = near.copy()  # the free variables as printed, the fixed ones as the space fixes them
         trials[:, space.indices] = np.array([as_printed(p) for p in near])[:, space.indices]
         fine_check = fine.evaluate(trials)
+        inside = (trials[:, space.indices] >= space.lower - BOUND_ROUND_OFF).all(axis=1) & (
+            trials[:, space.indices] <= space.upper + BOUND_ROUND_OFF).all(axis=1)  # a corner may cross a bound
+        usable = fine_check.feasible & inside
         corners = len(trials) - len(RETREAT_SHARES)
-        order = [k for k in np.argsort(sign * fine_check.value[:corners], kind="stable") if fine_check.feasible[k]]
-        order += [corners + k for k in np.flatnonzero(fine_check.feasible[corners:])]
+        order = [k for k in np.argsort(sign * fine_check.value[:corners], kind="stable") if usable[k]]
+        order += [corners + k for k in np.flatnonzero(usable[corners:])]
         for k in order[:RECHECK_TRIES]:
             check = dense.recheck(trials[k:k + 1], fine)
             if check.feasible[0] and np.isfinite(check.value[0]):
