@@ -111,7 +111,7 @@ def format_result(robot: Robot, result: PlacementResult) -> str:
         if optimum is not None:
             blocks.append(format_detail(title, robot, optimum.detail, optimum.recheck_value) + "\n"
                           + _recheck_line(optimum))
-    if result.best is not None and result.worst is not None and result.gain is None:
+    if result.best is not None and result.worst is not None and not (result.best.holds and result.worst.holds):
         blocks.append(f"gain: not given, the {'best' if not result.best.holds else 'worst'} placement fails its "
                       "4x denser re-check")
     if result.gain is not None and result.best is not None and result.worst is not None:

@@ -173,3 +173,21 @@ def test_at_json_errors_name_the_file(tmp_path, capsys, text, words):
     assert main(["--robot", "orthoglide", "--path", str(EXAMPLE), "--at-json", str(tmp_path / "r.json")]) == 2
     err = capsys.readouterr().err
     assert words in err and "r.json" in err
+
+
+def test_no_gain_is_given_beside_an_optimum_that_fails_its_recheck():
+    import dataclasses
+
+    from placement.output.report import format_result
+    from placement.search.optimize import SearchSettings, optimize_placement
+
+    robot, path = load_robot("orthoglide"), load_path(EXAMPLE)
+    result = optimize_placement(robot, path, evaluation=EvaluatorSettings(time_step_s=0.01),
+                                settings=SearchSettings(max_generations=3, population=8))
+    assert result.best.holds and result.worst.holds and result.gain > 0.5
+    broken = dataclasses.replace(result, worst=dataclasses.replace(result.worst, recheck_margin=-0.01,
+                                                                   recheck_limit="workspace: x max"))
+    assert broken.gain is None
+    text = format_result(robot, broken)
+    assert "gain: not given, the worst placement fails its 4x denser re-check" in text and "saves" not in text
+    assert "a limit is exceeded between the path's samples (workspace: x max, margin -1.0000 %)" in text
