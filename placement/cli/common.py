@@ -123,6 +123,14 @@ def parse_values(text: str, option: str) -> dict[str, float]:
     return values
 
 
+def unsuffixed_lengths(text: str) -> dict[str, float]:
+    """The lengths of a 'x=10,phi=30' option given without a unit (read as mm), in mm, by name; call after
+    :func:`parse_values` has accepted ``text``."""
+    items = (item.partition("=") for item in filter(None, (part.strip() for part in text.split(","))))
+    return {name.strip(): float(raw) for name, _, raw in items
+            if name.strip() not in ANGLES and _quantity(raw, name.strip()) is not None and not raw.strip().endswith("m")}
+
+
 def parse_joint_values(text: str, option: str) -> dict[str, tuple[float, str]]:
     """'a1=0.5,slider_x=0.3m' -> {joint: (value, unit)}, in the joint's own unit (rad or m).
 

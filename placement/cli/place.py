@@ -8,7 +8,9 @@
 from __future__ import annotations
 
 import argparse
+import json
 import sys
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -28,6 +30,7 @@ from placement.cli.common import (
     parse_values,
     positive_number,
     robot_files,
+    unsuffixed_lengths,
     whole_number,
 )
 from placement.cli.exceptions import UsageError
@@ -51,6 +54,7 @@ from placement.path.toolpath import ToolPath
 from placement.placing.transform import VARIABLES, describe_plane
 from placement.robot.model import Robot
 from placement.search.optimize import PlacementResult, SearchSettings, optimize_placement
+from placement.search.plausibility import feed_warnings, length_warnings
 from placement.search.space import PlacementSpace, default_space
 from placement.search.tolerance import ToleranceBox, tolerance_box
 
@@ -75,6 +79,17 @@ def build_parser() -> argparse.ArgumentParser:
                            help="only search the placement of most objective (the worst for energy)")
     parser.add_argument("--at", metavar="x=..,y=..,phi=..",
                         help="evaluate one placement instead of searching (mm and deg unless a value ends in m or rad)")
+    parser.add_argument("--at-json", metavar="RESULT.json",
+                        help="evaluate the placement of a result written by --json (its best, or --which)")
+    parser.add_argument("--which", choices=("best", "worst", "at"), default=None,
+                        help="with --at-json: which placement of the result (default best)")
+    parser.add_argument("--margin", type=margin_percent, default=0.0, metavar="PERCENT",
+                        help="keep this share of every limit's range, speed, torque or workspace side free at every "
+                             "sample, and a collision's clearance this many mm per 100 mm beyond the cell's margin "
+                             "(default 0: the limits themselves)")
+    parser.add_argument("--strict", action="store_true",
+                        help="refuse (exit 2) what would only be warned about: a feed or a length whose size "
+                             "suggests another unit")
     parser.add_argument("--free", metavar="y=-40:40,x,phi",
                         help="free placement variables, each optionally with bounds name=MIN:MAX (mm, deg) "
                              "overriding the robot's (default: the robot's, e.g. x,y,z,phi for the Orthoglide)")
@@ -115,6 +130,43 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def margin_percent(text: str) -> float:
+    """--margin's value: a percentage from 0 to under 100."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a percentage, got '{text[:40]}'") from None
+    if not 0.0 <= value < 100.0:
+        raise argparse.ArgumentTypeError(f"expected a percentage from 0 to under 100, got '{text[:40]}'")
+    return value
+
+
+def at_json(file: str, which: str) -> dict[str, float]:
+    """The placement (SI) of a result written by --json: its ``which`` entry ("best", "worst" or "at"), or, for a
+    document of several paths, the first path's."""
+    try:
+        document = json.loads(Path(file).read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError) as error:
+        raise UsageError(f"--at-json: cannot read {file}: {error}") from None
+    if isinstance(document, dict) and isinstance(document.get("paths"), list) and document["paths"]:
+        document = document["paths"][0]
+    entry = document.get(which) if isinstance(document, dict) else None
+    placement = entry.get("placement") if isinstance(entry, dict) else None
+    if not isinstance(placement, dict) or set(placement) - set(VARIABLES) or not all(
+            isinstance(v, int | float) and not isinstance(v, bool) and np.isfinite(v) for v in placement.values()):
+        raise UsageError(f"--at-json: {file} has no '{which}.placement' with finite numbers for "
+                         f"{', '.join(VARIABLES)} (write it with --json)")
+    return {name: float(value) for name, value in placement.items()}
+
+
+def warn(lines: list[str], strict: bool) -> None:
+    """Print plausibility warnings, one line each on stderr; with ``strict``, refuse them (exit 2)."""
+    for line in lines:
+        print(f"warning: {line}", file=sys.stderr)
+    if strict and lines:
+        raise UsageError(f"--strict: {len(lines)} warning(s) above")
+
+
 def feed_words(path: ToolPath) -> str:
     """The path's feed, or the range of a G-code program's feeds and its rapid feed, or a timed pose list's."""
     if path.timed is not None:
@@ -146,31 +198,37 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
           f"{feed_words(path)}, {timing_words(path, samples)}; energy: {REGENERATION.get(args.regen).description}"
           + ("" if args.objective == "energy" else f"; objective: {objective.title} ({args.objective})"))
     evaluation = EvaluatorSettings(objective=args.objective, regeneration=args.regen, time_step_s=args.time_step,
-                                   workers=remote.threads if remote else None)
+                                   workers=remote.threads if remote else None, margin=args.margin / 100)
     document: dict = {"robot": robot.name, "path": path.name, "objective": args.objective,
-                      "regeneration": args.regen, "timing": path.timing.mode, "samples": len(samples)}
+                      "regeneration": args.regen, "timing": path.timing.mode, "samples": len(samples),
+                      "margin": args.margin / 100}
     plane = robot.plane
     if plane is not None:
         document["plane"] = describe_plane(plane)
         print(plane_line(document["plane"]))
-    if args.at is not None:
-        given = parse_values(args.at, "--at")
+    if args.at is not None or args.at_json is not None:
+        given = parse_values(args.at, "--at") if args.at is not None else at_json(args.at_json, args.which or "best")
         if not given:
             raise UsageError("--at: give at least one value, e.g. --at x=0,phi=30")
+        option = "--at" if args.at is not None else f"--at-json {args.at_json}"
         detail = Evaluator(robot, path, evaluation).detail(np.array([given.get(name, 0.0) for name in VARIABLES]))
-        print("\n" + format_detail("placement given by --at", robot, detail, rest_s=args.rest))
+        print("\n" + format_detail(f"placement given by {option}", robot, detail, rest_s=args.rest))
         document["at"] = detail_json(robot, detail, rest_s=args.rest)
         problem = None
         if not detail.reachable:
-            problem = f"the placement given by --at leaves the robot's reach ({len(detail.unreachable_samples)} samples)"
+            problem = (f"the placement given by {option} leaves the robot's reach "
+                       f"({len(detail.unreachable_samples)} samples)")
         elif not detail.feasible:
             worst = min(detail.margins, key=lambda m: m.margin)
-            problem = f"the placement given by --at breaks the {worst.kind} ({worst.where})"
+            problem = (f"the placement given by {option} breaks the {worst.kind} ({worst.where})" if worst.margin < 0
+                       else f"the placement given by {option} comes within the {args.margin:g} % margin of the "
+                            f"{worst.kind} ({worst.where}: {worst.margin * 100:.2f} %)")
         return document, {"at": detail} if detail.reachable else {}, problem
     free, bounds = parse_free(args.free, "--free") if args.free is not None else (None, {})
     space = default_space(robot, free=free, fixed=parse_values(args.fix or "", "--fix"), bounds=bounds,
                           half_turn=path.half_turn_symmetric())
-    print(f"search: {', '.join(space.free)} free; seed {args.seed}")
+    kept = f"; every limit keeps a {args.margin:g} % margin" if args.margin else ""
+    print(f"search: {', '.join(space.free)} free; seed {args.seed}{kept}")
     lower = objective.better == "lower"
     settings = SearchSettings(seed=args.seed, max_generations=args.generations, population=args.population,
                               best=not (args.maximize if lower else args.minimize),
@@ -281,7 +339,7 @@ def check_front_options(args: argparse.Namespace) -> None:
     objectives = parse_objectives(args.objectives)
     if args.members is not None:
         parse_members(args.members, objectives)
-    if args.at is not None or args.minimize or args.maximize or args.objective != "energy":
+    if args.at is not None or args.at_json is not None or args.minimize or args.maximize or args.objective != "energy":
         raise UsageError("--objectives searches a Pareto front: give it without --at, --minimize, --maximize or "
                          "--objective")
     if args.png and len(args.path) > 1:
@@ -293,9 +351,17 @@ def run(args: argparse.Namespace) -> int:
     robot = load_robot_argument(args.robot, args.tool, args.cell)
     if args.trace and len(args.path) > 1:
         raise UsageError("--trace: give a single --path")
-    if args.at is not None and (args.fix or args.free or args.minimize or args.maximize):
+    if args.at is not None and args.at_json is not None:
+        raise UsageError("--at and --at-json each give the placement: give one")
+    if args.which is not None and args.at_json is None:
+        raise UsageError("--which goes with --at-json")
+    if (args.at is not None or args.at_json is not None) and (args.fix or args.free or args.minimize or args.maximize):
         raise UsageError("--at evaluates one placement: give every value in --at, without --fix, --free, "
                          "--minimize or --maximize")
+    for option, text in (("--at", args.at), ("--fix", args.fix)):
+        if text is not None:
+            parse_values(text, option)  # its errors first
+            warn(length_warnings(robot, option, unsuffixed_lengths(text)), args.strict)
     check_front_options(args)
     check_outputs(("--json", args.json), ("--trace", args.trace), ("--html", args.html),
                   ("--png", args.png),
@@ -312,7 +378,9 @@ def run(args: argparse.Namespace) -> int:
         for index, file in enumerate(args.path):
             if index:
                 print()
-            document, details, infeasible = place_one(robot, configured_path(args, file), args, remote)
+            path = configured_path(args, file)
+            warn(feed_warnings(robot, path, f"{file}: feed_m_s"), args.strict)
+            document, details, infeasible = place_one(robot, path, args, remote)
             documents.append(document)
             if infeasible:
                 failures.append(f"{file}: {infeasible}")
@@ -333,5 +401,6 @@ def run(args: argparse.Namespace) -> int:
         if args.show:
             show(page, args.show_host)
     for failure in failures:
-        print(f"error: {'' if args.at is not None else 'no feasible placement: '}{failure}", file=sys.stderr)
+        print(f"error: {'' if args.at is not None or args.at_json else 'no feasible placement: '}{failure}",
+              file=sys.stderr)
     return 2 if failures else 0

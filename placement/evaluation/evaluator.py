@@ -62,6 +62,10 @@ class EvaluatorSettings:
             re-check); :meth:`Evaluator.detail` always does.
         refine: Under the optimal timing law, cut each interval between the path geometry's
             samples in this many (:meth:`placement.path.toolpath.ToolPath.geometry`).
+        margin: The share (0 to 1) of every limit a feasible placement keeps free at every sample:
+            of a joint's range, of a speed or torque limit, of the workspace box's side, reachability
+            and timing as they are; for a collision, the clearance beyond the required one per
+            100 mm (0.05: 5 mm more than the cell's ``margin_m``). 0, the default: the limits themselves.
     """
 
     objective: str | tuple[str, ...] = "energy"
@@ -72,8 +76,11 @@ class EvaluatorSettings:
     threads: int | None = None
     exact: bool = False
     refine: int = 1
+    margin: float = 0.0
 
     def __post_init__(self) -> None:
+        if not 0.0 <= self.margin < 1.0:
+            raise PlacementError(f"the margin kept from every limit must be a share from 0 to 1, got {self.margin}")
         if not isinstance(self.objective, str):  # any sequence of names, kept as a tuple (hashable, picklable)
             object.__setattr__(self, "objective", tuple(self.objective))
 
@@ -247,7 +254,7 @@ class Evaluator:
         values = np.column_stack([np.where(reachable, objective(batch), objective.sign * np.inf)
                                   for objective in self.objectives])
         return Evaluation(placements=placements, objectives=self.objective_names, values=values, margins=margins,
-                          limits=labels, reachable=reachable)
+                          limits=labels, reachable=reachable, required_margin=self.settings.margin)
 
     def detail(self, placement: np.ndarray) -> PlacementDetail:
         """Objective, energy breakdown, margins and per-sample trace of one placement."""
@@ -265,7 +272,7 @@ class Evaluator:
             acceleration=batch.acceleration[0], effort=batch.effort[0], configuration=batch.joints.q, motor=motor,
             power_W=sample_power(self.robot, motor, samples.t_s, samples.piece), timing=self.path.timing.mode,
             duration_s=float(np.ptp(samples.t_s) if batch.time_law is None else batch.time_law.duration_s[0]),
-            hold_effort=_hold_effort(self.robot, batch.joints))
+            hold_effort=_hold_effort(self.robot, batch.joints), required_margin=self.settings.margin)
 
 
 def _hold_effort(robot: Robot, joints: JointTrajectory) -> np.ndarray:

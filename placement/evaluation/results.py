@@ -24,6 +24,8 @@ class Evaluation:
         margins: (K, n_limits) tightest normalised margin of each limit (kind and actuator or axis).
         limits: Labels of the margin columns.
         reachable: (K,) whether every sample has a configuration.
+        required_margin: The margin a feasible placement keeps from every limit (a share, see
+            :class:`placement.evaluation.evaluator.EvaluatorSettings`).
     """
 
     placements: np.ndarray
@@ -32,6 +34,7 @@ class Evaluation:
     margins: np.ndarray
     limits: tuple[str, ...]
     reachable: np.ndarray
+    required_margin: float = 0.0
 
     @property
     def objective(self) -> str:
@@ -51,8 +54,8 @@ class Evaluation:
 
     @property
     def feasible(self) -> np.ndarray:
-        """(K,) every sample reachable and every margin >= 0."""
-        return self.reachable & (self.margins >= 0).all(axis=1)
+        """(K,) every sample reachable and every margin at least the required one."""
+        return self.reachable & (self.margins >= self.required_margin).all(axis=1)
 
     @staticmethod
     def concatenate(parts: list[Evaluation]) -> Evaluation:
@@ -60,7 +63,8 @@ class Evaluation:
         return Evaluation(placements=np.concatenate([p.placements for p in parts]), objectives=parts[0].objectives,
                           values=np.concatenate([p.values for p in parts]),
                           margins=np.concatenate([p.margins for p in parts]), limits=parts[0].limits,
-                          reachable=np.concatenate([p.reachable for p in parts]))
+                          reachable=np.concatenate([p.reachable for p in parts]),
+                          required_margin=parts[0].required_margin)
 
 
 @dataclass(frozen=True)
@@ -87,6 +91,7 @@ class PlacementDetail:
             limit: ``samples`` then hold still at the feed's times).
         hold_effort: (n_act,) actuator efforts holding the path's end pose still, the tool out of the
             cut: gravity alone (N or N·m), for a rest between passes (:mod:`placement.drives.duty`).
+        required_margin: The margin a feasible placement keeps from every limit (a share).
     """
 
     placement: np.ndarray
@@ -108,6 +113,7 @@ class PlacementDetail:
     timing: str
     duration_s: float
     hold_effort: np.ndarray
+    required_margin: float = 0.0
 
     def __repr__(self) -> str:
         """A short summary: the placement (mm, deg), the objective and whether every limit holds."""
@@ -119,7 +125,7 @@ class PlacementDetail:
 
     @property
     def feasible(self) -> bool:
-        """Reachable and within every limit."""
-        return self.reachable and all(m.margin >= 0 for m in self.margins)
+        """Reachable and within every limit, keeping the required margin."""
+        return self.reachable and all(m.margin >= self.required_margin for m in self.margins)
 
 

@@ -24,14 +24,15 @@ from placement.limits.collision import closest_points
 from placement.objectives.base import OBJECTIVES, quantity, wording
 from placement.placing.transform import ANGLES, VARIABLES
 from placement.robot.model import Robot
-from placement.search.optimize import Optimum, PlacementResult
+from placement.search.optimize import REPORTED_DECIMALS, Optimum, PlacementResult
 from placement.search.tolerance import ToleranceBox
 
 
 def format_placement(placement: np.ndarray) -> str:
-    """'x = ... mm, ..., psi = ... deg' for a placement vector (m, rad)."""
-    return ", ".join(f"{name} = {np.degrees(value):.2f} deg" if name in ANGLES else f"{name} = {value * 1e3:.2f} mm"
-                     for name, value in zip(VARIABLES, placement))
+    """'x = ... mm, ..., psi = ... deg' for a placement vector (m, rad), to REPORTED_DECIMALS (a search's optima lie
+    on that grid: :func:`placement.search.optimize.as_printed`)."""
+    return ", ".join(f"{name} = {np.degrees(value):.{REPORTED_DECIMALS}f} deg" if name in ANGLES
+                     else f"{name} = {value * 1e3:.{REPORTED_DECIMALS}f} mm" for name, value in zip(VARIABLES, placement))
 
 
 def placement_duty(robot: Robot, detail: PlacementDetail, rest_s: float = 0.0) -> DutyCycle | None:
@@ -109,7 +110,8 @@ def format_detail(title: str, robot: Robot, detail: PlacementDetail, recheck_val
                      else "  cycle time: no timing keeps every limit (optimal timing)")
     width = max(14, max(len(a.joint) for a in robot.actuators) + 2)
     if not detail.feasible:
-        lines[-1] += "  INFEASIBLE: a limit is exceeded"
+        lines[-1] += ("  INFEASIBLE: a limit is exceeded" if not detail.required_margin else
+                      f"  INFEASIBLE: a limit is closer than the {detail.required_margin * 100:g} % margin")
     lines += [f"    {'actuator':<{width}s}{'energy J':>10s}{'Joule J':>10s}{'induct. J':>11s}{'back-EMF J':>12s}"
               f"{'shaft J':>10s}"]
     for i, actuator in enumerate(robot.actuators):
@@ -149,10 +151,15 @@ def _value_line(title: str, value: float, unit: str, recheck: float | None) -> s
 def _recheck_line(optimum: Optimum) -> str:
     """Whether every limit still holds on the 4x denser sampling, and the tightest one there."""
     margin = f"{optimum.recheck_limit}, margin {optimum.recheck_margin * 100:.4f} %"
-    if optimum.recheck_margin >= 0:
-        return f"  4x denser sampling: every limit holds (tightest: {margin})"
-    return (f"  4x denser sampling: a limit the placement touches is exceeded between the path's samples ({margin}); "
-            f"sample the path more finely (--time-step) if that matters")
+    required = optimum.detail.required_margin
+    kept = f" with the {required * 100:g} % margin" if required else ""
+    note = f"\n  note: {optimum.note}" if optimum.note else ""
+    if optimum.holds:
+        return f"  4x denser sampling: every limit holds{kept} (tightest: {margin}){note}"
+    if optimum.recheck_limit.startswith("reachability"):
+        return f"  4x denser sampling: the path leaves the robot's reach between its samples{note}"
+    return (f"  4x denser sampling: a limit is exceeded{kept} between the path's samples ({margin}); "
+            f"sample the path more finely (--time-step) if that matters{note}")
 
 
 def format_tolerance(box: ToleranceBox, subject: str) -> str:
@@ -185,6 +192,9 @@ def format_result(robot: Robot, result: PlacementResult, rest_s: float = 0.0,
             box = (boxes or {}).get(key)
             blocks.append(format_detail(title, robot, optimum.detail, optimum.recheck_value, rest_s) + "\n"
                           + _recheck_line(optimum) + ("" if box is None else "\n" + format_tolerance(box, words.subject)))
+    if result.best is not None and result.worst is not None and not (result.best.holds and result.worst.holds):
+        blocks.append(f"gain: not given, the {'best' if not result.best.holds else 'worst'} placement fails its "
+                      "4x denser re-check")
     if result.gain is not None and result.best is not None and result.worst is not None:
         difference = abs(result.worst.detail.value - result.best.detail.value)
         per_pass = " per pass" if words.unit == "J" else ""
@@ -203,6 +213,7 @@ def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None =
         "objective": {"name": detail.objective, "title": objective.title, "unit": objective.unit,
                       "value": float(detail.value) if detail.reachable else None},
         "feasible": detail.feasible,
+        "margin_kept": detail.required_margin,
         "reachable": detail.reachable,
         "energy_J": float(detail.energy.total_J) if detail.reachable else None,
         "energy_per_actuator_J": dict(zip(names, map(float, detail.energy.per_actuator_J))) if detail.reachable else None,
@@ -215,11 +226,18 @@ def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None =
     if duty is not None:
         out["duty"] = duty_json(robot, duty)
     if optimum is not None:
-        out["objective"]["recheck_value"] = optimum.recheck_value
+        recheck = _finite(optimum.recheck_value)
+        out["objective"]["recheck_value"] = recheck
+        if recheck is None:
+            out["objective"]["recheck_null_reason"] = (
+                "the path leaves the robot's reach between its samples"
+                if optimum.recheck_limit.startswith("reachability") else "not finite on the 4x denser sampling")
         out["recheck_tightest"] = {"limit": optimum.recheck_limit, "margin": optimum.recheck_margin}
+        out["recheck_holds"] = optimum.holds
         if detail.objective == "energy":
-            out["recheck_energy_J"] = optimum.recheck_value
+            out["recheck_energy_J"] = recheck
         out["evaluations"] = optimum.evaluations
+        out["note"] = optimum.note
     return out
 
 
@@ -239,9 +257,25 @@ def write_atomically(path: str | Path, text: str) -> None:
         pass
 
 
+def _finite(value: float) -> float | None:
+    """``value`` as a float, or None where it is infinite or NaN (which strict JSON has no word for)."""
+    return float(value) if np.isfinite(value) else None
+
+
+def strict(document: Any) -> Any:
+    """``document`` with every infinite or NaN number (numpy's too) replaced by None, as strict JSON needs."""
+    if isinstance(document, dict):
+        return {key: strict(value) for key, value in document.items()}
+    if isinstance(document, list | tuple):
+        return [strict(value) for value in document]
+    if isinstance(document, float | np.floating):
+        return _finite(float(document))
+    return document
+
+
 def write_json(path: str | Path, document: dict[str, Any]) -> None:
-    """Write a JSON document atomically."""
-    write_atomically(path, json.dumps(document, indent=2) + "\n")
+    """Write a JSON document atomically, strict: an infinite or NaN number is written null (:func:`strict`)."""
+    write_atomically(path, json.dumps(strict(document), indent=2, allow_nan=False) + "\n")
 
 
 def write_trace(path: str | Path, robot: Robot, detail: PlacementDetail) -> None:

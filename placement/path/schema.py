@@ -57,11 +57,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Annotated, Literal
 
-from pydantic import Field, model_validator
+from pydantic import Field, field_validator, model_validator
 
 from placement.schema import Number, Strict, Text
 
 Positive = Annotated[Number, Field(gt=0.0)]
+MAX_FEED_M_S = 100.0  # the largest feed a path may ask for (m/s): above it, a unit mistake
+MM_PER_MIN = 1e-3 / 60  # m/s in one mm/min
 
 
 LENGTH_SCALE = {"m": 1.0, "mm": 1e-3, "in": 0.0254}
@@ -248,5 +250,14 @@ class PathFile(Strict):
     process_forces_N: ForceKinds = ForceKinds()
     timing: Timing = Timing()
     time_step_s: Positive | None = None
+
+    @field_validator("feed_m_s")
+    @classmethod
+    def _plausible_feed(cls, feed: float | None) -> float | None:
+        """At most MAX_FEED_M_S, the bound of the command line's --feeds: beyond it, a feed in other units."""
+        if feed is not None and feed > MAX_FEED_M_S:
+            raise ValueError(f"must be at most {MAX_FEED_M_S:g} m/s, got {feed:g}: a value in mm/min? "
+                             f"{feed:g} mm/min = {feed * MM_PER_MIN:.4g} m/s")
+        return feed
 
 

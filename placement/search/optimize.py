@@ -11,6 +11,14 @@ The two directions run at once, in a process and on a core each, where the machi
 process allow it (:func:`in_parallel`). The reported optima are re-evaluated with a four times
 denser sampling (under the optimal timing law, keeping the timing found), and the difference is
 reported.
+
+A reported optimum is a placement as the report prints it (:func:`as_printed`: whole hundredths of
+a millimetre and of a degree), so that the printed numbers, entered again, are the same placement;
+and it keeps every limit, with the required margin (:class:`EvaluatorSettings` ``margin``), both on
+the path's own samples and on the four times denser ones: the best corner of the printed grid's
+cell around the search's optimum that does, or else the optimum pulled towards the centre of the
+search box by the least of RETREAT_SHARES of the way that does; failing that, the next of the
+polished and global candidates that does is reported instead, and the optimum says so.
 """
 
 from __future__ import annotations
@@ -32,6 +40,7 @@ from placement.evaluation.evaluator import EvaluationJob, Evaluator, EvaluatorSe
 from placement.evaluation.parallel import process_pool
 from placement.evaluation.results import Evaluation, PlacementDetail
 from placement.path.toolpath import ToolPath
+from placement.placing.transform import ANGLES, VARIABLES
 from placement.robot.model import Robot
 from placement.search.space import PlacementSpace, default_space
 
@@ -39,6 +48,11 @@ POLISH_STARTS = 3  # distinct candidates polished locally
 GIVE_UP_GENERATIONS = 25  # generations without any feasible placement after which the search stops
 RECHECK_DENSITY = 4  # the re-check samples the path this many times more densely
 INWARD_SHARES = np.array([0.0, 1e-6, 1e-5, 1e-4, 1e-3])  # a repair's pulls towards the box centre, tried in order
+RETREAT_SHARES = np.array([0.0, 1e-5, 1e-4, 1e-3, 1e-2])  # a reported optimum's pulls, for rounding and re-check
+REPORTED_DECIMALS = 2  # a reported placement's decimals, in mm and degrees (the report's)
+REPORT_CANDIDATES = 20  # candidates tried, best first, when the optimum fails to keep its limits once printed
+RECHECK_TRIES = 5  # printed placements near a candidate re-checked on the denser sampling, at most
+BOUND_ROUND_OFF = 1e-12  # m or rad: a printed placement may pass a search bound by this much (its decimal digits)
 GRADIENT_STEP = 1e-7  # forward-difference step of the polish, as a share of each variable's range
 POLISH_EVALUATIONS = 30  # placement evaluations of a typical polish, for the duration estimate (gradients count n + 1)
 STALL_ITERATIONS = 10  # the polish stops when this many iterations improve the objective by at most
@@ -79,8 +93,11 @@ class Optimum:
         recheck_value: The objective at the same placement with 4x denser path sampling.
         recheck_margin: The tightest normalised margin of every limit on that denser sampling
             (≥ 0: every limit holds between the path's own samples too).
-        recheck_limit: Which limit that is ("kind: where").
+        recheck_limit: Which limit that is ("kind: where"; "reachability: path" where a denser
+            sample has no configuration).
         evaluations: Placements evaluated by the search.
+        note: Why the reported placement is not the search's own optimum (which failed to keep
+            every limit, with the margin, once printed or on the denser sampling), else None.
     """
 
     detail: PlacementDetail
@@ -88,6 +105,13 @@ class Optimum:
     recheck_margin: float
     recheck_limit: str
     evaluations: int
+    note: str | None = None
+
+    @property
+    def holds(self) -> bool:
+        """Whether every limit keeps the required margin on the denser sampling too, with a finite objective."""
+        return (self.detail.feasible and self.recheck_margin >= self.detail.required_margin
+                and bool(np.isfinite(self.recheck_value)))
 
     def __repr__(self) -> str:
         """A short summary: the placement's detail and the 4x denser re-check."""
@@ -131,8 +155,8 @@ class PlacementResult:
     @property
     def gain(self) -> float | None:
         """|best − worst| over the larger of the two (for energy: (E_max − E_min)/E_max), when both were
-        computed and one is not zero."""
-        if self.best is None or self.worst is None:
+        computed, both keep every limit on the denser sampling too (:attr:`Optimum.holds`), and one is not zero."""
+        if self.best is None or self.worst is None or not (self.best.holds and self.worst.holds):
             return None
         best, worst = self.best.detail.value, self.worst.detail.value
         larger = max(abs(best), abs(worst))
@@ -147,6 +171,7 @@ class _Problem:
 
     def __init__(self, evaluator: Evaluator, space: PlacementSpace, sign: float) -> None:
         self.evaluator, self.space, self.sign = evaluator, space, sign
+        self.required = evaluator.settings.margin  # margins are kept less this: >= 0 is feasible
         self._cache: dict[bytes, tuple[float, np.ndarray]] = {}
         # (unreachable, violation, x, margins) of the least infeasible point seen, a reachable one before any other:
         # an unreachable point's margins are all UNREACHABLE_MARGIN, a small violation beside a motor overloaded 50 times
@@ -165,8 +190,8 @@ class _Problem:
     def _remember(self, points: np.ndarray, evaluation: Evaluation) -> None:
         if len(self._cache) > 200_000:
             self._cache.clear()
-        for point, value, margins, reachable in zip(points, evaluation.value, evaluation.margins, evaluation.reachable,
-                                                    strict=True):
+        for point, value, margins, reachable in zip(points, evaluation.value, evaluation.margins - self.required,
+                                                    evaluation.reachable, strict=True):
             self._cache[point.tobytes()] = (float(value), margins)
             violation = float(np.clip(-margins, 0.0, None).sum())
             rank = (not reachable, violation)
@@ -182,17 +207,18 @@ class _Problem:
         return np.where(np.isfinite(value), self.sign * value, 1e30)
 
     def margins(self, points: np.ndarray) -> np.ndarray:
-        """Tightest margin of every limit, (n_limits, S) or (n_limits,)."""
+        """Tightest margin of every limit less the required one, (n_limits, S) or (n_limits,)."""
         _, margins = self._lookup(np.asarray(points).T)
         return margins.T if np.ndim(points) > 1 else margins[0]
 
 
 def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: float, settings: SearchSettings,
-            progress: Callable[[], None] | None) -> tuple[np.ndarray | None, _Problem]:
+            progress: Callable[[], None] | None) -> tuple[list[np.ndarray], _Problem]:
     """Global search on the coarse sampling, polish on the fine one.
 
     Returns:
-        The best feasible point (None if there is none), and the problem that explains why not:
+        The feasible candidates, best first: the polished points, then the global search's
+        feasible ones (empty if there is none); and the problem that explains why there is none:
         the coarse one when the global search found nothing feasible, else the fine one.
     """
     problem = _Problem(coarse, space, sign)
@@ -216,7 +242,7 @@ def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: flo
     values, margins = problem._lookup(population)
     feasible = (margins >= 0).all(axis=1) & np.isfinite(values)
     if not feasible.any():
-        return None, problem
+        return [], problem
     ranked = population[feasible][np.argsort(sign * values[feasible])]
     local = _Problem(fine, space, sign)
     fine_margins = local._lookup(ranked)[1]  # one batch
@@ -224,14 +250,10 @@ def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: flo
     if not len(starts):  # the finer sampling breaks a limit the coarse one missed: repair the closest
         closest = ranked[np.argmin(np.clip(-fine_margins, 0.0, None).sum(axis=1))]
         repaired = _inward_until_feasible(local, _polish(local, closest, bounds), space)
-        return repaired, local
-    best_x, best_value = None, np.inf
-    for start in _distinct(starts, space):
-        x = _polish(local, start, bounds)
-        value, _ = local._lookup(x)
-        if sign * value[0] < best_value:
-            best_x, best_value = x, sign * value[0]
-    return best_x, local
+        return ([] if repaired is None else [repaired]), local
+    polished = [_polish(local, start, bounds) for start in _distinct(starts, space)]
+    polished.sort(key=lambda x: sign * local._lookup(x)[0][0])
+    return polished + list(starts), local
 
 
 def _popsize(settings: SearchSettings, free: int) -> int:
@@ -387,11 +409,12 @@ def estimate(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, settings
 @dataclass(frozen=True)
 class _Outcome:
     """One direction's search: its best point (None if no placement is feasible), the placements it evaluated,
-    and, when none is feasible, why (the binding limit)."""
+    when none is feasible, why (the binding limit), and why the point is not the search's own optimum, if not."""
 
     x: np.ndarray | None
     evaluations: int
     infeasible: str | None
+    note: str | None = None
 
 
 @dataclass(frozen=True)
@@ -428,9 +451,90 @@ def _search_direction(job: _DirectionJob) -> _Outcome:
 def _outcome(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: float, settings: SearchSettings,
              progress: Callable[[], None] | None) -> _Outcome:
     before = coarse.evaluations + fine.evaluations
-    x, problem = _search(coarse, fine, space, sign, settings, progress)
-    infeasible = None if x is not None else _binding_limit(problem, problem.evaluator)
-    return _Outcome(x, coarse.evaluations + fine.evaluations - before, infeasible)
+    candidates, problem = _search(coarse, fine, space, sign, settings, progress)
+    if not candidates:
+        return _Outcome(None, coarse.evaluations + fine.evaluations - before, _binding_limit(problem, problem.evaluator))
+    with denser(fine, RECHECK_DENSITY) as dense:
+        x, note = _reportable(candidates, fine, dense, space, sign)
+        return _Outcome(x, coarse.evaluations + fine.evaluations + dense.evaluations - before, None, note)
+
+
+def as_printed(placement: np.ndarray) -> np.ndarray:
+    """A placement vector (m, rad) rounded as the report prints it, REPORTED_DECIMALS of a mm and of a degree, and
+    read back as the command line reads it (so the printed numbers, entered again, are this very placement)."""
+    return np.array([float(f"{np.degrees(value):.{REPORTED_DECIMALS}f}") * (np.pi / 180) if name in ANGLES
+                     else float(f"{value * 1e3:.{REPORTED_DECIMALS}f}") * 1e-3
+                     for name, value in zip(VARIABLES, placement, strict=True)])
+
+
+def _reportable(candidates: list[np.ndarray], fine: Evaluator, dense: Evaluator, space: PlacementSpace,
+                sign: float) -> tuple[np.ndarray, str | None]:
+    """The first candidate that, printed, keeps every limit with the required margin on the path's samples and the
+    denser ones.
+
+    A candidate is printed (:func:`as_printed`) as the best of the corners of the printed grid's cell around it
+    that keeps every limit on the path's samples, or else pulled inwards by the least of RETREAT_SHARES that does;
+    at most RECHECK_TRIES of those are re-checked on the denser sampling, best first.
+
+    Returns:
+        The free variables of the placement to report, and why it is not the first candidate (None if it is). When
+        no candidate does, the first one as printed, with why it fails.
+    """
+    centre = (space.lower + space.upper) / 2
+    first_failure = ""
+    for number, x in enumerate(candidates[:REPORT_CANDIDATES]):
+        near = np.vstack([_grid_corners(space.full(x)[0], space.indices),
+                          space.full(x + RETREAT_SHARES[:, None] * (centre - x))])
+        trials = near.copy()  # the free variables as printed, the fixed ones as the space fixes them
+        trials[:, space.indices] = np.array([as_printed(p) for p in near])[:, space.indices]
+        fine_check = fine.evaluate(trials)
+        inside = (trials[:, space.indices] >= space.lower - BOUND_ROUND_OFF).all(axis=1) & (
+            trials[:, space.indices] <= space.upper + BOUND_ROUND_OFF).all(axis=1)  # a corner may cross a bound
+        usable = fine_check.feasible & inside
+        corners = len(trials) - len(RETREAT_SHARES)
+        order = [k for k in np.argsort(sign * fine_check.value[:corners], kind="stable") if usable[k]]
+        order += [corners + k for k in np.flatnonzero(usable[corners:])]
+        for k in order[:RECHECK_TRIES]:
+            check = dense.recheck(trials[k:k + 1], fine)
+            if check.feasible[0] and np.isfinite(check.value[0]):
+                if number == 0:
+                    return trials[k][space.indices], None
+                return trials[k][space.indices], (f"the search's optimum {first_failure}; reported: candidate "
+                                                  f"{number + 1}, the best that keeps every limit there")
+            if number == 0 and not first_failure:
+                first_failure = f"fails the 4x denser re-check ({_failure(check)})"
+        if number == 0 and not first_failure:
+            first_failure = f"fails once printed ({_failure(fine_check)})"
+    return (as_printed(space.full(candidates[0])[0])[space.indices],
+            f"no candidate keeps every limit once printed and on the 4x denser re-check: the search's optimum "
+            f"{first_failure}")
+
+
+def _grid_corners(placement: np.ndarray, free: np.ndarray) -> np.ndarray:
+    """(2^n_free, 6) the corners of the printed grid's cell (:func:`as_printed`) around ``placement`` (m, rad), the
+    free variables rounded down or up, the others as they are."""
+    step = np.array([np.radians(10.0 ** -REPORTED_DECIMALS) if name in ANGLES else 10.0 ** -REPORTED_DECIMALS * 1e-3
+                     for name in VARIABLES])
+    low = np.floor(placement / step) * step
+    corners = np.tile(placement, (2 ** len(free), 1))
+    for bit, index in enumerate(free):
+        up = (np.arange(len(corners)) >> bit) & 1
+        corners[:, index] = low[index] + up * step[index]
+    return corners
+
+
+def _failure(check: Evaluation) -> str:
+    """The limit that binds most at the first placement of ``check``: "kind: where, margin M %"."""
+    tightest = binding(check)
+    return f"{check.limits[tightest]}, margin {check.margins[0, tightest] * 100:.4f} %"
+
+
+def binding(check: Evaluation, placement: int = 0) -> int:
+    """The column of the limit that binds most at a placement of ``check``: reachability where a sample has no
+    configuration (every margin is then at most -1, the workspace's first side included), else the tightest."""
+    if not check.reachable[placement]:
+        return check.limits.index("reachability: path")
+    return int(np.argmin(check.margins[placement]))
 
 
 def in_parallel(coarse: Evaluator, fine: Evaluator, directions: int) -> bool:
@@ -481,11 +585,11 @@ def _optimize(coarse: Evaluator, evaluator: Evaluator, dense: Evaluator, space: 
         before = evaluator.evaluations
         placement = space.full(outcome.x)[0]
         check = dense.recheck(placement[None], evaluator)
-        tightest = int(np.argmin(check.margins[0]))
+        tightest = binding(check)
         found[direction] = Optimum(detail=evaluator.detail(placement), recheck_value=float(check.value[0]),
                                    recheck_margin=float(check.margins[0, tightest]),
                                    recheck_limit=check.limits[tightest],
-                                   evaluations=outcome.evaluations + evaluator.evaluations - before)
+                                   evaluations=outcome.evaluations + evaluator.evaluations - before, note=outcome.note)
     return PlacementResult(best=found["best"], worst=found["worst"], space=space, objective=evaluator.objective_name,
                            regeneration=evaluator.settings.regeneration, infeasible=infeasible)
 

@@ -36,7 +36,7 @@ class StudyRow:
         robot, path: Names.
         feasible: Whether some placement keeps every limit.
         best_energy_J, worst_energy_J: Energy per pass at the best and worst feasible placements.
-        gain: (worst − best)/worst.
+        gain: (worst − best)/worst; NaN unless both keep every limit on the 4x denser re-check too.
         cycle_time_s: Time per pass at the best placement (the optimal timing law times each
             placement on its own; the others, every placement alike); for an infeasible pair, the
             path's time at its feed.
@@ -91,13 +91,14 @@ def study_pair(robot: Robot, path: ToolPath, regeneration: str, settings: Search
     cycle = best.detail.duration_s if best else cycle
     evaluations = sum(o.evaluations for o in (best, worst) if o is not None)
     return _row(robot, path, (cycle, fastest), best.detail.value if best else None,
-                worst.detail.value if worst else None, placement, evaluations, time.perf_counter() - tic, reason)
+                worst.detail.value if worst else None, placement, evaluations, time.perf_counter() - tic, reason,
+                all(o.holds for o in (best, worst) if o is not None))
 
 
 def _row(robot: Robot, path: ToolPath, cycle_s: tuple[float, float], best: float | None, worst: float | None,
-         placement: np.ndarray, evaluations: int, seconds: float, reason: str) -> StudyRow:
+         placement: np.ndarray, evaluations: int, seconds: float, reason: str, holds: bool = True) -> StudyRow:
     best_J, worst_J = (np.nan if value is None else float(value) for value in (best, worst))
-    gain = (worst_J - best_J) / worst_J if best is not None and worst else np.nan
+    gain = (worst_J - best_J) / worst_J if best is not None and worst and holds else np.nan  # both pass the re-check
     pose = dict(zip([f"{n}_m" if n in "xyz" else f"{n}_rad" for n in VARIABLES], map(float, placement)))
     return StudyRow(robot=robot.name, path=path.name, feasible=best is not None, best_energy_J=best_J,
                     worst_energy_J=worst_J, gain=float(gain), cycle_time_s=cycle_s[0],

@@ -221,8 +221,10 @@ def test_an_unreachable_at_placement_exits_2_and_writes_no_trace(tmp_path, capsy
 def test_feed_beyond_the_drives_is_answered_with_the_binding_limit(tmp_path, capsys):
     path = bad_path(tmp_path, "units: mm\nshape: {type: rectangle, width: 30, length: 60}\nfeed_m_s: 3.0\n"
                               "time_step_s: 0.004\n")
-    err = run_bad(["--robot", "orthoglide", "--path", str(path), "--quiet"], capsys)
-    assert "no feasible placement" in err and "speed" in err
+    assert main(["--robot", "orthoglide", "--path", str(path), "--quiet"]) == 2
+    warning, error = capsys.readouterr().err.strip().splitlines()
+    assert warning.startswith("warning: ") and "feed_m_s 3 m/s is above every joint's top speed (1 m/s)" in warning
+    assert error.startswith("error: no feasible placement") and "speed" in error
 
 
 def test_path_too_large_is_answered_with_the_binding_limit(tmp_path, capsys):

@@ -14,6 +14,7 @@ from placement.search.space import default_space
 from tests.support.paths import EXAMPLE
 
 GRID = 41
+PRINTED_GRID = 1e-4  # the energy one 0.01 mm step of the printed grid moves at a limit, as a share
 ROUND_OFF = 1e-9  # "never worse than the grid" up to round-off: optima sit on limits the grid can hit exactly
 
 
@@ -46,7 +47,8 @@ def test_minimum_is_at_least_as_good_as_the_grid_and_close_to_it(case):
 def test_maximum_is_at_least_as_bad_as_the_grid_and_close_to_it(case):
     *_, feasible, result = case
     worst = result.worst.detail.energy.total_J
-    assert worst >= feasible.max() * (1 - ROUND_OFF)
+    # The reported worst lies on the printed grid (0.01 mm), inside the limit it sits on: a grid step costs energy.
+    assert worst >= feasible.max() * (1 - PRINTED_GRID)
     assert worst <= feasible.max() * (1 + 0.005)
     # The gain agrees with the grid's own (E_max - E_min)/E_max, within the 0.5 % of each optimum.
     assert result.gain == pytest.approx((feasible.max() - feasible.min()) / feasible.max(), rel=0.01)
