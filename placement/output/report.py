@@ -24,13 +24,14 @@ from placement.limits.collision import closest_points
 from placement.objectives.base import OBJECTIVES, quantity, wording
 from placement.placing.transform import ANGLES, VARIABLES
 from placement.robot.model import Robot
-from placement.search.optimize import REPORTED_DECIMALS, Optimum, PlacementResult
+from placement.search.optimize import Optimum, PlacementResult
+from placement.search.reporting import REPORTED_DECIMALS
 from placement.search.tolerance import ToleranceBox
 
 
 def format_placement(placement: np.ndarray) -> str:
     """'x = ... mm, ..., psi = ... deg' for a placement vector (m, rad), to REPORTED_DECIMALS (a search's optima lie
-    on that grid: :func:`placement.search.optimize.as_printed`)."""
+    on that grid: :func:`placement.search.reporting.as_printed`)."""
     return ", ".join(f"{name} = {np.degrees(value):.{REPORTED_DECIMALS}f} deg" if name in ANGLES
                      else f"{name} = {value * 1e3:.{REPORTED_DECIMALS}f} mm" for name, value in zip(VARIABLES, placement))
 

@@ -12,13 +12,11 @@ process allow it (:func:`in_parallel`). The reported optima are re-evaluated wit
 denser sampling (under the optimal timing law, keeping the timing found), and the difference is
 reported.
 
-A reported optimum is a placement as the report prints it (:func:`as_printed`: whole hundredths of
-a millimetre and of a degree), so that the printed numbers, entered again, are the same placement;
-and it keeps every limit, with the required margin (:class:`EvaluatorSettings` ``margin``), both on
-the path's own samples and on the four times denser ones: the best corner of the printed grid's
-cell around the search's optimum that does, or else the optimum pulled towards the centre of the
-search box by the least of RETREAT_SHARES of the way that does; failing that, the next of the
-polished and global candidates that does is reported instead, and the optimum says so.
+A reported optimum is a placement as the report prints it, so that the printed numbers, entered
+again, are the same placement, and it keeps every limit, with the required margin
+(:class:`EvaluatorSettings` ``margin``), both on the path's own samples and on the four times
+denser ones (:mod:`placement.search.reporting`); failing that, the next of the polished and global
+candidates that does is reported instead, and the optimum says so.
 """
 
 from __future__ import annotations
@@ -40,19 +38,14 @@ from placement.evaluation.evaluator import EvaluationJob, Evaluator, EvaluatorSe
 from placement.evaluation.parallel import process_pool
 from placement.evaluation.results import Evaluation, PlacementDetail
 from placement.path.toolpath import ToolPath
-from placement.placing.transform import ANGLES, VARIABLES
 from placement.robot.model import Robot
+from placement.search.reporting import binding, reportable
 from placement.search.space import PlacementSpace, default_space
 
 POLISH_STARTS = 3  # distinct candidates polished locally
 GIVE_UP_GENERATIONS = 25  # generations without any feasible placement after which the search stops
 RECHECK_DENSITY = 4  # the re-check samples the path this many times more densely
 INWARD_SHARES = np.array([0.0, 1e-6, 1e-5, 1e-4, 1e-3])  # a repair's pulls towards the box centre, tried in order
-RETREAT_SHARES = np.array([0.0, 1e-5, 1e-4, 1e-3, 1e-2])  # a reported optimum's pulls, for rounding and re-check
-REPORTED_DECIMALS = 2  # a reported placement's decimals, in mm and degrees (the report's)
-REPORT_CANDIDATES = 20  # candidates tried, best first, when the optimum fails to keep its limits once printed
-RECHECK_TRIES = 5  # printed placements near a candidate re-checked on the denser sampling, at most
-BOUND_ROUND_OFF = 1e-12  # m or rad: a printed placement may pass a search bound by this much (its decimal digits)
 GRADIENT_STEP = 1e-7  # forward-difference step of the polish, as a share of each variable's range
 POLISH_EVALUATIONS = 30  # placement evaluations of a typical polish, for the duration estimate (gradients count n + 1)
 STALL_ITERATIONS = 10  # the polish stops when this many iterations improve the objective by at most
@@ -455,86 +448,18 @@ def _outcome(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: fl
     if not candidates:
         return _Outcome(None, coarse.evaluations + fine.evaluations - before, _binding_limit(problem, problem.evaluator))
     with denser(fine, RECHECK_DENSITY) as dense:
-        x, note = _reportable(candidates, fine, dense, space, sign)
+        x, note = reportable(candidates, fine, dense, space, sign)
         return _Outcome(x, coarse.evaluations + fine.evaluations + dense.evaluations - before, None, note)
 
 
-def as_printed(placement: np.ndarray) -> np.ndarray:
-    """A placement vector (m, rad) rounded as the report prints it, REPORTED_DECIMALS of a mm and of a degree, and
-    read back as the command line reads it (so the printed numbers, entered again, are this very placement)."""
-    return np.array([float(f"{np.degrees(value):.{REPORTED_DECIMALS}f}") * (np.pi / 180) if name in ANGLES
-                     else float(f"{value * 1e3:.{REPORTED_DECIMALS}f}") * 1e-3
-                     for name, value in zip(VARIABLES, placement, strict=True)])
 
 
-def _reportable(candidates: list[np.ndarray], fine: Evaluator, dense: Evaluator, space: PlacementSpace,
-                sign: float) -> tuple[np.ndarray, str | None]:
-    """The first candidate that, printed, keeps every limit with the required margin on the path's samples and the
-    denser ones.
-
-    A candidate is printed (:func:`as_printed`) as the best of the corners of the printed grid's cell around it
-    that keeps every limit on the path's samples, or else pulled inwards by the least of RETREAT_SHARES that does;
-    at most RECHECK_TRIES of those are re-checked on the denser sampling, best first.
-
-    Returns:
-        The free variables of the placement to report, and why it is not the first candidate (None if it is). When
-        no candidate does, the first one as printed, with why it fails.
-    """
-    centre = (space.lower + space.upper) / 2
-    first_failure = ""
-    for number, x in enumerate(candidates[:REPORT_CANDIDATES]):
-        near = np.vstack([_grid_corners(space.full(x)[0], space.indices),
-                          space.full(x + RETREAT_SHARES[:, None] * (centre - x))])
-        trials = near.copy()  # the free variables as printed, the fixed ones as the space fixes them
-        trials[:, space.indices] = np.array([as_printed(p) for p in near])[:, space.indices]
-        fine_check = fine.evaluate(trials)
-        inside = (trials[:, space.indices] >= space.lower - BOUND_ROUND_OFF).all(axis=1) & (
-            trials[:, space.indices] <= space.upper + BOUND_ROUND_OFF).all(axis=1)  # a corner may cross a bound
-        usable = fine_check.feasible & inside
-        corners = len(trials) - len(RETREAT_SHARES)
-        order = [k for k in np.argsort(sign * fine_check.value[:corners], kind="stable") if usable[k]]
-        order += [corners + k for k in np.flatnonzero(usable[corners:])]
-        for k in order[:RECHECK_TRIES]:
-            check = dense.recheck(trials[k:k + 1], fine)
-            if check.feasible[0] and np.isfinite(check.value[0]):
-                if number == 0:
-                    return trials[k][space.indices], None
-                return trials[k][space.indices], (f"the search's optimum {first_failure}; reported: candidate "
-                                                  f"{number + 1}, the best that keeps every limit there")
-            if number == 0 and not first_failure:
-                first_failure = f"fails the 4x denser re-check ({_failure(check)})"
-        if number == 0 and not first_failure:
-            first_failure = f"fails once printed ({_failure(fine_check)})"
-    return (as_printed(space.full(candidates[0])[0])[space.indices],
-            f"no candidate keeps every limit once printed and on the 4x denser re-check: the search's optimum "
-            f"{first_failure}")
 
 
-def _grid_corners(placement: np.ndarray, free: np.ndarray) -> np.ndarray:
-    """(2^n_free, 6) the corners of the printed grid's cell (:func:`as_printed`) around ``placement`` (m, rad), the
-    free variables rounded down or up, the others as they are."""
-    step = np.array([np.radians(10.0 ** -REPORTED_DECIMALS) if name in ANGLES else 10.0 ** -REPORTED_DECIMALS * 1e-3
-                     for name in VARIABLES])
-    low = np.floor(placement / step) * step
-    corners = np.tile(placement, (2 ** len(free), 1))
-    for bit, index in enumerate(free):
-        up = (np.arange(len(corners)) >> bit) & 1
-        corners[:, index] = low[index] + up * step[index]
-    return corners
 
 
-def _failure(check: Evaluation) -> str:
-    """The limit that binds most at the first placement of ``check``: "kind: where, margin M %"."""
-    tightest = binding(check)
-    return f"{check.limits[tightest]}, margin {check.margins[0, tightest] * 100:.4f} %"
 
 
-def binding(check: Evaluation, placement: int = 0) -> int:
-    """The column of the limit that binds most at a placement of ``check``: reachability where a sample has no
-    configuration (every margin is then at most -1, the workspace's first side included), else the tightest."""
-    if not check.reachable[placement]:
-        return check.limits.index("reachability: path")
-    return int(np.argmin(check.margins[placement]))
 
 
 def in_parallel(coarse: Evaluator, fine: Evaluator, directions: int) -> bool:

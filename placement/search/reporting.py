@@ -1,0 +1,111 @@
+"""Which placement a search reports: one that keeps every limit as printed.
+
+The report prints a placement to REPORTED_DECIMALS of a mm and of a degree; a user enters those
+numbers again (``--at``) and must get the same verdict. So the optimum reported is a corner of
+the printed grid's cell around the search's optimum (or a point pulled slightly inwards) that
+keeps every limit, with the required margin, on the path's own samples and on the 4x denser
+re-check; when the optimum cannot be, the next candidate that can, and the report says why.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from placement.evaluation.evaluator import Evaluator
+from placement.evaluation.results import Evaluation
+from placement.placing.transform import ANGLES, VARIABLES
+from placement.search.space import PlacementSpace
+
+RETREAT_SHARES = np.array([0.0, 1e-5, 1e-4, 1e-3, 1e-2])  # a reported optimum's pulls, for rounding and re-check
+
+
+REPORTED_DECIMALS = 2  # a reported placement's decimals, in mm and degrees (the report's)
+
+
+REPORT_CANDIDATES = 20  # candidates tried, best first, when the optimum fails to keep its limits once printed
+
+
+RECHECK_TRIES = 5  # printed placements near a candidate re-checked on the denser sampling, at most
+
+
+BOUND_ROUND_OFF = 1e-12  # m or rad: a printed placement may pass a search bound by this much (its decimal digits)
+
+
+def as_printed(placement: np.ndarray) -> np.ndarray:
+    """A placement vector (m, rad) rounded as the report prints it, REPORTED_DECIMALS of a mm and of a degree, and
+    read back as the command line reads it (so the printed numbers, entered again, are this very placement)."""
+    return np.array([float(f"{np.degrees(value):.{REPORTED_DECIMALS}f}") * (np.pi / 180) if name in ANGLES
+                     else float(f"{value * 1e3:.{REPORTED_DECIMALS}f}") * 1e-3
+                     for name, value in zip(VARIABLES, placement, strict=True)])
+
+
+def reportable(candidates: list[np.ndarray], fine: Evaluator, dense: Evaluator, space: PlacementSpace,
+                sign: float) -> tuple[np.ndarray, str | None]:
+    """The first candidate that, printed, keeps every limit with the required margin on the path's samples and the
+    denser ones.
+
+    A candidate is printed (:func:`as_printed`) as the best of the corners of the printed grid's cell around it
+    that keeps every limit on the path's samples, or else pulled inwards by the least of RETREAT_SHARES that does;
+    at most RECHECK_TRIES of those are re-checked on the denser sampling, best first.
+
+    Returns:
+        The free variables of the placement to report, and why it is not the first candidate (None if it is). When
+        no candidate does, the first one as printed, with why it fails.
+    """
+    centre = (space.lower + space.upper) / 2
+    first_failure = ""
+    for number, x in enumerate(candidates[:REPORT_CANDIDATES]):
+        near = np.vstack([_grid_corners(space.full(x)[0], space.indices),
+                          space.full(x + RETREAT_SHARES[:, None] * (centre - x))])
+        trials = near.copy()  # the free variables as printed, the fixed ones as the space fixes them
+        trials[:, space.indices] = np.array([as_printed(p) for p in near])[:, space.indices]
+        fine_check = fine.evaluate(trials)
+        inside = (trials[:, space.indices] >= space.lower - BOUND_ROUND_OFF).all(axis=1) & (
+            trials[:, space.indices] <= space.upper + BOUND_ROUND_OFF).all(axis=1)  # a corner may cross a bound
+        usable = fine_check.feasible & inside
+        corners = len(trials) - len(RETREAT_SHARES)
+        order = [k for k in np.argsort(sign * fine_check.value[:corners], kind="stable") if usable[k]]
+        order += [corners + k for k in np.flatnonzero(usable[corners:])]
+        for k in order[:RECHECK_TRIES]:
+            check = dense.recheck(trials[k:k + 1], fine)
+            if check.feasible[0] and np.isfinite(check.value[0]):
+                if number == 0:
+                    return trials[k][space.indices], None
+                return trials[k][space.indices], (f"the search's optimum {first_failure}; reported: candidate "
+                                                  f"{number + 1}, the best that keeps every limit there")
+            if number == 0 and not first_failure:
+                first_failure = f"fails the 4x denser re-check ({_failure(check)})"
+        if number == 0 and not first_failure:
+            first_failure = f"fails once printed ({_failure(fine_check)})"
+    return (as_printed(space.full(candidates[0])[0])[space.indices],
+            f"no candidate keeps every limit once printed and on the 4x denser re-check: the search's optimum "
+            f"{first_failure}")
+
+
+def _grid_corners(placement: np.ndarray, free: np.ndarray) -> np.ndarray:
+    """(2^n_free, 6) the corners of the printed grid's cell (:func:`as_printed`) around ``placement`` (m, rad), the
+    free variables rounded down or up, the others as they are."""
+    step = np.array([np.radians(10.0 ** -REPORTED_DECIMALS) if name in ANGLES else 10.0 ** -REPORTED_DECIMALS * 1e-3
+                     for name in VARIABLES])
+    low = np.floor(placement / step) * step
+    corners = np.tile(placement, (2 ** len(free), 1))
+    for bit, index in enumerate(free):
+        up = (np.arange(len(corners)) >> bit) & 1
+        corners[:, index] = low[index] + up * step[index]
+    return corners
+
+
+def _failure(check: Evaluation) -> str:
+    """The limit that binds most at the first placement of ``check``: "kind: where, margin M %"."""
+    tightest = binding(check)
+    return f"{check.limits[tightest]}, margin {check.margins[0, tightest] * 100:.4f} %"
+
+
+def binding(check: Evaluation, placement: int = 0) -> int:
+    """The column of the limit that binds most at a placement of ``check``: reachability where a sample has no
+    configuration (every margin is then at most -1, the workspace's first side included), else the tightest."""
+    if not check.reachable[placement]:
+        return check.limits.index("reachability: path")
+    return int(np.argmin(check.margins[placement]))
+
+
