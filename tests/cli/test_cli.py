@@ -117,7 +117,7 @@ def test_main_job_reports_best_worst_and_gain_and_writes_json_and_trace(tmp_path
     # The duty cycle: the best's RMS motor torques are those of the trace's torque column (trapezoid rule), the
     # ratio is to the Orthoglide's rating, and nothing but the pass limits the rate (no rest asked for)
     table = np.array(rows[1:], dtype=float)
-    torque = table[:, [4 + 8 * i + 5 for i in range(3)]]
+    torque = table[:, [5 + 8 * i + 5 for i in range(3)]]  # after t, x, y, z and speed: motor_torque_JOINT
     duty = document["best"]["duty"]
     rms = np.sqrt(np.trapezoid(torque**2, table[:, 0], axis=0) / (table[-1, 0] - table[0, 0]))
     np.testing.assert_allclose(list(duty["rms_torque_Nm"].values()), rms, rtol=1e-6)
