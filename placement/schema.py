@@ -17,6 +17,7 @@ from placement.exceptions import InputFileError
 Model = TypeVar("Model", bound=BaseModel)
 MAX_FILE_BYTES = 10_000_000
 MAX_NODES = 1_000_000  # values in a document once its aliases are expanded
+MAX_DEPTH = 200  # nested mappings and lists in a document (a path's points are 3 deep)
 _REPR = reprlib.Repr()  # bounded: never echo a whole input back
 _REPR.maxlevel, _REPR.maxstring, _REPR.maxother, _REPR.maxlist, _REPR.maxdict, _REPR.maxtuple = 2, 60, 60, 4, 4, 4
 Number = Annotated[float, StrictValue()]  # an integer or a decimal number; true and false are not numbers
@@ -87,8 +88,11 @@ def validate_document(raw: Any, path: Path, schema: type[Model], error: type[Inp
     """
     if not isinstance(raw, dict):
         raise error(path, "", "expected a mapping of fields at the top level")
-    if _node_count(raw, MAX_NODES) > MAX_NODES:  # aliases can make a small file a huge document
+    count, depth = _size(raw, MAX_NODES)
+    if count > MAX_NODES:  # aliases can make a small file a huge document
         raise error(path, "", f"the document holds more than {MAX_NODES:,} values (counting each use of an & anchor)")
+    if depth > MAX_DEPTH:  # the validation (and whatever reads the values) recurses through the nesting
+        raise error(path, "", f"nested too deeply (more than {MAX_DEPTH} levels)")
     try:
         return schema.model_validate(raw)
     except ValidationError as problem:
@@ -191,17 +195,18 @@ class _UniqueKeyLoader(getattr(yaml, "CSafeLoader", yaml.SafeLoader)):  # type: 
         return super().construct_mapping(node, deep=deep)
 
 
-def _node_count(document: Any, limit: int) -> int:
-    """How many values ``document`` holds, counting shared ones each time; stops past ``limit``."""
-    count, stack = 0, [document]
+def _size(document: Any, limit: int) -> tuple[int, int]:
+    """How many values ``document`` holds, counting shared ones each time, and how deep it nests; stops past
+    ``limit`` values."""
+    count, depth, stack = 0, 0, [(document, 1)]
     while stack and count <= limit:
-        node = stack.pop()
-        count += 1
+        node, level = stack.pop()
+        count, depth = count + 1, max(depth, level)
         if isinstance(node, dict):
-            stack.extend(node.values())
+            stack.extend((value, level + 1) for value in node.values())
         elif isinstance(node, list):
-            stack.extend(node)
-    return count
+            stack.extend((value, level + 1) for value in node)
+    return count, depth
 
 
 def _one_line(problem: yaml.YAMLError) -> str:

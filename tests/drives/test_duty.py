@@ -7,7 +7,7 @@ from scipy.integrate import trapezoid
 
 from placement.drives.duty import SECONDS_PER_HOUR, duty_cycle, squared_torque_integral
 from placement.drives.trace import Drives
-from placement.evaluation.evaluator import Evaluator
+from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.limits.base import LIMITS, margin_fields
 from placement.path.load import load_path
 from placement.robot import load_robot
@@ -75,7 +75,7 @@ def test_orthoglide_example_rms_and_thermal_margin():
     the thermal limit's margin is 1 − RMS/rating at the pass's end; gravity loads the vertical slider at rest."""
     robot = load_robot("orthoglide")
     assert "thermal" in LIMITS.names()
-    evaluator = Evaluator(robot, load_path(EXAMPLE), workers=1)
+    evaluator = Evaluator(robot, load_path(EXAMPLE), EvaluatorSettings(workers=1))
     placement = np.array([-0.00255, 0.00352, -0.033, -0.0063, 0.0, 0.0])
     detail = evaluator.detail(placement)
     t = detail.samples.t_s
