@@ -44,6 +44,7 @@ from placement.output.report import (
     detail_json,
     format_detail,
     format_result,
+    results_lines,
     tolerance_json,
     write_atomically,
     write_json,
@@ -387,6 +388,7 @@ def run(args: argparse.Namespace) -> int:
                 document["infeasible"] = infeasible
             if scene:
                 draw(scene, robot, index, details)
+                scene.add_results(([""] if index else []) + results_lines(document))
             traced = details.get("at") or details.get("best") or details.get("worst")
             if args.trace and traced is not None:
                 write_trace(args.trace, robot, traced)

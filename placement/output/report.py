@@ -36,6 +36,26 @@ def format_placement(placement: np.ndarray) -> str:
                      else f"{name} = {value * 1e3:.{REPORTED_DECIMALS}f} mm" for name, value in zip(VARIABLES, placement))
 
 
+def results_lines(document: dict[str, Any]) -> list[str]:
+    """The answer of one path's ``--json`` document as a few lines, for the scene page's results panel: each
+    placement's objective and where it is (mm, deg), its tightest limit, and the gain."""
+    lines = [str(document["path"])]
+    for key, title in (("at", "--at"), ("best", "best"), ("worst", "worst")):
+        entry = document.get(key)
+        if entry is None:
+            continue
+        objective, value = entry["objective"], entry["objective"]["value"]
+        shown = "none (unreachable)" if value is None else quantity(value, objective["unit"])
+        lines.append(f"{title}: {objective['title']} {shown}")
+        lines.append("  " + format_placement(np.array([entry["placement"][name] for name in VARIABLES])))
+        if entry["margins"]:
+            tight = min(entry["margins"], key=lambda margin: margin["margin"])
+            lines.append(f"  tightest: {tight['kind']} ({tight['where']}), margin {tight['margin'] * 100:.1f} %")
+    if document.get("gain") is not None:
+        lines.append(f"gain: {document['gain'] * 100:.1f} % of the {document['objective'].replace('_', ' ')}")
+    return lines
+
+
 def placement_duty(robot: Robot, detail: PlacementDetail, rest_s: float = 0.0) -> DutyCycle | None:
     """The placement's duty cycle with ``rest_s`` (s) between passes (:mod:`placement.drives.duty`), or None when no
     drive gives a continuous torque or the placement has no timing."""

@@ -97,6 +97,7 @@ class Scene:
         self.window = _RecordingWindow()
         self.viewer = meshcat.Visualizer(window=self.window)
         self.legend: list[tuple[str, int]] = [("robot", 0x999999)]
+        self.results: list[str] = []  # lines of the page's results panel (add_results)
         try:
             visual = pin.buildGeomFromUrdf(robot.model, str(robot.urdf_path), pin.GeometryType.VISUAL,
                                            package_dirs=package_dirs(robot))
@@ -230,6 +231,10 @@ class Scene:
             self.visualizer.viewer = viewer
         self.viewer.set_animation(animation, play=True, repetitions=repetitions)
 
+    def add_results(self, lines: list[str]) -> None:
+        """Lines of text for the page's results panel (the answer beside the picture: energies, placements, gain)."""
+        self.results.extend(lines)
+
     def html(self, title: str = "placement") -> str:
         """A self-contained page of the recorded scene (three.js viewer inlined, no network), the camera fitted."""
         self.fit_camera()
@@ -239,8 +244,9 @@ class Scene:
             for c in self.window.commands())
         legend = "".join(f'<div><span style="background:#{color:06x}"></span>{html.escape(name)}</div>'
                          for name, color in self.legend)
+        results = "".join(f"<div>{html.escape(line)}</div>" for line in self.results)
         return _PAGE.format(title=html.escape(title), script=VIEWER_SCRIPT.read_text(), commands=commands,
-                            legend=legend)
+                            legend=legend, results=f'<div id="results">{results}</div>' if results else "")
 
 
 class PageServer:
@@ -344,10 +350,13 @@ body {{ margin: 0; }}
 #legend {{ position: absolute; left: 10px; bottom: 10px; background: rgba(255,255,255,0.85); padding: 6px 10px;
           font: 13px sans-serif; border-radius: 4px; }}
 #legend span {{ display: inline-block; width: 12px; height: 12px; margin-right: 6px; vertical-align: middle; }}
+#results {{ position: absolute; left: 10px; top: 10px; background: rgba(255,255,255,0.9); padding: 6px 10px;
+           font: 14px sans-serif; border-radius: 4px; white-space: pre; }}
 </style></head>
 <body>
 <div id="meshcat-pane"></div>
 <div id="legend"><b>{title}</b>{legend}</div>
+{results}
 <script>{script}</script>
 <script>
 var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));

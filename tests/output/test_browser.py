@@ -92,3 +92,23 @@ def test_markup_from_input_files_is_inert_in_the_page(tmp_path):
     page = scene.html("<script>alert('path name')</script>")
     assert "<script>alert(" not in page and "<img src=x" not in page
     assert "&lt;script&gt;alert(&#x27;path name&#x27;)&lt;/script&gt;" in page
+
+
+def test_the_page_carries_the_answer_as_text(tmp_path, capsys):
+    """--html's page shows each placement's energy, where it is and its tightest limit, and the gain, as the report
+    prints them: the answer is in a screenshot of the page, not only in the terminal."""
+    import html
+    import json
+
+    from placement.__main__ import main
+
+    page, result = tmp_path / "scene.html", tmp_path / "result.json"
+    assert main(["--robot", "orthoglide", "--path", str(EXAMPLE), "--generations", "6", "--population", "12",
+                 "--html", str(page), "--json", str(result), "--quiet"]) == 0
+    printed, text = capsys.readouterr().out, html.unescape(page.read_text())
+    document = json.loads(result.read_text())
+    for key in ("best", "worst"):
+        energy = f"{key}: electric energy {document[key]['energy_J']:.4f} J"
+        where = next(line.strip() for line in printed.split(f"{key} placement")[1].splitlines() if "x = " in line)
+        assert energy in text and f"<div>  {where}</div>" in text
+    assert f"gain: {document['gain'] * 100:.1f} % of the energy" in text
