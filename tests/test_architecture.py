@@ -2,11 +2,12 @@
 the robot package reads a robot's sidecar (every other module asks the robot: ``Robot.workspace``,
 ``Robot.plane``, ``Robot.named_drives``, ..., so the sidecar's schema can change behind it).
 
-Imports are read from the source with ``ast``, as Python runs them when a module is imported: the
-statements at a module's top level, less those under ``if TYPE_CHECKING``, each reaching the
-module it names and every package above it (whose ``__init__`` runs first), except the importing
-module's own packages. An import inside a function runs later, on use, and is left out: a few
-loaders use one to check a robot with a higher layer (its kinematics), and say so where they do.
+Imports are read from the source with ``ast``, two ways. As Python runs them when a module is
+imported: the statements at a module's top level, less those under ``if TYPE_CHECKING``, each
+reaching the module it names and every package above it (whose ``__init__`` runs first), except
+the importing module's own packages. And as dependencies of the design: every import, in a
+function or for type checking too, reaching the module it names; a package's own modules may
+import their package.
 """
 
 import ast
@@ -55,6 +56,19 @@ def imported_at_import_time(name: str) -> set[str]:
     return {module for module in named | parents if module in MODULES and module not in own}
 
 
+def named_anywhere(name: str) -> set[str]:
+    """The package's modules that ``name`` imports anywhere (top level, functions, type checking)."""
+    named = set()
+    for node in ast.walk(ast.parse(MODULES[name].read_text(encoding="utf-8"))):
+        if isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            named |= {f"{node.module}.{alias.name}" if f"{node.module}.{alias.name}" in MODULES else node.module
+                      for alias in node.names}
+        elif isinstance(node, ast.Import):
+            named |= {alias.name for alias in node.names}
+    return {module for module in named if module in MODULES and module != name
+            and not (MODULES[module].name == "__init__.py" and name.startswith(module + "."))}
+
+
 def cycle_through(graph: dict[str, set[str]]) -> list[str] | None:
     """A cycle of the graph, as the modules along it, or None."""
     state: dict[str, int] = {}  # 1: on the current path, 2: done
@@ -77,6 +91,11 @@ def cycle_through(graph: dict[str, set[str]]) -> list[str] | None:
 
 def test_no_import_cycle():
     graph = {name: imported_at_import_time(name) for name in MODULES}
+    assert cycle_through(graph) is None, " -> ".join(cycle_through(graph) or [])
+
+
+def test_no_import_cycle_even_through_imports_in_functions_or_for_type_checking():
+    graph = {name: named_anywhere(name) for name in MODULES}
     assert cycle_through(graph) is None, " -> ".join(cycle_through(graph) or [])
 
 

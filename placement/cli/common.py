@@ -23,8 +23,8 @@ from placement.objectives.base import OBJECTIVES
 from placement.path.load import load_path
 from placement.path.toolpath import ToolPath
 from placement.placing.transform import ANGLES, VARIABLES
-from placement.robot.catalog import sidecar_path
-from placement.robot.erd import ERD_FORM, erd_name, estimate_warning, load_erd_robot
+from placement.robot.catalog import ERD_FORM, sidecar_path
+from placement.robot.erd import erd_name, estimate_warning, load_erd_robot
 from placement.robot.load import load_robot
 from placement.robot.model import Robot
 from placement.robot.urdf import ERD_PREFIX

@@ -4,8 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from placement.robot.catalog import robot_description, robot_names
-from placement.robot.erd import ERD_FORM
+from placement.robot.catalog import ERD_FORM, robot_description, robot_names
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:

@@ -21,6 +21,7 @@ from placement.robot.exceptions import UnknownRobotError
 from placement.robot.gepetto import folder_sidecar
 
 ROBOTS: Registry[Callable[[], str | Path]] = Registry("robot", "placement.robots")
+ERD_FORM = "erd:"  # a robot argument naming one of example-robot-data's arms: erd:NAME
 
 
 def builtin_robots_dir() -> Path:
@@ -65,11 +66,16 @@ def sidecar_path(name_or_path: str | Path) -> Path:
 
 def close_names(text: str) -> list[str]:
     """Robot arguments close to ``text`` (a misspelt name; an example-robot-data name without its ``erd:``)."""
-    from placement.robot.erd import ERD_FORM, erd_names  # example-robot-data's list, read only on a miss
-
     arms = [f"{ERD_FORM}{name}" for name in erd_names()]
     exact = [arm for arm in arms if arm == f"{ERD_FORM}{text}"]
     return exact or difflib.get_close_matches(text, robot_names() + arms, n=3, cutoff=0.75)
+
+
+def erd_names() -> list[str]:
+    """The robots example-robot-data ships (its list is imported only when asked for)."""
+    from example_robot_data.robots_loader import ROBOTS as ERD_ROBOTS
+
+    return sorted(ERD_ROBOTS)
 
 
 def robot_description(name: str) -> str:

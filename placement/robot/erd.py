@@ -43,6 +43,7 @@ import numpy as np
 import pinocchio as pin
 from pydantic import ValidationError
 
+from placement.robot.catalog import ERD_FORM, erd_names
 from placement.robot.exceptions import ExampleRobotError
 from placement.robot.load import build_robot, reduced_model
 from placement.robot.model import Robot
@@ -50,7 +51,6 @@ from placement.robot.sidecar import Sidecar
 from placement.robot.tool import find_frame
 from placement.robot.urdf import ERD_PREFIX, erd_urdf_path, pinocchio_model, urdf_limits_missing
 
-ERD_FORM = "erd:"
 GEAR_RATIO = 100.0
 SCREW_LEAD_M = 0.01
 BOX_CENTRE_OF_REACH = (0.4, 0.0, 0.15)
@@ -67,13 +67,6 @@ DOWN = np.array([0.0, 0.0, -1.0])
 def erd_name(text: str) -> str | None:
     """The example-robot-data name in ``erd:NAME``, or None for any other robot argument."""
     return text.removeprefix(ERD_FORM) if text.startswith(ERD_FORM) else None
-
-
-def erd_names() -> list[str]:
-    """The robots example-robot-data ships."""
-    from example_robot_data.robots_loader import ROBOTS
-
-    return sorted(ROBOTS)
 
 
 def estimate_warning(robot: Robot) -> str:

@@ -13,10 +13,10 @@ import numpy as np
 
 if TYPE_CHECKING:
     from placement.path.samples import PathSamples
-    from placement.path.toolpath import ToolPath
+    from placement.timing.interface import TimedPath
 
 
-def sample_paper(path: ToolPath, step_s: float) -> PathSamples:
+def sample_paper(path: TimedPath, step_s: float) -> PathSamples:
     """The path's samples, ``step_s`` apart at most within each segment, each segment at its feed; each hold (a
     dwell) a piece of its own after its segment."""
     parts, start, piece = [], 0.0, 0

@@ -36,7 +36,7 @@ from placement.exceptions import PlacementError
 if TYPE_CHECKING:
     from placement.path.samples import PathSamples
     from placement.path.segments import Run, Segment
-    from placement.path.toolpath import ToolPath
+    from placement.timing.interface import TimedPath
 
 ARC_SAFETY = 0.98  # share of the bounds used on curved stretches, where they are checked on samples
 CURVATURE_TOLERANCE_1_M = 1e-6  # curvature vectors closer than this (1/m) are one: no jump at the join
@@ -180,7 +180,7 @@ def _curvature(segment: Segment, at_end: bool) -> np.ndarray:
     return segment.point(s, np.ones(1), np.zeros(1))[2][0]
 
 
-def _stretches(path: ToolPath, run: Run) -> tuple[list[Stretch], list[float]]:
+def _stretches(path: TimedPath, run: Run) -> tuple[list[Stretch], list[float]]:
     """A run's stretches with their caps, and the speed bound where each meets the one before (curvature jumps)."""
     acceleration, jerk = path.timing.max_acceleration_m_s2, path.timing.max_jerk_m_s3
     assert acceleration is not None and jerk is not None  # the realistic law's schema requires them
@@ -233,7 +233,7 @@ def _reach(start_m_s: float, bound_m_s: float, stretch: Stretch) -> float:
         start_m_s, v, stretch.acceleration_m_s2, stretch.jerk_m_s3) <= stretch.length_m)
 
 
-def run_profile(path: ToolPath, run: Run) -> RunProfile:
+def run_profile(path: TimedPath, run: Run) -> RunProfile:
     """The feed profile of a corner-to-corner run with look-ahead (module docstring).
 
     Args:
@@ -275,7 +275,7 @@ def _within(profile: Profile, run: Run, inside_s: np.ndarray, acceleration: floa
                 and np.linalg.norm(rate, axis=1).max() <= ARC_SAFETY * jerk)
 
 
-def sample_realistic(path: ToolPath, step_s: float) -> PathSamples:
+def sample_realistic(path: TimedPath, step_s: float) -> PathSamples:
     """The path's samples, ``step_s`` apart at most within each run, each run along its feed profile."""
     runs = path.runs()
     profiles = [run_profile(path, run) for run in runs]
@@ -315,7 +315,7 @@ class SegmentSpeed:
     bound: str
 
 
-def segment_speeds(path: ToolPath) -> list[SegmentSpeed]:
+def segment_speeds(path: TimedPath) -> list[SegmentSpeed]:
     """The speed each segment reaches under the realistic law and what bounds it."""
     out: list[SegmentSpeed] = []
     for run in path.runs():
