@@ -26,7 +26,7 @@ from placement.exceptions import PlacementError
 from placement.limits.base import margin_fields, worst_margins
 from placement.path.toolpath import ToolPath
 from placement.robot.model import Robot
-from placement.search.optimize import PlacementResult, SearchSettings, optimize_placement
+from placement.search.optimize import PlacementResult, SearchSettings, optimize_placement, search_sampling
 from placement.search.space import PlacementSpace, default_space
 from placement.timing.rules import check_timing, override_timing, timing_for
 
@@ -98,11 +98,8 @@ class Bench:
         settings = EvaluatorSettings(objective=choices.objective, regeneration=choices.regeneration,
                                      time_step_s=self.time_step_s)
         exact = Evaluator(self.robot, path, settings)
-        step = self.time_step_s if self.time_step_s is not None else path.time_step_s
-        duration = float(path.sample(step).t_s[-1])
-        coarse = dataclasses.replace(settings, time_step_s=max(step, duration / self.search_settings.search_samples),
-                                     workers=1)
-        live = Evaluator(self.robot, path, coarse)
+        coarse, _ = search_sampling(path, settings, self.search_settings)
+        live = Evaluator(self.robot, path, dataclasses.replace(coarse, workers=1))
         with self.lock:
             for old in (getattr(self, "live_evaluator", None), getattr(self, "exact_evaluator", None)):
                 if old is not None:

@@ -333,6 +333,16 @@ def _feasible_towards(problem: _Problem, feasible: np.ndarray, target: np.ndarra
     return feasible + inside * (target - feasible)
 
 
+def search_sampling(path: ToolPath, evaluation: EvaluatorSettings,
+                    settings: SearchSettings) -> tuple[EvaluatorSettings, EvaluatorSettings]:
+    """The evaluator settings of a search's global phase, on about ``settings.search_samples`` samples of the path
+    (never finer than its own step), and of its polish and reported values, at the path's own step."""
+    step = evaluation.time_step_s if evaluation.time_step_s is not None else path.time_step_s
+    duration = float(path.sample(step).t_s[-1])
+    fine = dataclasses.replace(evaluation, time_step_s=step)
+    return dataclasses.replace(fine, time_step_s=max(step, duration / settings.search_samples)), fine
+
+
 def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | None = None,
                        evaluation: EvaluatorSettings = EvaluatorSettings(), settings: SearchSettings = SearchSettings(),
                        progress: Callable[[], None] | None = None,
@@ -359,14 +369,13 @@ def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | 
         reason with the binding limit.
     """
     space = space or default_space(robot, half_turn=path.half_turn_symmetric())
-    step = evaluation.time_step_s if evaluation.time_step_s is not None else path.time_step_s
-    duration = float(path.sample(step).t_s[-1])
+    coarse_settings, fine_settings = search_sampling(path, evaluation, settings)
     directions = settings.best + settings.worst
 
     def evaluators(threads: int | None) -> tuple[Evaluator, Evaluator]:
         """The global search's and the polish's (no worker process starts before an evaluation)."""
-        fine = dataclasses.replace(evaluation, time_step_s=step, threads=threads or evaluation.threads)
-        coarse = dataclasses.replace(fine, time_step_s=max(step, duration / settings.search_samples))
+        coarse, fine = (dataclasses.replace(each, threads=threads or evaluation.threads)
+                        for each in (coarse_settings, fine_settings))
         return Evaluator(robot, path, coarse, executor), Evaluator(robot, path, fine, executor)
 
     coarse, fine = evaluators(None)

@@ -39,7 +39,7 @@ from placement.exceptions import PlacementError
 from placement.objectives.base import OBJECTIVES
 from placement.path.toolpath import ToolPath
 from placement.robot.model import Robot
-from placement.search.optimize import RECHECK_DENSITY, SearchSettings, optimize_placement
+from placement.search.optimize import RECHECK_DENSITY, SearchSettings, optimize_placement, search_sampling
 from placement.search.space import PlacementSpace, default_space
 
 FRONT_SIZE = 24  # members reported at most, spread evenly along the front
@@ -176,9 +176,7 @@ def pareto_front(robot: Robot, path: ToolPath, objectives: tuple[str, ...], *, s
         optima[name] = result.best.detail
         evaluations += result.best.evaluations
     seeds = np.array([detail.placement for detail in optima.values()])
-    duration = float(path.sample(step).t_s[-1])
-    fine = dataclasses.replace(evaluation, objective=tuple(objectives), time_step_s=step)
-    coarse = dataclasses.replace(fine, time_step_s=max(step, duration / settings.search_samples))
+    coarse, fine = search_sampling(path, dataclasses.replace(evaluation, objective=tuple(objectives)), settings)
     with Evaluator(robot, path, coarse, executor) as coarse_evaluator:
         candidates = _evolve(coarse_evaluator, space, signs, seeds[:, space.indices], settings, progress)
         evaluations += coarse_evaluator.evaluations
