@@ -116,6 +116,7 @@ def runtime_members(used: dict[str, set[str]]) -> dict[str, dict[str, object]]:
     return {group: {name: _REGISTRIES[group]._runtime[name] for name in names if name in _REGISTRIES[group]._runtime}
             for group, names in used.items() if group in _REGISTRIES}
 
+
 def restore_runtime_members(members: dict[str, dict[str, object]]) -> None:
     """Register, in a worker process, the members :func:`runtime_members` gave in the parent."""
     for group, named in members.items():

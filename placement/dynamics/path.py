@@ -62,8 +62,6 @@ class PathDynamics:
         return PathForm(a=self.inertia, b=self.centripetal, c=self.static)
 
 
-
-
 class PathForm:
     """A quantity along the path, affine in the path motion: a·s̈ + b·ṡ² + c + w·ṡ.
 

@@ -99,5 +99,6 @@ class WorkpieceRegion(Limit):
         region = batch.robot.cell.workpiece_region
         return [box_field("workpiece region", batch.tool_position_m, region.min_m, region.max_m)]
 
+
 LIMITS.add("collision", Collision())
 LIMITS.add("workpiece_region", WorkpieceRegion())

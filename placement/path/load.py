@@ -100,6 +100,7 @@ def _machine(shape: Gcode) -> Machine:
     given = shape.machine
     if given is None:
         return Machine()
+
     def point(value: tuple[float, float, float] | None) -> np.ndarray | None:
         return None if value is None else np.array(value, dtype=float) * MM_M
 

@@ -382,7 +382,6 @@ def sidecar_text(path: Path, robot: Robot, reference: dict[str, float], locks: d
     return header + body + yaml.safe_dump({"sources": document["sources"]}, sort_keys=False, width=10_000)
 
 
-
 def _workspace(robot: Robot, sources: dict[str, str]) -> dict[str, Any]:
     """The estimated ``workspace``, and ``placement`` for a mechanism moving in a plane: ``free: [x, y, phi]``
     in a horizontal plane, else the plane (its normal is the direction the end effector cannot move in).

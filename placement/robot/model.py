@@ -87,12 +87,12 @@ class Robot:
     sidecar: Sidecar
     cell: Cell | None = None
 
-
     def __repr__(self) -> str:
         """A short summary (the Pinocchio model's own repr runs to pages)."""
         joints = ", ".join(actuator.joint for actuator in self.actuators)
         return (f"Robot('{self.name}', {len(self.actuators)} actuators ({joints}), {self.task} task, "
                 f"{len(self.closures)} closures, from {self.sidecar_path})")
+
     def __getstate__(self) -> dict:
         """For another process: a loaded plug-in module does not travel, its file does."""
         state = dict(self.__dict__)

@@ -461,16 +461,6 @@ def _outcome(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: fl
         return _Outcome(x, coarse.evaluations + fine.evaluations + dense.evaluations - before, None, note)
 
 
-
-
-
-
-
-
-
-
-
-
 def in_parallel(coarse: Evaluator, fine: Evaluator, directions: int) -> bool:
     """Whether both directions are searched at once, a process each: when both are asked for, this machine has
     two cores, the evaluations run in this process, which is no pool's worker (a study's searches share the

@@ -12,7 +12,6 @@ if TYPE_CHECKING:
     from placement.path.samples import PathGeometry, PathSamples
 
 
-
 @dataclass(frozen=True)
 class TimeLaw:
     """The timing of K placements of a path sampled by a :class:`placement.path.samples.PathGeometry`.

@@ -51,12 +51,6 @@ if TYPE_CHECKING:
 SAFETY = 0.99  # share of each limit the timing law may use (the exact chain checks the rest)
 
 
-
-
-
-
-
-
 @cache
 def _toppra() -> tuple[ModuleType, type]:
     """toppra and the constraint class built on it, imported on first use (toppra loads matplotlib: 0.4 s)."""

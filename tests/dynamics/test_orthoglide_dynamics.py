@@ -14,6 +14,7 @@ from tests.support.trajectories import orthoglide_path
 
 closed_form = load_robot("orthoglide").plugin
 
+
 def test_real_legs_differ_from_the_lumped_model(orthoglide):
     """The legs' own inertia matters: the lumped model is an approximation of the exact one."""
     task = orthoglide_path(np.linspace(0.0, 1.0, 200))

@@ -106,6 +106,7 @@ def test_a_commented_out_continuous_joint_is_ignored(tmp_path):
     assert list(model.names[1:]) == ["a", "b"] and bounds(model, "a") == (-1.0, 1.0)
     assert urdf_limits_missing(model, model.getJointId("b"))
 
+
 def test_a_joint_end_tag_with_a_space_ends_its_joint(tmp_path):
     """``</joint >`` closes a continuous joint without ``<limit>``: it gets one, and the next joint keeps its bounds."""
     text = robot_text(2, joint("a", "continuous", 1).replace("</joint>", "</joint >") + joint("b", "revolute", 2, BOUNDED))
@@ -151,6 +152,7 @@ def test_single_quoted_attributes_are_read(tmp_path):
     a = model.getJointId("a")
     assert model.nq == 2 and urdf_limits_missing(model, a) and model.velocityLimit[model.joints[a].idx_v] == 2
 
+
 @pytest.mark.parametrize("encoding", ["UTF-8", "ISO-8859-1"])
 def test_an_xml_declaration_and_processing_instruction_are_read(tmp_path, encoding):
     """A URDF file opening with an XML declaration (its encoding honoured) and an ``<?xml-model?>`` instruction."""
@@ -172,6 +174,7 @@ def test_namespaced_elements_and_attributes_are_kept(tmp_path):
         (f"{{{xacro}}}property", {"name": "p", "value": "1"}, None), ("sensor", {f"{{{xacro}}}kind": "camera"}, "on")]
     assert built(tmp_path, text).nq == 1
 
+
 def test_a_urdf_that_is_not_xml_is_an_error_naming_the_file(tmp_path):
     urdf = tmp_path / "robot.urdf"
     urdf.write_text(robot_text(1, joint("a", "continuous", 1))[:-20])
@@ -179,6 +182,7 @@ def test_a_urdf_that_is_not_xml_is_an_error_naming_the_file(tmp_path):
         with pytest.raises(RobotFileError, match=r"robot\.urdf: not an XML file: .*line 1, column") as error:
             read(urdf)
         assert error.value.path == urdf and error.value.field == ""
+
 
 def test_a_continuous_joint_without_limit_reads_as_giving_no_effort_or_speed(tmp_path):
     urdf = tmp_path / "ur5.urdf"

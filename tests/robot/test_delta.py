@@ -26,6 +26,7 @@ from tests.support.trajectories import lissajous
 DELTA_DIR = builtin_robots_dir() / "delta"
 CIRCLE = DELTA_DIR.parents[1] / "examples" / "circle.yaml"
 
+
 @pytest.fixture
 def delta():
     """A freshly loaded Delta (tests may modify its model)."""
