@@ -75,6 +75,8 @@ def read_yaml(path: Path, schema: type[Model], error: type[InputFileError]) -> M
     except RecursionError:
         raise error(path, "", "nested too deeply") from None
     except yaml.YAMLError as problem:
+        if "nesting depth" in str(problem):  # the parser's own bound (PyYAML 6.0.4 on)
+            raise error(path, "", f"nested too deeply (more than {MAX_DEPTH} levels)") from None
         raise error(path, "", f"not valid YAML: {_one_line(problem)}") from None
     return validate_document(raw, path, schema, error)
 
