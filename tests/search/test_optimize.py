@@ -146,3 +146,34 @@ def test_the_evaluation_settings_are_plain_data_that_each_search_takes_once():
         pareto_front(robot, path, ("energy", "transmission"), evaluation=EvaluatorSettings(objective="dexterity"))
     with pytest.raises(PlacementError, match="a sweep maps one objective, got energy, dexterity"):
         sweep(robot, path, {"x": np.zeros(2)}, evaluation=settings)
+
+
+def test_a_whole_or_half_turn_of_phi_is_periodic_and_a_narrower_range_is_not(case):
+    robot = case[0]
+    half, full = default_space(robot, half_turn=True), default_space(robot)
+    narrow = default_space(robot, bounds={"phi": (-1.0, 1.0)})
+    assert half.period[-1] == pytest.approx(np.pi) and full.period[-1] == pytest.approx(2 * np.pi)
+    assert not narrow.period.any() and not half.period[:-1].any()
+    point = np.array([0.01, 0.02, 0.0, np.pi / 2 + 0.1])
+    wrapped = half.wrap(point)
+    assert wrapped[-1] == pytest.approx(-np.pi / 2 + 0.1) and np.array_equal(wrapped[:-1], point[:-1])
+    np.testing.assert_array_equal(narrow.wrap(point), point)
+
+
+def test_a_basin_at_the_edge_of_phi_s_range_is_searched_across_the_edge(case):
+    """The polish wraps phi: from a start just inside -90°, it may end past it, and the result comes back in range
+    at least as good as the start, with the same energy as the unwrapped angle's (the path's half-turn symmetry)."""
+    from placement.search.optimize import _polish, _polish_bounds, _Problem
+
+    robot, path = case[0], case[1]
+    space = default_space(robot, half_turn=True)
+    with Evaluator(robot, path, EvaluatorSettings(time_step_s=0.004)) as evaluator:
+        problem = _Problem(evaluator, space, 1.0)
+        start = np.array([0.0, 0.0, 0.0, -np.pi / 2 + 1e-3])
+        bounds = _polish_bounds(space, start)
+        assert bounds[-1][0] < -np.pi / 2 < bounds[-1][1]
+        end = space.wrap(_polish(problem, start, bounds))
+        assert space.lower[-1] <= end[-1] < space.upper[-1]
+        assert problem._lookup(end)[0][0] <= problem._lookup(start)[0][0]
+        turned = evaluator.evaluate(space.full(end + np.array([0, 0, 0, np.pi])))
+        assert turned.value[0] == pytest.approx(problem._lookup(end)[0][0], rel=1e-9)
