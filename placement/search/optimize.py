@@ -52,6 +52,7 @@ INWARD_SHARES = np.array([0.0, 1e-6, 1e-5, 1e-4, 1e-3])  # a repair's pulls towa
 GRADIENT_STEP = 1e-7  # forward-difference step of the polish, as a share of each variable's range
 POLISH_EVALUATIONS = 30  # placement evaluations of a typical polish, for the duration estimate (gradients count n + 1)
 BASIN_RADIUS = 0.02  # candidates within this share of the box of one another share a basin
+EDGE_SHARE = 1e-6  # a polish ending within this share of a period of a periodic variable's edge goes on across it
 STALL_ITERATIONS = 10  # the polish stops when this many iterations improve the objective by at most
 STALL_TOLERANCE = 1e-9  # this share of it (SLSQP otherwise dithers on a limit until its iteration cap)
 
@@ -246,22 +247,25 @@ def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: flo
     starts = ranked[(fine_margins >= 0).all(axis=1)]
     if not len(starts):  # the finer sampling breaks a limit the coarse one missed: repair the closest
         closest = ranked[np.argmin(np.clip(-fine_margins, 0.0, None).sum(axis=1))]
-        repaired = _inward_until_feasible(local, space.wrap(_polish(local, closest, _polish_bounds(space, closest))),
-                                          space)
+        repaired = _inward_until_feasible(local, _polish_across(local, closest, space), space)
         return ([] if repaired is None else [repaired]), local
-    polished = [space.wrap(_polish(local, start, _polish_bounds(space, start))) for start in _distinct(starts, space)]
+    polished = [_polish_across(local, start, space) for start in _distinct(starts, space)]
     polished.sort(key=lambda x: sign * local._lookup(x)[0][0])
     return polished + list(starts), local
 
 
-def _polish_bounds(space: PlacementSpace, start: np.ndarray) -> list[tuple[float, float]]:
-    """The polish's box around ``start``: the space's, with each periodic variable free for half a period on
-    either side of its start (the objective wraps it: no bound through a basin at the range's edge)."""
+def _polish_across(problem: _Problem, start: np.ndarray, space: PlacementSpace) -> np.ndarray:
+    """The polish from ``start`` in the space's box; if it ends on a periodic variable's edge, on again from there
+    in a box that leaves that variable free for half a period either way (the objective wraps it: no bound cuts
+    through a basin at the range's edge). The result lies in the space's range."""
+    x = _polish(problem, start, list(zip(space.lower, space.upper)))
+    edge = EDGE_SHARE * np.where(space.period > 0, space.period, np.inf)
+    if not ((np.abs(x - space.lower) <= edge) | (np.abs(x - space.upper) <= edge)).any():
+        return x
     half = space.period / 2
     cyclic = half > 0
-    lower = np.where(cyclic, start - half, space.lower)
-    upper = np.where(cyclic, start + half, space.upper)
-    return list(zip(lower, upper))
+    box = list(zip(np.where(cyclic, x - half, space.lower), np.where(cyclic, x + half, space.upper)))
+    return space.wrap(_polish(problem, x, box))
 
 
 def _popsize(settings: SearchSettings, free: int) -> int:

@@ -161,19 +161,23 @@ def test_a_whole_or_half_turn_of_phi_is_periodic_and_a_narrower_range_is_not(cas
 
 
 def test_a_basin_at_the_edge_of_phi_s_range_is_searched_across_the_edge(case):
-    """The polish wraps phi: from a start just inside -90°, it may end past it, and the result comes back in range
-    at least as good as the start, with the same energy as the unwrapped angle's (the path's half-turn symmetry)."""
-    from placement.search.optimize import _polish, _polish_bounds, _Problem
+    """The groove's lowest basin lies at phi ≈ 89.6° (x ≈ -2.6 mm, y ≈ 3.5 mm), just past the edge of phi's
+    half-turn range [-90°, 90°) as seen from -90°. From a start just inside -90°, the polish bounded by the range
+    stops on its edge; the polish that wraps phi goes on across it, ends in range, lower, and at the energy of the
+    unwrapped angle (the path's half-turn symmetry)."""
+
+    from placement.search.optimize import _polish, _polish_across, _Problem
 
     robot, path = case[0], case[1]
     space = default_space(robot, half_turn=True)
     with Evaluator(robot, path, EvaluatorSettings(time_step_s=0.004)) as evaluator:
         problem = _Problem(evaluator, space, 1.0)
-        start = np.array([0.0, 0.0, 0.0, -np.pi / 2 + 1e-3])
-        bounds = _polish_bounds(space, start)
-        assert bounds[-1][0] < -np.pi / 2 < bounds[-1][1]
-        end = space.wrap(_polish(problem, start, bounds))
-        assert space.lower[-1] <= end[-1] < space.upper[-1]
-        assert problem._lookup(end)[0][0] <= problem._lookup(start)[0][0]
-        turned = evaluator.evaluate(space.full(end + np.array([0, 0, 0, np.pi])))
-        assert turned.value[0] == pytest.approx(problem._lookup(end)[0][0], rel=1e-9)
+        start = np.array([-2.55e-3, 3.52e-3, -33.04e-3, -np.pi / 2 + 1e-3])
+        bounded = _polish(problem, start, list(zip(space.lower, space.upper)))
+        across = _polish_across(problem, start, space)
+        assert bounded[-1] == pytest.approx(-np.pi / 2, abs=1e-9)
+        assert space.lower[-1] <= across[-1] < space.upper[-1] and across[-1] > 0
+        value = problem._lookup(across)[0][0]
+        assert value < problem._lookup(bounded)[0][0]
+        turned = evaluator.evaluate(space.full(across - np.array([0, 0, 0, np.pi])))
+        assert turned.value[0] == pytest.approx(value, rel=1e-9)
