@@ -7,6 +7,9 @@ scipy's differential evolution over the free placement variables, with the limit
 they break the limits, so they steer the search and never stop it), on the path sampled with
 about ``search_samples`` samples; then a local constrained polish (SLSQP) from the best few
 distinct candidates, on the path sampled at its own time step, which the reported values use.
+An angle whose range is its whole turn (or half of it, by the path's half-turn symmetry) is
+periodic: the objective wraps it, and the polish is free to cross the range's edge (no bound
+cuts through a basin there).
 The two directions run at once, in a process and on a core each, where the machine and this
 process allow it (:func:`in_parallel`). The reported optima are re-evaluated with a four times
 denser sampling (under the optimal timing law, keeping the timing found), and the difference is
@@ -48,6 +51,8 @@ RECHECK_DENSITY = 4  # the re-check samples the path this many times more densel
 INWARD_SHARES = np.array([0.0, 1e-6, 1e-5, 1e-4, 1e-3])  # a repair's pulls towards the box centre, tried in order
 GRADIENT_STEP = 1e-7  # forward-difference step of the polish, as a share of each variable's range
 POLISH_EVALUATIONS = 30  # placement evaluations of a typical polish, for the duration estimate (gradients count n + 1)
+BASIN_RADIUS = 0.02  # candidates within this share of the box of one another share a basin
+EDGE_SHARE = 1e-6  # a polish ending within this share of a period of a periodic variable's edge goes on across it
 STALL_ITERATIONS = 10  # the polish stops when this many iterations improve the objective by at most
 STALL_TOLERANCE = 1e-9  # this share of it (SLSQP otherwise dithers on a limit until its iteration cap)
 
@@ -172,7 +177,7 @@ class _Problem:
         self.best_feasible: float | None = None  # signed value of the best feasible point seen
 
     def _lookup(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        points = np.atleast_2d(points)
+        points = self.space.wrap(np.atleast_2d(points))  # a periodic variable is evaluated in its range
         todo = [p for p in points if p.tobytes() not in self._cache]
         if todo:
             evaluation = self.evaluator.evaluate(self.space.full(np.array(todo)))
@@ -215,7 +220,7 @@ def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: flo
         the coarse one when the global search found nothing feasible, else the fine one.
     """
     problem = _Problem(coarse, space, sign)
-    bounds = list(zip(space.lower, space.upper))
+    bounds = list(zip(space.lower, space.upper))  # a periodic variable's edge is wrapped by the polish
     n_limits = problem.margins(space.lower[:, None]).shape[0]
     constraint = NonlinearConstraint(problem.margins, np.zeros(n_limits), np.full(n_limits, np.inf))
 
@@ -231,7 +236,7 @@ def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: flo
         problem.objective, bounds, constraints=constraint, vectorized=True, updating="deferred",
         popsize=_popsize(settings, len(bounds)), maxiter=settings.max_generations, tol=settings.tolerance,
         polish=False, init="sobol", rng=np.random.default_rng(settings.seed), callback=generation_done)
-    population = np.asarray(result.population)
+    population = space.wrap(np.asarray(result.population))
     values, margins = problem._lookup(population)
     feasible = (margins >= 0).all(axis=1) & np.isfinite(values)
     if not feasible.any():
@@ -242,11 +247,25 @@ def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: flo
     starts = ranked[(fine_margins >= 0).all(axis=1)]
     if not len(starts):  # the finer sampling breaks a limit the coarse one missed: repair the closest
         closest = ranked[np.argmin(np.clip(-fine_margins, 0.0, None).sum(axis=1))]
-        repaired = _inward_until_feasible(local, _polish(local, closest, bounds), space)
+        repaired = _inward_until_feasible(local, _polish_across(local, closest, space), space)
         return ([] if repaired is None else [repaired]), local
-    polished = [_polish(local, start, bounds) for start in _distinct(starts, space)]
+    polished = [_polish_across(local, start, space) for start in _distinct(starts, space)]
     polished.sort(key=lambda x: sign * local._lookup(x)[0][0])
     return polished + list(starts), local
+
+
+def _polish_across(problem: _Problem, start: np.ndarray, space: PlacementSpace) -> np.ndarray:
+    """The polish from ``start`` in the space's box; if it ends on a periodic variable's edge, on again from there
+    in a box that leaves that variable free for half a period either way (the objective wraps it: no bound cuts
+    through a basin at the range's edge). The result lies in the space's range."""
+    x = _polish(problem, start, list(zip(space.lower, space.upper)))
+    edge = EDGE_SHARE * np.where(space.period > 0, space.period, np.inf)
+    if not ((np.abs(x - space.lower) <= edge) | (np.abs(x - space.upper) <= edge)).any():
+        return x
+    half = space.period / 2
+    cyclic = half > 0
+    box = list(zip(np.where(cyclic, x - half, space.lower), np.where(cyclic, x + half, space.upper)))
+    return space.wrap(_polish(problem, x, box))
 
 
 def _popsize(settings: SearchSettings, free: int) -> int:
@@ -265,15 +284,29 @@ def _inward_until_feasible(problem: _Problem, x: np.ndarray, space: PlacementSpa
 
 
 def _distinct(candidates: np.ndarray, space: PlacementSpace) -> list[np.ndarray]:
-    """The best candidates, skipping any within 2 % of the box of one already kept."""
-    scale = np.where(space.upper > space.lower, space.upper - space.lower, 1.0)
+    """The best candidates of POLISH_STARTS distinct basins, best first: skipping any within BASIN_RADIUS of the box
+    of one already kept (across a periodic variable's wrap too)."""
     kept: list[np.ndarray] = []
     for candidate in candidates:
-        if all(np.abs((candidate - k) / scale).max() > 0.02 for k in kept):
+        if not _near(candidate, kept, space):
             kept.append(candidate)
         if len(kept) == POLISH_STARTS:
             break
     return kept
+
+
+def _near(point: np.ndarray, others: list[np.ndarray], space: PlacementSpace) -> bool:
+    """Whether ``point`` lies within BASIN_RADIUS of the box of one of ``others`` (across a periodic variable's wrap too)."""
+    scale = np.where(space.upper > space.lower, space.upper - space.lower, 1.0)
+    return any(np.abs(_difference(point, other, space.period) / scale).max() <= BASIN_RADIUS for other in others)
+
+
+def _difference(a: np.ndarray, b: np.ndarray, period: np.ndarray) -> np.ndarray:
+    """``a - b``, the shorter way round for a periodic variable."""
+    difference = a - b
+    cyclic = period > 0
+    difference[cyclic] -= period[cyclic] * np.round(difference[cyclic] / period[cyclic])
+    return difference
 
 
 def _polish(problem: _Problem, start: np.ndarray, bounds: list) -> np.ndarray:

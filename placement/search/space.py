@@ -9,7 +9,7 @@ import numpy as np
 
 from placement.cell.schema import Region
 from placement.exceptions import PlacementError
-from placement.placing.transform import VARIABLES, plane_frame
+from placement.placing.transform import ANGLES, VARIABLES, plane_frame
 from placement.robot.model import Robot
 from placement.robot.sidecar import PLANE_VARIABLES, Plane, Workspace
 
@@ -22,12 +22,16 @@ class PlacementSpace:
         free: Names of the free variables, in VARIABLES order.
         lower, upper: Bounds of the free variables (m, rad).
         fixed: Full 6-vector whose fixed entries are used (m, rad).
+        periods: Per free variable, the period of the objective along it (rad), or 0: an angle whose range
+            is its whole turn (or half of it, by the path's half-turn symmetry) has no edge, and the search
+            wraps it (:meth:`wrap`) rather than bounding it there.
     """
 
     free: tuple[str, ...]
     lower: np.ndarray
     upper: np.ndarray
     fixed: np.ndarray
+    periods: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         unknown = set(self.free) - set(VARIABLES)
@@ -35,6 +39,22 @@ class PlacementSpace:
             raise PlacementError(f"unknown placement variable(s) {sorted(unknown)}; expected some of {VARIABLES}")
         if len(self.lower) != len(self.free) or np.any(np.asarray(self.lower) > np.asarray(self.upper)):
             raise PlacementError("placement bounds must give lower <= upper for every free variable")
+
+    @property
+    def period(self) -> np.ndarray:
+        """The periods of the free variables (0 where a variable is not periodic)."""
+        return np.zeros(len(self.free)) if self.periods is None else np.asarray(self.periods, dtype=float)
+
+    def wrap(self, free_values: np.ndarray) -> np.ndarray:
+        """Free values with every periodic variable brought into its range [lower, lower + period)."""
+        values = np.array(free_values, dtype=float)
+        period = self.period
+        if not period.any():
+            return values
+        cyclic = period > 0
+        shifted = values[..., cyclic] - self.lower[cyclic]
+        values[..., cyclic] = self.lower[cyclic] + np.mod(shifted, period[cyclic])
+        return values
 
     @property
     def indices(self) -> np.ndarray:
@@ -96,10 +116,25 @@ def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict
     if missing:
         raise PlacementError(_missing_bounds(robot.name, missing))
     fixed_vector = np.array([float((fixed or {}).get(name, 0.0)) for name in VARIABLES])
-    return PlacementSpace(free=tuple(n for n in VARIABLES if n in free),
-                          lower=np.array([limits[n][0] for n in VARIABLES if n in free], dtype=float),
-                          upper=np.array([limits[n][1] for n in VARIABLES if n in free], dtype=float),
-                          fixed=fixed_vector)
+    names = tuple(n for n in VARIABLES if n in free)
+    return PlacementSpace(free=names,
+                          lower=np.array([limits[n][0] for n in names], dtype=float),
+                          upper=np.array([limits[n][1] for n in names], dtype=float),
+                          fixed=fixed_vector,
+                          periods=np.array([_period(n, limits[n], half_turn) for n in names], dtype=float))
+
+
+def _period(name: str, bound: tuple[float, float], half_turn: bool) -> float:
+    """The period of an angle whose range is exactly its whole turn, or, for phi on a path unchanged by a half
+    turn, half of it (0 otherwise: the variable is bounded)."""
+    if name not in ANGLES:
+        return 0.0
+    width = bound[1] - bound[0]
+    if np.isclose(width, 2 * np.pi, rtol=0, atol=1e-9):
+        return 2 * np.pi
+    if name == "phi" and half_turn and np.isclose(width, np.pi, rtol=0, atol=1e-9):
+        return np.pi
+    return 0.0
 
 
 def _box_ranges(box: Workspace | Region | None, plane: Plane | None) -> dict[str, tuple[float, float]]:

@@ -146,3 +146,38 @@ def test_the_evaluation_settings_are_plain_data_that_each_search_takes_once():
         pareto_front(robot, path, ("energy", "transmission"), evaluation=EvaluatorSettings(objective="dexterity"))
     with pytest.raises(PlacementError, match="a sweep maps one objective, got energy, dexterity"):
         sweep(robot, path, {"x": np.zeros(2)}, evaluation=settings)
+
+
+def test_a_whole_or_half_turn_of_phi_is_periodic_and_a_narrower_range_is_not(case):
+    robot = case[0]
+    half, full = default_space(robot, half_turn=True), default_space(robot)
+    narrow = default_space(robot, bounds={"phi": (-1.0, 1.0)})
+    assert half.period[-1] == pytest.approx(np.pi) and full.period[-1] == pytest.approx(2 * np.pi)
+    assert not narrow.period.any() and not half.period[:-1].any()
+    point = np.array([0.01, 0.02, 0.0, np.pi / 2 + 0.1])
+    wrapped = half.wrap(point)
+    assert wrapped[-1] == pytest.approx(-np.pi / 2 + 0.1) and np.array_equal(wrapped[:-1], point[:-1])
+    np.testing.assert_array_equal(narrow.wrap(point), point)
+
+
+def test_a_basin_at_the_edge_of_phi_s_range_is_searched_across_the_edge(case):
+    """The groove's lowest basin lies at phi ≈ 89.6° (x ≈ -2.6 mm, y ≈ 3.5 mm), just past the edge of phi's
+    half-turn range [-90°, 90°) as seen from -90°. From a start just inside -90°, the polish bounded by the range
+    stops on its edge; the polish that wraps phi goes on across it, ends in range, lower, and at the energy of the
+    unwrapped angle (the path's half-turn symmetry)."""
+
+    from placement.search.optimize import _polish, _polish_across, _Problem
+
+    robot, path = case[0], case[1]
+    space = default_space(robot, half_turn=True)
+    with Evaluator(robot, path, EvaluatorSettings(time_step_s=0.004)) as evaluator:
+        problem = _Problem(evaluator, space, 1.0)
+        start = np.array([-2.55e-3, 3.52e-3, -33.04e-3, -np.pi / 2 + 1e-3])
+        bounded = _polish(problem, start, list(zip(space.lower, space.upper)))
+        across = _polish_across(problem, start, space)
+        assert bounded[-1] == pytest.approx(-np.pi / 2, abs=1e-9)
+        assert space.lower[-1] <= across[-1] < space.upper[-1] and across[-1] > 0
+        value = problem._lookup(across)[0][0]
+        assert value < problem._lookup(bounded)[0][0]
+        turned = evaluator.evaluate(space.full(across - np.array([0, 0, 0, np.pi])))
+        assert turned.value[0] == pytest.approx(value, rel=1e-9)
