@@ -72,10 +72,9 @@ def browser(workbench, downloads):
 
 
 def text_of(driver, element_id: str) -> str | None:
-    from selenium.webdriver.common.by import By
-
-    found = driver.find_elements(By.ID, element_id)
-    return found[0].text if found else None
+    """The element's text, read at once in the page (never a stale element: the page replaces its panels)."""
+    return driver.execute_script("const found = document.getElementById(arguments[0]);"
+                                 "return found === null ? null : found.textContent.trim();", element_id)
 
 
 def wait_for(driver, condition, what: str, timeout_s: float = 120.0) -> None:
