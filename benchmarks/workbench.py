@@ -111,6 +111,7 @@ def browser(png: str) -> None:
         time.sleep(4)
         for button in driver.find_elements(By.XPATH, "//button[contains(@class, 'CloseButton')]"):
             button.click()  # the note that WebGL runs in software
+        driver.execute_script("document.getElementById('compare').scrollIntoView({block: 'end'})")  # beside the best
         time.sleep(1)
         driver.save_screenshot(png)
         print(f"page after Optimise and Go to best: {png}")

@@ -33,8 +33,8 @@ def numbers(detail: PlacementDetail, joints: list[str]) -> list[tuple[str, str, 
     for joint, energy in zip(joints, np.asarray(detail.energy.per_actuator_J, dtype=float)):
         rows.append((f"energy-{joint}", f"  {joint} (J)", float(energy) if reachable else np.nan))
     tight = min(detail.margins, key=lambda m: m.margin, default=None) if reachable else None
-    rows.append(("margin", "tightest margin (%)", tight.margin * 100 if tight is not None else np.nan))
-    rows.append(("cycle-time", "cycle time (s)", float(detail.duration_s) if reachable else np.nan))
+    rows.append(("margin", "margin (%)", tight.margin * 100 if tight is not None else np.nan))
+    rows.append(("cycle-time", "cycle (s)", float(detail.duration_s) if reachable else np.nan))
     return rows
 
 
@@ -47,7 +47,8 @@ def tightest_words(detail: PlacementDetail) -> str:
 
 
 class ComparePanel:
-    """Pin a placement; its numbers beside the current placement's, and the difference (current - pinned)."""
+    """Pin a placement; its numbers beside the current placement's, and the difference (current - pinned), to twelve
+    significant digits."""
 
     def __init__(self, host: Host) -> None:
         gui: Any = host.server.gui
@@ -77,13 +78,13 @@ class ComparePanel:
             return
         rows = ["<tr><th></th><th>pinned</th><th>current</th><th>difference</th></tr>"]
         for (key, label, before), (_, _, now) in zip(numbers(pinned, self.joints), numbers(current, self.joints)):
-            cells = (f'<td id="compare-{key}-{column}">{value!r}</td>' if np.isfinite(value) else
+            cells = (f'<td id="compare-{key}-{column}">{value:.12g}</td>' if np.isfinite(value) else
                      f'<td id="compare-{key}-{column}">-</td>'
                      for column, value in (("pinned", before), ("current", now), ("difference", now - before)))
             rows.append(f"<tr><td>{html.escape(label)}</td>{''.join(cells)}</tr>")
-        rows.append(f"<tr><td>tightest limit</td><td>{html.escape(tightest_words(pinned))}</td>"
+        rows.append(f'<tr style="white-space:normal"><td>tightest</td><td>{html.escape(tightest_words(pinned))}</td>'
                     f"<td>{html.escape(tightest_words(current))}</td><td></td></tr>")
-        self.table.content = f'<table id="compare" style="font-size:11px">{"".join(rows)}</table>'
+        self.table.content = f'<table id="compare" style="font-size:10px;white-space:nowrap">{"".join(rows)}</table>'
 
 
 class ExportPanel:
