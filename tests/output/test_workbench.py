@@ -160,3 +160,12 @@ def test_a_map_or_a_front_asked_wrongly_is_refused_before_any_work(bench):
             bench.map(variables, points, AT)
     with pytest.raises(PlacementError, match="front:"):
         bench.front(("energy", "energy"))
+
+
+def test_a_map_and_a_front_are_cancelled_at_once(bench):
+    job, _ = bench.map(("x", "y"), 51, AT)
+    front = bench.front(("energy", "dexterity"))
+    for running in (job, front):
+        running.cancel()
+        assert running.poll() and running.result is None and running.error == "cancelled"
+        assert not running.process.is_alive()
