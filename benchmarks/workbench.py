@@ -9,8 +9,8 @@ placements drawn at random within the search's bounds, as dragging visits them. 
 
 ``--browser PNG`` also serves the Orthoglide's page, opens it in headless Chromium (selenium and
 chromium-driver), times the round trip from a value typed in a field to the new exact value shown
-in the page, runs Optimise, goes to the best placement and saves the page as PNG (the README's
-``docs/figures/workbench.png``).
+in the page, pins the placement it ends at (the Compare panel), runs Optimise, goes to the best
+placement and saves the page as PNG (the README's ``docs/figures/workbench.png``).
 """
 
 from __future__ import annotations
@@ -67,7 +67,7 @@ def main() -> None:
 
 
 def browser(png: str) -> None:
-    """The page's round trip in headless Chromium, then its screenshot after Optimise and Go to best."""
+    """The page's round trip in headless Chromium, then its screenshot after a pin, Optimise and Go to best."""
     from selenium import webdriver
     from selenium.webdriver.chrome.service import Service
     from selenium.webdriver.common.by import By
@@ -98,6 +98,12 @@ def browser(png: str) -> None:
             trips.append((time.perf_counter() - start) * 1e3)
         print(f"page round trip (typed value -> exact value shown, through viser's websocket): median "
               f"{np.median(trips):.0f} ms, slowest {max(trips):.0f} ms")
+        driver.find_element(By.XPATH, "//div[contains(@class, 'mantine-Paper-root') and normalize-space(text())="
+                                      "'Compare']").click()
+        time.sleep(1)
+        driver.find_element(By.XPATH, "//button[normalize-space()='Pin this placement']").click()
+        while not driver.find_elements(By.ID, "compare-energy-pinned"):
+            time.sleep(0.2)
         driver.find_element(By.XPATH, "//button[normalize-space()='Optimise']").click()
         while not driver.find_elements(By.ID, "best-value"):
             time.sleep(0.5)
@@ -105,6 +111,7 @@ def browser(png: str) -> None:
         time.sleep(4)
         for button in driver.find_elements(By.XPATH, "//button[contains(@class, 'CloseButton')]"):
             button.click()  # the note that WebGL runs in software
+        driver.execute_script("document.getElementById('compare').scrollIntoView({block: 'end'})")  # beside the best
         time.sleep(1)
         driver.save_screenshot(png)
         print(f"page after Optimise and Go to best: {png}")

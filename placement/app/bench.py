@@ -5,30 +5,33 @@ timing law) and two evaluators built from them, as :func:`placement.search.optim
 builds them: the *live* one samples the path as coarsely as the search's global phase does (about
 ``SearchSettings.search_samples`` samples), for readings while a placement is dragged; the
 *exact* one samples it at the path's own step, as ``--at`` does, so that its value is the number
-``--at`` prints. A search runs in a process of its own (:class:`Search`): the page stays live,
-its progress is reported per generation, and cancelling ends the process at once.
+``--at`` prints. A search, a map or a Pareto front runs in a process of its own
+(:class:`placement.app.jobs.Job`): the page stays live, its progress is reported, and cancelling
+ends the process at once.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import multiprocessing
-import queue
 import threading
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
+from placement.app.jobs import Job, front_task, map_task, search_task
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.evaluation.results import PlacementDetail
 from placement.exceptions import PlacementError
 from placement.limits.base import margin_fields, worst_margins
+from placement.output.report import detail_json, job_document
 from placement.path.toolpath import ToolPath
+from placement.placing.transform import ANGLES, VARIABLES
 from placement.robot.model import Robot
-from placement.search.optimize import PlacementResult, SearchSettings, optimize_placement, search_sampling
+from placement.search.optimize import SearchSettings, search_sampling
 from placement.search.space import PlacementSpace, default_space
 from placement.timing.rules import check_timing, override_timing, timing_for
+
+MAP_POINTS = 101  # values per variable of a map, at most
 
 
 @dataclass(frozen=True)
@@ -70,7 +73,7 @@ class Choices:
 
 
 class Bench:
-    """One path on one robot: live and exact evaluations and searches under the user's choices.
+    """One path on one robot: live and exact evaluations, searches, maps and fronts under the user's choices.
 
     Args:
         robot: The robot.
@@ -79,12 +82,14 @@ class Bench:
         time_step_s: Sampling step of the exact evaluation (default: the path file's), as ``--time-step``.
         choices: The initial objective, regeneration and timing.
         search: The search's settings (seed, budget), as the command line's defaults.
+        margin: The share (0 to 1) of every limit a feasible placement keeps free, as ``--margin`` / 100.
     """
 
     def __init__(self, robot: Robot, path: ToolPath, space: PlacementSpace | None = None,
                  time_step_s: float | None = None, choices: Choices = Choices(),
-                 search: SearchSettings = SearchSettings()) -> None:
+                 search: SearchSettings = SearchSettings(), margin: float = 0.0) -> None:
         self.robot, self.source_path, self.time_step_s, self.search_settings = robot, path, time_step_s, search
+        self.margin = margin
         self.space = space or default_space(robot, half_turn=path.half_turn_symmetric())
         self.lock = threading.Lock()  # evaluators are not shared between threads
         self.note: str | None = None  # why the timing law is not the one chosen (an objective needs another)
@@ -96,7 +101,7 @@ class Bench:
         path = override_timing(self.source_path, mode)
         check_timing((choices.objective,), path)
         settings = EvaluatorSettings(objective=choices.objective, regeneration=choices.regeneration,
-                                     time_step_s=self.time_step_s)
+                                     time_step_s=self.time_step_s, margin=self.margin)
         exact = Evaluator(self.robot, path, settings)
         coarse, _ = search_sampling(path, settings, self.search_settings)
         live = Evaluator(self.robot, path, dataclasses.replace(coarse, workers=1))
@@ -123,7 +128,8 @@ class Bench:
         return self.clamp(self.space.full((self.space.lower + self.space.upper) / 2)[0])
 
     def live(self, placement: np.ndarray) -> Reading:
-        """The placement on the live (coarse) sampling: objective, feasibility, tightest limit, energies, pose."""
+        """The placement on the live (coarse) sampling: objective, feasibility (keeping the margin), tightest limit,
+        energies, pose."""
         placement = _finite(placement)
         with self.lock:
             evaluator = self.live_evaluator
@@ -137,7 +143,7 @@ class Bench:
         first = int(missing[0]) if len(missing) else -1
         t_s = evaluator.samples.t_s if batch.time_law is None else batch.time_law.timed_samples(evaluator.samples, 0).t_s
         return Reading(placement=placement, value=value, reachable=bool(reachable.all()),
-                       feasible=bool(reachable.all() and (margins[0] >= 0).all()),
+                       feasible=bool(reachable.all() and (margins[0] >= self.margin).all()),
                        first_unreachable=(first, float(t_s[first]) if first >= 0 else float("nan")),
                        tightest=(labels[tight], float(margins[0, tight])) if tight >= 0 else ("", float("inf")),
                        energy_per_actuator_J=energy if reachable.all() else np.full(len(energy), np.nan),
@@ -150,10 +156,56 @@ class Bench:
         with self.lock:
             return self.exact_evaluator.detail(placement)
 
-    def search(self, best: bool, worst: bool) -> Search:
-        """A search of the best and/or worst placement under the current choices, started in its own process."""
+    def document(self, detail: PlacementDetail) -> dict:
+        """The JSON document ``--json`` writes with ``--at`` at the detail's placement."""
+        document = job_document(self.robot, self.path, self.settings, len(self.path.sample(self.time_step_s)))
+        document["at"] = detail_json(self.robot, detail)
+        return document
+
+    def search(self, best: bool, worst: bool) -> Job:
+        """A search of the best and/or worst placement under the current choices, started in its own process;
+        its steps are generations."""
         settings = dataclasses.replace(self.search_settings, best=best, worst=worst)
-        return Search(self.robot, self.path, self.space, self.settings, settings)
+        return Job(search_task, (self.robot, self.path, self.space, self.settings, settings),
+                   (best + worst) * settings.max_generations)
+
+    def map(self, variables: tuple[str, str], points: int, placement: np.ndarray) -> tuple[Job, str]:
+        """A map of the objective through ``placement`` over two free variables, their bounds cut in ``points``
+        values each, started in its own process (steps: placements); also its grid as ``map`` takes it
+        (``--grid ... --fix ...``)."""
+        u, v = variables
+        free = self.space.free
+        if u == v or u not in free or v not in free:
+            raise PlacementError(f"map: choose two different free variables ({', '.join(free)}), got {u} and {v}")
+        if not 2 <= points <= MAP_POINTS:
+            raise PlacementError(f"map: points per variable: expected a whole number from 2 to {MAP_POINTS}, got {points}")
+        placement = _finite(placement)
+        axes, grid = {}, []
+        for name in variables:
+            k = free.index(name)
+            low, high = shown_value(name, self.space.lower[k]), shown_value(name, self.space.upper[k])
+            axes[name] = np.linspace(low, high, points) * (np.pi / 180 if name in ANGLES else 1e-3)  # as --grid reads it
+            grid.append(f"{name}={low!r}:{high!r}:{points}")
+        fixed = {name: float(placement[k]) for k, name in enumerate(VARIABLES) if name not in variables}
+        fix = ",".join(f"{name}={value!r}{'rad' if name in ANGLES else 'm'}" for name, value in fixed.items())
+        job = Job(map_task, (self.robot, self.path, axes, fixed, self.settings), points * points)
+        options = [f"--grid {','.join(grid)}", f"--fix {fix}", f"--objective {self.choices.objective}",
+                   f"--regen {self.choices.regeneration}"]
+        options += [f"--timing {self.path.timing.mode}"] if self.path is not self.source_path else []
+        options += [f"--time-step {self.time_step_s!r}"] if self.time_step_s is not None else []
+        options += [f"--margin {self.margin * 100!r}"] if self.margin else []
+        return job, " ".join(options)
+
+    def front(self, objectives: tuple[str, str]) -> Job:
+        """The Pareto front of two objectives, as ``--objectives`` searches it, started in its own process (steps:
+        generations); the path timed by the law they need."""
+        if len(set(objectives)) != 2:
+            raise PlacementError(f"front: choose two different objectives, got {' and '.join(objectives)}")
+        mode, _ = timing_for(objectives, self.choices.timing, self.source_path)
+        path = override_timing(self.source_path, mode)
+        settings = dataclasses.replace(self.settings, objective=objectives)
+        return Job(front_task, (self.robot, path, objectives, self.space, settings, self.search_settings),
+                   (len(objectives) + 1) * self.search_settings.max_generations)
 
     def close(self) -> None:
         """Stop the evaluators' worker processes, if any."""
@@ -162,75 +214,18 @@ class Bench:
             self.exact_evaluator.close()
 
 
+def shown_value(name: str, value: float) -> float:
+    """A placement variable (m, rad) as the page and the command line show it (mm, degrees)."""
+    return float(np.degrees(value)) if name in ANGLES else float(value) * 1e3
+
+
+def si_value(name: str, shown: float) -> float:
+    """A value typed in the page (mm, degrees) in SI units (m, rad)."""
+    return float(np.radians(shown)) if name in ANGLES else float(shown) / 1e3
+
+
 def _finite(placement: np.ndarray) -> np.ndarray:
     values = np.asarray(placement, dtype=float).reshape(-1)
     if values.shape != (6,) or not np.isfinite(values).all():
         raise PlacementError("a placement is six finite numbers: x, y, z (m), phi, theta, psi (rad)")
     return values
-
-
-class Search:
-    """:func:`optimize_placement` in a process of its own (spawned: the page's threads are not copied).
-
-    Its progress (generations done, of ``total``) and outcome are read with :meth:`poll`;
-    :meth:`cancel` ends it at once.
-    """
-
-    def __init__(self, robot: Robot, path: ToolPath, space: PlacementSpace, evaluation: EvaluatorSettings,
-                 settings: SearchSettings) -> None:
-        context = multiprocessing.get_context("spawn")
-        self.messages: multiprocessing.Queue = context.Queue()
-        self.total = (settings.best + settings.worst) * settings.max_generations
-        self.done = 0
-        self.result: PlacementResult | None = None
-        self.error: str | None = None
-        self.process = context.Process(target=_run_search, args=(robot, path, space, evaluation, settings,
-                                                                   self.messages), daemon=True)
-        self.process.start()
-
-    def poll(self, timeout_s: float = 0.2) -> bool:
-        """Read what the search said; True once it has ended (with a result, an error or cancelled)."""
-        try:
-            while True:
-                kind, payload = self.messages.get(timeout=timeout_s)
-                timeout_s = 0.0
-                if kind == "generation":
-                    self.done += 1
-                elif kind == "result":
-                    self.result = payload
-                elif kind == "error":
-                    self.error = payload
-        except queue.Empty:
-            pass
-        ended = self.result is not None or self.error is not None
-        if not ended and not self.process.is_alive():
-            self.error = self.error or "the search stopped"
-            ended = True
-        return ended
-
-    def cancel(self) -> None:
-        """End the search now."""
-        if self.process.is_alive():
-            self.process.terminate()
-        self.process.join(timeout=10)
-        self.error = self.error or "cancelled"
-
-    def wait(self, on_progress: Callable[[int, int], None] | None = None) -> None:
-        """Poll until the search ends, calling ``on_progress(done, total)`` as generations end."""
-        while not self.poll():
-            if on_progress is not None:
-                on_progress(self.done, self.total)
-        self.process.join(timeout=10)
-
-
-def _run_search(robot: Robot, path: ToolPath, space: PlacementSpace, evaluation: EvaluatorSettings,
-                settings: SearchSettings, messages: multiprocessing.Queue) -> None:
-    """The search process: every generation and the outcome go to ``messages``."""
-    try:
-        result = optimize_placement(robot, path, space=space, evaluation=evaluation, settings=settings,
-                                    progress=lambda: messages.put(("generation", None)))
-        messages.put(("result", result))
-    except PlacementError as error:
-        messages.put(("error", str(error)))
-    except Exception as error:  # the page says it; the server goes on
-        messages.put(("error", f"unexpected {type(error).__name__}: {' '.join(str(error).split())[:300]}"))

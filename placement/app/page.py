@@ -20,7 +20,9 @@ import numpy as np
 import pinocchio as pin
 import viser
 
-from placement.app.bench import Bench, Choices, Reading, Search
+from placement.app.bench import Bench, Choices, Reading, shown_value, si_value
+from placement.app.compare import ComparePanel, ExportPanel
+from placement.app.searches import FrontPanel, MapPanel, OptimisePanel
 from placement.cell.geometry import package_dirs
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.results import PlacementDetail
@@ -29,7 +31,6 @@ from placement.limits.collision import collision_scene
 from placement.objectives.base import OBJECTIVES, quantity, wording
 from placement.placing.transform import ANGLES, VARIABLES, placement_pose
 from placement.robot.model import Robot
-from placement.search.optimize import PlacementResult
 from placement.search.space import box_corners
 
 PATH_COLOR, CUBE_COLOR = (0, 176, 80), (48, 48, 48)
@@ -37,7 +38,6 @@ ROBOT_OPACITY = 0.6  # the path and the tool point stay in sight inside the movi
 CELL_COLORS = {"tool": (80, 90, 100), "obstacle": (176, 136, 80), "keep_out": (255, 64, 64)}
 CELL_OPACITY = {"tool": 1.0, "obstacle": 0.5, "keep_out": 0.15}
 TIMINGS = ("path file's", "paper", "realistic", "optimal")
-DIRECTIONS = ("best", "worst", "both")
 
 
 def _wxyz(rotation: np.ndarray) -> np.ndarray:
@@ -49,16 +49,6 @@ def _wxyz(rotation: np.ndarray) -> np.ndarray:
 def _rotation(wxyz: np.ndarray) -> np.ndarray:
     w, x, y, z = (float(v) for v in wxyz)
     return pin.Quaternion(w, x, y, z).normalized().toRotationMatrix()
-
-
-def unit_value(name: str, value: float) -> float:
-    """A placement variable (m, rad) as the page shows it (mm, degrees)."""
-    return float(np.degrees(value)) if name in ANGLES else float(value) * 1e3
-
-
-def si_value(name: str, shown: float) -> float:
-    """A value typed in the page (mm, degrees) in SI units (m, rad)."""
-    return float(np.radians(shown)) if name in ANGLES else float(shown) / 1e3
 
 
 class RobotDrawing:
@@ -140,8 +130,6 @@ class Workbench:
         self.placement = bench.start()
         self.reading: Reading | None = None
         self.exact_detail: PlacementDetail | None = None
-        self.search: Search | None = None
-        self.optima: dict[str, PlacementDetail] = {}
         self._syncing = False
         self._wanted: np.ndarray | None = None  # the latest placement asked for a live reading
         self._wake = threading.Condition()
@@ -190,9 +178,9 @@ class Workbench:
 
     def _gizmo_event(self, event: object) -> None:
         """Live readings while the gizmo moves; the exact value when it is let go."""
-        self._guard(self._gizmo_moved)
+        self.guard(self._gizmo_moved)
         if getattr(event, "phase", None) == "end":
-            self._guard(lambda: self.set_placement(self.placement, exact=True, move_gizmo=False))
+            self.guard(lambda: self.set_placement(self.placement, exact=True, move_gizmo=False))
 
     def _aim_camera(self) -> None:
         """The first view looks at the centre of the robot and its workspace, from far enough to see them whole."""
@@ -240,14 +228,14 @@ class Workbench:
         with gui.add_folder("Placement (mm, degrees)"):
             for k, name in enumerate(VARIABLES):
                 unit = "deg" if name in ANGLES else "mm"
-                field = gui.add_number(f"{name} ({unit})", round(unit_value(name, self.placement[k]), 6),
-                                       min=round(unit_value(name, lower[k]), 6), max=round(unit_value(name, upper[k]), 6),
+                field = gui.add_number(f"{name} ({unit})", round(shown_value(name, self.placement[k]), 6),
+                                       min=round(shown_value(name, lower[k]), 6), max=round(shown_value(name, upper[k]), 6),
                                        step=0.01, disabled=name not in self.bench.space.free)
-                field.on_update(lambda _, name=name: self._guard(lambda: self._field_changed()))
+                field.on_update(lambda _, name=name: self.guard(lambda: self._field_changed()))
                 self.fields[name] = field
             self.at_text = gui.add_text("--at", "", hint="a placement as --at takes it: x=0,y=0,z=-20,phi=30 (mm, deg)")
             self.at_button = gui.add_button("Evaluate")
-            self.at_button.on_click(lambda _: self._guard(self._at_given))
+            self.at_button.on_click(lambda _: self.guard(self._at_given))
         self.message = gui.add_html("")
         with gui.add_folder("Live (coarse sampling)"):
             self.live_html = gui.add_html("")
@@ -260,19 +248,17 @@ class Workbench:
             self.timing = gui.add_dropdown("timing", TIMINGS, initial_value=self.bench.choices.timing or TIMINGS[0])
             self.model_note = gui.add_html("")
             for control in (self.objective, self.regen, self.timing):
-                control.on_update(lambda _: self._guard(self._choices_changed))
+                control.on_update(lambda _: self.guard(self._choices_changed))
         with gui.add_folder("Optimise"):
-            self.direction = gui.add_dropdown("direction", DIRECTIONS, initial_value="both")
-            self.optimise_button = gui.add_button("Optimise")
-            self.cancel_button = gui.add_button("Cancel", disabled=True)
-            self.progress = gui.add_progress_bar(0.0, visible=False)
-            self.optima_html = gui.add_html("")
-            self.best_button = gui.add_button("Go to best", visible=False)
-            self.worst_button = gui.add_button("Go to worst", visible=False)
-            self.optimise_button.on_click(lambda _: self._guard(self._optimise))
-            self.cancel_button.on_click(lambda _: self._guard(self._cancel))
-            self.best_button.on_click(lambda _: self._guard(lambda: self._go_to("best")))
-            self.worst_button.on_click(lambda _: self._guard(lambda: self._go_to("worst")))
+            self.optimise = OptimisePanel(self)
+        with gui.add_folder("Compare", expand_by_default=False):
+            self.compare = ComparePanel(self)
+        with gui.add_folder("Export", expand_by_default=False):
+            self.export = ExportPanel(self)
+        with gui.add_folder("Map", expand_by_default=False):
+            self.map = MapPanel(self)
+        with gui.add_folder("Front", expand_by_default=False):
+            self.front = FrontPanel(self)
         with gui.add_folder("Motion"):
             self.time = gui.add_slider("time (s)", min=0.0, max=1.0, step=0.001, initial_value=0.0)
             self.play = gui.add_checkbox("play", False)
@@ -283,10 +269,10 @@ class Workbench:
             empty = tuple(np.zeros(2) for _ in series)
             self.power_plot = gui.add_uplot(empty, series, title="electric power per actuator (W), exact",
                                             scales={"x": {"time": False}}, aspect=1.6)
-            self.time.on_update(lambda _: self._guard(self._show_time))
-            self.play.on_update(lambda _: self._guard(self._start_playing))
+            self.time.on_update(lambda _: self.guard(self._show_time))
+            self.play.on_update(lambda _: self.guard(self._start_playing))
 
-    def _guard(self, action: Callable[[], None]) -> None:
+    def guard(self, action: Callable[[], None]) -> None:
         """Run a page action; what goes wrong is said in the page, and the server goes on."""
         try:
             action()
@@ -305,7 +291,7 @@ class Workbench:
         self._syncing = True
         try:
             for k, name in enumerate(VARIABLES):
-                self.fields[name].value = round(unit_value(name, self.placement[k]), 6)
+                self.fields[name].value = round(shown_value(name, self.placement[k]), 6)
             if move_gizmo:
                 self.gizmo.position = tuple(self.placement[:3])
                 self.gizmo.wxyz = tuple(_wxyz(placement_pose(self.placement)[0][0]))
@@ -340,13 +326,13 @@ class Workbench:
                 wanted, self._wanted = self._wanted, None
             if wanted is None:
                 continue
-            self._guard(functools.partial(self._dragged_to, wanted))
+            self.guard(functools.partial(self._dragged_to, wanted))
 
     def _dragged_to(self, placement: np.ndarray) -> None:
         self._syncing = True
         try:
             for k, name in enumerate(VARIABLES):
-                self.fields[name].value = round(unit_value(name, placement[k]), 6)
+                self.fields[name].value = round(shown_value(name, placement[k]), 6)
         finally:
             self._syncing = False
         self._show_live(self.bench.live(placement))
@@ -386,9 +372,10 @@ class Workbench:
         else:
             state = "feasible" if reading.feasible else "INFEASIBLE"
             label, margin = reading.tightest
+            kept = f" (to keep: {self.bench.margin * 100:g} %)" if self.bench.margin else ""
             lines = [f'<p id="live-value">{html.escape(words.subject)} {html.escape(quantity(reading.value, unit))} '
                      f'<b style="color:{"#080" if reading.feasible else "#c00"}">{state}</b></p>',
-                     f'<p id="live-tightest">tightest: {html.escape(label)}, margin {margin * 100:.1f} %</p>']
+                     f'<p id="live-tightest">tightest: {html.escape(label)}, margin {margin * 100:.1f} %{kept}</p>']
             energies = reading.energy_per_actuator_J
             top = max(float(np.nanmax(np.abs(energies))), 1e-12)
             for actuator, energy in zip(self.robot.actuators, energies):
@@ -402,6 +389,7 @@ class Workbench:
 
     def _show_exact(self, detail: PlacementDetail) -> None:
         self.exact_detail = detail
+        self.compare.show(detail)
         self.power_plot.visible = detail.reachable
         if detail.reachable:
             t_s = np.asarray(detail.samples.t_s, dtype=float)
@@ -461,68 +449,14 @@ class Workbench:
             raise
         note = self.bench.note
         self.model_note.content = f'<p id="model-note">note: {html.escape(note)}</p>' if note else ""
-        self.optima.clear()
-        self.best_button.visible = self.worst_button.visible = False
-        self.optima_html.content = ""
+        self.optimise.forget()
+        self.compare.forget()
         self.set_placement(self.placement, exact=True)
-
-    def _optimise(self) -> None:
-        if self.search is not None:
-            raise PlacementError("a search is running: wait for it or cancel it")
-        direction = self.direction.value
-        search = self.search = self.bench.search(best=direction in ("best", "both"), worst=direction in ("worst", "both"))
-        self.optimise_button.disabled, self.cancel_button.disabled = True, False
-        self.progress.value, self.progress.visible = 0.0, True
-        self.optima_html.content = '<p id="search-state">searching...</p>'
-        threading.Thread(target=self._follow, args=(search,), daemon=True).start()
-
-    def _follow(self, search: Search) -> None:
-        def shown(done: int, total: int) -> None:
-            self.progress.value = 100.0 * min(done, total) / max(total, 1)
-
-        search.wait(shown)
-        self.search = None
-        self.optimise_button.disabled, self.cancel_button.disabled = False, True
-        self.progress.visible = False
-        if search.result is None:
-            self.optima_html.content = f'<p id="search-state">{html.escape(search.error or "no result")}</p>'
-            return
-        self._show_optima(search.result)
-
-    def _show_optima(self, result: PlacementResult) -> None:
-        words = wording(result.objective)
-        unit = OBJECTIVES.get(result.objective).unit
-        lines = []
-        if result.infeasible:
-            lines.append(f'<p id="search-state" style="color:#c00">no feasible placement: {html.escape(result.infeasible)}</p>')
-        for key, optimum in (("best", result.best), ("worst", result.worst)):
-            button = self.best_button if key == "best" else self.worst_button
-            button.visible = optimum is not None
-            if optimum is None:
-                continue
-            self.optima[key] = optimum.detail
-            where = ", ".join(f"{name} {unit_value(name, v):.2f}" for name, v in zip(VARIABLES, optimum.detail.placement))
-            lines.append(f'<p>{key} ({html.escape(getattr(words, key))} {html.escape(words.subject)}): '
-                         f'<span id="{key}-value">{optimum.detail.value!r}</span> {html.escape(unit)}<br>'
-                         f'<span id="{key}-placement">{where}</span></p>')
-        if result.gain is not None:
-            lines.append(f'<p id="gain">gain {result.gain * 100:.1f} %</p>')
-        lines.append('<p id="search-state">done</p>')
-        self.optima_html.content = "".join(lines)
-
-    def _cancel(self) -> None:
-        if self.search is not None:
-            self.search.cancel()
-
-    def _go_to(self, key: str) -> None:
-        if key not in self.optima:
-            raise PlacementError(f"no {key} placement yet: optimise first")
-        self.set_placement(self.optima[key].placement, exact=True)
 
     def close(self) -> None:
         """Stop the server, the search and the evaluators."""
         self._closed = True
-        if self.search is not None:
-            self.search.cancel()
+        for panel in (self.optimise, self.map, self.front):
+            panel.cancel()
         self.server.stop()
         self.bench.close()

@@ -12,6 +12,7 @@ import sys
 
 from placement.cli.common import (
     add_cell_option,
+    add_margin_option,
     add_model_options,
     add_sampling_options,
     add_tool_option,
@@ -37,6 +38,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     parser.add_argument("--fix", metavar="z=0,theta=0", help="values of fixed variables (mm, deg; default 0)")
     add_model_options(parser)
     add_sampling_options(parser)
+    add_margin_option(parser)
     parser.add_argument("--seed", type=whole_number(0, 2**32 - 1), default=0, help="random seed of the search (default 0)")
     parser.add_argument("--port", type=whole_number(0, 65535), default=0,
                         help="port to serve on (default: the first free one from 8080)")
@@ -63,7 +65,7 @@ def start(args: argparse.Namespace):  # -> placement.app.page.Workbench (viser l
                           half_turn=path.half_turn_symmetric())
     bench = Bench(robot, path, space=space, time_step_s=args.time_step,
                   choices=Choices(objective=args.objective, regeneration=args.regen),
-                  search=SearchSettings(seed=args.seed))
+                  search=SearchSettings(seed=args.seed), margin=args.margin / 100)
     try:
         return Workbench(bench, host=args.host, port=args.port)
     except OSError as error:

@@ -103,6 +103,25 @@ def parse_names(text: str, option: str) -> tuple[str, ...]:
     return names
 
 
+def add_margin_option(parser: argparse.ArgumentParser) -> None:
+    """--margin: the share of every limit a feasible placement keeps free, in percent."""
+    parser.add_argument("--margin", type=margin_percent, default=0.0, metavar="PERCENT",
+                        help="keep this share of every limit's range, speed, torque or workspace side free at every "
+                             "sample, and a collision's clearance this many mm per 100 mm beyond the cell's margin "
+                             "(default 0: the limits themselves)")
+
+
+def margin_percent(text: str) -> float:
+    """--margin's value: a percentage from 0 to under 100."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a percentage, got '{text[:40]}'") from None
+    if not 0.0 <= value < 100.0:
+        raise argparse.ArgumentTypeError(f"expected a percentage from 0 to under 100, got '{text[:40]}'")
+    return value
+
+
 def parse_values(text: str, option: str) -> dict[str, float]:
     """'x=10,phi=30' -> SI values; lengths in mm and angles in deg unless suffixed m / rad."""
     values: dict[str, float] = {}

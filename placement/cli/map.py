@@ -13,6 +13,7 @@ from tqdm import tqdm
 
 from placement.cli.common import (
     add_cell_option,
+    add_margin_option,
     add_model_options,
     add_sampling_options,
     add_scheduler_option,
@@ -47,6 +48,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     energy_map.add_argument("--fix", metavar="z=0,phi=0", help="values of the other variables (mm, deg; default 0)")
     add_model_options(energy_map)
     add_sampling_options(energy_map)
+    add_margin_option(energy_map)
     energy_map.add_argument("--workers", type=whole_number(1, 1024), help="worker processes (default: every core)")
     add_scheduler_option(energy_map)
     energy_map.add_argument("--out", help="the map file to write (.npz; reload with SweepResult.load); at least one "
@@ -107,7 +109,7 @@ def run(args: argparse.Namespace) -> int:
     with cluster(scheduler_address(args.scheduler)) as remote, \
             tqdm(desc="mapping", total=total, unit=" placement", disable=args.quiet, file=sys.stderr, leave=False) as bar:
         evaluation = EvaluatorSettings(objective=args.objective, regeneration=args.regen, time_step_s=args.time_step,
-                                       workers=args.workers)
+                                       workers=args.workers, margin=args.margin / 100)
         result = sweep(robot, path, axes, fixed, evaluation=evaluation, progress=bar.update,
                        executor=remote.executor if remote else None)
     if out:

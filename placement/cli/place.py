@@ -18,6 +18,7 @@ from tqdm import tqdm
 
 from placement.cli.common import (
     add_cell_option,
+    add_margin_option,
     add_model_options,
     add_sampling_options,
     add_scheduler_option,
@@ -44,6 +45,7 @@ from placement.output.report import (
     detail_json,
     format_detail,
     format_result,
+    job_document,
     results_lines,
     tolerance_json,
     write_atomically,
@@ -52,7 +54,7 @@ from placement.output.report import (
 )
 from placement.path.samples import PathSamples
 from placement.path.toolpath import ToolPath
-from placement.placing.transform import VARIABLES, describe_plane
+from placement.placing.transform import VARIABLES
 from placement.robot.model import Robot
 from placement.search.optimize import PlacementResult, SearchSettings, optimize_placement
 from placement.search.plausibility import feed_warnings, length_warnings
@@ -84,10 +86,7 @@ def build_parser() -> argparse.ArgumentParser:
                         help="evaluate the placement of a result written by --json (its best, or --which)")
     parser.add_argument("--which", choices=("best", "worst", "at"), default=None,
                         help="with --at-json: which placement of the result (default best)")
-    parser.add_argument("--margin", type=margin_percent, default=0.0, metavar="PERCENT",
-                        help="keep this share of every limit's range, speed, torque or workspace side free at every "
-                             "sample, and a collision's clearance this many mm per 100 mm beyond the cell's margin "
-                             "(default 0: the limits themselves)")
+    add_margin_option(parser)
     parser.add_argument("--strict", action="store_true",
                         help="refuse (exit 2) what would only be warned about: a feed or a length whose size "
                              "suggests another unit")
@@ -129,17 +128,6 @@ def build_parser() -> argparse.ArgumentParser:
     add_scheduler_option(parser)
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     return parser
-
-
-def margin_percent(text: str) -> float:
-    """--margin's value: a percentage from 0 to under 100."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a percentage, got '{text[:40]}'") from None
-    if not 0.0 <= value < 100.0:
-        raise argparse.ArgumentTypeError(f"expected a percentage from 0 to under 100, got '{text[:40]}'")
-    return value
 
 
 def at_json(file: str, which: str) -> dict[str, float]:
@@ -200,12 +188,8 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
           + ("" if args.objective == "energy" else f"; objective: {objective.title} ({args.objective})"))
     evaluation = EvaluatorSettings(objective=args.objective, regeneration=args.regen, time_step_s=args.time_step,
                                    workers=remote.threads if remote else None, margin=args.margin / 100)
-    document: dict = {"robot": robot.name, "path": path.name, "objective": args.objective,
-                      "regeneration": args.regen, "timing": path.timing.mode, "samples": len(samples),
-                      "margin": args.margin / 100}
-    plane = robot.plane
-    if plane is not None:
-        document["plane"] = describe_plane(plane)
+    document = job_document(robot, path, evaluation, len(samples))
+    if "plane" in document:
         print(plane_line(document["plane"]))
     if args.at is not None or args.at_json is not None:
         given = parse_values(args.at, "--at") if args.at is not None else at_json(args.at_json, args.which or "best")

@@ -17,12 +17,14 @@ import numpy as np
 from placement.drives.duty import SECONDS_PER_HOUR, DutyCycle, duty_cycle, rating_status
 from placement.drives.trace import Drives
 from placement.energy.integration import interval_widths
+from placement.evaluation.evaluator import EvaluatorSettings
 from placement.evaluation.results import PlacementDetail
 from placement.files import staged
 from placement.limits.base import Margin
 from placement.limits.collision import closest_points
 from placement.objectives.base import OBJECTIVES, quantity, wording
-from placement.placing.transform import ANGLES, VARIABLES
+from placement.path.toolpath import ToolPath
+from placement.placing.transform import ANGLES, VARIABLES, describe_plane
 from placement.robot.model import Robot
 from placement.search.optimize import Optimum, PlacementResult
 from placement.search.reporting import REPORTED_DECIMALS
@@ -224,6 +226,17 @@ def format_result(robot: Robot, result: PlacementResult, rest_s: float = 0.0,
     return "\n\n".join(blocks)
 
 
+def job_document(robot: Robot, path: ToolPath, evaluation: EvaluatorSettings, samples: int) -> dict[str, Any]:
+    """The head of the main job's JSON document for one path: robot, path, objective, regeneration policy, timing
+    law, number of samples, margin kept (a share) and, for a planar robot, its plane."""
+    document: dict[str, Any] = {"robot": robot.name, "path": path.name, "objective": evaluation.objective,
+                                "regeneration": evaluation.regeneration, "timing": path.timing.mode,
+                                "samples": samples, "margin": evaluation.margin}
+    if robot.plane is not None:
+        document["plane"] = describe_plane(robot.plane)
+    return document
+
+
 def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None = None,
                 rest_s: float = 0.0) -> dict[str, Any]:
     """JSON-ready dictionary of one placement (SI units); ``duty`` where the drives give a continuous torque."""
@@ -294,9 +307,14 @@ def strict(document: Any) -> Any:
     return document
 
 
+def json_text(document: dict[str, Any]) -> str:
+    """A JSON document as ``--json`` writes it: indented, strict (an infinite or NaN number is null, :func:`strict`)."""
+    return json.dumps(strict(document), indent=2, allow_nan=False) + "\n"
+
+
 def write_json(path: str | Path, document: dict[str, Any]) -> None:
-    """Write a JSON document atomically, strict: an infinite or NaN number is written null (:func:`strict`)."""
-    write_atomically(path, json.dumps(strict(document), indent=2, allow_nan=False) + "\n")
+    """Write a JSON document atomically, as :func:`json_text` gives it."""
+    write_atomically(path, json_text(document))
 
 
 def write_trace(path: str | Path, robot: Robot, detail: PlacementDetail) -> None:

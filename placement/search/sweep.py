@@ -70,6 +70,14 @@ class SweepResult:
         objective = OBJECTIVES.get(self.objective)
         return f"{objective.title} ({objective.unit})"
 
+    def best(self) -> int | None:
+        """Index, in the grid's flattened order (:meth:`placements`), of the feasible placement best by the
+        objective (the first of equals), or None when none is feasible."""
+        if not self.feasible.any():
+            return None
+        signed = np.where(self.feasible, OBJECTIVES.get(self.objective).sign * self.value, np.inf).ravel()
+        return int(np.argmin(signed))
+
     def placements(self) -> np.ndarray:
         """(n_points, 6) placement of every grid point, in the grid's flattened order."""
         mesh = np.meshgrid(*self.axes, indexing="ij")

@@ -273,6 +273,23 @@ def test_map_command_writes_the_map_figure_and_scene(tmp_path, capsys):
     assert "give what to write" in capsys.readouterr().err
 
 
+def test_the_map_command_keeps_the_margin_as_the_main_job_does(tmp_path):
+    from placement.search.sweep import SweepResult
+
+    maps = {}
+    for margin in ("0", "10"):
+        out = tmp_path / f"map_{margin}.npz"
+        assert main(["map", "--robot", "orthoglide", "--path", str(EXAMPLE), "--grid", "x=-110:50:4,y=-90:30:4",
+                     "--margin", margin, "--workers", "1", "--quiet", "--out", str(out)]) == 0
+        maps[margin] = SweepResult.load(out)
+    assert np.array_equal(maps["0"].value, maps["10"].value)  # the same energies, another verdict
+    assert (maps["10"].feasible <= maps["0"].feasible).all() and maps["10"].feasible.sum() < maps["0"].feasible.sum()
+    with pytest.raises(SystemExit) as refused:
+        main(["map", "--robot", "orthoglide", "--path", str(EXAMPLE), "--grid", "x=-110:50:4", "--margin", "100",
+              "--out", str(tmp_path / "m.npz")])
+    assert refused.value.code == 2
+
+
 def test_html_scene_of_two_paths(tmp_path, capsys):
     page = tmp_path / "scene.html"
     assert main(QUICK[:3] + [str(EXAMPLE), str(EXAMPLE)] + QUICK[4:] + ["--minimize", "--html", str(page)]) == 0

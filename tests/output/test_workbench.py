@@ -136,3 +136,36 @@ def test_an_objective_that_needs_the_optimal_law_takes_it_as_the_command_line_do
         assert bench.choices.objective == "cycle_time"  # unchanged
     finally:
         bench.close()
+
+
+def test_the_live_reading_keeps_the_margin_as_the_command_line_does(bench):
+    from placement.cli import build_command_parser
+
+    tightest = bench.live(AT).tightest[1]  # the live reading's tightest margin, without a margin asked for
+    assert 0.05 < tightest < 0.95
+    for margin, feasible in ((tightest - 0.03, True), (tightest + 0.03, False)):
+        kept = Bench(load_robot("orthoglide"), load_path(EXAMPLE), margin=margin)
+        try:
+            assert kept.live(AT).feasible is feasible
+            assert kept.live(AT).value == bench.live(AT).value  # the margin changes the verdict, not the value
+        finally:
+            kept.close()
+    args = build_command_parser().parse_args(["app", "--robot", "orthoglide", "--path", str(EXAMPLE), "--margin", "30"])
+    assert args.margin == 30.0
+
+
+def test_a_map_or_a_front_asked_wrongly_is_refused_before_any_work(bench):
+    for variables, points in ((("x", "x"), 5), (("x", "theta"), 5), (("x", "y"), 1), (("x", "y"), 102)):
+        with pytest.raises(PlacementError, match="map:"):
+            bench.map(variables, points, AT)
+    with pytest.raises(PlacementError, match="front:"):
+        bench.front(("energy", "energy"))
+
+
+def test_a_map_and_a_front_are_cancelled_at_once(bench):
+    job, _ = bench.map(("x", "y"), 51, AT)
+    front = bench.front(("energy", "dexterity"))
+    for running in (job, front):
+        running.cancel()
+        assert running.poll() and running.result is None and running.error == "cancelled"
+        assert not running.process.is_alive()

@@ -1,12 +1,16 @@
 """The workbench page in a real browser: headless Chromium driven through WebDriver (selenium, chromium-driver).
 
 The page is set and read as a user would: numbers typed into its fields, buttons clicked, values
-read from the page's text. Its exact value equals what ``--at`` prints, and its search finds the
-command line's best. Without a browser the tests skip, except under CI (``CI`` set), where they fail.
+read from the page's text. Its exact value equals what ``--at`` prints, its search finds the
+command line's best, its comparison of two placements is the difference of what ``--at`` prints
+at each, its export downloads the document ``--json --at`` writes, its map's best cell is the
+``map`` command's and its Pareto front's members are ``--objectives``'. Without a browser the
+tests skip, except under CI (``CI`` set), where they fail.
 """
 
 import json
 import os
+import shlex
 import shutil
 import time
 
@@ -37,7 +41,12 @@ def workbench():
 
 
 @pytest.fixture(scope="module")
-def browser(workbench):
+def downloads(tmp_path_factory):
+    return tmp_path_factory.mktemp("downloads")
+
+
+@pytest.fixture(scope="module")
+def browser(workbench, downloads):
     try:
         from selenium import webdriver
         from selenium.webdriver.chrome.service import Service
@@ -53,6 +62,7 @@ def browser(workbench):
                  "--use-angle=swiftshader", "--window-size=1400,1000", "--proxy-server=127.0.0.1:9"):
         options.add_argument(flag)
     driver = webdriver.Chrome(options=options, service=Service(driver_path))
+    driver.execute_cdp_cmd("Browser.setDownloadBehavior", {"behavior": "allow", "downloadPath": str(downloads)})
     driver.get(workbench.url)
     try:
         wait_for(driver, lambda: text_of(driver, "exact-value") is not None, "the page's first exact value")
@@ -62,10 +72,9 @@ def browser(workbench):
 
 
 def text_of(driver, element_id: str) -> str | None:
-    from selenium.webdriver.common.by import By
-
-    found = driver.find_elements(By.ID, element_id)
-    return found[0].text if found else None
+    """The element's text, read at once in the page (never a stale element: the page replaces its panels)."""
+    return driver.execute_script("const found = document.getElementById(arguments[0]);"
+                                 "return found === null ? null : found.textContent.trim();", element_id)
 
 
 def wait_for(driver, condition, what: str, timeout_s: float = 120.0) -> None:
@@ -96,7 +105,49 @@ def type_into(driver, label: str, text: str) -> None:
 def click(driver, text: str) -> None:
     from selenium.webdriver.common.by import By
 
-    driver.find_element(By.XPATH, f"//button[normalize-space()='{text}']").click()
+    driver.find_element(By.XPATH, f'//button[normalize-space()="{text}"]').click()
+
+
+def open_folder(driver, title: str, control: str) -> None:
+    """Unfold the page's folder ``title`` unless its button ``control`` is in sight already."""
+    from selenium.webdriver.common.by import By
+
+    button = f"//button[normalize-space()='{control}']"
+    if not any(found.is_displayed() for found in driver.find_elements(By.XPATH, button)):
+        driver.find_element(By.XPATH, f"//div[contains(@class, 'mantine-Paper-root') and normalize-space(text())="
+                                      f"'{title}']").click()
+    wait_for(driver, lambda: driver.find_element(By.XPATH, button).is_displayed(), f"the {title} folder open")
+
+
+def number_of(driver, element_id: str) -> float:
+    return float(text_of(driver, element_id))
+
+
+def set_placement(driver, placement: dict[str, str], expected_J: float) -> None:
+    for name, value in placement.items():
+        type_into(driver, f"{name} ({'deg' if name in ('phi', 'theta', 'psi') else 'mm'})", value)
+    wait_for(driver, lambda: abs(number_of(driver, "exact-value") - expected_J) <= 1e-9,
+             f"the --at energy {expected_J!r} J (last read: {text_of(driver, 'exact-value')})")
+
+
+def at(placement: dict[str, str]) -> str:
+    return ",".join(f"{k}={v}" for k, v in placement.items())
+
+
+def same_numbers(page, cli, where: str = "") -> None:
+    """Two JSON documents alike: the same keys and texts, numbers equal to 1e-9."""
+    if isinstance(cli, dict):
+        assert isinstance(page, dict) and set(page) == set(cli), where
+        for key in cli:
+            same_numbers(page[key], cli[key], f"{where}.{key}")
+    elif isinstance(cli, list):
+        assert isinstance(page, list) and len(page) == len(cli), where
+        for k, (a, b) in enumerate(zip(page, cli)):
+            same_numbers(a, b, f"{where}[{k}]")
+    elif isinstance(cli, float) and not isinstance(cli, bool):
+        assert page == pytest.approx(cli, abs=1e-9), where
+    else:
+        assert page == cli, where
 
 
 def cli_json(tmp_path, *options: str) -> dict:
@@ -135,3 +186,78 @@ def test_optimise_in_the_page_finds_the_command_lines_best(browser, tmp_path):
     click(browser, "Go to best")
     wait_for(browser, lambda: abs(float(text_of(browser, "exact-value")) - expected) <= 1e-9,
              f"the best placement's energy {expected!r} J after 'Go to best'")
+
+
+OTHER = {"x": "-30", "y": "20", "z": "-10", "phi": "-15"}  # mm, degrees
+
+
+def test_pinned_and_current_placements_differ_by_what_at_prints_at_each(browser, tmp_path):
+    first = cli_json(tmp_path, "--at", at(PLACEMENT))["at"]
+    second = cli_json(tmp_path, "--at", at(OTHER))["at"]
+    set_placement(browser, PLACEMENT, first["energy_J"])
+    open_folder(browser, "Compare", "Pin this placement")
+    click(browser, "Pin this placement")
+    wait_for(browser, lambda: abs(number_of(browser, "compare-energy-pinned") - first["energy_J"]) <= 1e-9,
+             "the pinned energy")
+    set_placement(browser, OTHER, second["energy_J"])
+    wait_for(browser, lambda: abs(number_of(browser, "compare-energy-current") - second["energy_J"]) <= 1e-9,
+             "the current energy beside the pinned one")
+    expected = {"energy": second["energy_J"] - first["energy_J"],
+                "cycle-time": second["cycle_time_s"] - first["cycle_time_s"],
+                "margin": 100 * (min(m["margin"] for m in second["margins"]) - min(m["margin"] for m in first["margins"])),
+                **{f"energy-{joint}": second["energy_per_actuator_J"][joint] - first["energy_per_actuator_J"][joint]
+                   for joint in first["energy_per_actuator_J"]}}
+    for key, difference in expected.items():
+        assert number_of(browser, f"compare-{key}-difference") == pytest.approx(difference, abs=1e-9), key
+    assert expected["energy"] != pytest.approx(0.0, abs=1e-3)  # two placements that differ
+
+
+def test_export_downloads_what_json_at_writes(browser, downloads, tmp_path):
+    expected = cli_json(tmp_path, "--at", at(PLACEMENT))
+    set_placement(browser, PLACEMENT, expected["at"]["energy_J"])
+    open_folder(browser, "Export", "Export JSON")
+    click(browser, "Export JSON")
+    file = downloads / "placement.json"
+    wait_for(browser, lambda: file.is_file() and json.loads(file.read_text()), "the downloaded placement.json")
+    same_numbers(json.loads(file.read_text()), expected)
+    same_numbers(json.loads(text_of(browser, "export-json")), expected)
+
+
+def test_the_maps_best_cell_is_the_map_commands(browser, tmp_path):
+    import numpy as np
+
+    from placement.cli import main
+    from placement.search.sweep import SweepResult
+
+    open_folder(browser, "Map", "Map")
+    type_into(browser, "points per variable", "7")
+    click(browser, "Map")
+    wait_for(browser, lambda: text_of(browser, "map-state") == "done", "the map done", timeout_s=600)
+    command = text_of(browser, "map-command").split("--path FILE", 1)[1]
+    out = tmp_path / "map.npz"
+    assert main(["map", "--robot", "orthoglide", "--path", str(EXAMPLE), *shlex.split(command), "--out", str(out),
+                 "--quiet"]) == 0
+    cli = SweepResult.load(out)
+    assert cli.value.shape == (7, 7)
+    value = np.where(cli.feasible, cli.value, np.inf)
+    best = int(np.argmin(value))  # least energy among the feasible placements
+    assert np.isfinite(value.flat[best])
+    assert number_of(browser, "map-best-value") == pytest.approx(value.flat[best], abs=1e-9)
+    click(browser, "Go to the map's best")
+    wait_for(browser, lambda: abs(number_of(browser, "exact-value") - value.flat[best]) <= 1e-9,
+             "the map's best placement's energy after 'Go to the map's best'")
+
+
+def test_the_fronts_members_are_those_of_objectives(browser, tmp_path):
+    expected = cli_json(tmp_path, "--objectives", "energy,dexterity")
+    open_folder(browser, "Front", "Search the front")
+    click(browser, "Search the front")
+    wait_for(browser, lambda: (text_of(browser, "front-state") or "").startswith("done"), "the front", timeout_s=900)
+    members = expected["members"]
+    assert text_of(browser, f"front-{len(members) - 1}-0") is not None and text_of(browser, f"front-{len(members)}-0") is None
+    for i, member in enumerate(members):
+        for k, name in enumerate(expected["objectives"]):
+            assert number_of(browser, f"front-{i}-{k}") == pytest.approx(member["values"][name], abs=1e-9), (i, name)
+    click(browser, "Go to member")  # the knee, chosen at first
+    knee = members[expected["knee"]]["values"]["energy"]
+    wait_for(browser, lambda: abs(number_of(browser, "exact-value") - knee) <= 1e-9, f"the knee's energy {knee!r} J")

@@ -1,0 +1,113 @@
+"""The workbench's long computations, each in a process of its own: searches, maps and Pareto fronts.
+
+A :class:`Job` runs one of this module's tasks (:func:`search_task`, :func:`map_task`,
+:func:`front_task`: the command line's own functions, ``optimize_placement``, ``sweep`` and
+``pareto_front``) in a spawned process, so that the page stays live; its progress (generations
+or placements done, of ``total``) and its outcome are read with :meth:`Job.poll`, and
+:meth:`Job.cancel` ends it at once.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import multiprocessing
+import queue
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from placement.evaluation.evaluator import EvaluatorSettings
+from placement.exceptions import PlacementError
+from placement.path.toolpath import ToolPath
+from placement.robot.model import Robot
+from placement.search.optimize import PlacementResult, SearchSettings, optimize_placement
+from placement.search.pareto import ParetoFront, pareto_front
+from placement.search.space import PlacementSpace
+from placement.search.sweep import SweepResult, sweep
+
+Progress = Callable[[int], None]  # called with the steps just done
+
+
+class Job:
+    """A task in a process of its own (spawned: the page's threads are not copied).
+
+    Args:
+        task: A module-level function taking ``*args`` and a ``progress`` keyword (steps done).
+        args: Its arguments (picklable).
+        total: Steps of the whole task, for a progress bar.
+    """
+
+    def __init__(self, task: Callable[..., Any], args: tuple, total: int) -> None:
+        context = multiprocessing.get_context("spawn")
+        self.messages: multiprocessing.Queue = context.Queue()
+        self.total, self.done = total, 0
+        self.result: Any = None
+        self.error: str | None = None
+        self.process = context.Process(target=_run, args=(task, args, self.messages), daemon=True)
+        self.process.start()
+
+    def poll(self, timeout_s: float = 0.2) -> bool:
+        """Read what the task said; True once it has ended (with a result, an error or cancelled)."""
+        try:
+            while True:
+                kind, payload = self.messages.get(timeout=timeout_s)
+                timeout_s = 0.0
+                if kind == "progress":
+                    self.done += payload
+                elif kind == "result":
+                    self.result = payload
+                elif kind == "error":
+                    self.error = payload
+        except queue.Empty:
+            pass
+        ended = self.result is not None or self.error is not None
+        if not ended and not self.process.is_alive():
+            self.error = self.error or "the computation stopped"
+            ended = True
+        return ended
+
+    def cancel(self) -> None:
+        """End the task now."""
+        if self.process.is_alive():
+            self.process.terminate()
+        self.process.join(timeout=10)
+        self.error = self.error or "cancelled"
+
+    def wait(self, on_progress: Callable[[int, int], None] | None = None) -> None:
+        """Poll until the task ends, calling ``on_progress(done, total)`` meanwhile."""
+        while not self.poll():
+            if on_progress is not None:
+                on_progress(self.done, self.total)
+        self.process.join(timeout=10)
+
+
+def _run(task: Callable[..., Any], args: tuple, messages: multiprocessing.Queue) -> None:
+    """The job's process: its progress and outcome go to ``messages``."""
+    try:
+        result = task(*args, progress=lambda steps: messages.put(("progress", steps)))
+        messages.put(("result", result))
+    except PlacementError as error:
+        messages.put(("error", str(error)))
+    except Exception as error:  # the page says it; the server goes on
+        messages.put(("error", f"unexpected {type(error).__name__}: {' '.join(str(error).split())[:300]}"))
+
+
+def search_task(robot: Robot, path: ToolPath, space: PlacementSpace, evaluation: EvaluatorSettings,
+                settings: SearchSettings, *, progress: Progress) -> PlacementResult:
+    """The command line's search (:func:`optimize_placement`); progress: one step per generation."""
+    return optimize_placement(robot, path, space=space, evaluation=evaluation, settings=settings,
+                              progress=lambda: progress(1))
+
+
+def map_task(robot: Robot, path: ToolPath, axes: dict[str, np.ndarray], fixed: dict[str, float],
+             evaluation: EvaluatorSettings, *, progress: Progress) -> SweepResult:
+    """The ``map`` command's sweep, in this one process; progress: placements evaluated."""
+    return sweep(robot, path, axes, fixed, evaluation=dataclasses.replace(evaluation, workers=1), progress=progress)
+
+
+def front_task(robot: Robot, path: ToolPath, objectives: tuple[str, ...], space: PlacementSpace,
+               evaluation: EvaluatorSettings, settings: SearchSettings, *, progress: Progress) -> ParetoFront:
+    """The Pareto front as ``--objectives`` searches it (:func:`pareto_front`); progress: one step per generation."""
+    return pareto_front(robot, path, objectives, space=space, evaluation=dataclasses.replace(evaluation, objective=objectives),
+                        settings=settings, progress=lambda: progress(1))

@@ -1,0 +1,107 @@
+"""What the workbench's panels share: the page they live in, a long computation's controls, figures as images.
+
+A panel is built inside the page's current GUI folder from a :class:`Host` (the page: its bench,
+its server, the current placement, how to go to another and how to answer an action), so that no
+panel knows the page's own class.
+"""
+
+from __future__ import annotations
+
+import html
+import threading
+from abc import ABC, abstractmethod
+from collections.abc import Callable
+from typing import Any, Protocol
+
+import numpy as np
+import viser
+from matplotlib.figure import Figure
+
+from placement.app.bench import Bench
+from placement.app.jobs import Job
+from placement.exceptions import PlacementError
+
+
+class Host(Protocol):
+    """The page, as its panels use it."""
+
+    bench: Bench
+    server: viser.ViserServer
+    placement: np.ndarray
+
+    def guard(self, action: Callable[[], None]) -> None:
+        """Run a page action; what goes wrong is said in the page."""
+
+    def set_placement(self, placement: np.ndarray, exact: bool, move_gizmo: bool = True) -> None:
+        """Go to a placement (m, rad)."""
+
+
+class JobPanel(ABC):
+    """A start button, Cancel, a progress bar and a state line (``id="KEY-state"``) around one job at a time.
+
+    Args:
+        host: The page.
+        start_label: The start button's text.
+        key: The state line's id prefix.
+        what: The computation, as a message names it ("a map").
+    """
+
+    def __init__(self, host: Host, start_label: str, key: str, what: str) -> None:
+        gui: Any = host.server.gui
+        self.host, self.key, self.what = host, key, what
+        self.job: Job | None = None
+        self.start_button = gui.add_button(start_label)
+        self.cancel_button = gui.add_button("Cancel", disabled=True)
+        self.progress = gui.add_progress_bar(0.0, visible=False)
+        self.state = gui.add_html("")
+        self.start_button.on_click(lambda _: host.guard(self._start))
+        self.cancel_button.on_click(lambda _: host.guard(self.cancel))
+
+    @abstractmethod
+    def launch(self) -> Job:
+        """Start the job from the panel's fields (a PlacementError if they are not valid)."""
+
+    @abstractmethod
+    def finished(self, result: Any) -> None:
+        """Show the job's result."""
+
+    def say(self, text: str, error: bool = False) -> None:
+        """The state line."""
+        style = ' style="color:#c00"' if error else ""
+        self.state.content = f'<p id="{self.key}-state"{style}>{html.escape(text)}</p>'
+
+    def _start(self) -> None:
+        if self.job is not None:
+            raise PlacementError(f"{self.what} is being computed: wait for it or cancel it")
+        job = self.job = self.launch()
+        self.start_button.disabled, self.cancel_button.disabled = True, False
+        self.progress.value, self.progress.visible = 0.0, True
+        threading.Thread(target=self._follow, args=(job,), daemon=True).start()
+
+    def _follow(self, job: Job) -> None:
+        def shown(done: int, total: int) -> None:
+            self.progress.value = 100.0 * min(done, total) / max(total, 1)
+
+        job.wait(shown)
+        self.job = None
+        self.start_button.disabled, self.cancel_button.disabled = False, True
+        self.progress.visible = False
+        if job.result is None:
+            self.say(job.error or "no result", error=True)
+            return
+        self.host.guard(lambda: self.finished(job.result))
+
+    def cancel(self) -> None:
+        """End the running job, if any."""
+        if self.job is not None:
+            self.job.cancel()
+
+
+def figure_image(figure: Figure) -> np.ndarray:
+    """A matplotlib figure as an (H, W, 3) RGB image, for the page; the figure is closed."""
+    import matplotlib.pyplot as plt
+
+    figure.canvas.draw()
+    image = np.asarray(figure.canvas.buffer_rgba())[..., :3].copy()  # type: ignore[attr-defined]
+    plt.close(figure)
+    return image
