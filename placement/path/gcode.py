@@ -13,8 +13,9 @@ what it does to the energy and the time.
 
 Where the tool starts: an axis the program never gives stays at the path frame's origin (a 2-D
 program runs in the X_p Y_p plane). An axis given somewhere in the program is unknown until it
-is given (or after a return to a reference point the path file does not give): a rapid from an
-unknown position is left out, a feed move from one is an error.
+is given (or after a return to a reference point the path file does not give): a move from an
+unknown position is left out (a feed move with a note). G92 offsets shift the program's
+coordinates into the path frame.
 """
 
 from __future__ import annotations
@@ -184,7 +185,7 @@ def _path_point(machine: Machine, point: np.ndarray | None) -> np.ndarray | None
 
 
 def _program(file: Path, state: _State) -> Program:
-    """The moves kept: a rapid from an unknown position is left out, a feed move from one is an error."""
+    """The moves kept: a move from an unknown position is left out (a feed move with a note)."""
     kept: list[tuple[Segment, float | None]] = []
     dwells, next_dwell = [], 0
     for number, move in enumerate(state.moves):

@@ -23,8 +23,9 @@ G_GROUPS = {
 READ_G = ("not in the G-code dialect read: G0-G4, G17-G21, G28, G28.1, G30, G30.1, G40, G43, G49, G53-G59, G61, "
           "G61.1, G64, G73, G80-G83, G85, G89, G90, G91, G90.1, G91.1, G92-G92.3, G93-G95, G98, G99 (docs/paths.md)")
 ACCEPTED_M = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 30, 60}
-COMPENSATION = ("cutter radius compensation offsets the path by the tool radius, which the program does not hold: "
-                "let the CAM post-processor output the compensated path (G40)")
+COMPENSATION = ("cutter radius compensation is not computed: it offsets the path by a tool radius from the machine's "
+                "tool table, which the program does not hold; let the CAM post-processor output the tool centre's "
+                "path (compensation 'in computer', G40)")
 UNSUPPORTED_G = {
     410: COMPENSATION, 420: COMPENSATION, 411: COMPENSATION, 421: COMPENSATION,
     100: "G10 sets a coordinate system's offset or a tool's data, which the path frame does not hold: write the "
