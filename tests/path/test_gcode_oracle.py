@@ -8,7 +8,10 @@ arc centres, planes and turns, the feed of each feed move and the dwells. rs274 
 decimals, so every length is compared to rs274's printed precision: within 0.00005 program units
 (plus 1e-9 mm) of the printed value; feeds likewise (rs274 prints G93's inverse time as the
 feed in units/min it means; in G95 the feed is F·S), and dwells to 0.00005 s. Moves of no
-length (rs274 prints them, the reader drops them) are left out of both.
+length (rs274 prints them, the reader drops them) are left out of both. rs274 prints the moves in
+program coordinates and the G92 offset apart (SET_G92_OFFSET, in its line's units): the offset is
+added, giving the path frame's coordinates the reader reports; rotary axes are not compared (the
+reader ignores them while they hold one value).
 
 rs274 starts at the machine's zero with the reference positions #5161-#5183 at zero and no work
 offset; the reader is given the same machine (``Machine`` with zero offset and references). Each
@@ -230,6 +233,13 @@ G21 G1 X10 F200
 G92.3
 G1 Y3
 G0 @5 ^90
+M2
+""",
+    "extra_axes_held_at_one_value": """G21 G90 G17 G0 X0 Y0 Z0 A0 B15
+G1 X10 Y2 A0 F300
+G2 X20 Y2 I5 J0 B15
+G91 G1 Y5 A0 B0
+G90 G0 Z5 A0
 M2
 """,
     "polar_words": """G21 G90 G0 X0 Y0 Z0
