@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from placement.__main__ import main
+from placement.limits.workspace import workspace_misfit
 from placement.path.exceptions import PathFileError
 from placement.path.load import load_path
 
@@ -77,3 +78,23 @@ def test_a_program_without_tool_motion_exits_2_saying_so(tmp_path, capsys, code)
     assert main(["--robot", "orthoglide", "--path", str(tmp_path / "none.ngc"), "--quiet"]) == 2
     err = capsys.readouterr().err
     assert "no tool motion" in err and "Traceback" not in err
+
+
+def test_a_program_larger_than_the_workspace_is_told_it_does_not_fit(tmp_path, capsys):
+    # A 300 x 300 mm square on the Orthoglide (a 200 mm workspace cube): no placement, said before any search.
+    (tmp_path / "big.ngc").write_text("G21 G90 G0 X0 Y0 Z0\nG1 X300 F3000\nY300\nX0\nY0\n")
+    assert main(["--robot", "orthoglide", "--path", str(tmp_path / "big.ngc"), "--quiet"]) == 2
+    captured = capsys.readouterr()
+    assert "does not fit in the workspace" in captured.err and "300.0 x 300.0 x 0.0 mm" in captured.err
+    assert "search:" not in captured.out
+
+
+@pytest.mark.parametrize("width_mm, length_mm, height_mm, fits", [
+    (190, 190, 0, True), (210, 20, 5, True),  # the second only across the box's diagonal
+    (300, 300, 0, False), (260, 50, 0, False), (20, 20, 205, False)])
+def test_the_workspace_fit_check_turns_the_path_about_its_tool_axis(width_mm, length_mm, height_mm, fits):
+    corners = np.array([[0, 0, 0], [width_mm, 0, 0], [width_mm, length_mm, 0], [0, length_mm, height_mm]]) * 1e-3
+    box = ([-0.1, -0.1, -0.1], [0.1, 0.1, 0.1])
+    assert (workspace_misfit(*box, corners, (-np.pi, np.pi)) is None) == fits
+    if fits and width_mm > 200:
+        assert workspace_misfit(*box, corners, (0.0, 0.0)) is not None  # without the turn it does not
