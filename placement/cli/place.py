@@ -40,6 +40,7 @@ from placement.energy.regeneration import REGENERATION
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.evaluation.parallel import Cluster, cluster, scheduler_address
 from placement.limits.collision import closest_points
+from placement.limits.workspace import workspace_misfit
 from placement.objectives.base import OBJECTIVES, wording
 from placement.output.report import (
     detail_json,
@@ -212,6 +213,9 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
     free, bounds = parse_free(args.free, "--free") if args.free is not None else (None, {})
     space = default_space(robot, free=free, fixed=parse_values(args.fix or "", "--fix"), bounds=bounds,
                           half_turn=path.half_turn_symmetric())
+    misfit = misfit_line(robot, samples, space)
+    if misfit is not None:
+        return document, {}, misfit
     kept = f"; every limit keeps a {args.margin:g} % margin" if args.margin else ""
     print(f"search: {', '.join(space.free)} free; seed {args.seed}{kept}")
     lower = objective.better == "lower"
@@ -241,6 +245,21 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
     if result.infeasible:
         document["infeasible"] = result.infeasible
     return document, details, result.infeasible
+
+
+def misfit_line(robot: Robot, samples: PathSamples, space: PlacementSpace) -> str | None:
+    """Why the path cannot fit in the robot's workspace box at any placement the search may take, before searching;
+    None when it may fit, or when the box is not the robot's or the placement may tilt (not checked then)."""
+    workspace = robot.workspace
+    tilted = {"theta", "psi"} & set(space.free) or np.any(space.fixed[4:6] != 0)
+    if workspace is None or robot.plane is not None or tilted:
+        return None
+    if "phi" in space.free:
+        k = space.free.index("phi")
+        turns = (float(space.lower[k]), float(space.upper[k]))
+    else:
+        turns = (float(space.fixed[3]), float(space.fixed[3]))
+    return workspace_misfit(workspace.min_m, workspace.max_m, samples.position_m, turns)
 
 
 def tolerance_boxes(robot: Robot, path: ToolPath, evaluation: EvaluatorSettings, within_percent: float,

@@ -43,3 +43,35 @@ class Reachability(Limit):
 
 LIMITS.add("workspace", Workspace())
 LIMITS.add("reachability", Reachability())
+
+
+def workspace_misfit(min_m: Sequence[float], max_m: Sequence[float], points_m: np.ndarray,
+                     phi_range_rad: tuple[float, float]) -> str | None:
+    """Why a path cannot lie inside the workspace box at any placement turned by phi about Z_p alone (no tilt), or
+    None when it may fit (a necessary condition, not a sufficient one).
+
+    Args:
+        min_m, max_m: The box's corners in the base frame (m).
+        points_m: (N, 3) the path's points in its own frame (m).
+        phi_range_rad: The turns about Z_p the search may take.
+
+    Returns:
+        The path's extent and the box's, in mm, when no turn in the range makes the path's bounding box fit
+        (to within 1 % of the path's diameter, more than the step of the turns tried can miss), else None.
+    """
+    side = np.asarray(max_m, dtype=float) - np.asarray(min_m, dtype=float)
+    points = np.asarray(points_m, dtype=float)
+    extent = np.ptp(points, axis=0)
+    slack = 0.01 * float(np.linalg.norm(extent))
+    low, high = phi_range_rad
+    turns = np.linspace(low, min(high, low + np.pi), 181)  # a half turn covers every bounding box
+    cos, sin = np.cos(turns)[:, None], np.sin(turns)[:, None]
+    spans = np.stack([np.ptp(cos * points[:, 0] - sin * points[:, 1], axis=1),
+                      np.ptp(sin * points[:, 0] + cos * points[:, 1], axis=1)], axis=1)
+    fits = np.all(spans <= side[:2] + slack, axis=1) & (extent[2] <= side[2] + slack)
+    if fits.any():
+        return None
+    return (f"it does not fit in the workspace at any placement: the path spans {extent[0] * 1e3:.1f} x "
+            f"{extent[1] * 1e3:.1f} x {extent[2] * 1e3:.1f} mm and no turn about Z_p brings it within the workspace "
+            f"box, {side[0] * 1e3:.1f} x {side[1] * 1e3:.1f} x {side[2] * 1e3:.1f} mm; scale the path down (in the "
+            "CAM system) or choose a robot with a larger workspace")

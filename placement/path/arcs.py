@@ -56,7 +56,9 @@ def arc_segment(fail: Callable[..., GcodeError], start: np.ndarray, end: np.ndar
         center = (s[:2] + e[:2]) / 2 + (height if (values["R"] > 0) == anticlockwise else -height) * left
     else:
         allowed = OFFSET_LETTERS[plane]
-        wrong = [letter for letter in "IJK" if letter in values and letter not in allowed]
+        # A zero offset along the normal (FreeCAD's posts write G17 arcs with K0.000) is accepted; LinuxCNC refuses it.
+        wrong = [letter for letter in "IJK" if letter in values and letter not in allowed
+                 and (absolute_centres or values[letter] != 0.0)]
         if wrong:
             raise fail(f"G{plane} arcs take centre offsets {' and '.join(allowed)}", wrong[0])
         if not any(letter in values for letter in allowed):

@@ -13,8 +13,9 @@ what it does to the energy and the time.
 
 Where the tool starts: an axis the program never gives stays at the path frame's origin (a 2-D
 program runs in the X_p Y_p plane). An axis given somewhere in the program is unknown until it
-is given (or after a return to a reference point the path file does not give): a rapid from an
-unknown position is left out, a feed move from one is an error.
+is given (or after a return to a reference point the path file does not give): a move from an
+unknown position is left out (a feed move with a note). G92 offsets shift the program's
+coordinates into the path frame.
 """
 
 from __future__ import annotations
@@ -31,7 +32,7 @@ from placement.path.canned import CYCLES, CycleState, expand_cycle
 from placement.path.exceptions import CycleError, ExpressionError, FlowError, GcodeError, PathFileError
 from placement.path.ngc_expressions import Block, Parameters, read_line
 from placement.path.ngc_flow import run_blocks
-from placement.path.ngc_words import check_unused, sorted_words
+from placement.path.ngc_words import EXTRA_AXES, check_unused, sorted_words
 from placement.path.segments import Segment
 
 MM_M = 1e-3
@@ -111,6 +112,7 @@ class _State:
     absolute_centres: bool = False  # G90.1 (else G91.1, offsets from the start)
     plane: int = 17
     motion: int | None = None  # in tenths
+    plain_motion: int | None = None  # the last G0-G3: the motion after G80, as on Fanuc-style controls
     coordinate_system: int | None = None  # G54-G59, once given
     feed_mode: int = 940
     feed: float | None = None  # F as given, in ...
@@ -120,6 +122,9 @@ class _State:
     exact_stop: bool = False  # G61.1
     cycle: CycleState = dataclasses.field(default_factory=CycleState)
     references: dict[int, np.ndarray | None] = dataclasses.field(default_factory=dict)  # 280, 300 -> path frame
+    offset_m: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))  # G92: path frame - program's
+    saved_offset_m: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))  # what G92.3 restores
+    extra_axes: dict[str, float] = dataclasses.field(default_factory=dict)  # A, B, C, U, V, W: the one value held
     position_m: list[float | None] = dataclasses.field(default_factory=lambda: [None, None, None])
     given: set[int] = dataclasses.field(default_factory=set)  # the axes given a value so far
     moves: list[_Move] = dataclasses.field(default_factory=list)
@@ -180,7 +185,7 @@ def _path_point(machine: Machine, point: np.ndarray | None) -> np.ndarray | None
 
 
 def _program(file: Path, state: _State) -> Program:
-    """The moves kept: a rapid from an unknown position is left out, a feed move from one is an error."""
+    """The moves kept: a move from an unknown position is left out (a feed move with a note)."""
     kept: list[tuple[Segment, float | None]] = []
     dwells, next_dwell = [], 0
     for number, move in enumerate(state.moves):
@@ -191,15 +196,16 @@ def _program(file: Path, state: _State) -> Program:
         if unknown:
             if move.feed_m_s is not None:
                 missing = ", ".join("XYZ"[k] for k in sorted(unknown))
-                raise GcodeError(file, move.line, move.word, f"a feed move from an unknown position ({missing} not "
-                                                             "given yet): move to a point with G0 first")
+                _note(state, "unknown start", f"the feed move of line {move.line} starts from an unknown position "
+                                              f"({missing} not given yet), where the machine happens to be: it is "
+                                              "left out (move to a point with G0 first to count it)")
             continue
         kept.append((move.segment, move.feed_m_s))
     dwells += [dataclasses.replace(d, after=len(kept)) for d in state.dwells[next_dwell:]]
     feeds = [feed for _, feed in kept if feed is not None]
     if not feeds:
-        raise PathFileError(file, "", "the program has no feed move (G1, G2, G3 or a drilling cycle) from a known "
-                                      "point")
+        raise PathFileError(file, "", "no tool motion: the program has no feed move (G1, G2, G3 or a drilling "
+                                      "cycle) from a known point, so there is no path to place")
     top = max(feeds)
     segments = tuple(dataclasses.replace(segment, feed_ratio=feed / top) if feed is not None else segment
                      for segment, feed in kept)
@@ -245,25 +251,31 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
         state.absolute_centres = codes["arc distance"][0] == 901
     if "retract mode" in codes:
         state.cycle.retract_to_r = codes["retract mode"][0] == 990
+    _extra_axes(fail, values, written, line, state)
     motion = codes["motion"][0] if "motion" in codes else state.motion
     check_unused(fail, codes, values, written, motion)
     if ("@" in values or "^" in values) and not (motion is not None and motion // 10 in CYCLES):
         _polar(fail, values, written, state)
     axes = [values.get(letter) for letter in "XYZ"]
+    if non_modal is not None and non_modal[0] in (921, 922, 923):  # before the line's move, which they leave alone
+        _offset(fail, non_modal, axes, state)
     if non_modal is not None and non_modal[0] in (280, 300):
         _reference(fail, non_modal, axes, written, line, state)
+    elif non_modal is not None and non_modal[0] == 920:  # its axis words are the offset's, not a move
+        _offset(fail, non_modal, axes, state)
     elif non_modal is not None and non_modal[0] in (281, 301):
         if any(value is None for value in state.position_m) and state.given:
             raise fail(non_modal[1], "the position to store is not known yet")
         state.references[non_modal[0] - 1] = np.array([p if p is not None else 0.0 for p in state.position_m])
     else:
         if "canned cycle" in codes:
-            state.motion = None
+            state.motion = state.plain_motion
             state.cycle.initial_level_m = None
         if "motion" in codes:
             previous, state.motion = state.motion, codes["motion"][0]
             if state.motion // 10 not in CYCLES:
                 state.cycle.initial_level_m = None
+                state.plain_motion = state.motion
         else:
             previous = state.motion
         arc_words = [letter for letter in "IJKR" if letter in values]
@@ -288,6 +300,7 @@ def _polar(fail: Callable[[str, str], GcodeError], values: dict[str, float], wri
     x, y = state.position_m[0], state.position_m[1]
     if x is None or y is None:
         raise fail(word, "polar words need the current X and Y: move to a point first")
+    x, y = x - state.offset_m[0], y - state.offset_m[1]  # about the program's origin
     radius, angle = float(np.hypot(x, y)) / state.length_m, float(np.degrees(np.arctan2(y, x)))
     if state.incremental:
         if radius == 0:
@@ -300,6 +313,22 @@ def _polar(fail: Callable[[str, str], GcodeError], values: dict[str, float], wri
         end -= np.array([x, y]) / state.length_m
     values["X"], values["Y"] = float(end[0]), float(end[1])
     written["X"] = written["Y"] = word
+
+
+def _extra_axes(fail: Callable[[str, str], GcodeError], values: dict[str, float], written: dict[str, str],
+                line: int, state: _State) -> None:
+    """Rotary and extra axes (A, B, C, U, V, W), taken off the line's words: the path has X, Y, Z only, so an axis
+    that holds one value throughout (a 3-axis job on a 4-axis post) is ignored with a note, and one that moves is
+    refused where it first moves."""
+    for letter in [letter for letter in EXTRA_AXES if letter in values]:
+        value, word = values.pop(letter), written.pop(letter)
+        held = state.extra_axes.setdefault(letter, 0.0 if state.incremental else value)
+        if (value != 0.0) if state.incremental else (value != held):
+            raise fail(word, f"the extra axis {letter} moves here (it held {held:g} before): the path has X, Y, Z "
+                             f"only, so rotary and extra axes (A, B, C, U, V, W) are read only while they hold one "
+                             "value")
+        _note(state, letter, f"{word} (line {line}): the axis {letter} holds {held:g}; the path has X, Y, Z only, so "
+                             "it is ignored while it holds that value")
 
 
 def _note(state: _State, key: str, text: str) -> None:
@@ -326,8 +355,32 @@ def _target(axes: list[float | None], state: _State, fail: Callable[[str, str], 
             else:
                 target.append(start + value * state.length_m)
         else:
-            target.append(value * state.length_m)
+            target.append(value * state.length_m + state.offset_m[k])
     return target
+
+
+def _offset(fail: Callable[[str, str], GcodeError], non_modal: tuple[int, str], axes: list[float | None],
+            state: _State) -> None:
+    """G92: the current point gets the given coordinates (the program's origin moves); G92.1, G92.2: no offset
+    (G92.1 forgets it, G92.2 keeps it for G92.3); G92.3: the offset kept restored."""
+    code, word = non_modal
+    if code == 920:
+        if all(value is None for value in axes):
+            raise fail(word, "G92 needs the coordinates the current point gets (X, Y or Z)")
+        for k, value in enumerate(axes):
+            if value is None:
+                continue
+            here = state.position_m[k]
+            if here is None and k in state.given:
+                raise fail(word, f"G92 from an unknown position ({'XYZ'[k]} not known here): move to a point first")
+            state.offset_m[k] = (here or 0.0) - value * state.length_m
+        state.saved_offset_m = state.offset_m.copy()
+    elif code == 923:
+        state.offset_m = state.saved_offset_m.copy()
+    else:
+        state.offset_m = np.zeros(3)
+        if code == 921:
+            state.saved_offset_m = np.zeros(3)
 
 
 def _add(state: _State, end: list[float | None], feed: float | None, line: int, word: str,
@@ -421,10 +474,11 @@ def _motion(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, 
         _add(state, target, _feed(fail, state, move_word, float(np.linalg.norm(end - start)), values), line,
              move_word)
         return
-    start = np.array([v if v is not None else 0.0 for v in state.position_m])
-    finish = np.array([v if v is not None else 0.0 for v in target])
-    segment = arc_segment(lambda problem, letter=None: fail(written.get(letter or "", move_word), problem), start,
-                          finish, values, state.plane, state.motion == 30, state.length_m, state.absolute_centres)
+    start = np.array([v if v is not None else 0.0 for v in state.position_m]) - state.offset_m
+    finish = np.array([v if v is not None else 0.0 for v in target]) - state.offset_m
+    segment = _shifted(arc_segment(lambda problem, letter=None: fail(written.get(letter or "", move_word), problem),
+                                   start, finish, values, state.plane, state.motion == 30, state.length_m,
+                                   state.absolute_centres), state.offset_m)
     _add(state, target, _feed(fail, state, move_word, segment.length_m, values), line, move_word,
          lambda begin, end: segment)
 
@@ -440,7 +494,7 @@ def _cycle(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, s
         missing = ", ".join("XYZ"[k] for k in range(3) if state.position_m[k] is None)
         raise fail(word, f"a drilling cycle from an unknown position ({missing} not given yet): move to a point with "
                          "G0 first")
-    position = [float(v) for v in state.position_m if v is not None]
+    position = [float(v - o) for v, o in zip(state.position_m, state.offset_m) if v is not None]  # program's
     try:
         steps = expand_cycle(state.motion // 10, state.plane, state.incremental, state.length_m,
                              state.length_m == INCH_M, position, values, previous == state.motion, state.cycle)
@@ -452,4 +506,13 @@ def _cycle(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, s
             state.dwells.append(Dwell(len(state.moves), step.dwell_s, line))
         else:
             assert step.target_m is not None
-            _add(state, list(step.target_m), feed if step.kind == "feed" else None, line, word, exact=True)
+            _add(state, list(np.asarray(step.target_m) + state.offset_m), feed if step.kind == "feed" else None, line,
+                 word, exact=True)
+
+
+def _shifted(segment: Segment, offset_m: np.ndarray) -> Segment:
+    """A segment computed in the program's coordinates, moved into the path frame by the G92 offset."""
+    if not offset_m.any():
+        return segment
+    return dataclasses.replace(segment, start_m=segment.start_m + offset_m, end_m=segment.end_m + offset_m,
+                               center_m=None if segment.center_m is None else segment.center_m + offset_m)

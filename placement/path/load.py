@@ -18,13 +18,15 @@ from placement.path.toolpath import MIN_LENGTH_M, ToolPath
 from placement.schema import read_yaml, validate_document
 
 DICT_NAME = "<dict>"  # a path given as a dict, in errors
+GCODE_SUFFIXES = (".ngc", ".nc", ".tap", ".gcode", ".gc", ".cnc")  # a G-code program given in place of a path file
 
 
 def load_path(path: str | FilePath | dict[str, Any], folder: str | FilePath = ".") -> ToolPath:
     """Read and validate a path file (and the G-code program it names, if any), or a path file's fields as a dict.
 
     Args:
-        path: The YAML file, or its fields as a dict (``{"units": "mm", "shape": {"type": "circle", "radius": 20},
+        path: The YAML file (or a G-code program, by its suffix: read with the defaults, and a note saying so),
+            or its fields as a dict (``{"units": "mm", "shape": {"type": "circle", "radius": 20},
             "feed_m_s": 0.2}``), named ``<dict>`` in errors.
         folder: Where the files a dict names (a G-code program, a pose list) are; a file's are beside it.
 
@@ -35,13 +37,16 @@ def load_path(path: str | FilePath | dict[str, Any], folder: str | FilePath = ".
         PathFileError: The file (or its program) is missing, malformed, or breaks the schema;
             a G-code program's errors (GcodeError) name its line and word.
     """
+    bare = False  # a G-code program given in place of a path file
     if isinstance(path, dict):
         document = path
         path = FilePath(folder) / DICT_NAME
         spec = validate_document(document, path, PathFile, PathFileError)
     else:
         path = FilePath(path)
-        spec = read_yaml(path, PathFile, PathFileError)
+        bare = path.suffix.lower() in GCODE_SUFFIXES
+        spec = (validate_document({"shape": {"type": "gcode", "file": path.name}}, path, PathFile, PathFileError)
+                if bare else read_yaml(path, PathFile, PathFileError))
     _check_fields(path, spec)
     rapid_feed, timed = None, None
     holds: tuple[Hold, ...] = ()
@@ -49,6 +54,10 @@ def load_path(path: str | FilePath | dict[str, Any], folder: str | FilePath = ".
     if isinstance(spec.shape, Gcode):
         program = read_program(path.parent / spec.shape.file, _machine(spec.shape))
         notes = program.notes
+        if bare:
+            notes = (f"{path.name} is a G-code program given in place of a path file: it runs with no process "
+                     "forces, its rapids left out, in the paper timing law; a path file naming it gives these "
+                     "(docs/paths.md)", *notes)
         rapids = spec.rapids or Rapids()
         segments, holds = _kept(program, rapids.mode == "timed")
         feed, rapid_feed = program.feed_m_s, rapids.feed_m_s

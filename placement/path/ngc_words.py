@@ -15,20 +15,21 @@ from placement.path.exceptions import GcodeError
 # safety line "G0 G90 G40 G21 G17 G94 G80" is read.
 G_GROUPS = {
     **dict.fromkeys((0, 10, 20, 30, 730, 810, 820, 830, 850, 890), "motion"), 800: "canned cycle",
-    **dict.fromkeys((40, 280, 281, 300, 301, 530), "non-modal"), **dict.fromkeys((170, 180, 190), "plane"),
+    **dict.fromkeys((40, 280, 281, 300, 301, 530, 920, 921, 922, 923), "non-modal"), **dict.fromkeys((170, 180, 190), "plane"),
     **dict.fromkeys(range(540, 600, 10), "coordinate system"), 200: "units", 210: "units", 900: "distance",
     910: "distance", 901: "arc distance", 911: "arc distance", **dict.fromkeys((930, 940, 950), "feed mode"),
     400: "cutter compensation", 430: "tool length offset", 490: "tool length offset", 980: "retract mode",
     990: "retract mode", **dict.fromkeys((610, 611, 640), "path control")}
 READ_G = ("not in the G-code dialect read: G0-G4, G17-G21, G28, G28.1, G30, G30.1, G40, G43, G49, G53-G59, G61, "
-          "G61.1, G64, G73, G80-G83, G85, G89, G90, G91, G90.1, G91.1, G93-G95, G98, G99 (docs/paths.md)")
+          "G61.1, G64, G73, G80-G83, G85, G89, G90, G91, G90.1, G91.1, G92-G92.3, G93-G95, G98, G99 (docs/paths.md)")
 ACCEPTED_M = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 30, 60}
-COMPENSATION = ("cutter radius compensation offsets the path by the tool radius, which the program does not hold: "
-                "let the CAM post-processor output the compensated path (G40)")
+COMPENSATION = ("cutter radius compensation is not computed: it offsets the path by a tool radius from the machine's "
+                "tool table, which the program does not hold; let the CAM post-processor output the tool centre's "
+                "path (compensation 'in computer', G40)")
 UNSUPPORTED_G = {
     410: COMPENSATION, 420: COMPENSATION, 411: COMPENSATION, 421: COMPENSATION,
-    **dict.fromkeys((920, 921, 922, 923, 100), "a coordinate system offset moves the program's origin: write the "
-                    "program in one work coordinate system, the path frame (its origin is the one the placement moves)"),
+    100: "G10 sets a coordinate system's offset or a tool's data, which the path frame does not hold: write the "
+         "program in one work coordinate system, the path frame (its origin is the one the placement moves)",
     **dict.fromkeys((740, 760, 840, 860, 870, 880), "tapping and boring cycles (G74, G76, G84, G86-G88) need the "
                     "spindle's motion: output them as G0/G1 moves; the drilling cycles G73, G81-G83, G85, G89 are read"),
     **dict.fromkeys((591, 592, 593), "a second work coordinate system's offset is not in the program: write it in "
@@ -43,7 +44,7 @@ UNSUPPORTED_G = {
     960: "constant surface speed (G96) is not read: the feeds are per minute (G94), inverse time (G93) or per "
          "revolution at S (G95)"}
 ALLOWED_LETTERS = set("GMXYZIJKRFSTPQLHDN@^")
-REFUSED_LETTERS = "ABCUVW"
+EXTRA_AXES = "ABCUVW"  # rotary and extra axes: read only while they hold one value (gcode._extra_axes)
 
 
 def code_of(fail: Callable[[str, str], GcodeError], value: float, word: str) -> int:
@@ -79,12 +80,10 @@ def sorted_words(fail: Callable[[str, str], GcodeError], words: list[tuple[str, 
                            + ("; Fanuc subprograms (M98/M99) are not read: use O-word subroutines (O100 sub ... "
                               "O100 endsub, O100 call)" if code in (980, 990) else ""))
             m_codes[code // 10] = word
-        elif letter in ALLOWED_LETTERS:
+        elif letter in ALLOWED_LETTERS or letter in EXTRA_AXES:
             if letter in values:
                 raise fail(word, f"{letter} is given twice on the line")
             values[letter], written[letter] = value, word
-        elif letter in REFUSED_LETTERS:
-            raise fail(word, "rotary and extra axes (A, B, C, U, V, W) are not read: the path has X, Y, Z only")
         else:
             raise fail(word, "unknown word: the letters read are G, M, X, Y, Z, I, J, K, R, F, S, T, P, Q, L, H, D, "
                              "N, O and the polar @, ^")

@@ -8,7 +8,10 @@ arc centres, planes and turns, the feed of each feed move and the dwells. rs274 
 decimals, so every length is compared to rs274's printed precision: within 0.00005 program units
 (plus 1e-9 mm) of the printed value; feeds likewise (rs274 prints G93's inverse time as the
 feed in units/min it means; in G95 the feed is F·S), and dwells to 0.00005 s. Moves of no
-length (rs274 prints them, the reader drops them) are left out of both.
+length (rs274 prints them, the reader drops them) are left out of both. rs274 prints the moves in
+program coordinates and the G92 offset apart (SET_G92_OFFSET, in its line's units): the offset is
+added, giving the path frame's coordinates the reader reports; rotary axes are not compared (the
+reader ignores them while they hold one value).
 
 rs274 starts at the machine's zero with the reference positions #5161-#5183 at zero and no work
 offset; the reader is given the same machine (``Machine`` with zero offset and references). Each
@@ -205,6 +208,40 @@ G0 Z10
 M30
 %
 """,
+    "axis_offsets_g92": """G21 G90 G17 G0 X0 Y0 Z0
+G0 X10 Y5 Z2
+G92 X0 Y0
+G1 Z-1 F300
+G1 X5 Y5
+G2 X10 Y0 I5 J0
+G91 G1 X-2 Y-2
+G90 G92 Z10
+G1 Z8
+G92.2
+G1 X3 Y4 Z-1
+G92.3
+G1 X1 Y1
+G90.1 G3 X-1 Y1 I0 J1
+G91.1
+G0 X2 Y2 Z12
+G81 X4 Y4 Z5 R11 F120
+G80
+G92.1
+G0 X0 Y0 Z0
+G20 G92 X1
+G21 G1 X10 F200
+G92.3
+G1 Y3
+G0 @5 ^90
+M2
+""",
+    "extra_axes_held_at_one_value": """G21 G90 G17 G0 X0 Y0 Z0 A0 B15
+G1 X10 Y2 A0 F300
+G2 X20 Y2 I5 J0 B15
+G91 G1 Y5 A0 B0
+G90 G0 Z5 A0
+M2
+""",
     "polar_words": """G21 G90 G0 X0 Y0 Z0
 G0 X10 Y0 Z2
 G81 R1 Z-2 F90
@@ -228,6 +265,7 @@ def canonical(text):
     tolerance in mm), dwells as ("dwell", seconds); moves of no length left out; any other printed line fails."""
     events, position, plane, unit = [], np.zeros(3), "XY", 1.0  # mm per program unit
     feed, per_revolution, spindle = 0.0, False, 0.0
+    offset = np.zeros(3)  # G92's (mm): rs274 prints the moves in program coordinates, the offset in its line's units
     for line in text.splitlines():
         if line.strip() in ("", "executing"):
             continue
@@ -240,6 +278,8 @@ def canonical(text):
             unit = 25.4 if "INCHES" in arguments else 1.0
         elif name == "SELECT_PLANE":
             plane = arguments.rsplit("_", 1)[1]
+        elif name == "SET_G92_OFFSET":
+            offset = np.array(numbers[:3]) * unit
         elif name == "SET_FEED_RATE":  # units/min (rs274 turns G93's inverse time into it), or units/rev
             feed = numbers[0]
         elif name == "SET_FEED_MODE":
@@ -255,11 +295,12 @@ def canonical(text):
             if name == "ARC_FEED":
                 first, second, normal = PLANE_AXES[plane]
                 end = position.copy()
-                end[first], end[second], end[normal] = np.array(numbers[:2] + numbers[5:6]) * unit
-                events.append(("arc", end, np.array(numbers[2:4]) * unit, (first, second, normal), int(numbers[4]),
-                               rate, tolerance))
+                shift = offset[[first, second, normal]]
+                end[first], end[second], end[normal] = np.array(numbers[:2] + numbers[5:6]) * unit + shift
+                events.append(("arc", end, np.array(numbers[2:4]) * unit + shift[:2], (first, second, normal),
+                               int(numbers[4]), rate, tolerance))
             else:
-                end = np.array(numbers[:3]) * unit
+                end = np.array(numbers[:3]) * unit + offset
                 if np.abs(end - position).max() > 1e-12:
                     events.append(("rapid" if name == "STRAIGHT_TRAVERSE" else "line", end, None, None, None, rate,
                                    tolerance))
