@@ -150,11 +150,12 @@ def read_log(file: str | Path, robot: Robot) -> MeasuredLog:
     velocity, acceleration = (columns(rates[:len(joints)]), columns(rates[len(joints):])) if carried else (None, None)
     force = columns(list(TOOL_FORCE_COLUMNS)) if set(TOOL_FORCE_COLUMNS) & set(header) else None
     tool = joint = None
-    if {"x", "y", "z"} <= set(header):
-        if robot.task != "position":
-            raise LogFileError(path, "x", f"robot '{robot.name}' follows a pose: log its joint positions q_JOINT")
+    logs_tool = {"x", "y", "z"} <= set(header)
+    if logs_tool and robot.task == "position":
         tool = columns(["x", "y", "z"])
-    elif robot.is_serial:
+    elif robot.is_serial:  # a pose robot's trace has both: its joints say the pose
+        if logs_tool and f"q_{joints[0]}" not in header:
+            raise LogFileError(path, "x", f"robot '{robot.name}' follows a pose: log its joint positions q_JOINT")
         joint = columns([f"q_{name}" for name in joints])
     else:
         raise LogFileError(path, "x", "a closed-loop robot's log needs the tool position: columns x, y, z")

@@ -179,6 +179,29 @@ def test_a_trace_is_a_calibration_log(tmp_path, timing):
         assert result.values[DRIVE][constant] == pytest.approx(truth, rel=1e-5), constant
 
 
+def test_a_serial_arm_s_trace_is_a_calibration_log(tmp_path):
+    """The UR5 follows a pose: its trace's joint positions say it, and the groove's process force reaches the joints
+    through the arm's Jacobian; the hidden friction and resistance come back from the noise-free trace."""
+    from placement import Evaluator, EvaluatorSettings, load_path
+    from placement.output.report import write_trace
+
+    def lossier(document: dict) -> None:
+        for drive in document["drives"].values():
+            drive["motor"]["resistance_ohm"] *= 1.3
+            drive["friction"] = {"coulomb": 2.0, "viscous": 5.0}
+
+    hidden = load_robot(edited_copy("ur5", tmp_path, lossier))
+    placement = np.array([0.27858, -0.03713, 0.19443, *np.radians([-9.22, 20.05, -3.28])])  # its best for the groove
+    detail = Evaluator(hidden, load_path("examples/rect.yaml"), EvaluatorSettings(workers=1)).detail(placement)
+    write_trace(tmp_path / "trace.csv", hidden, detail)
+    robot = load_robot("ur5")
+    result = calibrate(robot, read_log(tmp_path / "trace.csv", robot), ["resistance_ohm", "coulomb", "viscous"])
+    stock = {name: drive.motor.resistance_ohm for name, drive in robot.named_drives.items()}
+    for name, values in result.values.items():
+        assert values == pytest.approx({"resistance_ohm": 1.3 * stock[name], "coulomb": 2.0, "viscous": 5.0},
+                                       rel=1e-5), name
+
+
 def test_a_log_whose_motion_mujoco_simulated(tmp_path):
     mujoco = pytest.importorskip("mujoco", reason="the optional test extra 'mujoco' is not installed")
     from placement.kinematics import joint_trajectory
