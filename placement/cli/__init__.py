@@ -19,6 +19,7 @@ traceback of an unexpected error instead of its one-line summary.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import warnings
 from importlib import metadata
@@ -104,6 +105,9 @@ def _main(argv: list[str]) -> int:
     except PlacementError as error:
         print(f"error: {error}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # the reader of the output stopped early (| head): not an error of the command
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # the exit's flush has nowhere to fail
+        return 141  # as a shell reports a command that SIGPIPE ended
     except OSError as error:  # a file could not be written after all (disk full, ...)
         print(f"error: {error}", file=sys.stderr)
         return 2

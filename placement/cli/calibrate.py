@@ -27,7 +27,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     """The 'calibrate' subcommand's options."""
     command = commands.add_parser("calibrate", help="fit drive constants to a measured log of current or power")
     command.add_argument("robot", help="robot name or path to a sidecar YAML file")
-    command.add_argument("--log", required=True, help="CSV: t; x, y, z or q_JOINT; power_JOINT and/or current_JOINT")
+    command.add_argument("--log", required=True, help="CSV: t; x, y, z or q_JOINT; power_JOINT and/or current_JOINT; optionally "
+                         "qd_JOINT and qdd_JOINT, tool_force_x/y/z (a --trace file, as it is)")
     command.add_argument("--fit", required=True, metavar="NAME,...",
                          help=f"constants to fit, for every drive: some of {', '.join(FITTABLE)}")
     command.add_argument("--held-out", type=float, default=0.3, metavar="SHARE",

@@ -1,6 +1,7 @@
 """The 'study' command: every path on every robot, one table.
 
     placement study --robots orthoglide,ur5 --paths examples/rect.yaml examples/circle.yaml --out study.csv
+        [--cell FILE] [--objective NAME] [--regen MODE] [--timing LAW] [--time-step S]
 """
 
 from __future__ import annotations
@@ -16,6 +17,8 @@ from dataclasses import asdict
 from tqdm import tqdm
 
 from placement.cli.common import (
+    add_cell_option,
+    add_model_options,
     add_sampling_options,
     add_scheduler_option,
     check_outputs,
@@ -25,8 +28,9 @@ from placement.cli.common import (
     whole_number,
 )
 from placement.cli.exceptions import UsageError
-from placement.energy.regeneration import REGENERATION
+from placement.evaluation.evaluator import EvaluatorSettings
 from placement.evaluation.parallel import cluster, scheduler_address
+from placement.objectives.base import OBJECTIVES
 from placement.output.report import write_atomically
 from placement.search.optimize import SearchSettings
 from placement.search.study import StudyRow, run_study
@@ -40,7 +44,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     command.add_argument("--paths", required=True, nargs="+", metavar="FILE", help="path files (YAML)")
     command.add_argument("--out", required=True, metavar="FILE.csv",
                          help="the table (CSV; also FILE.parquet when pyarrow is installed)")
-    command.add_argument("--regen", choices=REGENERATION.names(), default="clip", help="regeneration mode")
+    add_cell_option(command)
+    add_model_options(command)
     add_sampling_options(command)
     command.add_argument("--generations", type=whole_number(1, 100_000), default=SearchSettings.max_generations,
                          metavar="N", help=f"most generations of each search (default {SearchSettings.max_generations})")
@@ -59,14 +64,16 @@ def run(args: argparse.Namespace) -> int:
     if not names:
         raise UsageError("--robots: expected robot names or sidecar files, comma-separated")
     check_outputs(("--out", args.out), ("--out", args.out.removesuffix(".csv") + ".parquet"),
-                  inputs=(*args.paths, *(file for name in names for file in robot_files(name))))
-    robots = [load_robot_argument(name, None) for name in names]
+                  inputs=(*args.paths, *(file for name in names for file in robot_files(name, args.cell))))
+    OBJECTIVES.get(args.objective)  # an unknown name is refused before any robot is loaded
+    robots = [load_robot_argument(name, None, args.cell) for name in names]
     paths = [configured_path(args, file) for file in args.paths]
     settings = SearchSettings(seed=args.seed, max_generations=args.generations)
+    evaluation = EvaluatorSettings(objective=args.objective, regeneration=args.regen, time_step_s=args.time_step)
     with cluster(scheduler_address(args.scheduler)) as remote, \
             tqdm(desc="studying", total=len(robots) * len(paths), unit=" search", disable=args.quiet,
                  file=sys.stderr, leave=False) as bar:
-        rows = run_study(robots, paths, regeneration=args.regen, settings=settings,
+        rows = run_study(robots, paths, evaluation=evaluation, settings=settings,
                          executor=remote.executor if remote else None, workers=args.workers, progress=bar.update)
     print(format_table(rows))
     written = write_table(rows, args.out)
@@ -75,18 +82,23 @@ def run(args: argparse.Namespace) -> int:
 
 
 def format_table(rows: Sequence[StudyRow]) -> str:
-    """The study as a text table, one line per (robot, path) pair."""
+    """The study as a text table, one line per (robot, path) pair; for an objective other than energy, its values at
+    the best and worst placements come first, and the gain is the objective's."""
     fastest = any(not math.isnan(row.fastest_cycle_time_s) for row in rows)
-    lines = [f"{'robot':<14s}{'path':<34s}{'best J':>10s}{'worst J':>10s}{'gain':>8s}{'time s':>9s}"
+    ranked = next((row.objective for row in rows if row.objective != "energy"), None)
+    unit = f" {OBJECTIVES.get(ranked).unit}".rstrip() if ranked else ""
+    lines = [f"{'robot':<14s}{'path':<34s}" + (f"{'best' + unit:>12s}{'worst' + unit:>12s}" if ranked else "")
+             + f"{'best J':>10s}{'worst J':>10s}{'gain':>8s}{'time s':>9s}"
              + (f"{'fastest s':>10s}" if fastest else "") + "  feasible"]
     for row in rows:
         gain = "" if math.isnan(row.gain) else f"{row.gain * 100:.1f} %"
+        objective = "".join(f"{'' if math.isnan(v) else f'{v:.5g}':>12s}" for v in (row.best_value, row.worst_value))
         values = "".join(f"{'' if math.isnan(v) else f'{v:.4f}':>10s}" for v in (row.best_energy_J, row.worst_energy_J))
         verdict = "yes" if row.feasible else f"no: {row.reason}"
         quickest = f"{row.fastest_cycle_time_s:>10.4f}" if fastest else ""
-        lines.append(f"{row.robot[:13]:<14s}{row.path[:33]:<34s}{values}{gain:>8s}{row.cycle_time_s:>9.3f}{quickest}  "
-                     f"{verdict}")
-    return "\n".join(lines)
+        lines.append(f"{row.robot[:13]:<14s}{row.path[:33]:<34s}{objective if ranked else ''}{values}{gain:>8s}"
+                     f"{row.cycle_time_s:>9.3f}{quickest}  {verdict}")
+    return "\n".join(([f"ranked by {ranked}; the gain is its own"] if ranked else []) + lines)
 
 
 def write_table(rows: Sequence[StudyRow], csv_path: str) -> list[str]:

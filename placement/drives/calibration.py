@@ -13,6 +13,17 @@ robots with a position task) or ``q_JOINT`` for every actuated joint (serial rob
 actuator ``power_JOINT`` (W, electric), ``current_JOINT`` (A), or both. Power alone determines the
 resistance only together with the torque constant's square (the Joule power is n·R·τ²/K_t²), and
 current alone does not see the resistance: fit both constants from a log of both.
+
+A log of a cut carries the process force on the tool from the workpiece, in the base frame:
+``tool_force_x, tool_force_y, tool_force_z`` (N); the efforts it asks of the actuators are then
+part of the prediction.
+
+The motion's rates are the log's own where it carries them: ``qd_JOINT`` (m/s or rad/s) and
+``qdd_JOINT`` (m/s² or rad/s²) for every actuated joint, as ``placement --trace`` writes them. A
+log with them may repeat an instant: two rows of one time are the motion just before and just
+after a step of its acceleration (a timing law's segment end or switch), which no curve through
+the positions can follow. Without them, the rates are the derivatives of a quintic spline through
+the logged positions, and the times must increase.
 """
 
 from __future__ import annotations
@@ -25,6 +36,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+import pinocchio as pin
 from ruamel.yaml import YAML
 from ruamel.yaml.comments import CommentedMap
 from scipy.interpolate import make_interp_spline
@@ -36,6 +48,7 @@ from placement.dynamics.inverse import actuator_efforts
 from placement.energy.integration import sample_power
 from placement.exceptions import PlacementError
 from placement.kinematics import joint_trajectory
+from placement.kinematics.base import task_jacobian
 from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
 from placement.robot.model import Robot
 from placement.robot.sidecar import Drive
@@ -53,6 +66,7 @@ UNITS = {"power": "W", "current": "A"}
 MAX_LOG_ROWS = 1_000_000
 MAX_LOG_BYTES = 200_000_000
 SPLINE_ORDER = 5  # the logged positions' interpolation, whose derivatives are the motion's rates
+TOOL_FORCE_COLUMNS = ("tool_force_x", "tool_force_y", "tool_force_z")  # N, on the tool from the workpiece, base frame
 MAX_LOG_VALUE = 1e9  # beyond any time (s), position (m, rad), power (W) or current (A) of a machine
 
 
@@ -65,12 +79,18 @@ class MeasuredLog:
         tool_position_m: (N, 3) tool point in the base frame, or None.
         joint_position: (N, n_act) actuated joint positions (m or rad), or None.
         measured: {"power" (W) and/or "current" (A): (N, n_act), actuator order}.
+        joint_velocity: (N, n_act) actuated joint velocities (m/s or rad/s), or None: read off the positions.
+        joint_acceleration: (N, n_act) their accelerations (m/s² or rad/s²), given with the velocities.
+        tool_force_N: (N, 3) process force on the tool from the workpiece, in the base frame, or None.
     """
 
     t_s: np.ndarray
     tool_position_m: np.ndarray | None
     joint_position: np.ndarray | None
     measured: dict[str, np.ndarray]
+    joint_velocity: np.ndarray | None = None
+    joint_acceleration: np.ndarray | None = None
+    tool_force_N: np.ndarray | None = None
 
 
 def read_log(file: str | Path, robot: Robot) -> MeasuredLog:
@@ -116,14 +136,26 @@ def read_log(file: str | Path, robot: Robot) -> MeasuredLog:
         return values
 
     t = columns(["t"])[:, 0]
-    if not (np.diff(t) > 0).all():
-        raise LogFileError(path, "t", "times must increase from row to row")
+    rates = [f"{rate}_{name}" for rate in ("qd", "qdd") for name in joints]
+    carried = [name for name in rates if name in header]
+    if carried and len(carried) < len(rates):
+        missing = next(name for name in rates if name not in header)
+        raise LogFileError(path, missing, f"column missing: a log with {carried[0]} carries the rates qd_JOINT and "
+                           "qdd_JOINT of every actuated joint")
+    if not (np.diff(t) >= 0).all():
+        raise LogFileError(path, "t", "times must not decrease from row to row")
+    if not carried and not (np.diff(t) > 0).all():
+        raise LogFileError(path, "t", "times must increase from row to row, or the log must carry the rates "
+                           "(columns qd_JOINT and qdd_JOINT) to repeat an instant")
+    velocity, acceleration = (columns(rates[:len(joints)]), columns(rates[len(joints):])) if carried else (None, None)
+    force = columns(list(TOOL_FORCE_COLUMNS)) if set(TOOL_FORCE_COLUMNS) & set(header) else None
     tool = joint = None
-    if {"x", "y", "z"} <= set(header):
-        if robot.task != "position":
-            raise LogFileError(path, "x", f"robot '{robot.name}' follows a pose: log its joint positions q_JOINT")
+    logs_tool = {"x", "y", "z"} <= set(header)
+    if logs_tool and robot.task == "position":
         tool = columns(["x", "y", "z"])
-    elif robot.is_serial:
+    elif robot.is_serial:  # a pose robot's trace has both: its joints say the pose
+        if logs_tool and f"q_{joints[0]}" not in header:
+            raise LogFileError(path, "x", f"robot '{robot.name}' follows a pose: log its joint positions q_JOINT")
         joint = columns([f"q_{name}" for name in joints])
     else:
         raise LogFileError(path, "x", "a closed-loop robot's log needs the tool position: columns x, y, z")
@@ -135,7 +167,7 @@ def read_log(file: str | Path, robot: Robot) -> MeasuredLog:
     for quantity, values in measured.items():
         if not values.any():
             raise LogFileError(path, f"{quantity}_{joints[0]}", f"every {quantity} value is zero: nothing was measured")
-    return MeasuredLog(t, tool, joint, measured)
+    return MeasuredLog(t, tool, joint, measured, velocity, acceleration, force)
 
 
 @dataclass(frozen=True)
@@ -203,18 +235,56 @@ def _motion(robot: Robot, log: MeasuredLog) -> _Motion:
     bare = dataclasses.replace(robot, model=model)
     t = log.t_s
     if log.tool_position_m is not None:
-        task = TaskTrajectory(log.tool_position_m, *_rates(t, log.tool_position_m))
-        joints = joint_trajectory(bare, task)
+        joints = joint_trajectory(bare, _tool_motion(bare, log))
     else:
         assert log.joint_position is not None  # read_log gives one or the other
         q = np.tile(robot.reference_q, (len(t), 1))
         q[:, robot.actuated_q_indices] = log.joint_position
         v, a = np.zeros((len(t), model.nv)), np.zeros((len(t), model.nv))
-        v[:, robot.actuated_v_indices], a[:, robot.actuated_v_indices] = _rates(t, log.joint_position)
+        v[:, robot.actuated_v_indices], a[:, robot.actuated_v_indices] = (
+            _rates(t, log.joint_position) if log.joint_velocity is None else (log.joint_velocity, log.joint_acceleration))
         basis = np.broadcast_to(np.eye(model.nv)[:, robot.actuated_v_indices], (len(t), model.nv, len(robot.actuators)))
-        joints = JointTrajectory(q, v, a, basis, np.zeros((len(t), 0, len(robot.actuators))))
+        task_map = (np.zeros((len(t), 0, len(robot.actuators))) if log.tool_force_N is None  # not needed
+                    else _serial_task_map(bare, q))
+        joints = JointTrajectory(q, v, a, basis, task_map)
     act = robot.actuated_v_indices
-    return _Motion(joints.v[:, act], joints.a[:, act], actuator_efforts(bare, joints))
+    load = None
+    if log.tool_force_N is not None:  # a force on the tool, no moment
+        load = np.zeros((len(t), joints.task_map.shape[1]))
+        load[:, :3] = log.tool_force_N
+    velocity, acceleration = joints.v[:, act], joints.a[:, act]
+    if log.joint_velocity is not None and log.joint_acceleration is not None:
+        velocity, acceleration = log.joint_velocity, log.joint_acceleration  # as logged: a speed of 0 has no sign
+    return _Motion(velocity, acceleration, actuator_efforts(bare, joints, load))
+
+
+def _serial_task_map(robot: Robot, q: np.ndarray) -> np.ndarray:
+    """(N, task_dim, n_act) tool velocity per unit actuator velocity of a serial robot at configurations (N, nq)."""
+    data = robot.model.createData()
+    task_map = np.empty((len(q), robot.task_dimension, len(robot.actuators)))
+    for k, configuration in enumerate(q):
+        pin.computeJointJacobians(robot.model, data, configuration)
+        pin.updateFramePlacements(robot.model, data)
+        task_map[k] = task_jacobian(robot, data, robot.task_dimension)[:, robot.actuated_v_indices]
+    return task_map
+
+
+def _tool_motion(robot: Robot, log: MeasuredLog) -> TaskTrajectory:
+    """The logged tool motion: its rates read off the positions, or mapped from the actuators' logged rates.
+
+    The tool's velocity is M·ρ̇, with M = J_task·G the task map at the logged position and ρ̇ the
+    actuators' velocities. Their acceleration is affine in the tool's, ρ̈ = ρ̈₀ + M⁻¹·ẍ, where ρ̈₀
+    is theirs when the tool moves at that velocity without accelerating; hence ẍ = M·(ρ̈ − ρ̈₀).
+    """
+    position = log.tool_position_m
+    assert position is not None  # a tool log
+    if log.joint_velocity is None or log.joint_acceleration is None:
+        return TaskTrajectory(position, *_rates(log.t_s, position))
+    at_rest = np.zeros_like(position)
+    task_map = joint_trajectory(robot, TaskTrajectory(position, at_rest, at_rest)).task_map
+    velocity = np.einsum("nij,nj->ni", task_map, log.joint_velocity)
+    unaccelerated = joint_trajectory(robot, TaskTrajectory(position, velocity, at_rest)).a[:, robot.actuated_v_indices]
+    return TaskTrajectory(position, velocity, np.einsum("nij,nj->ni", task_map, log.joint_acceleration - unaccelerated))
 
 
 def _rates(t_s: np.ndarray, position: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

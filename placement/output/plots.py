@@ -14,6 +14,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.axes import Axes  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
+from matplotlib.transforms import Bbox  # noqa: E402
 
 from placement.drives.calibration import UNITS, Calibration
 from placement.objectives.base import OBJECTIVES
@@ -23,6 +24,10 @@ from placement.search.feed import FeedStudy  # noqa: E402
 from placement.search.pareto import ParetoFront  # noqa: E402
 from placement.search.sweep import SweepResult  # noqa: E402
 
+# Where a point's label may sit (points from the point), nearest first: diagonals, then the sides, farther and farther.
+LABEL_OFFSETS_PT = [(sx * r, sy * r) for r in (5, 12, 22, 34, 48)
+                    for sx, sy in ((1, 1), (1, -1), (-1, 1), (-1, -1), (1, 0), (-1, 0), (0, 1), (0, -1))]
+LEADER = {"arrowstyle": "-", "color": "0.6", "linewidth": 0.5, "shrinkA": 0, "shrinkB": 3}  # to a label set apart
 LABELS = {"x": "$x_{Op}$ (mm)", "y": "$y_{Op}$ (mm)", "z": "$z_{Op}$ (mm)", "phi": r"$\phi$ (deg)",
           "theta": r"$\theta$ (deg)", "psi": r"$\psi$ (deg)"}
 
@@ -101,15 +106,15 @@ def feed_figure(study: FeedStudy, title: str) -> Figure:
     ax.scatter(study.time_s[study.feasible], study.energy_J[study.feasible], color="C0", zorder=3, label="limits hold")
     ax.scatter(study.time_s[~study.feasible], study.energy_J[~study.feasible], facecolors="none", edgecolors="C3",
                zorder=3, label="a limit is broken")
-    labelled: set[tuple[float, float]] = set()
-    for speed, t, e in zip(study.top_speed_m_s, study.time_s, study.energy_J, strict=True):
-        if (round(t, 6), round(e, 6)) not in labelled:  # feeds the timing law cannot reach give the same point
-            labelled.add((round(t, 6), round(e, 6)))
-            ax.annotate(f"{speed:.2g} m/s", (t, e), textcoords="offset points", xytext=(4, 4), fontsize=7)
     ax.set_xlabel("time per part (s)")
     ax.set_ylabel("electric energy per part (J)")
     ax.set_title(title, fontsize=10)
     ax.legend(fontsize=8)
+    labelled: dict[tuple[float, float], str] = {}
+    for speed, t, e in zip(study.top_speed_m_s, study.time_s, study.energy_J, strict=True):
+        if np.isfinite(e):  # feeds the timing law cannot reach give the same point: one label
+            labelled.setdefault((round(float(t), 6), round(float(e), 6)), f"{speed:.2g} m/s")
+    place_labels(ax, list(labelled), list(labelled.values()), ["black"] * len(labelled))
     return figure
 
 
@@ -123,17 +128,64 @@ def front_figure(front: ParetoFront, title: str) -> Figure:
         ax.plot(values[:, i], values[:, j], "o", color="C0", markersize=4, label="front (limits hold)")
         if front.knee is not None:
             ax.plot(*values[front.knee, [i, j]], "*", color="C1", markersize=14, label="knee")
-        for k, name in enumerate(front.objectives):
-            end = values[front.end(name)]
+        ends = [values[front.end(name)] for name in front.objectives]
+        for k, (name, end) in enumerate(zip(front.objectives, ends, strict=True)):
             ax.plot(end[i], end[j], "s", markerfacecolor="none", markeredgecolor=f"C{k + 2}", markersize=11,
                     label=f"optimum of {name}")
-            ax.annotate(with_unit(front.optima[name], OBJECTIVES.get(name).unit), (end[i], end[j]),
-                        textcoords="offset points", xytext=(6, 6), fontsize=7, color=f"C{k + 2}")
         ax.set_xlabel(labels[i])
         ax.set_ylabel(labels[j])
         ax.legend(fontsize=8)
+        place_labels(ax, [(end[i], end[j]) for end in ends],
+                     [with_unit(front.optima[name], OBJECTIVES.get(name).unit) for name in front.objectives],
+                     [f"C{k + 2}" for k in range(len(ends))])
     figure.suptitle(title, fontsize=10)
     return figure
+
+
+def place_labels(ax: Axes, points: list[tuple[float, float]], texts: list[str], colors: list[str],
+                 fontsize: float = 7) -> None:
+    """Annotate points (data coordinates) so that no label overlaps another, the legend or a data point.
+
+    Each label, in turn, takes the first of :data:`LABEL_OFFSETS_PT` around its point where its box,
+    measured on the rendered figure, meets none of these and stays inside the axes; where none does,
+    the first that stays clear of the other labels, else the farthest; a label set apart from its point
+    has a thin line to it. Call it once the rest of the
+    axes is drawn: the layout is settled first, and the labels take no part in it.
+    """
+    figure = ax.get_figure()
+    assert isinstance(figure, Figure)
+    figure.canvas.draw()  # settles the constrained layout: the boxes are measured where they will be drawn
+    renderer = figure.canvas.get_renderer()  # type: ignore[attr-defined]
+    frame = ax.get_window_extent(renderer)
+    legend = ax.get_legend()
+    marks = [Bbox.from_bounds(x - 3, y - 3, 6, 6) for x, y in ax.transData.transform(np.asarray(points).reshape(-1, 2))]
+    taken: list[Bbox] = [legend.get_window_extent(renderer)] if legend is not None else []
+
+    def label_at(point: tuple[float, float], text: str, color: str, offset: tuple[float, float]) -> Bbox:
+        dx, dy = offset
+        label = ax.annotate(text, point, textcoords="offset points", xytext=offset, fontsize=fontsize, color=color,
+                            ha="left" if dx > 0 else "right" if dx < 0 else "center",
+                            va="bottom" if dy > 0 else "top" if dy < 0 else "center",
+                            arrowprops=None if max(abs(dx), abs(dy)) <= LABEL_OFFSETS_PT[0][0] else LEADER)
+        label.set_in_layout(False)
+        return label.get_window_extent(renderer)
+
+    for point, text, color in zip(points, texts, colors, strict=True):
+        fallback = None
+        for offset in LABEL_OFFSETS_PT:
+            box = label_at(point, text, color, offset)
+            clear = not any(box.overlaps(other) for other in taken)
+            if clear and _inside(box, frame) and not any(box.overlaps(mark) for mark in marks):
+                break
+            fallback = fallback or (offset if clear else None)
+            ax.texts[-1].remove()
+        else:
+            box = label_at(point, text, color, fallback or LABEL_OFFSETS_PT[-1])
+        taken.append(box)
+
+
+def _inside(box: Bbox, frame: Bbox) -> bool:
+    return frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1
 
 
 def _axis_label(name: str) -> str:

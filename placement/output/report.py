@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from placement.drives.calibration import TOOL_FORCE_COLUMNS
 from placement.drives.duty import SECONDS_PER_HOUR, DutyCycle, duty_cycle, rating_status
 from placement.drives.trace import Drives
 from placement.energy.integration import interval_widths
@@ -24,7 +25,7 @@ from placement.limits.base import Margin
 from placement.limits.collision import closest_points
 from placement.objectives.base import OBJECTIVES, quantity, wording
 from placement.path.toolpath import ToolPath
-from placement.placing.transform import ANGLES, VARIABLES, describe_plane
+from placement.placing.transform import ANGLES, VARIABLES, describe_plane, transform_path_to_base
 from placement.robot.model import Robot
 from placement.search.optimize import Optimum, PlacementResult
 from placement.search.reporting import REPORTED_DECIMALS
@@ -321,18 +322,23 @@ def write_trace(path: str | Path, robot: Robot, detail: PlacementDetail) -> None
     """Write the per-sample CSV trace of one placement (SI units), atomically.
 
     Columns: t, x, y, z (tool point in the base frame), speed (the tool's speed along the path, m/s),
-    then for each actuator, named by its joint: q_JOINT, qd_JOINT, qdd_JOINT, force_JOINT (N or N·m at
-    the joint), motor_speed_JOINT (rad/s), motor_torque_JOINT (N·m), current_JOINT (A), power_JOINT
-    (W, electric). The names are a calibration log's (:func:`placement.drives.calibration.read_log`),
-    so a trace whose times increase (no repeated instant) calibrates the drives it was made with.
+    tool_force_x, tool_force_y, tool_force_z (the process force on the tool from the workpiece, base
+    frame, N), then for each actuator, named by its joint: q_JOINT, qd_JOINT, qdd_JOINT, force_JOINT
+    (N or N·m at the joint), motor_speed_JOINT (rad/s), motor_torque_JOINT (N·m), current_JOINT (A),
+    power_JOINT (W, electric). The names are a calibration log's
+    (:func:`placement.drives.calibration.read_log`): the trace calibrates the drives it was made with,
+    its rates and process force included. Two rows of one time are the motion either side of a step
+    in its acceleration (a segment's end, a switch of the optimal timing law).
     """
     names = [actuator.joint for actuator in robot.actuators]
     quantities = ("q", "qd", "qdd", "force", "motor_speed", "motor_torque", "current", "power")
-    columns = ["t", "x", "y", "z", "speed"] + [f"{quantity}_{name}" for name in names for quantity in quantities]
+    columns = ["t", "x", "y", "z", "speed", *TOOL_FORCE_COLUMNS] + [f"{quantity}_{name}" for name in names
+                                                                   for quantity in quantities]
     per_actuator = [detail.position, detail.velocity, detail.acceleration, detail.effort, detail.motor.speed_rad_s,
                     detail.motor.torque_Nm, detail.motor.current_A, detail.power_W]
     speed = np.linalg.norm(detail.samples.velocity_m_s, axis=1)
-    table = np.column_stack([detail.samples.t_s, detail.tool_position_m, speed]
+    force = transform_path_to_base(detail.samples, detail.placement, robot.plane)[1]
+    table = np.column_stack([detail.samples.t_s, detail.tool_position_m, speed, force]
                             + [values[:, i] for i in range(len(names)) for values in per_actuator])
     buffer = io.StringIO()
     writer = csv.writer(buffer)

@@ -103,10 +103,10 @@ def test_main_job_reports_best_worst_and_gain_and_writes_json_and_trace(tmp_path
     np.testing.assert_allclose(again.value, [document["best"]["energy_J"], document["worst"]["energy_J"]], rtol=1e-12)
     assert document["gain"] == pytest.approx((again.value[1] - again.value[0]) / again.value[1], rel=1e-12)
     rows = list(csv.reader(out_csv.open()))
-    assert rows[0][:5] == ["t", "x", "y", "z", "speed"] and rows[0][5:13] == [
-        "q_slider_x", "qd_slider_x", "qdd_slider_x", "force_slider_x", "motor_speed_slider_x", "motor_torque_slider_x",
-        "current_slider_x", "power_slider_x"]  # a calibration log's names
-    assert len(rows[0]) == 5 + 3 * 8 and len(rows) > 40
+    assert rows[0][:8] == ["t", "x", "y", "z", "speed", "tool_force_x", "tool_force_y", "tool_force_z"]
+    assert rows[0][8:16] == ["q_slider_x", "qd_slider_x", "qdd_slider_x", "force_slider_x", "motor_speed_slider_x",
+                             "motor_torque_slider_x", "current_slider_x", "power_slider_x"]  # a calibration log's names
+    assert len(rows[0]) == 8 + 3 * 8 and len(rows) > 40
     # The trace is the best placement's: its tool points are the path placed there.
     from placement.placing.transform import transform_path_to_base
 
@@ -117,7 +117,7 @@ def test_main_job_reports_best_worst_and_gain_and_writes_json_and_trace(tmp_path
     # The duty cycle: the best's RMS motor torques are those of the trace's torque column (trapezoid rule), the
     # ratio is to the Orthoglide's rating, and nothing but the pass limits the rate (no rest asked for)
     table = np.array(rows[1:], dtype=float)
-    torque = table[:, [5 + 8 * i + 5 for i in range(3)]]  # after t, x, y, z and speed: motor_torque_JOINT
+    torque = table[:, [rows[0].index(f"motor_torque_{name}") for name in ("slider_x", "slider_y", "slider_z")]]
     duty = document["best"]["duty"]
     rms = np.sqrt(np.trapezoid(torque**2, table[:, 0], axis=0) / (table[-1, 0] - table[0, 0]))
     np.testing.assert_allclose(list(duty["rms_torque_Nm"].values()), rms, rtol=1e-6)

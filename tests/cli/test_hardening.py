@@ -1,7 +1,10 @@
 """Bad and hostile input: a clear message naming what is wrong and exit 2, never a traceback,
 never exit 0 on nonsense; outputs never clobber inputs, links or devices."""
 
+import os
 import stat
+import subprocess
+import sys
 
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -267,3 +270,16 @@ def test_more_unclear_inputs_are_named(tmp_path, capsys):
     for argv, expected in cases:
         code, err = run(argv, capsys)
         assert code == 2 and expected in err, (argv, err)
+
+
+def test_a_reader_that_stops_early_ends_the_command_quietly():
+    """`placement robots | head -0`: the output's pipe is closed before a line is written; the command stops with
+    the shell's code for it, 141, and no error message."""
+    read, write = os.pipe()
+    os.close(read)
+    try:
+        done = subprocess.run([sys.executable, "-m", "placement", "robots"], stdout=write, stderr=subprocess.PIPE,
+                              text=True, timeout=120)
+    finally:
+        os.close(write)
+    assert (done.returncode, done.stderr) == (141, "")

@@ -14,6 +14,7 @@ import pytest
 from placement import load_robot
 from placement.cli import main
 from placement.drives.calibration import FITTABLE, MeasuredLog, calibrate, read_log
+from placement.drives.exceptions import LogFileError
 from placement.drives.trace import motor_trace
 from placement.dynamics.inverse import inverse_dynamics
 from placement.energy.integration import sample_power
@@ -154,23 +155,51 @@ def test_the_command_writes_a_calibrated_robot_that_loads(hidden_log, tmp_path, 
     assert robot.sources[f"drives.{DRIVE}.motor.resistance_ohm"].startswith("CALIBRATED: fitted to log.csv")
 
 
-def test_a_trace_is_a_calibration_log(tmp_path):
-    """placement --trace writes a log calibrate reads: a hidden robot's trace along the realistic circle, without
-    process forces, gives back its friction to 5 %. Not closer: the trace starts and ends at rest, where Coulomb
-    friction is 0 (sign(0)), but the speed read off the logged positions there is ~1e-7 m/s of either sign."""
+@pytest.mark.parametrize("timing", ["paper", "optimal", "realistic"])
+def test_a_trace_is_a_calibration_log(tmp_path, timing):
+    """placement --trace writes a log calibrate reads as it is: a hidden robot's noise-free trace of the groove
+    (its process forces included) gives back every hidden constant, under each timing law. The paper and optimal
+    laws repeat instants where the acceleration steps (a segment's end, a switch): the fit takes the motion's rates
+    from the trace's qd and qdd columns, so each of the two rows is the motion on its side of the step."""
+    from placement import Evaluator, EvaluatorSettings, load_path
+    from placement.output.report import write_trace
+    from placement.timing.rules import override_timing
+
+    hidden = load_robot(edited_copy("orthoglide", tmp_path, hide))
+    path = override_timing(load_path("examples/rect.yaml"), timing)
+    detail = Evaluator(hidden, path, EvaluatorSettings(workers=1)).detail(
+        np.array([0.0, 0.0, -0.03, 0.3, 0.0, 0.0]))  # turned: every slider moves (Coulomb friction needs a sign)
+    write_trace(tmp_path / "trace.csv", hidden, detail)
+    robot = load_robot("orthoglide")
+    log = read_log(tmp_path / "trace.csv", robot)
+    assert (np.diff(log.t_s) == 0).any() == (timing != "realistic")  # the instants repeated, where they are
+    assert np.abs(log.tool_force_N).max() > 200  # the groove's radial force, carried
+    result = calibrate(robot, log, list(FITTABLE))
+    for constant, truth in HIDDEN.items():
+        assert result.values[DRIVE][constant] == pytest.approx(truth, rel=1e-5), constant
+
+
+def test_a_serial_arm_s_trace_is_a_calibration_log(tmp_path):
+    """The UR5 follows a pose: its trace's joint positions say it, and the groove's process force reaches the joints
+    through the arm's Jacobian; the hidden friction and resistance come back from the noise-free trace."""
     from placement import Evaluator, EvaluatorSettings, load_path
     from placement.output.report import write_trace
 
-    hidden = load_robot(edited_copy("orthoglide", tmp_path, lambda d: d["drives"][DRIVE].update(
-        friction={"coulomb": 15.0, "viscous": 25.0})))
-    circle = tmp_path / "circle.yaml"  # the example's circle without its process forces, which a log does not see
-    circle.write_text(re.sub(r"process_forces_N:.*\n", "", open("examples/circle.yaml").read()))
-    detail = Evaluator(hidden, load_path(circle), EvaluatorSettings(workers=1)).detail(
-        np.array([0.0, 0.0, -0.03, 0.0, 0.6, 0.4]))  # tilted: every slider moves (Coulomb friction needs a sign)
+    def lossier(document: dict) -> None:
+        for drive in document["drives"].values():
+            drive["motor"]["resistance_ohm"] *= 1.3
+            drive["friction"] = {"coulomb": 2.0, "viscous": 5.0}
+
+    hidden = load_robot(edited_copy("ur5", tmp_path, lossier))
+    placement = np.array([0.27858, -0.03713, 0.19443, *np.radians([-9.22, 20.05, -3.28])])  # its best for the groove
+    detail = Evaluator(hidden, load_path("examples/rect.yaml"), EvaluatorSettings(workers=1)).detail(placement)
     write_trace(tmp_path / "trace.csv", hidden, detail)
-    robot = load_robot("orthoglide")
-    result = calibrate(robot, read_log(tmp_path / "trace.csv", robot), ["coulomb", "viscous"])
-    assert result.values[DRIVE] == pytest.approx({"coulomb": 15.0, "viscous": 25.0}, rel=0.05)
+    robot = load_robot("ur5")
+    result = calibrate(robot, read_log(tmp_path / "trace.csv", robot), ["resistance_ohm", "coulomb", "viscous"])
+    stock = {name: drive.motor.resistance_ohm for name, drive in robot.named_drives.items()}
+    for name, values in result.values.items():
+        assert values == pytest.approx({"resistance_ohm": 1.3 * stock[name], "coulomb": 2.0, "viscous": 5.0},
+                                       rel=1e-5), name
 
 
 def test_a_log_whose_motion_mujoco_simulated(tmp_path):
@@ -248,3 +277,22 @@ def test_changed_drives_reach_the_actuators_that_name_them_and_travel_to_workers
     assert copy.named_drives[DRIVE] == changed and copy.actuators == new.actuators and copy.closed_form is not None
     with pytest.raises(KeyError, match="unknown drive"):
         robot.with_drives({"no_such_drive": changed})
+
+
+def test_a_repeated_instant_needs_the_logged_rates(hidden_log, tmp_path):
+    """Without the rates, the motion's are read off the positions, which cannot step: a repeated time is refused,
+    and so is a log that carries some rate columns but not all."""
+    _, t, tool, power, _, _ = hidden_log
+    stepped = t.copy()
+    stepped[5] = stepped[4]
+    robot = load_robot("orthoglide")
+    with pytest.raises(LogFileError, match="carry the rates"):
+        read_log(write_log(tmp_path / "repeated.csv", stepped, tool, power), robot)
+    partial = tmp_path / "partial.csv"
+    with open(partial, "w", newline="") as stream:
+        writer = csv.writer(stream)
+        writer.writerow(["t", "x", "y", "z", "qd_slider_x", "qd_slider_y", "qd_slider_z", "qdd_slider_x"]
+                        + [f"power_{n}" for n in ("slider_x", "slider_y", "slider_z")])
+        writer.writerows(np.hstack([t[:, None], tool, np.zeros((len(t), 4)), power]).tolist())
+    with pytest.raises(LogFileError, match="qdd_slider_y.*column missing"):
+        read_log(partial, robot)

@@ -6,10 +6,13 @@ import csv
 import dataclasses
 import math
 
+import numpy as np
 import pytest
 
-from placement import EvaluatorSettings, load_path, load_robot
+from placement import Evaluator, EvaluatorSettings, load_path, load_robot
 from placement.__main__ import main
+from placement.cell.schema import load_cell
+from placement.cell.tool import equip
 from placement.path.schema import Timing
 from placement.search.optimize import SearchSettings, optimize_placement
 from placement.search.study import run_study
@@ -48,3 +51,43 @@ def test_the_study_command_writes_one_row_per_pair_and_exits_2_when_one_is_infea
     assert code == 2 and "motor torque" in rows[1]["reason"]
     assert "fivebar" in capsys.readouterr().out
     assert main(["study", "--robots", "orthoglide", "--paths", "examples/rect.yaml", "--out", "x.txt"]) == 2
+
+
+def _study_rows(tmp_path, *options):
+    out = tmp_path / "study.csv"
+    assert main(["study", "--robots", "orthoglide", "--paths", "examples/rect.yaml", "--out", str(out),
+                 "--generations", "5", "--workers", "1", "--quiet", *options]) == 0
+    return list(csv.DictReader(out.open()))
+
+
+def _placement(row):
+    return np.array([float(row[name]) for name in ("x_m", "y_m", "z_m", "phi_rad", "theta_rad", "psi_rad")])
+
+
+def test_the_study_command_samples_the_paths_at_its_time_step(tmp_path):
+    """--time-step: the row's energy is that of the best placement on the coarser sampling, not the file's."""
+    (row,) = _study_rows(tmp_path, "--time-step", "0.004")
+    robot, path = load_robot("orthoglide"), load_path("examples/rect.yaml")
+    coarse, fine = (Evaluator(robot, path, EvaluatorSettings(time_step_s=step, workers=1)).detail(_placement(row))
+                    for step in (0.004, None))
+    assert len(coarse.samples) < len(fine.samples) / 3
+    assert float(row["best_energy_J"]) == pytest.approx(coarse.energy.total_J, rel=1e-12)
+    assert float(row["best_energy_J"]) != pytest.approx(fine.energy.total_J, rel=1e-6)
+
+
+def test_the_study_command_ranks_by_its_objective_in_its_cell(tmp_path):
+    """--objective and --cell, as the main command has them: the row's placements are ranked by the peak torque of
+    the robot carrying the cell's 2 kg spindle, and its energies are that robot's."""
+    cell = tmp_path / "spindle.yaml"
+    cell.write_text("description: a 2 kg spindle on the tool frame\ntool: {name: spindle, frame: tool, mass_kg: 2.0, "
+                    "com_m: [0, 0, 0.05], inertia_kg_m2: [0.001, 0.001, 0.0006, 0, 0, 0]}\n")
+    (row,) = _study_rows(tmp_path, "--objective", "peak_torque", "--cell", str(cell))
+    assert row["objective"] == "peak_torque" and float(row["best_value"]) < float(row["worst_value"])
+    path = load_path("examples/rect.yaml")
+    bare = load_robot("orthoglide")
+    equipped = equip(bare, load_cell(cell))
+    detail = Evaluator(equipped, path, EvaluatorSettings(objective="peak_torque", workers=1)).detail(_placement(row))
+    assert float(row["best_value"]) == pytest.approx(detail.value, rel=1e-12)
+    assert float(row["best_energy_J"]) == pytest.approx(detail.energy.total_J, rel=1e-12)
+    alone = Evaluator(bare, path, EvaluatorSettings(objective="peak_torque", workers=1)).detail(_placement(row))
+    assert alone.value < 0.99 * detail.value  # the spindle's weight is in the row
