@@ -16,9 +16,10 @@ applies to the robot, an installed one included. The built-in ones:
 
 A bound with a term in ṡ alone is a speed bound. Otherwise the term w·ṡ (viscous friction,
 back-EMF) is not linear in (s̈, ṡ²), the variables of TOPP-RA (Pham and Pham, IEEE T-RO 2018; its
-passes compiled and batched over the placements in :mod:`placement.timing.topp`): it is bounded by its tangent ṡ ≤ (ṡ² + x̄)/(2·√x̄) at the speed bound x̄ = ṡ_max²
-where it raises the bounded value, and by its chord ṡ ≥ ṡ²/√x̄ where it lowers it. Both hold for
-every ṡ up to the speed bound, so the rows never allow what the limit forbids.
+passes compiled and batched over the placements in :mod:`placement.timing.topp`): it is bounded
+by its tangent ṡ ≤ (ṡ² + x̄)/(2·√x̄) at the speed bound x̄ = ṡ_max² where it raises the bounded
+value, and by its chord ṡ ≥ ṡ²/√x̄ where it lowers it. Both hold for every ṡ up to the speed
+bound, so the rows never allow what the limit forbids.
 
 TOPP-RA keeps each bound at both ends of every interval between samples, with a margin of
 ``SAFETY``. Its s̈ is constant on each interval and switches at the samples, so the exact chain
