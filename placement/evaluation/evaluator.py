@@ -124,8 +124,7 @@ class Evaluator:
         self.geometry = path.geometry(step, settings.refine) if path.timing.mode == "optimal" else None
         self.samples = path.sample(step) if self.geometry is None else self.geometry.evaluated_samples
         self.evaluations = 0  # placements evaluated so far
-        # Placements are timed one by one under the optimal timing law: worth sharing among processes too.
-        spread = executor is not None or not self.solver.vectorized or self.geometry is not None
+        spread = executor is not None or not self.solver.vectorized
         cores = (os.cpu_count() or 1) if multiprocessing.parent_process() is None else 1
         self.workers = (settings.workers or cores) if spread else 1
         self.executor = executor

@@ -15,10 +15,11 @@ applies to the robot, an installed one included. The built-in ones:
   (:class:`placement.limits.motors.DriveVoltage`, which checks L·dI/dt on the timed samples).
 
 A bound with a term in ṡ alone is a speed bound. Otherwise the term w·ṡ (viscous friction,
-back-EMF) is not linear in (s̈, ṡ²), the variables of TOPP-RA (Pham and Pham, IEEE T-RO 2018, the
-``toppra`` package): it is bounded by its tangent ṡ ≤ (ṡ² + x̄)/(2·√x̄) at the speed bound x̄ = ṡ_max²
-where it raises the bounded value, and by its chord ṡ ≥ ṡ²/√x̄ where it lowers it. Both hold for
-every ṡ up to the speed bound, so the rows never allow what the limit forbids.
+back-EMF) is not linear in (s̈, ṡ²), the variables of TOPP-RA (Pham and Pham, IEEE T-RO 2018; its
+passes compiled and batched over the placements in :mod:`placement.timing.topp`): it is bounded
+by its tangent ṡ ≤ (ṡ² + x̄)/(2·√x̄) at the speed bound x̄ = ṡ_max² where it raises the bounded
+value, and by its chord ṡ ≥ ṡ²/√x̄ where it lowers it. Both hold for every ṡ up to the speed
+bound, so the rows never allow what the limit forbids.
 
 TOPP-RA keeps each bound at both ends of every interval between samples, with a margin of
 ``SAFETY``. Its s̈ is constant on each interval and switches at the samples, so the exact chain
@@ -33,9 +34,6 @@ G-code dwell) is a run of two samples at rest, not timed by TOPP-RA but by its d
 
 from __future__ import annotations
 
-import logging
-from functools import cache
-from types import ModuleType
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -44,52 +42,12 @@ from placement.dynamics.path import PathDynamics
 from placement.limits.base import PathBound, path_bounds
 from placement.robot.model import Robot
 from placement.timing.law import TimeLaw
+from placement.timing.topp import time_placements
 
 if TYPE_CHECKING:
     from placement.path.samples import PathGeometry
 
 SAFETY = 0.99  # share of each limit the timing law may use (the exact chain checks the rest)
-
-
-@cache
-def _toppra() -> tuple[ModuleType, type]:
-    """toppra and the constraint class built on it, imported on first use (toppra loads matplotlib: 0.4 s)."""
-    import toppra
-    import toppra.algorithm
-    import toppra.constraint
-
-    logging.getLogger("toppra").setLevel(logging.ERROR)  # an infeasible run is an answer, reported by the limits
-
-    class Given(toppra.constraint.LinearConstraint):
-        """Constraint rows a·s̈ + b·ṡ² + c ≤ 0 and bounds on ṡ², computed beforehand for one run."""
-
-        def __init__(self, a: np.ndarray | None, b: np.ndarray | None, c: np.ndarray | None,
-                     x_max: np.ndarray) -> None:
-            super().__init__()
-            self.set_discretization_type(toppra.constraint.DiscretizationType.Interpolation)
-            self.identical = True
-            self._rows = (a, b, c)
-            self._x_max = x_max
-
-        def compute_constraint_params(self, path: object, gridpoints: np.ndarray, *args: object,
-                                      **kwargs: object) -> tuple:
-            a, b, c = self._rows
-            xbound = np.column_stack([np.zeros(len(gridpoints)), self._x_max])
-            if a is None:
-                return None, None, None, None, None, None, xbound
-            rows = a.shape[1]
-            a, b, c, F, g, _, _ = toppra.constraint.canlinear_colloc_to_interpolate(
-                a, b, c, np.eye(rows), np.zeros(rows), None, None, gridpoints, identical=True)
-            return a, b, c, F, g, None, xbound
-
-    return toppra, Given
-
-
-class _Interval:
-    """The path interval of one run (what TOPP-RA asks of a path when the constraints are given)."""
-
-    def __init__(self, length_m: float) -> None:
-        self.path_interval = np.array([0.0, length_m])
 
 
 def speed_bound(bounds: list[PathBound], feed_m_s: np.ndarray, placements: int) -> np.ndarray:
@@ -136,34 +94,10 @@ def time_optimal(robot: Robot, geometry: PathGeometry, dynamics: PathDynamics, r
     bounds = path_bounds(robot, dynamics)
     speed_max = speed_bound(bounds, geometry.feed_m_s, len(reachable))
     a, b, c = bound_rows(bounds, speed_max)
-    k, n = speed_max.shape
-    speed, acceleration = np.zeros((k, n)), np.zeros((k, n))
-    timed = np.asarray(reachable, dtype=bool).copy()
-    for i in np.flatnonzero(timed):
-        for start, stop in zip(geometry.run_starts[:-1], geometry.run_starts[1:]):
-            if geometry.hold_intervals_s[start] > 0:
-                continue  # a hold: at rest, timed by its duration
-            run = slice(start, stop)
-            solved = _time_run(geometry.arc_m[run], a[i, run], b[i, run], c[i, run], speed_max[i, run] ** 2)
-            if solved is None:
-                timed[i] = False
-                break
-            speed[i, run], acceleration[i, run] = solved
-    speed[~timed], acceleration[~timed] = 0.0, 0.0
+    held = geometry.hold_intervals_s[geometry.run_starts[:-1]] > 0  # holds: at rest, timed by their durations
+    speed, acceleration, timed = time_placements(geometry.arc_m, geometry.run_starts, held, a, b, c, speed_max**2,
+                                                 reachable)
     return TimeLaw(_times(geometry, speed, timed), speed, acceleration, timed)
-
-
-def _time_run(arc_m: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray,
-              x_max: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
-    """ṡ at each sample and s̈ after it of one run, rest to rest, or None when no timing exists."""
-    toppra, given = _toppra()
-    constraints = [given(None, None, None, x_max), given(a, b, c, x_max)]
-    solver = toppra.algorithm.TOPPRA(constraints, _Interval(float(arc_m[-1])), gridpoints=arc_m,
-                                     solver_wrapper="seidel")
-    s_ddot, s_dot, _ = solver.compute_parameterization(0.0, 0.0)
-    if s_dot is None or s_ddot is None or not np.isfinite(s_dot).all():
-        return None
-    return s_dot, np.append(s_ddot, s_ddot[-1])
 
 
 def _times(geometry: PathGeometry, speed: np.ndarray, timed: np.ndarray) -> np.ndarray:
