@@ -290,7 +290,7 @@ class Scene:
             self.visualizer.viewer = viewer
         self.viewer.set_animation(animation, play=True, repetitions=repetitions)
         if duration > 0 and abs(play_s / duration - 1) > 1e-9:
-            self.add_note(f"animation: {duration / play_s:.3g}× real time ({duration:.3g} s path)")
+            self.add_note(f"animation: the {duration:.3g} s path played over {play_s:.3g} s")
 
     def add_results(self, lines: list[str]) -> None:
         """Lines of text for the page's results panel (the answer beside the picture: energies, placements, gain)."""
@@ -413,13 +413,13 @@ _PAGE = """<!DOCTYPE html>
 <html>
 <head><meta charset="utf-8"><title>{title}</title>
 <style>
-body {{ margin: 0; }}
+body {{ margin: 0; overflow: hidden; }}
 #meshcat-pane {{ width: 100vw; height: 100vh; overflow: hidden; }}
 #legend {{ position: absolute; left: 10px; bottom: 10px; background: rgba(255,255,255,0.85); padding: 6px 10px;
           font: 13px sans-serif; border-radius: 4px; }}
 #legend span {{ display: inline-block; width: 12px; height: 12px; margin-right: 6px; vertical-align: middle; }}
 #results {{ position: absolute; left: 10px; top: 10px; background: rgba(255,255,255,0.9); padding: 6px 10px;
-           font: 14px sans-serif; border-radius: 4px; white-space: pre; }}
+           font: 14px sans-serif; border-radius: 4px; white-space: pre; max-height: 40vh; overflow-y: auto; }}
 </style></head>
 <body>
 <div id="meshcat-pane"></div>
