@@ -108,6 +108,7 @@ class Scene:
         self.viewer = meshcat.Visualizer(window=self.window)
         self.legend: list[tuple[str, int | None]] = []  # (label, colour); no colour: a line of text
         self.results: list[str] = []  # lines of the page's results panel (add_results)
+        self.result_blocks = 0  # calls of add_results: the paths answered
         try:
             visual = pin.buildGeomFromUrdf(robot.model, str(robot.urdf_path), pin.GeometryType.VISUAL,
                                            package_dirs=package_dirs(robot))
@@ -293,8 +294,10 @@ class Scene:
             self.add_note(f"animation: the {duration:.3g} s path played over {play_s:.3g} s")
 
     def add_results(self, lines: list[str]) -> None:
-        """Lines of text for the page's results panel (the answer beside the picture: energies, placements, gain)."""
+        """Lines of text for the page's results panel (the answer beside the picture: energies, placements, gain),
+        one call per path; the panel of several paths opens on a click, so that it does not cover the scene."""
         self.results.extend(lines)
+        self.result_blocks += 1
 
     def html(self, title: str = "placement") -> str:
         """A self-contained page of the recorded scene (three.js viewer inlined, no network), the camera fitted and
@@ -302,12 +305,17 @@ class Scene:
         self.fit_camera()
         commands = "".join(f'run("{base64.b64encode(c).decode()}");\n' for c in self.window.commands())
         legend = "".join(f'<div><span style="background:#{color:06x}"></span>{html.escape(name)}</div>'
-                         if color is not None else f"<div>{html.escape(name)}</div>" for name, color in self.legend)
+                         for name, color in self.legend if color is not None)
+        legend += "".join(f"<div>{html.escape(name)}</div>" for name, color in self.legend if color is None)  # notes last
         results = "".join(f"<div>{html.escape(line)}</div>" for line in self.results)
+        if self.result_blocks > 1:
+            results = f'<details id="results"><summary>the answers for {self.result_blocks} paths</summary>{results}</details>'
+        elif results:
+            results = f'<div id="results">{results}</div>'
         target = ", ".join(f"{v:.9g}" for v in three_frame(self.camera_m[0]))
         return _PAGE.format(title=html.escape(title), script=VIEWER_SCRIPT.read_text(), commands=commands,
                             target=target, legend=legend,
-                            results=f'<div id="results">{results}</div>' if results else "")
+                            results=results)
 
 
 class PageServer:
