@@ -303,8 +303,10 @@ def draw(scene: Scene, robot: Robot, index: int, details: dict, name: str, sever
         for key, detail in details.items():
             scene.add_path(f"{index}_{key.replace(' ', '_')}", detail.tool_position_m, path_color(index), name,
                            dashed=key == "worst")
-        if "worst" in details:
-            scene.add_note(f"solid: {best or 'placement'}, dashed: {worst}")
+        solid = [label for key, label in (("best", best), ("at", "--at")) if key in details]
+        styles = ([f"solid: {', '.join(solid)}"] if solid else []) + ([f"dashed: {worst}"] if "worst" in details else [])
+        if styles:
+            scene.add_note(", ".join(styles))
     else:
         colors = {"best": (BEST_COLOR, best), "worst": (WORST_COLOR, worst), "at": (AT_COLOR, "--at")}
         for number, (key, detail) in enumerate(details.items()):
