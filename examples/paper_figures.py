@@ -1,9 +1,8 @@
-"""Draw the paper's figures with the exact model: energy maps, E_min / E_max vs size, comparison,
-and the 3-D scene of the best and worst rectangles of every size.
+"""Draw the paper's figures with the exact model: energy maps, E_min / E_max vs size, comparison.
 
 Writes PNG and SVG files to docs/figures/ (or --out): the Orthoglide, the paper's 30 x 60 mm
-groove at 0.66 m/s, per-axis clipping (the default regeneration mode), paper timing law; and
-scene_rectangles.html beside them (with a PNG of it when Chromium is installed).
+groove at 0.66 m/s, per-axis clipping (the default regeneration mode), paper timing law. The README's
+3-D scenes come from examples/readme_scenes.py.
 
 Usage: python examples/paper_figures.py [--out docs/figures] [--grid 41] [--workers N]
 """
@@ -18,13 +17,10 @@ from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
-from paper_table import PAPER, WIDTHS_MM, rectangle, run_case
+from paper_table import PAPER, WIDTHS_MM, run_case
 
 from placement import EvaluatorSettings, load_path, load_robot, optimize_placement
-from placement.kinematics import joint_trajectory
 from placement.output.plots import draw_map, map_figure, save
-from placement.output.scene import BEST_COLOR, WORST_COLOR, Scene, screenshot
-from placement.placing.transform import placed_task
 from placement.search.sweep import sweep
 
 EXAMPLE = Path(__file__).with_name("rect.yaml")
@@ -122,26 +118,7 @@ def main() -> None:
     written += save(size_figure(sizes), out / "energy_vs_width")
     result = optimize_placement(robot, path)
     written += save(comparison(robot, result.best.detail, result.worst.detail), out / "emin_emax_comparison")
-    written += rectangles_scene(robot, sizes, result, out)
     print(f"wrote {len(written)} files to {out} in {time.perf_counter() - start:.0f} s")
-
-
-def rectangles_scene(robot, sizes, result, out: Path) -> list[str]:
-    """The best (green) and worst (red) rectangle of every size in one scene, like the paper's."""
-    scene = Scene(robot)
-    scene.add_workspace()
-    for size in sizes:
-        samples = rectangle(size["width"]).sample()
-        for key, color, label in (("min", BEST_COLOR, "least energy"), ("max", WORST_COLOR, "most energy")):
-            placed, _ = placed_task(robot, samples, np.array([size[key]["placement"]]))
-            scene.add_path(f"{size['width']}_{key}", placed.position_m, color, label)
-    best = result.best.detail
-    task, _ = placed_task(robot, best.samples, best.placement[None])
-    scene.animate(joint_trajectory(robot, task).q, best.samples.t_s)
-    page = out / "scene_rectangles.html"
-    page.write_text(scene.html("Orthoglide: best and worst rectangles, W = 20 ... 80 mm"))
-    image = out / "scene_rectangles.png"
-    return [page.name] + ([image.name] if screenshot(page, image) else [])
 
 
 if __name__ == "__main__":

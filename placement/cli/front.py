@@ -22,8 +22,6 @@ from placement.search.optimize import SearchSettings
 from placement.search.pareto import ParetoFront, pareto_front
 from placement.search.space import PlacementSpace
 
-SCENE_COLORS = (0xFF8C00, 0x8A2BE2, 0x00A0A0, 0xC71585, 0x556B2F)  # front members drawn in the scene
-
 
 def parse_objectives(text: str) -> tuple[str, ...]:
     """The names given to --objectives: two or three known, different objectives."""

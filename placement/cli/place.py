@@ -35,7 +35,7 @@ from placement.cli.common import (
     whole_number,
 )
 from placement.cli.exceptions import UsageError
-from placement.cli.front import SCENE_COLORS, parse_members, parse_objectives, place_front
+from placement.cli.front import parse_members, parse_objectives, place_front
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.evaluation.parallel import Cluster, cluster, scheduler_address
@@ -291,16 +291,30 @@ def plane_line(plane: dict[str, list[float]]) -> str:
             "phi about the normal, z = theta = psi = 0")
 
 
-def draw(scene: Scene, robot: Robot, index: int, details: dict) -> None:
-    """Add one path's placements to the scene; animate the robot along the first path's."""
-    from placement.output.scene import AT_COLOR, BEST_COLOR, WORST_COLOR
+def draw(scene: Scene, robot: Robot, index: int, details: dict, name: str, several: bool) -> None:
+    """Add one path's placements to the scene; animate the robot along the first path's.
+
+    One path: the best, worst and ``--at`` placements in three colours (front members in the palette's next
+    ones). Several paths (``several``): one colour per path, named in the legend, its best solid and its worst
+    dashed.
+    """
+    from placement.output.palette import AT_COLOR, BEST_COLOR, WORST_COLOR, path_color
 
     words = wording(next(iter(details.values())).objective) if details else None
-    colors = {"best": (BEST_COLOR, f"{words.best} {words.subject}" if words else ""),
-              "worst": (WORST_COLOR, f"{words.worst} {words.subject}" if words else ""), "at": (AT_COLOR, "--at")}
-    for number, (key, detail) in enumerate(details.items()):
-        color = colors.get(key, (SCENE_COLORS[number % len(SCENE_COLORS)], key))
-        scene.add_path(f"{index}_{key.replace(' ', '_')}", detail.tool_position_m, *color)
+    best, worst = (f"{words.best} {words.subject}", f"{words.worst} {words.subject}") if words else ("", "")
+    if several:
+        for key, detail in details.items():
+            scene.add_path(f"{index}_{key.replace(' ', '_')}", detail.tool_position_m, path_color(index), name,
+                           dashed=key == "worst")
+        solid = [label for key, label in (("best", best), ("at", "--at")) if key in details]
+        styles = ([f"solid: {', '.join(solid)}"] if solid else []) + ([f"dashed: {worst}"] if "worst" in details else [])
+        if styles:
+            scene.add_note(", ".join(styles))
+    else:
+        colors = {"best": (BEST_COLOR, best), "worst": (WORST_COLOR, worst), "at": (AT_COLOR, "--at")}
+        for number, (key, detail) in enumerate(details.items()):
+            color = colors.get(key, (path_color(3 + number), key))
+            scene.add_path(f"{index}_{key.replace(' ', '_')}", detail.tool_position_m, *color)
     moving = details.get("at") or details.get("best") or details.get("knee") or details.get("worst")
     if index == 0 and moving is not None and moving.reachable:
         scene.animate(moving.configuration, moving.samples.t_s)
@@ -390,7 +404,7 @@ def run(args: argparse.Namespace) -> int:
                 failures.append(f"{file}: {infeasible}")
                 document["infeasible"] = infeasible
             if scene:
-                draw(scene, robot, index, details)
+                draw(scene, robot, index, details, document["path"], len(args.path) > 1)
                 scene.add_results(([""] if index else []) + results_lines(document))
             traced = details.get("at") or details.get("best") or details.get("worst")
             if args.trace and traced is not None:

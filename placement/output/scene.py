@@ -1,16 +1,18 @@
 """3-D scenes in the browser (meshcat): the robot, its workspace, placed paths and maps of an objective.
 
-A :class:`Scene` draws the robot from its URDF visuals (Pinocchio's meshcat visualiser), with its
-tool body and its cell's obstacles and keep-out zones as they are checked for collisions, the
-workspace box as a wireframe with its named points, placed paths as coloured lines, a map
-as coloured points, and animates the robot along a path. Its camera looks at the centre of the
-box that holds everything drawn (the robot at its reference configuration: every frame origin and
-the bounding box of every visual; the workspace; paths and map points), from far enough that the
-sphere around that box fits meshcat's default camera, 75° vertical field of view (a window wider
-than tall sees at least as much across). It records the scene and writes a
-self-contained HTML page that opens in a browser with no server and no network; :class:`PageServer`
-serves that page on this machine (loopback only, unless asked otherwise). Everything that comes
-from input files (path names, point names) is escaped in the page.
+A :class:`Scene` draws the robot from its URDF visuals (Pinocchio's meshcat visualiser, with every
+triangle of the mesh files: :mod:`placement.output.meshes`), with its tool body and its cell's
+obstacles and keep-out zones as they are checked for collisions, the workspace box as a wireframe
+with its named points, placed paths as coloured tubes drawn over everything else (the robot never
+hides them), a map as coloured points, and animates the robot along a path, interpolated at 30
+frames a second. Colours come from :mod:`placement.output.palette`. Its camera looks at the centre
+of the box that holds everything drawn (the robot at its reference configuration: every frame origin
+and the bounding box of every visual; the workspace and its points; paths and map points), and
+orbits about it, from as close as that box's corners all stay in meshcat's 75° view (a window wider
+than tall sees at least as much across). It records the scene and writes a self-contained HTML page
+that opens in a browser with no server and no network; :class:`PageServer` serves that page on this
+machine (loopback only, unless asked otherwise). Everything that comes from input files (path
+names, point names) is escaped in the page.
 """
 
 from __future__ import annotations
@@ -32,26 +34,34 @@ import pinocchio as pin
 import umsgpack
 from meshcat.animation import Animation
 from meshcat.servers.tree import SceneTree, find_node, walk
-from pinocchio.visualize import MeshcatVisualizer
 
 from placement.cell.geometry import package_dirs
 from placement.kinematics.batched import jump_steps
 from placement.limits.collision import collision_scene
+from placement.output.meshes import OverlayMesh, WholeMeshVisualizer, overlay_material, tube
+from placement.output.palette import (
+    CELL_COLORS,
+    CELL_OPACITY,
+    CUBE_COLOR,
+    MAP_COLOR,
+    NEAREST_COLOR,
+    POINT_COLORS,
+    REGION_COLOR,
+    rgb,
+)
 from placement.robot.exceptions import RobotFileError
 from placement.robot.model import Robot
 from placement.search.space import box_corners
 
 VIEWER_SCRIPT = Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js"
-POINT_COLORS = {"O_b": 0x1F77B4, "C": 0x2CA02C, "Q_plus": 0xD62728, "Q_minus": 0xFF7F0E}
-BEST_COLOR, WORST_COLOR, AT_COLOR, CUBE_COLOR = 0x00B050, 0xE00000, 0x0070FF, 0x303030
-CELL_COLORS = {"tool": (0x505A64, "tool"), "obstacle": (0xB08850, "obstacles"), "keep_out": (0xFF4040, "keep-out zones")}
-CELL_OPACITY = {"tool": 1.0, "obstacle": 0.5, "keep_out": 0.12}
-NEAREST_COLOR, REGION_COLOR = 0xFF00FF, 0x2080C0
 ANIMATION_FPS = 30
+ANIMATION_PLAY_S = (4.0, 20.0)  # one pass of the animation lasts the path's duration, kept within these (s)
 CAMERA_DIRECTION = np.array([-0.45, -0.45, 0.35]) / np.linalg.norm([-0.45, -0.45, 0.35])  # from the target
 CAMERA_FOV_DEG = 75.0  # meshcat's default camera: PerspectiveCamera(75, aspect, 0.01, 100), vertical
-CAMERA_MARGIN = 1.1  # the fitted sphere fills at most 1/1.1 of the view's half-height
+CAMERA_MARGIN = 1.08  # every corner of the drawn box stays within 1/1.08 of the view's half-height and half-width
 CAMERA_NEAR_M = 0.01  # meshcat's near clipping distance
+PATH_RADIUS, EDGE_RADIUS = 0.0025, 0.001  # tube radii of paths and of box edges, fractions of the drawn box's diagonal
+DASH_RADII = 6  # a dashed path's dashes and gaps, in path radii
 
 
 class _RecordingWindow:
@@ -96,8 +106,9 @@ class Scene:
         self.robot = robot
         self.window = _RecordingWindow()
         self.viewer = meshcat.Visualizer(window=self.window)
-        self.legend: list[tuple[str, int]] = [("robot", 0x999999)]
+        self.legend: list[tuple[str, int | None]] = []  # (label, colour); no colour: a line of text
         self.results: list[str] = []  # lines of the page's results panel (add_results)
+        self.result_blocks = 0  # calls of add_results: the paths answered
         try:
             visual = pin.buildGeomFromUrdf(robot.model, str(robot.urdf_path), pin.GeometryType.VISUAL,
                                            package_dirs=package_dirs(robot))
@@ -106,7 +117,7 @@ class Scene:
         self.drawn_points_m: list[np.ndarray] = [robot_points(robot, visual)]  # the camera frames the robot, not the cell
         if robot.cell is not None or robot.tool is not None:
             self._add_cell_shapes(visual)
-        self.visualizer = MeshcatVisualizer(robot.model, pin.GeometryModel(), visual)
+        self.visualizer = WholeMeshVisualizer(robot.model, pin.GeometryModel(), visual)
         self.visualizer.initViewer(viewer=self.viewer)
         self.visualizer.loadViewerModel(rootNodeName="robot")
         self.visualizer.display(robot.reference_q)
@@ -125,20 +136,30 @@ class Scene:
             color, label = CELL_COLORS[body.kind]
             for index in body.objects:
                 item = scene.geometry_model.geometryObjects[index].copy()
-                item.meshColor = np.array([((color >> s) & 255) / 255 for s in (16, 8, 0)] + [CELL_OPACITY[body.kind]])
+                item.meshColor = np.array([*rgb(color), CELL_OPACITY[body.kind]])
+                item.overrideMaterial = True  # the kind's colour, not the mesh file's
                 visual.addGeometryObject(item)
-            if all(entry[0] != label for entry in self.legend):
-                self.legend.append((label, color))
+            self._legend(label, color)
+
+    def _legend(self, label: str, color: int | None) -> None:
+        """A legend entry, once per label."""
+        if all(entry[0] != label for entry in self.legend):
+            self.legend.append((label, color))
+
+    def _radius(self, fraction: float) -> float:
+        """A tube radius: ``fraction`` of the diagonal of what is drawn so far (m)."""
+        low, high = self.extent()
+        return fraction * max(float(np.linalg.norm(high - low)), CAMERA_NEAR_M)
 
     def add_nearest(self, name: str, first_m: np.ndarray, second_m: np.ndarray, label: str) -> None:
         """The nearest points of two bodies (base frame, m), joined by a line, with the label in the legend."""
-        points = np.array([first_m, second_m], dtype=np.float32).T
+        vertices, faces = tube(np.array([[first_m, second_m]]), self._radius(EDGE_RADIUS))
         self.viewer[f"nearest/{name}/line"].set_object(
-            g.Line(g.PointsGeometry(points), g.LineBasicMaterial(color=NEAREST_COLOR, linewidth=3)))
+            OverlayMesh(g.TriangularMeshGeometry(vertices, faces), overlay_material(NEAREST_COLOR)))
         for k, point in enumerate((first_m, second_m)):
             self.viewer[f"nearest/{name}/end_{k}"].set_object(g.Sphere(0.004), g.MeshLambertMaterial(color=NEAREST_COLOR))
             self.viewer[f"nearest/{name}/end_{k}"].set_transform(pin.SE3(np.eye(3), np.asarray(point)).homogeneous)
-        self.legend.append((label, NEAREST_COLOR))
+        self._legend(label, NEAREST_COLOR)
 
     def extent(self) -> tuple[np.ndarray, np.ndarray]:
         """The box holding everything drawn so far: lowest and highest corners (m, base frame)."""
@@ -146,19 +167,35 @@ class Scene:
         return points.min(axis=0), points.max(axis=0)
 
     def fit_camera(self) -> None:
-        """Aim the camera at the centre of :meth:`extent`, far enough that the whole box is in view."""
+        """Aim the camera at the centre of :meth:`extent`, as close as the box's 8 corners all stay in view.
+
+        The view is taken square (meshcat's 75° vertical field both ways), the narrowest a window wider than tall
+        gives; each corner keeps 1/``CAMERA_MARGIN`` of the half-view and is beyond the near plane.
+        """
         low, high = self.extent()
-        radius = max(float(np.linalg.norm(high - low)) / 2, CAMERA_NEAR_M)
-        distance = CAMERA_MARGIN * radius / np.sin(np.radians(CAMERA_FOV_DEG / 2))
-        self.look_at((low + high) / 2, CAMERA_DIRECTION * distance)
+        centre = (low + high) / 2
+        forward = -CAMERA_DIRECTION
+        right = np.cross(forward, [0.0, 0.0, 1.0])
+        right /= np.linalg.norm(right)
+        up = np.cross(right, forward)
+        offset = box_corners(low, high) - centre
+        depth = offset @ forward  # beyond the centre (> 0) or before it, along the view
+        half_view = np.tan(np.radians(CAMERA_FOV_DEG / 2)) / CAMERA_MARGIN
+        across = np.maximum(np.abs(offset @ right), np.abs(offset @ up))
+        distance = max(float(np.max(across / half_view - depth)), float(np.max(-depth)) + 2 * CAMERA_NEAR_M)
+        self.look_at(centre, CAMERA_DIRECTION * distance)
 
     def look_at(self, target_m: np.ndarray, offset_m: np.ndarray) -> None:
-        """Point the camera at ``target_m`` from ``target_m + offset_m`` (base frame, Z up; kept in ``camera_m``)."""
+        """Point the camera at ``target_m`` from ``target_m + offset_m`` (base frame, Z up; kept in ``camera_m``),
+        and orbit about ``target_m``.
+
+        meshcat's orbit controls turn about their target and the camera looks at it, both in three.js' world frame
+        (Y up, :func:`three_frame`), which the camera's own frame matches when its node "/Cameras/default" is not
+        moved: the camera is placed there and the page sets the controls' target (:meth:`html`).
+        """
         target = np.asarray(target_m, dtype=float)
         self.camera_m = (target, target + offset_m)
-        self.viewer["/Cameras/default"].set_transform(pin.SE3(np.eye(3), target).homogeneous)
-        dx, dy, dz = (float(v) for v in offset_m)  # the camera node is Y-up (three.js): (x, y, z) -> (x, z, -y)
-        self.viewer["/Cameras/default/rotated/<object>"].set_property("position", [dx, dz, -dy])
+        self.viewer["/Cameras/default/rotated/<object>"].set_property("position", three_frame(target + offset_m))
 
     def add_workspace(self) -> None:
         """The workspace box as a wireframe, and its named points as coloured spheres."""
@@ -176,35 +213,48 @@ class Scene:
             color = POINT_COLORS.get(name, 0x7F7F7F)
             self.viewer[f"workspace/{name}"].set_object(g.Sphere(radius), g.MeshLambertMaterial(color=color))
             self.viewer[f"workspace/{name}"].set_transform(pin.SE3(np.eye(3), np.array(point)).homogeneous)
-            self.legend.append((name.replace("_plus", "+").replace("_minus", "-"), color))
+            self.drawn_points_m.append(box_corners(np.array(point) - radius, np.array(point) + radius))
+            self._legend(name.replace("_plus", "+").replace("_minus", "-"), color)
 
     def _wire_box(self, name: str, low: np.ndarray, high: np.ndarray, color: int, label: str) -> None:
-        """An axis-aligned box of the base frame (m) as a wireframe, framed by the camera."""
+        """An axis-aligned box of the base frame (m) as a wireframe of thin tubes, framed by the camera."""
         corners = box_corners(low, high)
         self.drawn_points_m.append(corners)
         edges = [(i, j) for i in range(8) for j in range(i + 1, 8) if bin(i ^ j).count("1") == 1]
-        segments = np.array([corners[k] for edge in edges for k in edge]).T
-        self.viewer[name].set_object(
-            g.LineSegments(g.PointsGeometry(segments), g.LineBasicMaterial(color=color, linewidth=2)))
-        self.legend.append((label, color))
+        vertices, faces = tube(corners[np.array(edges)], self._radius(EDGE_RADIUS))
+        self.viewer[name].set_object(g.Mesh(g.TriangularMeshGeometry(vertices, faces), g.MeshBasicMaterial(color=color)))
+        self._legend(label, color)
 
     def add_path(self, name: str, tool_position_m: np.ndarray, color: int, label: str | None = None,
-                 width_m: float = 0.006) -> None:
-        """A placed path through its tool points (base frame, m), drawn as a line of dots; the gap a skipped rapid
-        leaves (a jump, as the kinematics finds it) is not drawn."""
+                 dashed: bool = False) -> None:
+        """A placed path through its tool points (base frame, m), drawn as a tube over everything else (the robot
+        never hides it); the gap a skipped rapid leaves (a jump, as the kinematics finds it) is not drawn.
+
+        Args:
+            name: The path's node name in the scene.
+            tool_position_m: (N, 3) tool points (m, base frame).
+            color: The tube's colour.
+            label: Its legend entry (none if None or already there).
+            dashed: Draw every other stretch of six radii only (a second placement of a path drawn in one colour).
+        """
         positions = np.asarray(tool_position_m, dtype=float).reshape(-1, 3)
         self.drawn_points_m.append(positions)
-        points = positions.T.astype(np.float32)
-        rgb = np.array([(color >> 16) & 255, (color >> 8) & 255, color & 255], dtype=np.float32)[:, None] / 255
+        radius = self._radius(PATH_RADIUS)
         steps = np.linalg.norm(np.diff(positions, axis=0), axis=1)
         drawn = np.setdiff1d(np.arange(len(steps)), jump_steps(steps)) if len(steps) else np.zeros(0, dtype=int)
-        pairs = points[:, np.stack([drawn, drawn + 1], axis=1).reshape(-1)]
-        self.viewer[f"paths/{name}/line"].set_object(
-            g.LineSegments(g.PointsGeometry(pairs), g.LineBasicMaterial(color=color)))
-        self.viewer[f"paths/{name}/dots"].set_object(
-            g.PointCloud(points, np.repeat(rgb, points.shape[1], axis=1), size=width_m))
-        if label and all(entry[0] != label for entry in self.legend):
-            self.legend.append((label, color))
+        if dashed:
+            along = np.concatenate([[0.0], np.cumsum(steps)])[drawn]  # each step's start along the path
+            drawn = drawn[(along // (DASH_RADII * radius)) % 2 == 0]
+        if len(drawn):
+            vertices, faces = tube(np.stack([positions[drawn], positions[drawn + 1]], axis=1), radius)
+            self.viewer[f"paths/{name}/line"].set_object(
+                OverlayMesh(g.TriangularMeshGeometry(vertices, faces), overlay_material(color)))
+        if label:
+            self._legend(label, color)
+
+    def add_note(self, text: str) -> None:
+        """A line of text in the legend (what a line style means, the animation's speed)."""
+        self._legend(text, None)
 
     def add_value_points(self, points_m: np.ndarray, value: np.ndarray, subject: str = "energy",
                          size_m: float = 0.004) -> None:
@@ -214,39 +264,58 @@ class Scene:
         colors = matplotlib.colormaps["viridis"]((value - value.min()) / span)[:, :3]
         self.viewer["value_map"].set_object(g.PointCloud(np.asarray(points_m, dtype=np.float32).T,
                                                          colors.T.astype(np.float32), size=size_m))
-        self.legend.append((f"{subject} map (dark: low)", 0x440154))
+        self._legend(f"{subject} map (dark: low)", MAP_COLOR)
 
     def animate(self, q: np.ndarray, t_s: np.ndarray, repetitions: int = 1000) -> None:
-        """Play the robot along joint configurations ``q`` (N, nq) sampled at times ``t_s``."""
-        frames = np.arange(0.0, t_s[-1] + 1e-12, 1.0 / ANIMATION_FPS)
-        index = np.clip(np.searchsorted(t_s, frames), 0, len(t_s) - 1)
+        """Play the robot along joint configurations ``q`` (N, nq) sampled at times ``t_s`` (s).
+
+        One pass lasts the path's duration, kept within ``ANIMATION_PLAY_S`` (a slower or faster play rate is said
+        in the legend), drawn at ``ANIMATION_FPS`` frames a second; each frame's configuration is interpolated
+        between the two samples around its time (on the configuration space: ``pinocchio.interpolate``).
+        """
+        times = np.asarray(t_s, dtype=float)
+        duration = float(times[-1] - times[0])
+        play_s = float(np.clip(duration, *ANIMATION_PLAY_S))
+        frame_times = times[0] + np.linspace(0.0, duration, max(2, round(play_s * ANIMATION_FPS) + 1))
+        after = np.clip(np.searchsorted(times, frame_times, side="right"), 1, len(times) - 1)
+        span = np.maximum(times[after] - times[after - 1], 1e-12)
+        weight = np.clip((frame_times - times[after - 1]) / span, 0.0, 1.0)
         animation = Animation(default_framerate=ANIMATION_FPS)
         viewer = self.visualizer.viewer
         try:
-            for frame, k in enumerate(index):
+            for frame, (k, w) in enumerate(zip(after, weight)):
                 with animation.at_frame(viewer, frame) as frame_viewer:
                     self.visualizer.viewer = frame_viewer  # record the placements into the frame
-                    self.visualizer.display(q[k])
+                    self.visualizer.display(pin.interpolate(self.robot.model, q[k - 1], q[k], float(w)))
         finally:
             self.visualizer.viewer = viewer
         self.viewer.set_animation(animation, play=True, repetitions=repetitions)
+        if duration > 0 and abs(play_s / duration - 1) > 1e-9:
+            self.add_note(f"animation: the {duration:.3g} s path played over {play_s:.3g} s")
 
     def add_results(self, lines: list[str]) -> None:
-        """Lines of text for the page's results panel (the answer beside the picture: energies, placements, gain)."""
+        """Lines of text for the page's results panel (the answer beside the picture: energies, placements, gain),
+        one call per path; the panel of several paths opens on a click, so that it does not cover the scene."""
         self.results.extend(lines)
+        self.result_blocks += 1
 
     def html(self, title: str = "placement") -> str:
-        """A self-contained page of the recorded scene (three.js viewer inlined, no network), the camera fitted."""
+        """A self-contained page of the recorded scene (three.js viewer inlined, no network), the camera fitted and
+        orbiting about the centre of what is drawn."""
         self.fit_camera()
-        commands = "".join(
-            f'fetch("data:application/octet-binary;base64,{base64.b64encode(c).decode()}").then(r => r.arrayBuffer())'
-            ".then(b => viewer.handle_command_bytearray(new Uint8Array(b)));\n"
-            for c in self.window.commands())
+        commands = "".join(f'run("{base64.b64encode(c).decode()}");\n' for c in self.window.commands())
         legend = "".join(f'<div><span style="background:#{color:06x}"></span>{html.escape(name)}</div>'
-                         for name, color in self.legend)
+                         for name, color in self.legend if color is not None)
+        legend += "".join(f"<div>{html.escape(name)}</div>" for name, color in self.legend if color is None)  # notes last
         results = "".join(f"<div>{html.escape(line)}</div>" for line in self.results)
+        if self.result_blocks > 1:
+            results = f'<details id="results"><summary>the answers for {self.result_blocks} paths</summary>{results}</details>'
+        elif results:
+            results = f'<div id="results">{results}</div>'
+        target = ", ".join(f"{v:.9g}" for v in three_frame(self.camera_m[0]))
         return _PAGE.format(title=html.escape(title), script=VIEWER_SCRIPT.read_text(), commands=commands,
-                            legend=legend, results=f'<div id="results">{results}</div>' if results else "")
+                            target=target, legend=legend,
+                            results=results)
 
 
 class PageServer:
@@ -319,6 +388,13 @@ def screenshot(page: Path, image: Path, size: tuple[int, int] = (1000, 700), wai
     return Path(image).is_file()
 
 
+def three_frame(point_m: np.ndarray) -> list[float]:
+    """A point of the scene (base frame, Z up) in three.js' world frame, Y up: meshcat turns its scene by -90° about X
+    (x, y, z) -> (x, z, -y), and its camera node back, so that the camera's frame is three.js' world frame."""
+    x, y, z = (float(v) for v in point_m)
+    return [x, z, -y]
+
+
 def robot_points(robot: Robot, visual: pin.GeometryModel) -> np.ndarray:
     """Points that bound the robot at its reference configuration (m, base frame).
 
@@ -345,13 +421,13 @@ _PAGE = """<!DOCTYPE html>
 <html>
 <head><meta charset="utf-8"><title>{title}</title>
 <style>
-body {{ margin: 0; }}
+body {{ margin: 0; overflow: hidden; }}
 #meshcat-pane {{ width: 100vw; height: 100vh; overflow: hidden; }}
 #legend {{ position: absolute; left: 10px; bottom: 10px; background: rgba(255,255,255,0.85); padding: 6px 10px;
           font: 13px sans-serif; border-radius: 4px; }}
 #legend span {{ display: inline-block; width: 12px; height: 12px; margin-right: 6px; vertical-align: middle; }}
 #results {{ position: absolute; left: 10px; top: 10px; background: rgba(255,255,255,0.9); padding: 6px 10px;
-           font: 14px sans-serif; border-radius: 4px; white-space: pre; }}
+           font: 14px sans-serif; border-radius: 4px; white-space: pre; max-height: 40vh; overflow-y: auto; }}
 </style></head>
 <body>
 <div id="meshcat-pane"></div>
@@ -360,7 +436,14 @@ body {{ margin: 0; }}
 <script>{script}</script>
 <script>
 var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
+function run(packed) {{
+  var text = atob(packed), bytes = new Uint8Array(text.length);
+  for (var i = 0; i < text.length; i++) bytes[i] = text.charCodeAt(i);
+  viewer.handle_command_bytearray(bytes);
+}}
 {commands}
+viewer.controls.target.set({target});
+viewer.controls.update();
 </script>
 </body>
 </html>

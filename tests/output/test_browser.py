@@ -8,7 +8,8 @@ from PIL import Image
 
 from placement.evaluation.evaluator import Evaluator
 from placement.kinematics import joint_trajectory
-from placement.output.scene import BEST_COLOR, CUBE_COLOR, WORST_COLOR, Scene, find_browser, screenshot
+from placement.output.palette import BEST_COLOR, CUBE_COLOR, WORST_COLOR
+from placement.output.scene import Scene, find_browser, screenshot
 from placement.path import load_path
 from placement.placing.transform import transform_path_to_base
 from tests.support.paths import EXAMPLE
