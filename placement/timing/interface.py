@@ -13,7 +13,7 @@ if TYPE_CHECKING:
 
     from placement.path.samples import PathSamples
     from placement.path.schema import Timing
-    from placement.path.segments import Run, Segment
+    from placement.path.segments import Hold, Run, Segment
 
 
 class TimedPath(Protocol):
@@ -30,6 +30,10 @@ class TimedPath(Protocol):
     @property
     def time_step_s(self) -> float:
         """The path file's sampling step (s)."""
+
+    @property
+    def holds(self) -> tuple[Hold, ...]:
+        """Where the tool rests for a while (dwells), in order."""
 
     @property
     def oriented(self) -> bool:
