@@ -20,13 +20,28 @@ The inputs:
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import resource
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import TypeVar
 
 import numpy as np
+
+from placement.cli.place import tolerance_boxes
+from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
+from placement.path.load import load_path
+from placement.path.toolpath import ToolPath
+from placement.robot import load_robot
+from placement.robot.model import Robot
+from placement.search.guide import SearchModels, search_models
+from placement.search.optimize import SearchSettings, optimize_placement, search_sampling
+from placement.search.space import default_space
+
+T = TypeVar("T")
 
 CONTOUR_POINTS = 100_000
 SURFACE_PASSES, SURFACE_MOVES = 47, 100  # raster passes along X, G1 moves per pass
@@ -90,42 +105,72 @@ def peak_memory_mb() -> tuple[float, float]:
             resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024)
 
 
+def cpu_s() -> float:
+    """Processor time (s) of this process and its finished worker processes: on a shared machine, what a stage
+    costs, where the wall time also counts the other processes' share."""
+    own, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+
+
+class Stages:
+    """Wall and processor time of named stages."""
+
+    def __init__(self) -> None:
+        self.times: dict[str, tuple[float, float]] = {}
+
+    def __call__(self, name: str, function: Callable[[], T]) -> T:
+        wall, cpu = time.perf_counter(), cpu_s()
+        value = function()
+        self.times[name] = (time.perf_counter() - wall, cpu_s() - cpu)
+        return value
+
+    def print(self) -> None:
+        for stage, (wall, cpu) in self.times.items():
+            print(f"  {stage:<44} {wall:8.2f} s wall {cpu:8.2f} s CPU")
+        own, children = peak_memory_mb()
+        wall, cpu = (sum(times) for times in zip(*self.times.values()))
+        print(f"  {'total':<44} {wall:8.2f} s wall {cpu:8.2f} s CPU; peak memory {own:.0f} MB here, "
+              f"{children:.0f} MB in a worker")
+
+
+def reference(robot: Robot, path: ToolPath, models: SearchModels) -> None:
+    """The cost of one generation of the global search (a population of 64) and of one placement, on each model,
+    measured here: what an unguided search would pay per generation and per polish step."""
+    population = np.zeros((64, 6))
+    population[:, 2] = np.linspace(-0.06, -0.02, 64)
+    cases = [("global guide, 64 placements", models.coarse_path, models.coarse, population),
+             ("polish guide, 1 placement", models.polish_path, models.polish, population[:1]),
+             ("exact (path's own sampling), 1 placement", path, models.exact, population[:1])]
+    for label, model, settings, placements in cases:
+        evaluator = Evaluator(robot, model, dataclasses.replace(settings, threads=1, workers=1))
+        evaluator.evaluate(placements[:1])
+        tic = time.process_time()
+        evaluator.evaluate(placements)
+        print(f"  {label:<44} {len(evaluator.samples):>8} samples {time.process_time() - tic:8.3f} s CPU")
+
+
 def run(file: Path) -> None:
     """Search the path file as ``python -m placement --robot orthoglide --path FILE`` does, stage by stage."""
-    from placement.cli.place import tolerance_boxes
-    from placement.evaluation.evaluator import EvaluatorSettings
-    from placement.path.load import load_path
-    from placement.robot import load_robot
-    from placement.search.optimize import SearchSettings, optimize_placement
-    from placement.search.space import default_space
-
-    stages: dict[str, float] = {}
-    tic = time.perf_counter()
-    robot = load_robot("orthoglide")
-    stages["load robot"] = time.perf_counter() - tic
-    tic = time.perf_counter()
-    path = load_path(file)
-    stages["load path"] = time.perf_counter() - tic
-    tic = time.perf_counter()
-    samples = path.sample()
-    stages["sample path"] = time.perf_counter() - tic
+    stages = Stages()
+    robot = stages("load robot", lambda: load_robot("orthoglide"))
+    path = stages("load path", lambda: load_path(file))
+    samples = stages("sample path", path.sample)
     print(f"{path.name}: {len(path.segments)} segments, {path.length_m * 1e3:.1f} mm, {len(samples)} samples")
-    tic = time.perf_counter()
-    space = default_space(robot, half_turn=path.half_turn_symmetric())
-    evaluation = EvaluatorSettings()
-    result = optimize_placement(robot, path, space=space, evaluation=evaluation, settings=SearchSettings())
-    stages["search (both directions, re-check)"] = time.perf_counter() - tic
-    tic = time.perf_counter()
-    tolerance_boxes(robot, path, evaluation, 1.0, space, result, True, None)
-    stages["tolerance boxes"] = time.perf_counter() - tic
+    space = stages("half-turn symmetry", lambda: default_space(robot, half_turn=path.half_turn_symmetric()))
+    evaluation, settings = EvaluatorSettings(), SearchSettings()
+    models = stages("guides", lambda: search_models(path, evaluation, *search_sampling(path, evaluation, settings)))
+    print(f"  guides: global {len(models.coarse_path.segments)} segments, polish {len(models.polish_path.segments)}")
+    result = stages("search (both directions, re-check, detail)",
+                    lambda: optimize_placement(robot, path, space=space, evaluation=evaluation, settings=settings))
+    stages("tolerance boxes", lambda: tolerance_boxes(robot, path, evaluation, 1.0, space, result, True, None))
     for label, optimum in (("best", result.best), ("worst", result.worst)):
         if optimum is not None:
-            print(f"  {label}: {optimum.detail.value:.6f} J (4x denser {optimum.recheck_value:.6f} J), "
+            gap = "" if optimum.guide_gap is None else f", guide {optimum.guide_value:.6f} J ({optimum.guide_gap:+.4%})"
+            print(f"  {label}: {optimum.detail.value:.6f} J exact (4x denser {optimum.recheck_value:.6f} J{gap}), "
                   f"{optimum.evaluations} evaluations{'; ' + optimum.note if optimum.note else ''}")
-    for stage, seconds in stages.items():
-        print(f"  {stage:<38} {seconds:8.2f} s")
-    own, children = peak_memory_mb()
-    print(f"  {'total':<38} {sum(stages.values()):8.2f} s; peak memory {own:.0f} MB (workers {children:.0f} MB)")
+    stages.print()
+    print("  reference, one evaluation on each model:")
+    reference(robot, path, models)
 
 
 def main() -> None:
