@@ -158,7 +158,7 @@ def run(file: Path) -> None:
     print(f"{path.name}: {len(path.segments)} segments, {path.length_m * 1e3:.1f} mm, {len(samples)} samples")
     space = stages("half-turn symmetry", lambda: default_space(robot, half_turn=path.half_turn_symmetric()))
     evaluation, settings = EvaluatorSettings(), SearchSettings()
-    models = stages("guides", lambda: search_models(path, evaluation, *search_sampling(path, evaluation, settings)))
+    models = stages("guides", lambda: search_models(path, *search_sampling(path, evaluation, settings)))
     print(f"  guides: global {len(models.coarse_path.segments)} segments, polish {len(models.polish_path.segments)}")
     result = stages("search (both directions, re-check, detail)",
                     lambda: optimize_placement(robot, path, space=space, evaluation=evaluation, settings=settings))

@@ -184,15 +184,16 @@ def segments_motion(segments: Sequence[Segment], index: np.ndarray, s: np.ndarra
     start = np.array([segment.start_m for segment in chosen], dtype=float).reshape(-1, 3)
     line_tangent = (np.array([segment.end_m for segment in chosen], dtype=float).reshape(-1, 3) - start) / length
     position, tangent = start[inverse] + s * line_tangent[inverse], line_tangent[inverse]
-    curvature = np.zeros_like(position)
+    acceleration = s_ddot * tangent
     arcs = np.array([segment.center_m is not None for segment in chosen])
     on_arc = arcs[inverse]
     if on_arc.any():
-        position[on_arc], tangent[on_arc], curvature[on_arc] = _arc_points(
+        position[on_arc], tangent[on_arc], curvature = _arc_points(
             [segment for segment in chosen if segment.center_m is not None], (np.cumsum(arcs) - 1)[inverse[on_arc]],
             s[on_arc])
-    out = {"position": position, "velocity": s_dot * tangent, "acceleration": s_ddot * tangent + s_dot**2 * curvature,
-           "tangent": tangent, "rapid": np.array([segment.rapid for segment in chosen], dtype=bool)[inverse]}
+        acceleration[on_arc] = s_ddot[on_arc] * tangent[on_arc] + s_dot[on_arc] ** 2 * curvature
+    out = {"position": position, "velocity": s_dot * tangent, "acceleration": acceleration, "tangent": tangent,
+           "rapid": np.array([segment.rapid for segment in chosen], dtype=bool)[inverse]}
     if oriented:
         rotation = np.array([np.eye(3) if seg.rotation is None else seg.rotation for seg in chosen]).reshape(-1, 3, 3)
         turn = np.array([np.zeros(3) if seg.turn_rad is None else seg.turn_rad for seg in chosen]).reshape(-1, 3)
