@@ -6,8 +6,7 @@ samples at least whatever the time step, and a 4,700-line surface program 15,000
 coarse step. A path with more than GUIDE_THRESHOLD samples at its own step, or COARSE_THRESHOLD at the coarse
 one, is searched on guides instead: the same path with each stretch of consecutive straight segments (same
 feed and kind of move, no orientation, stop or hold between them) merged into chords, each at most a given
-length and turning by at most a given angle in all, so that a chord stays within about length · angle / 8 of
-the points it skips. The global search's guide has about GLOBAL_SEGMENTS chords, sampled at the coarse step,
+length and within a share of that length of every point it skips. The global search's guide has about GLOBAL_SEGMENTS chords, sampled at the coarse step,
 and the polish's about POLISH_SEGMENTS, sampled at most POLISH_SAMPLES times over the path's duration. Under
 the realistic and optimal laws, which time runs rather than segments, the guides are the path itself, the
 polish's sampled at that coarser step.
@@ -33,8 +32,8 @@ GUIDE_THRESHOLD = 20_000  # a path with more samples than this at its own step i
 COARSE_THRESHOLD = 1_024  # ... and so is one with more than this at the global search's coarse step
 GLOBAL_SEGMENTS = 128  # chords of the global search's guide, about
 POLISH_SEGMENTS = 1_000  # chords of the polish's guide, about
-GLOBAL_TURN_RAD = np.radians(20.0)  # a chord of the global search's guide turns by at most this in all
-POLISH_TURN_RAD = np.radians(5.0)  # a chord of the polish's guide turns by at most this in all
+GLOBAL_DEVIATION = 1 / 40  # a chord of the global search's guide strays from its points by this share of its length
+POLISH_DEVIATION = 1 / 100  # ... of the polish's guide, at most
 POLISH_SAMPLES = 2_000  # the polish's guide's time step is at least the path's duration over this
 
 
@@ -70,9 +69,9 @@ def search_models(path: ToolPath, coarse: EvaluatorSettings, fine: EvaluatorSett
     polish = dataclasses.replace(fine, time_step_s=step)
     if path.timing.mode != "paper":
         return SearchModels(path, coarse, path, polish, fine, guided=True)
-    length = path.length_m
-    return SearchModels(merge_lines(path, length / GLOBAL_SEGMENTS, GLOBAL_TURN_RAD), coarse,
-                        merge_lines(path, length / POLISH_SEGMENTS, POLISH_TURN_RAD), polish, fine, guided=True)
+    global_m, polish_m = path.length_m / GLOBAL_SEGMENTS, path.length_m / POLISH_SEGMENTS
+    return SearchModels(merge_lines(path, global_m, global_m * GLOBAL_DEVIATION), coarse,
+                        merge_lines(path, polish_m, polish_m * POLISH_DEVIATION), polish, fine, guided=True)
 
 
 def guide_value(guide: Evaluator, placement: np.ndarray) -> float:
@@ -80,33 +79,42 @@ def guide_value(guide: Evaluator, placement: np.ndarray) -> float:
     return float(guide.evaluate(placement).value[0])
 
 
-def merge_lines(path: ToolPath, max_length_m: float, max_turn_rad: float) -> ToolPath:
-    """The path with stretches of consecutive straight segments merged into chords (module docstring): a chord
-    grows segment by segment while it stays at most ``max_length_m`` long and its segments turn by at most
-    ``max_turn_rad`` in all; holds stay after the same points of the path."""
+def merge_lines(path: ToolPath, max_length_m: float, tolerance_m: float) -> ToolPath:
+    """The path with stretches of consecutive straight segments merged into chords (module docstring): from each
+    segment on, the longest chord at most ``max_length_m`` long whose skipped points are within ``tolerance_m`` of
+    it (found by doubling then halving the number of segments merged); holds stay after the same points."""
     segments = path.segments
-    held = {hold.after for hold in path.holds}
-    merged: list[Segment] = []
-    new_index = {0: 0}  # the number of chords before each old segment boundary where a group ends
-    group: list[Segment] = []
-    length, turn = 0.0, 0.0
-    for k, segment in enumerate(segments):
-        if group and _joins(group[-1], segment, length + segment.length_m, turn, max_length_m, max_turn_rad):
-            turn += _turn(group[-1], segment)
-            group.append(segment)
-            length += segment.length_m
-        else:
-            if group:
-                merged.append(_chord(group))
-                new_index[k] = len(merged)
-            group, length, turn = [segment], segment.length_m, 0.0
-        if k + 1 in held or not _plain(segment):  # a hold or a stop ends the group
-            merged.append(_chord(group))
-            new_index[k + 1] = len(merged)
-            group, length, turn = [], 0.0, 0.0
-    if group:
-        merged.append(_chord(group))
-    new_index[len(segments)] = len(merged)
+    count = len(segments)
+    starts, ends = (np.array([getattr(s, name) for s in segments]) for name in ("start_m", "end_m"))
+    along = np.concatenate([[0.0], np.cumsum([segment.length_m for segment in segments])])
+    plain = np.array([_plain(segment) for segment in segments])
+    kinds = [(segment.rapid, segment.feed_ratio) for segment in segments]
+    joins = np.zeros(count + 1, dtype=bool)  # joins[k]: segment k may extend a chord ending with segment k - 1
+    joins[1:count] = (plain[1:] & plain[:-1] & (ends[:-1] == starts[1:]).all(axis=1)
+                      & np.array([a == b for a, b in zip(kinds, kinds[1:])], dtype=bool))
+    joins[[hold.after for hold in path.holds]] = False
+    stops = np.flatnonzero(~joins)
+
+    def close(first: int, last: int) -> bool:  # the chord over segments first..last stays near their points
+        chord = ends[last] - starts[first]
+        points = ends[first:last] - starts[first]
+        share = np.clip(points @ chord / max(float(chord @ chord), 1e-300), 0.0, 1.0)
+        return bool(np.linalg.norm(points - share[:, None] * chord, axis=1).max(initial=0.0) <= tolerance_m)
+
+    merged, new_index, first = [], {0: 0}, 0
+    while first < count:
+        furthest = min(stops[np.searchsorted(stops, first, side="right")] - 1,
+                       int(np.searchsorted(along, along[first] + max_length_m, side="right")) - 2)
+        good, step = first, 1
+        while good + step <= furthest and close(first, good + step):
+            good, step = good + step, 2 * step
+        bad = min(good + step, furthest + 1)
+        while bad - good > 1:
+            middle = (good + bad) // 2
+            good, bad = (middle, bad) if close(first, middle) else (good, middle)
+        merged.append(segments[first] if good == first else dataclasses.replace(segments[first], end_m=ends[good]))
+        first = good + 1
+        new_index[first] = len(merged)
     holds = tuple(dataclasses.replace(hold, after=new_index[hold.after]) for hold in path.holds)
     return dataclasses.replace(path, name=f"{path.name} (guide)", segments=tuple(merged), holds=holds)
 
@@ -115,22 +123,3 @@ def _plain(segment: Segment) -> bool:
     """Whether a segment may be merged: a straight one without orientation or a stop at its end."""
     return (segment.center_m is None and segment.rotation is None and segment.turn_rad is None
             and not segment.exact_stop and not segment.exact_path)
-
-
-def _joins(last: Segment, segment: Segment, length_m: float, turn_rad: float, max_length_m: float,
-           max_turn_rad: float) -> bool:
-    """Whether ``segment`` may extend the chord that ends with ``last``."""
-    return (_plain(last) and _plain(segment) and last.rapid == segment.rapid and last.feed_ratio == segment.feed_ratio
-            and bool(np.array_equal(last.end_m, segment.start_m)) and length_m <= max_length_m
-            and turn_rad + _turn(last, segment) <= max_turn_rad)
-
-
-def _turn(first: Segment, second: Segment) -> float:
-    """The angle between two straight segments' directions (rad)."""
-    a, b = first.end_m - first.start_m, second.end_m - second.start_m
-    return float(np.arccos(np.clip(a @ b / (first.length_m * second.length_m), -1.0, 1.0)))
-
-
-def _chord(group: list[Segment]) -> Segment:
-    """The straight segment from the first segment's start to the last one's end, of the first one's kind."""
-    return group[0] if len(group) == 1 else dataclasses.replace(group[0], end_m=group[-1].end_m)
