@@ -2,14 +2,14 @@
 
 A path with many samples costs too much to evaluate the thousands of times a search does: a CAM polyline of
 100,000 points under the paper's timing law has 200,000 samples, each segment being timed on its own with two
-samples at least whatever the time step, and a 4,700-line surface program 15,000 even at the global search's
+samples at least whatever the time step, and a 4,700-line surface program 9,500 even at the global search's
 coarse step. A path with more than GUIDE_THRESHOLD samples at its own step, or COARSE_THRESHOLD at the coarse
 one, is searched on guides instead: the same path with each stretch of consecutive straight segments (same
 feed and kind of move, no orientation, stop or hold between them) merged into chords, each at most a given
-length and within a share of that length of every point it skips. The global search's guide has about GLOBAL_SEGMENTS chords, sampled at the coarse step,
-and the polish's about POLISH_SEGMENTS, sampled at most POLISH_SAMPLES times over the path's duration. Under
-the realistic and optimal laws, which time runs rather than segments, the guides are the path itself, the
-polish's sampled at that coarser step.
+length and within a share of that length of every point it skips. The global search's guide has about
+GLOBAL_SEGMENTS chords, sampled at the coarse step, and the polish's about POLISH_SEGMENTS, sampled at a step of
+at least the path's duration over POLISH_SAMPLES. Under the realistic and optimal laws, which time runs rather
+than segments, the guides are the path itself, the polish's sampled at that coarser step.
 
 The exact model ranks nothing but checks everything reported: each reported placement is evaluated at the
 path's own sampling and on the 4x denser re-check, as for any path, and the report gives the polish guide's
