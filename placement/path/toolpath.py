@@ -148,6 +148,11 @@ class ToolPath:
         """Whether the path carries tool orientations (a pose list with orientation columns); looked up once."""
         return any(segment.rotation is not None for segment in self.segments)
 
+    def motion(self, index: np.ndarray, s: np.ndarray, s_dot: np.ndarray, s_ddot: np.ndarray) -> dict[str, np.ndarray]:
+        """Each sample's motion on its own segment ``index`` at arc length ``s`` (m) from its start, moved at ṡ and
+        s̈, with the orientation's if the path has one (:func:`placement.path.segments.segments_motion`)."""
+        return segments_motion(self.segments, index, s, s_dot, s_ddot, self.oriented)
+
     def runs(self, by_segment: bool = False) -> list[Run]:
         """The runs the tool moves through without stopping (:func:`placement.path.segments.split_runs`), or each segment
         on its own (``by_segment``: the paper's timing law)."""

@@ -42,6 +42,9 @@ class TimedPath(Protocol):
     def speed_m_s(self, segment: Segment) -> float:
         """The feed a segment is run at."""
 
+    def motion(self, index: np.ndarray, s: np.ndarray, s_dot: np.ndarray, s_ddot: np.ndarray) -> dict[str, np.ndarray]:
+        """Each sample's motion on its own segment ``index`` at arc length ``s`` from its start, all at once."""
+
     def runs(self, by_segment: bool = False) -> list[Run]:
         """The runs between stops, or each segment on its own."""
 

@@ -11,8 +11,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from placement.path.segments import segments_motion
-
 if TYPE_CHECKING:
     from placement.path.samples import PathSamples
     from placement.timing.interface import TimedPath
@@ -35,7 +33,7 @@ def sample_paper(path: TimedPath, step_s: float) -> PathSamples:
     t = within * (np.array(durations) / (counts - 1))[index]  # numpy.linspace(0, duration, count), segment by segment
     t[ends] = durations
     speed = np.array(speeds)[index]
-    motion = segments_motion(segments, index, speed * t, speed, np.zeros_like(t), path.oriented)
+    motion = path.motion(index, speed * t, speed, np.zeros_like(t))
     held_after = {hold.after for hold in path.holds}
     parts, start, piece = path.hold_parts(0, 0.0, 0)
     starts, pieces, holds = np.empty(len(segments)), np.empty(len(segments), dtype=int), {}
