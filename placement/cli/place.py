@@ -8,6 +8,7 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import sys
 from pathlib import Path
@@ -269,9 +270,12 @@ def tolerance_boxes(robot: Robot, path: ToolPath, evaluation: EvaluatorSettings,
     optima = {key: optimum for key, optimum in (("best", result.best), ("worst", result.worst)) if optimum is not None}
     if not optima:
         return {}
-    with Evaluator(robot, path, evaluation, remote.executor if remote else None) as evaluator:
-        return {key: tolerance_box(evaluator, space, optimum.detail.placement, lower == (key == "best"),
-                                   within_percent / 100) for key, optimum in optima.items()}
+    guide = result.guide  # a long path's search ran on guides: the box is found on the polish's
+    model, settings = (path, evaluation) if guide is None else (guide.polish_path, guide.polish)
+    with Evaluator(robot, model, settings, remote.executor if remote else None) as evaluator:
+        return {key: dataclasses.replace(tolerance_box(evaluator, space, optimum.detail.placement,
+                                                       lower == (key == "best"), within_percent / 100),
+                                         guided=guide is not None) for key, optimum in optima.items()}
 
 
 def duration_line(seconds: float) -> str:

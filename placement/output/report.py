@@ -178,6 +178,11 @@ def _recheck_line(optimum: Optimum) -> str:
     required = optimum.detail.required_margin
     kept = f" with the {required * 100:g} % margin" if required else ""
     note = f"\n  note: {optimum.note}" if optimum.note else ""
+    if optimum.guide_value is not None and optimum.guide_gap is not None:
+        unit = OBJECTIVES.get(optimum.detail.objective).unit
+        note += (f"\n  search guided by a cheaper model of the long path (its straight segments merged into chords, "
+                 f"or sampled more coarsely): {quantity(optimum.guide_value, unit)} here against the exact "
+                 f"{quantity(optimum.detail.value, unit)} (gap {optimum.guide_gap * 100:+.3f} %)")
     if optimum.holds:
         return f"  4x denser sampling: every limit holds{kept} (tightest: {margin}){note}"
     if optimum.recheck_limit.startswith("reachability"):
@@ -193,15 +198,15 @@ def format_tolerance(box: ToleranceBox, subject: str) -> str:
     return (f"  tolerance (every limit holds and the {subject} stays within {box.within * 100:g} % of this placement's "
             f"throughout the box): {widths} (checked at {box.corners_checked} corners and {box.inside_checked} points "
             f"inside, "
-            f"{box.evaluations} evaluations)" + ("; ± 0: a limit is already tight at this placement along that variable"
-                                                 if not box.half_width.all() else ""))
+            f"{box.evaluations} evaluations{' on the guide model of the search' if box.guided else ''})"
+            + ("; ± 0: a limit is already tight at this placement along that variable" if not box.half_width.all() else ""))
 
 
 def tolerance_json(box: ToleranceBox) -> dict[str, Any]:
     """JSON-ready tolerance box (SI): half-widths per free variable (m, rad)."""
     return {"within": box.within, "half_width": {name: float(w) for name, w in zip(box.free, box.half_width, strict=True)},
             "evaluations": box.evaluations, "corners_checked": box.corners_checked,
-            "inside_checked": box.inside_checked}
+            "inside_checked": box.inside_checked, **({"guided": True} if box.guided else {})}
 
 
 def format_result(robot: Robot, result: PlacementResult, rest_s: float = 0.0,
@@ -273,6 +278,8 @@ def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None =
             out["recheck_energy_J"] = recheck
         out["evaluations"] = optimum.evaluations
         out["note"] = optimum.note
+        if optimum.guide_value is not None:
+            out["guide"] = {"value": _finite(optimum.guide_value), "gap": _finite(optimum.guide_gap or 0.0)}
     return out
 
 

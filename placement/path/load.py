@@ -165,8 +165,7 @@ def _segments(spec: PathFile) -> tuple[Segment, ...]:
     if isinstance(shape, Slot):
         return _rounded(shape.length * scale, shape.width * scale, shape.width * scale / 2)
     if isinstance(shape, Polyline):
-        points = [tuple(np.array(p, dtype=float) * scale) for p in shape.points]
-        return _lines(points + ([points[0]] if shape.closed else []))
+        return _lines(shape.points + ([shape.points[0]] if shape.closed else []), scale)
     radius = shape.radius * scale
     start = 0.0 if isinstance(shape, Circle) else np.radians(shape.start_deg)
     sweep = 2 * np.pi if isinstance(shape, Circle) else np.radians(shape.sweep_deg)
@@ -196,8 +195,9 @@ def _rounded(width_m: float, length_m: float, radius_m: float) -> tuple[Segment,
     return tuple(segments)
 
 
-def _lines(points: list) -> tuple[Segment, ...]:
-    points = [np.pad(np.asarray(p, dtype=float), (0, 3 - len(p))) for p in points]
-    return tuple(Segment(a, b) for a, b in zip(points, points[1:]) if np.linalg.norm(b - a) > 0)
-
-
+def _lines(points: list, scale: float = 1.0) -> tuple[Segment, ...]:
+    """The polyline through points (x, y) or (x, y, z) times ``scale``, z 0 where not given, leaving out segments of
+    no length."""
+    xyz = np.array([[*p, 0.0, 0.0][:3] for p in points], dtype=float) * scale
+    moves = np.flatnonzero(np.linalg.norm(np.diff(xyz, axis=0), axis=1) > 0)
+    return tuple(Segment(xyz[k], xyz[k + 1]) for k in moves)

@@ -7,16 +7,19 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from placement.exceptions import PlacementError
 from placement.path.poses import TimedPoses
 from placement.path.samples import END_SPLIT, MAX_SAMPLES, MIN_PATH_STEPS, MIN_RUN_SAMPLES, PathGeometry, PathSamples, run_joins
 from placement.path.schema import ForceSet, Timing
-from placement.path.segments import Hold, Run, Segment, split_runs
+from placement.path.segments import Hold, Run, Segment, segments_motion, split_runs
 from placement.timing.paper import sample_paper
 from placement.timing.realistic import sample_realistic
 
 MIN_LENGTH_M = 1e-6
+SHAPE_POINTS = 9  # points of each piece compared by half_turn_symmetric
+SHAPE_NEIGHBOURS = 4  # pieces whose middle is nearest a turned one's that half_turn_symmetric compares it with
 PLUNGE_COSINE = np.cos(np.radians(45.0))  # a feed move within 45° of -Z_p (into the workpiece) is plunging
 
 
@@ -145,6 +148,11 @@ class ToolPath:
         """Whether the path carries tool orientations (a pose list with orientation columns); looked up once."""
         return any(segment.rotation is not None for segment in self.segments)
 
+    def motion(self, index: np.ndarray, s: np.ndarray, s_dot: np.ndarray, s_ddot: np.ndarray) -> dict[str, np.ndarray]:
+        """Each sample's motion on its own segment ``index`` at arc length ``s`` (m) from its start, moved at ṡ and
+        s̈, with the orientation's if the path has one (:func:`placement.path.segments.segments_motion`)."""
+        return segments_motion(self.segments, index, s, s_dot, s_ddot, self.oriented)
+
     def runs(self, by_segment: bool = False) -> list[Run]:
         """The runs the tool moves through without stopping (:func:`placement.path.segments.split_runs`), or each segment
         on its own (``by_segment``: the paper's timing law)."""
@@ -207,16 +215,19 @@ class ToolPath:
         """
         if self.timed is not None or self.holds or not self._constant_orientation():
             return False
-        fractions = np.linspace(0.0, 1.0, 9)
-
-        def points(run: Run) -> np.ndarray:
-            return run.along(fractions * run.length_m, np.zeros(9), np.zeros(9))["position"]
-
-        shapes = [(points(run), [self.speed_m_s(s) for s in run.segments])
-                  for run in self.runs(by_segment=self.timing.mode == "paper")]
-        turned = [(shape * np.array([-1.0, -1.0, 1.0]), speeds) for shape, speeds in shapes]
-        return all(any(np.allclose(t, s, atol=1e-12) and t_speeds == speeds for s, speeds in shapes)
-                   for t, t_speeds in turned)
+        pieces = self.runs(by_segment=self.timing.mode == "paper")
+        shapes = _piece_shapes(pieces).reshape(len(pieces), -1)
+        feeds: dict[tuple[float, ...], int] = {}  # each piece's feeds, as a number per distinct tuple
+        speeds = np.array([feeds.setdefault(tuple(self.speed_m_s(s) for s in run.segments), len(feeds))
+                           for run in pieces])
+        turned = shapes * np.tile([-1.0, -1.0, 1.0], SHAPE_POINTS)
+        # Each turned piece against the pieces of nearest middle points: np.allclose(turned, piece, atol=1e-12) and
+        # the same feeds
+        middle = slice(3 * (SHAPE_POINTS // 2), 3 * (SHAPE_POINTS // 2) + 3)
+        _, nearest = cKDTree(shapes[:, middle]).query(turned[:, middle], k=min(SHAPE_NEIGHBOURS, len(pieces)))
+        nearest = nearest.reshape(len(pieces), -1)
+        close = (np.abs(turned[:, None] - shapes[nearest]) <= 1e-12 + 1e-5 * np.abs(shapes[nearest])).all(axis=2)
+        return bool((close & (speeds[nearest] == speeds[:, None])).any(axis=1).all())
 
     def _constant_orientation(self) -> bool:
         rotations = [s.rotation for s in self.segments if s.rotation is not None]
@@ -238,6 +249,19 @@ class ToolPath:
         return PathSamples(column["t"], column["position"], column["velocity"], column["acceleration"], tangent,
                            force, column["piece"], column.get("rotation"), column.get("angular_velocity"),
                            column.get("angular_acceleration"))
+
+
+def _piece_shapes(pieces: list[Run]) -> np.ndarray:
+    """(P, SHAPE_POINTS, 3) points of each piece at evenly spaced shares of its length, ends included."""
+    fractions = np.linspace(0.0, 1.0, SHAPE_POINTS)
+    if all(len(run.segments) == 1 for run in pieces):  # a segment each (the paper's law): all at once
+        segments = [run.segments[0] for run in pieces]
+        s = (fractions[None, :] * np.array([run.length_m for run in pieces])[:, None]).ravel()
+        index = np.repeat(np.arange(len(pieces)), SHAPE_POINTS)
+        zero = np.zeros(len(s))
+        return segments_motion(segments, index, s, zero, zero)["position"].reshape(len(pieces), SHAPE_POINTS, 3)
+    zero = np.zeros(SHAPE_POINTS)
+    return np.array([run.along(fractions * run.length_m, zero, zero)["position"] for run in pieces])
 
 
 def _run_arc(length_m: float, count: int, refine: int, feed_changes_m: np.ndarray) -> np.ndarray:

@@ -24,6 +24,7 @@ candidates that does is reported instead, and the optimum says so.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import multiprocessing
 import os
@@ -42,7 +43,8 @@ from placement.evaluation.parallel import process_pool
 from placement.evaluation.results import Evaluation, PlacementDetail
 from placement.path.toolpath import ToolPath
 from placement.robot.model import Robot
-from placement.search.reporting import binding, reportable
+from placement.search.guide import SearchModels, guide_value, search_models
+from placement.search.reporting import binding, reported_point
 from placement.search.space import PlacementSpace, default_space
 
 POLISH_STARTS = 3  # distinct candidates polished locally
@@ -96,6 +98,8 @@ class Optimum:
         evaluations: Placements evaluated by the search.
         note: Why the reported placement is not the search's own optimum (which failed to keep
             every limit, with the margin, once printed or on the denser sampling), else None.
+        guide_value: When guides steered the search (:mod:`placement.search.guide`), the objective at the
+            same placement on the polish's guide, else None.
     """
 
     detail: PlacementDetail
@@ -104,6 +108,7 @@ class Optimum:
     recheck_limit: str
     evaluations: int
     note: str | None = None
+    guide_value: float | None = None
 
     @property
     def holds(self) -> bool:
@@ -115,6 +120,13 @@ class Optimum:
         """A short summary: the placement's detail and the 4x denser re-check."""
         return (f"Optimum({self.detail!r}, 4x denser: {self.recheck_value:.6g}, tightest {self.recheck_limit} "
                 f"{self.recheck_margin:.3g}, {self.evaluations} evaluations)")
+
+    @property
+    def guide_gap(self) -> float | None:
+        """Relative difference of the guide's objective from the exact one at this placement (None: no guide)."""
+        if self.guide_value is None:
+            return None
+        return (self.guide_value - self.detail.value) / (abs(self.detail.value) or 1.0)
 
     @property
     def sampling_gap(self) -> float:
@@ -133,6 +145,7 @@ class PlacementResult:
         objective: The objective's name.
         regeneration: Regeneration policy of the energies.
         infeasible: Why no feasible placement was found (the binding limit), else None.
+        guide: The models that steered the search when they were guides (:mod:`placement.search.guide`), else None.
     """
 
     best: Optimum | None
@@ -141,6 +154,7 @@ class PlacementResult:
     objective: str
     regeneration: str
     infeasible: str | None = None
+    guide: SearchModels | None = None
 
     def __repr__(self) -> str:
         """A short summary: the best and worst objective values and the gain."""
@@ -402,24 +416,27 @@ def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | 
         reason with the binding limit.
     """
     space = space or default_space(robot, half_turn=path.half_turn_symmetric())
-    coarse_settings, fine_settings = search_sampling(path, evaluation, settings)
+    models = search_models(path, *search_sampling(path, evaluation, settings))
     directions = settings.best + settings.worst
 
-    def evaluators(threads: int | None) -> tuple[Evaluator, Evaluator]:
-        """The global search's and the polish's (no worker process starts before an evaluation)."""
-        coarse, fine = (dataclasses.replace(each, threads=threads or evaluation.threads)
-                        for each in (coarse_settings, fine_settings))
-        return Evaluator(robot, path, coarse, executor), Evaluator(robot, path, fine, executor)
+    def evaluators(threads: int | None) -> tuple[Evaluator, Evaluator, Evaluator | None]:
+        """The global search's, the polish's and, if those are guides, the exact one (no worker process starts
+        before an evaluation)."""
+        coarse, fine, exact = (dataclasses.replace(each, threads=threads or evaluation.threads)
+                               for each in (models.coarse, models.polish, models.exact))
+        return (Evaluator(robot, models.coarse_path, coarse, executor),
+                Evaluator(robot, models.polish_path, fine, executor),
+                Evaluator(robot, path, exact, executor) if models.guided else None)
 
-    coarse, fine = evaluators(None)
+    coarse, fine, exact = evaluators(None)
     at_once = in_parallel(coarse, fine, directions)
     if at_once:  # each direction takes a core: this process keeps to one, and starts no OpenMP threads (it forks)
-        coarse, fine = evaluators(1)
-    with coarse, fine:
-        dense = denser(fine, RECHECK_DENSITY)
+        coarse, fine, exact = evaluators(1)
+    with coarse, fine, exact if exact is not None else contextlib.nullcontext():
         if announce is not None:
             announce(estimate(coarse, fine, space, settings, 1 if at_once else directions))
-        return _optimize(coarse, fine, dense, space, settings, progress)
+        result = _optimize(coarse, fine, space, settings, progress, exact)
+    return dataclasses.replace(result, guide=models) if models.guided else result
 
 
 def estimate(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, settings: SearchSettings,
@@ -444,12 +461,15 @@ def estimate(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, settings
 @dataclass(frozen=True)
 class _Outcome:
     """One direction's search: its best point (None if no placement is feasible), the placements it evaluated,
-    when none is feasible, why (the binding limit), and why the point is not the search's own optimum, if not."""
+    when none is feasible, why (the binding limit), why the point is not the search's own optimum, if not, its
+    4x denser re-check, and when guides steered the search, the polish's guide's value there."""
 
     x: np.ndarray | None
     evaluations: int
     infeasible: str | None
     note: str | None = None
+    check: Evaluation | None = None
+    guide_value: float | None = None
 
 
 @dataclass(frozen=True)
@@ -461,6 +481,7 @@ class _DirectionJob:
     space: PlacementSpace
     sign: float
     settings: SearchSettings
+    exact: EvaluationJob | None = None  # the path's own sampling, when the others are guides
 
 
 _generations: Synchronized | None = None  # in a direction's process: generations done, shared with the parent
@@ -480,18 +501,26 @@ def _count_generation() -> None:
 def _search_direction(job: _DirectionJob) -> _Outcome:
     """A direction's search in a process of its own, on one core."""
     with job.coarse.evaluator() as coarse, job.fine.evaluator() as fine:
-        return _outcome(coarse, fine, job.space, job.sign, job.settings, _count_generation)
+        if job.exact is None:
+            return _outcome(coarse, fine, job.space, job.sign, job.settings, _count_generation)
+        with job.exact.evaluator() as exact:
+            return _outcome(coarse, fine, job.space, job.sign, job.settings, _count_generation, exact)
 
 
 def _outcome(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: float, settings: SearchSettings,
-             progress: Callable[[], None] | None) -> _Outcome:
-    before = coarse.evaluations + fine.evaluations
+             progress: Callable[[], None] | None, exact: Evaluator | None = None) -> _Outcome:
+    """One direction's search: global and polish on ``coarse`` and ``fine``, the reported point on ``exact``
+    (``fine`` when None; else ``fine`` is a guide, see :mod:`placement.search.guide`)."""
+    reported = fine if exact is None else exact
+    before = coarse.evaluations + fine.evaluations + reported.evaluations * (exact is not None)
     candidates, problem = _search(coarse, fine, space, sign, settings, progress)
     if not candidates:
         return _Outcome(None, coarse.evaluations + fine.evaluations - before, _binding_limit(problem, problem.evaluator))
-    with denser(fine, RECHECK_DENSITY) as dense:
-        x, note = reportable(candidates, fine, dense, space, sign)
-        return _Outcome(x, coarse.evaluations + fine.evaluations + dense.evaluations - before, None, note)
+    with denser(reported, RECHECK_DENSITY) as dense:
+        x, note, check = reported_point(candidates, reported, dense, space, sign, None if exact is None else fine)
+        guide = None if exact is None else guide_value(fine, space.full(x))
+        evaluations = coarse.evaluations + fine.evaluations + reported.evaluations * (exact is not None)
+        return _Outcome(x, evaluations + dense.evaluations - before, None, note, check, guide)
 
 
 def in_parallel(coarse: Evaluator, fine: Evaluator, directions: int) -> bool:
@@ -504,17 +533,18 @@ def in_parallel(coarse: Evaluator, fine: Evaluator, directions: int) -> bool:
 
 
 def _outcomes(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, signs: list[float], settings: SearchSettings,
-              progress: Callable[[], None] | None) -> list[_Outcome]:
+              progress: Callable[[], None] | None, exact: Evaluator | None = None) -> list[_Outcome]:
     """Each direction's search: one after the other, or at once (:func:`in_parallel`)."""
     if not in_parallel(coarse, fine, len(signs)):
         outcomes = []
         for sign in signs:
-            outcomes.append(_outcome(coarse, fine, space, sign, settings, progress))
+            outcomes.append(_outcome(coarse, fine, space, sign, settings, progress, exact))
             if outcomes[-1].x is None:  # the feasible set is the same in both directions
                 break
         return outcomes
     none = np.zeros((0, 6))
-    jobs = [_DirectionJob(coarse.job(none), fine.job(none), space, sign, settings) for sign in signs]
+    jobs = [_DirectionJob(coarse.job(none), fine.job(none), space, sign, settings,
+                          None if exact is None else exact.job(none)) for sign in signs]
     counter = multiprocessing.Value("i", 0)
     with process_pool(len(jobs), _share_generations, (counter,)) as pool:
         futures = [pool.submit(_search_direction, job) for job in jobs]
@@ -528,12 +558,15 @@ def _outcomes(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, signs: 
         return [future.result() for future in futures]
 
 
-def _optimize(coarse: Evaluator, evaluator: Evaluator, dense: Evaluator, space: PlacementSpace,
-              settings: SearchSettings, progress: Callable[[], None] | None) -> PlacementResult:
+def _optimize(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, settings: SearchSettings,
+              progress: Callable[[], None] | None, exact: Evaluator | None = None) -> PlacementResult:
+    """Both directions' searches (on ``coarse`` and ``fine``), and each optimum's detail on ``exact`` (``fine``
+    when None) and its 4x denser re-check."""
+    evaluator = fine if exact is None else exact
     better = evaluator.objective.sign
     directions = [(name, sign) for name, sign, wanted in (("best", better, settings.best),
                                                            ("worst", -better, settings.worst)) if wanted]
-    outcomes = _outcomes(coarse, evaluator, space, [sign for _, sign in directions], settings, progress)
+    outcomes = _outcomes(coarse, fine, space, [sign for _, sign in directions], settings, progress, exact)
     found: dict[str, Optimum | None] = {"best": None, "worst": None}
     infeasible = next((o.infeasible for o in outcomes if o.x is None), None)
     for (direction, _), outcome in zip(directions, outcomes):
@@ -541,12 +574,16 @@ def _optimize(coarse: Evaluator, evaluator: Evaluator, dense: Evaluator, space: 
             break
         before = evaluator.evaluations
         placement = space.full(outcome.x)[0]
-        check = dense.recheck(placement[None], evaluator)
+        check = outcome.check
+        if check is None:
+            with denser(evaluator, RECHECK_DENSITY) as dense:
+                check = dense.recheck(placement[None], evaluator)
         tightest = binding(check)
         found[direction] = Optimum(detail=evaluator.detail(placement), recheck_value=float(check.value[0]),
                                    recheck_margin=float(check.margins[0, tightest]),
                                    recheck_limit=check.limits[tightest],
-                                   evaluations=outcome.evaluations + evaluator.evaluations - before, note=outcome.note)
+                                   evaluations=outcome.evaluations + evaluator.evaluations - before, note=outcome.note,
+                                   guide_value=outcome.guide_value)
     return PlacementResult(best=found["best"], worst=found["worst"], space=space, objective=evaluator.objective_name,
                            regeneration=evaluator.settings.regeneration, infeasible=infeasible)
 

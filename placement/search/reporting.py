@@ -40,17 +40,28 @@ def as_printed(placement: np.ndarray) -> np.ndarray:
 
 
 def reportable(candidates: list[np.ndarray], fine: Evaluator, dense: Evaluator, space: PlacementSpace,
-                sign: float) -> tuple[np.ndarray, str | None]:
+               sign: float) -> tuple[np.ndarray, str | None]:
+    """The first candidate that, printed, keeps every limit with the required margin on the path's samples and the
+    denser ones (:func:`reported_point`, without its re-check)."""
+    x, note, _ = reported_point(candidates, fine, dense, space, sign)
+    return x, note
+
+
+def reported_point(candidates: list[np.ndarray], fine: Evaluator, dense: Evaluator, space: PlacementSpace,
+                   sign: float, guide: Evaluator | None = None) -> tuple[np.ndarray, str | None, Evaluation | None]:
     """The first candidate that, printed, keeps every limit with the required margin on the path's samples and the
     denser ones.
 
     A candidate is printed (:func:`as_printed`) as the best of the corners of the printed grid's cell around it
     that keeps every limit on the path's samples, or else pulled inwards by the least of RETREAT_SHARES that does;
-    at most RECHECK_TRIES of those are re-checked on the denser sampling, best first.
+    at most RECHECK_TRIES of those are re-checked on the denser sampling, best first. With a ``guide`` (a cheaper
+    model of the path, :mod:`placement.search.guide`), the corners and pulls are ranked and sifted on it, and each
+    of those re-checked is evaluated on the path's samples first.
 
     Returns:
-        The free variables of the placement to report, and why it is not the first candidate (None if it is). When
-        no candidate does, the first one as printed, with why it fails.
+        The free variables of the placement to report, why it is not the first candidate (None if it is), and its
+        re-check on the denser sampling. When no candidate does, the first one as printed, with why it fails, and
+        no re-check.
     """
     centre = (space.lower + space.upper) / 2
     first_failure = ""
@@ -59,7 +70,7 @@ def reportable(candidates: list[np.ndarray], fine: Evaluator, dense: Evaluator, 
                           space.full(x + RETREAT_SHARES[:, None] * (centre - x))])
         trials = near.copy()  # the free variables as printed, the fixed ones as the space fixes them
         trials[:, space.indices] = np.array([as_printed(p) for p in near])[:, space.indices]
-        fine_check = fine.evaluate(trials)
+        fine_check = (fine if guide is None else guide).evaluate(trials)
         inside = (trials[:, space.indices] >= space.lower - BOUND_ROUND_OFF).all(axis=1) & (
             trials[:, space.indices] <= space.upper + BOUND_ROUND_OFF).all(axis=1)  # a corner may cross a bound
         usable = fine_check.feasible & inside
@@ -67,19 +78,25 @@ def reportable(candidates: list[np.ndarray], fine: Evaluator, dense: Evaluator, 
         order = [k for k in np.argsort(sign * fine_check.value[:corners], kind="stable") if usable[k]]
         order += [corners + k for k in np.flatnonzero(usable[corners:])]
         for k in order[:RECHECK_TRIES]:
+            if guide is not None:
+                exact = fine.evaluate(trials[k:k + 1])
+                if not exact.feasible[0]:
+                    if number == 0 and not first_failure:
+                        first_failure = f"fails once printed ({_failure(exact)})"
+                    continue
             check = dense.recheck(trials[k:k + 1], fine)
             if check.feasible[0] and np.isfinite(check.value[0]):
                 if number == 0:
-                    return trials[k][space.indices], None
+                    return trials[k][space.indices], None, check
                 return trials[k][space.indices], (f"the search's optimum {first_failure}; reported: candidate "
-                                                  f"{number + 1}, the best that keeps every limit there")
+                                                  f"{number + 1}, the best that keeps every limit there"), check
             if number == 0 and not first_failure:
                 first_failure = f"fails the 4x denser re-check ({_failure(check)})"
         if number == 0 and not first_failure:
             first_failure = f"fails once printed ({_failure(fine_check)})"
     return (as_printed(space.full(candidates[0])[0])[space.indices],
             f"no candidate keeps every limit once printed and on the 4x denser re-check: the search's optimum "
-            f"{first_failure}")
+            f"{first_failure}", None)
 
 
 def _grid_corners(placement: np.ndarray, free: np.ndarray) -> np.ndarray:

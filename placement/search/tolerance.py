@@ -56,6 +56,8 @@ class ToleranceBox:
         evaluations: Placements evaluated to find and check it.
         corners_checked: Corners of the box in its final check (all 2^n up to four free variables).
         inside_checked: Points inside the box in its final check.
+        guided: Whether the box was found and checked on a long path's guide (:mod:`placement.search.guide`)
+            instead of the exact model.
     """
 
     free: tuple[str, ...]
@@ -64,6 +66,7 @@ class ToleranceBox:
     evaluations: int
     corners_checked: int
     inside_checked: int
+    guided: bool = False
 
 
 def tolerance_box(evaluator: Evaluator, space: PlacementSpace, placement: np.ndarray, lower_is_better: bool,

@@ -13,7 +13,7 @@ if TYPE_CHECKING:
 
     from placement.path.samples import PathSamples
     from placement.path.schema import Timing
-    from placement.path.segments import Run, Segment
+    from placement.path.segments import Hold, Run, Segment
 
 
 class TimedPath(Protocol):
@@ -32,11 +32,18 @@ class TimedPath(Protocol):
         """The path file's sampling step (s)."""
 
     @property
+    def holds(self) -> tuple[Hold, ...]:
+        """Where the tool rests for a while (dwells), in order."""
+
+    @property
     def oriented(self) -> bool:
         """Whether the path carries tool orientations."""
 
     def speed_m_s(self, segment: Segment) -> float:
         """The feed a segment is run at."""
+
+    def motion(self, index: np.ndarray, s: np.ndarray, s_dot: np.ndarray, s_ddot: np.ndarray) -> dict[str, np.ndarray]:
+        """Each sample's motion on its own segment ``index`` at arc length ``s`` from its start, all at once."""
 
     def runs(self, by_segment: bool = False) -> list[Run]:
         """The runs between stops, or each segment on its own."""

@@ -1,0 +1,125 @@
+"""Guides for the search of a long path: cheaper models of it that steer the search, checked against the exact one.
+
+A path with many samples costs too much to evaluate the thousands of times a search does: a CAM polyline of
+100,000 points under the paper's timing law has 200,000 samples, each segment being timed on its own with two
+samples at least whatever the time step, and a 4,700-line surface program 9,500 even at the global search's
+coarse step. A path with more than GUIDE_THRESHOLD samples at its own step, or COARSE_THRESHOLD at the coarse
+one, is searched on guides instead: the same path with each stretch of consecutive straight segments (same
+feed and kind of move, no orientation, stop or hold between them) merged into chords, each at most a given
+length and within a share of that length of every point it skips. The global search's guide has about
+GLOBAL_SEGMENTS chords, sampled at the coarse step, and the polish's about POLISH_SEGMENTS, sampled at a step of
+at least the path's duration over POLISH_SAMPLES. Under the realistic and optimal laws, which time runs rather
+than segments, the guides are the path itself, the polish's sampled at that coarser step.
+
+The exact model ranks nothing but checks everything reported: each reported placement is evaluated at the
+path's own sampling and on the 4x denser re-check, as for any path, and the report gives the polish guide's
+value there beside the exact one (the gap). The tolerance box around an optimum is found on the polish's guide,
+and says so.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
+from placement.path.segments import Segment
+from placement.path.toolpath import ToolPath
+
+GUIDE_THRESHOLD = 20_000  # a path with more samples than this at its own step is searched on guides ...
+COARSE_THRESHOLD = 1_024  # ... and so is one with more than this at the global search's coarse step
+GLOBAL_SEGMENTS = 128  # chords of the global search's guide, about
+POLISH_SEGMENTS = 1_000  # chords of the polish's guide, about
+GLOBAL_DEVIATION = 1 / 40  # a chord of the global search's guide strays from its points by this share of its length
+POLISH_DEVIATION = 1 / 100  # ... of the polish's guide, at most
+POLISH_SAMPLES = 2_000  # the polish's guide's time step is at least the path's duration over this
+
+
+@dataclass(frozen=True)
+class SearchModels:
+    """The models a search evaluates: the global search's, the polish's and, when they are guides, the exact one.
+
+    Attributes:
+        coarse_path, coarse: The global search's path and evaluator settings.
+        polish_path, polish: The polish's path and evaluator settings.
+        exact: The path's own sampling (the reported values'); the polish's when it is not a guide.
+        guided: Whether the global search and the polish run on guides (module docstring).
+    """
+
+    coarse_path: ToolPath
+    coarse: EvaluatorSettings
+    polish_path: ToolPath
+    polish: EvaluatorSettings
+    exact: EvaluatorSettings
+    guided: bool = False
+
+
+def search_models(path: ToolPath, coarse: EvaluatorSettings, fine: EvaluatorSettings) -> SearchModels:
+    """The models of a search: the path itself at the ``coarse`` and ``fine`` sampling
+    (:func:`placement.search.optimize.search_sampling`), or guides (module docstring) with ``fine`` the exact
+    model, for a path with more than GUIDE_THRESHOLD samples at its own step or COARSE_THRESHOLD at the coarse one
+    (a timed pose list has neither: it is sampled in time whatever its points)."""
+    samples = path.sample(fine.time_step_s)
+    if path.timed is not None or (len(samples) <= GUIDE_THRESHOLD
+                                  and len(path.sample(coarse.time_step_s)) <= COARSE_THRESHOLD):
+        return SearchModels(path, coarse, path, fine, fine)
+    step = max(fine.time_step_s or path.time_step_s, float(np.ptp(samples.t_s)) / POLISH_SAMPLES)
+    polish = dataclasses.replace(fine, time_step_s=step)
+    if path.timing.mode != "paper":
+        return SearchModels(path, coarse, path, polish, fine, guided=True)
+    global_m, polish_m = path.length_m / GLOBAL_SEGMENTS, path.length_m / POLISH_SEGMENTS
+    return SearchModels(merge_lines(path, global_m, global_m * GLOBAL_DEVIATION), coarse,
+                        merge_lines(path, polish_m, polish_m * POLISH_DEVIATION), polish, fine, guided=True)
+
+
+def guide_value(guide: Evaluator, placement: np.ndarray) -> float:
+    """The objective of a (1, 6) placement on a guide's model (the exact one is the report's)."""
+    return float(guide.evaluate(placement).value[0])
+
+
+def merge_lines(path: ToolPath, max_length_m: float, tolerance_m: float) -> ToolPath:
+    """The path with stretches of consecutive straight segments merged into chords (module docstring): from each
+    segment on, the longest chord at most ``max_length_m`` long whose skipped points are within ``tolerance_m`` of
+    it (found by doubling then halving the number of segments merged); holds stay after the same points."""
+    segments = path.segments
+    count = len(segments)
+    starts, ends = (np.array([getattr(s, name) for s in segments]) for name in ("start_m", "end_m"))
+    along = np.concatenate([[0.0], np.cumsum([segment.length_m for segment in segments])])
+    plain = np.array([_plain(segment) for segment in segments])
+    kinds = [(segment.rapid, segment.feed_ratio) for segment in segments]
+    joins = np.zeros(count + 1, dtype=bool)  # joins[k]: segment k may extend a chord ending with segment k - 1
+    joins[1:count] = (plain[1:] & plain[:-1] & (ends[:-1] == starts[1:]).all(axis=1)
+                      & np.array([a == b for a, b in zip(kinds, kinds[1:])], dtype=bool))
+    joins[[hold.after for hold in path.holds]] = False
+    stops = np.flatnonzero(~joins)
+
+    def close(first: int, last: int) -> bool:  # the chord over segments first..last stays near their points
+        chord = ends[last] - starts[first]
+        points = ends[first:last] - starts[first]
+        share = np.clip(points @ chord / max(float(chord @ chord), 1e-300), 0.0, 1.0)
+        return bool(np.linalg.norm(points - share[:, None] * chord, axis=1).max(initial=0.0) <= tolerance_m)
+
+    merged, new_index, first = [], {0: 0}, 0
+    while first < count:
+        furthest = min(stops[np.searchsorted(stops, first, side="right")] - 1,
+                       int(np.searchsorted(along, along[first] + max_length_m, side="right")) - 2)
+        good, step = first, 1
+        while good + step <= furthest and close(first, good + step):
+            good, step = good + step, 2 * step
+        bad = min(good + step, furthest + 1)
+        while bad - good > 1:
+            middle = (good + bad) // 2
+            good, bad = (middle, bad) if close(first, middle) else (good, middle)
+        merged.append(segments[first] if good == first else dataclasses.replace(segments[first], end_m=ends[good]))
+        first = good + 1
+        new_index[first] = len(merged)
+    holds = tuple(dataclasses.replace(hold, after=new_index[hold.after]) for hold in path.holds)
+    return dataclasses.replace(path, name=f"{path.name} (guide)", segments=tuple(merged), holds=holds)
+
+
+def _plain(segment: Segment) -> bool:
+    """Whether a segment may be merged: a straight one without orientation or a stop at its end."""
+    return (segment.center_m is None and segment.rotation is None and segment.turn_rad is None
+            and not segment.exact_stop and not segment.exact_path)

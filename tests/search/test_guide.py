@@ -1,0 +1,94 @@
+"""Guides of a long path's search: chords that stay on the path, and answers that are the exact model's."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from placement.evaluation.evaluator import Evaluator, EvaluatorSettings, denser
+from placement.path.load import load_path
+from placement.path.segments import Hold
+from placement.search import guide
+from placement.search.optimize import SearchSettings, optimize_placement, search_sampling
+from placement.search.space import default_space
+
+
+def contour(tmp_path, count):
+    """A smooth free-form closed contour of ``count`` points, about 90 x 80 mm, at 0.66 m/s under the paper law."""
+    theta = np.linspace(0.0, 2 * np.pi, count, endpoint=False)
+    radius = 40.0 * (1 + 0.15 * np.cos(3 * theta) + 0.08 * np.sin(5 * theta))
+    file = tmp_path / f"contour{count}.yaml"
+    file.write_text("units: mm\nfeed_m_s: 0.66\ntime_step_s: 0.001\nprocess_forces_N: {feed: 10, radial: 215, axial: 25}"
+                    "\nshape:\n  type: polyline\n  closed: true\n  points:\n"
+                    + "".join(f"    - [{r * np.cos(a):.6f}, {r * np.sin(a):.6f}]\n" for r, a in zip(radius, theta)))
+    return load_path(file)
+
+
+def distance_to_chords(points, chords):
+    """(N,) distance of each point to the nearest of the chords (segments)."""
+    start = np.array([c.start_m for c in chords])
+    direction = np.array([c.end_m - c.start_m for c in chords])
+    share = np.clip(np.einsum("nkj,kj->nk", points[:, None] - start, direction) / (direction**2).sum(axis=1), 0, 1)
+    return np.linalg.norm(points[:, None] - (start + share[..., None] * direction), axis=2).min(axis=1)
+
+
+def test_chords_stay_within_their_bound_of_the_points_they_skip(tmp_path):
+    path = contour(tmp_path, 3000)
+    path = dataclasses.replace(path, holds=(Hold(1000, 0.5),))
+    longest, tolerance = path.length_m / 100, path.length_m / 10_000
+    merged = guide.merge_lines(path, longest, tolerance)
+    assert 100 <= len(merged.segments) < 300
+    assert all(chord.length_m <= longest * (1 + 1e-12) for chord in merged.segments)
+    vertices = np.array([segment.start_m for segment in path.segments])
+    assert distance_to_chords(vertices, merged.segments).max() <= tolerance * (1 + 1e-12)
+    # Consecutive chords join, from the first point to the last, and the hold stays at its point
+    np.testing.assert_array_equal(merged.segments[0].start_m, path.segments[0].start_m)
+    np.testing.assert_array_equal(merged.segments[-1].end_m, path.segments[-1].end_m)
+    assert all(np.array_equal(a.end_m, b.start_m) for a, b in zip(merged.segments, merged.segments[1:]))
+    (hold,) = merged.holds
+    np.testing.assert_array_equal(merged.segments[hold.after - 1].end_m, path.segments[999].end_m)
+
+
+def models(path):
+    return guide.search_models(path, *search_sampling(path, EvaluatorSettings(), SearchSettings()))
+
+
+def test_a_path_with_few_samples_needs_no_guide_and_one_with_many_gets_one(tmp_path):
+    few = models(contour(tmp_path, 400))  # 800 samples, each segment on its own under the paper law
+    assert not few.guided and few.polish_path is few.coarse_path is not None
+    many = models(contour(tmp_path, 1000))  # 2,000 samples, even at the global search's coarse step
+    assert many.guided and len(many.coarse_path.segments) < 200 < len(many.polish_path.segments) <= 1000
+
+
+@pytest.fixture(scope="module")
+def guided(tmp_path_factory):
+    """A guided search of a 1,500-point contour (3,000 samples), the guides' thresholds lowered to make it one."""
+    from placement.robot import load_robot
+
+    patch = pytest.MonkeyPatch()
+    patch.setattr(guide, "GUIDE_THRESHOLD", 1_000)
+    patch.setattr(guide, "POLISH_SEGMENTS", 150)
+    patch.setattr(guide, "GLOBAL_SEGMENTS", 30)
+    robot = load_robot("orthoglide")
+    path = contour(tmp_path_factory.mktemp("guide"), 1500)
+    space = default_space(robot, free=("x", "y", "z"))
+    result = optimize_placement(robot, path, space=space, evaluation=EvaluatorSettings(),
+                                settings=SearchSettings(population=16, max_generations=6, worst=False))
+    patch.undo()
+    return robot, path, (result.guide.polish_path, result.guide.polish), result
+
+
+def test_the_guided_answer_is_the_exact_models_at_its_placement(guided):
+    robot, path, polish, result = guided
+    optimum = result.best
+    placement = optimum.detail.placement
+    exact = Evaluator(robot, path)
+    assert optimum.detail.value == exact.detail(placement).value
+    assert len(optimum.detail.samples) == len(path.sample()) == 3000
+    assert optimum.recheck_value == denser(exact, 4).recheck(placement[None], exact).value[0]
+    model, settings = polish
+    assert len(model.segments) < 300 < len(path.segments)
+    assert optimum.guide_value == Evaluator(robot, model, settings).evaluate(placement[None]).value[0]
+    # The chords of a smooth contour cost about what its points do: the gap reported is small and measured
+    assert optimum.guide_gap == pytest.approx((optimum.guide_value - optimum.detail.value) / optimum.detail.value)
+    assert abs(optimum.guide_gap) < 0.01
