@@ -312,15 +312,7 @@ def _distinct(candidates: np.ndarray, space: PlacementSpace) -> list[np.ndarray]
 def _near(point: np.ndarray, others: list[np.ndarray], space: PlacementSpace) -> bool:
     """Whether ``point`` lies within BASIN_RADIUS of the box of one of ``others`` (across a periodic variable's wrap too)."""
     scale = np.where(space.upper > space.lower, space.upper - space.lower, 1.0)
-    return any(np.abs(_difference(point, other, space.period) / scale).max() <= BASIN_RADIUS for other in others)
-
-
-def _difference(a: np.ndarray, b: np.ndarray, period: np.ndarray) -> np.ndarray:
-    """``a - b``, the shorter way round for a periodic variable."""
-    difference = a - b
-    cyclic = period > 0
-    difference[cyclic] -= period[cyclic] * np.round(difference[cyclic] / period[cyclic])
-    return difference
+    return any(np.abs(space.difference(point, other) / scale).max() <= BASIN_RADIUS for other in others)
 
 
 def _polish(problem: _Problem, start: np.ndarray, bounds: list) -> np.ndarray:

@@ -56,6 +56,13 @@ class PlacementSpace:
         values[..., cyclic] = self.lower[cyclic] + np.mod(shifted, period[cyclic])
         return values
 
+    def difference(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """``a - b`` between free values, the shorter way round for a periodic variable."""
+        difference = np.array(a, dtype=float) - b
+        cyclic = self.period > 0
+        difference[..., cyclic] -= self.period[cyclic] * np.round(difference[..., cyclic] / self.period[cyclic])
+        return difference
+
     @property
     def indices(self) -> np.ndarray:
         """Positions of the free variables in the 6-vector."""

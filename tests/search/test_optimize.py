@@ -158,6 +158,8 @@ def test_a_whole_or_half_turn_of_phi_is_periodic_and_a_narrower_range_is_not(cas
     wrapped = half.wrap(point)
     assert wrapped[-1] == pytest.approx(-np.pi / 2 + 0.1) and np.array_equal(wrapped[:-1], point[:-1])
     np.testing.assert_array_equal(narrow.wrap(point), point)
+    np.testing.assert_allclose(half.difference(point, wrapped), 0.0, atol=1e-12)  # a half turn apart: no distance
+    assert narrow.difference(point, wrapped)[-1] == pytest.approx(np.pi)
 
 
 def test_a_basin_at_the_edge_of_phi_s_range_is_searched_across_the_edge(case):
