@@ -8,9 +8,10 @@ informative inside an obstacle). A body's distance is the smallest over its shap
 Exact distances are coal's (GJK, EPA for penetration; converged to about 1e-6 m), computed by
 Pinocchio's loop over the geometry model's collision pairs, one configuration per call. Speed: with
 ``threshold_m``, the compiled tree kinematics place every shape of every configuration in one call,
-and a cheap lower bound spares the exact computation of pairs far apart: the distance between the
-two shapes' bounding spheres, or, against a cell body, from one shape's bounding sphere to the
-other's bounding box. A pair whose bound exceeds the threshold returns the bound (a value above the
+and a cheap lower bound, compiled too, spares the exact computation of pairs far apart: the gap
+between the two shapes' bounding spheres (against a cell body, from one shape's sphere to the
+other's bounding box), and, near the threshold, between their projections on a few axes
+(:mod:`placement.cell.bounds`). A pair whose bound exceeds the threshold returns the bound (a value above the
 threshold, never above the exact distance); below the threshold every distance is exact, so that
 checking ``distance >= required`` with a threshold at least the largest requirement decides exactly
 as the exact distances would. A distance does not depend on the other configurations or pairs
@@ -26,6 +27,7 @@ import coal
 import numpy as np
 import pinocchio as pin
 
+from placement.cell.bounds import pair_bounds, shape_supports
 from placement.cell.exceptions import CellFileError
 from placement.cell.geometry import Body, build_geometry
 from placement.cell.pairs import Pair, select_pairs
@@ -88,9 +90,7 @@ class CollisionScene:
         self.bodies = geometry.bodies
         self._model, self._data = robot.model, robot.model.createData()
         self._tree = _shape_tree(robot, self.geometry_model)
-        shapes = [item.geometry for item in self.geometry_model.geometryObjects]
-        self._sphere_center, self._sphere_radius = _bounding_spheres(shapes)
-        self._box_half = np.array([_box_half(shape) for shape in shapes]).reshape(-1, 3)
+        self._enclosures = shape_supports([item.geometry for item in self.geometry_model.geometryObjects])
         candidates = select_pairs(robot, cell, self.bodies)
         self._set_pairs(candidates)
         reference = self._per_pair(self._exact_everywhere(self._checked(robot.reference_q)))[0]
@@ -127,12 +127,9 @@ class CollisionScene:
         q = self._checked(q)
         if threshold_m is None:
             return self._per_pair(self._exact_everywhere(q))
-        values = self._bounds(*kernels.placements(self._tree, q))
-        needed = values <= threshold_m
-        for m in np.flatnonzero(needed.any(axis=1)).tolist():
-            pin.updateGeometryPlacements(self._model, self._data, self.geometry_model, self._geometry_data, q[m])
-            for k in np.flatnonzero(needed[m]).tolist():
-                values[m, k] = pin.computeDistance(self.geometry_model, self._geometry_data, k).min_distance
+        values = self._bounds(q, threshold_m)
+        rows, columns = np.nonzero(values <= threshold_m)
+        values[rows, columns] = self._exact_at(q, rows, columns)
         return self._per_pair(values)
 
     def closest(self, q: np.ndarray) -> Witnesses:
@@ -196,26 +193,31 @@ class CollisionScene:
             values[m] = [result.min_distance for result in results]
         return values
 
+    def _exact_at(self, q: np.ndarray, rows: np.ndarray, columns: np.ndarray) -> np.ndarray:
+        """Exact distances of shape pairs ``columns`` in configurations ``q[rows]`` (fastest with rows sorted)."""
+        out = np.empty(len(rows))
+        model, data, geometry_model, geometry_data = self._model, self._data, self.geometry_model, self._geometry_data
+        placed = -1
+        for i, (m, k) in enumerate(zip(rows.tolist(), columns.tolist())):
+            if m != placed:
+                pin.updateGeometryPlacements(model, data, geometry_model, geometry_data, q[m])
+                placed = m
+            out[i] = pin.computeDistance(geometry_model, geometry_data, k).min_distance
+        return out
+
     def _per_pair(self, values: np.ndarray) -> np.ndarray:
         """(M, P) the smallest of each body pair's shape-pair values (M, K)."""
         if not len(self._pair_starts):
             return np.empty((len(values), 0))
         return np.minimum.reduceat(values, self._pair_starts, axis=1)
 
-    def _bounds(self, rotation: np.ndarray, origin: np.ndarray) -> np.ndarray:
-        """(M, K) lower bounds of the shape pairs' distances, shapes placed at (M, G, 3, 3) rotations and (M, G, 3)
-        origins."""
-        first, second = self._shape_first, self._shape_second
-        center = np.einsum("mkij,kj->mki", rotation[:, first], self._sphere_center[first]) + origin[:, first]
-        radius = self._sphere_radius[first]
-        other = np.einsum("mkij,kj->mki", rotation[:, second], self._sphere_center[second]) + origin[:, second]
-        bound = np.linalg.norm(center - other, axis=2) - radius - self._sphere_radius[second]
-        cell = self._against_cell
-        if cell.any():  # the second shape is fixed: from the sphere to its bounding box
-            local = np.einsum("mkji,mkj->mki", rotation[:, second[cell]], center[:, cell] - other[:, cell])
-            outside = np.maximum(np.abs(local) - self._box_half[second[cell]], 0.0)
-            bound[:, cell] = np.linalg.norm(outside, axis=2) - radius[cell]
-        return bound
+    def _bounds(self, q: np.ndarray, threshold_m: float) -> np.ndarray:
+        """(M, K) lower bounds of the shape pairs' distances in configurations q (M, nq), refined up to
+        ``threshold_m`` (:func:`placement.cell.bounds.pair_bounds`)."""
+        rotation, origin = kernels.placements(self._tree, q)
+        kind, centre, radius, box_half, extent = self._enclosures
+        return pair_bounds(rotation, origin, self._shape_first, self._shape_second, self._against_cell,
+                           kind, centre, radius, box_half, extent, float(threshold_m))
 
 
 def _shape_tree(robot: Robot, geometry_model: pin.GeometryModel) -> TreeArrays:
@@ -228,32 +230,6 @@ def _shape_tree(robot: Robot, geometry_model: pin.GeometryModel) -> TreeArrays:
     frames = [model.addFrame(pin.Frame(f"shape:{item.name}", item.parentJoint, item.placement, pin.FrameType.OP_FRAME),
                              False) for item in geometry_model.geometryObjects]
     return tree_arrays(model, frames)
-
-
-def _bounding_spheres(shapes: list[coal.CollisionGeometry]) -> tuple[np.ndarray, np.ndarray]:
-    """Centres (G, 3) in each shape's frame and radii (G,) of spheres enclosing the shapes (m)."""
-    centers, radii = np.zeros((len(shapes), 3)), np.zeros(len(shapes))
-    for g, shape in enumerate(shapes):
-        if isinstance(shape, coal.Sphere):
-            radii[g] = shape.radius
-        elif isinstance(shape, coal.Cylinder):
-            radii[g] = np.hypot(shape.radius, shape.halfLength)
-        elif isinstance(shape, coal.ConvexBase):
-            points = np.array(shape.points())
-            centers[g] = (points.min(axis=0) + points.max(axis=0)) / 2
-            radii[g] = np.linalg.norm(points - centers[g], axis=1).max()
-        else:
-            shape.computeLocalAABB()
-            centers[g] = np.asarray(shape.aabb_local.center())
-            radii[g] = np.linalg.norm(_box_half(shape))
-    return centers, radii
-
-
-def _box_half(shape: coal.CollisionGeometry) -> np.ndarray:
-    """Half extents (m) of the shape's bounding box in its own frame, centred on its bounding sphere's centre."""
-    shape.computeLocalAABB()
-    box = shape.aabb_local
-    return (np.asarray(box.max_) - np.asarray(box.min_)) / 2
 
 
 def _check_fixed(cell: Cell | None, bodies: tuple[Body, ...], pairs: list[Pair], reference: np.ndarray) -> None:

@@ -179,13 +179,33 @@ def test_prefilter_never_changes_a_distance_below_the_threshold(ur5):
     high = np.array([a.position_max for a in ur5.actuators])
     q = low + (high - low) * rng.random((150, ur5.model.nq))
     exact = scene.distances(q)
+    assert (scene._per_pair(scene._bounds(q, np.inf)) <= exact + 1e-9).all()  # overlapping pairs too
     for threshold in (0.0, 0.05, 0.2):
         filtered = scene.distances(q, threshold_m=threshold)
         below = exact <= threshold
         np.testing.assert_array_equal(filtered[below], exact[below])
-        assert (filtered[~below] > threshold).all() and (filtered[~below] <= exact[~below] + 1e-12).all()
+        assert (filtered[~below] > threshold).all() and (filtered[~below] <= exact[~below] + 1e-9).all()  # GJK's rounding
         assert np.array_equal(filtered >= scene.required_m, exact >= scene.required_m) or threshold < 0.01
     assert (scene.distances(q, threshold_m=0.05) != exact).mean() > 0.5  # the bounds spare most pairs
+
+
+def test_refined_bounds_stay_below_the_exact_distances_of_the_orthoglide_cell():
+    """Boxes and cylinders against boxes: the projections' gaps are tight, never above coal's distances, and
+    the prefiltered distances decide every clearance as the exact ones do."""
+    robot = load_robot("orthoglide")
+    scene = CollisionScene(robot, load_cell(ORTHOGLIDE_CELL))
+    q = robot.reference_q + np.random.default_rng(3).uniform(-0.25, 0.25, (400, robot.model.nq))
+    exact = scene.distances(q)
+    bounds = scene._per_pair(scene._bounds(q, np.inf))
+    assert (bounds <= exact + 1e-9).all()  # face to face, a bound is the distance, to GJK's rounding
+    assert np.median(exact - bounds) < 0.01  # tighter than the bounding spheres' (their median gap is about 4 cm)
+    for threshold in (0.0, 0.056, 0.2):
+        filtered = scene.distances(q, threshold_m=threshold)
+        below = exact <= threshold
+        np.testing.assert_allclose(filtered[below], exact[below], rtol=0, atol=1e-12)
+        assert (filtered[~below] > threshold).all()
+        if threshold >= scene.required_m.max():  # a threshold at least the clearance decides as the exact distances
+            assert np.array_equal(filtered >= scene.required_m, exact >= scene.required_m)
 
 
 # ---------------------------------------------------------------- which pairs
