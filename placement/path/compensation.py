@@ -1,8 +1,9 @@
 """Cutter radius compensation (G41, G42, G41.1, G42.1) in the XY plane, computed as LinuxCNC's interpreter does.
 
 The program gives the contour; the tool centre runs at the tool radius r to the left (G41) or
-right (G42) of the direction of travel. The first move after G41/G42 (the entry, a G0 or G1) ends
-at r from its programmed end, square to its own direction. Each later move is offset by r; at a
+right (G42) of the direction of travel. The first move after G41/G42 (the entry) ends at r from
+its programmed end: a G0 or G1 square to its own direction, a G2 or G3 along the arc's radius
+(the entry arc's centre moved so that it runs from the tool's point to there). Each later move is offset by r; at a
 convex corner an arc of radius r about the programmed corner joins the two offset moves (a
 straight rapid for a G0); at a concave corner the previous offset move's end is moved back to
 where the two offset moves meet. Corners within TOLERANCE_CONCAVE_CORNER_RAD of straight join as
@@ -29,6 +30,7 @@ from placement.path.exceptions import GcodeError
 from placement.path.segments import Segment
 
 TOLERANCE_CONCAVE_CORNER_RAD = 0.05  # LinuxCNC's: corners this close to straight (or to a reversal) join as they are
+TOLERANCE_EQUAL = 1e-6  # LinuxCNC's: an entry arc's chord this close to square to its radius has no centre
 RADII_MISMATCH_M = 0.01e-3  # a moved arc end off its circle by more is a bug (LinuxCNC: 0.01 program units)
 Fail = Callable[[str], GcodeError]
 
@@ -43,7 +45,9 @@ class Compensation:
         sweep_slack_rad: How much farther a moved arc may turn than it did (LinuxCNC: 0.0254 in mm programs,
             0.001 in inch programs).
         programmed_m: (3,) the programmed point (the contour's).
-        tool_m: (3,) the tool centre.
+        tool_m: (3,) the tool centre; at the start, the programmed point, which LinuxCNC offsets the entry move
+            from even where a G40 just left the tool at its offset point ...
+        entry_start_m: (3,) ... which is where the entry move starts.
         first: The next move is the entry move.
         queue: (index into the moves, line's direction (2,) or None for an arc, the arc's programmed sweep) of the
             moves whose end a corner may still move.
@@ -55,6 +59,7 @@ class Compensation:
     sweep_slack_rad: float
     programmed_m: np.ndarray
     tool_m: np.ndarray
+    entry_start_m: np.ndarray
     first: bool = True
     queue: list[tuple[int, np.ndarray | None, float]] = dataclasses.field(default_factory=list)
     start_xy_m: np.ndarray | None = None
@@ -116,8 +121,10 @@ def _inside(comp: Compensation, turn: float) -> bool:
 
 def _move_ends(comp: Compensation, moves: list[Any], xy: np.ndarray, fail: Fail) -> None:
     """Move the queued moves' XY end to ``xy`` and release them (LinuxCNC's move_endpoint_and_flush)."""
-    for index, direction, sweep in comp.queue:
+    for number, (index, direction, sweep) in enumerate(comp.queue):
         segment: Segment = moves[index].segment
+        if number:  # a later queued move (along Z) starts where the one before it now ends
+            segment = dataclasses.replace(segment, start_m=np.array([xy[0], xy[1], segment.start_m[2]]))
         end = np.array([xy[0], xy[1], segment.end_m[2]])
         if direction is None:  # an arc: its end slides along its circle
             assert segment.center_m is not None
@@ -160,8 +167,8 @@ def straight(comp: Compensation, moves: list[Any], end_m: np.ndarray, rapid: boo
         alpha = float(np.arctan2(p[1] - c[1], p[0] - c[0])) + (np.pi / 2 if comp.left else -np.pi / 2)
         _release(comp, c[:2])
         normal = np.array([np.cos(alpha), np.sin(alpha)])
-        _queue(comp, moves, add, Segment(c, np.array([*(p[:2] + comp.radius_m * normal), p[2]]), rapid=rapid),
-               normal)
+        _queue(comp, moves, add, Segment(comp.entry_start_m, np.array([*(p[:2] + comp.radius_m * normal), p[2]]),
+                                         rapid=rapid), normal)
         comp.first = False
     elif p[0] == o[0] and p[1] == o[1]:  # along Z only
         _queue(comp, moves, add, Segment(c, np.array([c[0], c[1], p[2]]), rapid=rapid), np.zeros(2))
@@ -237,11 +244,11 @@ def circular(comp: Compensation, moves: list[Any], end_m: np.ndarray, centre_xy:
              add: Callable[[Segment], None]) -> None:
     """A compensated G2/G3 (``turn`` > 0 anticlockwise) of the programmed arc from the programmed point to end_m
     (3,) about centre_xy; the entry move may not be an arc."""
-    if comp.first:
-        raise fail("the entry move of cutter compensation (the first move after G41/G42) is an arc: it is not "
-                   "computed; enter with a G0 or G1 move")
     p, o, c, r = end_m, comp.programmed_m, comp.tool_m.copy(), comp.radius_m
     arc_radius = float(np.hypot(*(centre_xy - p[:2])))
+    if comp.first:
+        _entry_arc(comp, moves, end_m, centre_xy, turn, fail, add)
+        return
     theta = float(np.arctan2(c[1] - o[1], c[0] - o[0])) + (-np.pi / 2 if comp.left else np.pi / 2)
     delta = float(np.arctan2(centre_xy[1] - o[1], centre_xy[0] - o[0]))
     alpha = delta - np.pi / 2 if turn > 0 else delta + np.pi / 2
@@ -272,6 +279,34 @@ def circular(comp: Compensation, moves: list[Any], end_m: np.ndarray, centre_xy:
     start = comp.tool_m.copy()
     sweep = find_turn(o[:2], centre_xy, turn, p[:2])
     _queue(comp, moves, add, arc(start, end, centre_xy, find_turn(start[:2], centre_xy, turn, end[:2])), None, sweep)
+    comp.programmed_m = p.copy()
+
+
+def _entry_arc(comp: Compensation, moves: list[Any], end_m: np.ndarray, centre_xy: np.ndarray, turn: int, fail: Fail,
+               add: Callable[[Segment], None]) -> None:
+    """The entry move as an arc: from the tool's point to r off the programmed end, on an arc tangent to the tool
+    there (LinuxCNC's convert_arc_comp1)."""
+    p, c, r = end_m, comp.tool_m.copy(), comp.radius_m
+    if np.abs(comp.entry_start_m - c).max() > 0:
+        raise fail("an entry arc right after G40, from where the tool was left off the programmed point, is not "
+                   "computed: move to a point first")
+    if np.hypot(*(p[:2] - c[:2])) <= r:
+        raise fail("radius of cutter compensation entry arc is not greater than the tool radius")
+    inside = _inside(comp, turn)
+    if inside and np.hypot(*(centre_xy - c[:2])) <= r:
+        raise fail("the tool radius is not less than the arc's radius: the compensated arc has no radius left")
+    towards = centre_xy - p[:2] if inside else p[:2] - centre_xy
+    end = np.array([*(p[:2] + r * towards / np.hypot(*towards)), p[2]])
+    half_chord = float(np.hypot(*(c[:2] - end[:2]))) / 2
+    to_centre = float(np.arctan2(centre_xy[1] - end[1], centre_xy[0] - end[0]))
+    angle = float(np.arctan2(c[1] - end[1], c[0] - end[0])) - to_centre
+    if abs(np.cos(angle)) < TOLERANCE_EQUAL:
+        raise fail("the tool radius is not less than the arc's radius: the entry arc cannot be compensated")
+    centre = end[:2] + half_chord / np.cos(angle) * np.array([np.cos(to_centre), np.sin(to_centre)])
+    comp.first = False
+    _release(comp, c[:2])
+    sweep = find_turn(c[:2], centre, turn, end[:2])
+    _queue(comp, moves, add, arc(c, end, centre, sweep), None, sweep)
     comp.programmed_m = p.copy()
 
 

@@ -200,12 +200,12 @@ def _program(file: Path, state: _State) -> Program:
             dwells.append(dataclasses.replace(state.dwells[next_dwell], after=len(kept)))
             next_dwell += 1
         unknown = move.unknown & state.given
-        if unknown:
-            if move.feed_m_s is not None:
-                missing = ", ".join("XYZ"[k] for k in sorted(unknown))
-                _note(state, "unknown start", f"the feed move of line {move.line} starts from an unknown position "
-                                              f"({missing} not given yet), where the machine happens to be: it is "
-                                              "left out (move to a point with G0 first to count it)")
+        if unknown and move.feed_m_s is not None:
+            missing = ", ".join("XYZ"[k] for k in sorted(unknown))
+            _note(state, "unknown start", f"the feed move of line {move.line} starts from an unknown position "
+                                          f"({missing} not given yet), where the machine happens to be: it is "
+                                          "left out (move to a point with G0 first to count it)")
+        if unknown or (move.segment.center_m is None and move.segment.length_m <= SAME_POINT_M):  # (compensation's)
             continue
         kept.append((move.segment, move.feed_m_s))
     dwells += [dataclasses.replace(d, after=len(kept)) for d in state.dwells[next_dwell:]]
@@ -240,8 +240,7 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
         if "P" not in values or values["P"] < 0:
             raise fail(non_modal[1], "a dwell needs its duration P ≥ 0 (seconds)")
         state.dwells.append(Dwell(len(state.moves), values["P"], line))
-    if "T" in values:
-        state.tool_selected = round(values["T"])
+    state.tool_selected = round(values["T"]) if "T" in values else state.tool_selected
     if 6 in m_codes:
         if state.compensation is not None:
             raise fail(m_codes[6], "a tool change while cutter radius compensation is on: turn it off first (G40)")
@@ -331,7 +330,7 @@ def _compensation_mode(fail: Callable[[str, str], GcodeError], code_word: tuple[
         raise fail(word, "cutter radius compensation from an unknown position: move to a point first")
     here = np.array(state.position_m, dtype=float)  # where the tool is: its offset point after a G40
     state.compensation = Compensation((code in (410, 411)) == (diameter > 0), abs(diameter) / 2,
-                                      0.0254 if state.length_m == MM_M else 0.001, here.copy(),
+                                      0.0254 if state.length_m == MM_M else 0.001, here.copy(), here.copy(),
                                       here if state.tool_start_m is None else state.tool_start_m.copy())
 
 

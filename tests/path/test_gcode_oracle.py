@@ -268,6 +268,8 @@ M2
 T1 M6
 G41 G1 X10 Y0 F100
 G1 X20 Y0
+G1 Z-1
+G0 Z-1
 G1 X20 Y10
 G3 X10 Y20 I-10 J0
 G1 X0 Y10
@@ -340,6 +342,33 @@ G1 X40 Y40
 G0 X10 Y40
 G0 X10 Y10
 G40 G1 X0 Y0
+M2
+""",
+    "compensation_entry_arcs_and_reentry": """G21 G90 G17 G0 X0 Y0 Z0
+T1 M6
+G41 G3 X20 Y0 I10 J0 F200
+G1 X20 Y10
+G40
+G42 G1 X0 Y10
+G1 X0 Y30
+G2 X10 Y40 R10
+G40 G0 X0 Y50
+G41 G2 X20 Y50 R-10
+G3 X30 Y40 I0 J-10
+G40 G1 X40 Y40
+M2
+""",
+    "compensation_reentry_offset_from_the_programmed_point": """G21 G90 G17 G0 X0 Y0 Z0
+T1 M6
+G41 G1 X20 Y0 F200
+G1 X20 Y10
+G40
+G42 G1 X25 Y30
+G1 X0 Y30
+G40
+G41 G1 X20 Y50
+G1 X20 Y60
+G40 G0 X0 Y0
 M2
 """,
 }
@@ -435,8 +464,11 @@ def test_the_reader_moves_as_linuxcnc_does(tmp_path, rs274_present, name):
     text = PROGRAMS[name]
     program_file, printed = run_rs274(tmp_path, name, text)
     expected = canonical(printed)
-    got = ours(read_program(program_file, MACHINE))
+    program = read_program(program_file, MACHINE)
+    got = ours(program)
     assert [e[0] for e in got] == [e[0] for e in expected], printed
+    for before, after in zip(program.segments, program.segments[1:]):  # each move starts where the last ended
+        np.testing.assert_allclose(after.start_m, before.end_m, rtol=0, atol=1e-12)
     for k, (mine, theirs) in enumerate(zip(got, expected)):
         where, tolerance = f"event {k}: {theirs}", theirs[6]
         if theirs[0] == "dwell":
