@@ -1,4 +1,4 @@
-"""Cutter radius compensation (G41, G42, G41.1, G42.1) in the XY plane, computed as LinuxCNC's interpreter does.
+"""Cutter radius compensation (G41, G42, G41.1, G42.1) in the XY or XZ plane, as LinuxCNC's interpreter computes it.
 
 The program gives the contour; the tool centre runs at the tool radius r to the left (G41) or
 right (G42) of the direction of travel. The first move after G41/G42 (the entry) ends at r from
@@ -48,6 +48,8 @@ class Compensation:
         tool_m: (3,) the tool centre; at the start, the programmed point, which LinuxCNC offsets the entry move
             from even where a G40 just left the tool at its offset point ...
         entry_start_m: (3,) ... which is where the entry move starts.
+        axes: (3, 3) the plane's columns u, v, n (arcs.PLANES: X, Y, Z in G17, Z, X, Y in G18); the points above
+            and the queue are in these coordinates, the moves handed out in the path frame's.
         first: The next move is the entry move.
         queue: (index into the moves, line's direction (2,) or None for an arc, the arc's programmed sweep) of the
             moves whose end a corner may still move.
@@ -60,6 +62,7 @@ class Compensation:
     programmed_m: np.ndarray
     tool_m: np.ndarray
     entry_start_m: np.ndarray
+    axes: np.ndarray = dataclasses.field(default_factory=lambda: PLANES[17])
     first: bool = True
     queue: list[tuple[int, np.ndarray | None, float]] = dataclasses.field(default_factory=list)
     start_xy_m: np.ndarray | None = None
@@ -87,6 +90,24 @@ def tool_diameter_m(fail: Callable[[str, str], GcodeError], code_word: tuple[int
     return diameters_m[tool]
 
 
+def begin(fail: Fail, left: bool, diameter_m: float, unit_m: float, position_m: list[float | None], given: set[int],
+          tool_start_m: np.ndarray | None, plane: int) -> Compensation:
+    """Start compensation (G41: ``left``) at the programmed position (m; None: unknown) with the tool diameter
+    (< 0 swaps the side) in the plane of G17 or G18. An axis along the plane's normal that the program has not given
+    yet is at the path frame's origin (a lathe program's Y); ``tool_start_m`` is where G40 left the tool (None: at
+    the programmed point)."""
+    if plane == 19:
+        raise fail("cutter radius compensation is computed in the XY (G17) and XZ (G18) planes only, not G19")
+    axes = PLANES[plane]
+    normal = int(np.argmax(np.abs(axes[:, 2])))
+    if any(position_m[k] is None and (k != normal or k in given) for k in range(3)):
+        raise fail("cutter radius compensation from an unknown position: move to a point first")
+    here = np.array([0.0 if value is None else value for value in position_m])
+    start = here if tool_start_m is None else tool_start_m
+    return Compensation(left == (diameter_m > 0), abs(diameter_m) / 2, 0.0254 if unit_m == 1e-3 else 0.001,
+                        axes.T @ here, axes.T @ here, axes.T @ start, axes)
+
+
 def find_turn(start: np.ndarray, centre: np.ndarray, turn: int, end: np.ndarray) -> float:
     """The signed sweep (rad) of an arc from start to end about centre, ``turn`` full or partial circles (< 0
     clockwise); an end at the start is a full circle (LinuxCNC's find_turn)."""
@@ -109,6 +130,22 @@ def arc(start: np.ndarray, end: np.ndarray, centre_xy: np.ndarray, sweep_rad: fl
                    rise_m=float(end[2] - start[2]))
 
 
+def _frame(comp: Compensation, segment: Segment) -> Segment:
+    """A segment in the plane's coordinates (u, v, n) in the path frame's."""
+    axes = comp.axes
+    return dataclasses.replace(segment, start_m=axes @ segment.start_m, end_m=axes @ segment.end_m,
+                               center_m=None if segment.center_m is None else axes @ segment.center_m,
+                               plane=None if segment.center_m is None else axes)
+
+
+def _local(comp: Compensation, segment: Segment) -> Segment:
+    """A segment of the path frame in the plane's coordinates (u, v, n)."""
+    axes = comp.axes
+    return dataclasses.replace(segment, start_m=axes.T @ segment.start_m, end_m=axes.T @ segment.end_m,
+                               center_m=None if segment.center_m is None else axes.T @ segment.center_m,
+                               plane=None if segment.center_m is None else PLANES[17])
+
+
 def _turn(segment: Segment) -> int:
     """The turn count of an arc as LinuxCNC gives it (±1 for up to a circle, ±2 ...)."""
     return int(np.ceil(abs(segment.sweep_rad) / (2 * np.pi) - 1e-9)) * (1 if segment.sweep_rad > 0 else -1)
@@ -122,7 +159,7 @@ def _inside(comp: Compensation, turn: float) -> bool:
 def _move_ends(comp: Compensation, moves: list[Any], xy: np.ndarray, fail: Fail) -> None:
     """Move the queued moves' XY end to ``xy`` and release them (LinuxCNC's move_endpoint_and_flush)."""
     for number, (index, direction, sweep) in enumerate(comp.queue):
-        segment: Segment = moves[index].segment
+        segment = _local(comp, moves[index].segment)
         if number:  # a later queued move (along Z) starts where the one before it now ends
             segment = dataclasses.replace(segment, start_m=np.array([xy[0], xy[1], segment.start_m[2]]))
         end = np.array([xy[0], xy[1], segment.end_m[2]])
@@ -143,7 +180,7 @@ def _move_ends(comp: Compensation, moves: list[Any], xy: np.ndarray, fail: Fail)
                            "would run backwards: the tool is larger than the corner)")
             moved = Segment(segment.start_m, end, rapid=segment.rapid)
         moved = dataclasses.replace(moved, exact_path=segment.exact_path, exact_stop=segment.exact_stop)
-        moves[index] = dataclasses.replace(moves[index], segment=moved)
+        moves[index] = dataclasses.replace(moves[index], segment=_frame(comp, moved))
     comp.queue.clear()
     comp.start_xy_m = xy.copy()
     comp.tool_m[:2] = xy
@@ -183,7 +220,7 @@ def straight(comp: Compensation, moves: list[Any], end_m: np.ndarray, rapid: boo
             beta, gamma = alpha - theta - np.pi / 2, -np.pi / 2
         offset = comp.radius_m * np.array([np.cos(alpha + gamma), np.sin(alpha + gamma)])
         small = TOLERANCE_CONCAVE_CORNER_RAD
-        previous = moves[comp.queue[0][0]].segment if comp.queue else None
+        previous = _local(comp, moves[comp.queue[0][0]].segment) if comp.queue else None
         last_arc = previous is not None and previous.center_m is not None
         concave = beta < -small or beta > np.pi + small or (
             beta > np.pi - small and last_arc and previous is not None
@@ -191,10 +228,8 @@ def straight(comp: Compensation, moves: list[Any], end_m: np.ndarray, rapid: boo
         if not concave and beta > small:  # a convex corner: round it about the programmed corner
             _move_ends(comp, moves, c[:2], fail)
             corner = np.array([*(o[:2] + offset), c[2]])
-            if rapid:
-                add(Segment(c, corner, rapid=True))
-            else:
-                add(arc(c, corner, o[:2], find_turn(c[:2], o[:2], -1 if comp.left else 1, corner[:2])))
+            add(_frame(comp, Segment(c, corner, rapid=True) if rapid else
+                       arc(c, corner, o[:2], find_turn(c[:2], o[:2], -1 if comp.left else 1, corner[:2]))))
             comp.tool_m = corner
             _release(comp, corner[:2])
         elif concave:
@@ -235,7 +270,7 @@ def _concave_line(comp: Compensation, previous: Segment | None, p: np.ndarray, o
 def _queue(comp: Compensation, moves: list[Any], add: Callable[[Segment], None], segment: Segment,
            direction: np.ndarray | None, sweep: float = 0.0) -> None:
     """Record a move whose end a later corner may move."""
-    add(segment)
+    add(_frame(comp, segment))
     comp.queue.append((len(moves) - 1, direction, sweep))
     comp.tool_m = segment.end_m.copy()
 
@@ -266,12 +301,12 @@ def circular(comp: Compensation, moves: list[Any], end_m: np.ndarray, centre_xy:
     end = np.array([p[0] + r * np.cos(gamma), p[1] + r * np.sin(gamma), p[2]])
     small = TOLERANCE_CONCAVE_CORNER_RAD
     if beta < -small or beta > np.pi + small or (abs(beta - np.pi) < small and not inside):  # concave
-        previous = moves[comp.queue[0][0]].segment if comp.queue else None
+        previous = _local(comp, moves[comp.queue[0][0]].segment) if comp.queue else None
         _move_ends(comp, moves, _concave_arc(comp, previous, centre_xy, arc_radius, turn, theta, beta, fail), fail)
     elif beta > small:  # convex: round the corner about the programmed point first
         _release(comp, None)
         corner = np.array([o[0] + r * np.cos(delta), o[1] + r * np.sin(delta), c[2]])
-        add(arc(c, corner, o[:2], find_turn(c[:2], o[:2], -1 if comp.left else 1, corner[:2])))
+        add(_frame(comp, arc(c, corner, o[:2], find_turn(c[:2], o[:2], -1 if comp.left else 1, corner[:2]))))
         comp.tool_m = corner
         _release(comp, corner[:2])
     else:

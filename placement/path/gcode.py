@@ -29,7 +29,7 @@ import numpy as np
 
 from placement.path.arcs import SAME_POINT_M, arc_segment
 from placement.path.canned import CYCLES, CycleState, expand_cycle
-from placement.path.compensation import Compensation, circular, end_compensation, straight, tool_diameter_m
+from placement.path.compensation import Compensation, begin, circular, end_compensation, straight, tool_diameter_m
 from placement.path.exceptions import CycleError, ExpressionError, FlowError, GcodeError, PathFileError
 from placement.path.ngc_expressions import Block, Parameters, read_line
 from placement.path.ngc_flow import run_blocks
@@ -315,52 +315,47 @@ def _compensation_mode(fail: Callable[[str, str], GcodeError], code_word: tuple[
     code, word = code_word
     if code == 400:
         if state.compensation is not None:
-            state.tool_start_m = end_compensation(state.compensation, state.moves, lambda problem: fail(word, problem))
+            state.tool_start_m = state.compensation.axes @ end_compensation(state.compensation, state.moves,
+                                                                            lambda problem: fail(word, problem))
             state.compensation = None
         return
     if state.compensation is not None:
         raise fail(word, "cutter radius compensation is already on: turn it off (G40) before changing it")
-    if state.plane != 17:
-        raise fail(word, f"cutter radius compensation is computed in the XY plane (G17) only, not G{state.plane}")
     diameter = tool_diameter_m(fail, code_word, values, written, state.tool_loaded, state.machine.tool_diameters_m,
                                state.length_m)
-    if diameter == 0:
-        return
-    if any(value is None for value in state.position_m):
-        raise fail(word, "cutter radius compensation from an unknown position: move to a point first")
-    here = np.array(state.position_m, dtype=float)  # where the tool is: its offset point after a G40
-    state.compensation = Compensation((code in (410, 411)) == (diameter > 0), abs(diameter) / 2,
-                                      0.0254 if state.length_m == MM_M else 0.001, here.copy(), here.copy(),
-                                      here if state.tool_start_m is None else state.tool_start_m.copy())
+    if diameter != 0:
+        state.compensation = begin(lambda problem: fail(word, problem), code in (410, 411), diameter,
+                                   state.length_m, state.position_m, state.given, state.tool_start_m, state.plane)
 
 
 def _compensated(fail: Callable[[str, str], GcodeError], values: dict[str, float], written: dict[str, str],
                  target: list[float | None], line: int, move_word: str, state: _State) -> None:
     """A G0-G3 move under cutter radius compensation (:mod:`placement.path.compensation`)."""
-    comp, end = state.compensation, np.array(target, dtype=float)
-    assert comp is not None
+    comp, end = state.compensation, np.array([0.0 if value is None else value for value in target])
+    assert comp is not None  # (an axis still None is the plane's normal, never given yet: at the origin)
+    local_end = comp.axes.T @ end
     blame: Callable[[str], GcodeError] = lambda problem: fail(move_word, problem)  # noqa: E731
     if state.motion in (0, 10):
         feed = None if state.motion == 0 else _feed(fail, state, move_word,
-                                                    float(np.linalg.norm(end - comp.programmed_m)), values)
+                                                    float(np.linalg.norm(local_end - comp.programmed_m)), values)
     else:
         programmed = arc_segment(lambda problem, letter=None: fail(written.get(letter or "", move_word), problem),
-                                 comp.programmed_m - state.offset_m, end - state.offset_m, values, 17,
+                                 comp.axes @ comp.programmed_m - state.offset_m, end - state.offset_m, values, state.plane,
                                  state.motion == 30, state.length_m, state.absolute_centres)
         assert programmed.center_m is not None
         feed = _feed(fail, state, move_word, programmed.length_m, values)
         turns = int(np.ceil(abs(programmed.sweep_rad) / (2 * np.pi) - 1e-9))
-        centre = programmed.center_m[:2] + state.offset_m[:2]
+        centre = (comp.axes.T @ (programmed.center_m + state.offset_m))[:2]
 
     def add(segment: Segment) -> None:
         made = dataclasses.replace(segment, exact_path=state.exact_path, exact_stop=state.exact_stop)
-        state.moves.append(_Move(made, feed, line, move_word, frozenset()))
+        state.moves.append(_Move(made, feed, line, move_word, frozenset(k for k in range(3) if target[k] is None)))
 
     if state.motion in (0, 10):
-        straight(comp, state.moves, end, state.motion == 0, blame, add)
+        straight(comp, state.moves, local_end, state.motion == 0, blame, add)
     else:
-        circular(comp, state.moves, end, centre, turns if state.motion == 30 else -turns, blame, add)
-    state.position_m = list(end)
+        circular(comp, state.moves, local_end, centre, turns if state.motion == 30 else -turns, blame, add)
+    state.position_m = [None if value is None else float(e) for value, e in zip(target, end)]
 
 
 def _polar(fail: Callable[[str, str], GcodeError], values: dict[str, float], written: dict[str, str],
@@ -460,7 +455,8 @@ def _add(state: _State, end: list[float | None], feed: float | None, line: int, 
          segment: Callable[[np.ndarray, np.ndarray], Segment | None] | None = None, exact: bool = False) -> None:
     """Record a move to ``end`` (a line, or ``segment(start, end)``) and move there; None in ``end`` leaves the
     axis unknown."""
-    start: list[float | None] = state.position_m if state.tool_start_m is None else list(state.tool_start_m)
+    start: list[float | None] = state.position_m if state.tool_start_m is None else [
+        None if here is None else float(tool) for here, tool in zip(state.position_m, state.tool_start_m)]
     state.tool_start_m = None
     unknown = frozenset(k for k in range(3) if start[k] is None)
     state.position_m = list(end)
@@ -542,8 +538,6 @@ def _motion(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, 
     else:
         target = _target(axes, state, fail, move_word)
     if state.compensation is not None:
-        if any(value is None for value in target):
-            raise fail(move_word, "a move to an unknown position under cutter radius compensation")
         _compensated(fail, values, written, target, line, move_word, state)
         return
     if state.motion == 0:

@@ -270,7 +270,7 @@ def test_the_pocket_example_runs_end_to_end(capsys):
 @pytest.mark.parametrize("code, line, word, words", [
     ("G0 X0 Y0 Z0\nG41 G1 X10 F100\n", 2, "G41", ["cutter radius compensation needs the tool"]),
     ("G0 X0 Y0 Z0\nT3 M6\nG42 G1 X10 F100\n", 3, "G42", ["tool 3's diameter is not given", "tool_diameters_mm"]),
-    ("G0 X0 Y0 Z0\nG18 G41.1 D2 G1 X10 F100\n", 2, "G41.1", ["XY plane (G17) only"]),
+    ("G0 X0 Y0 Z0\nG19 G41.1 D2 G1 X10 F100\n", 2, "G41.1", ["not G19"]),
     ("G0 X0 Y0 Z0\nG41.1 G1 X10 F100\n", 2, "G41.1", ["needs the tool diameter D"]),
     ("G0 X0 Y0 Z0\nG1 X10 D1 F100\n", 2, "D1", ["D belongs to cutter radius compensation"]),
     ("G0 X0 Y0 Z0\nG41.1 D2 G1 X10 F100\nG19\n", 3, "G19", ["plane changes"]),

@@ -371,6 +371,25 @@ G1 X20 Y60
 G40 G0 X0 Y0
 M2
 """,
+    "compensation_g18_lathe_contour_y_never_given": """G20 G90 G18 G0 X0 Z0
+G0 X0.3 Z0
+T2 M6
+G42 G1 X0.1 F30
+G3 X0 Z0.1 R0.1
+G1 Z1
+G2 R0.25 X-0.25 Z1.25
+G3 R0.25 X-0.5 Z1.5
+G1 Z1.75
+G40 G0 X0.3
+T1 M6
+G41 G0 Z1.85
+G0 X-0.3
+G1 X-0.4 F20
+G2 X-0.5 Z1.75 R0.1
+G1 Z1.5
+G40 G1 X0.3 Z0
+M2
+""",
 }
 
 
