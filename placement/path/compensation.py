@@ -3,8 +3,8 @@
 The program gives the contour; the tool centre runs at the tool radius r to the left (G41) or
 right (G42) of the direction of travel. The first move after G41/G42 (the entry) ends at r from
 its programmed end: a G0 or G1 square to its own direction, a G2 or G3 along the arc's radius
-(the entry arc's centre moved so that it runs from the tool's point to there). Each later move is offset by r; at a
-convex corner an arc of radius r about the programmed corner joins the two offset moves (a
+(the entry arc's centre moved so that it runs from the tool's point to there). Each later move
+is offset by r; at a convex corner an arc of radius r about the programmed corner joins the two offset moves (a
 straight rapid for a G0); at a concave corner the previous offset move's end is moved back to
 where the two offset moves meet. Corners within TOLERANCE_CONCAVE_CORNER_RAD of straight join as
 they are. A corner the tool cannot reach without cutting into the contour (the previous move

@@ -5,8 +5,9 @@ axis, pointing out of the workpiece) and its origin is the path frame's origin, 
 placement moves. Lines are read by :mod:`placement.path.ngc_expressions` (parameters,
 expressions, functions) and run in the order of :mod:`placement.path.ngc_flow` (O-word
 subroutines, conditions, loops); :mod:`placement.path.ngc_words` says which words are read,
-:mod:`placement.path.arcs` makes the arcs and :mod:`placement.path.canned` the drilling
-cycles' moves. On each line the words act in the order of RS-274/NGC (feed
+:mod:`placement.path.arcs` makes the arcs, :mod:`placement.path.canned` the drilling
+cycles' moves and :mod:`placement.path.compensation` the tool centre's path under cutter radius
+compensation (G41, G42). On each line the words act in the order of RS-274/NGC (feed
 mode, F, S, dwell, plane, units, ..., then the move), whatever their order on the line, and
 words of one modal group may not appear twice on a line. docs/paths.md lists every word with
 what it does to the energy and the time.
