@@ -5,8 +5,9 @@ axis, pointing out of the workpiece) and its origin is the path frame's origin, 
 placement moves. Lines are read by :mod:`placement.path.ngc_expressions` (parameters,
 expressions, functions) and run in the order of :mod:`placement.path.ngc_flow` (O-word
 subroutines, conditions, loops); :mod:`placement.path.ngc_words` says which words are read,
-:mod:`placement.path.arcs` makes the arcs and :mod:`placement.path.canned` the drilling
-cycles' moves. On each line the words act in the order of RS-274/NGC (feed
+:mod:`placement.path.arcs` makes the arcs, :mod:`placement.path.canned` the drilling
+cycles' moves and :mod:`placement.path.compensation` the tool centre's path under cutter radius
+compensation (G41, G42). On each line the words act in the order of RS-274/NGC (feed
 mode, F, S, dwell, plane, units, ..., then the move), whatever their order on the line, and
 words of one modal group may not appear twice on a line. docs/paths.md lists every word with
 what it does to the energy and the time.
@@ -29,6 +30,7 @@ import numpy as np
 
 from placement.path.arcs import SAME_POINT_M, arc_segment
 from placement.path.canned import CYCLES, CycleState, expand_cycle
+from placement.path.compensation import Compensation, begin, circular, end_compensation, straight, tool_diameter_m
 from placement.path.exceptions import CycleError, ExpressionError, FlowError, GcodeError, PathFileError
 from placement.path.ngc_expressions import Block, Parameters, read_line
 from placement.path.ngc_flow import run_blocks
@@ -50,12 +52,14 @@ class Machine:
         work_offset_m: (3,) where the path frame's origin (the program's origin) is in machine coordinates.
         g28_m, g30_m: (3,) the reference positions G28 and G30 move to (None: not given).
         given: Whether the path file gave these (G53 needs it; without, G53 moves are left out).
+        tool_diameters_m: Each tool's diameter by its number (what G41 and G42 offset the path by).
     """
 
     work_offset_m: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))
     g28_m: np.ndarray | None = None
     g30_m: np.ndarray | None = None
     given: bool = False
+    tool_diameters_m: dict[int, float] = dataclasses.field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -130,6 +134,10 @@ class _State:
     moves: list[_Move] = dataclasses.field(default_factory=list)
     dwells: list[Dwell] = dataclasses.field(default_factory=list)
     notes: dict[str, str] = dataclasses.field(default_factory=dict)
+    tool_selected: int | None = None  # T
+    tool_loaded: int | None = None  # M6
+    compensation: Compensation | None = None  # G41, G42 under way
+    tool_start_m: np.ndarray | None = None  # after G40: where the next move starts (the tool's offset point)
 
 
 def read_program(file: Path, machine: Machine | None = None) -> Program:
@@ -193,12 +201,12 @@ def _program(file: Path, state: _State) -> Program:
             dwells.append(dataclasses.replace(state.dwells[next_dwell], after=len(kept)))
             next_dwell += 1
         unknown = move.unknown & state.given
-        if unknown:
-            if move.feed_m_s is not None:
-                missing = ", ".join("XYZ"[k] for k in sorted(unknown))
-                _note(state, "unknown start", f"the feed move of line {move.line} starts from an unknown position "
-                                              f"({missing} not given yet), where the machine happens to be: it is "
-                                              "left out (move to a point with G0 first to count it)")
+        if unknown and move.feed_m_s is not None:
+            missing = ", ".join("XYZ"[k] for k in sorted(unknown))
+            _note(state, "unknown start", f"the feed move of line {move.line} starts from an unknown position "
+                                          f"({missing} not given yet), where the machine happens to be: it is "
+                                          "left out (move to a point with G0 first to count it)")
+        if unknown or (move.segment.center_m is None and move.segment.length_m <= SAME_POINT_M):  # (compensation's)
             continue
         kept.append((move.segment, move.feed_m_s))
     dwells += [dataclasses.replace(d, after=len(kept)) for d in state.dwells[next_dwell:]]
@@ -233,8 +241,17 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
         if "P" not in values or values["P"] < 0:
             raise fail(non_modal[1], "a dwell needs its duration P ≥ 0 (seconds)")
         state.dwells.append(Dwell(len(state.moves), values["P"], line))
+    state.tool_selected = round(values["T"]) if "T" in values else state.tool_selected
+    if 6 in m_codes:
+        if state.compensation is not None:
+            raise fail(m_codes[6], "a tool change while cutter radius compensation is on: turn it off first (G40)")
+        state.tool_loaded = state.tool_selected
     if "plane" in codes:
+        if state.compensation is not None and codes["plane"][0] // 10 != state.plane:
+            raise fail(codes["plane"][1], "the plane changes while cutter radius compensation is on")
         state.plane = codes["plane"][0] // 10
+    if "cutter compensation" in codes:
+        _compensation_mode(fail, codes["cutter compensation"], values, written, state)
     if "coordinate system" in codes:
         system, word = codes["coordinate system"]
         if state.coordinate_system not in (None, system) or (state.coordinate_system is None and system != 540
@@ -259,6 +276,8 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
     axes = [values.get(letter) for letter in "XYZ"]
     if non_modal is not None and non_modal[0] in (921, 922, 923):  # before the line's move, which they leave alone
         _offset(fail, non_modal, axes, state)
+    if non_modal is not None and non_modal[0] in (280, 300) and state.compensation is not None:
+        raise fail(non_modal[1], "G28 and G30 cannot run under cutter radius compensation: G40 first")
     if non_modal is not None and non_modal[0] in (280, 300):
         _reference(fail, non_modal, axes, written, line, state)
     elif non_modal is not None and non_modal[0] == 920:  # its axis words are the offset's, not a move
@@ -288,6 +307,56 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
         state.moves[-1] = dataclasses.replace(state.moves[-1], segment=dataclasses.replace(
             state.moves[-1].segment, exact_stop=True))
     return not (2 in m_codes or 30 in m_codes)
+
+
+def _compensation_mode(fail: Callable[[str, str], GcodeError], code_word: tuple[int, str],
+                       values: dict[str, float], written: dict[str, str], state: _State) -> None:
+    """G40 ends cutter radius compensation; G41 (left), G42 (right) start it with tool D's (else the loaded tool's)
+    diameter from the path file, G41.1 and G42.1 with the diameter D (program units)."""
+    code, word = code_word
+    if code == 400:
+        if state.compensation is not None:
+            state.tool_start_m = state.compensation.axes @ end_compensation(state.compensation, state.moves,
+                                                                            lambda problem: fail(word, problem))
+            state.compensation = None
+        return
+    if state.compensation is not None:
+        raise fail(word, "cutter radius compensation is already on: turn it off (G40) before changing it")
+    diameter = tool_diameter_m(fail, code_word, values, written, state.tool_loaded, state.machine.tool_diameters_m,
+                               state.length_m)
+    if diameter != 0:
+        state.compensation = begin(lambda problem: fail(word, problem), code in (410, 411), diameter,
+                                   state.length_m, state.position_m, state.given, state.tool_start_m, state.plane)
+
+
+def _compensated(fail: Callable[[str, str], GcodeError], values: dict[str, float], written: dict[str, str],
+                 target: list[float | None], line: int, move_word: str, state: _State) -> None:
+    """A G0-G3 move under cutter radius compensation (:mod:`placement.path.compensation`)."""
+    comp, end = state.compensation, np.array([0.0 if value is None else value for value in target])
+    assert comp is not None  # (an axis still None is the plane's normal, never given yet: at the origin)
+    local_end = comp.axes.T @ end
+    blame: Callable[[str], GcodeError] = lambda problem: fail(move_word, problem)  # noqa: E731
+    if state.motion in (0, 10):
+        feed = None if state.motion == 0 else _feed(fail, state, move_word,
+                                                    float(np.linalg.norm(local_end - comp.programmed_m)), values)
+    else:
+        programmed = arc_segment(lambda problem, letter=None: fail(written.get(letter or "", move_word), problem),
+                                 comp.axes @ comp.programmed_m - state.offset_m, end - state.offset_m, values, state.plane,
+                                 state.motion == 30, state.length_m, state.absolute_centres)
+        assert programmed.center_m is not None
+        feed = _feed(fail, state, move_word, programmed.length_m, values)
+        turns = int(np.ceil(abs(programmed.sweep_rad) / (2 * np.pi) - 1e-9))
+        centre = (comp.axes.T @ (programmed.center_m + state.offset_m))[:2]
+
+    def add(segment: Segment) -> None:
+        made = dataclasses.replace(segment, exact_path=state.exact_path, exact_stop=state.exact_stop)
+        state.moves.append(_Move(made, feed, line, move_word, frozenset(k for k in range(3) if target[k] is None)))
+
+    if state.motion in (0, 10):
+        straight(comp, state.moves, local_end, state.motion == 0, blame, add)
+    else:
+        circular(comp, state.moves, local_end, centre, turns if state.motion == 30 else -turns, blame, add)
+    state.position_m = [None if value is None else float(e) for value, e in zip(target, end)]
 
 
 def _polar(fail: Callable[[str, str], GcodeError], values: dict[str, float], written: dict[str, str],
@@ -387,7 +456,9 @@ def _add(state: _State, end: list[float | None], feed: float | None, line: int, 
          segment: Callable[[np.ndarray, np.ndarray], Segment | None] | None = None, exact: bool = False) -> None:
     """Record a move to ``end`` (a line, or ``segment(start, end)``) and move there; None in ``end`` leaves the
     axis unknown."""
-    start = state.position_m
+    start: list[float | None] = state.position_m if state.tool_start_m is None else [
+        None if here is None else float(tool) for here, tool in zip(state.position_m, state.tool_start_m)]
+    state.tool_start_m = None
     unknown = frozenset(k for k in range(3) if start[k] is None)
     state.position_m = list(end)
     state.given |= {k for k in range(3) if end[k] is not None}
@@ -450,6 +521,8 @@ def _motion(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, 
     move_word = next((written[a] for a in "XYZ" if a in written), codes.get("motion", ("", ""))[1])
     if state.motion is None:
         raise fail(move_word, "an end point but no motion mode (G0, G1, G2, G3, or a drilling cycle) is active")
+    if state.compensation is not None and (codes.get("non-modal", (0, ""))[0] == 530 or state.motion // 10 in CYCLES):
+        raise fail(move_word, "G53 moves and drilling cycles cannot run under cutter radius compensation: G40 first")
     if codes.get("non-modal", (0, ""))[0] == 530:
         if state.motion not in (0, 10) or state.incremental:
             raise fail(codes["non-modal"][1], "G53 moves in machine coordinates with G0 or G1, in G90")
@@ -465,6 +538,9 @@ def _motion(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, 
         return
     else:
         target = _target(axes, state, fail, move_word)
+    if state.compensation is not None:
+        _compensated(fail, values, written, target, line, move_word, state)
+        return
     if state.motion == 0:
         _add(state, target, None, line, move_word)
         return

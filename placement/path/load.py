@@ -105,17 +105,18 @@ def _kept(program: Program, rapids: bool) -> tuple[tuple[Segment, ...], tuple[Ho
 
 
 def _machine(shape: Gcode) -> Machine:
-    """The machine positions a path file gives a program, in metres."""
+    """The machine positions and tool diameters a path file gives a program, in metres."""
     given = shape.machine
+    tools = {tool: diameter * MM_M for tool, diameter in (shape.tool_diameters_mm or {}).items()}
     if given is None:
-        return Machine()
+        return Machine(tool_diameters_m=tools)
 
     def point(value: tuple[float, float, float] | None) -> np.ndarray | None:
         return None if value is None else np.array(value, dtype=float) * MM_M
 
     offset = point(given.work_offset_mm)
     assert offset is not None
-    return Machine(offset, point(given.g28_mm), point(given.g30_mm), given=True)
+    return Machine(offset, point(given.g28_mm), point(given.g30_mm), given=True, tool_diameters_m=tools)
 
 
 def _check_fields(path: FilePath, spec: PathFile) -> None:

@@ -18,16 +18,13 @@ G_GROUPS = {
     **dict.fromkeys((40, 280, 281, 300, 301, 530, 920, 921, 922, 923), "non-modal"), **dict.fromkeys((170, 180, 190), "plane"),
     **dict.fromkeys(range(540, 600, 10), "coordinate system"), 200: "units", 210: "units", 900: "distance",
     910: "distance", 901: "arc distance", 911: "arc distance", **dict.fromkeys((930, 940, 950), "feed mode"),
-    400: "cutter compensation", 430: "tool length offset", 490: "tool length offset", 980: "retract mode",
-    990: "retract mode", **dict.fromkeys((610, 611, 640), "path control")}
-READ_G = ("not in the G-code dialect read: G0-G4, G17-G21, G28, G28.1, G30, G30.1, G40, G43, G49, G53-G59, G61, "
-          "G61.1, G64, G73, G80-G83, G85, G89, G90, G91, G90.1, G91.1, G92-G92.3, G93-G95, G98, G99 (docs/paths.md)")
+    **dict.fromkeys((400, 410, 411, 420, 421), "cutter compensation"), 430: "tool length offset",
+    490: "tool length offset", 980: "retract mode", 990: "retract mode", **dict.fromkeys((610, 611, 640), "path control")}
+READ_G = ("not in the G-code dialect read: G0-G4, G17-G21, G28, G28.1, G30, G30.1, G40-G42, G41.1, G42.1, G43, G49, "
+          "G53-G59, G61, G61.1, G64, G73, G80-G83, G85, G89, G90, G91, G90.1, G91.1, G92-G92.3, G93-G95, G98, G99 "
+          "(docs/paths.md)")
 ACCEPTED_M = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 30, 60}
-COMPENSATION = ("cutter radius compensation is not computed: it offsets the path by a tool radius from the machine's "
-                "tool table, which the program does not hold; let the CAM post-processor output the tool centre's "
-                "path (compensation 'in computer', G40)")
 UNSUPPORTED_G = {
-    410: COMPENSATION, 420: COMPENSATION, 411: COMPENSATION, 421: COMPENSATION,
     100: "G10 sets a coordinate system's offset or a tool's data, which the path frame does not hold: write the "
          "program in one work coordinate system, the path frame (its origin is the one the placement moves)",
     **dict.fromkeys((740, 760, 840, 860, 870, 880), "tapping and boring cycles (G74, G76, G84, G86-G88) need the "
@@ -98,10 +95,11 @@ def check_unused(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[
     non_modal = codes.get("non-modal", (None, ""))[0]
     users = {"P": non_modal == 40 or cycle or codes.get("path control", (0, ""))[0] == 640 or motion in (20, 30),
              "Q": cycle or codes.get("path control", (0, ""))[0] == 640, "L": cycle,
-             "H": "tool length offset" in codes, "D": False}
+             "H": "tool length offset" in codes,
+             "D": codes.get("cutter compensation", (400, ""))[0] != 400}
     for letter, used in users.items():
         if letter in values and not used:
             raise fail(written[letter], {"P": "P belongs to G4 (dwell), G64, G82, G89 and G2/G3 (turns)",
                                          "Q": "Q belongs to G73, G83 (peck) and G64", "L": "L belongs to canned cycles",
                                          "H": "H belongs to G43 (tool length offset)",
-                                         "D": "D belongs to cutter radius compensation (G41, G42), not read"}[letter])
+                                         "D": "D belongs to cutter radius compensation (G41, G42, G41.1, G42.1)"}[letter])

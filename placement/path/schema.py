@@ -149,11 +149,13 @@ class MachinePositions(Strict):
 
 class Gcode(Strict):
     """A G-code program, its file named relative to the path file (:mod:`placement.path.gcode`); ``machine`` gives
-    what G28, G30 and G53 moves need."""
+    what G28, G30 and G53 moves need, ``tool_diameters_mm`` each tool's diameter by its number (T, D), which
+    cutter radius compensation (G41, G42) offsets the path by."""
 
     type: Literal["gcode"]
     file: Text
     machine: MachinePositions | None = None
+    tool_diameters_mm: dict[int, Number] | None = None
 
 
 class Poses(Strict):

@@ -268,7 +268,13 @@ def test_the_pocket_example_runs_end_to_end(capsys):
 
 
 @pytest.mark.parametrize("code, line, word, words", [
-    ("G0 X0 Y0 Z0\nG41 G1 X10 F100\n", 2, "G41", ["cutter radius compensation"]),
+    ("G0 X0 Y0 Z0\nG41 G1 X10 F100\n", 2, "G41", ["cutter radius compensation needs the tool"]),
+    ("G0 X0 Y0 Z0\nT3 M6\nG42 G1 X10 F100\n", 3, "G42", ["tool 3's diameter is not given", "tool_diameters_mm"]),
+    ("G0 X0 Y0 Z0\nG19 G41.1 D2 G1 X10 F100\n", 2, "G41.1", ["not G19"]),
+    ("G0 X0 Y0 Z0\nG41.1 G1 X10 F100\n", 2, "G41.1", ["needs the tool diameter D"]),
+    ("G0 X0 Y0 Z0\nG1 X10 D1 F100\n", 2, "D1", ["D belongs to cutter radius compensation"]),
+    ("G0 X0 Y0 Z0\nG41.1 D2 G1 X10 F100\nG19\n", 3, "G19", ["plane changes"]),
+    ("G0 X0 Y0 Z0\nG41.1 D2 G1 X10 F100\nG81 X1 Y1 Z-3 R1\n", 3, "X1", ["cannot run under cutter radius"]),
     ("G54\nG0 X0 Y0 Z0\nG55 X1\n", 3, "G55", ["changes work coordinate system"]),
     ("G0 X0 Y0 Z0\nG10 L2 P1 X0\n", 2, "G10", ["one work coordinate system"]),
     ("G0 X0 Y0 Z0\nG92\n", 2, "G92", ["the coordinates the current point gets"]),
@@ -521,3 +527,32 @@ def test_reference_returns_with_and_without_the_machine_positions(tmp_path):
 def test_feed_modes(tmp_path, code, feed_mm_min):
     path = program(tmp_path, "G21 G90 G0 X0 Y0 Z0\n" + code)
     assert path.speed_m_s(path.segments[0]) == pytest.approx(feed_mm_min / 60e3, rel=1e-12)
+
+
+@pytest.mark.parametrize("code, radius_mm", [("G41", 3.0), ("G42", 3.0), ("G41", 1.0), ("G42", 1.0)])
+def test_compensation_offsets_a_rectangle_by_the_tool_radius(tmp_path, code, radius_mm):
+    """A 40 x 30 mm rectangle run clockwise from its corner (0, 0) once round and up its first side again, the tool's
+    diameter from the path file, entered along that side. Outside it (G41: the tool on the left) the tool centre runs
+    each side at r off, joined by quarter circles of radius r about the corners; inside (G42) the sides are
+    shortened by r at each corner, except where the program starts and ends (at the offset points of (0, 0) and of
+    (0, 30), the entry's end and G40's start)."""
+    (tmp_path / "box.nc").write_text(f"""G21 G90 G0 X0 Y-10 Z0
+T2 M6
+{code} G0 X0 Y0
+G1 X0 Y30 F600
+X40
+Y0
+X0
+Y30
+G40 G0 X0 Y40
+""")
+    path = path_file(tmp_path, f"shape: {{type: gcode, file: box.nc, tool_diameters_mm: {{1: 50, 2: {2 * radius_mm}}}}}\n")
+    feeds = [segment for segment in path.segments if not segment.rapid]
+    r = radius_mm * 1e-3
+    if code == "G41":
+        expected, arcs = 2 * (0.040 + 0.030) + 0.030 + 2 * np.pi * r, 4
+    else:
+        expected, arcs = 2 * (0.030 - r) + 2 * (0.040 - 2 * r) + (0.030 - 2 * r), 0
+    assert sum(segment.length_m for segment in feeds) == pytest.approx(expected, abs=1e-12)
+    assert sum(segment.center_m is not None for segment in feeds) == arcs
+    assert all(segment.radius_m == pytest.approx(r, abs=1e-15) for segment in feeds if segment.center_m is not None)

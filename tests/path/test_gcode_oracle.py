@@ -14,8 +14,11 @@ added, giving the path frame's coordinates the reader reports; rotary axes are n
 reader ignores them while they hold one value).
 
 rs274 starts at the machine's zero with the reference positions #5161-#5183 at zero and no work
-offset; the reader is given the same machine (``Machine`` with zero offset and references). Each
-program starts with a rapid to the origin, so the reader's first point is known.
+offset; the reader is given the same machine (``Machine`` with zero offset and references) and the
+same tool diameters (rs274 reads them from a tool table, ``-t``), which cutter radius compensation
+(G41, G42, G41.1, G42.1) offsets the path by. Each program starts with a rapid to the origin, so the
+reader's first point is known. Programs rs274 refuses for a corner the tool cannot reach, the reader
+refuses at the same line.
 
 Without rs274 the test skips, except where ``CI`` is set: there it fails (.ci/run installs it).
 """
@@ -28,11 +31,15 @@ import subprocess
 import numpy as np
 import pytest
 
-from placement.path.gcode import MM_M, Machine, read_program
+from placement.path.exceptions import GcodeError
+from placement.path.gcode import INCH_M, MM_M, Machine, read_program
 
 RS274 = shutil.which("rs274")
 PRINTED = 0.5e-4  # half the last printed decimal of rs274's numbers
 CANON = re.compile(r"^\s*\d+ N\.\.\.\.\. (\w+)\((.*)\)\s*$")
+TOOLS_INCH = {1: 0.2, 2: 0.1}  # the tool table's diameters: tool 1 5.08 mm, tool 2 2.54 mm
+MACHINE = Machine(np.zeros(3), np.zeros(3), np.zeros(3), given=True,
+                  tool_diameters_m={tool: inches * INCH_M for tool, inches in TOOLS_INCH.items()})
 PLANE_AXES = {"XY": (0, 1, 2), "XZ": (2, 0, 1), "YZ": (1, 2, 0)}  # first, second, normal axis of ARC_FEED
 
 PROGRAMS = {
@@ -257,6 +264,132 @@ G1 ^15
 G90
 M2
 """,
+    "compensation_pocket_inside_g41": """G21 G90 G17 G0 X0 Y0 Z0
+T1 M6
+G41 G1 X10 Y0 F100
+G1 X20 Y0
+G1 Z-1
+G0 Z-1
+G1 X20 Y10
+G3 X10 Y20 I-10 J0
+G1 X0 Y10
+G1 X5 Y5
+G40 G1 X0 Y0
+M2
+""",
+    "compensation_outside_g42_lines_arcs_plunge": """G21 G90 G17 G0 X0 Y0 Z0
+G0 X-10 Y-10 Z5
+T1 M6
+G42 G0 X0 Y0
+G1 Z-1 F200
+G1 X0 Y20
+G1 X30 Y20
+G2 X40 Y10 I0 J-10
+G1 X40 Y0
+G3 X30 Y-5 R8
+G1 X0 Y0
+G0 Z5
+G40 G0 X-10 Y-10
+M2
+""",
+    "compensation_arcs_both_ways_g41": """G21 G90 G17 G0 X0 Y0 Z0
+T2 M6
+G41 G1 X10 Y0 F300
+G3 X30 Y0 I10 J0
+G2 X50 Y0 I10 J0
+G3 X60 Y10 I0 J10
+G1 X60 Y30
+G3 X50 Y40 R10
+G2 X30 Y40 R-10
+G1 X10 Y40
+G2 X10 Y20 I0 J-10
+G3 X0 Y10 R10
+G1 X0 Y5
+G40 G1 X-5 Y-5
+M2
+""",
+    "compensation_g41_1_g42_1_inches_incremental": """G20 G90 G17 G0 X0 Y0 Z0
+G41.1 D0.25 G1 X1 Y0 F10
+G1 X2 Y0.5
+G1 X3 Y0
+G1 X3 Y1
+G2 X2 Y2 R1
+G1 X0 Y2
+G1 X0 Y0.5
+G40 G1 X-1 Y-1
+G42.1 D0.1 G1 X0 Y0
+G91 G1 X1 Y1
+G1 X1 Y-1
+G90 G3 X2 Y0 I0 J0.5
+G40 G0 X0 Y0
+M2
+""",
+    "compensation_z_moves_rapids_reentry": """G21 G90 G17 G0 X0 Y0 Z0
+G0 Z5
+T1 M6
+G41 G0 X10 Y10
+G1 Z-1 F100
+G1 X10 Y40
+G1 Z-2
+G1 X40 Y40
+G1 X40 Y10
+G1 X12 Y10
+G0 Z5
+G40 G0 X0 Y0
+G42 G1 X10 Y10 Z-1
+G1 X40 Y10
+G1 X40 Y40
+G0 X10 Y40
+G0 X10 Y10
+G40 G1 X0 Y0
+M2
+""",
+    "compensation_entry_arcs_and_reentry": """G21 G90 G17 G0 X0 Y0 Z0
+T1 M6
+G41 G3 X20 Y0 I10 J0 F200
+G1 X20 Y10
+G40
+G42 G1 X0 Y10
+G1 X0 Y30
+G2 X10 Y40 R10
+G40 G0 X0 Y50
+G41 G2 X20 Y50 R-10
+G3 X30 Y40 I0 J-10
+G40 G1 X40 Y40
+M2
+""",
+    "compensation_reentry_offset_from_the_programmed_point": """G21 G90 G17 G0 X0 Y0 Z0
+T1 M6
+G41 G1 X20 Y0 F200
+G1 X20 Y10
+G40
+G42 G1 X25 Y30
+G1 X0 Y30
+G40
+G41 G1 X20 Y50
+G1 X20 Y60
+G40 G0 X0 Y0
+M2
+""",
+    "compensation_g18_lathe_contour_y_never_given": """G20 G90 G18 G0 X0 Z0
+G0 X0.3 Z0
+T2 M6
+G42 G1 X0.1 F30
+G3 X0 Z0.1 R0.1
+G1 Z1
+G2 R0.25 X-0.25 Z1.25
+G3 R0.25 X-0.5 Z1.5
+G1 Z1.75
+G40 G0 X0.3
+T1 M6
+G41 G0 Z1.85
+G0 X-0.3
+G1 X-0.4 F20
+G2 X-0.5 Z1.75 R0.1
+G1 Z1.5
+G40 G1 X0.3 Z0
+M2
+""",
 }
 
 
@@ -327,7 +460,8 @@ def ours(program):
 
 
 def run_rs274(tmp_path, name, text):
-    (tmp_path / "tool.tbl").write_text("T1 P1 Z0 D6\n")  # tool 1 of no length: the tip is the programmed point
+    # Tools of no length (the tip is the programmed point); rs274 alone reads the table's diameters in inches.
+    (tmp_path / "tool.tbl").write_text("".join(f"T{tool} P{tool} Z0 D{inches}\n" for tool, inches in TOOLS_INCH.items()))
     program = tmp_path / f"{name}.ngc"
     program.write_text(text)
     result = subprocess.run([RS274, "-g", "-t", str(tmp_path / "tool.tbl"), str(program)], capture_output=True,
@@ -349,9 +483,11 @@ def test_the_reader_moves_as_linuxcnc_does(tmp_path, rs274_present, name):
     text = PROGRAMS[name]
     program_file, printed = run_rs274(tmp_path, name, text)
     expected = canonical(printed)
-    zero = np.zeros(3)
-    got = ours(read_program(program_file, Machine(zero, zero, zero, given=True)))
+    program = read_program(program_file, MACHINE)
+    got = ours(program)
     assert [e[0] for e in got] == [e[0] for e in expected], printed
+    for before, after in zip(program.segments, program.segments[1:]):  # each move starts where the last ended
+        np.testing.assert_allclose(after.start_m, before.end_m, rtol=0, atol=1e-12)
     for k, (mine, theirs) in enumerate(zip(got, expected)):
         where, tolerance = f"event {k}: {theirs}", theirs[6]
         if theirs[0] == "dwell":
@@ -364,3 +500,48 @@ def test_the_reader_moves_as_linuxcnc_does(tmp_path, rs274_present, name):
         if theirs[5] is not None:
             feed, slack = theirs[5]
             assert abs(mine[5] - feed) <= slack, where
+
+
+REFUSED = {  # cutter radius compensation rs274 refuses, and the line it refuses
+    "arc_radius_not_above_tool_radius": ("""G21 G90 G17 G0 X0 Y0 Z0
+T1 M6
+G41 G1 X10 Y0 F100
+G1 X20 Y0
+G3 X21 Y1 R1
+G40 G1 X0 Y0
+M2
+""", 5),
+    "concave_corner_gouges": ("""G21 G90 G17 G0 X0 Y0 Z0
+T2 M6
+G41 G1 X10 Y0 F300
+G3 X20 Y10 I0 J10
+G3 X30 Y20 I10 J0
+G2 X40 Y30 I0 J10
+G1 X40 Y40
+G2 X30 Y50 I-10 J0
+M2
+""", 8),
+    "inside_step_smaller_than_the_tool": ("""G21 G90 G17 G0 X0 Y0 Z0
+T1 M6
+G41 G1 X10 Y0 F100
+G1 X20 Y0
+G1 X20 Y1
+G1 X10 Y1
+M2
+""", 6),
+    "entry_move_shorter_than_the_radius": ("""G21 G90 G17 G0 X0 Y0 Z0
+T1 M6
+G42 G1 X1 Y0 F100
+G1 X20 Y0
+M2
+""", 3),
+}
+
+
+@pytest.mark.parametrize("name", sorted(REFUSED))
+def test_the_reader_refuses_compensation_where_linuxcnc_does(tmp_path, rs274_present, name):
+    text, line = REFUSED[name]
+    program_file, printed = run_rs274(tmp_path, name, text)
+    assert text.splitlines()[line - 1] in printed.splitlines()[-1], printed  # rs274's error names the line
+    with pytest.raises(GcodeError, match=f"line {line},"):
+        read_program(program_file, MACHINE)
