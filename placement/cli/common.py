@@ -337,8 +337,10 @@ def load_robot_argument(robot: str, tool: str | None, cell: str | None = None) -
         loaded = load_erd_robot(name, tool)
         print(f"warning: {estimate_warning(loaded)}", file=sys.stderr)
     if solver_name(loaded) == "numeric":
-        prepare_kernels(lambda: print("compiling the generic kinematics for this machine (once, about a minute; "
-                                      "later runs load it from the cache) ...", file=sys.stderr, flush=True))
+        waited_s = prepare_kernels(lambda: print("compiling the generic kinematics for this machine (once, about half a minute; "
+                                                 "later runs load it from the cache) ...", file=sys.stderr, flush=True))
+        if waited_s is not None:
+            print(f"compiled the generic kinematics in {waited_s:.0f} s", file=sys.stderr, flush=True)
     if cell is None:
         return loaded
     equipped = equip(loaded, load_cell(cell))

@@ -7,8 +7,12 @@ nothing (every buffer is made once per call). numba compiles the kernels on thei
 caches the machine code on disk beside this module (or in ``NUMBA_CACHE_DIR``), so that later
 processes start at once. The batched entry points release the GIL, so that callers may run parts
 of a batch on several threads. The functions that take the tree and buffer tuples and run at every
-Newton iteration are inlined where they are called (``inline='always'``): a call that passes those
-tuples costs about 0.3 µs, as much as a forward kinematics of a 6-axis arm.
+Newton iteration are compiled without numba's reference counting (``_nrt=False``; they allocate
+nothing): a counted call that passes those tuples costs about 0.3 µs, as much as a forward
+kinematics of a 6-axis arm, and without the counts the call costs as little as numba's inlining
+(``inline='always'``) saved, at less than half its compile time. Compile time also guides the
+rest: no slice assignment between arrays (its shape check compiles a formatted message), and each
+entry point's loop in the entry point itself (a wrapper compiles its callees' code once more).
 
 Conventions follow Pinocchio: a joint's world placement ``oMi = oMparent · jointPlacement ·
 motion(q)``; Jacobians and classical accelerations at a frame's origin in world-aligned axes
@@ -42,6 +46,7 @@ import numpy as np
 from numba import njit
 
 PIVOT_FLOOR = 1e-300  # a pivot below this makes a square system singular
+_uncounted = njit(cache=True, _nrt=False)  # type: ignore[call-overload]  # numba's stub lacks its flag for no reference counting
 
 
 class TreeArrays(NamedTuple):
@@ -280,14 +285,12 @@ def log3(rotation, out, at):
         for k in range(1, 3):
             if rotation[k, k] > rotation[i, i]:
                 i = k
-        axis = np.empty(3)
-        axis[i] = np.sqrt(max(0.0, (rotation[i, i] - cosine) / (1.0 - cosine)))
+        diagonal = np.sqrt(max(0.0, (rotation[i, i] - cosine) / (1.0 - cosine)))
+        for k in range(3):  # the axis, into out[at:at + 3]
+            out[at + k] = diagonal if k == i else (rotation[i, k] + rotation[k, i]) / (2.0 * (1.0 - cosine) * diagonal)
+        sign = 1.0 if out[at] * x + out[at + 1] * y + out[at + 2] * z >= 0.0 else -1.0
         for k in range(3):
-            if k != i:
-                axis[k] = (rotation[i, k] + rotation[k, i]) / (2.0 * (1.0 - cosine) * axis[i])
-        sign = 1.0 if axis[0] * x + axis[1] * y + axis[2] * z >= 0.0 else -1.0
-        for k in range(3):
-            out[at + k] = sign * angle * axis[k]
+            out[at + k] *= sign * angle
         return
     out[at] = scale * x
     out[at + 1] = scale * y
@@ -297,7 +300,7 @@ def log3(rotation, out, at):
 # ---------------------------------------------------------------- tree kinematics of one sample
 
 
-@njit(cache=True, inline='always')
+@_uncounted
 def forward(tree, q, buffers):
     """World rotation, origin and axis of every joint, then placement of every solver frame, for one configuration."""
     rotation, origin, axis = buffers.rotation, buffers.origin, buffers.axis
@@ -348,7 +351,7 @@ def _relative_rotation(first, second, out):
             out[r, c] = first[r, 0] * second[c, 0] + first[r, 1] * second[c, 1] + first[r, 2] * second[c, 2]
 
 
-@njit(cache=True, inline='always')
+@_uncounted
 def residual(tree, buffers, target_position, target_rotation, pose, out):
     """Closure gaps, then end-effector error (m, rad), into ``out``; returns its norm."""
     row = 0
@@ -373,7 +376,7 @@ def residual(tree, buffers, target_position, target_rotation, pose, out):
     return np.sqrt(total)
 
 
-@njit(cache=True, inline='always')
+@_uncounted
 def _add_frame_jacobian(tree, f, buffers, sign, out, row, dimension):
     """Add ``sign`` times the first ``dimension`` rows of frame ``f``'s Jacobian to ``out[row:]``."""
     origin, axis = buffers.origin, buffers.axis
@@ -398,7 +401,7 @@ def _add_frame_jacobian(tree, f, buffers, sign, out, row, dimension):
             out[row + 2, column] += sign * az
 
 
-@njit(cache=True, inline='always')
+@_uncounted
 def jacobians(tree, buffers):
     """Closure rows, then task rows, of the stacked Jacobian in ``buffers.jacobian``."""
     jacobian = buffers.jacobian
@@ -412,7 +415,7 @@ def jacobians(tree, buffers):
     _add_frame_jacobian(tree, tree.end_effector, buffers, 1.0, jacobian, row, tree.task_dimension)
 
 
-@njit(cache=True, inline='always')
+@_uncounted
 def velocities(tree, v, buffers):
     """Angular velocity and origin velocity of every joint body for joint rates ``v``."""
     origin, axis, angular, linear = buffers.origin, buffers.axis, buffers.angular, buffers.linear
@@ -435,7 +438,7 @@ def velocities(tree, v, buffers):
                 linear[j, k] += axis[j, k] * rate
 
 
-@njit(cache=True, inline='always')
+@_uncounted
 def _add_frame_drift(tree, f, v, buffers, sign, out, row, dimension):
     """Add ``sign`` times the first ``dimension`` entries of frame ``f``'s drift J̇·v to ``out[row:]``."""
     origin, axis, angular, linear = buffers.origin, buffers.axis, buffers.angular, buffers.linear
@@ -469,7 +472,7 @@ def _add_frame_drift(tree, f, v, buffers, sign, out, row, dimension):
             out[row + 2] += rate * tz
 
 
-@njit(cache=True, inline='always')
+@_uncounted
 def drifts(tree, v, buffers):
     """Closure drifts, then the task drift, into ``buffers.drift`` (velocities already propagated)."""
     drift = buffers.drift
@@ -486,14 +489,14 @@ def drifts(tree, v, buffers):
 # ---------------------------------------------------------------- the solver's quantities of one sample
 
 
-@njit(cache=True, inline='always')
+@_uncounted
 def _factor_passive(tree, buffers, rows, damping):
     """Cholesky factor of J_pᵀ·J_p + damping·I (passive columns of the closure rows) in ``buffers.normal``."""
     _normal_lower(buffers.jacobian, rows, tree.passive, buffers.normal, buffers.nonzero)
     _cholesky(buffers.normal, len(tree.passive), damping)
 
 
-@njit(cache=True, inline='always')
+@_uncounted
 def basis(tree, buffers, rows, damping, g):
     """Null-space basis G (nv, n_act) of the closure rows into ``g``: G[act] = I, G[passive] = −J_p⁺·J_a.
 
@@ -520,7 +523,7 @@ def basis(tree, buffers, rows, damping, g):
             g[passive[i], k] = rhs[i, k]
 
 
-@njit(cache=True, inline='always')
+@_uncounted
 def passive_correction(tree, buffers, rows, values, out):
     """``out[passive] = −J_p⁺·values`` (closure rows), with the factor left by :func:`basis`; others 0."""
     out[:] = 0.0
@@ -546,7 +549,7 @@ def _task_map(tree, buffers, rows, g):
     return out
 
 
-@njit(cache=True, inline='always')
+@_uncounted
 def _task_map_into(buffers, rows, g, out):
     """``out = J_task·G`` (task dim, n_act)."""
     jacobian = buffers.jacobian
@@ -561,7 +564,7 @@ def _task_map_into(buffers, rows, g, out):
 # ---------------------------------------------------------------- batched entry points
 
 
-@njit(cache=True, inline='always')
+@_uncounted
 def _newton_one(tree, buffers, x, target_position, target_rotation, pose, settings, tolerance, error, step):
     """Newton in place on one configuration ``x``; returns whether the residual norm fell below ``tolerance``.
 
@@ -603,15 +606,17 @@ def _model_remainder(jacobian, error, step):
     return np.sqrt(total)
 
 
-@njit(cache=True, inline='always')
+@_uncounted
 def _newton_step(buffers, error, step, square, damping):
     """The step (nv, 1) solving J·step ≈ error: exact when square and regular, else damped least squares
     (the mobility check at load leaves at least as many rows as joints)."""
     jacobian, normal = buffers.jacobian, buffers.normal
     rows, nv = jacobian.shape
     if square:
-        normal[:nv, :nv] = jacobian
-        step[:nv, 0] = error
+        for r in range(nv):
+            for c in range(nv):
+                normal[r, c] = jacobian[r, c]
+            step[r, 0] = error[r]
         if _solve_square(normal[:nv, :nv], step[:nv]):
             return
     for i in range(nv):
@@ -650,14 +655,6 @@ def rates(tree, q, twist, acceleration, damping):
     g_out = np.empty((b, nv, n_act))
     m_out = np.empty((b, dim, n_act))
     condition = np.empty(b)
-    _rates_rows(tree, q, twist, acceleration, damping, 0, b, v_out, a_out, g_out, m_out, condition)
-    return v_out, a_out, g_out, m_out, condition
-
-
-@njit(cache=True)
-def _rates_rows(tree, q, twist, acceleration, damping, start, stop, v_out, a_out, g_out, m_out, condition):
-    """:func:`rates` of rows ``start:stop``."""
-    nv = q.shape[1]
     buffers = _buffers(tree, nv)
     dim, n_act = tree.task_dimension, len(tree.actuated)
     rows = len(buffers.drift) - dim
@@ -668,7 +665,7 @@ def _rates_rows(tree, q, twist, acceleration, damping, start, stop, v_out, a_out
     factors = np.empty((n_act, n_act))
     square_inverse = np.empty((n_act, n_act))
     rate = np.empty(n_act)
-    for i in range(start, stop):
+    for i in range(b):
         g = g_out[i]
         forward(tree, q[i], buffers)
         jacobians(tree, buffers)
@@ -690,6 +687,7 @@ def _rates_rows(tree, q, twist, acceleration, damping, start, stop, v_out, a_out
         _apply_into(g, rate, a_out[i])
         for j in range(nv):
             a_out[i, j] += a0[j]
+    return v_out, a_out, g_out, m_out, condition
 
 
 @njit(cache=True)
@@ -717,7 +715,9 @@ def _task_inverse(task_map, inverse, square, factors, square_inverse):
         return np.inf
     value = _norm_1(square) * _norm_1(square_inverse)
     if dim == n_act:
-        inverse[:, :] = square_inverse
+        for r in range(n_act):
+            for c in range(dim):
+                inverse[r, c] = square_inverse[r, c]
         return value
     for r in range(n_act):
         for c in range(dim):
@@ -826,6 +826,13 @@ def _branch_scale(tree, buffers, q, settings, g, identity):
     return largest
 
 
+@_uncounted
+def _copy(source, target):
+    """``target[:] = source`` for vectors, by a loop (a slice assignment compiles a shape check with its message)."""
+    for k in range(len(target)):
+        target[k] = source[k]
+
+
 @njit(cache=True)
 def _max_abs(vector):
     """Largest magnitude of a vector's entries."""
@@ -858,6 +865,13 @@ def _cubic(q, base, row, out):
 def solve_paths(tree, reference_q, positions, rotations, pose, n, coarse, schedule, arc, settings):
     """Every sample of every placement's path, placement after placement (see :mod:`placement.kinematics.batched`).
 
+    Branch test (``_left_branch``): a coarse sample's Newton correction is compared with its first-order
+    prediction; a refined sample's with the most the joints can move along the stretch of path its seed
+    is interpolated over (outer left to outer right): ``_branch_scale`` at the solution times that
+    stretch's length. Not with the change between the solved neighbours, which vanishes where the path
+    comes back near where it was (a small closed curve between two coarse samples) while the joints
+    move in between.
+
     Args:
         tree: The tree description.
         reference_q: (nq,) the reference configuration, on the assembly mode to keep.
@@ -878,23 +892,6 @@ def solve_paths(tree, reference_q, positions, rotations, pose, n, coarse, schedu
     q = np.empty((total, nv))
     ok = np.zeros(total, dtype=np.bool_)
     flipped = np.zeros(total, dtype=np.bool_)
-    for p in range(total // n):
-        _solve_path(tree, reference_q, positions, rotations, pose, p * n, coarse, schedule, arc, settings, q, ok,
-                    flipped)
-    return q, ok, flipped
-
-
-@njit(cache=True)
-def _solve_path(tree, reference_q, positions, rotations, pose, base, coarse, schedule, arc, settings, q, ok, flipped):
-    """:func:`solve_paths` for the placement whose samples start at row ``base``.
-
-    Branch test (``_left_branch``): a coarse sample's Newton correction is compared with its first-order
-    prediction; a refined sample's with the most the joints can move along the stretch of path its seed
-    is interpolated over (outer left to outer right): ``_branch_scale`` at the solution times that
-    stretch's length. Not with the change between the solved neighbours, which vanishes where the path
-    comes back near where it was (a small closed curve between two coarse samples) while the joints
-    move in between."""
-    nv = len(reference_q)
     buffers = _buffers(tree, nv)
     rows = len(buffers.drift)
     error = np.empty(rows)
@@ -906,35 +903,38 @@ def _solve_path(tree, reference_q, positions, rotations, pose, base, coarse, sch
     forward(tree, reference_q, buffers)
     reference_position = buffers.frame_origin[tree.end_effector].copy()
     reference_rotation = buffers.frame_rotation[tree.end_effector].copy()
-    ok[base] = _assemble(tree, buffers, reference_q, reference_position, reference_rotation, positions[base],
-                         rotations[base], pose, settings, q[base], error, step, g, identity, motion, scratch)
-    for c in range(len(coarse) - 1):
-        before, now = base + coarse[c], base + coarse[c + 1]
-        if ok[before]:
-            _displacement(positions[before], rotations[before], positions[now], rotations[now], pose, motion, scratch)
-            prediction = _apply(_tangent_one(tree, buffers, q[before], settings[3], g, identity), motion)
-        else:  # after a failure, start again from the last solved configuration
-            prediction = np.zeros(nv)
-        seed = q[before] + prediction
-        solved = seed.copy()
-        ok[now] = _newton_one(tree, buffers, solved, positions[now], rotations[now], pose, settings, settings[0],
-                              error, step)
-        q[now] = solved if ok[now] else q[before]
-        flipped[now] = ok[before] and _left_branch(solved, seed, _max_abs(prediction), settings[7])
-    seed = np.empty(nv)
-    for r in range(len(schedule)):
-        middle = base + schedule[r, 0]
-        _cubic(q, base, schedule[r], seed)
-        solved = q[middle]
-        solved[:] = seed
-        ok[middle] = _newton_one(tree, buffers, solved, positions[middle], rotations[middle], pose, settings,
-                                 settings[0], error, step)
-        if ok[middle] and _left_branch(solved, seed, 0.0, settings[7]):  # moved beyond the tolerance: how far may it?
-            stretch = arc[schedule[r, 4]] - arc[schedule[r, 1]]
-            local = _branch_scale(tree, buffers, solved, settings, g, identity) * stretch
-            flipped[middle] = _left_branch(solved, seed, local, settings[7])
-        if not ok[middle]:
-            solved[:] = seed
+    for p in range(total // n):  # each placement's path
+        base = p * n
+        ok[base] = _assemble(tree, buffers, reference_q, reference_position, reference_rotation, positions[base],
+                             rotations[base], pose, settings, q[base], error, step, g, identity, motion, scratch)
+        for c in range(len(coarse) - 1):
+            before, now = base + coarse[c], base + coarse[c + 1]
+            if ok[before]:
+                _displacement(positions[before], rotations[before], positions[now], rotations[now], pose, motion, scratch)
+                prediction = _apply(_tangent_one(tree, buffers, q[before], settings[3], g, identity), motion)
+            else:  # after a failure, start again from the last solved configuration
+                prediction = np.zeros(nv)
+            seed = q[before] + prediction
+            solved = seed.copy()
+            ok[now] = _newton_one(tree, buffers, solved, positions[now], rotations[now], pose, settings, settings[0],
+                                  error, step)
+            _copy(solved if ok[now] else q[before], q[now])
+            flipped[now] = ok[before] and _left_branch(solved, seed, _max_abs(prediction), settings[7])
+        seed = np.empty(nv)
+        for r in range(len(schedule)):
+            middle = base + schedule[r, 0]
+            _cubic(q, base, schedule[r], seed)
+            solved = q[middle]
+            _copy(seed, solved)
+            ok[middle] = _newton_one(tree, buffers, solved, positions[middle], rotations[middle], pose, settings,
+                                     settings[0], error, step)
+            if ok[middle] and _left_branch(solved, seed, 0.0, settings[7]):  # moved beyond the tolerance: how far may it?
+                stretch = arc[schedule[r, 4]] - arc[schedule[r, 1]]
+                local = _branch_scale(tree, buffers, solved, settings, g, identity) * stretch
+                flipped[middle] = _left_branch(solved, seed, local, settings[7])
+            if not ok[middle]:
+                _copy(seed, solved)
+    return q, ok, flipped
 
 
 @njit(cache=True)
@@ -967,5 +967,5 @@ def _assemble(tree, buffers, reference_q, reference_position, reference_rotation
         else:
             success = False
         previous_position, previous_rotation = goal_position, goal_rotation
-    out[:] = x
+    _copy(x, out)
     return success

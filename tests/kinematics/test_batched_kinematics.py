@@ -8,7 +8,7 @@ import pytest
 
 from placement.kinematics import SOLVERS, TaskTrajectory, solver_for
 from placement.kinematics.base import task_error
-from placement.kinematics.batched import SOLVE_TOLERANCE
+from placement.kinematics.batched import SOLVE_TOLERANCE, prepare_kernels
 from placement.kinematics.tree import frame_kinematics, log3
 from placement.path import load_path
 from placement.placing.transform import placed_task
@@ -140,3 +140,11 @@ def test_branch_change_is_reported():
     _, ok, reason = SOLVERS.get("numeric")(robot).solve(task)
     assert ok[0] and not ok[-1]
     assert "sample" in reason
+
+
+def test_kernel_preparation_says_it_waits_and_how_long_only_when_it_waits():
+    """A wait longer than the patience calls the notice once and returns its length; a short one says nothing."""
+    calls = []
+    waited_s = prepare_kernels(lambda: calls.append(1), patience_s=0.0)
+    assert calls == [1] and waited_s is not None and waited_s >= 0.0
+    assert prepare_kernels(lambda: calls.append(2), patience_s=600.0) is None and calls == [1]
