@@ -95,7 +95,8 @@ def tolerance_box(evaluator: Evaluator, space: PlacementSpace, placement: np.nda
         return evaluation.feasible & (worse <= within * abs(reference))
 
     n = len(centre)
-    reach = np.minimum(centre - space.lower, space.upper - centre)
+    reach = np.where(space.period > 0, space.period / 2,  # a periodic angle has no edge: the objective wraps it
+                     np.minimum(centre - space.lower, space.upper - centre))
     axes = np.eye(n)
 
     def both_sides(widths: np.ndarray) -> np.ndarray:
@@ -124,8 +125,8 @@ def tolerance_box(evaluator: Evaluator, space: PlacementSpace, placement: np.nda
     else:
         lo, hi = 0.0, 1.0
         for _ in range(SCALE_BISECTIONS):
-            middle = (lo + hi) / 2
-            lo, hi = (middle, hi) if acceptable(centre + tried * low * middle).all() else (lo, middle)
+            share = (lo + hi) / 2
+            lo, hi = (share, hi) if acceptable(centre + tried * low * share).all() else (lo, share)
         scale = lo
     for _ in range(MAX_SHRINKS):
         if acceptable(centre + np.concatenate([tried, inside]) * low * scale).all():

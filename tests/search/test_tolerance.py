@@ -41,6 +41,20 @@ def test_a_quadratic_bowl_gets_its_analytic_box():
     assert box.evaluations <= 400
 
 
+def test_a_periodic_angle_s_box_crosses_its_range_edge():
+    """An optimum 0.01 rad inside the edge of phi's half-turn range: with phi periodic the box reaches across the
+    edge to the bowl's analytic half-width (0.1 rad, far wider than the 0.01 rad left to the edge); bounded, it
+    stops at the edge."""
+    bounded = PlacementSpace(free=("phi",), lower=np.array([-np.pi / 2]), upper=np.array([np.pi / 2]), fixed=np.zeros(6))
+    periodic = PlacementSpace(free=("phi",), lower=bounded.lower, upper=bounded.upper, fixed=np.zeros(6),
+                              periods=np.array([np.pi]))
+    optimum = np.array([0, 0, 0, np.pi / 2 - 0.01, 0, 0])
+    turn = lambda p: np.angle(np.exp(2j * (p[:, 3] - optimum[3]))) / 2  # noqa: E731 (distance to the optimum, mod pi)
+    model = Model(lambda p: 1 + turn(p) ** 2)
+    assert tolerance_box(model, bounded, optimum, lower_is_better=True).half_width[0] <= 0.01 + 1e-12
+    assert tolerance_box(model, periodic, optimum, lower_is_better=True).half_width[0] == pytest.approx(0.1, rel=0.1)
+
+
 def test_six_free_variables_stay_within_a_few_hundred_evaluations():
     space = PlacementSpace(free=("x", "y", "z", "phi", "theta", "psi"), lower=np.array([-0.1] * 3 + [-1.5] * 3),
                            upper=np.array([0.1] * 3 + [1.5] * 3), fixed=np.zeros(6))
