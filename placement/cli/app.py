@@ -20,6 +20,7 @@ from placement.cli.common import (
     load_robot_argument,
     parse_free,
     parse_values,
+    serve_until_stopped,
     whole_number,
 )
 from placement.cli.exceptions import UsageError
@@ -74,13 +75,11 @@ def start(args: argparse.Namespace):  # -> placement.app.page.Workbench (viser l
 
 
 def run(args: argparse.Namespace) -> int:
-    """Serve the workbench until Enter is pressed (or the input ends)."""
+    """Serve the workbench until Enter is pressed, or, with no input (in the background), until interrupted."""
     workbench = start(args)
-    print(f"workbench at {workbench.url} (press Enter to stop)", flush=True)
+    print(f"workbench at {workbench.url} (press Enter or Ctrl-C to stop)", flush=True)
     try:
-        input()
-    except EOFError:
-        pass
+        serve_until_stopped()
     finally:
         workbench.close()
     return 0

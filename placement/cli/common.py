@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import argparse
 import os
+import signal
 import sys
 import tempfile
+import threading
 from collections.abc import Callable
 from pathlib import Path
 
@@ -375,3 +377,18 @@ def robot_files(robot: str, cell: str | None = None) -> tuple[str, ...]:
         return cell_files
     folder = sidecar_path(robot).parent
     return tuple(str(file) for file in folder.iterdir() if file.is_file()) + cell_files
+
+
+def serve_until_stopped() -> None:
+    """Return when Enter is pressed; when the input has ended already (a server started in the background, with
+    nohup or from a service), when the process is interrupted (Ctrl-C) or terminated instead."""
+    try:
+        input()
+    except EOFError:
+        stop = threading.Event()
+        signal.signal(signal.SIGTERM, lambda *_: stop.set())
+        try:
+            while not stop.wait(1.0):
+                pass
+        except KeyboardInterrupt:
+            pass

@@ -32,6 +32,7 @@ from placement.cli.common import (
     parse_values,
     positive_number,
     robot_files,
+    serve_until_stopped,
     unsuffixed_lengths,
     whole_number,
 )
@@ -342,11 +343,9 @@ def show(page: str, host: str) -> None:
         server = PageServer(page, host)
     except OSError as error:
         raise UsageError(f"--show-host: cannot serve on '{host}': {error.strerror or error}") from None
-    print(f"\nviewer at {server.url} (press Enter to stop)")
+    print(f"\nviewer at {server.url} (press Enter or Ctrl-C to stop)")
     try:
-        input()
-    except EOFError:
-        pass
+        serve_until_stopped()
     finally:
         server.close()
 

@@ -169,3 +169,29 @@ def test_a_map_and_a_front_are_cancelled_at_once(bench):
         running.cancel()
         assert running.poll() and running.result is None and running.error == "cancelled"
         assert not running.process.is_alive()
+
+
+def test_the_app_started_with_no_input_serves_until_terminated(tmp_path):
+    """In the background (no input: nohup, a service) the workbench keeps serving instead of stopping at once, and a
+    terminate signal stops it cleanly."""
+    import signal
+    import subprocess
+    import sys
+    import urllib.request
+
+    server = subprocess.Popen([sys.executable, "-m", "placement", "app", "--robot", "orthoglide", "--path", str(EXAMPLE)],
+                              stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        line = server.stdout.readline()
+        while line and "workbench at" not in line:
+            line = server.stdout.readline()
+        url = line.split("workbench at ", 1)[1].split()[0]
+        time.sleep(3)  # the input has ended long since
+        assert server.poll() is None
+        with urllib.request.urlopen(url, timeout=30) as response:
+            assert response.status == 200
+        server.send_signal(signal.SIGTERM)
+        assert server.wait(timeout=60) == 0
+    finally:
+        server.kill()
+        server.communicate()
