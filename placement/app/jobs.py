@@ -28,6 +28,8 @@ from placement.search.sweep import SweepResult, sweep
 
 Progress = Callable[[int], None]  # called with the steps just done
 
+LAST_WORDS_S = 0.5  # how long an ended task's last message is awaited
+
 
 class Job:
     """A task in a process of its own (spawned: the page's threads are not copied).
@@ -44,11 +46,25 @@ class Job:
         self.total, self.done = total, 0
         self.result: Any = None
         self.error: str | None = None
+        self.closed = False
         self.process = context.Process(target=_run, args=(task, args, self.messages), daemon=True)
         self.process.start()
 
     def poll(self, timeout_s: float = 0.2) -> bool:
         """Read what the task said; True once it has ended (with a result, an error or cancelled)."""
+        self._read(timeout_s)
+        ended = self.result is not None or self.error is not None
+        if not ended and not self.process.is_alive():
+            self._read(LAST_WORDS_S)  # what it said just before it ended may still be in the pipe
+            if self.result is None and self.error is None:
+                self.error = "the computation stopped"
+            ended = True
+        return ended
+
+    def _read(self, timeout_s: float) -> None:
+        """Take every message waiting (the first within ``timeout_s``); none once the queue is closed."""
+        if self.closed:
+            return
         try:
             while True:
                 kind, payload = self.messages.get(timeout=timeout_s)
@@ -61,18 +77,20 @@ class Job:
                     self.error = payload
         except queue.Empty:
             pass
-        ended = self.result is not None or self.error is not None
-        if not ended and not self.process.is_alive():
-            self.error = self.error or "the computation stopped"
-            ended = True
-        return ended
 
     def cancel(self) -> None:
         """End the task now."""
+        self.error = self.error or "cancelled"
         if self.process.is_alive():
             self.process.terminate()
         self.process.join(timeout=10)
-        self.error = self.error or "cancelled"
+        self._close()
+
+    def _close(self) -> None:
+        """Release the queue's pipe and feeder thread."""
+        self.closed = True
+        self.messages.close()
+        self.messages.join_thread()
 
     def wait(self, on_progress: Callable[[int, int], None] | None = None) -> None:
         """Poll until the task ends, calling ``on_progress(done, total)`` meanwhile."""
@@ -80,6 +98,7 @@ class Job:
             if on_progress is not None:
                 on_progress(self.done, self.total)
         self.process.join(timeout=10)
+        self._close()
 
 
 def _run(task: Callable[..., Any], args: tuple, messages: multiprocessing.Queue) -> None:
