@@ -31,7 +31,6 @@ from placement.path.segments import Segment
 
 TOLERANCE_CONCAVE_CORNER_RAD = 0.05  # LinuxCNC's: corners this close to straight (or to a reversal) join as they are
 TOLERANCE_EQUAL = 1e-6  # LinuxCNC's: an entry arc's chord this close to square to its radius has no centre
-RADII_MISMATCH_M = 0.01e-3  # a moved arc end off its circle by more is a bug (LinuxCNC: 0.01 program units)
 Fail = Callable[[str], GcodeError]
 
 
@@ -44,6 +43,7 @@ class Compensation:
         radius_m: The tool radius (> 0).
         sweep_slack_rad: How much farther a moved arc may turn than it did (LinuxCNC: 0.0254 in mm programs,
             0.001 in inch programs).
+        radii_tolerance_m: How far off its circle a moved arc end may lie (LinuxCNC: 0.01 program units).
         programmed_m: (3,) the programmed point (the contour's).
         tool_m: (3,) the tool centre; at the start, the programmed point, which LinuxCNC offsets the entry move
             from even where a G40 just left the tool at its offset point ...
@@ -59,6 +59,7 @@ class Compensation:
     left: bool
     radius_m: float
     sweep_slack_rad: float
+    radii_tolerance_m: float
     programmed_m: np.ndarray
     tool_m: np.ndarray
     entry_start_m: np.ndarray
@@ -105,7 +106,7 @@ def begin(fail: Fail, left: bool, diameter_m: float, unit_m: float, position_m: 
     here = np.array([0.0 if value is None else value for value in position_m])
     start = here if tool_start_m is None else tool_start_m
     return Compensation(left == (diameter_m > 0), abs(diameter_m) / 2, 0.0254 if unit_m == 1e-3 else 0.001,
-                        axes.T @ here, axes.T @ here, axes.T @ start, axes)
+                        0.01 * unit_m, axes.T @ here, axes.T @ here, axes.T @ start, axes)
 
 
 def find_turn(start: np.ndarray, centre: np.ndarray, turn: int, end: np.ndarray) -> float:
@@ -166,7 +167,7 @@ def _move_ends(comp: Compensation, moves: list[Any], xy: np.ndarray, fail: Fail)
         if direction is None:  # an arc: its end slides along its circle
             assert segment.center_m is not None
             centre = segment.center_m[:2]
-            if abs(np.hypot(*(xy - centre)) - segment.radius_m) > RADII_MISMATCH_M:
+            if abs(np.hypot(*(xy - centre)) - segment.radius_m) > comp.radii_tolerance_m:
                 raise fail("cutter compensation made an arc whose ends are not on one circle")
             start = comp.start_xy_m if comp.start_xy_m is not None else segment.start_m[:2]
             turned = find_turn(start, centre, _turn(segment), xy)

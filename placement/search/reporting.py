@@ -39,14 +39,6 @@ def as_printed(placement: np.ndarray) -> np.ndarray:
                      for name, value in zip(VARIABLES, placement, strict=True)])
 
 
-def reportable(candidates: list[np.ndarray], fine: Evaluator, dense: Evaluator, space: PlacementSpace,
-               sign: float) -> tuple[np.ndarray, str | None]:
-    """The first candidate that, printed, keeps every limit with the required margin on the path's samples and the
-    denser ones (:func:`reported_point`, without its re-check)."""
-    x, note, _ = reported_point(candidates, fine, dense, space, sign)
-    return x, note
-
-
 def reported_point(candidates: list[np.ndarray], fine: Evaluator, dense: Evaluator, space: PlacementSpace,
                    sign: float, guide: Evaluator | None = None) -> tuple[np.ndarray, str | None, Evaluation | None]:
     """The first candidate that, printed, keeps every limit with the required margin on the path's samples and the

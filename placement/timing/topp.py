@@ -15,10 +15,11 @@ scheme: at the far end x_{i+1} = x_i + 2·Δ_i·u_i, so the far rows are a + 2·
 
 This is the ``toppra`` package's own route (``TOPPRA`` with its ``seidel`` solver wrapper) step for
 step, with its tolerances, the warm start of its linear programs and the forward pass's guards
-(each next state lowered by 0.01 % and clipped into K_{i+1}; a step that finds no u retried from a
-state lowered by 0.1 %), so that its answers are toppra's: the tests check the cycle times against
-toppra's on known answers and random paths. What toppra does per step in Python runs here
-compiled, every run of every placement in one call; numba caches the machine code on disk.
+(each next state lowered by the lesser of 1e-8 and 0.01 % and clipped into K_{i+1}; a step that
+finds no u retried from a state lowered by the lesser of 1e-8 and 0.1 %), so that its answers
+are toppra's: the tests check the cycle times against toppra's on known answers and random
+paths. What toppra does per step in Python runs here compiled, every run of every placement in
+one call; numba caches the machine code on disk.
 """
 
 from __future__ import annotations

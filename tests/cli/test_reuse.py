@@ -10,7 +10,7 @@ import pytest
 from placement import Evaluator, EvaluatorSettings, load_path, load_robot
 from placement.__main__ import main
 from placement.output.report import strict
-from placement.search.reporting import as_printed, binding, reportable
+from placement.search.reporting import as_printed, binding, reported_point
 from placement.search.space import default_space
 from tests.support.paths import EXAMPLE
 
@@ -111,10 +111,10 @@ def test_a_candidate_that_fails_is_passed_over_with_a_note():
     dense = Evaluator(robot, path, EvaluatorSettings(time_step_s=0.0005, exact=True))
     outside, inside = np.array([0.07, 0.07]), np.array([0.0, 0.0])  # the first puts the groove past x max
     assert not fine.evaluate(space.full(outside)).feasible[0]
-    x, note = reportable([outside, inside], fine, dense, space, 1.0)
+    x, note, _ = reported_point([outside, inside], fine, dense, space, 1.0)
     assert np.abs(x - inside).max() <= 1e-5  # a corner of the printed grid's cell (0.01 mm) around it
     assert note is not None and "candidate 2" in note and "workspace" in note
-    x, note = reportable([inside], fine, dense, space, 1.0)
+    x, note, _ = reported_point([inside], fine, dense, space, 1.0)
     assert note is None
 
 
