@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import os
 
 import numpy as np
 import pytest
@@ -20,8 +21,15 @@ distributed = pytest.importorskip("distributed")
 
 @pytest.fixture(scope="module")
 def dask_cluster():
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as local:
-        yield local
+    """A local cluster; this process's environment is restored afterwards (Dask's nannies set OMP_NUM_THREADS,
+    OPENBLAS_NUM_THREADS and MKL_NUM_THREADS to 1 in it, which every process spawned later would inherit)."""
+    environment = dict(os.environ)
+    try:
+        with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as local:
+            yield local
+    finally:
+        os.environ.clear()
+        os.environ.update(environment)
 
 
 def test_a_map_on_the_cluster_equals_the_map_of_the_process_pool(dask_cluster):
