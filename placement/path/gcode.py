@@ -112,6 +112,7 @@ class _State:
 
     machine: Machine
     length_m: float = MM_M  # metres per program length unit
+    units_given: bool = False  # a G20 or G21 was read
     incremental: bool = False
     absolute_centres: bool = False  # G90.1 (else G91.1, offsets from the start)
     plane: int = 17
@@ -214,6 +215,8 @@ def _program(file: Path, state: _State) -> Program:
     if not feeds:
         raise PathFileError(file, "", "no tool motion: the program has no feed move (G1, G2, G3 or a drilling "
                                       "cycle) from a known point, so there is no path to place")
+    if not state.units_given:
+        _note(state, "units", "the program never gives its units (G20 inches, G21 mm): read in millimetres")
     top = max(feeds)
     segments = tuple(dataclasses.replace(segment, feed_ratio=feed / top) if feed is not None else segment
                      for segment, feed in kept)
@@ -227,7 +230,7 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
     if "feed mode" in codes:
         state.feed_mode = codes["feed mode"][0]
     if "units" in codes:  # before F and the axes: their numbers are in the line's units
-        state.length_m = INCH_M if codes["units"][0] == 200 else MM_M
+        state.length_m, state.units_given = INCH_M if codes["units"][0] == 200 else MM_M, True
     if "F" in values:
         if not values["F"] > 0:
             raise fail(written["F"], "the feed rate must be > 0")

@@ -98,3 +98,13 @@ def test_the_workspace_fit_check_turns_the_path_about_its_tool_axis(width_mm, le
     assert (workspace_misfit(*box, corners, (-np.pi, np.pi)) is None) == fits
     if fits and width_mm > 200:
         assert workspace_misfit(*box, corners, (0.0, 0.0)) is not None  # without the turn it does not
+
+
+def test_a_program_that_never_gives_its_units_is_read_in_mm_and_says_so(tmp_path):
+    """LinuxCNC's sample programs often leave the units to the machine's configuration: the reader takes mm, as G21
+    would, and says so; a program that gives G21 or G20 gets no such note."""
+    silent = program(tmp_path, "G90 G0 X0 Y0 Z0\nG1 X10 F600\n", name="silent")
+    metric = program(tmp_path, "G21 G90 G0 X0 Y0 Z0\nG1 X10 F600\n", name="metric")
+    assert ends_mm(silent) == ends_mm(metric) == [[[0, 0, 0], [10, 0, 0]]]
+    assert any("never gives its units" in note for note in silent.notes)
+    assert not any("units" in note for note in metric.notes)
