@@ -29,13 +29,13 @@ from placement.evaluation.results import PlacementDetail
 from placement.exceptions import PlacementError
 from placement.limits.collision import collision_scene
 from placement.objectives.base import OBJECTIVES, quantity, wording
+from placement.output.palette import CELL_COLORS, rgb
 from placement.placing.transform import ANGLES, VARIABLES, placement_pose
 from placement.robot.model import Robot
 from placement.search.space import box_corners
 
 PATH_COLOR, CUBE_COLOR = (0, 176, 80), (48, 48, 48)
 ROBOT_OPACITY = 0.6  # the path and the tool point stay in sight inside the moving platform
-CELL_COLORS = {"tool": (80, 90, 100), "obstacle": (176, 136, 80), "keep_out": (255, 64, 64)}
 CELL_OPACITY = {"tool": 1.0, "obstacle": 0.5, "keep_out": 0.15}
 TIMINGS = ("path file's", "paper", "realistic", "optimal")
 
@@ -70,7 +70,7 @@ class RobotDrawing:
                     continue
                 for index in body.objects:
                     item = scene.geometry_model.geometryObjects[index].copy()
-                    item.meshColor = np.array([c / 255 for c in CELL_COLORS[body.kind]] + [CELL_OPACITY[body.kind]])
+                    item.meshColor = np.array([*rgb(CELL_COLORS[body.kind][0]), CELL_OPACITY[body.kind]])
                     opacity[self.visual.addGeometryObject(item)] = CELL_OPACITY[body.kind]
         self.data, self.geometry_data = self.model.createData(), self.visual.createData()
         self.handles: list[tuple[int, Any]] = []
