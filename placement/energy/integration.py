@@ -107,7 +107,7 @@ def electric_energy(robot: Robot, trace: MotorTrace, t_s: np.ndarray, piece: np.
     # Every policy sums the actuators first, then integrates, so the ordering of the built-in
     # policies holds exactly in floating point, interval by interval.
     shaped = policy.axis_power(power)
-    total = np.einsum("...n,...n->...", policy.supply_power(shaped.sum(axis=-1)), dt)
+    total = (policy.supply_power(shaped.sum(axis=-1)) * dt).sum(axis=-1)  # as einsum's is not, the same in any batch
     per_actuator = integral(shaped)
     inductive = integral(parts.inductive_W)
     steps = (dt == 0) & (piece[1:] == piece[:-1])
