@@ -28,6 +28,8 @@ from numba import njit
 
 from placement.kinematics.tree import joint_axis
 
+_uncounted = njit(cache=True, _nrt=False)  # type: ignore[call-overload]  # allocates nothing: no reference counting (compiles faster)
+
 
 class TreeInertias(NamedTuple):
     """A spanning tree of revolute and prismatic joints as flat arrays, with its inertias.
@@ -88,7 +90,8 @@ def path_torques(tree: TreeInertias, q: np.ndarray, rate: np.ndarray, curvature:
 
     def run(rows: slice) -> None:
         _path_torques(tree.parent, tree.constants, tree.axis, tree.revolute, tree.v_index, tree.mass, tree.lever,
-                      tree.inertia, tree.armature, tree.gravity, q[rows], rate[rows], curvature[rows], out[rows])
+                      tree.inertia, tree.armature, tree.gravity, q[rows], rate[rows], curvature[rows], out[rows],
+                      *_scratch(len(tree.parent)))
 
     bounds = np.linspace(0, len(q), max(threads, 1) + 1).astype(int)
     parts = [slice(start, stop) for start, stop in zip(bounds[:-1], bounds[1:])]
@@ -100,7 +103,15 @@ def path_torques(tree: TreeInertias, q: np.ndarray, rate: np.ndarray, curvature:
     return out
 
 
-@njit(cache=True)
+def _scratch(joints: int) -> tuple[np.ndarray, ...]:
+    """The kernel's scratch for a tree of ``joints`` joints: each joint's rotation (3, 3) and origin (3,) in its
+    parent; per joint, in its frame, the linear and angular parts (4, joints, 3) of C's, A's and B's accelerations and
+    B's velocity, in that order; the three motions' forces (3, joints, 6); one spatial vector (6,)."""
+    return (np.empty((joints, 3, 3)), np.empty((joints, 3)), np.zeros((4, joints, 3)), np.zeros((4, joints, 3)),
+            np.zeros((3, joints, 6)), np.empty(6))
+
+
+@_uncounted
 def _inertia_times(mass, lever, inertia, linear, angular, out):
     """``out`` (6,) = the spatial inertia (mass, lever, inertia about the centre of mass) times the motion
     (linear, angular): m·(v − c × ω), then I_c·ω + c × that."""
@@ -116,7 +127,7 @@ def _inertia_times(mass, lever, inertia, linear, angular, out):
     out[5] += c0 * l1 - c1 * l0
 
 
-@njit(cache=True)
+@_uncounted
 def _act_inverse(rotation, origin, linear, angular, out_linear, out_angular):
     """The motion (linear, angular) in the parent's frame, in the child's: Rᵀ·ω and Rᵀ·(v − t × ω)."""
     d0 = linear[0] - (origin[1] * angular[2] - origin[2] * angular[1])
@@ -127,7 +138,7 @@ def _act_inverse(rotation, origin, linear, angular, out_linear, out_angular):
         out_linear[c] = rotation[0, c] * d0 + rotation[1, c] * d1 + rotation[2, c] * d2
 
 
-@njit(cache=True)
+@_uncounted
 def _add_act(rotation, origin, force, target):
     """``target`` (6,) += the force (linear, moment), in the child's frame, in the parent's: R·f, R·n + t × R·f."""
     f0 = rotation[0, 0] * force[0] + rotation[0, 1] * force[1] + rotation[0, 2] * force[2]
@@ -143,16 +154,11 @@ def _add_act(rotation, origin, force, target):
     target[5] += origin[0] * f1 - origin[1] * f0
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, _nrt=False)  # type: ignore[call-overload]
 def _path_torques(parent, constants, axis, revolute, index, mass, lever, inertia, armature, gravity, q, rate,
-                  curvature, out):
-    """:func:`path_torques` on flat arrays, into ``out`` (N, 3, nv)."""
+                  curvature, out, rotation, origin, linear, angular, force, scratch):
+    """:func:`path_torques` on flat arrays, into ``out`` (N, 3, nv), with the scratch of :func:`_scratch`."""
     nj = len(parent)
-    rotation, origin = np.empty((nj, 3, 3)), np.empty((nj, 3))
-    # per joint, in its frame: [0] C's acceleration, [1] A's, [2] B's, [3] B's velocity (linear, angular)
-    linear, angular = np.zeros((4, nj, 3)), np.zeros((4, nj, 3))
-    force = np.zeros((3, nj, 6))
-    scratch = np.empty(6)
     for n in range(len(q)):
         for k in range(3):
             linear[0, 0, k] = -gravity[k]

@@ -55,7 +55,7 @@ def assert_pinocchios(model: pin.Model, q: np.ndarray, rate: np.ndarray, curvatu
             np.testing.assert_allclose(found, want, rtol=0.0, atol=1e-12 * scale)
 
 
-@pytest.mark.parametrize("name", ["orthoglide", "ur5"])
+@pytest.mark.parametrize("name", ["orthoglide", "ur5", "delta", "fivebar", "panda"])
 def test_the_three_torques_of_a_robot_are_pinocchios(name):
     """Random states of the robot (its drives' armature included): the three torques to 1e-12 of the largest."""
     model = load_robot(name).model
