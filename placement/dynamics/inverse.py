@@ -55,11 +55,17 @@ def rnea_batch(model: pin.Model, q: np.ndarray, v: np.ndarray, a: np.ndarray, th
         threads: Most threads of Pinocchio's parallel RNEA (default: every core; fewer on small batches).
     """
     global _openmp_started
-    threads = max(1, min(threads or os.cpu_count() or 1, len(q) // SAMPLES_PER_THREAD))
+    threads = thread_count(threads, len(q))
     _openmp_started = _openmp_started or threads > 1
     pool = pin.ModelPool(model, threads)
     tau = pin.rneaInParallel(threads, pool, np.asfortranarray(q.T), np.asfortranarray(v.T), np.asfortranarray(a.T))
     return np.reshape(tau, (model.nv, len(q))).T
+
+
+def thread_count(threads: int | None, samples: int) -> int:
+    """The threads to run a batch of ``samples`` samples on: at most ``threads`` (default: every core), fewer on a
+    small batch."""
+    return max(1, min(threads or os.cpu_count() or 1, samples // SAMPLES_PER_THREAD))
 
 
 def openmp_started() -> bool:
@@ -85,12 +91,18 @@ def actuator_efforts(robot: Robot, joints: JointTrajectory, external_load: np.nd
     tau = rnea_batch(robot.model, joints.q, joints.v, joints.a, threads)
     effort = np.einsum("nva,nv->na", joints.basis, tau)
     if external_load is not None:
-        load = np.asarray(external_load, dtype=float)
-        if load.shape != (len(tau), joints.task_map.shape[1]):
-            raise PlacementError(f"external load must have shape {(len(tau), joints.task_map.shape[1])}, "
-                                 f"got {load.shape}")
-        effort -= np.einsum("nta,nt->na", joints.task_map, load)
+        effort -= load_efforts(joints, external_load)
     return effort
+
+
+def load_efforts(joints: JointTrajectory, external_load: np.ndarray) -> np.ndarray:
+    """(N, n_act) the actuator efforts that balance the load (N, task_dim) on the end effector: (J_task·G)ᵀ·w_ext
+    (see :func:`actuator_efforts`)."""
+    load = np.asarray(external_load, dtype=float)
+    if load.shape != (len(joints.q), joints.task_map.shape[1]):
+        raise PlacementError(f"external load must have shape {(len(joints.q), joints.task_map.shape[1])}, "
+                             f"got {load.shape}")
+    return np.einsum("nta,nt->na", joints.task_map, load)
 
 
 def inverse_dynamics(robot: Robot, task: TaskTrajectory, external_load: np.ndarray | None = None,

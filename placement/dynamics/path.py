@@ -2,7 +2,8 @@
 
 Along a path p(s), every joint moves as q(s), so its velocity and acceleration are q'·ṡ and
 q'·s̈ + q''·ṡ², and the projected RNEA (linear in the accelerations, quadratic in the velocities)
-gives the efforts exactly in this form, from three batched calls (:func:`path_dynamics`).
+gives the efforts exactly in this form: A, B and C are the efforts of three motions at each
+sample's configuration (:func:`path_dynamics`).
 """
 
 from __future__ import annotations
@@ -12,7 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from placement.dynamics.inverse import actuator_efforts
+from placement.dynamics.inverse import load_efforts, rnea_batch, thread_count
+from placement.dynamics.tree_rnea import path_torques, tree_inertias
 from placement.kinematics.trajectories import JointTrajectory
 from placement.robot.model import Robot
 
@@ -126,28 +128,36 @@ class PathForm:
 
 def path_dynamics(robot: Robot, joints: JointTrajectory, force: np.ndarray, placements: int,
                   threads: int | None = None) -> PathDynamics:
-    """The efforts along the path of K placements, from their joints' motion at unit path speed.
+    """The efforts along the path of K placements, from their joints' motion at unit speed along the path.
 
     Args:
         robot: The robot.
         joints: Every joint's motion at unit speed along the path (v = q', a = q''), K·N rows.
         force: (K·N, 3 or 6) load on the end effector, as for :func:`placement.dynamics.inverse.actuator_efforts`.
         placements: K.
-        threads: Threads of the batched RNEA.
+        threads: Most threads (default: every core; fewer on small batches).
 
     Returns:
-        A, B and C from three batched projected RNEA calls: C at rest, A + C with q̈ = q' and no velocity,
-        B + C with q̇ = q' and q̈ = q''.
+        A, B and C: the tree's torques at rest under gravity, with q̈ = q' alone and with q̇ = q', q̈ = q''
+        without gravity (:func:`tree_torques`), projected on the actuators; C less the load's share.
     """
     act = robot.actuated_v_indices
     shape = (placements, len(joints.q) // placements, len(act))
-    rest = np.zeros_like(joints.v)
-
-    def efforts(v: np.ndarray, a: np.ndarray) -> np.ndarray:
-        moving = dataclasses.replace(joints, v=v, a=a)
-        return actuator_efforts(robot, moving, force, threads).reshape(shape)
-
-    static = efforts(rest, rest)
+    efforts = np.matmul(tree_torques(robot, joints, threads), joints.basis)  # (K·N, 3, n_act): C, A, B
+    static = efforts[:, 0] - load_efforts(joints, force)
     return PathDynamics(velocity=joints.v[:, act].reshape(shape), curvature=joints.a[:, act].reshape(shape),
-                        inertia=efforts(rest, joints.v) - static, centripetal=efforts(joints.v, joints.a) - static,
-                        static=static)
+                        inertia=efforts[:, 1].reshape(shape), centripetal=efforts[:, 2].reshape(shape),
+                        static=static.reshape(shape))
+
+
+def tree_torques(robot: Robot, joints: JointTrajectory, threads: int | None = None) -> np.ndarray:
+    """(K·N, 3, nv) the spanning tree's joint torques C = rnea(q, 0, 0), A = rnea(q, 0, q') − C and
+    B = rnea(q, q', q'') − C at every sample: in one compiled pass (:mod:`placement.dynamics.tree_rnea`) for a
+    tree of revolute and prismatic joints, else from three batched calls of Pinocchio's RNEA."""
+    tree = tree_inertias(robot.model)
+    if tree is not None:
+        return path_torques(tree, joints.q, joints.v, joints.a, thread_count(threads, len(joints.q)))
+    rest = np.zeros_like(joints.v)
+    static = rnea_batch(robot.model, joints.q, rest, rest, threads)
+    return np.stack([static, rnea_batch(robot.model, joints.q, rest, joints.v, threads) - static,
+                     rnea_batch(robot.model, joints.q, joints.v, joints.a, threads) - static], axis=1)

@@ -107,7 +107,10 @@ def electric_energy(robot: Robot, trace: MotorTrace, t_s: np.ndarray, piece: np.
     # Every policy sums the actuators first, then integrates, so the ordering of the built-in
     # policies holds exactly in floating point, interval by interval.
     shaped = policy.axis_power(power)
-    total = np.einsum("...n,...n->...", policy.supply_power(shaped.sum(axis=-1)), dt)
+    supply = policy.supply_power(shaped.sum(axis=-1))
+    # each placement's own times (the optimal law): a row sum, which is the same for a placement in any batch, as
+    # einsum's is not then
+    total = (supply * dt).sum(axis=-1) if dt.ndim > 1 else np.einsum("...n,...n->...", supply, dt)
     per_actuator = integral(shaped)
     inductive = integral(parts.inductive_W)
     steps = (dt == 0) & (piece[1:] == piece[:-1])

@@ -23,10 +23,12 @@ PRISMATIC = {"JointModelPX": (1.0, 0.0, 0.0), "JointModelPY": (0.0, 1.0, 0.0), "
 def unsupported_joints(model: pin.Model) -> list[str]:
     """Names and kinds of the joints the compiled tree cannot handle (empty when it can)."""
     return [f"{model.names[j]} ({joint.shortname()})" for j, joint in enumerate(model.joints)
-            if j > 0 and not _axis_of(joint)]
+            if j > 0 and not joint_axis(joint)]
 
 
-def _axis_of(joint: pin.JointModel) -> tuple[tuple[float, ...], bool] | None:
+def joint_axis(joint: pin.JointModel) -> tuple[tuple[float, ...], bool] | None:
+    """The axis of a revolute or prismatic joint about a fixed axis, in its frame, and whether it is revolute;
+    None for another kind of joint."""
     name = joint.shortname()
     if name in REVOLUTE:
         return REVOLUTE[name], True
@@ -61,8 +63,8 @@ def tree_arrays(model: pin.Model, frame_ids: Sequence[int], *, closures: Sequenc
     revolute = np.zeros(nj, dtype=bool)
     q_index = np.zeros(nj, dtype=np.int64)
     for j in range(1, nj):
-        joint_axis, revolute[j] = _axis_of(model.joints[j])  # type: ignore[misc]
-        axis[j] = joint_axis
+        found, revolute[j] = joint_axis(model.joints[j])  # type: ignore[misc]
+        axis[j] = found
         q_index[j] = model.joints[j].idx_q
     constants = np.zeros((nj, 3, 11))
     for j in range(1, nj):
