@@ -23,6 +23,7 @@ from placement.dynamics.path import PathDynamics, PathForm
 from placement.robot.model import Robot
 
 Quantity = TypeVar("Quantity", np.ndarray, PathForm)
+BUILT_KEPT = 64  # robots' drives kept built, at most
 
 
 @dataclass(frozen=True)
@@ -77,7 +78,21 @@ class Drives:
 
     @classmethod
     def of(cls, robot: Robot) -> Drives:
-        """The robot's drives (an error names the first actuator without one)."""
+        """The robot's drives (an error names the first actuator without one), built once per tuple of actuators
+        (the limits and the motor trace of every evaluated batch ask for them; the arrays are read-only)."""
+        known = _BUILT.get(id(robot.actuators))
+        if known is not None and known[0] is robot.actuators:
+            return known[1]
+        built = cls._build(robot)
+        for array in vars(built).values():
+            array.setflags(write=False)
+        if len(_BUILT) >= BUILT_KEPT:
+            _BUILT.clear()
+        _BUILT[id(robot.actuators)] = (robot.actuators, built)  # the tuple kept alive: its id stays its own
+        return built
+
+    @classmethod
+    def _build(cls, robot: Robot) -> Drives:
         drives = robot.drives
         motors = [d.motor for d in drives]
 
@@ -185,3 +200,6 @@ def motor_trace(robot: Robot, effort: np.ndarray, velocity: np.ndarray, accelera
         The motor trace, same shapes.
     """
     return Drives.of(robot).trace(effort, velocity, acceleration)
+
+
+_BUILT: dict[int, tuple[tuple, Drives]] = {}  # id(robot.actuators) -> (robot.actuators, their Drives)
