@@ -11,11 +11,12 @@ Newton iteration are compiled without numba's reference counting (``_nrt=False``
 nothing): a counted call that passes those tuples costs about 0.3 µs, as much as a forward
 kinematics of a 6-axis arm, and without the counts the call costs as little as numba's inlining
 (``inline='always'``) saved, at less than half its compile time. Compile time also guides the
-rest: no slice assignment between arrays (its shape check compiles a formatted message), and each
-entry point's loop in the entry point itself (a wrapper compiles its callees' code once more). The
-functions only the kernels call have no Python wrappers (one unboxes the tree and buffer tuples, 30
-arrays, and is optimised again in every caller), each is compiled for one set of argument types
-(rows passed as views, no literal constants), and ``_assemble`` and ``_branch_scale`` are inlined.
+rest: no slice assignment between arrays (its shape check compiles a formatted message) nor array
+expressions or powers (each compiles a kernel of its own), each entry point's loop in the entry
+point itself (a wrapper compiles its callees' code once more), no Python wrappers for functions
+only the kernels call (one unboxes the 30 arrays of the tree and buffer tuples, and is optimised
+again in every caller), one set of argument types per function (rows passed as views, no literal
+constants), and ``_assemble`` and ``_branch_scale`` inlined.
 
 Conventions follow Pinocchio: a joint's world placement ``oMi = oMparent · jointPlacement ·
 motion(q)``; Jacobians and classical accelerations at a frame's origin in world-aligned axes
@@ -37,8 +38,8 @@ another file. Its sections, in order (each opens with a ``# ---`` rule):
    accelerations from the tool's twist and acceleration), ``frames``, ``placements``, ``rotation_vectors``.
 6. Whole paths: ``solve_paths`` (each path sample by sample, seeded by interpolating the solved
    neighbours on a bisection schedule, with the branch test ``_left_branch`` and the joint motion a
-   stretch of path can cause, ``_branch_scale``) and ``_assemble`` (a
-   path's first configuration, by continuation from the reference configuration).
+   stretch of path can cause, ``_branch_scale``) and ``_assemble`` (a path's first configuration, by
+   continuation from the reference configuration).
 """
 
 from __future__ import annotations
@@ -240,14 +241,6 @@ def _product(a, b):
             if x != 0.0:
                 for j in range(k):
                     out[i, j] += x * b[l, j]
-    return out
-
-
-@_internal
-def _apply(matrix, vector):
-    """``matrix · vector`` by loops."""
-    out = np.empty(matrix.shape[0])
-    _apply_into(matrix, vector, out)
     return out
 
 
@@ -649,20 +642,13 @@ def rates(tree, q, twist, acceleration, damping):
     """
     b, nv = q.shape
     dim, n_act = tree.task_dimension, len(tree.actuated)
-    v_out = np.empty((b, nv))
-    a_out = np.empty((b, nv))
-    g_out = np.empty((b, nv, n_act))
-    m_out = np.empty((b, dim, n_act))
+    v_out, a_out = np.empty((b, nv)), np.empty((b, nv))
+    g_out, m_out = np.empty((b, nv, n_act)), np.empty((b, dim, n_act))
     condition = np.empty(b)
     buffers = _buffers(tree, nv)
     rows = len(buffers.drift) - dim
-    a0 = np.empty(nv)
-    rhs = np.empty(dim)
-    inverse = np.empty((n_act, dim))
-    square = np.empty((n_act, n_act))
-    factors = np.empty((n_act, n_act))
-    square_inverse = np.empty((n_act, n_act))
-    rate = np.empty(n_act)
+    a0, rhs, rate, inverse = np.empty(nv), np.empty(dim), np.empty(n_act), np.empty((n_act, dim))
+    square, factors, square_inverse = np.empty((n_act, n_act)), np.empty((n_act, n_act)), np.empty((n_act, n_act))
     for i in range(b):
         g = g_out[i]
         forward(tree, q[i], buffers)
@@ -777,11 +763,11 @@ def rotation_vectors(rotation):
 
 
 @_internal
-def _exp3(vector, out):
-    """Rotation matrix of a rotation vector (rad), into ``out``."""
-    angle = np.sqrt(vector[0] ** 2 + vector[1] ** 2 + vector[2] ** 2)
-    sine, versine = (np.sin(angle) / angle, (1.0 - np.cos(angle)) / angle ** 2) if angle > 1e-12 else (1.0, 0.5)
-    x, y, z = vector[0], vector[1], vector[2]
+def _exp3(vector, scale, out):
+    """Rotation matrix of the rotation vector ``scale · vector`` (rad), into ``out``."""
+    x, y, z = scale * vector[0], scale * vector[1], scale * vector[2]
+    angle = np.sqrt(x * x + y * y + z * z)
+    sine, versine = (np.sin(angle) / angle, (1.0 - np.cos(angle)) / (angle * angle)) if angle > 1e-12 else (1.0, 0.5)
     skew = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
     square = _product(skew, skew)
     for r in range(3):
@@ -819,7 +805,8 @@ def _branch_scale(tree, buffers, q, settings, g, identity):
         total = 0.0
         for j in range(tangent.shape[1]):
             weight = 1.0 if j < 3 else 1.0 / settings[6]
-            total += (weight * tangent[k, j]) ** 2
+            term = weight * tangent[k, j]
+            total += term * term
         largest = max(largest, np.sqrt(total))
     return largest
 
@@ -838,6 +825,16 @@ def _max_abs(vector):
     for k in range(len(vector)):
         largest = max(largest, abs(vector[k]))
     return largest
+
+
+@_internal
+def _predict(q, tangent, motion, change):
+    """The first-order prediction ``q + D·Δx`` of a configuration, D·Δx into ``change``."""
+    _apply_into(tangent, motion, change)
+    out = np.empty(len(q))
+    for k in range(len(q)):
+        out[k] = q[k] + change[k]
+    return out
 
 
 @_internal
@@ -888,16 +885,14 @@ def solve_paths(tree, reference_q, positions, rotations, pose, n, coarse, schedu
     """
     total, nv = len(positions), len(reference_q)
     q = np.empty((total, nv))
-    ok = np.zeros(total, dtype=np.bool_)
-    flipped = np.zeros(total, dtype=np.bool_)
+    ok, flipped = np.zeros(total, dtype=np.bool_), np.zeros(total, dtype=np.bool_)
     buffers = _buffers(tree, nv)
     rows = len(buffers.drift)
     error = np.empty(rows)
     step = np.empty((max(rows, nv), 1))
     g = np.empty((nv, len(tree.actuated)))
     identity = np.eye(tree.task_dimension)
-    motion = np.empty(tree.task_dimension)
-    scratch = np.empty((3, 3))
+    motion, prediction, scratch = np.empty(tree.task_dimension), np.empty(nv), np.empty((3, 3))
     forward(tree, reference_q, buffers)
     reference_position = buffers.frame_origin[tree.end_effector].copy()
     reference_rotation = buffers.frame_rotation[tree.end_effector].copy()
@@ -909,10 +904,11 @@ def solve_paths(tree, reference_q, positions, rotations, pose, n, coarse, schedu
             before, now = base + coarse[c], base + coarse[c + 1]
             if ok[before]:
                 _displacement(positions[before], rotations[before], positions[now], rotations[now], pose, motion, scratch)
-                prediction = _apply(_tangent_one(tree, buffers, q[before], settings[3], g, identity), motion)
+                seed = _predict(q[before], _tangent_one(tree, buffers, q[before], settings[3], g, identity), motion,
+                                prediction)
             else:  # after a failure, start again from the last solved configuration
-                prediction = np.zeros(nv)
-            seed = q[before] + prediction
+                prediction[:] = 0.0
+                seed = q[before].copy()
             solved = seed.copy()
             ok[now] = _newton_one(tree, buffers, solved, positions[now], rotations[now], pose, settings, settings[0],
                                   error, step)
@@ -941,24 +937,28 @@ def _assemble(tree, buffers, reference_q, reference_position, reference_rotation
     """The first configuration of a path, by predicted continuation from the reference configuration in
     steps of at most ``settings[4]`` (m, rotation counted at ``settings[6]`` m/rad); returns success."""
     turn = np.zeros(3)
-    distance = np.sqrt(((target_position - reference_position) ** 2).sum())
+    dx, dy, dz = (target_position[0] - reference_position[0], target_position[1] - reference_position[1],
+                  target_position[2] - reference_position[2])
+    distance = np.sqrt(dx * dx + dy * dy + dz * dz)
     if pose:
         _relative_rotation(reference_rotation.T.copy(), target_rotation.T.copy(), scratch)  # R_refᵀ·R_target
         log3(scratch, turn)
-        distance = max(distance, settings[6] * np.sqrt((turn ** 2).sum()))
+        distance = max(distance, settings[6] * np.sqrt(turn[0] * turn[0] + turn[1] * turn[1] + turn[2] * turn[2]))
     steps = max(1, int(np.ceil(distance / settings[4])))
     x = reference_q.copy()
     success = True
     previous_position, previous_rotation = reference_position.copy(), reference_rotation.copy()
-    goal_rotation = reference_rotation.copy()
+    goal_rotation, change = reference_rotation.copy(), np.empty(len(x))
     for s in range(1, steps + 1):
         fraction = s / steps
-        goal_position = reference_position + fraction * (target_position - reference_position)
+        goal_position = np.empty(3)
+        for k in range(3):
+            goal_position[k] = reference_position[k] + fraction * (target_position[k] - reference_position[k])
         if pose:
-            _exp3(fraction * turn, scratch)
+            _exp3(turn, fraction, scratch)
             goal_rotation = _product(reference_rotation, scratch)
         _displacement(previous_position, previous_rotation, goal_position, goal_rotation, pose, motion, scratch)
-        seed = x + _apply(_tangent_one(tree, buffers, x, settings[3], g, identity), motion)
+        seed = _predict(x, _tangent_one(tree, buffers, x, settings[3], g, identity), motion, change)
         tolerance = settings[0] if s == steps else settings[5]
         if _newton_one(tree, buffers, seed, goal_position, goal_rotation, pose, settings, tolerance, error, step):
             x = seed
