@@ -19,7 +19,7 @@ from placement.cli.exceptions import UsageError
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.parallel import SCHEDULER_VARIABLE
 from placement.kinematics.base import solver_name
-from placement.kinematics.batched import prepare_kernels
+from placement.kinematics.warmup import prepare_kernels
 from placement.limits.collision import collision_scene
 from placement.objectives.base import OBJECTIVES
 from placement.path.load import load_path
@@ -339,7 +339,7 @@ def load_robot_argument(robot: str, tool: str | None, cell: str | None = None) -
         loaded = load_erd_robot(name, tool)
         print(f"warning: {estimate_warning(loaded)}", file=sys.stderr)
     if solver_name(loaded) == "numeric":
-        waited_s = prepare_kernels(lambda: print("compiling the generic kinematics for this machine (once, about half a minute; "
+        waited_s = prepare_kernels(lambda: print("compiling the generic kinematics for this machine (once, some 10 to 20 s; "
                                                  "later runs load it from the cache) ...", file=sys.stderr, flush=True))
         if waited_s is not None:
             print(f"compiled the generic kinematics in {waited_s:.0f} s", file=sys.stderr, flush=True)

@@ -26,15 +26,11 @@ passive joints.
 from __future__ import annotations
 
 import functools
-import threading
-import time
-from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
-import pinocchio as pin
 
 from placement.kinematics import kernels
 from placement.kinematics.base import SINGULAR_CONDITION, SOLVERS, KinematicsSolver
@@ -186,39 +182,6 @@ class BatchedSolver(KinematicsSolver):
         q, ok, flipped = self.kinematics.solve_paths(Targets(rows.position_m, rows.rotation), n)
         joints, regular = self.kinematics.rates(q, rows)
         return joints, ok, flipped, regular
-
-
-def prepare_kernels(notice: Callable[[], None], patience_s: float = 2.0) -> float | None:
-    """Load the compiled kernels (on a machine's first run, compile them: about half a minute), calling ``notice``
-    once if that takes longer than ``patience_s`` (s), so that a command can say why it waits.
-
-    Returns:
-        The whole wait (s) when ``notice`` was called, else None.
-    """
-    start = time.perf_counter()
-    worker = threading.Thread(target=_touch_kernels, daemon=True)
-    worker.start()
-    worker.join(patience_s)
-    if not worker.is_alive():
-        return None
-    notice()
-    worker.join()
-    return time.perf_counter() - start
-
-
-def _touch_kernels() -> None:
-    """Run the path solve, the rates and the rotation vectors once on a one-joint tree: their numba types do not
-    depend on the robot, so this compiles (or loads from the cache) exactly what every robot uses."""
-    model = pin.Model()
-    joint = model.addJoint(0, pin.JointModelRZ(), pin.SE3.Identity(), "joint")
-    frame = model.addFrame(pin.Frame("tip", joint, pin.SE3(np.eye(3), np.array([1.0, 0.0, 0.0])), pin.FrameType.OP_FRAME))
-    tree = tree_arrays(model, [frame], end_effector=0, task_dimension=3, actuated=[0])
-    positions = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
-    q, _, _ = kernels.solve_paths(tree, np.zeros(1), positions, np.zeros((2, 3, 3)), False, 2,
-                                  np.array([0, 1], dtype=np.int64), np.zeros((0, 5), dtype=np.int64),
-                                  np.array([0.0, np.sqrt(2.0)]), SETTINGS)
-    kernels.rates(tree, q, np.zeros((2, 3)), np.zeros((2, 3)), DAMPING)
-    kernels.rotation_vectors(np.eye(3)[None])
 
 
 def bisection_schedule(coarse: np.ndarray, n: int, jumps: np.ndarray | None = None) -> np.ndarray:

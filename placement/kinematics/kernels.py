@@ -11,8 +11,12 @@ Newton iteration are compiled without numba's reference counting (``_nrt=False``
 nothing): a counted call that passes those tuples costs about 0.3 µs, as much as a forward
 kinematics of a 6-axis arm, and without the counts the call costs as little as numba's inlining
 (``inline='always'``) saved, at less than half its compile time. Compile time also guides the
-rest: no slice assignment between arrays (its shape check compiles a formatted message), and each
-entry point's loop in the entry point itself (a wrapper compiles its callees' code once more).
+rest: no slice assignment between arrays (its shape check compiles a formatted message) nor array
+expressions or powers (each compiles a kernel of its own), each entry point's loop in the entry
+point itself (a wrapper compiles its callees' code once more), no Python wrappers for functions
+only the kernels call (one unboxes the 30 arrays of the tree and buffer tuples, and is optimised
+again in every caller), one set of argument types per function (rows passed as views, no literal
+constants), and ``_assemble`` and ``_branch_scale`` inlined.
 
 Conventions follow Pinocchio: a joint's world placement ``oMi = oMparent · jointPlacement ·
 motion(q)``; Jacobians and classical accelerations at a frame's origin in world-aligned axes
@@ -34,8 +38,8 @@ another file. Its sections, in order (each opens with a ``# ---`` rule):
    accelerations from the tool's twist and acceleration), ``frames``, ``placements``, ``rotation_vectors``.
 6. Whole paths: ``solve_paths`` (each path sample by sample, seeded by interpolating the solved
    neighbours on a bisection schedule, with the branch test ``_left_branch`` and the joint motion a
-   stretch of path can cause, ``_branch_scale``) and ``_assemble`` (a
-   path's first configuration, by continuation from the reference configuration).
+   stretch of path can cause, ``_branch_scale``) and ``_assemble`` (a path's first configuration, by
+   continuation from the reference configuration).
 """
 
 from __future__ import annotations
@@ -46,7 +50,9 @@ import numpy as np
 from numba import njit
 
 PIVOT_FLOOR = 1e-300  # a pivot below this makes a square system singular
-_uncounted = njit(cache=True, _nrt=False)  # type: ignore[call-overload]  # numba's stub lacks its flag for no reference counting
+# numba's stub lacks the flags for no reference counting and no Python wrappers
+_internal = njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]
+_uncounted = njit(cache=True, _nrt=False, no_cpython_wrapper=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]
 
 
 class TreeArrays(NamedTuple):
@@ -91,7 +97,7 @@ class _Buffers(NamedTuple):
     nonzero: np.ndarray  # (nv,) scratch indices
 
 
-@njit(cache=True)
+@_internal
 def _buffers(tree, nv):
     nj, nf = len(tree.parent), len(tree.frame_parent)
     rows = tree.closure_dimension.sum() + tree.task_dimension
@@ -105,11 +111,11 @@ def _buffers(tree, nv):
 # ---------------------------------------------------------------- small dense linear algebra
 
 
-@njit(cache=True)
-def _solve_square(matrix, rhs):
-    """Solve ``matrix · x = rhs`` in place by LU with partial pivoting: ``rhs`` (n, k) becomes x and
-    ``matrix`` its factors. Returns whether the matrix is regular."""
-    n, k = matrix.shape[0], rhs.shape[1]
+@_internal
+def _solve_square(matrix, rhs, n):
+    """Solve ``matrix[:n, :n] · x = rhs[:n]`` in place by LU with partial pivoting: ``rhs[:n]`` (n, k) becomes x
+    and ``matrix[:n, :n]`` its factors. Returns whether the matrix is regular."""
+    k = rhs.shape[1]
     for col in range(n):
         pivot = col
         for row in range(col + 1, n):
@@ -138,7 +144,7 @@ def _solve_square(matrix, rhs):
     return True
 
 
-@njit(cache=True)
+@_internal
 def _normal_lower(jacobian, rows, columns, normal, nonzero):
     """Lower triangle of ``J[:rows, columns]ᵀ·J[:rows, columns]`` in ``normal``, row by row over each row's
     nonzero entries (closure rows touch few joints); ``nonzero`` is scratch of len(columns) ints."""
@@ -159,7 +165,7 @@ def _normal_lower(jacobian, rows, columns, normal, nonzero):
                 normal[i, nonzero[b]] += x * jacobian[r, columns[nonzero[b]]]
 
 
-@njit(cache=True)
+@_internal
 def _cholesky(a, n, damping):
     """Lower Cholesky factor of ``a[:n, :n] + damping·I``, in place, from its lower triangle (semi-definite
     pivots floored at damping)."""
@@ -175,7 +181,7 @@ def _cholesky(a, n, damping):
             a[i, j] = total / a[j, j]
 
 
-@njit(cache=True)
+@_internal
 def _cholesky_solve(factor, n, rhs, k):
     """Solve ``L·Lᵀ·x = rhs[:n, :k]`` in place with the factor of :func:`_cholesky`."""
     for c in range(k):
@@ -191,14 +197,14 @@ def _cholesky_solve(factor, n, rhs, k):
             rhs[i, c] = total / factor[i, i]
 
 
-@njit(cache=True)
+@_internal
 def least_squares(matrix, rhs, damping):
     """Solution (n, k) of ``matrix · x ≈ rhs`` (rhs (m, k), m ≥ n): exact when square and regular, else damped
     least squares."""
     n, k = matrix.shape[1], rhs.shape[1]
     if matrix.shape[0] == n:
         x = rhs.copy()
-        if _solve_square(matrix.copy(), x):
+        if _solve_square(matrix.copy(), x, n):
             return x
     transposed = matrix.T.copy()
     normal = _gram(transposed)
@@ -208,7 +214,7 @@ def least_squares(matrix, rhs, damping):
     return x
 
 
-@njit(cache=True)
+@_internal
 def _gram(a):
     """``a · aᵀ`` (symmetric, by loops)."""
     n, m = a.shape
@@ -223,7 +229,7 @@ def _gram(a):
     return out
 
 
-@njit(cache=True)
+@_internal
 def _product(a, b):
     """``a · b`` by loops (numba's ``@`` calls BLAS, whose overhead dominates on small matrices)."""
     n, m = a.shape
@@ -238,15 +244,7 @@ def _product(a, b):
     return out
 
 
-@njit(cache=True)
-def _apply(matrix, vector):
-    """``matrix · vector`` by loops."""
-    out = np.empty(matrix.shape[0])
-    _apply_into(matrix, vector, out)
-    return out
-
-
-@njit(cache=True)
+@_internal
 def _apply_into(matrix, vector, out):
     """``out = matrix · vector`` by loops."""
     for i in range(matrix.shape[0]):
@@ -256,7 +254,7 @@ def _apply_into(matrix, vector, out):
         out[i] = total
 
 
-@njit(cache=True)
+@_internal
 def _norm_1(matrix):
     """1-norm of a matrix: its largest column sum of absolute values."""
     largest = 0.0
@@ -268,9 +266,9 @@ def _norm_1(matrix):
     return largest
 
 
-@njit(cache=True)
-def log3(rotation, out, at):
-    """Rotation vector (rad) of a rotation matrix, as ``pin.log3``, into ``out[at:at + 3]``."""
+@_internal
+def log3(rotation, out):
+    """Rotation vector (rad) of a rotation matrix, as ``pin.log3``, into ``out[:3]``."""
     cosine = min(1.0, max(-1.0, (rotation[0, 0] + rotation[1, 1] + rotation[2, 2] - 1.0) / 2.0))
     angle = np.arccos(cosine)
     x = rotation[2, 1] - rotation[1, 2]
@@ -286,15 +284,15 @@ def log3(rotation, out, at):
             if rotation[k, k] > rotation[i, i]:
                 i = k
         diagonal = np.sqrt(max(0.0, (rotation[i, i] - cosine) / (1.0 - cosine)))
-        for k in range(3):  # the axis, into out[at:at + 3]
-            out[at + k] = diagonal if k == i else (rotation[i, k] + rotation[k, i]) / (2.0 * (1.0 - cosine) * diagonal)
-        sign = 1.0 if out[at] * x + out[at + 1] * y + out[at + 2] * z >= 0.0 else -1.0
+        for k in range(3):  # the axis, into out[:3]
+            out[k] = diagonal if k == i else (rotation[i, k] + rotation[k, i]) / (2.0 * (1.0 - cosine) * diagonal)
+        sign = 1.0 if out[0] * x + out[1] * y + out[2] * z >= 0.0 else -1.0
         for k in range(3):
-            out[at + k] *= sign * angle
+            out[k] *= sign * angle
         return
-    out[at] = scale * x
-    out[at + 1] = scale * y
-    out[at + 2] = scale * z
+    out[0] = scale * x
+    out[1] = scale * y
+    out[2] = scale * z
 
 
 # ---------------------------------------------------------------- tree kinematics of one sample
@@ -343,7 +341,7 @@ def forward(tree, q, buffers):
             buffers.frame_origin[f, r] = total
 
 
-@njit(cache=True)
+@_internal
 def _relative_rotation(first, second, out):
     """``first · secondᵀ`` into ``out``."""
     for r in range(3):
@@ -362,14 +360,14 @@ def residual(tree, buffers, target_position, target_rotation, pose, out):
             out[row + k] = frame_origin[f1, k] - frame_origin[f2, k]
         if tree.closure_dimension[c] == 6:
             _relative_rotation(frame_rotation[f1], frame_rotation[f2], buffers.turn)
-            log3(buffers.turn, out, row + 3)
+            log3(buffers.turn, out[row + 3:])
         row += tree.closure_dimension[c]
     e = tree.end_effector
     for k in range(3):
         out[row + k] = frame_origin[e, k] - target_position[k]
     if pose:
         _relative_rotation(frame_rotation[e], target_rotation, buffers.turn)
-        log3(buffers.turn, out, row + 3)
+        log3(buffers.turn, out[row + 3:])
     total = 0.0
     for k in range(len(out)):
         total += out[k] * out[k]
@@ -377,9 +375,9 @@ def residual(tree, buffers, target_position, target_rotation, pose, out):
 
 
 @_uncounted
-def _add_frame_jacobian(tree, f, buffers, sign, out, row, dimension):
-    """Add ``sign`` times the first ``dimension`` rows of frame ``f``'s Jacobian to ``out[row:]``."""
-    origin, axis = buffers.origin, buffers.axis
+def _add_frame_jacobian(tree, f, buffers, sign, out):
+    """Add ``sign`` times the first len(out) (3 or 6) rows of frame ``f``'s Jacobian to ``out``."""
+    origin, axis, dimension = buffers.origin, buffers.axis, len(out)
     px, py, pz = buffers.frame_origin[f, 0], buffers.frame_origin[f, 1], buffers.frame_origin[f, 2]
     for j in range(1, len(tree.parent)):
         if not tree.support[f, j]:
@@ -388,17 +386,17 @@ def _add_frame_jacobian(tree, f, buffers, sign, out, row, dimension):
         ax, ay, az = axis[j, 0], axis[j, 1], axis[j, 2]
         if tree.revolute[j]:
             dx, dy, dz = px - origin[j, 0], py - origin[j, 1], pz - origin[j, 2]
-            out[row, column] += sign * (ay * dz - az * dy)
-            out[row + 1, column] += sign * (az * dx - ax * dz)
-            out[row + 2, column] += sign * (ax * dy - ay * dx)
+            out[0, column] += sign * (ay * dz - az * dy)
+            out[1, column] += sign * (az * dx - ax * dz)
+            out[2, column] += sign * (ax * dy - ay * dx)
             if dimension == 6:
-                out[row + 3, column] += sign * ax
-                out[row + 4, column] += sign * ay
-                out[row + 5, column] += sign * az
+                out[3, column] += sign * ax
+                out[4, column] += sign * ay
+                out[5, column] += sign * az
         else:
-            out[row, column] += sign * ax
-            out[row + 1, column] += sign * ay
-            out[row + 2, column] += sign * az
+            out[0, column] += sign * ax
+            out[1, column] += sign * ay
+            out[2, column] += sign * az
 
 
 @_uncounted
@@ -409,10 +407,10 @@ def jacobians(tree, buffers):
     row = 0
     for c in range(len(tree.closure_first)):
         dimension = tree.closure_dimension[c]
-        _add_frame_jacobian(tree, tree.closure_first[c], buffers, 1.0, jacobian, row, dimension)
-        _add_frame_jacobian(tree, tree.closure_second[c], buffers, -1.0, jacobian, row, dimension)
+        _add_frame_jacobian(tree, tree.closure_first[c], buffers, 1.0, jacobian[row:row + dimension])
+        _add_frame_jacobian(tree, tree.closure_second[c], buffers, -1.0, jacobian[row:row + dimension])
         row += dimension
-    _add_frame_jacobian(tree, tree.end_effector, buffers, 1.0, jacobian, row, tree.task_dimension)
+    _add_frame_jacobian(tree, tree.end_effector, buffers, 1.0, jacobian[row:])
 
 
 @_uncounted
@@ -439,9 +437,9 @@ def velocities(tree, v, buffers):
 
 
 @_uncounted
-def _add_frame_drift(tree, f, v, buffers, sign, out, row, dimension):
-    """Add ``sign`` times the first ``dimension`` entries of frame ``f``'s drift J̇·v to ``out[row:]``."""
-    origin, axis, angular, linear = buffers.origin, buffers.axis, buffers.angular, buffers.linear
+def _add_frame_drift(tree, f, v, buffers, sign, out):
+    """Add ``sign`` times the first len(out) (3 or 6) entries of frame ``f``'s drift J̇·v to ``out``."""
+    origin, axis, angular, linear, dimension = buffers.origin, buffers.axis, buffers.angular, buffers.linear, len(out)
     j0 = tree.frame_parent[f]
     p = buffers.frame_origin[f]
     rx, ry, rz = p[0] - origin[j0, 0], p[1] - origin[j0, 1], p[2] - origin[j0, 2]
@@ -459,17 +457,17 @@ def _add_frame_drift(tree, f, v, buffers, sign, out, row, dimension):
         if tree.revolute[j]:
             dx, dy, dz = p[0] - origin[j, 0], p[1] - origin[j, 1], p[2] - origin[j, 2]
             ex, ey, ez = ux - linear[j, 0], uy - linear[j, 1], uz - linear[j, 2]
-            out[row] += rate * (ty * dz - tz * dy + ay * ez - az * ey)
-            out[row + 1] += rate * (tz * dx - tx * dz + az * ex - ax * ez)
-            out[row + 2] += rate * (tx * dy - ty * dx + ax * ey - ay * ex)
+            out[0] += rate * (ty * dz - tz * dy + ay * ez - az * ey)
+            out[1] += rate * (tz * dx - tx * dz + az * ex - ax * ez)
+            out[2] += rate * (tx * dy - ty * dx + ax * ey - ay * ex)
             if dimension == 6:
-                out[row + 3] += rate * tx
-                out[row + 4] += rate * ty
-                out[row + 5] += rate * tz
+                out[3] += rate * tx
+                out[4] += rate * ty
+                out[5] += rate * tz
         else:
-            out[row] += rate * tx
-            out[row + 1] += rate * ty
-            out[row + 2] += rate * tz
+            out[0] += rate * tx
+            out[1] += rate * ty
+            out[2] += rate * tz
 
 
 @_uncounted
@@ -480,10 +478,10 @@ def drifts(tree, v, buffers):
     row = 0
     for c in range(len(tree.closure_first)):
         dimension = tree.closure_dimension[c]
-        _add_frame_drift(tree, tree.closure_first[c], v, buffers, 1.0, drift, row, dimension)
-        _add_frame_drift(tree, tree.closure_second[c], v, buffers, -1.0, drift, row, dimension)
+        _add_frame_drift(tree, tree.closure_first[c], v, buffers, 1.0, drift[row:row + dimension])
+        _add_frame_drift(tree, tree.closure_second[c], v, buffers, -1.0, drift[row:row + dimension])
         row += dimension
-    _add_frame_drift(tree, tree.end_effector, v, buffers, 1.0, drift, row, tree.task_dimension)
+    _add_frame_drift(tree, tree.end_effector, v, buffers, 1.0, drift[row:])
 
 
 # ---------------------------------------------------------------- the solver's quantities of one sample
@@ -541,14 +539,6 @@ def passive_correction(tree, buffers, rows, values, out):
         out[passive[i]] = rhs[i, 0]
 
 
-@njit(cache=True)
-def _task_map(tree, buffers, rows, g):
-    """M = J_task·G (task dim, n_act)."""
-    out = np.empty((tree.task_dimension, g.shape[1]))
-    _task_map_into(buffers, rows, g, out)
-    return out
-
-
 @_uncounted
 def _task_map_into(buffers, rows, g, out):
     """``out = J_task·G`` (task dim, n_act)."""
@@ -594,7 +584,7 @@ def _newton_one(tree, buffers, x, target_position, target_rotation, pose, settin
     return False
 
 
-@njit(cache=True)
+@_internal
 def _model_remainder(jacobian, error, step):
     """Norm of ``error − J·step``: the residual that the linear model predicts after the step."""
     total = 0.0
@@ -617,7 +607,7 @@ def _newton_step(buffers, error, step, square, damping):
             for c in range(nv):
                 normal[r, c] = jacobian[r, c]
             step[r, 0] = error[r]
-        if _solve_square(normal[:nv, :nv], step[:nv]):
+        if _solve_square(normal, step, nv):
             return
     for i in range(nv):
         total = 0.0
@@ -626,17 +616,19 @@ def _newton_step(buffers, error, step, square, damping):
         step[i, 0] = total
     _normal_lower(jacobian, rows, buffers.columns, normal, buffers.nonzero)
     _cholesky(normal, nv, damping)
-    _cholesky_solve(normal, nv, step, 1)
+    _cholesky_solve(normal, nv, step, step.shape[1])
 
 
-@njit(cache=True)
+@_internal
 def _tangent_one(tree, buffers, q, damping, g, identity):
     """(nq, task dim) first-order change of one configuration per task displacement, D = G·M⁺."""
     rows = len(buffers.drift) - tree.task_dimension
     forward(tree, q, buffers)
     jacobians(tree, buffers)
     basis(tree, buffers, rows, damping, g)
-    return _product(g, least_squares(_task_map(tree, buffers, rows, g), identity, damping))
+    task_map = np.empty((tree.task_dimension, g.shape[1]))
+    _task_map_into(buffers, rows, g, task_map)
+    return _product(g, least_squares(task_map, identity, damping))
 
 
 @njit(cache=True, nogil=True)
@@ -650,21 +642,13 @@ def rates(tree, q, twist, acceleration, damping):
     """
     b, nv = q.shape
     dim, n_act = tree.task_dimension, len(tree.actuated)
-    v_out = np.empty((b, nv))
-    a_out = np.empty((b, nv))
-    g_out = np.empty((b, nv, n_act))
-    m_out = np.empty((b, dim, n_act))
+    v_out, a_out = np.empty((b, nv)), np.empty((b, nv))
+    g_out, m_out = np.empty((b, nv, n_act)), np.empty((b, dim, n_act))
     condition = np.empty(b)
     buffers = _buffers(tree, nv)
-    dim, n_act = tree.task_dimension, len(tree.actuated)
     rows = len(buffers.drift) - dim
-    a0 = np.empty(nv)
-    rhs = np.empty(dim)
-    inverse = np.empty((n_act, dim))
-    square = np.empty((n_act, n_act))
-    factors = np.empty((n_act, n_act))
-    square_inverse = np.empty((n_act, n_act))
-    rate = np.empty(n_act)
+    a0, rhs, rate, inverse = np.empty(nv), np.empty(dim), np.empty(n_act), np.empty((n_act, dim))
+    square, factors, square_inverse = np.empty((n_act, n_act)), np.empty((n_act, n_act)), np.empty((n_act, n_act))
     for i in range(b):
         g = g_out[i]
         forward(tree, q[i], buffers)
@@ -690,7 +674,7 @@ def rates(tree, q, twist, acceleration, damping):
     return v_out, a_out, g_out, m_out, condition
 
 
-@njit(cache=True)
+@_internal
 def _task_inverse(task_map, inverse, square, factors, square_inverse):
     """The task map's inverse, or for a tall one its left inverse (MᵀM)⁻¹·Mᵀ, (n_act, dim) into ``inverse``;
     returns its condition number: 1-norm when square; for a tall map the square root of MᵀM's (within a
@@ -708,7 +692,7 @@ def _task_inverse(task_map, inverse, square, factors, square_inverse):
                 square[r, c] = total
             factors[r, c] = square[r, c]
             square_inverse[r, c] = 1.0 if r == c else 0.0
-    if not _solve_square(factors, square_inverse):
+    if not _solve_square(factors, square_inverse, n_act):
         for r in range(n_act):
             for c in range(dim):
                 inverse[r, c] = 1.0 if r == c else 0.0
@@ -745,8 +729,8 @@ def frames(tree, q, v):
         rotation_out[i] = buffers.frame_rotation
         origin_out[i] = buffers.frame_origin
         for f in range(nf):
-            _add_frame_jacobian(tree, f, buffers, 1.0, jacobian_out[i, f], 0, 6)
-            _add_frame_drift(tree, f, v[i], buffers, 1.0, drift_out[i, f], 0, 6)
+            _add_frame_jacobian(tree, f, buffers, 1.0, jacobian_out[i, f])
+            _add_frame_drift(tree, f, v[i], buffers, 1.0, drift_out[i, f])
     return rotation_out, origin_out, jacobian_out, drift_out
 
 
@@ -771,19 +755,19 @@ def rotation_vectors(rotation):
     """(B, 3) rotation vectors of (B, 3, 3) rotation matrices."""
     out = np.empty((rotation.shape[0], 3))
     for i in range(rotation.shape[0]):
-        log3(rotation[i], out[i], 0)
+        log3(rotation[i], out[i])
     return out
 
 
 # ---------------------------------------------------------------- whole paths
 
 
-@njit(cache=True)
-def _exp3(vector, out):
-    """Rotation matrix of a rotation vector (rad), into ``out``."""
-    angle = np.sqrt(vector[0] ** 2 + vector[1] ** 2 + vector[2] ** 2)
-    sine, versine = (np.sin(angle) / angle, (1.0 - np.cos(angle)) / angle ** 2) if angle > 1e-12 else (1.0, 0.5)
-    x, y, z = vector[0], vector[1], vector[2]
+@_internal
+def _exp3(vector, scale, out):
+    """Rotation matrix of the rotation vector ``scale · vector`` (rad), into ``out``."""
+    x, y, z = scale * vector[0], scale * vector[1], scale * vector[2]
+    angle = np.sqrt(x * x + y * y + z * z)
+    sine, versine = (np.sin(angle) / angle, (1.0 - np.cos(angle)) / (angle * angle)) if angle > 1e-12 else (1.0, 0.5)
     skew = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
     square = _product(skew, skew)
     for r in range(3):
@@ -791,14 +775,14 @@ def _exp3(vector, out):
             out[r, c] = (1.0 if r == c else 0.0) + sine * skew[r, c] + versine * square[r, c]
 
 
-@njit(cache=True)
+@_internal
 def _displacement(position_0, rotation_0, position_1, rotation_1, pose, out, scratch):
     """Task displacement from one target to another: position, then rotation (world) for a pose."""
     for k in range(3):
         out[k] = position_1[k] - position_0[k]
     if pose:
         _relative_rotation(rotation_1, rotation_0, scratch)
-        log3(scratch, out, 3)
+        log3(scratch, out[3:])
 
 
 @njit(cache=True)
@@ -811,7 +795,7 @@ def _left_branch(solved, seed, local, tolerance):
     return moved > 2.0 * local + tolerance
 
 
-@njit(cache=True)
+@njit(inline='always')
 def _branch_scale(tree, buffers, q, settings, g, identity):
     """Largest joint motion (m or rad) per metre of task motion at ``q`` on its branch: the largest row norm of
     D = G·M⁺, its rotation columns per ``settings[6]`` m (the length a radian counts for along the path)."""
@@ -821,7 +805,8 @@ def _branch_scale(tree, buffers, q, settings, g, identity):
         total = 0.0
         for j in range(tangent.shape[1]):
             weight = 1.0 if j < 3 else 1.0 / settings[6]
-            total += (weight * tangent[k, j]) ** 2
+            term = weight * tangent[k, j]
+            total += term * term
         largest = max(largest, np.sqrt(total))
     return largest
 
@@ -833,7 +818,7 @@ def _copy(source, target):
         target[k] = source[k]
 
 
-@njit(cache=True)
+@_internal
 def _max_abs(vector):
     """Largest magnitude of a vector's entries."""
     largest = 0.0
@@ -842,7 +827,17 @@ def _max_abs(vector):
     return largest
 
 
-@njit(cache=True)
+@_internal
+def _predict(q, tangent, motion, change):
+    """The first-order prediction ``q + D·Δx`` of a configuration, D·Δx into ``change``."""
+    _apply_into(tangent, motion, change)
+    out = np.empty(len(q))
+    for k in range(len(q)):
+        out[k] = q[k] + change[k]
+    return out
+
+
+@_internal
 def _cubic(q, base, row, out):
     """Lagrange interpolation at sample ``row[0]`` through the samples ``row[1:5]`` (outer left, left, right,
     outer right) of the placement starting at ``base``; an outer node equal to its inner neighbour (at the
@@ -890,16 +885,14 @@ def solve_paths(tree, reference_q, positions, rotations, pose, n, coarse, schedu
     """
     total, nv = len(positions), len(reference_q)
     q = np.empty((total, nv))
-    ok = np.zeros(total, dtype=np.bool_)
-    flipped = np.zeros(total, dtype=np.bool_)
+    ok, flipped = np.zeros(total, dtype=np.bool_), np.zeros(total, dtype=np.bool_)
     buffers = _buffers(tree, nv)
     rows = len(buffers.drift)
     error = np.empty(rows)
     step = np.empty((max(rows, nv), 1))
     g = np.empty((nv, len(tree.actuated)))
     identity = np.eye(tree.task_dimension)
-    motion = np.empty(tree.task_dimension)
-    scratch = np.empty((3, 3))
+    motion, prediction, scratch = np.empty(tree.task_dimension), np.empty(nv), np.empty((3, 3))
     forward(tree, reference_q, buffers)
     reference_position = buffers.frame_origin[tree.end_effector].copy()
     reference_rotation = buffers.frame_rotation[tree.end_effector].copy()
@@ -911,10 +904,11 @@ def solve_paths(tree, reference_q, positions, rotations, pose, n, coarse, schedu
             before, now = base + coarse[c], base + coarse[c + 1]
             if ok[before]:
                 _displacement(positions[before], rotations[before], positions[now], rotations[now], pose, motion, scratch)
-                prediction = _apply(_tangent_one(tree, buffers, q[before], settings[3], g, identity), motion)
+                seed = _predict(q[before], _tangent_one(tree, buffers, q[before], settings[3], g, identity), motion,
+                                prediction)
             else:  # after a failure, start again from the last solved configuration
-                prediction = np.zeros(nv)
-            seed = q[before] + prediction
+                prediction[:] = 0.0
+                seed = q[before].copy()
             solved = seed.copy()
             ok[now] = _newton_one(tree, buffers, solved, positions[now], rotations[now], pose, settings, settings[0],
                                   error, step)
@@ -937,30 +931,34 @@ def solve_paths(tree, reference_q, positions, rotations, pose, n, coarse, schedu
     return q, ok, flipped
 
 
-@njit(cache=True)
+@njit(inline='always')
 def _assemble(tree, buffers, reference_q, reference_position, reference_rotation, target_position, target_rotation,
               pose, settings, out, error, step, g, identity, motion, scratch):
     """The first configuration of a path, by predicted continuation from the reference configuration in
     steps of at most ``settings[4]`` (m, rotation counted at ``settings[6]`` m/rad); returns success."""
     turn = np.zeros(3)
-    distance = np.sqrt(((target_position - reference_position) ** 2).sum())
+    dx, dy, dz = (target_position[0] - reference_position[0], target_position[1] - reference_position[1],
+                  target_position[2] - reference_position[2])
+    distance = np.sqrt(dx * dx + dy * dy + dz * dz)
     if pose:
         _relative_rotation(reference_rotation.T.copy(), target_rotation.T.copy(), scratch)  # R_refᵀ·R_target
-        log3(scratch, turn, 0)
-        distance = max(distance, settings[6] * np.sqrt((turn ** 2).sum()))
+        log3(scratch, turn)
+        distance = max(distance, settings[6] * np.sqrt(turn[0] * turn[0] + turn[1] * turn[1] + turn[2] * turn[2]))
     steps = max(1, int(np.ceil(distance / settings[4])))
     x = reference_q.copy()
     success = True
     previous_position, previous_rotation = reference_position.copy(), reference_rotation.copy()
-    goal_rotation = reference_rotation.copy()
+    goal_rotation, change = reference_rotation.copy(), np.empty(len(x))
     for s in range(1, steps + 1):
         fraction = s / steps
-        goal_position = reference_position + fraction * (target_position - reference_position)
+        goal_position = np.empty(3)
+        for k in range(3):
+            goal_position[k] = reference_position[k] + fraction * (target_position[k] - reference_position[k])
         if pose:
-            _exp3(fraction * turn, scratch)
+            _exp3(turn, fraction, scratch)
             goal_rotation = _product(reference_rotation, scratch)
         _displacement(previous_position, previous_rotation, goal_position, goal_rotation, pose, motion, scratch)
-        seed = x + _apply(_tangent_one(tree, buffers, x, settings[3], g, identity), motion)
+        seed = _predict(x, _tangent_one(tree, buffers, x, settings[3], g, identity), motion, change)
         tolerance = settings[0] if s == steps else settings[5]
         if _newton_one(tree, buffers, seed, goal_position, goal_rotation, pose, settings, tolerance, error, step):
             x = seed

@@ -8,8 +8,9 @@ import pytest
 
 from placement.kinematics import SOLVERS, TaskTrajectory, solver_for
 from placement.kinematics.base import task_error
-from placement.kinematics.batched import SOLVE_TOLERANCE, prepare_kernels
+from placement.kinematics.batched import SOLVE_TOLERANCE
 from placement.kinematics.tree import frame_kinematics, log3
+from placement.kinematics.warmup import prepare_kernels
 from placement.path import load_path
 from placement.placing.transform import placed_task
 from placement.robot import load_robot
@@ -147,9 +148,9 @@ def test_kernel_preparation_says_it_waits_and_how_long_only_when_it_waits(monkey
     kernels' loading stands in for by a 0.2 s pause: in a process that has them already, loading takes no time)."""
     import time
 
-    from placement.kinematics import batched
+    from placement.kinematics import warmup
 
-    monkeypatch.setattr(batched, "_touch_kernels", lambda: time.sleep(0.2))
+    monkeypatch.setattr(warmup, "_touch_kernels", lambda: time.sleep(0.2))
     calls = []
     waited_s = prepare_kernels(lambda: calls.append(1), patience_s=0.05)
     assert calls == [1] and waited_s is not None and waited_s >= 0.2
