@@ -8,6 +8,7 @@ import signal
 import sys
 import tempfile
 import threading
+import time
 from collections.abc import Callable
 from pathlib import Path
 
@@ -19,7 +20,7 @@ from placement.cli.exceptions import UsageError
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.parallel import SCHEDULER_VARIABLE
 from placement.kinematics.base import solver_name
-from placement.kinematics.warmup import prepare_kernels
+from placement.kinematics.warmup import touch_kernels
 from placement.limits.collision import collision_scene
 from placement.objectives.base import OBJECTIVES
 from placement.path.load import load_path
@@ -339,16 +340,40 @@ def load_robot_argument(robot: str, tool: str | None, cell: str | None = None) -
         loaded = load_erd_robot(name, tool)
         print(f"warning: {estimate_warning(loaded)}", file=sys.stderr)
     if solver_name(loaded) == "numeric":
-        waited_s = prepare_kernels(lambda: print("compiling the generic kinematics for this machine (once, some 10 to 20 s; "
-                                                 "later runs load it from the cache) ...", file=sys.stderr, flush=True))
-        if waited_s is not None:
-            print(f"compiled the generic kinematics in {waited_s:.0f} s", file=sys.stderr, flush=True)
+        compile_noticed(touch_kernels, "the generic kinematics", "some 10 to 20 s")
     if cell is None:
         return loaded
     equipped = equip(loaded, load_cell(cell))
     for notice in collision_scene(equipped).notices:
         print(f"note: {notice}")
     return equipped
+
+
+def compile_noticed(work: Callable[[], None], what: str, expected: str, patience_s: float = 2.0) -> float | None:
+    """Run ``work`` (load compiled kernels from the disk cache, or compile them on a machine's first run), saying on
+    stderr what is compiled and how long it took when that takes longer than ``patience_s`` (s).
+
+    Args:
+        work: Loads or compiles the kernels.
+        what: What is compiled, e.g. "the generic kinematics".
+        expected: How long a first compile takes, e.g. "some 10 to 20 s".
+        patience_s: Longest silent wait (s).
+
+    Returns:
+        The whole wait (s) when it was announced, else None.
+    """
+    start = time.perf_counter()
+    worker = threading.Thread(target=work, daemon=True)
+    worker.start()
+    worker.join(patience_s)
+    if not worker.is_alive():
+        return None
+    print(f"compiling {what} for this machine (once, {expected}; later runs load it from the cache) ...",
+          file=sys.stderr, flush=True)
+    worker.join()
+    waited_s = time.perf_counter() - start
+    print(f"compiled {what} in {waited_s:.0f} s", file=sys.stderr, flush=True)
+    return waited_s
 
 
 def require_sidecar(robot: str, command: str) -> None:

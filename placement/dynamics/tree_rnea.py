@@ -103,6 +103,16 @@ def path_torques(tree: TreeInertias, q: np.ndarray, rate: np.ndarray, curvature:
     return out
 
 
+def touch_path_torques() -> None:
+    """Compile the kernel (or load it from the disk cache) by running it on a one-joint tree: its numba types do
+    not depend on the robot."""
+    model = pin.Model()
+    model.addJoint(0, pin.JointModelRZ(), pin.SE3.Identity(), "joint")
+    tree = tree_inertias(model)
+    assert tree is not None
+    path_torques(tree, np.zeros((1, 1)), np.zeros((1, 1)), np.zeros((1, 1)))
+
+
 def _scratch(joints: int) -> tuple[np.ndarray, ...]:
     """The kernel's scratch for a tree of ``joints`` joints: each joint's rotation (3, 3) and origin (3,) in its
     parent; per joint, in its frame, the linear and angular parts (4, joints, 3) of C's, A's and B's accelerations and

@@ -21,9 +21,6 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
-import threading
-import time
-from collections.abc import Callable
 from typing import NamedTuple
 
 import numba
@@ -35,30 +32,12 @@ from placement.kinematics.batched import DAMPING, SETTINGS
 from placement.kinematics.kernels import TreeArrays, _Buffers
 from placement.kinematics.tree import tree_arrays
 
-
-def prepare_kernels(notice: Callable[[], None], patience_s: float = 2.0) -> float | None:
-    """Load the compiled kernels (on a machine's first run, compile them: about 10 s on two cores), calling
-    ``notice`` once if that takes longer than ``patience_s`` (s), so that a command can say why it waits.
-
-    Returns:
-        The whole wait (s) when ``notice`` was called, else None.
-    """
-    start = time.perf_counter()
-    worker = threading.Thread(target=_touch_kernels, daemon=True)
-    worker.start()
-    worker.join(patience_s)
-    if not worker.is_alive():
-        return None
-    notice()
-    worker.join()
-    return time.perf_counter() - start
-
-
 ENTRY_POINTS = (kernels.solve_paths, kernels.rates, kernels.rotation_vectors)
 
 
-def _touch_kernels() -> None:
-    """Load or compile every kernel a robot uses, a first compile shared with a helper process."""
+def touch_kernels() -> None:
+    """Load or compile every kernel a robot uses (on a machine's first run about 10 s, shared with a helper
+    process)."""
     if all(function.signatures for function in ENTRY_POINTS):  # this process has them already
         return
     helper = _start_helper()

@@ -10,7 +10,6 @@ from placement.kinematics import SOLVERS, TaskTrajectory, solver_for
 from placement.kinematics.base import task_error
 from placement.kinematics.batched import SOLVE_TOLERANCE
 from placement.kinematics.tree import frame_kinematics, log3
-from placement.kinematics.warmup import prepare_kernels
 from placement.path import load_path
 from placement.placing.transform import placed_task
 from placement.robot import load_robot
@@ -143,15 +142,17 @@ def test_branch_change_is_reported():
     assert "sample" in reason
 
 
-def test_kernel_preparation_says_it_waits_and_how_long_only_when_it_waits(monkeypatch):
-    """A wait longer than the patience calls the notice once and returns its length; a short one says nothing (the
-    kernels' loading stands in for by a 0.2 s pause: in a process that has them already, loading takes no time)."""
+def test_a_compile_is_announced_with_its_length_only_when_it_makes_the_command_wait(capsys):
+    """A wait longer than the patience is announced once on stderr, then its length; a short one says nothing (a
+    0.2 s pause stands in for the kernels' compile: in a process that has them already, loading takes no time)."""
     import time
 
-    from placement.kinematics import warmup
+    from placement.cli.common import compile_noticed
 
-    monkeypatch.setattr(warmup, "_touch_kernels", lambda: time.sleep(0.2))
-    calls = []
-    waited_s = prepare_kernels(lambda: calls.append(1), patience_s=0.05)
-    assert calls == [1] and waited_s is not None and waited_s >= 0.2
-    assert prepare_kernels(lambda: calls.append(2), patience_s=600.0) is None and calls == [1]
+    waited_s = compile_noticed(lambda: time.sleep(0.2), "the kernels", "a while", patience_s=0.05)
+    err = capsys.readouterr().err
+    assert waited_s is not None and waited_s >= 0.2
+    assert err.count("compiling the kernels for this machine (once, a while;") == 1
+    assert err.count("compiled the kernels in 0 s") == 1
+    assert compile_noticed(lambda: time.sleep(0.2), "the kernels", "a while", patience_s=600.0) is None
+    assert capsys.readouterr().err == ""
