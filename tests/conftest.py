@@ -13,3 +13,14 @@ def orthoglide():
 @pytest.fixture
 def fivebar():
     return load_robot("fivebar")
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_xdist_make_scheduler(config, log):
+    """Under ``-n N`` (pytest-xdist's default ``--dist load``): a module's tests that share a module-scoped fixture
+    run in one worker, and the longest tests start first (tests/support/scheduling.py)."""
+    if config.getvalue("dist") != "load":
+        return None  # another --dist asked for explicitly
+    from tests.support.scheduling import SharedFixtureScheduling
+
+    return SharedFixtureScheduling(config, log)

@@ -17,18 +17,16 @@ The placements are the project's: R = Rz(phi)·Ry(theta)·Rx(psi); scipy builds 
 
 import json
 import re
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+from placement.__main__ import main
 from placement.exceptions import PlacementError
 from placement.output.exceptions import ResultFileError
 from placement.output.export import FORMATS, read_work_frame, to_gcode
 from placement.placing.transform import placement_pose
-from tests.support.paths import ROOT
 
 NUMBER = r"(-?\d+(?:\.\d+)?(?:e-?\d+)?)"
 TILTED = [0.1234, -0.2345, 0.3456, np.radians(30.0), np.radians(-20.0), np.radians(65.0)]
@@ -155,14 +153,12 @@ def test_result_file_errors_name_the_field(tmp_path):
         read_work_frame(bad)
 
 
-def test_command_writes_every_format_and_exits_2_on_bad_input(tmp_path):
+def test_command_writes_every_format_and_exits_2_on_bad_input(tmp_path, capsys):
     file = result_file(tmp_path, FLAT)
     for name in FORMATS:
         out = tmp_path / f"frame.{name}"
-        done = subprocess.run([sys.executable, "-m", "placement", "export", str(file), "--to", name, "--out", str(out)],
-                              capture_output=True, text=True, cwd=ROOT)
-        assert done.returncode == 0, done.stderr
+        assert main(["export", str(file), "--to", name, "--out", str(out)]) == 0, capsys.readouterr().err
         assert "base frame F_b" in out.read_text()
-    done = subprocess.run([sys.executable, "-m", "placement", "export", str(file), "--to", "abb", "--which", "worst"],
-                          capture_output=True, text=True, cwd=ROOT)
-    assert done.returncode == 2 and "worst.placement" in done.stderr
+    capsys.readouterr()
+    assert main(["export", str(file), "--to", "abb", "--which", "worst"]) == 2
+    assert "worst.placement" in capsys.readouterr().err

@@ -9,22 +9,21 @@ robot's in tests/robot/test_contract.py.
 import importlib.util
 import json
 import math
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 
 from placement import Evaluator, EvaluatorSettings, load_path
+from placement.__main__ import main
 from placement.dynamics.inverse import inverse_dynamics
 from placement.kinematics import joint_trajectory
 from placement.robot import load_robot
 from placement.robot.catalog import builtin_robots_dir
 from tests.support.delta_analytic import lumped_torques_Nm, williams_inverse_kinematics
+from tests.support.paths import CIRCLE
 from tests.support.trajectories import lissajous
 
 DELTA_DIR = builtin_robots_dir() / "delta"
-CIRCLE = DELTA_DIR.parents[1] / "examples" / "circle.yaml"
 
 
 @pytest.fixture
@@ -89,9 +88,7 @@ def test_committed_urdf_is_what_the_generator_writes():
 def test_the_command_line_places_the_circle_on_the_delta(tmp_path):
     # A small budget (two generations of six, a coarse sampling) runs every stage of the search.
     out = tmp_path / "result.json"
-    run = subprocess.run([sys.executable, "-m", "placement", "--robot", "delta", "--path", str(CIRCLE),
-                          "--minimize", "--time-step", "0.05", "--generations", "2", "--population", "6",
-                          "--quiet", "--json", str(out)], capture_output=True, text=True, timeout=300)
-    assert run.returncode == 0, run.stderr
+    assert main(["--robot", "delta", "--path", str(CIRCLE), "--minimize", "--time-step", "0.05", "--generations", "2",
+                 "--population", "6", "--quiet", "--json", str(out)]) == 0
     best = json.loads(out.read_text())["best"]
     assert best["feasible"] and 0.0 < best["energy_J"] < math.inf

@@ -116,7 +116,7 @@ def test_both_directions_searched_at_once_find_what_one_after_the_other_finds():
               "if sys.argv[1] == 'one_after_the_other':\n"
               "    optimize.process_pool = lambda workers, initializer, initargs: ThreadPoolExecutor(\n"
               "        1, initializer=initializer, initargs=initargs)\n"
-              "result = optimize.optimize_placement(robot, path, settings=optimize.SearchSettings(max_generations=8))\n"
+              "result = optimize.optimize_placement(robot, path, settings=optimize.SearchSettings(max_generations=4))\n"
               "print(json.dumps([o.detail.value for o in (result.best, result.worst)]))\n")
 
     def optima(mode: str) -> list[float]:
