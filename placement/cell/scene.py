@@ -219,16 +219,17 @@ class CollisionScene:
         by_group = np.lexsort((values[rows, columns], group))
         lowest = by_group[np.diff(group[by_group], prepend=-1) != 0]  # each group's lowest bound
         lowest = np.sort(lowest)  # configuration by configuration (np.nonzero's order)
-        self._exact_below(q, values, rows[lowest], columns[lowest], group[lowest], smallest)
+        found = self._exact_below(q, values, rows[lowest], columns[lowest], group[lowest], smallest.tolist())
         rest = np.ones(len(rows), dtype=bool)
         rest[lowest] = False
-        rest &= values[rows, columns] < smallest[group] + ROUNDING_M
-        self._exact_below(q, values, rows[rest], columns[rest], group[rest], smallest)
+        rest &= values[rows, columns] < np.asarray(found)[group] + ROUNDING_M
+        self._exact_below(q, values, rows[rest], columns[rest], group[rest], found)
 
     def _exact_below(self, q: np.ndarray, values: np.ndarray, rows: np.ndarray, columns: np.ndarray,
-                     groups: np.ndarray, smallest: np.ndarray) -> None:
+                     groups: np.ndarray, smallest: list[float]) -> list[float]:
         """In order, the exact distance of each shape pair ``columns`` in configuration ``rows`` whose value is
-        still below the smallest of its group (to ``ROUNDING_M``), into ``values``; ``smallest`` follows."""
+        still below the ``smallest`` of its group (to ``ROUNDING_M``), into ``values``; returns ``smallest``
+        updated."""
         model, data, geometry_model, geometry_data = self._model, self._data, self.geometry_model, self._geometry_data
         placed, done, exact = -1, [], []
         for i, (m, k, g, bound) in enumerate(zip(rows.tolist(), columns.tolist(), groups.tolist(),
@@ -241,8 +242,10 @@ class CollisionScene:
             distance = pin.computeDistance(geometry_model, geometry_data, k).min_distance
             done.append(i)
             exact.append(distance)
-            smallest[g] = min(smallest[g], distance)
+            if distance < smallest[g]:
+                smallest[g] = distance
         values[rows[done], columns[done]] = exact
+        return smallest
 
     def _per_pair(self, values: np.ndarray) -> np.ndarray:
         """(M, P) the smallest of each body pair's shape-pair values (M, K)."""
