@@ -57,7 +57,7 @@ def shape_supports(shapes: list[coal.CollisionGeometry]) -> tuple[np.ndarray, np
     return kind, centre, radius, box_half, extent
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _support(kind, extent, radius, rotation, n0, n1, n2):
     """Half width of a shape's projection on the unit direction (n0, n1, n2) (base frame), from its centre."""
     if kind == SPHERE:
@@ -70,7 +70,7 @@ def _support(kind, extent, radius, rotation, n0, n1, n2):
     return extent[2] * abs(l2) + extent[0] * np.sqrt(max(0.0, 1.0 - l2 * l2))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _gap(d, n0, n1, n2, kind_a, extent_a, radius_a, rotation_a, kind_b, extent_b, radius_b, rotation_b):
     """Gap between the projections of two shapes on a direction (any length; 0 gives -inf), centres ``d`` apart."""
     norm = np.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
@@ -119,17 +119,16 @@ def pair_bounds(rotation, origin, first, second, against_cell, kind, centre, rad
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _refined(d, local, against_cell, kind_a, extent_a, radius_a, ra, kind_b, extent_b, radius_b, rb, box_half_b):
     """The largest gap along the centres' line, towards the second's nearest box point, and the shapes' axes."""
     best = _gap(d, d[0], d[1], d[2], kind_a, extent_a, radius_a, ra, kind_b, extent_b, radius_b, rb)
     if against_cell:  # towards the point of the second's box nearest the first's centre (``local``: that centre)
-        n = np.zeros(3)
+        n0 = n1 = n2 = 0.0
         for i in range(3):
             step = local[i] - min(max(local[i], -box_half_b[i]), box_half_b[i])  # from the box point to the centre
-            for r in range(3):
-                n[r] += rb[r, i] * step
-        best = max(best, _gap(d, n[0], n[1], n[2], kind_a, extent_a, radius_a, ra, kind_b, extent_b, radius_b, rb))
+            n0, n1, n2 = n0 + rb[0, i] * step, n1 + rb[1, i] * step, n2 + rb[2, i] * step
+        best = max(best, _gap(d, n0, n1, n2, kind_a, extent_a, radius_a, ra, kind_b, extent_b, radius_b, rb))
     for i in range(3):
         if kind_a == BOX or (kind_a == CYLINDER and i == 2):
             best = max(best, _gap(d, ra[0, i], ra[1, i], ra[2, i], kind_a, extent_a, radius_a, ra,

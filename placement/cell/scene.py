@@ -14,8 +14,13 @@ other's bounding box), and, near the threshold, between their projections on a f
 (:mod:`placement.cell.bounds`). A pair whose bound exceeds the threshold returns the bound (a value above the
 threshold, never above the exact distance); below the threshold every distance is exact, so that
 checking ``distance >= required`` with a threshold at least the largest requirement decides exactly
-as the exact distances would. A distance does not depend on the other configurations or pairs
-computed with it (coal's warm start is off). A scene is not safe to share between threads.
+as the exact distances would. Given runs of configurations (a placement's samples along its path,
+whose margin is the smallest over them), only each pair's smallest distance over a run needs to be
+exact: the exact distance is computed at the run's lowest bound of the pair first, then wherever a
+bound is still below the smallest distance found (to ``ROUNDING_M``, coal's rounding); the others
+stay bounds, at least that smallest one, so the run's smallest is the same number as with every
+distance exact. A distance does not depend on the other configurations or pairs computed with it
+(coal's warm start is off). A scene is not safe to share between threads.
 """
 
 from __future__ import annotations
@@ -39,6 +44,7 @@ from placement.robot.exceptions import RobotFileError
 from placement.robot.model import Robot
 
 TOUCHING_M = 1e-5  # two bodies closer than this at the reference configuration touch by design (m)
+ROUNDING_M = 1e-9  # coal's distance may be this much below a bound equal to the distance (faces parallel) (m)
 
 
 @dataclass(frozen=True)
@@ -109,7 +115,7 @@ class CollisionScene:
         """For another process: the scene is built again there from its robot and cell."""
         return CollisionScene, self._source
 
-    def distances(self, q: np.ndarray, threshold_m: float | None = None) -> np.ndarray:
+    def distances(self, q: np.ndarray, threshold_m: float | None = None, run: int = 1) -> np.ndarray:
         """Signed distances (m) of every pair in every configuration.
 
         Args:
@@ -117,19 +123,24 @@ class CollisionScene:
             threshold_m: None for exact distances everywhere; else a pair whose cheap lower bound
                 exceeds ``threshold_m`` may return that bound (above ``threshold_m``, at most the
                 exact distance) instead of its exact distance.
+            run: With ``threshold_m``, the configurations come in runs of this many (the samples of
+                one placement's path, say; M is a multiple of it), of which only each pair's smallest
+                distance is sure to be exact when it is at most ``threshold_m``; the pair's other
+                distances in the run may be lower bounds, at least that smallest one.
 
         Returns:
             (M, P) distances, pairs in the order of :attr:`pairs`; negative when the bodies overlap.
 
         Raises:
-            ValueError: ``q`` is not finite or has the wrong width.
+            ValueError: ``q`` is not finite or has the wrong width, or M is not a multiple of ``run``.
         """
         q = self._checked(q)
         if threshold_m is None:
             return self._per_pair(self._exact_everywhere(q))
+        if run < 1 or len(q) % run:
+            raise ValueError(f"{len(q)} configurations do not make runs of {run}")
         values = self._bounds(q, threshold_m)
-        rows, columns = np.nonzero(values <= threshold_m)
-        values[rows, columns] = self._exact_at(q, rows, columns)
+        self._settle(q, values, threshold_m, run)
         return self._per_pair(values)
 
     def closest(self, q: np.ndarray) -> Witnesses:
@@ -193,17 +204,48 @@ class CollisionScene:
             values[m] = [result.min_distance for result in results]
         return values
 
-    def _exact_at(self, q: np.ndarray, rows: np.ndarray, columns: np.ndarray) -> np.ndarray:
-        """Exact distances of shape pairs ``columns`` in configurations ``q[rows]`` (fastest with rows sorted)."""
-        out = np.empty(len(rows))
+    def _settle(self, q: np.ndarray, values: np.ndarray, threshold_m: float, run: int) -> None:
+        """Exact distances in ``values`` (M, K: bounds of the shape pairs in configurations q) wherever a run's
+        smallest of a body pair at most ``threshold_m`` may lie: first at each run's pair's lowest bound at most
+        ``threshold_m``, then at every bound still below the smallest value of its run's pair (to ``ROUNDING_M``),
+        configuration by configuration."""
+        rows, columns = np.nonzero(values <= threshold_m)
+        if not len(rows):
+            return
+        pairs = len(self._pair_starts)
+        group = rows // run * pairs + self._shape_pair[columns]
+        above = self._per_pair(np.where(values > threshold_m, values, np.inf))
+        smallest = above.reshape(-1, run, pairs).min(axis=1).ravel()  # (runs·P,) smallest bound above the threshold
+        by_group = np.lexsort((values[rows, columns], group))
+        lowest = by_group[np.diff(group[by_group], prepend=-1) != 0]  # each group's lowest bound
+        lowest = np.sort(lowest)  # configuration by configuration (np.nonzero's order)
+        found = self._exact_below(q, values, rows[lowest], columns[lowest], group[lowest], smallest.tolist())
+        rest = np.ones(len(rows), dtype=bool)
+        rest[lowest] = False
+        rest &= values[rows, columns] < np.asarray(found)[group] + ROUNDING_M
+        self._exact_below(q, values, rows[rest], columns[rest], group[rest], found)
+
+    def _exact_below(self, q: np.ndarray, values: np.ndarray, rows: np.ndarray, columns: np.ndarray,
+                     groups: np.ndarray, smallest: list[float]) -> list[float]:
+        """In order, the exact distance of each shape pair ``columns`` in configuration ``rows`` whose value is
+        still below the ``smallest`` of its group (to ``ROUNDING_M``), into ``values``; returns ``smallest``
+        updated."""
         model, data, geometry_model, geometry_data = self._model, self._data, self.geometry_model, self._geometry_data
-        placed = -1
-        for i, (m, k) in enumerate(zip(rows.tolist(), columns.tolist())):
+        placed, done, exact = -1, [], []
+        for i, (m, k, g, bound) in enumerate(zip(rows.tolist(), columns.tolist(), groups.tolist(),
+                                                 values[rows, columns].tolist())):
+            if bound >= smallest[g] + ROUNDING_M:  # a distance here is at least the smallest found (GJK's rounding)
+                continue
             if m != placed:
                 pin.updateGeometryPlacements(model, data, geometry_model, geometry_data, q[m])
                 placed = m
-            out[i] = pin.computeDistance(geometry_model, geometry_data, k).min_distance
-        return out
+            distance = pin.computeDistance(geometry_model, geometry_data, k).min_distance
+            done.append(i)
+            exact.append(distance)
+            if distance < smallest[g]:
+                smallest[g] = distance
+        values[rows[done], columns[done]] = exact
+        return smallest
 
     def _per_pair(self, values: np.ndarray) -> np.ndarray:
         """(M, P) the smallest of each body pair's shape-pair values (M, K)."""

@@ -4,15 +4,18 @@
   keep-out zone, or two robot links) keeps its clearance at every sample: the cell's ``margin_m``
   from obstacles, 0 from keep-out zones and between links (see :mod:`placement.cell.scene`). The
   margin is (distance − clearance)/``CLEARANCE_SCALE_M``: negative where the bodies come closer
-  than allowed, and inside one another. In a search's batch, distances
-  above ``EXACT_BAND_M`` beyond the largest clearance may be cheap lower bounds (bounding
-  spheres): never above the exact distance, so a pair they clear is clear, and every distance that
-  decides feasibility is exact. Such a batch is also checked only at samples ``CHECK_SPACING_M``
-  apart along the path (and at its ends), each other sample taking the value of the checked one
-  before it, and asks each pair for ``CHECK_SPACING_M`` more clearance: the bodies near the tool
-  move about that much between two checked samples, so the placement it finds keeps the real
-  clearance in between. A batch marked exact (a report's, a re-check's) gets exact distances at
-  every sample against the real clearances.
+  than allowed, and inside one another. In a search's batch, distances above ``EXACT_BAND_M``
+  beyond the largest clearance may be cheap lower bounds (bounding spheres): never above the exact
+  distance, so a pair they clear is clear, and every distance that decides feasibility is exact.
+  Since a margin is the smallest over the samples, only each pair's smallest distance along a
+  placement's path is computed exactly; at its other samples the batch's distances may be lower
+  bounds, at least that smallest one (:meth:`placement.cell.scene.CollisionScene.distances`, in
+  runs). Such a batch is also checked only at samples ``CHECK_SPACING_M`` apart along the path
+  (and at its ends), each other sample taking the value of the checked one before it, and asks
+  each pair for ``CHECK_SPACING_M`` more clearance: the bodies near the tool move about that much
+  between two checked samples, so the placement it finds keeps the real clearance in between. A
+  batch marked exact (a report's, a re-check's) gets exact distances at every sample against the
+  real clearances.
 - ``workpiece region``: every tool point inside the cell's ``workpiece_region`` box; the scale
   is the box's side, as for the robot's workspace.
 
@@ -81,7 +84,7 @@ class Collision(Limit):
             checked = checked_samples(batch.samples.position_m)
             q = batch.joints.q.reshape(k, n, -1)[:, checked].reshape(k * len(checked), -1)
             threshold = float(required.max()) + EXACT_BAND_M
-            distance = scene.distances(q, threshold_m=threshold).reshape(k, len(checked), -1)
+            distance = scene.distances(q, threshold_m=threshold, run=len(checked)).reshape(k, len(checked), -1)
             distance = distance[:, np.searchsorted(checked, np.arange(n), side="right") - 1]
         required = np.broadcast_to(required, distance.shape)
         return [MarginField("collision", (distance - required) / CLEARANCE_SCALE_M, distance, required,

@@ -208,6 +208,32 @@ def test_refined_bounds_stay_below_the_exact_distances_of_the_orthoglide_cell():
             assert np.array_equal(filtered >= scene.required_m, exact >= scene.required_m)
 
 
+def test_a_runs_smallest_distance_is_exact_and_its_other_distances_are_bounds_below_the_exact_ones():
+    """Runs of configurations along straight lines in joint space (a path's samples): each pair's smallest
+    distance over a run is coal's wherever it is within the threshold, though most exact distances are spared;
+    a bound above a distance would spare the wrong ones."""
+    robot = load_robot("orthoglide")
+    scene = CollisionScene(robot, load_cell(ORTHOGLIDE_CELL))
+    rng = np.random.default_rng(5)
+    runs, run = 60, 40
+    ends = robot.reference_q + rng.uniform(-0.25, 0.25, (runs, 2, robot.model.nq))
+    share = np.linspace(0.0, 1.0, run)[None, :, None]
+    q = (ends[:, :1] * (1 - share) + ends[:, 1:] * share).reshape(runs * run, -1)
+    exact = scene.distances(q)
+    smallest = exact.reshape(runs, run, -1).min(axis=1)
+    for threshold in (0.0, 0.056, 0.2, np.inf):
+        filtered = scene.distances(q, threshold_m=threshold, run=run)
+        assert (filtered <= exact + 1e-9).all()  # lower bounds everywhere, to GJK's rounding
+        least = filtered.reshape(runs, run, -1).min(axis=1)
+        within = smallest <= threshold
+        assert within.any() and (threshold == np.inf or not within.all())
+        np.testing.assert_array_equal(least[within], smallest[within])
+        assert (least[~within] > threshold).all()
+    assert (scene.distances(q, threshold_m=0.056, run=run) != exact).mean() > 0.5  # most are spared
+    with pytest.raises(ValueError, match="runs of 7"):
+        scene.distances(q[:20], threshold_m=0.056, run=7)
+
+
 # ---------------------------------------------------------------- which pairs
 
 
