@@ -115,7 +115,8 @@ def tube(segments_m: np.ndarray, radius_m: float, sides: int = 6) -> tuple[np.nd
     """
     segments = np.asarray(segments_m, dtype=float).reshape(-1, 2, 3)
     axis = segments[:, 1] - segments[:, 0]
-    axis /= np.maximum(np.linalg.norm(axis, axis=1, keepdims=True), 1e-12)
+    length = np.linalg.norm(axis, axis=1, keepdims=True)
+    axis = np.where(length > 1e-12, axis / np.maximum(length, 1e-12), [[0.0, 0.0, 1.0]])  # a point: any axis
     helper = np.where(np.abs(axis[:, 2:3]) < 0.9, [[0.0, 0.0, 1.0]], [[1.0, 0.0, 0.0]])
     first = np.cross(axis, helper)
     first /= np.linalg.norm(first, axis=1, keepdims=True)

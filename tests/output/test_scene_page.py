@@ -167,3 +167,16 @@ def test_several_paths_have_a_colour_each(tmp_path):
     assert set(names) <= set(legend)  # one entry per path, not one per kind of placement
     assert "solid: least energy, dashed: most energy" in html.unescape(page)
     assert_apart(legend)
+
+
+def test_a_tube_is_a_ring_of_its_radius_about_each_segment_and_a_point_gives_a_finite_ring():
+    """Every vertex lies at the radius from its segment's end, and a zero-length segment (a path's repeated point)
+    gives a finite ring there, not NaN vertices that a browser would silently drop."""
+    from placement.output.meshes import tube
+
+    segments = np.array([[[0.0, 0.0, 0.0], [0.1, 0.0, 0.0]], [[0.0, 0.0, 0.0], [0.0, 0.0, 0.2]],
+                         [[0.05, 0.02, 0.01], [0.05, 0.02, 0.01]]])
+    vertices, faces = tube(segments, 0.003, sides=6)
+    assert np.isfinite(vertices).all() and faces.max() < len(vertices)
+    ends = np.repeat(segments.reshape(-1, 3), 6, axis=0)
+    assert np.allclose(np.linalg.norm(vertices - ends, axis=1), 0.003)
