@@ -77,8 +77,52 @@ def sample_power(robot: Robot, trace: MotorTrace, t_s: np.ndarray, piece: np.nda
     return (left + right) / np.maximum(count, 1)[:, None]
 
 
+@dataclass(frozen=True)
+class DrivePower:
+    """What the drives draw along a sampled path before a regeneration policy counts it (the same under every
+    policy): the intervals, their power and the policy-free integrals.
+
+    Attributes:
+        dt_s: (N-1,) or (..., N-1) interval widths (0 where a new piece starts).
+        parts: Power parts of every interval, (..., N-1, n_act) W.
+        joule_J, inductive_J, back_emf_J: (..., n_act) integrals of the parts over the intervals (without the
+            current steps' energies).
+        mechanical_J: (..., n_act) integral of motor shaft power τ·ω.
+        steps: (N-1,) or (..., N-1) where two samples of a piece share an instant.
+        step_J: Where ``steps`` has any: what each drive's windings give back and take there
+            (:func:`step_energies`), else None.
+    """
+
+    dt_s: np.ndarray
+    parts: PowerParts
+    joule_J: np.ndarray
+    inductive_J: np.ndarray
+    back_emf_J: np.ndarray
+    mechanical_J: np.ndarray
+    steps: np.ndarray
+    step_J: tuple[np.ndarray, np.ndarray] | None
+
+
+def _integral(power_W: np.ndarray, dt_s: np.ndarray) -> np.ndarray:
+    """(..., n_act) the integral of (..., N-1, n_act) interval powers over intervals of widths ``dt_s``."""
+    return np.einsum("...na,...n->...a", power_W, dt_s)
+
+
+def drive_power(robot: Robot, trace: MotorTrace, t_s: np.ndarray, piece: np.ndarray) -> DrivePower:
+    """The drives' power along the path and its policy-free integrals (arguments as :func:`electric_energy`)."""
+    dt = interval_widths(t_s, piece)
+    parts = interval_power(robot, trace, dt)
+    shaft = trace.torque_Nm * trace.speed_rad_s
+    mechanical = (shaft[..., :-1, :] + shaft[..., 1:, :]) / 2
+    steps = (dt == 0) & (piece[1:] == piece[:-1])
+    return DrivePower(dt_s=dt, parts=parts, joule_J=_integral(parts.joule_W, dt),
+                      inductive_J=_integral(parts.inductive_W, dt), back_emf_J=_integral(parts.back_emf_W, dt),
+                      mechanical_J=_integral(mechanical, dt), steps=steps,
+                      step_J=step_energies(robot, trace) if steps.any() else None)
+
+
 def electric_energy(robot: Robot, trace: MotorTrace, t_s: np.ndarray, piece: np.ndarray,
-                    regeneration: str = "clip") -> Energy:
+                    regeneration: str = "clip", power: DrivePower | None = None) -> Energy:
     """Integrate the drives' electric power along the path.
 
     Args:
@@ -87,6 +131,8 @@ def electric_energy(robot: Robot, trace: MotorTrace, t_s: np.ndarray, piece: np.
         t_s: (N,) sample times, or (..., N), each placement's own.
         piece: (N,) piece index of each sample (intervals across pieces are not integrated).
         regeneration: A regeneration policy's name (see :mod:`placement.energy.regeneration`).
+        power: The same drives' :func:`drive_power` along the same path, if known (one per batch serves every
+            policy).
 
     Returns:
         The energies.
@@ -95,34 +141,25 @@ def electric_energy(robot: Robot, trace: MotorTrace, t_s: np.ndarray, piece: np.
         UnknownMemberError: No such regeneration policy.
     """
     policy = REGENERATION.get(regeneration)
-    dt = interval_widths(t_s, piece)
-    parts = interval_power(robot, trace, dt)
-    power = parts.total_W
-    shaft = trace.torque_Nm * trace.speed_rad_s
-    mechanical = (shaft[..., :-1, :] + shaft[..., 1:, :]) / 2
-
-    def integral(p: np.ndarray) -> np.ndarray:
-        return np.einsum("...na,...n->...a", p, dt)
-
+    drive = drive_power(robot, trace, t_s, piece) if power is None else power
+    dt = drive.dt_s
     # Every policy sums the actuators first, then integrates, so the ordering of the built-in
     # policies holds exactly in floating point, interval by interval.
-    shaped = policy.axis_power(power)
+    shaped = policy.axis_power(drive.parts.total_W)
     supply = policy.supply_power(shaped.sum(axis=-1))
     # each placement's own times (the optimal law): a row sum, which is the same for a placement in any batch, as
     # einsum's is not then
     total = (supply * dt).sum(axis=-1) if dt.ndim > 1 else np.einsum("...n,...n->...", supply, dt)
-    per_actuator = integral(shaped)
-    inductive = integral(parts.inductive_W)
-    steps = (dt == 0) & (piece[1:] == piece[:-1])
-    if steps.any():
-        given, taken = step_energies(robot, trace)
+    per_actuator = _integral(shaped, dt)
+    inductive = drive.inductive_J
+    if drive.step_J is not None:
+        steps, (given, taken) = drive.steps, drive.step_J
         drawn = np.where(steps[..., None], policy.axis_power(given) + policy.axis_power(taken), 0.0)
         total = total + np.where(steps, policy.supply_power(drawn.sum(axis=-1)), 0.0).sum(axis=-1)
         per_actuator = per_actuator + drawn.sum(axis=-2)
         inductive = inductive + np.where(steps[..., None], given + taken, 0.0).sum(axis=-2)
-    return Energy(total_J=total, per_actuator_J=per_actuator, joule_J=integral(parts.joule_W),
-                  inductive_J=inductive, back_emf_J=integral(parts.back_emf_W),
-                  mechanical_J=integral(mechanical), regeneration=regeneration)
+    return Energy(total_J=total, per_actuator_J=per_actuator, joule_J=drive.joule_J, inductive_J=inductive,
+                  back_emf_J=drive.back_emf_J, mechanical_J=drive.mechanical_J, regeneration=regeneration)
 
 
 def step_energies(robot: Robot, trace: MotorTrace) -> tuple[np.ndarray, np.ndarray]:

@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
 
 from placement.drives.trace import MotorTrace
-from placement.energy.integration import Energy, electric_energy, interval_power, interval_widths
+from placement.energy.integration import DrivePower, Energy, drive_power, electric_energy, interval_widths
 from placement.kinematics.trajectories import JointTrajectory
 from placement.path.samples import PathSamples
 from placement.robot.model import Robot
@@ -64,12 +65,26 @@ class EvaluatedBatch:
     @cached_property
     def energy(self) -> Energy:
         """Electric energy of each placement under the regeneration policy (computed once)."""
-        return electric_energy(self.robot, self.motor, self.t_s, self.samples.piece, self.regeneration)
+        return electric_energy(self.robot, self.motor, self.t_s, self.samples.piece, self.regeneration,
+                               self.drive_power)
+
+    @cached_property
+    def drive_power(self) -> DrivePower:
+        """The drives' power on the intervals between samples and its integrals, under any regeneration policy
+        (computed once)."""
+        return drive_power(self.robot, self.motor, self.t_s, self.samples.piece)
 
     @cached_property
     def interval_power_W(self) -> np.ndarray:
         """(K, N-1, n_act) signed electric power of each drive on each interval between samples."""
-        return interval_power(self.robot, self.motor, self.interval_widths_s).total_W
+        return self.drive_power.parts.total_W
+
+    def under(self, regeneration: str) -> EvaluatedBatch:
+        """The same batch with its energies under another regeneration policy (the drives' power, the same under
+        every policy, computed once for both)."""
+        other = dataclasses.replace(self, regeneration=regeneration)
+        other.__dict__["drive_power"] = self.drive_power  # a cached property's slot: nothing else carries over
+        return other
 
     @property
     def t_s(self) -> np.ndarray:

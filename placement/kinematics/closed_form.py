@@ -10,6 +10,7 @@ from __future__ import annotations
 from typing import ClassVar
 
 import numpy as np
+import pinocchio as pin
 
 from placement.kinematics.base import SINGULAR_CONDITION, SOLVERS, KinematicsSolver, condition_1
 from placement.kinematics.taylor import Taylor2
@@ -17,25 +18,24 @@ from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
 from placement.robot.model import Robot
 
 
-def _closed_form(robot: Robot, task: TaskTrajectory) -> tuple[JointTrajectory, np.ndarray, str]:
+def _closed_form(robot: Robot, task: TaskTrajectory, columns: _JointColumns) -> tuple[JointTrajectory, np.ndarray, str]:
     """Batched plug-in path: Taylor arithmetic gives rates, accelerations and ∂q/∂p at once."""
     model, n = robot.model, len(task)
-    # Row 0 carries the trajectory's derivatives; rows 1-3 the unit directions e_x, e_y, e_z.
-    coordinates = tuple(
-        Taylor2(np.tile(task.position_m[:, c], (4, 1)),
-                np.vstack([task.velocity_m_s[:, c], np.outer(np.eye(3)[c], np.ones(n))]),
-                np.vstack([task.acceleration_m_s2[:, c], np.zeros((3, n))]))
-        for c in range(3))
+    # Row 0 carries the trajectory's derivatives; rows 1-3 the unit directions e_x, e_y, e_z (coordinate c's axis).
+    value, rate, acceleration = np.empty((3, 4, n)), np.zeros((3, 4, n)), np.zeros((3, 4, n))
+    value[:] = task.position_m.T[:, None, :]
+    rate[:, 0], acceleration[:, 0] = task.velocity_m_s.T, task.acceleration_m_s2.T
+    rate[:, 1:][np.eye(3, dtype=bool)] = 1.0
+    coordinates = tuple(Taylor2(value[c], rate[c], acceleration[c]) for c in range(3))
     solve = robot.closed_form
     assert solve is not None  # ClosedFormSolver.unsuitable
     with np.errstate(invalid="ignore", divide="ignore"):
         joints = solve(coordinates)
     q, v, a = np.zeros((n, model.nq)), np.zeros((n, model.nv)), np.zeros((n, model.nv))
     jacobian = np.zeros((n, model.nv, 3))
-    for name, value in joints.items():
-        j = model.joints[model.getJointId(name)]
-        q[:, j.idx_q], v[:, j.idx_v], a[:, j.idx_v] = value.v[0], value.d1[0], value.d2[0]
-        jacobian[:, j.idx_v, :] = value.d1[1:].T
+    for (i_q, i_v), value in zip(columns.of(model, tuple(joints)), joints.values(), strict=True):
+        q[:, i_q], v[:, i_v], a[:, i_v] = value.v[0], value.d1[0], value.d2[0]
+        jacobian[:, i_v, :] = value.d1[1:].T
     finite = (np.isfinite(q).all(axis=1) & np.isfinite(v).all(axis=1) & np.isfinite(a).all(axis=1)
               & np.isfinite(jacobian).all(axis=(1, 2)))
     bad = np.asarray(~finite)
@@ -48,6 +48,22 @@ def _closed_form(robot: Robot, task: TaskTrajectory) -> tuple[JointTrajectory, n
         actuated[bad], task_map[bad] = np.eye(3), np.eye(3)
     reason = "outside the reach of the closed-form kinematics or singular"
     return JointTrajectory(q, v, a, jacobian @ task_map, task_map), ~bad, reason
+
+
+class _JointColumns:
+    """Where the plug-in's joints go in q and v, looked up once per set of joint names."""
+
+    def __init__(self) -> None:
+        self._names: tuple[str, ...] | None = None
+        self._columns: list[tuple[int, int]] = []
+
+    def of(self, model: pin.Model, names: tuple[str, ...]) -> list[tuple[int, int]]:
+        """The (q, v) indices of the joints ``names`` of ``model``, in that order."""
+        if names != self._names:
+            joints = [model.joints[model.getJointId(name)] for name in names]
+            self._columns = [(joint.idx_q, joint.idx_v) for joint in joints]
+            self._names = names
+        return self._columns
 
 
 class ClosedFormSolver(KinematicsSolver):
@@ -63,8 +79,12 @@ class ClosedFormSolver(KinematicsSolver):
             return "a tool tip moves the path point off the frame the plug-in solves for"
         return None
 
+    def __init__(self, robot: Robot, threads: int | None = None) -> None:
+        super().__init__(robot, threads)
+        self._columns = _JointColumns()
+
     def solve(self, task: TaskTrajectory, placements: int = 1) -> tuple[JointTrajectory, np.ndarray, str]:
-        return _closed_form(self.robot, task)
+        return _closed_form(self.robot, task, self._columns)
 
 
 SOLVERS.add("closed_form", ClosedFormSolver)

@@ -106,8 +106,8 @@ LIMITS: Registry[Limit] = Registry("limit", "placement.limits", Limit)
 
 def margin_fields(batch: EvaluatedBatch) -> list[MarginField]:
     """The margins of every limit that applies to the batch's robot."""
-    return [field for name in LIMITS.names() if LIMITS.get(name).applies_to(batch.robot)
-            for field in LIMITS.get(name).fields(batch)]
+    return [field for limit in map(LIMITS.get, LIMITS.names()) if limit.applies_to(batch.robot)
+            for field in limit.fields(batch)]
 
 
 def path_bounds(robot: Robot, dynamics: PathDynamics) -> list[PathBound]:

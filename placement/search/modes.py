@@ -78,7 +78,7 @@ class SharedChain:
         margins[~reachable] = np.minimum(margins[~reachable], UNREACHABLE_MARGIN)  # as Evaluator's
         values = []
         for mode in self.modes:
-            moded = dataclasses.replace(batch, regeneration=mode)
+            moded = batch.under(mode)
             values.append(np.column_stack([np.where(reachable, objective(moded), objective.sign * np.inf)
                                            for objective in self.chain.objectives]))
         by_placement = np.stack(values, axis=1)  # (K, n_modes, n_objectives)

@@ -43,11 +43,14 @@ def make_closed_form(model: pin.Model):
         if not np.allclose(rotation.max(axis=0), 1.0) or np.linalg.det(rotation) < 0:
             raise ValueError(f"leg {axis}: the slider frame must be a cyclic permutation of the base axes")
 
+    # Coordinates of the platform point in leg i's frame: R_iᵀ p, whose coordinate c is the base one legs[i][c]
+    # (R_i permutes the axes).
+    legs = {axis: [int(np.argmax(np.abs(rotation[:, c]))) for c in range(3)] for axis, rotation in rotations.items()}
+
     def solve(position):
         joints = {}
         for axis in AXES:
-            # Coordinates of the platform point in the leg frame: R_iᵀ p (R_i permutes the axes).
-            x, y, z = (position[int(np.argmax(np.abs(rotations[axis][:, c])))] for c in range(3))
+            x, y, z = (position[i] for i in legs[axis])
             reach = taylor.sqrt(length**2 - y * y - z * z)
             alpha = taylor.arctan2(z, reach)
             theta = taylor.arctan2(-y, taylor.sqrt(length**2 - y * y))
