@@ -11,7 +11,7 @@ quantities in each joint's frame, linear part first, gravity as an upward accele
 base, the drives' ``armature`` times the joint acceleration added to each torque), so that
 C = rnea(q, 0, 0), A = rnea(q, 0, q') − C and B = rnea(q, q', q'') − C to rounding.
 
-Every joint is revolute or prismatic about a fixed axis (:func:`placement.kinematics.tree.joint_axis`);
+Every joint is revolute or prismatic about a fixed axis (:func:`placement.kinematics.tree.joint_axes`);
 :func:`tree_inertias` says None for another tree, whose efforts Pinocchio computes. numba compiles
 the kernel on its first use and caches the machine code on disk beside this module; the kernel
 releases the GIL, so that threads share a batch's samples.
@@ -26,7 +26,7 @@ import numpy as np
 import pinocchio as pin
 from numba import njit
 
-from placement.kinematics.tree import joint_axis
+from placement.kinematics.tree import joint_axes, joint_constants
 
 _uncounted = njit(cache=True, _nrt=False)  # type: ignore[call-overload]  # allocates nothing: no reference counting (compiles faster)
 
@@ -38,7 +38,7 @@ class TreeInertias(NamedTuple):
     """
 
     parent: np.ndarray  # (nj,) int64 parent joint
-    constants: np.ndarray  # (nj, 3, 10) [R0, R0·[a], R0·[a]², t0]: the placement in the parent (rotation R0, origin t0)
+    constants: np.ndarray  # (nj, 3, 11) [R0, R0·[a], R0·[a]², R0·a, t0]: the placement in the parent (joint_constants)
     axis: np.ndarray  # (nj, 3) joint axis in the joint's frame
     revolute: np.ndarray  # (nj,) bool
     v_index: np.ndarray  # (nj,) int64 the joint's configuration and velocity index (equal)
@@ -52,20 +52,11 @@ class TreeInertias(NamedTuple):
 def tree_inertias(model: pin.Model) -> TreeInertias | None:
     """The flat tree of ``model``, or None when a joint is neither revolute nor prismatic about a fixed axis (or has
     a configuration index other than its velocity index)."""
-    nj = model.njoints
-    axes = [joint_axis(model.joints[j]) for j in range(1, nj)]
-    if any(a is None for a in axes) or any(model.joints[j].idx_q != model.joints[j].idx_v for j in range(1, nj)):
+    axes = joint_axes(model)
+    if axes is None or any(model.joints[j].idx_q != model.joints[j].idx_v for j in range(1, model.njoints)):
         return None
-    axis, revolute = np.zeros((nj, 3)), np.zeros(nj, dtype=bool)
-    constants = np.zeros((nj, 3, 10))
-    for j, found in enumerate(axes, start=1):
-        assert found is not None
-        axis[j], revolute[j] = found
-        a, rotation = axis[j], model.jointPlacements[j].rotation
-        skew = np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
-        constants[j] = np.hstack([rotation, rotation @ skew, rotation @ skew @ skew,
-                                  model.jointPlacements[j].translation[:, None]])
-    return TreeInertias(parent=np.array(list(model.parents), dtype=np.int64), constants=constants, axis=axis,
+    axis, revolute = axes
+    return TreeInertias(parent=np.array(list(model.parents), dtype=np.int64), constants=joint_constants(model, axis), axis=axis,
                         revolute=revolute, v_index=np.array([max(joint.idx_v, 0) for joint in model.joints],
                                                           dtype=np.int64),
                         mass=np.array([inertia.mass for inertia in model.inertias]),
@@ -179,7 +170,7 @@ def _path_torques(parent, constants, axis, revolute, index, mass, lever, inertia
                 for c in range(3):
                     rotation[j, r, c] = constants[j, r, c] + sine * constants[j, r, 3 + c] \
                         + versine * constants[j, r, 6 + c]
-                origin[j, r] = constants[j, r, 9]
+                origin[j, r] = constants[j, r, 10]
             if not revolute[j]:
                 for r in range(3):
                     origin[j, r] += value * (rotation[j, r, 0] * axis[j, 0] + rotation[j, r, 1] * axis[j, 1]

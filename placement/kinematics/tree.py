@@ -39,6 +39,32 @@ def joint_axis(joint: pin.JointModel) -> tuple[tuple[float, ...], bool] | None:
     return None
 
 
+def joint_axes(model: pin.Model) -> tuple[np.ndarray, np.ndarray] | None:
+    """(nj, 3) every joint's axis in its frame and (nj,) whether it is revolute (the universe's row 0), or None when
+    a joint is neither revolute nor prismatic about a fixed axis."""
+    found = [joint_axis(model.joints[j]) for j in range(1, model.njoints)]
+    if any(each is None for each in found):
+        return None
+    axis, revolute = np.zeros((model.njoints, 3)), np.zeros(model.njoints, dtype=bool)
+    for j, each in enumerate(found, start=1):
+        assert each is not None
+        axis[j], revolute[j] = each
+    return axis, revolute
+
+
+def joint_constants(model: pin.Model, axis: np.ndarray) -> np.ndarray:
+    """(nj, 3, 11) each joint's placement in its parent at q, [R0, R0·[a], R0·[a]², R0·a, t0]: its rotation is
+    R0 + sin(q)·R0·[a] + (1 − cos(q))·R0·[a]² about a revolute axis a, its origin t0 + q·R0·a along a prismatic
+    one (R0, t0: the placement at q = 0; ``axis``: from :func:`joint_axes`)."""
+    constants = np.zeros((model.njoints, 3, 11))
+    for j in range(1, model.njoints):
+        rotation, a = model.jointPlacements[j].rotation, axis[j]
+        skew = np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
+        constants[j] = np.hstack([rotation, rotation @ skew, rotation @ skew @ skew, (rotation @ a)[:, None],
+                                  model.jointPlacements[j].translation[:, None]])
+    return constants
+
+
 def tree_arrays(model: pin.Model, frame_ids: Sequence[int], *, closures: Sequence[tuple[int, int, int]] = (),
                 end_effector: int = 0, task_dimension: int = 3, actuated: Sequence[int] | np.ndarray = ()) -> TreeArrays:
     """The flat description of ``model`` with the solver frames ``frame_ids`` (Pinocchio frame ids).
@@ -58,27 +84,17 @@ def tree_arrays(model: pin.Model, frame_ids: Sequence[int], *, closures: Sequenc
     unsupported = unsupported_joints(model)
     if unsupported:
         raise ValueError(f"joints of unsupported kind: {', '.join(unsupported)}")
-    nj = model.njoints
-    axis = np.zeros((nj, 3))
-    revolute = np.zeros(nj, dtype=bool)
-    q_index = np.zeros(nj, dtype=np.int64)
-    for j in range(1, nj):
-        found, revolute[j] = joint_axis(model.joints[j])  # type: ignore[misc]
-        axis[j] = found
-        q_index[j] = model.joints[j].idx_q
-    constants = np.zeros((nj, 3, 11))
-    for j in range(1, nj):
-        rotation, a = model.jointPlacements[j].rotation, axis[j]
-        skew = np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
-        constants[j] = np.hstack([rotation, rotation @ skew, rotation @ skew @ skew, (rotation @ a)[:, None],
-                                  model.jointPlacements[j].translation[:, None]])
-    support = np.zeros((len(frame_ids), nj), dtype=bool)
+    axes = joint_axes(model)
+    assert axes is not None  # every joint is supported
+    q_index = np.array([0] + [model.joints[j].idx_q for j in range(1, model.njoints)], dtype=np.int64)
+    constants = joint_constants(model, axes[0])
+    support = np.zeros((len(frame_ids), model.njoints), dtype=bool)
     for f, frame_id in enumerate(frame_ids):
         support[f, list(model.supports[model.frames[frame_id].parentJoint])[1:]] = True
     act = np.asarray(actuated, dtype=np.int64)
     return TreeArrays(
         parent=np.array(list(model.parents), dtype=np.int64),
-        constants=constants, revolute=revolute, q_index=q_index,
+        constants=constants, revolute=axes[1], q_index=q_index,
         frame_parent=np.array([model.frames[f].parentJoint for f in frame_ids], dtype=np.int64),
         frame_rotation=np.array([model.frames[f].placement.rotation for f in frame_ids]).reshape(-1, 3, 3),
         frame_translation=np.array([model.frames[f].placement.translation for f in frame_ids]).reshape(-1, 3),
