@@ -13,7 +13,7 @@ from __future__ import annotations
 import dataclasses
 import multiprocessing
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from concurrent.futures import Executor, ProcessPoolExecutor
 from dataclasses import dataclass
 
@@ -247,13 +247,10 @@ class Evaluator:
 
     def _evaluate_batch(self, placements: np.ndarray, law: TimeLaw | None = None) -> Evaluation:
         batch = self.batch(placements, law=law)
-        margins, labels = worst_margins(margin_fields(batch))
-        reachable = np.asarray(batch.reachable.all(axis=1))
-        margins[~reachable] = np.minimum(margins[~reachable], UNREACHABLE_MARGIN)
-        values = np.column_stack([np.where(reachable, objective(batch), objective.sign * np.inf)
-                                  for objective in self.objectives])
-        return Evaluation(placements=placements, objectives=self.objective_names, values=values, margins=margins,
-                          limits=labels, reachable=reachable, required_margin=self.settings.margin)
+        margins, labels, reachable = batch_margins(batch)
+        return Evaluation(placements=placements, objectives=self.objective_names,
+                          values=batch_values(batch, self.objectives, reachable), margins=margins, limits=labels,
+                          reachable=reachable, required_margin=self.settings.margin)
 
     def detail(self, placement: np.ndarray) -> PlacementDetail:
         """Objective, energy breakdown, margins and per-sample trace of one placement."""
@@ -272,6 +269,21 @@ class Evaluator:
             power_W=sample_power(self.robot, motor, samples.t_s, samples.piece), timing=self.path.timing.mode,
             duration_s=float(np.ptp(samples.t_s) if batch.time_law is None else batch.time_law.duration_s[0]),
             hold_effort=_hold_effort(self.robot, batch.joints), required_margin=self.settings.margin)
+
+
+def batch_margins(batch: EvaluatedBatch) -> tuple[np.ndarray, tuple[str, ...], np.ndarray]:
+    """(K, L) each placement's tightest margin of every limit (at most UNREACHABLE_MARGIN where a sample is out of
+    reach), the limits' names, and (K,) which placements reach every sample."""
+    margins, labels = worst_margins(margin_fields(batch))
+    reachable = np.asarray(batch.reachable.all(axis=1))
+    margins[~reachable] = np.minimum(margins[~reachable], UNREACHABLE_MARGIN)
+    return margins, labels, reachable
+
+
+def batch_values(batch: EvaluatedBatch, objectives: Sequence[Objective], reachable: np.ndarray) -> np.ndarray:
+    """(K, n_objectives) each placement's objectives, the worst value (±inf) where it does not reach the path."""
+    return np.column_stack([np.where(reachable, objective(batch), objective.sign * np.inf)
+                            for objective in objectives])
 
 
 def _hold_effort(robot: Robot, joints: JointTrajectory) -> np.ndarray:

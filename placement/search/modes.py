@@ -19,10 +19,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from placement.evaluation.evaluator import UNREACHABLE_MARGIN, Evaluator, EvaluatorSettings
+from placement.evaluation.evaluator import Evaluator, EvaluatorSettings, batch_margins, batch_values
 from placement.evaluation.results import Evaluation
 from placement.exceptions import PlacementError
-from placement.limits.base import margin_fields, worst_margins
 from placement.path.toolpath import ToolPath
 from placement.robot.model import Robot
 from placement.search.guide import search_models
@@ -73,15 +72,9 @@ class SharedChain:
     def _run(self, placements: np.ndarray, keys: list[bytes]) -> None:
         """The chain once for ``placements``; every mode's objectives from its motor trace."""
         batch = self.chain.batch(placements)
-        margins, self.limits = worst_margins(margin_fields(batch))
-        reachable = np.asarray(batch.reachable.all(axis=1))
-        margins[~reachable] = np.minimum(margins[~reachable], UNREACHABLE_MARGIN)  # as Evaluator's
-        values = []
-        for mode in self.modes:
-            moded = batch.under(mode)
-            values.append(np.column_stack([np.where(reachable, objective(moded), objective.sign * np.inf)
-                                           for objective in self.chain.objectives]))
-        by_placement = np.stack(values, axis=1)  # (K, n_modes, n_objectives)
+        margins, self.limits, reachable = batch_margins(batch)
+        by_placement = np.stack([batch_values(batch.under(mode), self.chain.objectives, reachable)
+                                 for mode in self.modes], axis=1)  # (K, n_modes, n_objectives)
         for key, value, margin, ok in zip(keys, by_placement, margins, reachable, strict=True):
             self._rows[key] = (value, margin, bool(ok))
 
