@@ -10,7 +10,6 @@ from __future__ import annotations
 from typing import ClassVar
 
 import numpy as np
-import pinocchio as pin
 
 from placement.kinematics.base import SINGULAR_CONDITION, SOLVERS, KinematicsSolver, condition_1
 from placement.kinematics.taylor import Taylor2
@@ -18,8 +17,10 @@ from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
 from placement.robot.model import Robot
 
 
-def _closed_form(robot: Robot, task: TaskTrajectory, columns: _JointColumns) -> tuple[JointTrajectory, np.ndarray, str]:
-    """Batched plug-in path: Taylor arithmetic gives rates, accelerations and ∂q/∂p at once."""
+def _closed_form(robot: Robot, task: TaskTrajectory,
+                 columns: dict[str, tuple[int, int]]) -> tuple[JointTrajectory, np.ndarray, str]:
+    """Batched plug-in path: Taylor arithmetic gives rates, accelerations and ∂q/∂p at once (``columns``: each
+    joint's q and v index, by name)."""
     model, n = robot.model, len(task)
     # Row 0 carries the trajectory's derivatives; rows 1-3 the unit directions e_x, e_y, e_z (coordinate c's axis).
     value, rate, acceleration = np.empty((3, 4, n)), np.zeros((3, 4, n)), np.zeros((3, 4, n))
@@ -33,7 +34,8 @@ def _closed_form(robot: Robot, task: TaskTrajectory, columns: _JointColumns) -> 
         joints = solve(coordinates)
     q, v, a = np.zeros((n, model.nq)), np.zeros((n, model.nv)), np.zeros((n, model.nv))
     jacobian = np.zeros((n, model.nv, 3))
-    for (i_q, i_v), value in zip(columns.of(model, tuple(joints)), joints.values(), strict=True):
+    for name, value in joints.items():
+        i_q, i_v = columns[name]
         q[:, i_q], v[:, i_v], a[:, i_v] = value.v[0], value.d1[0], value.d2[0]
         jacobian[:, i_v, :] = value.d1[1:].T
     finite = (np.isfinite(q).all(axis=1) & np.isfinite(v).all(axis=1) & np.isfinite(a).all(axis=1)
@@ -48,22 +50,6 @@ def _closed_form(robot: Robot, task: TaskTrajectory, columns: _JointColumns) -> 
         actuated[bad], task_map[bad] = np.eye(3), np.eye(3)
     reason = "outside the reach of the closed-form kinematics or singular"
     return JointTrajectory(q, v, a, jacobian @ task_map, task_map), ~bad, reason
-
-
-class _JointColumns:
-    """Where the plug-in's joints go in q and v, looked up once per set of joint names."""
-
-    def __init__(self) -> None:
-        self._names: tuple[str, ...] | None = None
-        self._columns: list[tuple[int, int]] = []
-
-    def of(self, model: pin.Model, names: tuple[str, ...]) -> list[tuple[int, int]]:
-        """The (q, v) indices of the joints ``names`` of ``model``, in that order."""
-        if names != self._names:
-            joints = [model.joints[model.getJointId(name)] for name in names]
-            self._columns = [(joint.idx_q, joint.idx_v) for joint in joints]
-            self._names = names
-        return self._columns
 
 
 class ClosedFormSolver(KinematicsSolver):
@@ -81,7 +67,8 @@ class ClosedFormSolver(KinematicsSolver):
 
     def __init__(self, robot: Robot, threads: int | None = None) -> None:
         super().__init__(robot, threads)
-        self._columns = _JointColumns()
+        model = robot.model
+        self._columns = {model.names[j]: (joint.idx_q, joint.idx_v) for j, joint in enumerate(model.joints)}
 
     def solve(self, task: TaskTrajectory, placements: int = 1) -> tuple[JointTrajectory, np.ndarray, str]:
         return _closed_form(self.robot, task, self._columns)
