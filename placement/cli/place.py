@@ -64,7 +64,7 @@ from placement.robot.model import Robot
 from placement.search.optimize import PlacementResult, SearchSettings, optimize_placement
 from placement.search.plausibility import feed_warnings, length_warnings
 from placement.search.space import PlacementSpace, default_space
-from placement.search.tolerance import ToleranceBox, tolerance_box
+from placement.search.tolerance import ToleranceBox, tolerance_boxes
 
 if TYPE_CHECKING:  # the scene's modules (meshcat, trimesh) load only for --html and --show
     from placement.output.scene import Scene
@@ -237,7 +237,7 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
         result = optimize_placement(robot, path, space=space, evaluation=evaluation, settings=settings,
                                     progress=bar.update, announce=lambda e: bar.write(duration_line(e), sys.stdout),
                                     executor=remote.executor if remote else None)
-    boxes = tolerance_boxes(robot, path, evaluation, args.within, space, result, lower, remote)
+    boxes = optimum_boxes(robot, path, evaluation, args.within, space, result, lower, remote)
     print("\n" + format_result(robot, result, args.rest, boxes))
     details = {}
     for key, optimum in (("best", result.best), ("worst", result.worst)):
@@ -268,9 +268,9 @@ def misfit_line(robot: Robot, samples: PathSamples, space: PlacementSpace) -> st
     return workspace_misfit(workspace.min_m, workspace.max_m, samples.position_m, turns)
 
 
-def tolerance_boxes(robot: Robot, path: ToolPath, evaluation: EvaluatorSettings, within_percent: float,
-                    space: PlacementSpace, result: PlacementResult, lower: bool,
-                    remote: Cluster | None) -> dict[str, ToleranceBox]:
+def optimum_boxes(robot: Robot, path: ToolPath, evaluation: EvaluatorSettings, within_percent: float,
+                  space: PlacementSpace, result: PlacementResult, lower: bool,
+                  remote: Cluster | None) -> dict[str, ToleranceBox]:
     """The tolerance box around each optimum found (:mod:`placement.search.tolerance`), on the exact model."""
     optima = {key: optimum for key, optimum in (("best", result.best), ("worst", result.worst)) if optimum is not None}
     if not optima:
@@ -278,9 +278,9 @@ def tolerance_boxes(robot: Robot, path: ToolPath, evaluation: EvaluatorSettings,
     guide = result.guide  # a long path's search ran on guides: the box is found on the polish's
     model, settings = (path, evaluation) if guide is None else (guide.polish_path, guide.polish)
     with Evaluator(robot, model, settings, remote.executor if remote else None) as evaluator:
-        return {key: dataclasses.replace(tolerance_box(evaluator, space, optimum.detail.placement,
-                                                       lower == (key == "best"), within_percent / 100),
-                                         guided=guide is not None) for key, optimum in optima.items()}
+        boxes = tolerance_boxes(evaluator, space, [(optimum.detail.placement, lower == (key == "best"))
+                                                   for key, optimum in optima.items()], within_percent / 100)
+    return {key: dataclasses.replace(box, guided=guide is not None) for key, box in zip(optima, boxes)}
 
 
 def duration_line(seconds: float) -> str:

@@ -1,6 +1,6 @@
 """The tolerance box: the analytic box of a quadratic bowl, an axis whose objective dips back, a limit's face, and
 on the Orthoglide's exact model a dense random sample inside the box (all acceptable) and a box a quarter wider
-(not all acceptable)."""
+(not all acceptable); two boxes found at once, a process each, are those found one after the other."""
 
 import numpy as np
 import pytest
@@ -9,8 +9,9 @@ from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.evaluation.results import Evaluation
 from placement.path.load import load_path
 from placement.robot import load_robot
+from placement.search.optimize import in_parallel
 from placement.search.space import PlacementSpace, default_space
-from placement.search.tolerance import tolerance_box
+from placement.search.tolerance import tolerance_box, tolerance_boxes
 from tests.support.paths import EXAMPLE
 
 SPACE = PlacementSpace(free=("x", "y", "z", "phi"), lower=np.array([-0.1, -0.1, -0.1, -1.5]),
@@ -103,3 +104,20 @@ def test_orthoglide_box_holds_inside_and_is_near_the_largest():
         corners = np.array(np.meshgrid(*[[-1.0, 1.0]] * 4, indexing="ij")).reshape(4, -1).T
         wider = evaluator.evaluate(space.full(centre + corners * box.half_width * 1.25))
         assert not (wider.feasible & (wider.value <= 1.01 * reference)).all()
+
+
+def test_two_boxes_found_at_once_are_those_found_one_after_the_other():
+    """The command line's two optima (a minimum and a maximum) on the Orthoglide: their boxes found a process each
+    are those found here one after the other, widths and evaluation counts."""
+    robot, path = load_robot("orthoglide"), load_path(EXAMPLE)
+    space = default_space(robot, half_turn=path.half_turn_symmetric())
+    optima = [(np.array([-0.002549, 0.003522, -0.03303, -0.006268, 0.0, 0.0]), True),
+              (np.array([0.01, -0.02, 0.02, 0.3, 0.0, 0.0]), False)]
+    with Evaluator(robot, path, EvaluatorSettings(workers=1)) as evaluator:
+        if not in_parallel(evaluator, evaluator, 2):
+            pytest.skip("this process may not fork a process per box (one core, or OpenMP threads started)")
+        together = tolerance_boxes(evaluator, space, optima)
+        alone = [tolerance_box(evaluator, space, placement, lower) for placement, lower in optima]
+    assert [box.half_width.tolist() for box in together] == [box.half_width.tolist() for box in alone]
+    assert [box.evaluations for box in together] == [box.evaluations for box in alone]
+    assert together[0].half_width.tolist() != together[1].half_width.tolist()
