@@ -12,7 +12,9 @@ nothing): a counted call that passes those tuples costs about 0.3 µs, as much a
 kinematics of a 6-axis arm, and without the counts the call costs as little as numba's inlining
 (``inline='always'``) saved, at less than half its compile time. Compile time also guides the
 rest: no slice assignment between arrays (its shape check compiles a formatted message) nor array
-expressions or powers (each compiles a kernel of its own), each entry point's loop in the entry
+expressions or powers (each compiles a kernel of its own), no numpy constructor but ``np.empty`` and
+``np.zeros`` and no reduction (``np.eye``, ``np.arange``, an array from nested lists or a ``sum`` each
+compile implementations of their own, once per process), each entry point's loop in the entry
 point itself (a wrapper compiles its callees' code once more), no Python wrappers for functions
 only the kernels call (one unboxes the 30 arrays of the tree and buffer tuples, and is optimised
 again in every caller), one set of argument types per function (rows passed as views, no literal
@@ -100,11 +102,16 @@ class _Buffers(NamedTuple):
 @_internal
 def _buffers(tree, nv):
     nj, nf = len(tree.parent), len(tree.frame_parent)
-    rows = tree.closure_dimension.sum() + tree.task_dimension
+    rows = tree.task_dimension
+    for c in range(len(tree.closure_dimension)):
+        rows += tree.closure_dimension[c]
     n = max(nv, rows)
+    columns = np.empty(nv, dtype=np.int64)
+    for k in range(nv):
+        columns[k] = k
     return _Buffers(np.empty((nj, 3, 3)), np.empty((nj, 3)), np.empty((nj, 3)), np.zeros((nj, 3)), np.zeros((nj, 3)),
                     np.empty((nf, 3, 3)), np.empty((nf, 3)), np.empty((rows, nv)), np.empty(rows), np.empty((n, n)),
-                    np.empty((n, n + 1)), np.empty((3, 3)), np.empty((3, 3)), np.arange(nv),
+                    np.empty((n, n + 1)), np.empty((3, 3)), np.empty((3, 3)), columns,
                     np.empty(nv, dtype=np.int64))
 
 
@@ -768,7 +775,10 @@ def _exp3(vector, scale, out):
     x, y, z = scale * vector[0], scale * vector[1], scale * vector[2]
     angle = np.sqrt(x * x + y * y + z * z)
     sine, versine = (np.sin(angle) / angle, (1.0 - np.cos(angle)) / (angle * angle)) if angle > 1e-12 else (1.0, 0.5)
-    skew = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+    skew = np.empty((3, 3))  # filled entry by entry: an array from nested lists compiles list building
+    skew[0, 0], skew[0, 1], skew[0, 2] = 0.0, -z, y
+    skew[1, 0], skew[1, 1], skew[1, 2] = z, 0.0, -x
+    skew[2, 0], skew[2, 1], skew[2, 2] = -y, x, 0.0
     square = _product(skew, skew)
     for r in range(3):
         for c in range(3):
@@ -885,13 +895,17 @@ def solve_paths(tree, reference_q, positions, rotations, pose, n, coarse, schedu
     """
     total, nv = len(positions), len(reference_q)
     q = np.empty((total, nv))
-    ok, flipped = np.zeros(total, dtype=np.bool_), np.zeros(total, dtype=np.bool_)
+    ok, flipped = np.empty(total, dtype=np.bool_), np.empty(total, dtype=np.bool_)
+    for i in range(total):  # a loop, as np.zeros compiles a fill of its own for each array type
+        ok[i], flipped[i] = False, False
     buffers = _buffers(tree, nv)
     rows = len(buffers.drift)
     error = np.empty(rows)
     step = np.empty((max(rows, nv), 1))
     g = np.empty((nv, len(tree.actuated)))
-    identity = np.eye(tree.task_dimension)
+    identity = np.zeros((tree.task_dimension, tree.task_dimension))  # np.eye compiles several implementations
+    for k in range(tree.task_dimension):
+        identity[k, k] = 1.0
     motion, prediction, scratch = np.empty(tree.task_dimension), np.empty(nv), np.empty((3, 3))
     forward(tree, reference_q, buffers)
     reference_position = buffers.frame_origin[tree.end_effector].copy()
@@ -936,7 +950,9 @@ def _assemble(tree, buffers, reference_q, reference_position, reference_rotation
               pose, settings, out, error, step, g, identity, motion, scratch):
     """The first configuration of a path, by predicted continuation from the reference configuration in
     steps of at most ``settings[4]`` (m, rotation counted at ``settings[6]`` m/rad); returns success."""
-    turn = np.zeros(3)
+    turn = np.empty(3)
+    for k in range(3):
+        turn[k] = 0.0
     dx, dy, dz = (target_position[0] - reference_position[0], target_position[1] - reference_position[1],
                   target_position[2] - reference_position[2])
     distance = np.sqrt(dx * dx + dy * dy + dz * dz)
