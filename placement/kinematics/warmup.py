@@ -43,10 +43,16 @@ def touch_kernels() -> None:
         return
     helper = _start_helper()  # at once: it takes half a second to start
     sample = Sample.build()
-    if _in_cache(sample) and helper is not None:
+    if not _in_cache(sample):
+        _compile_in_stages(sample, helper)
+    elif helper is not None:
         helper.terminate()
         helper.wait()
-        helper = None
+    _run_entry_points(sample)
+
+
+def _compile_in_stages(sample: Sample, helper: subprocess.Popen | None) -> None:
+    """This process's stages of a first compile, each after the helper's stages it calls (module docstring)."""
     compile_stages.compile_leaves(sample)
     _await(helper, LOW_LEVEL)
     compile_stages.compile_tangent(sample)
@@ -54,7 +60,6 @@ def touch_kernels() -> None:
     compile_stages.compile_paths(sample)
     if helper is not None:
         helper.communicate()  # its last stage: the rates
-    _run_entry_points(sample)
 
 
 def _in_cache(sample: Sample) -> bool:

@@ -18,6 +18,10 @@ for stage in sys.argv[1:]:
         print("signatures", *(len(function.signatures) for function in warmup.ENTRY_POINTS))
     elif stage == "in_cache":
         print("in_cache", warmup._in_cache(sample))
+    elif stage == "touch":
+        warmup.touch_kernels()
+        print("loaded", *sorted(name for name, function in vars(kernels).items()
+                                if hasattr(function, "stats") and function.stats.cache_hits))
     else:
         getattr(compile_stages, stage)() if stage == "helper_stages" else getattr(compile_stages, stage)(sample)
 print("compiled", *sorted(name for name, function in vars(kernels).items()
@@ -36,7 +40,8 @@ def _run(cache: str, *stages: str) -> dict[str, list[str]]:
 def test_no_function_is_compiled_twice(tmp_path):
     """The command's leaves, the helper's stages, then the command's tangent map and path solve, each in a process of
     its own on one cache: no process compiles a function another compiled, and the solver's calls of the entry
-    points then add no second signature; the cache then holds the kernels, which an empty one does not."""
+    points then add no second signature; the cache then holds the kernels, which an empty one does not, and a
+    later command loads the probe and the entry points alone."""
     cache = str(tmp_path / "cache")
     leaves = _run(cache, "compile_probe", "compile_leaves")
     helper = _run(cache, "helper_stages")
@@ -48,6 +53,8 @@ def test_no_function_is_compiled_twice(tmp_path):
     assert command["signatures"] == ["1", "1", "1"]
     assert _run(cache, "in_cache")["in_cache"] == ["True"]
     assert _run(str(tmp_path / "empty"), "in_cache")["in_cache"] == ["False"]
+    later = _run(cache, "touch")
+    assert later["compiled"] == [] and later["loaded"] == ["_copy", "rates", "rotation_vectors", "solve_paths"]
 
 
 def test_the_helper_imports_the_kernels_alone():
