@@ -73,7 +73,8 @@ def compile_probe(sample: Sample) -> None:
 
 def compile_leaves(sample: Sample) -> None:
     """The command's first stage: kernels that call no low-level one (the square solve and the residual, which
-    Newton and the tangent map call, the buffers, the path solve's small helpers)."""
+    Newton and the tangent map call, the buffers, the path solve's small helpers, the drifts, which the rates
+    call)."""
     tree, buffers, vector, matrix = sample.tree, sample.buffers, np.zeros(3), np.eye(3)
     _compile(kernels._solve_square, matrix, matrix, 0)
     _compile(kernels.residual, tree, buffers, vector, matrix, False, vector)
@@ -84,6 +85,7 @@ def compile_leaves(sample: Sample) -> None:
     _compile(kernels._cubic, matrix, 0, np.zeros(5, dtype=np.int64), vector)
     _compile(kernels._left_branch, vector, vector, 0.0, 0.0)
     _compile(kernels._max_abs, vector)
+    _compile(kernels.drifts, tree, sample.q, buffers)  # for the helper's rates: a share of their callees
 
 
 def compile_low_level(sample: Sample) -> None:
@@ -107,11 +109,9 @@ def compile_newton(sample: Sample) -> None:
 
 
 def compile_rates(sample: Sample) -> None:
-    """The helper's last stage: velocities and drifts, the rates and the rotation vectors (entry points of their
-    own)."""
+    """The helper's last stage: velocities, the rates and the rotation vectors (entry points of their own)."""
     matrix = np.zeros((2, 3))
     _compile(kernels.velocities, sample.tree, sample.q, sample.buffers)
-    _compile(kernels.drifts, sample.tree, sample.q, sample.buffers)
     _compile(kernels.rates, sample.tree, np.zeros((2, 1)), matrix, matrix, 0.0)
     _compile(kernels.rotation_vectors, sample.rotations)
 
