@@ -73,12 +73,10 @@ def compile_probe(sample: Sample) -> None:
 
 def compile_leaves(sample: Sample) -> None:
     """The command's first stage: kernels that call no low-level one (the square solve and the residual, which
-    Newton and the tangent map call, the buffers, the path solve's small helpers, the drifts, which the rates
-    call)."""
+    Newton and the tangent map call, the path solve's small helpers, the drifts, which the rates call)."""
     tree, buffers, vector, matrix = sample.tree, sample.buffers, np.zeros(3), np.eye(3)
     _compile(kernels._solve_square, matrix, matrix, 0)
     _compile(kernels.residual, tree, buffers, vector, matrix, False, vector)
-    _compile(kernels._buffers, tree, 0)
     _compile(kernels._exp3, vector, 0.0, matrix)
     _compile(kernels._displacement, vector, matrix, vector, matrix, False, vector, matrix)
     _compile(kernels._predict, vector, matrix, vector, vector)
@@ -101,11 +99,12 @@ def compile_low_level(sample: Sample) -> None:
 
 def compile_newton(sample: Sample) -> None:
     """The helper's second stage: Newton on one configuration (the square solve and the residual found in the
-    cache, compiled by the command's first stage)."""
+    cache, compiled by the command's first stage) and the buffers, which the path solve and the rates make."""
     tree, buffers = sample.tree, sample.buffers
     _compile(kernels._model_remainder, np.eye(3), np.zeros(3), np.eye(3))
     _compile(kernels._newton_one, tree, buffers, sample.q, sample.positions[0], sample.rotations[0], False,
              np.zeros(SETTINGS_LENGTH), 0.0, buffers.drift, np.empty((1, 1)))
+    _compile(kernels._buffers, tree, 0)
 
 
 def compile_rates(sample: Sample) -> None:
