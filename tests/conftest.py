@@ -15,6 +15,16 @@ def fivebar():
     return load_robot("fivebar")
 
 
+@pytest.hookimpl(tryfirst=True)
+def pytest_sessionstart(session):
+    """Under ``-n N``, before the workers start: the compiled kernels built once, into numba's disk cache, where
+    the workers load them (tests/support/precompile.py)."""
+    if session.config.pluginmanager.has_plugin("dsession"):  # pytest-xdist's controller, about to start workers
+        from tests.support.precompile import compile_kernels
+
+        compile_kernels()
+
+
 @pytest.hookimpl(optionalhook=True)
 def pytest_xdist_make_scheduler(config, log):
     """Under ``-n N`` (pytest-xdist's default ``--dist load``): a module's tests that share a module-scoped fixture

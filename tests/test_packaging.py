@@ -4,7 +4,10 @@ import shutil
 import subprocess
 import sys
 import zipfile
+from pathlib import Path
 
+from placement.kinematics import kernels
+from placement.kinematics.warmup import touch_kernels
 from tests.support.paths import ROOT
 
 
@@ -25,6 +28,7 @@ def test_the_wheel_holds_every_module_and_robot_and_runs_from_elsewhere(tmp_path
     assert modules - names == set() and robots - names == set()
     unpacked = tmp_path / "site"
     zipfile.ZipFile(wheel).extractall(unpacked)
+    share_compiled_kinematics(unpacked / "placement" / "kinematics")
     elsewhere = tmp_path / "elsewhere"
     elsewhere.mkdir()
     result = subprocess.run([sys.executable, "-m", "placement", "check", "orthoglide", "--samples", "20"],
@@ -33,3 +37,17 @@ def test_the_wheel_holds_every_module_and_robot_and_runs_from_elsewhere(tmp_path
     assert result.returncode == 0, result.stderr
     assert f"{unpacked}/placement/robots/orthoglide/orthoglide.yaml" in result.stdout
     assert "exact to round-off" in result.stdout
+
+
+def share_compiled_kinematics(installed) -> None:
+    """Numba's cache of the generic kinematics compiled here (or loaded), copied beside the installed modules.
+
+    Numba keys a cached kernel by its source file's content and its byte code, not by its place: the installed
+    wheel's modules, identical to the clone's, load the kernels from this copy instead of compiling them again
+    (some 17 s of CPU). Modules that differed from the clone's would be compiled, and run all the same.
+    """
+    touch_kernels()
+    cache = Path(kernels.solve_paths.stats.cache_path)  # __pycache__ beside kernels.py, or under NUMBA_CACHE_DIR
+    (installed / "__pycache__").mkdir(exist_ok=True)
+    for file in [*cache.glob("kernels.*.nbi"), *cache.glob("kernels.*.nbc")]:
+        shutil.copy(file, installed / "__pycache__" / file.name)

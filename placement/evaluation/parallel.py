@@ -69,7 +69,10 @@ def cluster(address: str | None) -> Iterator[Cluster | None]:
         raise PlacementError(f"cannot reach the Dask scheduler at '{address}': {str(error)[:200]}") from None
     try:
         threads = max(1, sum(client.nthreads().values()))
-        yield Cluster(client.get_executor(), threads, address)
+        # pure=False: each chunk's key is a fresh id. A pure key hashes the chunk's pickled robot, path and settings
+        # in this process (some 40 ms of CPU a chunk, half the client's CPU in a front), only so that identical
+        # chunks in flight at once could share one computation; the results are the same either way.
+        yield Cluster(client.get_executor(pure=False), threads, address)
     finally:
         client.close()
 

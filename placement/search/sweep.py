@@ -4,7 +4,7 @@ A sweep varies any subset of the placement variables over a grid (the others fix
 for every grid point, the exact objective (electric energy by default), whether the placement is
 feasible, and its tightest (or broken) limit. The grid is cut into chunks evaluated by worker
 processes; any ``concurrent.futures.Executor`` can run them instead, such as a Dask client's
-``get_executor()`` or a Ray executor on a cluster, since each chunk carries its robot, path,
+``get_executor(pure=False)`` or a Ray executor on a cluster, since each chunk carries its robot, path,
 placements and the plug-in members registered at run time (all picklable).
 """
 

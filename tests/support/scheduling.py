@@ -15,9 +15,9 @@ from xdist.scheduler import LoadScopeScheduling
 
 from tests.support.paths import ROOT
 
-# Units that take a minute or so on a 2-core machine (a wheel build, a Dask cluster, a browser, first numba
-# compilations); they start first. Only the order changes: every test runs either way.
-LONGEST_FIRST = ("tests/test_packaging.py", "tests/output/test_workbench_browser.py", "tests/evaluation/test_cluster.py",
+# Units that take a minute or so on a 2-core machine (a Dask cluster, a browser, searches); they start first. Only
+# the order changes: every test runs either way.
+LONGEST_FIRST = ("tests/output/test_workbench_browser.py", "tests/evaluation/test_cluster.py",
                  "tests/cell/test_cell_search.py", "tests/search/test_study.py", "tests/cli/test_reuse.py",
                  "tests/search/test_optimize.py", "tests/path/test_gcode.py::test_the_pocket_example_runs_end_to_end")
 
