@@ -16,7 +16,8 @@ Every joint is revolute or prismatic about a fixed axis (:func:`placement.kinema
 :func:`tree_inertias` says None for another tree, whose efforts Pinocchio computes. The kernels take the samples
 in blocks of BLOCK: each joint's placement, motions and forces over a block are rows of BLOCK numbers, each step
 of the recursion a loop along them, which the compiler turns into vector instructions (several samples at once,
-where Pinocchio takes one sample after the other). numba compiles the kernels on their first use and caches the
+where Pinocchio takes one sample after the other; a joint's sine and cosine too, from fdlibm's polynomials rather
+than the C library, within 2 units in the last place). numba compiles the kernels on their first use and caches the
 machine code on disk beside this module; they release the GIL, so that threads share a batch's samples.
 """
 
@@ -32,6 +33,12 @@ from numba import njit
 from placement.kinematics.tree import joint_axes, joint_constants
 
 BLOCK = 64  # samples per pass of a kernel
+TWO_OVER_PI = 6.36619772367581382433e-01
+HALF_PI = (1.57079632673412561417e+00, 6.07710050630396597660e-11, 2.02226624871116645580e-21)  # π/2, 33 bits each
+SINE = (-1.66666666666666324348e-01, 8.33333333332248946124e-03, -1.98412698298579493134e-04,
+        2.75573137070700676789e-06, -2.50507602534068634195e-08, 1.58969099521155010221e-10)  # fdlibm's __kernel_sin
+COSINE = (4.16666666666666019037e-02, -1.38888888888741095749e-03, 2.48015872894767294178e-05,
+          -2.75573143513906633035e-07, 2.08757232129817482790e-09, -1.13596475577881948265e-11)  # its __kernel_cos
 _uncounted = njit(cache=True, _nrt=False)  # type: ignore[call-overload]  # allocates nothing: no reference counting (compiles faster)
 
 
@@ -136,20 +143,49 @@ def _in_threads(kernel, tree: TreeInertias, states: tuple[np.ndarray, ...], out:
 
 
 @_uncounted
+def _sine_versine(angle):
+    """sin(angle) and 1 − cos(angle) for |angle| < 1e5 rad, within 2 units in the last place of the C library's sine
+    (4e-30 near a multiple of π, where the sine is that small) and 2.3e-16, in arithmetic alone, so that a loop of
+    them runs in vector instructions (a call of the C library's does not): the angle less its nearest multiple
+    k·π/2 (π/2 in three parts, Cody and Waite's reduction), fdlibm's polynomials of that remainder on [−π/4, π/4],
+    then the quadrant k mod 4 picks and signs them."""
+    k = np.floor(angle * TWO_OVER_PI + 0.5)
+    r = ((angle - k * HALF_PI[0]) - k * HALF_PI[1]) - k * HALF_PI[2]
+    z = r * r
+    sine = r + r * z * (SINE[0] + z * (SINE[1] + z * (SINE[2] + z * (SINE[3] + z * (SINE[4] + z * SINE[5])))))
+    versine = 0.5 * z - z * z * (COSINE[0] + z * (COSINE[1] + z * (COSINE[2] + z * (COSINE[3] + z * (COSINE[4]
+                                                                                                 + z * COSINE[5])))))
+    quadrant = np.int64(k) & 3
+    odd, low = (quadrant & 1) == 1, quadrant < 2
+    picked = (1.0 - versine) if odd else sine
+    return (picked if low else -picked), ((1.0 + sine if odd else versine) if low else
+                                          (1.0 - sine if odd else 2.0 - versine))
+
+
+@_uncounted
 def _place(constants, axis, revolute, q, start, count, rotation, origin):
     """The joint's rotation (9, BLOCK), row-major, and origin (3, BLOCK) in its parent at the block's coordinates
     ``q[start:start + count]`` (its row of ``constants``, its ``axis``)."""
-    for n in range(count):
-        value = q[start + n]
-        sine, versine = (np.sin(value), 1.0 - np.cos(value)) if revolute else (0.0, 0.0)
+    if revolute:
+        for n in range(count):  # the sine and versine in the origin's rows, until the rotation is done
+            origin[0, n], origin[1, n] = _sine_versine(q[start + n])
         for r in range(3):
             for c in range(3):
-                rotation[3 * r + c, n] = constants[r, c] + sine * constants[r, 3 + c] + versine * constants[r, 6 + c]
-            origin[r, n] = constants[r, 10]
-        if not revolute:
-            for r in range(3):
-                origin[r, n] += value * (rotation[3 * r, n] * axis[0] + rotation[3 * r + 1, n] * axis[1]
-                                         + rotation[3 * r + 2, n] * axis[2])
+                for n in range(count):
+                    rotation[3 * r + c, n] = constants[r, c] + origin[0, n] * constants[r, 3 + c] \
+                        + origin[1, n] * constants[r, 6 + c]
+        for r in range(3):
+            for n in range(count):
+                origin[r, n] = constants[r, 10]
+        return
+    for r in range(3):
+        for c in range(3):
+            for n in range(count):
+                rotation[3 * r + c, n] = constants[r, c]
+    for r in range(3):
+        for n in range(count):
+            origin[r, n] = constants[r, 10] + q[start + n] * (constants[r, 0] * axis[0] + constants[r, 1] * axis[1]
+                                                              + constants[r, 2] * axis[2])
 
 
 @_uncounted
