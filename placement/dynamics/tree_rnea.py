@@ -87,9 +87,9 @@ def joint_torques(tree: TreeInertias, q: np.ndarray, v: np.ndarray, a: np.ndarra
         a: (N, nv) joint accelerations.
         threads: Threads, each on its share of the samples (the kernel releases the GIL).
     """
-    out = np.empty((len(tree.armature), len(q)))
+    out = np.empty((len(q), 1, len(tree.armature)))
     _in_threads(_joint_torques, tree, (q, v, a), out, (2, 1), threads)
-    return out.T
+    return out[:, 0]
 
 
 def path_torques(tree: TreeInertias, q: np.ndarray, rate: np.ndarray, curvature: np.ndarray,
@@ -103,9 +103,9 @@ def path_torques(tree: TreeInertias, q: np.ndarray, rate: np.ndarray, curvature:
         curvature: (N, nv) q'', their second derivatives.
         threads: Threads, each on its share of the samples (the kernel releases the GIL).
     """
-    out = np.empty((3, len(tree.armature), len(q)))
+    out = np.empty((len(q), 3, len(tree.armature)))
     _in_threads(_path_torques, tree, (q, rate, curvature), out, (4, 3), threads)
-    return out.transpose(2, 0, 1)
+    return out
 
 
 def touch_tree_kernels(path: bool = False) -> None:
@@ -123,20 +123,20 @@ def touch_tree_kernels(path: bool = False) -> None:
 
 def _in_threads(kernel, tree: TreeInertias, states: tuple[np.ndarray, ...], out: np.ndarray,
                 tracks: tuple[int, int], threads: int) -> None:
-    """``kernel`` into ``out`` for the samples' ``states`` (q and two rates, each (N, nv)), on ``threads`` threads,
-    each on its share of the samples with scratch for ``tracks`` (motions, forces) per joint."""
-    q, first, second = (np.ascontiguousarray(x.T, dtype=float) for x in states)
-    bounds = np.linspace(0, q.shape[1], max(threads, 1) + 1).astype(int)
+    """``kernel`` into ``out`` (N, forces, nv) for the samples' ``states`` (q and two rates, each (N, nv)), on
+    ``threads`` threads, each on its share of the samples with scratch for ``tracks`` (motions, forces) per joint."""
+    q, first, second = (np.ascontiguousarray(x, dtype=float) for x in states)
+    bounds = np.linspace(0, len(q), max(threads, 1) + 1).astype(int)
 
     def run(start: int, stop: int) -> None:
-        joints = len(tree.parent)
+        joints, nv = len(tree.parent), len(tree.armature)
         kernel(tree.parent, tree.constants, tree.axis, tree.revolute, tree.v_index, tree.mass, tree.lever,
                tree.inertia, tree.armature, tree.gravity, q, first, second, out, start, stop,
                np.empty((joints, 9, BLOCK)), np.empty((joints, 3, BLOCK)), np.zeros((tracks[0], joints, 6, BLOCK)),
-               np.empty((tracks[1], joints, 6, BLOCK)))
+               np.empty((tracks[1], joints, 6, BLOCK)), np.empty((3, nv, BLOCK)), np.empty((tracks[1], nv, BLOCK)))
 
     if threads <= 1:
-        run(0, q.shape[1])
+        run(0, len(q))
     else:
         with ThreadPoolExecutor(threads) as pool:
             list(pool.map(run, bounds[:-1], bounds[1:]))
@@ -163,12 +163,12 @@ def _sine_versine(angle):
 
 
 @_uncounted
-def _place(constants, axis, revolute, q, start, count, rotation, origin):
+def _place(constants, axis, revolute, q, count, rotation, origin):
     """The joint's rotation (9, BLOCK), row-major, and origin (3, BLOCK) in its parent at the block's coordinates
-    ``q[start:start + count]`` (its row of ``constants``, its ``axis``)."""
+    ``q[:count]`` (its row of ``constants``, its ``axis``)."""
     if revolute:
         for n in range(count):  # the sine and versine in the origin's rows, until the rotation is done
-            origin[0, n], origin[1, n] = _sine_versine(q[start + n])
+            origin[0, n], origin[1, n] = _sine_versine(q[n])
         for r in range(3):
             for c in range(3):
                 for n in range(count):
@@ -184,7 +184,7 @@ def _place(constants, axis, revolute, q, start, count, rotation, origin):
                 rotation[3 * r + c, n] = constants[r, c]
     for r in range(3):
         for n in range(count):
-            origin[r, n] = constants[r, 10] + q[start + n] * (constants[r, 0] * axis[0] + constants[r, 1] * axis[1]
+            origin[r, n] = constants[r, 10] + q[n] * (constants[r, 0] * axis[0] + constants[r, 1] * axis[1]
                                                               + constants[r, 2] * axis[2])
 
 
@@ -203,21 +203,21 @@ def _to_child(rotation, origin, parent, child, count):
 
 
 @_uncounted
-def _add_along_axis(axis, revolute, rates, start, count, motion):
-    """``motion`` (6, BLOCK) gains the joint's own: its axis times ``rates[start:start + count]``, angular about a
-    revolute axis, linear along a prismatic one."""
+def _add_along_axis(axis, revolute, rates, count, motion):
+    """``motion`` (6, BLOCK) gains the joint's own: its axis times ``rates[:count]``, angular about a revolute axis,
+    linear along a prismatic one."""
     shift = 3 if revolute else 0
     for k in range(3):
         for n in range(count):
-            motion[shift + k, n] += axis[k] * rates[start + n]
+            motion[shift + k, n] += axis[k] * rates[n]
 
 
 @_uncounted
-def _add_bias(axis, revolute, rates, start, count, velocity, acceleration):
+def _add_bias(axis, revolute, rates, count, velocity, acceleration):
     """``acceleration`` (6, BLOCK) gains v × (S·q̇), v = ``velocity`` (the joint's own motion in it), S·q̇ the axis
     times ``rates``: (ω × s_lin + v × s_ang, ω × s_ang)."""
     for n in range(count):
-        s = rates[start + n]
+        s = rates[n]
         w0, w1, w2 = velocity[3, n], velocity[4, n], velocity[5, n]
         x0, x1, x2 = (velocity[0, n], velocity[1, n], velocity[2, n]) if revolute else (w0, w1, w2)
         a0, a1, a2 = axis[0] * s, axis[1] * s, axis[2] * s
@@ -267,11 +267,11 @@ def _add_velocity_force(mass, lever, inertia, velocity, count, force):
 
 
 @_uncounted
-def _project(axis, revolute, force, start, count, out):
-    """``out[start:start + count]`` = the joint's torque: its axis · the force's moment (revolute) or linear part."""
+def _project(axis, revolute, force, count, out):
+    """``out[:count]`` = the joint's torque: its axis · the force's moment (revolute) or linear part."""
     shift = 3 if revolute else 0
     for n in range(count):
-        out[start + n] = axis[0] * force[shift, n] + axis[1] * force[shift + 1, n] + axis[2] * force[shift + 2, n]
+        out[n] = axis[0] * force[shift, n] + axis[1] * force[shift + 1, n] + axis[2] * force[shift + 2, n]
 
 
 @_uncounted
@@ -292,65 +292,88 @@ def _add_to_parent(rotation, origin, force, parent, count):
         parent[5, n] += origin[0, n] * f1 - origin[1, n] * f0
 
 
+@_uncounted
+def _gather(q, first, second, start, count, state):
+    """``state`` (3, nv, BLOCK): the samples ``start`` to ``start + count`` of q and the two rates (N, nv), a joint's
+    along each row."""
+    for n in range(count):
+        for i in range(q.shape[1]):
+            state[0, i, n], state[1, i, n], state[2, i, n] = q[start + n, i], first[start + n, i], second[start + n, i]
+
+
+@_uncounted
+def _scatter(torque, start, count, out):
+    """``out[start:start + count]`` (N, forces, nv) = the block's ``torque`` (forces, nv, BLOCK)."""
+    for n in range(count):
+        for m in range(torque.shape[0]):
+            for i in range(torque.shape[1]):
+                out[start + n, m, i] = torque[m, i, n]
+
+
 @njit(cache=True, nogil=True, _nrt=False)  # type: ignore[call-overload]
 def _joint_torques(parent, constants, axis, revolute, index, mass, lever, inertia, armature, gravity, q, v, a, out,
-                   start, stop, rotation, origin, motion, force):
-    """:func:`joint_torques` on flat arrays (samples along rows: q, v, a and ``out`` (nv, N)) for the samples
-    ``start`` to ``stop``; the scratch: each joint's rotation (nj, 9, BLOCK) and origin (nj, 3, BLOCK), its velocity
-    and acceleration (2, nj, 6, BLOCK), zeros, and its force (1, nj, 6, BLOCK)."""
+                   start, stop, rotation, origin, motion, force, state, torque):
+    """:func:`joint_torques` on flat arrays (q, v, a (N, nv), ``out`` (N, 1, nv)) for the samples ``start`` to
+    ``stop``; the scratch: each joint's rotation (nj, 9, BLOCK) and origin (nj, 3, BLOCK), its velocity and
+    acceleration (2, nj, 6, BLOCK), zeros, and its force (1, nj, 6, BLOCK); the block's q, v and a (3, nv, BLOCK)
+    and torques (1, nv, BLOCK)."""
     for first in range(start, stop, BLOCK):
         count = min(BLOCK, stop - first)
+        _gather(q, v, a, first, count, state)
         for k in range(3):
             for n in range(count):
                 motion[1, 0, k, n] = -gravity[k]
         for j in range(1, len(parent)):
             p, i = parent[j], index[j]
-            _place(constants[j], axis[j], revolute[j], q[i], first, count, rotation[j], origin[j])
+            _place(constants[j], axis[j], revolute[j], state[0, i], count, rotation[j], origin[j])
             for m in range(2):
                 _to_child(rotation[j], origin[j], motion[m, p], motion[m, j], count)
-            _add_along_axis(axis[j], revolute[j], v[i], first, count, motion[0, j])
-            _add_along_axis(axis[j], revolute[j], a[i], first, count, motion[1, j])
-            _add_bias(axis[j], revolute[j], v[i], first, count, motion[0, j], motion[1, j])
+            _add_along_axis(axis[j], revolute[j], state[1, i], count, motion[0, j])
+            _add_along_axis(axis[j], revolute[j], state[2, i], count, motion[1, j])
+            _add_bias(axis[j], revolute[j], state[1, i], count, motion[0, j], motion[1, j])
             _inertia_times(mass[j], lever[j], inertia[j], motion[1, j], count, force[0, j])
             _add_velocity_force(mass[j], lever[j], inertia[j], motion[0, j], count, force[0, j])
         for j in range(len(parent) - 1, 0, -1):
             p, i = parent[j], index[j]
-            _project(axis[j], revolute[j], force[0, j], first, count, out[i])
-            for n in range(first, first + count):
-                out[i, n] += armature[i] * a[i, n]
+            _project(axis[j], revolute[j], force[0, j], count, torque[0, i])
+            for n in range(count):
+                torque[0, i, n] += armature[i] * state[2, i, n]
             if p > 0:
                 _add_to_parent(rotation[j], origin[j], force[0, j], force[0, p], count)
+        _scatter(torque, first, count, out)
 
 
 @njit(cache=True, nogil=True, _nrt=False)  # type: ignore[call-overload]
 def _path_torques(parent, constants, axis, revolute, index, mass, lever, inertia, armature, gravity, q, rate,
-                  curvature, out, start, stop, rotation, origin, motion, force):
-    """:func:`path_torques` on flat arrays (samples along rows: q, rate, curvature (nv, N), ``out`` (3, nv, N)) for
-    the samples ``start`` to ``stop``; the scratch as :func:`_joint_torques`', with four motions per joint (C's, A's
-    and B's accelerations, B's velocity: zeros) and three forces."""
+                  curvature, out, start, stop, rotation, origin, motion, force, state, torque):
+    """:func:`path_torques` on flat arrays (q, rate, curvature (N, nv), ``out`` (N, 3, nv)) for the samples ``start``
+    to ``stop``; the scratch as :func:`_joint_torques`', with four motions per joint (C's, A's and B's accelerations,
+    B's velocity: zeros), three forces and three torques."""
     for first in range(start, stop, BLOCK):
         count = min(BLOCK, stop - first)
+        _gather(q, rate, curvature, first, count, state)
         for k in range(3):
             for n in range(count):
                 motion[0, 0, k, n] = -gravity[k]
         for j in range(1, len(parent)):
             p, i = parent[j], index[j]
-            _place(constants[j], axis[j], revolute[j], q[i], first, count, rotation[j], origin[j])
+            _place(constants[j], axis[j], revolute[j], state[0, i], count, rotation[j], origin[j])
             for m in range(4):
                 _to_child(rotation[j], origin[j], motion[m, p], motion[m, j], count)
-            _add_along_axis(axis[j], revolute[j], rate[i], first, count, motion[1, j])
-            _add_along_axis(axis[j], revolute[j], curvature[i], first, count, motion[2, j])
-            _add_along_axis(axis[j], revolute[j], rate[i], first, count, motion[3, j])
-            _add_bias(axis[j], revolute[j], rate[i], first, count, motion[3, j], motion[2, j])
+            _add_along_axis(axis[j], revolute[j], state[1, i], count, motion[1, j])
+            _add_along_axis(axis[j], revolute[j], state[2, i], count, motion[2, j])
+            _add_along_axis(axis[j], revolute[j], state[1, i], count, motion[3, j])
+            _add_bias(axis[j], revolute[j], state[1, i], count, motion[3, j], motion[2, j])
             for m in range(3):
                 _inertia_times(mass[j], lever[j], inertia[j], motion[m, j], count, force[m, j])
             _add_velocity_force(mass[j], lever[j], inertia[j], motion[3, j], count, force[2, j])
         for j in range(len(parent) - 1, 0, -1):
             p, i = parent[j], index[j]
             for m in range(3):
-                _project(axis[j], revolute[j], force[m, j], first, count, out[m, i])
+                _project(axis[j], revolute[j], force[m, j], count, torque[m, i])
                 if p > 0:
                     _add_to_parent(rotation[j], origin[j], force[m, j], force[m, p], count)
-            for n in range(first, first + count):
-                out[1, i, n] += armature[i] * rate[i, n]
-                out[2, i, n] += armature[i] * curvature[i, n]
+            for n in range(count):
+                torque[1, i, n] += armature[i] * state[1, i, n]
+                torque[2, i, n] += armature[i] * state[2, i, n]
+        _scatter(torque, first, count, out)
