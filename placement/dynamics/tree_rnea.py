@@ -203,6 +203,27 @@ def _to_child(rotation, origin, parent, child, count):
 
 
 @_uncounted
+def _linear_to_child(rotation, parent, child, count):
+    """``child``'s linear rows (3 of 6, BLOCK) = a motion of the parent's with no angular part, in the child's frame:
+    Rᵀ·v (its angular rows stay zero; :func:`_to_child` gives the same)."""
+    for n in range(count):
+        v0, v1, v2 = parent[0, n], parent[1, n], parent[2, n]
+        for c in range(3):
+            child[c, n] = rotation[c, n] * v0 + rotation[3 + c, n] * v1 + rotation[6 + c, n] * v2
+
+
+@_uncounted
+def _mass_times(mass, lever, motion, count, out):
+    """``out`` (6, BLOCK) = the spatial inertia times a motion with no angular part: m·v, then c × m·v
+    (:func:`_inertia_times` gives the same)."""
+    c0, c1, c2 = lever[0], lever[1], lever[2]
+    for n in range(count):
+        l0, l1, l2 = mass * motion[0, n], mass * motion[1, n], mass * motion[2, n]
+        out[0, n], out[1, n], out[2, n] = l0, l1, l2
+        out[3, n], out[4, n], out[5, n] = c1 * l2 - c2 * l1, c2 * l0 - c0 * l2, c0 * l1 - c1 * l0
+
+
+@_uncounted
 def _add_along_axis(axis, revolute, rates, count, motion):
     """``motion`` (6, BLOCK) gains the joint's own: its axis times ``rates[:count]``, angular about a revolute axis,
     linear along a prismatic one."""
@@ -358,13 +379,15 @@ def _path_torques(parent, constants, axis, revolute, index, mass, lever, inertia
         for j in range(1, len(parent)):
             p, i = parent[j], index[j]
             _place(constants[j], axis[j], revolute[j], state[0, i], count, rotation[j], origin[j])
-            for m in range(4):
+            _linear_to_child(rotation[j], motion[0, p], motion[0, j], count)  # C: gravity alone, never turning
+            for m in range(1, 4):
                 _to_child(rotation[j], origin[j], motion[m, p], motion[m, j], count)
             _add_along_axis(axis[j], revolute[j], state[1, i], count, motion[1, j])
             _add_along_axis(axis[j], revolute[j], state[2, i], count, motion[2, j])
             _add_along_axis(axis[j], revolute[j], state[1, i], count, motion[3, j])
             _add_bias(axis[j], revolute[j], state[1, i], count, motion[3, j], motion[2, j])
-            for m in range(3):
+            _mass_times(mass[j], lever[j], motion[0, j], count, force[0, j])
+            for m in range(1, 3):
                 _inertia_times(mass[j], lever[j], inertia[j], motion[m, j], count, force[m, j])
             _add_velocity_force(mass[j], lever[j], inertia[j], motion[3, j], count, force[2, j])
         for j in range(len(parent) - 1, 0, -1):
