@@ -82,26 +82,28 @@ class TreeDynamics:
     def __init__(self, model: pin.Model) -> None:
         self.model, self.tree = model, tree_inertias(model)
 
-    def torques(self, q: np.ndarray, v: np.ndarray, a: np.ndarray, threads: int | None = None) -> np.ndarray:
-        """(N, nv) rnea(q, v, a) at N samples (rows), gravity and armature included.
+    def efforts(self, q: np.ndarray, v: np.ndarray, a: np.ndarray, basis: np.ndarray,
+                threads: int | None = None) -> np.ndarray:
+        """(N, m) Gᵀ·rnea(q, v, a) at N samples (rows), gravity and armature included, G = ``basis`` (N, nv, m).
 
         Args:
             threads: Most threads (default: every core; fewer on small batches).
         """
         if self.tree is None:
-            return rnea_batch(self.model, q, v, a, threads)
-        return joint_torques(self.tree, q, v, a, thread_count(threads, len(q)))
+            return np.matmul(rnea_batch(self.model, q, v, a, threads)[:, None, :], basis)[:, 0]
+        return joint_torques(self.tree, q, v, a, basis, thread_count(threads, len(q)))
 
-    def path_torques(self, q: np.ndarray, rate: np.ndarray, curvature: np.ndarray,
+    def path_efforts(self, q: np.ndarray, rate: np.ndarray, curvature: np.ndarray, basis: np.ndarray,
                      threads: int | None = None) -> np.ndarray:
-        """(N, 3, nv) the torques C = rnea(q, 0, 0), A = rnea(q, 0, q') − C and B = rnea(q, q', q'') − C at N samples:
-        in one pass (:func:`placement.dynamics.tree_rnea.path_torques`), or from three of Pinocchio's."""
+        """(N, 3, m) Gᵀ times the torques C = rnea(q, 0, 0), A = rnea(q, 0, q') − C and B = rnea(q, q', q'') − C at N
+        samples: in one pass (:func:`placement.dynamics.tree_rnea.path_torques`), or from three of Pinocchio's."""
         if self.tree is not None:
-            return path_torques(self.tree, q, rate, curvature, thread_count(threads, len(q)))
+            return path_torques(self.tree, q, rate, curvature, basis, thread_count(threads, len(q)))
         rest = np.zeros_like(rate)
         static = rnea_batch(self.model, q, rest, rest, threads)
-        return np.stack([static, rnea_batch(self.model, q, rest, rate, threads) - static,
-                         rnea_batch(self.model, q, rate, curvature, threads) - static], axis=1)
+        torques = np.stack([static, rnea_batch(self.model, q, rest, rate, threads) - static,
+                            rnea_batch(self.model, q, rate, curvature, threads) - static], axis=1)
+        return np.matmul(torques, basis)
 
 
 def openmp_started() -> bool:
@@ -125,8 +127,7 @@ def actuator_efforts(robot: Robot, joints: JointTrajectory, external_load: np.nd
     Returns:
         Forces (N) or torques (N·m) at the actuated joints.
     """
-    tau = (dynamics or TreeDynamics(robot.model)).torques(joints.q, joints.v, joints.a, threads)
-    effort = np.matmul(tau[:, None, :], joints.basis)[:, 0]  # Gᵀ·tau
+    effort = (dynamics or TreeDynamics(robot.model)).efforts(joints.q, joints.v, joints.a, joints.basis, threads)
     if external_load is not None:
         effort -= load_efforts(joints, external_load)
     return effort

@@ -139,12 +139,12 @@ def path_dynamics(robot: Robot, joints: JointTrajectory, force: np.ndarray, plac
 
     Returns:
         A, B and C: the tree's torques at rest under gravity, with q̈ = q' alone and with q̇ = q', q̈ = q''
-        without gravity (:meth:`TreeDynamics.path_torques`), projected on the actuators; C less the load's share.
+        without gravity (:meth:`TreeDynamics.path_efforts`), projected on the actuators; C less the load's share.
     """
     act = robot.actuated_v_indices
     shape = (placements, len(joints.q) // placements, len(act))
-    torques = (dynamics or TreeDynamics(robot.model)).path_torques(joints.q, joints.v, joints.a, threads)
-    efforts = np.matmul(torques, joints.basis)  # (K·N, 3, n_act): C, A, B
+    efforts = (dynamics or TreeDynamics(robot.model)).path_efforts(joints.q, joints.v, joints.a, joints.basis,
+                                                                   threads)  # (K·N, 3, n_act): C, A, B
     static = efforts[:, 0] - load_efforts(joints, force)
     return PathDynamics(velocity=joints.v[:, act].reshape(shape), curvature=joints.a[:, act].reshape(shape),
                         inertia=efforts[:, 1].reshape(shape), centripetal=efforts[:, 2].reshape(shape),

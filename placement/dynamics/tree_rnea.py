@@ -76,35 +76,39 @@ def tree_inertias(model: pin.Model) -> TreeInertias | None:
                         armature=np.array(model.armature, dtype=float), gravity=np.array(model.gravity.linear))
 
 
-def joint_torques(tree: TreeInertias, q: np.ndarray, v: np.ndarray, a: np.ndarray, threads: int = 1) -> np.ndarray:
-    """(N, nv) the tree's joint torques rnea(q, v, a) at N samples (N·m or N), gravity and the drives' armature
-    included.
+def joint_torques(tree: TreeInertias, q: np.ndarray, v: np.ndarray, a: np.ndarray, basis: np.ndarray,
+                  threads: int = 1) -> np.ndarray:
+    """(N, m) the tree's joint torques rnea(q, v, a) at N samples, gravity and the drives' armature included, times
+    ``basis``: Gᵀ·τ (N or N·m a unit of G's columns).
 
     Args:
         tree: The tree (:func:`tree_inertias`).
         q: (N, nq) configurations.
         v: (N, nv) joint velocities.
         a: (N, nv) joint accelerations.
+        basis: (N, nv, m) G at each sample (the closure null space's basis; the identity for the torques themselves).
         threads: Threads, each on its share of the samples (the kernel releases the GIL).
     """
-    out = np.empty((len(q), 1, len(tree.armature)))
-    _in_threads(_joint_torques, tree, (q, v, a), out, (2, 1), threads)
+    out = np.empty((len(q), 1, basis.shape[2]))
+    _in_threads(_joint_torques, tree, (q, v, a), basis, out, (2, 1), threads)
     return out[:, 0]
 
 
-def path_torques(tree: TreeInertias, q: np.ndarray, rate: np.ndarray, curvature: np.ndarray,
+def path_torques(tree: TreeInertias, q: np.ndarray, rate: np.ndarray, curvature: np.ndarray, basis: np.ndarray,
                  threads: int = 1) -> np.ndarray:
-    """(N, 3, nv) the tree's joint torques C, A and B (module docstring) at N samples.
+    """(N, 3, m) the tree's joint torques C, A and B (module docstring) at N samples, times ``basis``: Gᵀ·C, Gᵀ·A
+    and Gᵀ·B.
 
     Args:
         tree: The tree (:func:`tree_inertias`).
         q: (N, nq) configurations.
         rate: (N, nv) q', the joints' rates per unit of path.
         curvature: (N, nv) q'', their second derivatives.
+        basis: (N, nv, m) G at each sample.
         threads: Threads, each on its share of the samples (the kernel releases the GIL).
     """
-    out = np.empty((len(q), 3, len(tree.armature)))
-    _in_threads(_path_torques, tree, (q, rate, curvature), out, (4, 3), threads)
+    out = np.empty((len(q), 3, basis.shape[2]))
+    _in_threads(_path_torques, tree, (q, rate, curvature), basis, out, (4, 3), threads)
     return out
 
 
@@ -115,23 +119,24 @@ def touch_tree_kernels(path: bool = False) -> None:
     model.addJoint(0, pin.JointModelRZ(), pin.SE3.Identity(), "joint")
     tree = tree_inertias(model)
     assert tree is not None
-    rest = np.zeros((1, 1))
-    joint_torques(tree, rest, rest, rest)
+    rest, basis = np.zeros((1, 1)), np.ones((1, 1, 1))
+    joint_torques(tree, rest, rest, rest, basis)
     if path:
-        path_torques(tree, rest, rest, rest)
+        path_torques(tree, rest, rest, rest, basis)
 
 
-def _in_threads(kernel, tree: TreeInertias, states: tuple[np.ndarray, ...], out: np.ndarray,
+def _in_threads(kernel, tree: TreeInertias, states: tuple[np.ndarray, ...], basis: np.ndarray, out: np.ndarray,
                 tracks: tuple[int, int], threads: int) -> None:
-    """``kernel`` into ``out`` (N, forces, nv) for the samples' ``states`` (q and two rates, each (N, nv)), on
-    ``threads`` threads, each on its share of the samples with scratch for ``tracks`` (motions, forces) per joint."""
-    q, first, second = (np.ascontiguousarray(x, dtype=float) for x in states)
+    """``kernel`` into ``out`` (N, forces, m) for the samples' ``states`` (q and two rates, each (N, nv)) and
+    ``basis`` (N, nv, m), on ``threads`` threads, each on its share of the samples with scratch for ``tracks``
+    (motions, forces) per joint."""
+    q, first, second, basis = (np.ascontiguousarray(x, dtype=float) for x in (*states, basis))
     bounds = np.linspace(0, len(q), max(threads, 1) + 1).astype(int)
 
     def run(start: int, stop: int) -> None:
         joints, nv = len(tree.parent), len(tree.armature)
         kernel(tree.parent, tree.constants, tree.axis, tree.revolute, tree.v_index, tree.mass, tree.lever,
-               tree.inertia, tree.armature, tree.gravity, q, first, second, out, start, stop,
+               tree.inertia, tree.armature, tree.gravity, q, first, second, basis, out, start, stop,
                np.empty((joints, 9, BLOCK)), np.empty((joints, 3, BLOCK)), np.zeros((tracks[0], joints, 6, BLOCK)),
                np.empty((tracks[1], joints, 6, BLOCK)), np.empty((3, nv, BLOCK)), np.empty((tracks[1], nv, BLOCK)))
 
@@ -323,19 +328,23 @@ def _gather(q, first, second, start, count, state):
 
 
 @_uncounted
-def _scatter(torque, start, count, out):
-    """``out[start:start + count]`` (N, forces, nv) = the block's ``torque`` (forces, nv, BLOCK)."""
+def _project_block(torque, basis, start, count, out):
+    """``out[start:start + count]`` (N, forces, m) = the block's joint torques ``torque`` (forces, nv, BLOCK) times
+    ``basis`` (N, nv, m): Gᵀ·τ at each sample."""
     for n in range(count):
         for m in range(torque.shape[0]):
-            for i in range(torque.shape[1]):
-                out[start + n, m, i] = torque[m, i, n]
+            for c in range(basis.shape[2]):
+                total = 0.0
+                for i in range(torque.shape[1]):
+                    total += torque[m, i, n] * basis[start + n, i, c]
+                out[start + n, m, c] = total
 
 
 @njit(cache=True, nogil=True, _nrt=False)  # type: ignore[call-overload]
-def _joint_torques(parent, constants, axis, revolute, index, mass, lever, inertia, armature, gravity, q, v, a, out,
-                   start, stop, rotation, origin, motion, force, state, torque):
-    """:func:`joint_torques` on flat arrays (q, v, a (N, nv), ``out`` (N, 1, nv)) for the samples ``start`` to
-    ``stop``; the scratch: each joint's rotation (nj, 9, BLOCK) and origin (nj, 3, BLOCK), its velocity and
+def _joint_torques(parent, constants, axis, revolute, index, mass, lever, inertia, armature, gravity, q, v, a, basis,
+                   out, start, stop, rotation, origin, motion, force, state, torque):
+    """:func:`joint_torques` on flat arrays (q, v, a (N, nv), ``basis`` (N, nv, m), ``out`` (N, 1, m)) for the samples
+    ``start`` to ``stop``; the scratch: each joint's rotation (nj, 9, BLOCK) and origin (nj, 3, BLOCK), its velocity and
     acceleration (2, nj, 6, BLOCK), zeros, and its force (1, nj, 6, BLOCK); the block's q, v and a (3, nv, BLOCK)
     and torques (1, nv, BLOCK)."""
     for first in range(start, stop, BLOCK):
@@ -361,15 +370,15 @@ def _joint_torques(parent, constants, axis, revolute, index, mass, lever, inerti
                 torque[0, i, n] += armature[i] * state[2, i, n]
             if p > 0:
                 _add_to_parent(rotation[j], origin[j], force[0, j], force[0, p], count)
-        _scatter(torque, first, count, out)
+        _project_block(torque, basis, first, count, out)
 
 
 @njit(cache=True, nogil=True, _nrt=False)  # type: ignore[call-overload]
 def _path_torques(parent, constants, axis, revolute, index, mass, lever, inertia, armature, gravity, q, rate,
-                  curvature, out, start, stop, rotation, origin, motion, force, state, torque):
-    """:func:`path_torques` on flat arrays (q, rate, curvature (N, nv), ``out`` (N, 3, nv)) for the samples ``start``
-    to ``stop``; the scratch as :func:`_joint_torques`', with four motions per joint (C's, A's and B's accelerations,
-    B's velocity: zeros), three forces and three torques."""
+                  curvature, basis, out, start, stop, rotation, origin, motion, force, state, torque):
+    """:func:`path_torques` on flat arrays (q, rate, curvature (N, nv), ``basis`` (N, nv, m), ``out`` (N, 3, m)) for
+    the samples ``start`` to ``stop``; the scratch as :func:`_joint_torques`', with four motions per joint (C's,
+    A's and B's accelerations, B's velocity: zeros), three forces and three torques."""
     for first in range(start, stop, BLOCK):
         count = min(BLOCK, stop - first)
         _gather(q, rate, curvature, first, count, state)
@@ -399,4 +408,4 @@ def _path_torques(parent, constants, axis, revolute, index, mass, lever, inertia
             for n in range(count):
                 torque[1, i, n] += armature[i] * state[1, i, n]
                 torque[2, i, n] += armature[i] * state[2, i, n]
-        _scatter(torque, first, count, out)
+        _project_block(torque, basis, first, count, out)

@@ -1,7 +1,7 @@
 """The compiled Newton–Euler passes (placement.dynamics.tree_rnea) are Pinocchio's RNEA: at every state,
 joint_torques(q, v, a) = rnea(q, v, a), and the path dynamics' C = rnea(q, 0, 0), C + A = rnea(q, 0, q') and
 C + B = rnea(q, q', q''), on the robots and on random trees of every joint kind they take, over several blocks of
-samples; a tree they do not take goes to Pinocchio, and both routes give the same efforts."""
+samples, times any basis; a tree they do not take goes to Pinocchio, and both routes give the same efforts."""
 
 import numpy as np
 import pinocchio as pin
@@ -38,6 +38,11 @@ def random_tree(rng: np.random.Generator, joints: int = 12) -> pin.Model:
     return model
 
 
+def identities(model: pin.Model, n: int) -> np.ndarray:
+    """(n, nv, nv) identity bases: the kernels' torques themselves."""
+    return np.ascontiguousarray(np.broadcast_to(np.eye(model.nv), (n, model.nv, model.nv)))
+
+
 def random_states(model: pin.Model, rng: np.random.Generator, n: int) -> tuple[np.ndarray, ...]:
     return rng.uniform(-np.pi, np.pi, (n, model.nq)), rng.standard_normal((n, model.nv)), rng.standard_normal((n, model.nv))
 
@@ -45,7 +50,8 @@ def random_states(model: pin.Model, rng: np.random.Generator, n: int) -> tuple[n
 def assert_pinocchios(model: pin.Model, q: np.ndarray, rate: np.ndarray, curvature: np.ndarray) -> None:
     tree = tree_inertias(model)
     assert tree is not None
-    torques, moving = path_torques(tree, q, rate, curvature), joint_torques(tree, q, rate, curvature)
+    identity = identities(model, len(q))
+    torques, moving = path_torques(tree, q, rate, curvature, identity), joint_torques(tree, q, rate, curvature, identity)
     data, rest = model.createData(), np.zeros(model.nv)
     for n in range(len(q)):
         wanted = [pin.rnea(model, data, q[n], rest, rest).copy(), pin.rnea(model, data, q[n], rest, rate[n]).copy(),
@@ -80,8 +86,23 @@ def test_threads_share_the_samples_without_changing_a_torque():
     tree = tree_inertias(model)
     assert tree is not None
     states = random_states(model, np.random.default_rng(5), 3 * BLOCK + 5)
-    np.testing.assert_array_equal(path_torques(tree, *states, threads=3), path_torques(tree, *states))
-    np.testing.assert_array_equal(joint_torques(tree, *states, threads=3), joint_torques(tree, *states))
+    identity = identities(model, len(states[0]))
+    np.testing.assert_array_equal(path_torques(tree, *states, identity, threads=3), path_torques(tree, *states, identity))
+    np.testing.assert_array_equal(joint_torques(tree, *states, identity, threads=3),
+                                  joint_torques(tree, *states, identity))
+
+
+def test_the_torques_times_a_basis_are_its_projection():
+    """A random (N, nv, 2) basis: the kernels' products equal their torques' times it, to 1e-12 of the largest."""
+    model = load_robot("orthoglide").model
+    tree = tree_inertias(model)
+    assert tree is not None
+    rng = np.random.default_rng(9)
+    states = random_states(model, rng, 2 * BLOCK + 3)
+    basis, identity = rng.standard_normal((len(states[0]), model.nv, 2)), identities(model, len(states[0]))
+    for kernel in (joint_torques, path_torques):
+        want = np.einsum("n...v,nvc->n...c", kernel(tree, *states, identity), basis)
+        np.testing.assert_allclose(kernel(tree, *states, basis), want, rtol=0.0, atol=1e-12 * np.abs(want).max())
 
 
 def test_a_tree_with_another_joint_kind_is_left_to_pinocchio():
