@@ -48,7 +48,7 @@ def _closed_form(robot: Robot, task: TaskTrajectory,
     if bad.any():  # finite placeholders: the reference configuration at rest
         q[:, bad], v[:, bad], a[:, bad], jacobian[..., bad] = robot.reference_q[:, None], 0.0, 0.0, 0.0
         task_map[..., bad] = np.eye(3)[..., None]
-    basis = (jacobian[:, :, None, :] * task_map[None]).sum(axis=1)  # ∂q/∂rho: [joint, actuator, sample]
+    basis = np.einsum("icn,ckn->ikn", jacobian, task_map)  # ∂q/∂rho: [joint, actuator, sample]
     reason = "outside the reach of the closed-form kinematics or singular"
     trajectory = JointTrajectory(*(np.ascontiguousarray(np.moveaxis(x, -1, 0)) for x in (q, v, a, basis, task_map)))
     return trajectory, ~bad, reason
