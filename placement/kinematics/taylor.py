@@ -40,10 +40,12 @@ class Taylor2:
         return Taylor2(-self.v, -self.d1, -self.d2)
 
     def __sub__(self, other: Taylor2 | ArrayLike) -> Taylor2:
-        return self + (-_lift(other))
+        if not isinstance(other, Taylor2):  # a constant shifts the value only
+            return Taylor2(self.v - other, self.d1, self.d2)
+        return Taylor2(self.v - other.v, self.d1 - other.d1, self.d2 - other.d2)
 
     def __rsub__(self, other: ArrayLike) -> Taylor2:
-        return -self + other
+        return Taylor2(other - self.v, -self.d1, -self.d2)
 
     def __mul__(self, other: Taylor2 | ArrayLike) -> Taylor2:
         if not isinstance(other, Taylor2):  # a constant scales every term
