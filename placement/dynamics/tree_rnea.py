@@ -194,17 +194,24 @@ def _place(constants, axis, revolute, q, count, rotation, origin):
 
 
 @_uncounted
-def _to_child(rotation, origin, parent, child, count):
-    """``child`` (6, BLOCK) = the motions ``parent`` (linear, angular) in the child's frame: Rᵀ·(v − t × ω), Rᵀ·ω."""
+def _to_child(rotation, origin, parent, child, axis, revolute, rates, count):
+    """``child`` (6, BLOCK) = the motions ``parent`` (linear, angular) in the child's frame, Rᵀ·(v − t × ω) and Rᵀ·ω,
+    plus the joint's own: its ``axis`` times ``rates[:count]``, angular about a revolute axis, linear along a
+    prismatic one."""
     for n in range(count):
         w0, w1, w2 = parent[3, n], parent[4, n], parent[5, n]
         d0 = parent[0, n] - (origin[1, n] * w2 - origin[2, n] * w1)
         d1 = parent[1, n] - (origin[2, n] * w0 - origin[0, n] * w2)
         d2 = parent[2, n] - (origin[0, n] * w1 - origin[1, n] * w0)
+        rate = rates[n]
         for c in range(3):
             r0, r1, r2 = rotation[c, n], rotation[3 + c, n], rotation[6 + c, n]
-            child[3 + c, n] = r0 * w0 + r1 * w1 + r2 * w2
-            child[c, n] = r0 * d0 + r1 * d1 + r2 * d2
+            turning, moving = r0 * w0 + r1 * w1 + r2 * w2, r0 * d0 + r1 * d1 + r2 * d2
+            if revolute:
+                turning += axis[c] * rate
+            else:
+                moving += axis[c] * rate
+            child[3 + c, n], child[c, n] = turning, moving
 
 
 @_uncounted
@@ -226,16 +233,6 @@ def _mass_times(mass, lever, motion, count, out):
         l0, l1, l2 = mass * motion[0, n], mass * motion[1, n], mass * motion[2, n]
         out[0, n], out[1, n], out[2, n] = l0, l1, l2
         out[3, n], out[4, n], out[5, n] = c1 * l2 - c2 * l1, c2 * l0 - c0 * l2, c0 * l1 - c1 * l0
-
-
-@_uncounted
-def _add_along_axis(axis, revolute, rates, count, motion):
-    """``motion`` (6, BLOCK) gains the joint's own: its axis times ``rates[:count]``, angular about a revolute axis,
-    linear along a prismatic one."""
-    shift = 3 if revolute else 0
-    for k in range(3):
-        for n in range(count):
-            motion[shift + k, n] += axis[k] * rates[n]
 
 
 @_uncounted
@@ -356,10 +353,9 @@ def _joint_torques(parent, constants, axis, revolute, index, mass, lever, inerti
         for j in range(1, len(parent)):
             p, i = parent[j], index[j]
             _place(constants[j], axis[j], revolute[j], state[0, i], count, rotation[j], origin[j])
-            for m in range(2):
-                _to_child(rotation[j], origin[j], motion[m, p], motion[m, j], count)
-            _add_along_axis(axis[j], revolute[j], state[1, i], count, motion[0, j])
-            _add_along_axis(axis[j], revolute[j], state[2, i], count, motion[1, j])
+            for m in range(2):  # the velocity and the acceleration
+                _to_child(rotation[j], origin[j], motion[m, p], motion[m, j], axis[j], revolute[j], state[1 + m, i],
+                          count)
             _add_bias(axis[j], revolute[j], state[1, i], count, motion[0, j], motion[1, j])
             _inertia_times(mass[j], lever[j], inertia[j], motion[1, j], count, force[0, j])
             _add_velocity_force(mass[j], lever[j], inertia[j], motion[0, j], count, force[0, j])
@@ -389,11 +385,9 @@ def _path_torques(parent, constants, axis, revolute, index, mass, lever, inertia
             p, i = parent[j], index[j]
             _place(constants[j], axis[j], revolute[j], state[0, i], count, rotation[j], origin[j])
             _linear_to_child(rotation[j], motion[0, p], motion[0, j], count)  # C: gravity alone, never turning
-            for m in range(1, 4):
-                _to_child(rotation[j], origin[j], motion[m, p], motion[m, j], count)
-            _add_along_axis(axis[j], revolute[j], state[1, i], count, motion[1, j])
-            _add_along_axis(axis[j], revolute[j], state[2, i], count, motion[2, j])
-            _add_along_axis(axis[j], revolute[j], state[1, i], count, motion[3, j])
+            for m in range(1, 4):  # A's and B's accelerations: q' and q'' at the joint; B's velocity: q'
+                _to_child(rotation[j], origin[j], motion[m, p], motion[m, j], axis[j], revolute[j],
+                          state[2 if m == 2 else 1, i], count)
             _add_bias(axis[j], revolute[j], state[1, i], count, motion[3, j], motion[2, j])
             _mass_times(mass[j], lever[j], motion[0, j], count, force[0, j])
             for m in range(1, 3):
