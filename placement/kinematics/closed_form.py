@@ -22,10 +22,10 @@ def _closed_form(robot: Robot, task: TaskTrajectory,
     """Batched plug-in path: Taylor arithmetic gives rates, accelerations and ∂q/∂p at once (``columns``: each
     joint's q and v index, by name). Samples run along the arrays' last axis until the end."""
     model, n = robot.model, len(task)
-    # Row 0 carries the trajectory's derivatives; rows 1-3 the unit directions e_x, e_y, e_z (coordinate c's axis).
-    # The value is the same in every row: one row, broadcast.
-    rate, acceleration = np.zeros((3, 4, n)), np.zeros((3, 4, n))
-    rate[:, 0], acceleration[:, 0] = task.velocity_m_s.T, task.acceleration_m_s2.T
+    # Row 0 carries the trajectory's derivatives; rows 1-3 the unit directions e_x, e_y, e_z (coordinate c's axis),
+    # first derivatives only. The value is the same in every row: one row, broadcast.
+    rate, acceleration = np.zeros((3, 4, n)), np.ascontiguousarray(task.acceleration_m_s2.T)[:, None]
+    rate[:, 0] = task.velocity_m_s.T
     rate[:, 1:][np.eye(3, dtype=bool)] = 1.0
     value = np.ascontiguousarray(task.position_m.T)
     coordinates = tuple(Taylor2(value[c][None], rate[c], acceleration[c]) for c in range(3))
