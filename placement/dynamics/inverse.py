@@ -1,7 +1,9 @@
 """Exact inverse dynamics of closed-loop and serial robots, batched over samples.
 
-Pinocchio's RNEA gives the joint torques ``tau`` of the spanning tree moving with the closed-loop
-motion (q, v, a). Projecting them on the closure null space removes the unknown constraint forces
+The recursive Newton–Euler algorithm (RNEA) gives the joint torques ``tau`` of the spanning tree moving with the
+closed-loop motion (q, v, a): compiled passes over blocks of samples for a tree of revolute and prismatic joints
+(:mod:`placement.dynamics.tree_rnea`, equal to Pinocchio's to rounding), Pinocchio's ``rneaInParallel`` for
+another tree (:class:`TreeDynamics`). Projecting them on the closure null space removes the unknown constraint forces
 (``Gᵀ·Jᵀ·lambda = 0``), so the actuator efforts are
 
     F = Gᵀ·tau - (J_task·G)ᵀ·w_ext,
@@ -20,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
+from placement.dynamics.tree_rnea import joint_torques, path_torques, tree_inertias
 from placement.exceptions import PlacementError
 from placement.kinematics import joint_trajectory
 from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
@@ -68,6 +71,41 @@ def thread_count(threads: int | None, samples: int) -> int:
     return max(1, min(threads or os.cpu_count() or 1, samples // SAMPLES_PER_THREAD))
 
 
+class TreeDynamics:
+    """The joint torques of a spanning tree at many samples, by the compiled passes of
+    :mod:`placement.dynamics.tree_rnea` where every joint is revolute or prismatic, else by Pinocchio's RNEA.
+
+    Args:
+        model: The tree (read once, here: build another after changing it).
+    """
+
+    def __init__(self, model: pin.Model) -> None:
+        self.model, self.tree = model, tree_inertias(model)
+
+    def efforts(self, q: np.ndarray, v: np.ndarray, a: np.ndarray, basis: np.ndarray,
+                threads: int | None = None) -> np.ndarray:
+        """(N, m) Gᵀ·rnea(q, v, a) at N samples (rows), gravity and armature included, G = ``basis`` (N, nv, m).
+
+        Args:
+            threads: Most threads (default: every core; fewer on small batches).
+        """
+        if self.tree is None:
+            return np.matmul(rnea_batch(self.model, q, v, a, threads)[:, None, :], basis)[:, 0]
+        return joint_torques(self.tree, q, v, a, basis, thread_count(threads, len(q)))
+
+    def path_efforts(self, q: np.ndarray, rate: np.ndarray, curvature: np.ndarray, basis: np.ndarray,
+                     threads: int | None = None) -> np.ndarray:
+        """(N, 3, m) Gᵀ times the torques C = rnea(q, 0, 0), A = rnea(q, 0, q') − C and B = rnea(q, q', q'') − C at N
+        samples: in one pass (:func:`placement.dynamics.tree_rnea.path_torques`), or from three of Pinocchio's."""
+        if self.tree is not None:
+            return path_torques(self.tree, q, rate, curvature, basis, thread_count(threads, len(q)))
+        rest = np.zeros_like(rate)
+        static = rnea_batch(self.model, q, rest, rest, threads)
+        torques = np.stack([static, rnea_batch(self.model, q, rest, rate, threads) - static,
+                            rnea_batch(self.model, q, rate, curvature, threads) - static], axis=1)
+        return np.matmul(torques, basis)
+
+
 def openmp_started() -> bool:
     """Whether this process has run Pinocchio's RNEA on several OpenMP threads: a process forked from it then
     hangs in its own first parallel RNEA (GNU OpenMP's thread pool does not survive a fork)."""
@@ -75,7 +113,7 @@ def openmp_started() -> bool:
 
 
 def actuator_efforts(robot: Robot, joints: JointTrajectory, external_load: np.ndarray | None = None,
-                     threads: int | None = None) -> np.ndarray:
+                     threads: int | None = None, dynamics: TreeDynamics | None = None) -> np.ndarray:
     """Actuator efforts (N, n_act) for a known closed-loop joint motion.
 
     Args:
@@ -84,12 +122,12 @@ def actuator_efforts(robot: Robot, joints: JointTrajectory, external_load: np.nd
         external_load: (N, task_dim) load on the end effector from the environment, in the base
             frame at the end-effector origin: force (N), then moment (N·m) for a pose task.
         threads: Most threads of the batched RNEA (default: every core).
+        dynamics: The robot's tree dynamics, where the caller keeps them (default: built from ``robot.model``).
 
     Returns:
         Forces (N) or torques (N·m) at the actuated joints.
     """
-    tau = rnea_batch(robot.model, joints.q, joints.v, joints.a, threads)
-    effort = np.einsum("nva,nv->na", joints.basis, tau)
+    effort = (dynamics or TreeDynamics(robot.model)).efforts(joints.q, joints.v, joints.a, joints.basis, threads)
     if external_load is not None:
         effort -= load_efforts(joints, external_load)
     return effort

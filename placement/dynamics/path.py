@@ -13,8 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from placement.dynamics.inverse import load_efforts, rnea_batch, thread_count
-from placement.dynamics.tree_rnea import path_torques, tree_inertias
+from placement.dynamics.inverse import TreeDynamics, load_efforts
 from placement.kinematics.trajectories import JointTrajectory
 from placement.robot.model import Robot
 
@@ -127,7 +126,7 @@ class PathForm:
 
 
 def path_dynamics(robot: Robot, joints: JointTrajectory, force: np.ndarray, placements: int,
-                  threads: int | None = None) -> PathDynamics:
+                  threads: int | None = None, dynamics: TreeDynamics | None = None) -> PathDynamics:
     """The efforts along the path of K placements, from their joints' motion at unit speed along the path.
 
     Args:
@@ -136,28 +135,17 @@ def path_dynamics(robot: Robot, joints: JointTrajectory, force: np.ndarray, plac
         force: (K·N, 3 or 6) load on the end effector, as for :func:`placement.dynamics.inverse.actuator_efforts`.
         placements: K.
         threads: Most threads (default: every core; fewer on small batches).
+        dynamics: The robot's tree dynamics, where the caller keeps them (default: built from ``robot.model``).
 
     Returns:
         A, B and C: the tree's torques at rest under gravity, with q̈ = q' alone and with q̇ = q', q̈ = q''
-        without gravity (:func:`tree_torques`), projected on the actuators; C less the load's share.
+        without gravity (:meth:`TreeDynamics.path_efforts`), projected on the actuators; C less the load's share.
     """
     act = robot.actuated_v_indices
     shape = (placements, len(joints.q) // placements, len(act))
-    efforts = np.matmul(tree_torques(robot, joints, threads), joints.basis)  # (K·N, 3, n_act): C, A, B
+    efforts = (dynamics or TreeDynamics(robot.model)).path_efforts(joints.q, joints.v, joints.a, joints.basis,
+                                                                   threads)  # (K·N, 3, n_act): C, A, B
     static = efforts[:, 0] - load_efforts(joints, force)
     return PathDynamics(velocity=joints.v[:, act].reshape(shape), curvature=joints.a[:, act].reshape(shape),
                         inertia=efforts[:, 1].reshape(shape), centripetal=efforts[:, 2].reshape(shape),
                         static=static.reshape(shape))
-
-
-def tree_torques(robot: Robot, joints: JointTrajectory, threads: int | None = None) -> np.ndarray:
-    """(K·N, 3, nv) the spanning tree's joint torques C = rnea(q, 0, 0), A = rnea(q, 0, q') − C and
-    B = rnea(q, q', q'') − C at every sample: in one compiled pass (:mod:`placement.dynamics.tree_rnea`) for a
-    tree of revolute and prismatic joints, else from three batched calls of Pinocchio's RNEA."""
-    tree = tree_inertias(robot.model)
-    if tree is not None:
-        return path_torques(tree, joints.q, joints.v, joints.a, thread_count(threads, len(joints.q)))
-    rest = np.zeros_like(joints.v)
-    static = rnea_batch(robot.model, joints.q, rest, rest, threads)
-    return np.stack([static, rnea_batch(robot.model, joints.q, rest, joints.v, threads) - static,
-                     rnea_batch(robot.model, joints.q, joints.v, joints.a, threads) - static], axis=1)

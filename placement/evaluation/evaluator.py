@@ -20,11 +20,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from placement.drives.trace import motor_trace
-from placement.dynamics.inverse import actuator_efforts
+from placement.dynamics.inverse import TreeDynamics, actuator_efforts
 from placement.dynamics.path import path_dynamics
 from placement.energy.integration import Energy, sample_power
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.batch import EvaluatedBatch
+from placement.evaluation.memory import keep_freed_memory
 from placement.evaluation.parallel import process_pool
 from placement.evaluation.results import Evaluation, PlacementDetail
 from placement.exceptions import PlacementError
@@ -110,11 +111,13 @@ class Evaluator:
     def __init__(self, robot: Robot, path: ToolPath, settings: EvaluatorSettings = EvaluatorSettings(),
                  executor: Executor | None = None) -> None:
         REGENERATION.get(settings.regeneration)  # unknown names fail here, before any work
+        keep_freed_memory()  # the batches' arrays are reused, not faulted in again (placement.evaluation.memory)
         self.robot = robot
         self.path = path
         self.settings = settings
         self.threads = settings.threads or os.cpu_count() or 1
         self.solver = solver_for(robot, settings.method, self.threads)
+        self.dynamics = TreeDynamics(robot.model)
         self.objective_names = settings.objectives
         self.objective_name = self.objective_names[0]
         self.objectives: tuple[Objective, ...] = tuple(OBJECTIVES.get(name) for name in self.objective_names)
@@ -164,7 +167,7 @@ class Evaluator:
         reachable, position_m = reachable.reshape(k, len(solved)), task.position_m.reshape(k, len(solved), 3)
         timing = None
         if self.geometry is None:
-            effort = actuator_efforts(self.robot, joints, force, self.threads)
+            effort = actuator_efforts(self.robot, joints, force, self.threads, self.dynamics)
         else:
             timing = self._time_optimally(joints, force, np.asarray(reachable.all(axis=1)), law)
             joints, effort = timing.joints, timing.effort
@@ -190,7 +193,7 @@ class Evaluator:
         at the path geometry's samples; the motion comes back at the evaluated samples."""
         assert self.geometry is not None
         k, n, act = len(reachable), len(self.geometry), self.robot.actuated_v_indices
-        dynamics = path_dynamics(self.robot, joints, force, k, self.threads)
+        dynamics = path_dynamics(self.robot, joints, force, k, self.threads, self.dynamics)
         law = time_optimal(self.robot, self.geometry, dynamics, reachable) if given is None else given
         at_samples = law.at_samples(self.geometry)
         rows = (np.arange(k)[:, None] * n + self.geometry.grid_rows).ravel()

@@ -128,7 +128,7 @@ _WARNED: dict = {}  # the warnings shown: once per message and process
 
 def _turned(rotation: np.ndarray, vectors: np.ndarray) -> np.ndarray:
     """(K·N, 3) path-frame vectors (N, 3) turned by each placement's rotation (K, 3, 3), placement-major."""
-    return np.einsum("kij,nj->kni", rotation, vectors).reshape(-1, 3)
+    return np.matmul(vectors, rotation.transpose(0, 2, 1)).reshape(-1, 3)
 
 
 def transform_path_to_base(samples: PathSamples, placements: np.ndarray,

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import math
 import multiprocessing
 import os
 import time
@@ -202,15 +203,17 @@ class _Problem:
     def _remember(self, points: np.ndarray, evaluation: Evaluation) -> None:
         if len(self._cache) > 200_000:
             self._cache.clear()
-        for point, value, margins, reachable in zip(points, evaluation.value, evaluation.margins - self.required,
-                                                    evaluation.reachable, strict=True):
-            self._cache[point.tobytes()] = (float(value), margins)
-            violation = float(np.clip(-margins, 0.0, None).sum())
+        margins_less_required = evaluation.margins - self.required
+        violations = np.clip(-margins_less_required, 0.0, None).sum(axis=1)
+        for point, value, margins, reachable, violation in zip(points, evaluation.value.tolist(), margins_less_required,
+                                                               evaluation.reachable.tolist(), violations.tolist(),
+                                                               strict=True):
+            self._cache[point.tobytes()] = (value, margins)
             rank = (not reachable, violation)
             if violation > 0 and (self.least_infeasible is None or rank < self.least_infeasible[:2]):
-                self.least_infeasible = (not bool(reachable), violation, point, margins)
-            elif violation == 0 and np.isfinite(value):
-                signed = self.sign * float(value)
+                self.least_infeasible = (not reachable, violation, point, margins)
+            elif violation == 0 and math.isfinite(value):
+                signed = self.sign * value
                 self.best_feasible = signed if self.best_feasible is None else min(self.best_feasible, signed)
 
     def objective(self, points: np.ndarray) -> np.ndarray:

@@ -1,15 +1,16 @@
-"""The compiled Newton–Euler pass of the path dynamics (placement.dynamics.tree_rnea) is Pinocchio's RNEA: at every
-state, C = rnea(q, 0, 0), C + A = rnea(q, 0, q') and C + B = rnea(q, q', q''), on the robots and on random trees
-of every joint kind it takes; a tree it does not take goes to Pinocchio, and both routes give the same path
-dynamics."""
+"""The compiled Newton–Euler passes (placement.dynamics.tree_rnea) are Pinocchio's RNEA: at every state,
+joint_torques(q, v, a) = rnea(q, v, a), and the path dynamics' C = rnea(q, 0, 0), C + A = rnea(q, 0, q') and
+C + B = rnea(q, q', q''), on the robots and on random trees of every joint kind they take, over several blocks of
+samples, times any basis; a tree they do not take goes to Pinocchio, and both routes give the same efforts."""
 
 import numpy as np
 import pinocchio as pin
 import pytest
 
-from placement.dynamics import path as path_module
+from placement.dynamics import inverse as inverse_module
+from placement.dynamics.inverse import actuator_efforts
 from placement.dynamics.path import path_dynamics
-from placement.dynamics.tree_rnea import path_torques, tree_inertias
+from placement.dynamics.tree_rnea import BLOCK, _sine_versine, joint_torques, path_torques, tree_inertias
 from placement.kinematics import joint_trajectory
 from placement.robot import load_robot
 from tests.support.trajectories import orthoglide_path
@@ -37,6 +38,11 @@ def random_tree(rng: np.random.Generator, joints: int = 12) -> pin.Model:
     return model
 
 
+def identities(model: pin.Model, n: int) -> np.ndarray:
+    """(n, nv, nv) identity bases: the kernels' torques themselves."""
+    return np.ascontiguousarray(np.broadcast_to(np.eye(model.nv), (n, model.nv, model.nv)))
+
+
 def random_states(model: pin.Model, rng: np.random.Generator, n: int) -> tuple[np.ndarray, ...]:
     return rng.uniform(-np.pi, np.pi, (n, model.nq)), rng.standard_normal((n, model.nv)), rng.standard_normal((n, model.nv))
 
@@ -44,12 +50,15 @@ def random_states(model: pin.Model, rng: np.random.Generator, n: int) -> tuple[n
 def assert_pinocchios(model: pin.Model, q: np.ndarray, rate: np.ndarray, curvature: np.ndarray) -> None:
     tree = tree_inertias(model)
     assert tree is not None
-    torques = path_torques(tree, q, rate, curvature)
+    identity = identities(model, len(q))
+    torques, moving = path_torques(tree, q, rate, curvature, identity), joint_torques(tree, q, rate, curvature, identity)
     data, rest = model.createData(), np.zeros(model.nv)
     for n in range(len(q)):
         wanted = [pin.rnea(model, data, q[n], rest, rest).copy(), pin.rnea(model, data, q[n], rest, rate[n]).copy(),
                   pin.rnea(model, data, q[n], rate[n], curvature[n]).copy()]
         got = [torques[n, 0], torques[n, 0] + torques[n, 1], torques[n, 0] + torques[n, 2]]
+        wanted.append(wanted[2])
+        got.append(moving[n])
         scale = max(1.0, max(np.abs(w).max() for w in wanted))
         for found, want in zip(got, wanted):
             np.testing.assert_allclose(found, want, rtol=0.0, atol=1e-12 * scale)
@@ -57,10 +66,11 @@ def assert_pinocchios(model: pin.Model, q: np.ndarray, rate: np.ndarray, curvatu
 
 @pytest.mark.parametrize("name", ["orthoglide", "ur5", "delta", "fivebar", "panda"])
 def test_the_three_torques_of_a_robot_are_pinocchios(name):
-    """Random states of the robot (its drives' armature included): the three torques to 1e-12 of the largest."""
+    """Random states of the robot (its drives' armature included), over two and a half blocks: the torques to 1e-12
+    of the largest."""
     model = load_robot(name).model
     assert model.armature.any()
-    assert_pinocchios(model, *random_states(model, np.random.default_rng(7), 100))
+    assert_pinocchios(model, *random_states(model, np.random.default_rng(7), 5 * BLOCK // 2))
 
 
 def test_the_three_torques_of_a_random_tree_of_every_joint_kind_are_pinocchios():
@@ -75,8 +85,24 @@ def test_threads_share_the_samples_without_changing_a_torque():
     model = load_robot("ur5").model
     tree = tree_inertias(model)
     assert tree is not None
-    states = random_states(model, np.random.default_rng(5), 101)
-    np.testing.assert_array_equal(path_torques(tree, *states, threads=3), path_torques(tree, *states))
+    states = random_states(model, np.random.default_rng(5), 3 * BLOCK + 5)
+    identity = identities(model, len(states[0]))
+    np.testing.assert_array_equal(path_torques(tree, *states, identity, threads=3), path_torques(tree, *states, identity))
+    np.testing.assert_array_equal(joint_torques(tree, *states, identity, threads=3),
+                                  joint_torques(tree, *states, identity))
+
+
+def test_the_torques_times_a_basis_are_its_projection():
+    """A random (N, nv, 2) basis: the kernels' products equal their torques' times it, to 1e-12 of the largest."""
+    model = load_robot("orthoglide").model
+    tree = tree_inertias(model)
+    assert tree is not None
+    rng = np.random.default_rng(9)
+    states = random_states(model, rng, 2 * BLOCK + 3)
+    basis, identity = rng.standard_normal((len(states[0]), model.nv, 2)), identities(model, len(states[0]))
+    for kernel in (joint_torques, path_torques):
+        want = np.einsum("n...v,nvc->n...c", kernel(tree, *states, identity), basis)
+        np.testing.assert_allclose(kernel(tree, *states, basis), want, rtol=0.0, atol=1e-12 * np.abs(want).max())
 
 
 def test_a_tree_with_another_joint_kind_is_left_to_pinocchio():
@@ -85,15 +111,28 @@ def test_a_tree_with_another_joint_kind_is_left_to_pinocchio():
     assert tree_inertias(model) is None
 
 
-def test_pinocchios_route_gives_the_same_path_dynamics(orthoglide, monkeypatch):
-    """The Orthoglide along a path under a load: A, B and C through the compiled pass and through three batched
-    RNEA calls agree to 1e-12 of the largest."""
+def test_pinocchios_route_gives_the_same_efforts(orthoglide, monkeypatch):
+    """The Orthoglide along a path under a load: its actuator efforts, and A, B and C, through the compiled passes
+    and through batched RNEA calls agree to 1e-12 of the largest."""
     joints = joint_trajectory(orthoglide, orthoglide_path(np.linspace(0.0, 1.0, 120)))
     force = np.random.default_rng(2).normal(0.0, 50.0, (len(joints), 3))
-    compiled = path_dynamics(orthoglide, joints, force, 2)
-    monkeypatch.setattr(path_module, "tree_inertias", lambda model: None)
+    compiled, efforts = path_dynamics(orthoglide, joints, force, 2), actuator_efforts(orthoglide, joints, force)
+    monkeypatch.setattr(inverse_module, "tree_inertias", lambda model: None)
     pinocchio = path_dynamics(orthoglide, joints, force, 2)
+    np.testing.assert_allclose(efforts, actuator_efforts(orthoglide, joints, force), rtol=0.0,
+                               atol=1e-12 * np.abs(efforts).max())
     for name in ("inertia", "centripetal", "static"):
         want = getattr(pinocchio, name)
         np.testing.assert_allclose(getattr(compiled, name), want, rtol=0.0, atol=1e-12 * np.abs(want).max())
     assert np.abs(compiled.inertia).max() > 1.0 and np.abs(compiled.centripetal).max() > 1.0
+
+
+def test_the_sine_and_versine_are_the_c_librarys_to_two_units_in_the_last_place():
+    """Random angles to 1e5 rad, the quadrants' edges (multiples of π/4) and tiny angles: sin within 2 ulp of
+    numpy's (or 4e-30, where it is as small as sin(k·π) of a float near k·π), 1 − cos within 2.3e-16."""
+    rng = np.random.default_rng(3)
+    angles = np.concatenate([rng.uniform(-1e5, 1e5, 4000), rng.uniform(-7.0, 7.0, 4000),
+                             np.arange(-64, 65) * np.pi / 4, [0.0, 1e-300, -1e-20, 1e-8]])
+    sine, versine = np.array([_sine_versine(angle) for angle in angles]).T
+    np.testing.assert_array_less(np.abs(sine - np.sin(angles)), 2.01 * np.spacing(np.abs(np.sin(angles))) + 4e-30)
+    np.testing.assert_array_less(np.abs(versine - (1.0 - np.cos(angles))), 2.3e-16)
