@@ -39,7 +39,8 @@ from placement.cli.common import (
 )
 from placement.cli.exceptions import UsageError
 from placement.cli.front import parse_members, parse_objectives, place_front
-from placement.dynamics.tree_rnea import touch_tree_kernels, tree_inertias
+from placement.dynamics.inverse import TreeDynamics
+from placement.dynamics.tree_rnea import touch_tree_kernels
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.evaluation.parallel import Cluster, cluster, scheduler_address
@@ -191,9 +192,10 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
     print(f"{path.name} on {robot.name}: {len(path.segments)} segment(s), {path.length_m * 1e3:.1f} mm, "
           f"{feed_words(path)}, {timing_words(path, samples)}; energy: {REGENERATION.get(args.regen).description}"
           + ("" if args.objective == "energy" else f"; objective: {objective.title} ({args.objective})"))
-    if tree_inertias(robot.model) is not None:
-        optimal = path.timing.mode == "optimal"
-        compile_noticed(lambda: touch_tree_kernels(optimal), "the dynamics", "a few seconds")
+    dynamics, optimal = TreeDynamics(robot.model), path.timing.mode == "optimal"
+    if dynamics.tree is not None and (dynamics.compiled_efforts or optimal):
+        compile_noticed(lambda: touch_tree_kernels(dynamics.compiled_efforts, optimal), "the dynamics",
+                        "a few seconds")
     evaluation = EvaluatorSettings(objective=args.objective, regeneration=args.regen, time_step_s=args.time_step,
                                    workers=remote.threads if remote else None, margin=args.margin / 100)
     document = job_document(robot, path, evaluation, len(samples))

@@ -1,10 +1,10 @@
 """Exact inverse dynamics of closed-loop and serial robots, batched over samples.
 
 The recursive Newton–Euler algorithm (RNEA) gives the joint torques ``tau`` of the spanning tree moving with the
-closed-loop motion (q, v, a): compiled passes over blocks of samples for a tree of revolute and prismatic joints
-(:mod:`placement.dynamics.tree_rnea`, equal to Pinocchio's to rounding), Pinocchio's ``rneaInParallel`` for
-another tree (:class:`TreeDynamics`). Projecting them on the closure null space removes the unknown constraint forces
-(``Gᵀ·Jᵀ·lambda = 0``), so the actuator efforts are
+closed-loop motion (q, v, a): compiled passes over blocks of samples for a large tree of revolute and prismatic
+joints (:mod:`placement.dynamics.tree_rnea`, equal to Pinocchio's to rounding), Pinocchio's ``rneaInParallel``
+for another tree (:class:`TreeDynamics` says which). Projecting them on the closure null space removes the
+unknown constraint forces (``Gᵀ·Jᵀ·lambda = 0``), so the actuator efforts are
 
     F = Gᵀ·tau - (J_task·G)ᵀ·w_ext,
 
@@ -29,6 +29,7 @@ from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
 from placement.robot.model import Robot
 
 SAMPLES_PER_THREAD = 1000  # threads pay off on large batches only
+COMPILED_FROM_JOINTS = 12  # joints of the smallest tree whose efforts take the compiled pass (TreeDynamics)
 _openmp_started = False  # whether this process has run RNEA on several OpenMP threads (see openmp_started)
 
 
@@ -75,12 +76,21 @@ class TreeDynamics:
     """The joint torques of a spanning tree at many samples, by the compiled passes of
     :mod:`placement.dynamics.tree_rnea` where every joint is revolute or prismatic, else by Pinocchio's RNEA.
 
+    The efforts of a timed motion (:meth:`efforts`) take the compiled pass on a tree of COMPILED_FROM_JOINTS joints
+    or more (a closed-loop robot's legs); on a smaller one (a serial arm), Pinocchio's RNEA costs about a
+    microsecond a sample beside several of kinematics, and spares a machine's first run the pass's compile (about 4 s
+    of CPU). The path dynamics of the optimal timing law (:meth:`path_efforts`) take it on every such tree.
+
+    Attributes:
+        compiled_efforts: Whether :meth:`efforts` takes the compiled pass.
+
     Args:
         model: The tree (read once, here: build another after changing it).
     """
 
     def __init__(self, model: pin.Model) -> None:
         self.model, self.tree = model, tree_inertias(model)
+        self.compiled_efforts = self.tree is not None and model.nv >= COMPILED_FROM_JOINTS
 
     def efforts(self, q: np.ndarray, v: np.ndarray, a: np.ndarray, basis: np.ndarray,
                 threads: int | None = None) -> np.ndarray:
@@ -89,7 +99,7 @@ class TreeDynamics:
         Args:
             threads: Most threads (default: every core; fewer on small batches).
         """
-        if self.tree is None:
+        if self.tree is None or not self.compiled_efforts:
             return np.matmul(rnea_batch(self.model, q, v, a, threads)[:, None, :], basis)[:, 0]
         return joint_torques(self.tree, q, v, a, basis, thread_count(threads, len(q)))
 

@@ -112,15 +112,16 @@ def path_torques(tree: TreeInertias, q: np.ndarray, rate: np.ndarray, curvature:
     return out
 
 
-def touch_tree_kernels(path: bool = False) -> None:
-    """Compile the kernel of :func:`joint_torques`, and with ``path`` that of :func:`path_torques` (or load them from
-    the disk cache), by running them on a one-joint tree: their numba types do not depend on the robot."""
+def touch_tree_kernels(joint: bool = True, path: bool = False) -> None:
+    """Compile the kernel of :func:`joint_torques` (``joint``) and that of :func:`path_torques` (``path``), or load
+    them from the disk cache, by running them on a one-joint tree: their numba types do not depend on the robot."""
     model = pin.Model()
     model.addJoint(0, pin.JointModelRZ(), pin.SE3.Identity(), "joint")
     tree = tree_inertias(model)
     assert tree is not None
     rest, basis = np.zeros((1, 1)), np.ones((1, 1, 1))
-    joint_torques(tree, rest, rest, rest, basis)
+    if joint:
+        joint_torques(tree, rest, rest, rest, basis)
     if path:
         path_torques(tree, rest, rest, rest, basis)
 

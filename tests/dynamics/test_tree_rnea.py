@@ -136,3 +136,16 @@ def test_the_sine_and_versine_are_the_c_librarys_to_two_units_in_the_last_place(
     sine, versine = np.array([_sine_versine(angle) for angle in angles]).T
     np.testing.assert_array_less(np.abs(sine - np.sin(angles)), 2.01 * np.spacing(np.abs(np.sin(angles))) + 4e-30)
     np.testing.assert_array_less(np.abs(versine - (1.0 - np.cos(angles))), 2.3e-16)
+
+
+def test_a_serial_arm_s_efforts_are_pinocchios_and_a_closed_loop_robot_s_compiled():
+    """The UR5's six joints take Pinocchio's RNEA (bit for bit its projection), the Orthoglide's eighteen the
+    compiled pass (TreeDynamics.compiled_efforts)."""
+    from placement.dynamics.inverse import TreeDynamics, rnea_batch
+
+    arm, legs = TreeDynamics(load_robot("ur5").model), TreeDynamics(load_robot("orthoglide").model)
+    assert not arm.compiled_efforts and legs.compiled_efforts
+    q, v, a = random_states(arm.model, np.random.default_rng(4), 50)
+    basis = np.random.default_rng(5).standard_normal((50, arm.model.nv, 2))
+    np.testing.assert_array_equal(arm.efforts(q, v, a, basis),
+                                  np.matmul(rnea_batch(arm.model, q, v, a)[:, None, :], basis)[:, 0])
