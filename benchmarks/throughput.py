@@ -131,13 +131,12 @@ def main() -> None:
     workspace = robot.workspace
     axes = {axis: np.linspace(workspace.min_m[k], workspace.max_m[k], 41) for k, axis in enumerate("xy")}
     seconds = {}
-    for workers in (1, 2, None):
+    for workers in (1, 2):
         tic = time.perf_counter()
         sweep(robot, evaluator.path, axes, {"z": 0.0, "phi": 0.0}, evaluation=EvaluatorSettings(workers=workers))
         seconds[workers] = time.perf_counter() - tic
     print(f"41 x 41 (x, y) energy map of the 30 x 60 mm rectangle at z = 0, phi = 0: {seconds[1]:.2f} s with 1 worker, "
-          f"{seconds[2]:.2f} s with 2 workers (speed-up {seconds[1] / seconds[2]:.2f}, process start-up included), "
-          f"{seconds[None]:.2f} s by default (worker processes only where they pay)")
+          f"{seconds[2]:.2f} s with 2 workers (speed-up {seconds[1] / seconds[2]:.2f}, process start-up included)")
 
 
 if __name__ == "__main__":

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import json
 import os
-import time
 from collections.abc import Callable
 from concurrent.futures import Executor
 from dataclasses import dataclass
@@ -31,7 +30,6 @@ from placement.registry import runtime_members
 from placement.robot.model import Robot
 
 CHUNK_PLACEMENTS = 128  # placements per task
-POOL_PAYS_S = 3.0  # work left (s, at the first chunk's pace) from which worker processes pay for their start-up
 
 
 @dataclass(frozen=True)
@@ -121,8 +119,8 @@ def sweep(robot: Robot, path: ToolPath, axes: dict[str, np.ndarray], fixed: dict
         fixed: Values of the other variables (default 0).
         evaluation: How placements are evaluated: one objective (default: electric energy),
             regeneration policy, path sampling step, ...; its workers are the worker processes of
-            the default pool (default: every core, once the first chunk, here, shows that the rest takes
-            POOL_PAYS_S or more; 1 runs in this process).
+            the default pool (default: every core; 1 runs in this process), each evaluating a
+            chunk on one thread.
         executor: Any ``concurrent.futures.Executor`` to run the chunks instead of the default pool.
         progress: Called with the number of placements finished after each chunk.
 
@@ -145,30 +143,12 @@ def sweep(robot: Robot, path: ToolPath, axes: dict[str, np.ndarray], fixed: dict
     registered = runtime_members(members_used(robot, (objective,), regeneration, evaluation.method))
     jobs = [EvaluationJob(robot, path, evaluation, placements[i:i + CHUNK_PLACEMENTS], registered)
             for i in range(0, len(placements), CHUNK_PLACEMENTS)]
-    results = _evaluated(jobs, evaluation.workers, executor, progress)
+    results = run_in_order(evaluate_job, [(job,) for job in jobs], evaluation.workers or os.cpu_count() or 1, executor,
+                           (lambda k: progress(len(jobs[k].placements))) if progress else None)
     shape = tuple(len(v) for v in values)
     evaluated = Evaluation.concatenate(results)
     return SweepResult(variables=variables, axes=values, fixed=base, value=evaluated.value.reshape(shape),
                        feasible=evaluated.feasible.reshape(shape),
                        tightest=evaluated.margins.argmin(axis=1).reshape(shape), limits=evaluated.limits,
                        robot=robot.name, path=path.name, regeneration=regeneration, objective=objective)
-
-
-def _evaluated(jobs: list[EvaluationJob], workers: int | None, executor: Executor | None,
-               progress: Callable[[int], None] | None) -> list[Evaluation]:
-    """Each job's evaluation, in order: on ``executor``, or ``workers`` processes (1: here). With the default
-    (None: every core), the first job runs here, timed, and the processes start only when the work left would take
-    POOL_PAYS_S or more at that pace (a process costs its start-up, and each job carries the robot to it)."""
-    def done(offset: int) -> Callable[[int], None] | None:
-        return (lambda k: progress(len(jobs[offset + k].placements))) if progress else None
-
-    cores = os.cpu_count() or 1
-    if executor is not None or workers is not None or cores == 1 or len(jobs) == 1:
-        return run_in_order(evaluate_job, [(job,) for job in jobs], workers or cores, executor, done(0))
-    start = time.perf_counter()
-    first = evaluate_job(jobs[0])
-    if progress:
-        progress(len(jobs[0].placements))
-    pays = (time.perf_counter() - start) * (len(jobs) - 1) >= POOL_PAYS_S
-    return [first, *run_in_order(evaluate_job, [(job,) for job in jobs[1:]], cores if pays else 1, None, done(1))]
 

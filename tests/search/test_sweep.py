@@ -1,6 +1,5 @@
 """Energy maps: parallel = serial = the evaluator, any executor, files that reload, figures."""
 
-import os
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
@@ -107,24 +106,3 @@ def test_a_plug_in_robot_changed_in_memory_travels_to_the_workers(serial):
 def test_contour_labels_tell_the_levels_apart(levels):
     labels = [f"%.{label_decimals(levels)}f" % level for level in levels]
     assert len(set(labels)) == len(labels)
-
-
-def test_by_default_a_map_starts_processes_only_where_they_pay(serial, monkeypatch):
-    """With the default workers (every core), the first chunk runs here, timed: the processes start only when the
-    work left would take POOL_PAYS_S at that pace; here or there, the same map."""
-    from placement.evaluation import parallel as parallel_module
-    from placement.search import sweep as sweep_module
-
-    if (os.cpu_count() or 1) < 2:
-        pytest.skip("one core: a map always runs here")
-    robot, path, result = serial
-    monkeypatch.setattr(sweep_module, "CHUNK_PLACEMENTS", 10)  # five chunks
-    pools, original = [], parallel_module.process_pool
-    monkeypatch.setattr(parallel_module, "process_pool", lambda workers, *a, **k: pools.append(workers) or
-                        original(workers, *a, **k))
-    for pays_s, started in ((1e9, []), (0.0, [min(os.cpu_count() or 1, 4)])):  # the four chunks left, in processes
-        monkeypatch.setattr(sweep_module, "POOL_PAYS_S", pays_s)
-        found = sweep(robot, path, AXES, FIXED, evaluation=EvaluatorSettings(time_step_s=0.004))
-        assert pools == started
-        np.testing.assert_array_equal(found.value, result.value)
-        np.testing.assert_array_equal(found.tightest, result.tightest)
