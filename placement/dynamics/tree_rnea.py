@@ -317,6 +317,19 @@ def _add_to_parent(rotation, origin, force, parent, count):
 
 
 @_uncounted
+def _start_block(q, first, second, start, stop, gravity, state, base):
+    """The block of samples from ``start`` (at most BLOCK, before ``stop``): its samples into ``state``
+    (:func:`_gather`), and gravity, as an upward acceleration of the base, into ``base`` (the universe's row
+    (6, BLOCK) of the acceleration that carries it). Returns the block's samples."""
+    count = min(BLOCK, stop - start)
+    _gather(q, first, second, start, count, state)
+    for k in range(3):
+        for n in range(count):
+            base[k, n] = -gravity[k]
+    return count
+
+
+@_uncounted
 def _gather(q, first, second, start, count, state):
     """``state`` (3, nv, BLOCK): the samples ``start`` to ``start + count`` of q and the two rates (N, nv), a joint's
     along each row."""
@@ -346,11 +359,7 @@ def _joint_torques(parent, constants, axis, revolute, index, mass, lever, inerti
     acceleration (2, nj, 6, BLOCK), zeros, and its force (1, nj, 6, BLOCK); the block's q, v and a (3, nv, BLOCK)
     and torques (1, nv, BLOCK)."""
     for first in range(start, stop, BLOCK):
-        count = min(BLOCK, stop - first)
-        _gather(q, v, a, first, count, state)
-        for k in range(3):
-            for n in range(count):
-                motion[1, 0, k, n] = -gravity[k]
+        count = _start_block(q, v, a, first, stop, gravity, state, motion[1, 0])
         for j in range(1, len(parent)):
             p, i = parent[j], index[j]
             _place(constants[j], axis[j], revolute[j], state[0, i], count, rotation[j], origin[j])
@@ -377,11 +386,7 @@ def _path_torques(parent, constants, axis, revolute, index, mass, lever, inertia
     the samples ``start`` to ``stop``; the scratch as :func:`_joint_torques`', with four motions per joint (C's,
     A's and B's accelerations, B's velocity: zeros), three forces and three torques."""
     for first in range(start, stop, BLOCK):
-        count = min(BLOCK, stop - first)
-        _gather(q, rate, curvature, first, count, state)
-        for k in range(3):
-            for n in range(count):
-                motion[0, 0, k, n] = -gravity[k]
+        count = _start_block(q, rate, curvature, first, stop, gravity, state, motion[0, 0])
         for j in range(1, len(parent)):
             p, i = parent[j], index[j]
             _place(constants[j], axis[j], revolute[j], state[0, i], count, rotation[j], origin[j])
