@@ -11,7 +11,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from placement.kinematics.base import SINGULAR_CONDITION, SOLVERS, KinematicsSolver
+from placement.kinematics.base import SINGULAR_CONDITION, SOLVERS, KinematicsSolver, condition_1
 from placement.kinematics.taylor import Taylor2
 from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
 from placement.robot.model import Robot
@@ -43,8 +43,7 @@ def _closed_form(robot: Robot, task: TaskTrajectory,
     actuated = jacobian[robot.actuated_v_indices]  # ∂rho/∂p
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         task_map = _inverses(actuated)  # ∂p/∂rho
-        condition = np.abs(actuated).sum(axis=0).max(axis=0) * np.abs(task_map).sum(axis=0).max(axis=0)
-    bad = ~(finite & (condition < SINGULAR_CONDITION))  # a nan condition too
+    bad = ~(finite & (condition_1(np.moveaxis(actuated, -1, 0), np.moveaxis(task_map, -1, 0)) < SINGULAR_CONDITION))
     if bad.any():  # finite placeholders: the reference configuration at rest
         q[:, bad], v[:, bad], a[:, bad], jacobian[..., bad] = robot.reference_q[:, None], 0.0, 0.0, 0.0
         task_map[..., bad] = np.eye(3)[..., None]

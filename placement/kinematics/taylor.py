@@ -86,7 +86,7 @@ def _second_rows(*second: np.ndarray) -> int | None:
 
 
 def _cut(first: np.ndarray, rows: int | None) -> np.ndarray:
-    """First derivatives restricted to the leading ``rows`` that second derivatives carry (module docstring)."""
+    """First derivatives restricted to the leading ``rows`` that second derivatives carry (see :class:`Taylor2`)."""
     return first[:rows] if rows is not None and np.ndim(first) >= 2 and len(first) > rows else first
 
 
