@@ -35,8 +35,8 @@ class PathDynamics:
     static: np.ndarray
 
     def rows(self, index: np.ndarray) -> PathDynamics:
-        """The same at some samples (an index into the sample axis)."""
-        return PathDynamics(*(getattr(self, f.name)[:, index] for f in dataclasses.fields(PathDynamics)))
+        """The same at some samples (an index into the sample axis), each array C-contiguous."""
+        return PathDynamics(*(np.take(getattr(self, f.name), index, axis=1) for f in dataclasses.fields(PathDynamics)))
 
     def efforts(self, speed: np.ndarray, acceleration: np.ndarray) -> np.ndarray:
         """(K, N, n_act) actuator efforts for ṡ and s̈ of shape (K, N)."""

@@ -208,7 +208,7 @@ def _to_child(rotation, origin, parent, child, axis, revolute, rates, count):
         d2 = parent[2, n] - (origin[0, n] * w1 - origin[1, n] * w0)
         r0, r1, r2, r3, r4, r5 = rotation[0, n], rotation[1, n], rotation[2, n], rotation[3, n], rotation[4, n], \
             rotation[5, n]
-        r6, r7, r8, rate = rotation[6, n], rotation[7, n], rotation[8, n], rates[n]
+        r6, r7, r8 = rotation[6, n], rotation[7, n], rotation[8, n]
         child[0, n] = r0 * d0 + r3 * d1 + r6 * d2
         child[1, n] = r1 * d0 + r4 * d1 + r7 * d2
         child[2, n] = r2 * d0 + r5 * d1 + r8 * d2
