@@ -35,8 +35,9 @@ class PathDynamics:
     static: np.ndarray
 
     def rows(self, index: np.ndarray) -> PathDynamics:
-        """The same at some samples (an index into the sample axis), each array C-contiguous."""
-        return PathDynamics(*(np.take(getattr(self, f.name), index, axis=1) for f in dataclasses.fields(PathDynamics)))
+        """The same at some samples (an index into the sample axis), laid out column by column
+        (:func:`sample_rows`)."""
+        return PathDynamics(*(sample_rows(getattr(self, f.name), index) for f in dataclasses.fields(PathDynamics)))
 
     def efforts(self, speed: np.ndarray, acceleration: np.ndarray) -> np.ndarray:
         """(K, N, n_act) actuator efforts for ṡ and s̈ of shape (K, N)."""
@@ -61,6 +62,14 @@ class PathDynamics:
     def effort(self) -> PathForm:
         """The actuator efforts A·s̈ + B·ṡ² + C."""
         return PathForm(a=self.inertia, b=self.centripetal, c=self.static)
+
+
+def sample_rows(values: np.ndarray, index: np.ndarray) -> np.ndarray:
+    """(K, len(index), m) ``values`` (K, N, m) at some samples, laid out column by column: each column's (K,
+    len(index)) numbers contiguous, so that numpy's elementwise operations and reductions on them run along the
+    samples (on rows of m numbers, m = 3 actuators, each of its loops runs about six times slower) and a
+    placement's values do not depend on the other placements of its batch."""
+    return np.moveaxis(np.take(np.moveaxis(values, -1, 0), index, axis=-1), 0, -1)
 
 
 class PathForm:

@@ -21,7 +21,7 @@ import numpy as np
 
 from placement.drives.trace import motor_trace
 from placement.dynamics.inverse import TreeDynamics, actuator_efforts
-from placement.dynamics.path import path_dynamics
+from placement.dynamics.path import path_dynamics, sample_rows
 from placement.energy.integration import Energy, sample_power
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.batch import EvaluatedBatch
@@ -178,7 +178,7 @@ class Evaluator:
             timing = self._time_optimally(joints, force, np.asarray(reachable.all(axis=1)), law)
             joints, position, velocity, acceleration = timing.joints, timing.position, timing.velocity, timing.acceleration
             effort = timing.effort
-            reachable, position_m = reachable[:, self.geometry.grid_rows], position_m[:, self.geometry.grid_rows]
+            reachable, position_m = reachable[:, self.geometry.grid_rows], sample_rows(position_m, self.geometry.grid_rows)
         self.evaluations += k
         return EvaluatedBatch(robot=self.robot, samples=self.samples, placements=placements, reachable=reachable,
                               tool_position_m=position_m, position=position, velocity=velocity,

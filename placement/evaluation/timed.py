@@ -14,7 +14,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from placement.dynamics.path import PathDynamics
+from placement.dynamics.path import PathDynamics, sample_rows
 from placement.kinematics.trajectories import JointTrajectory
 from placement.path.samples import PathGeometry
 from placement.robot.model import Robot
@@ -58,7 +58,7 @@ def optimal_motion(robot: Robot, geometry: PathGeometry, unit: JointTrajectory, 
     speed, acceleration = at_samples.speed_m_s, at_samples.acceleration_m_s2
     at_rows = dynamics.rows(grid)
     velocity, accelerated = timed_rates(at_rows.velocity, at_rows.curvature, speed[..., None], acceleration[..., None])
-    position = np.take(unit.q[:, robot.actuated_q_indices].reshape(k, len(geometry), -1), grid, axis=1)
+    position = sample_rows(unit.q[:, robot.actuated_q_indices].reshape(k, len(geometry), -1), grid)
     rows = (np.arange(k)[:, None] * len(geometry) + grid).ravel()
     return OptimalMotion(law, at_samples, TimedJoints(unit, rows, speed.reshape(-1, 1), acceleration.reshape(-1, 1)),
                          position, velocity, accelerated, at_rows.efforts(speed, acceleration))

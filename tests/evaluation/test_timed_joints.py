@@ -1,7 +1,7 @@
 """Under the optimal timing law, every joint's motion at the evaluated samples (gathered when first read) is the
 motion the actuators' own arrays describe: the same actuated positions and rates, and passive joints moving as the
-closure lets them (v = G·ρ̇); it pickles as a plain joint trajectory; and ranking placements by energy reads none of
-it."""
+closure lets them (v = G·ρ̇); it pickles as a plain joint trajectory; ranking placements by energy reads none of it;
+and the actuators' arrays are laid out column by column."""
 
 import dataclasses
 import pickle
@@ -50,3 +50,10 @@ def test_ranking_by_energy_reads_no_joint_motion():
     values = batch_values(batch, evaluator.objectives, reachable)
     assert np.isfinite(values).all() and np.isfinite(margins).all()
     assert not {field.name for field in dataclasses.fields(JointTrajectory)} & set(vars(batch.joints))
+
+
+def test_the_actuators_arrays_run_along_the_samples():
+    _, _, batch = optimal_batch()  # numpy's elementwise loops then span the samples, not rows of 3 actuators
+    for name in ("tool_position_m", "position", "velocity", "acceleration", "effort"):
+        values = getattr(batch, name)
+        assert all(values[..., column].flags.c_contiguous for column in range(values.shape[2])), name
