@@ -32,7 +32,7 @@ from numba import njit
 
 from placement.kinematics.tree import joint_axes, joint_constants
 
-BLOCK = 64  # samples per pass of a kernel
+BLOCK = 192  # samples per pass of a kernel
 TWO_OVER_PI = 6.36619772367581382433e-01
 HALF_PI = (1.57079632673412561417e+00, 6.07710050630396597660e-11, 2.02226624871116645580e-21)  # π/2, 33 bits each
 SINE = (-1.66666666666666324348e-01, 8.33333333332248946124e-03, -1.98412698298579493134e-04,
@@ -108,7 +108,7 @@ def path_torques(tree: TreeInertias, q: np.ndarray, rate: np.ndarray, curvature:
         threads: Threads, each on its share of the samples (the kernel releases the GIL).
     """
     out = np.empty((len(q), 3, basis.shape[2]))
-    _in_threads(_path_torques, tree, (q, rate, curvature), basis, out, (4, 3), threads)
+    _in_threads(_path_torques, tree, (q, rate, curvature), basis, out, (3, 3), threads)
     return out
 
 
@@ -198,21 +198,26 @@ def _place(constants, axis, revolute, q, count, rotation, origin):
 def _to_child(rotation, origin, parent, child, axis, revolute, rates, count):
     """``child`` (6, BLOCK) = the motions ``parent`` (linear, angular) in the child's frame, Rᵀ·(v − t × ω) and Rᵀ·ω,
     plus the joint's own: its ``axis`` times ``rates[:count]``, angular about a revolute axis, linear along a
-    prismatic one."""
+    prismatic one. Each sample's numbers are all read before any is written (``child`` might alias them, as far as
+    the compiler knows, it would read them again after each write)."""
+    shift = 3 if revolute else 0  # the rows the joint's own motion adds to
     for n in range(count):
         w0, w1, w2 = parent[3, n], parent[4, n], parent[5, n]
         d0 = parent[0, n] - (origin[1, n] * w2 - origin[2, n] * w1)
         d1 = parent[1, n] - (origin[2, n] * w0 - origin[0, n] * w2)
         d2 = parent[2, n] - (origin[0, n] * w1 - origin[1, n] * w0)
-        rate = rates[n]
-        for c in range(3):
-            r0, r1, r2 = rotation[c, n], rotation[3 + c, n], rotation[6 + c, n]
-            turning, moving = r0 * w0 + r1 * w1 + r2 * w2, r0 * d0 + r1 * d1 + r2 * d2
-            if revolute:
-                turning += axis[c] * rate
-            else:
-                moving += axis[c] * rate
-            child[3 + c, n], child[c, n] = turning, moving
+        r0, r1, r2, r3, r4, r5 = rotation[0, n], rotation[1, n], rotation[2, n], rotation[3, n], rotation[4, n], \
+            rotation[5, n]
+        r6, r7, r8 = rotation[6, n], rotation[7, n], rotation[8, n]
+        child[0, n] = r0 * d0 + r3 * d1 + r6 * d2
+        child[1, n] = r1 * d0 + r4 * d1 + r7 * d2
+        child[2, n] = r2 * d0 + r5 * d1 + r8 * d2
+        child[3, n] = r0 * w0 + r3 * w1 + r6 * w2
+        child[4, n] = r1 * w0 + r4 * w1 + r7 * w2
+        child[5, n] = r2 * w0 + r5 * w1 + r8 * w2
+    for c in range(3):
+        for n in range(count):
+            child[shift + c, n] += axis[c] * rates[n]
 
 
 @_uncounted
@@ -240,11 +245,12 @@ def _mass_times(mass, lever, motion, count, out):
 def _add_bias(axis, revolute, rates, count, velocity, acceleration):
     """``acceleration`` (6, BLOCK) gains v × (S·q̇), v = ``velocity`` (the joint's own motion in it), S·q̇ the axis
     times ``rates``: (ω × s_lin + v × s_ang, ω × s_ang)."""
+    e0, e1, e2 = axis[0], axis[1], axis[2]
     for n in range(count):
         s = rates[n]
         w0, w1, w2 = velocity[3, n], velocity[4, n], velocity[5, n]
         x0, x1, x2 = (velocity[0, n], velocity[1, n], velocity[2, n]) if revolute else (w0, w1, w2)
-        a0, a1, a2 = axis[0] * s, axis[1] * s, axis[2] * s
+        a0, a1, a2 = e0 * s, e1 * s, e2 * s
         acceleration[0, n] += x1 * a2 - x2 * a1
         acceleration[1, n] += x2 * a0 - x0 * a2
         acceleration[2, n] += x0 * a1 - x1 * a0
@@ -259,29 +265,48 @@ def _inertia_times(mass, lever, inertia, motion, count, out):
     """``out`` (6, BLOCK) = the spatial inertia (mass, lever, inertia about the centre of mass) times ``motion``
     (linear, angular): m·(v − c × ω), then I_c·ω + c × that."""
     c0, c1, c2 = lever[0], lever[1], lever[2]
+    i00, i01, i02, i10, i11, i12, i20, i21, i22 = inertia[0, 0], inertia[0, 1], inertia[0, 2], inertia[1, 0], \
+        inertia[1, 1], inertia[1, 2], inertia[2, 0], inertia[2, 1], inertia[2, 2]
     for n in range(count):
         w0, w1, w2 = motion[3, n], motion[4, n], motion[5, n]
         l0 = mass * (motion[0, n] - (c1 * w2 - c2 * w1))
         l1 = mass * (motion[1, n] - (c2 * w0 - c0 * w2))
         l2 = mass * (motion[2, n] - (c0 * w1 - c1 * w0))
         out[0, n], out[1, n], out[2, n] = l0, l1, l2
-        out[3, n] = inertia[0, 0] * w0 + inertia[0, 1] * w1 + inertia[0, 2] * w2 + (c1 * l2 - c2 * l1)
-        out[4, n] = inertia[1, 0] * w0 + inertia[1, 1] * w1 + inertia[1, 2] * w2 + (c2 * l0 - c0 * l2)
-        out[5, n] = inertia[2, 0] * w0 + inertia[2, 1] * w1 + inertia[2, 2] * w2 + (c0 * l1 - c1 * l0)
+        out[3, n] = i00 * w0 + i01 * w1 + i02 * w2 + (c1 * l2 - c2 * l1)
+        out[4, n] = i10 * w0 + i11 * w1 + i12 * w2 + (c2 * l0 - c0 * l2)
+        out[5, n] = i20 * w0 + i21 * w1 + i22 * w2 + (c0 * l1 - c1 * l0)
 
 
 @_uncounted
 def _add_velocity_force(mass, lever, inertia, velocity, count, force):
     """``force`` (6, BLOCK) gains v ×* (I·v), v = ``velocity``: (ω × h_lin, ω × h_ang + v × h_lin), h = I·v."""
     c0, c1, c2 = lever[0], lever[1], lever[2]
+    i00, i01, i02, i10, i11, i12, i20, i21, i22 = inertia[0, 0], inertia[0, 1], inertia[0, 2], inertia[1, 0], \
+        inertia[1, 1], inertia[1, 2], inertia[2, 0], inertia[2, 1], inertia[2, 2]
     for n in range(count):
         v0, v1, v2, w0, w1, w2 = velocity[0, n], velocity[1, n], velocity[2, n], velocity[3, n], velocity[4, n], velocity[5, n]
         h0 = mass * (v0 - (c1 * w2 - c2 * w1))
         h1 = mass * (v1 - (c2 * w0 - c0 * w2))
         h2 = mass * (v2 - (c0 * w1 - c1 * w0))
-        g0 = inertia[0, 0] * w0 + inertia[0, 1] * w1 + inertia[0, 2] * w2 + (c1 * h2 - c2 * h1)
-        g1 = inertia[1, 0] * w0 + inertia[1, 1] * w1 + inertia[1, 2] * w2 + (c2 * h0 - c0 * h2)
-        g2 = inertia[2, 0] * w0 + inertia[2, 1] * w1 + inertia[2, 2] * w2 + (c0 * h1 - c1 * h0)
+        g0 = i00 * w0 + i01 * w1 + i02 * w2 + (c1 * h2 - c2 * h1)
+        g1 = i10 * w0 + i11 * w1 + i12 * w2 + (c2 * h0 - c0 * h2)
+        g2 = i20 * w0 + i21 * w1 + i22 * w2 + (c0 * h1 - c1 * h0)
+        force[0, n] += w1 * h2 - w2 * h1
+        force[1, n] += w2 * h0 - w0 * h2
+        force[2, n] += w0 * h1 - w1 * h0
+        force[3, n] += w1 * g2 - w2 * g1 + v1 * h2 - v2 * h1
+        force[4, n] += w2 * g0 - w0 * g2 + v2 * h0 - v0 * h2
+        force[5, n] += w0 * g1 - w1 * g0 + v0 * h1 - v1 * h0
+
+
+@_uncounted
+def _add_momentum_force(velocity, momentum, count, force):
+    """``force`` (6, BLOCK) gains v ×* h for a motion v = ``velocity`` and its momentum h = I·v = ``momentum``
+    (6, BLOCK), already known (:func:`_add_velocity_force` computes it): (ω × h_lin, ω × h_ang + v × h_lin)."""
+    for n in range(count):
+        v0, v1, v2, w0, w1, w2 = velocity[0, n], velocity[1, n], velocity[2, n], velocity[3, n], velocity[4, n], velocity[5, n]
+        h0, h1, h2, g0, g1, g2 = momentum[0, n], momentum[1, n], momentum[2, n], momentum[3, n], momentum[4, n], momentum[5, n]
         force[0, n] += w1 * h2 - w2 * h1
         force[1, n] += w2 * h0 - w0 * h2
         force[2, n] += w0 * h1 - w1 * h0
@@ -293,27 +318,28 @@ def _add_velocity_force(mass, lever, inertia, velocity, count, force):
 @_uncounted
 def _project(axis, revolute, force, count, out):
     """``out[:count]`` = the joint's torque: its axis · the force's moment (revolute) or linear part."""
-    shift = 3 if revolute else 0
+    shift, e0, e1, e2 = 3 if revolute else 0, axis[0], axis[1], axis[2]
     for n in range(count):
-        out[n] = axis[0] * force[shift, n] + axis[1] * force[shift + 1, n] + axis[2] * force[shift + 2, n]
+        out[n] = e0 * force[shift, n] + e1 * force[shift + 1, n] + e2 * force[shift + 2, n]
 
 
 @_uncounted
 def _add_to_parent(rotation, origin, force, parent, count):
-    """``parent`` (6, BLOCK) += ``force`` (linear, moment) in the child's frame, in the parent's: R·f, R·n + t × R·f."""
+    """``parent`` (6, BLOCK) += ``force`` (linear, moment) in the child's frame, in the parent's: R·f, R·n + t × R·f.
+    Each sample's numbers are all read before any is written (``parent`` might alias them, as far as the compiler
+    knows, it would read them again after each write)."""
     for n in range(count):
-        f0 = rotation[0, n] * force[0, n] + rotation[1, n] * force[1, n] + rotation[2, n] * force[2, n]
-        f1 = rotation[3, n] * force[0, n] + rotation[4, n] * force[1, n] + rotation[5, n] * force[2, n]
-        f2 = rotation[6, n] * force[0, n] + rotation[7, n] * force[1, n] + rotation[8, n] * force[2, n]
+        r0, r1, r2, r3, r4, r5 = rotation[0, n], rotation[1, n], rotation[2, n], rotation[3, n], rotation[4, n], \
+            rotation[5, n]
+        r6, r7, r8, t0, t1, t2 = rotation[6, n], rotation[7, n], rotation[8, n], origin[0, n], origin[1, n], origin[2, n]
+        x0, x1, x2, y0, y1, y2 = force[0, n], force[1, n], force[2, n], force[3, n], force[4, n], force[5, n]
+        f0, f1, f2 = r0 * x0 + r1 * x1 + r2 * x2, r3 * x0 + r4 * x1 + r5 * x2, r6 * x0 + r7 * x1 + r8 * x2
         parent[0, n] += f0
         parent[1, n] += f1
         parent[2, n] += f2
-        for r in range(3):
-            parent[3 + r, n] += rotation[3 * r, n] * force[3, n] + rotation[3 * r + 1, n] * force[4, n] \
-                + rotation[3 * r + 2, n] * force[5, n]
-        parent[3, n] += origin[1, n] * f2 - origin[2, n] * f1
-        parent[4, n] += origin[2, n] * f0 - origin[0, n] * f2
-        parent[5, n] += origin[0, n] * f1 - origin[1, n] * f0
+        parent[3, n] = (parent[3, n] + (r0 * y0 + r1 * y1 + r2 * y2)) + (t1 * f2 - t2 * f1)
+        parent[4, n] = (parent[4, n] + (r3 * y0 + r4 * y1 + r5 * y2)) + (t2 * f0 - t0 * f2)
+        parent[5, n] = (parent[5, n] + (r6 * y0 + r7 * y1 + r8 * y2)) + (t0 * f1 - t1 * f0)
 
 
 @_uncounted
@@ -383,22 +409,22 @@ def _joint_torques(parent, constants, axis, revolute, index, mass, lever, inerti
 def _path_torques(parent, constants, axis, revolute, index, mass, lever, inertia, armature, gravity, q, rate,
                   curvature, basis, out, start, stop, rotation, origin, motion, force, state, torque):
     """:func:`path_torques` on flat arrays (q, rate, curvature (N, nv), ``basis`` (N, nv, m), ``out`` (N, 3, m)) for
-    the samples ``start`` to ``stop``; the scratch as :func:`_joint_torques`', with four motions per joint (C's,
-    A's and B's accelerations, B's velocity: zeros), three forces and three torques."""
+    the samples ``start`` to ``stop``; the scratch as :func:`_joint_torques`', with three motions per joint (C's, A's
+    and B's accelerations: zeros), three forces and three torques. A's acceleration is B's velocity too (both are q'
+    at every joint from a base at rest), and A's force its momentum."""
     for first in range(start, stop, BLOCK):
         count = _start_block(q, rate, curvature, first, stop, gravity, state, motion[0, 0])
         for j in range(1, len(parent)):
             p, i = parent[j], index[j]
             _place(constants[j], axis[j], revolute[j], state[0, i], count, rotation[j], origin[j])
             _linear_to_child(rotation[j], motion[0, p], motion[0, j], count)  # C: gravity alone, never turning
-            for m in range(1, 4):  # A's and B's accelerations: q' and q'' at the joint; B's velocity: q'
-                _to_child(rotation[j], origin[j], motion[m, p], motion[m, j], axis[j], revolute[j],
-                          state[2 if m == 2 else 1, i], count)
-            _add_bias(axis[j], revolute[j], state[1, i], count, motion[3, j], motion[2, j])
+            for m in range(1, 3):  # A's and B's accelerations: q' and q'' at the joint
+                _to_child(rotation[j], origin[j], motion[m, p], motion[m, j], axis[j], revolute[j], state[m, i], count)
+            _add_bias(axis[j], revolute[j], state[1, i], count, motion[1, j], motion[2, j])
             _mass_times(mass[j], lever[j], motion[0, j], count, force[0, j])
             for m in range(1, 3):
                 _inertia_times(mass[j], lever[j], inertia[j], motion[m, j], count, force[m, j])
-            _add_velocity_force(mass[j], lever[j], inertia[j], motion[3, j], count, force[2, j])
+            _add_momentum_force(motion[1, j], force[1, j], count, force[2, j])
         for j in range(len(parent) - 1, 0, -1):
             p, i = parent[j], index[j]
             for m in range(3):

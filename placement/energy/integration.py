@@ -146,7 +146,7 @@ def electric_energy(robot: Robot, trace: MotorTrace, t_s: np.ndarray, piece: np.
     # Every policy sums the actuators first, then integrates, so the ordering of the built-in
     # policies holds exactly in floating point, interval by interval.
     shaped = policy.axis_power(drive.parts.total_W)
-    supply = policy.supply_power(shaped.sum(axis=-1))
+    supply = policy.supply_power(_over_actuators(shaped))
     # each placement's own times (the optimal law): a row sum, which is the same for a placement in any batch, as
     # einsum's is not then
     total = (supply * dt).sum(axis=-1) if dt.ndim > 1 else np.einsum("...n,...n->...", supply, dt)
@@ -155,11 +155,26 @@ def electric_energy(robot: Robot, trace: MotorTrace, t_s: np.ndarray, piece: np.
     if drive.step_J is not None:
         steps, (given, taken) = drive.steps, drive.step_J
         drawn = np.where(steps[..., None], policy.axis_power(given) + policy.axis_power(taken), 0.0)
-        total = total + np.where(steps, policy.supply_power(drawn.sum(axis=-1)), 0.0).sum(axis=-1)
-        per_actuator = per_actuator + drawn.sum(axis=-2)
-        inductive = inductive + np.where(steps[..., None], given + taken, 0.0).sum(axis=-2)
+        total = total + np.where(steps, policy.supply_power(_over_actuators(drawn)), 0.0).sum(axis=-1)
+        per_actuator = per_actuator + _over_intervals(drawn)
+        inductive = inductive + _over_intervals(np.where(steps[..., None], given + taken, 0.0))
     return Energy(total_J=total, per_actuator_J=per_actuator, joule_J=drive.joule_J, inductive_J=inductive,
                   back_emf_J=drive.back_emf_J, mechanical_J=drive.mechanical_J, regeneration=regeneration)
+
+
+def _over_actuators(power: np.ndarray) -> np.ndarray:
+    """(..., N-1) the sum of (..., N-1, n_act) over the actuators, one after the other (as numpy's sum, which runs
+    about thirty times slower over so short an axis)."""
+    total = power[..., 0]
+    for column in range(1, power.shape[-1]):
+        total = total + power[..., column]
+    return total
+
+
+def _over_intervals(energy: np.ndarray) -> np.ndarray:
+    """(..., n_act) the sum of (..., N-1, n_act) over the intervals, actuator by actuator (numpy's sum over the middle
+    axis runs about fifteen times slower)."""
+    return np.stack([energy[..., column].sum(axis=-1) for column in range(energy.shape[-1])], axis=-1)
 
 
 def step_energies(robot: Robot, trace: MotorTrace) -> tuple[np.ndarray, np.ndarray]:

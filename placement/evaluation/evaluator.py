@@ -21,13 +21,14 @@ import numpy as np
 
 from placement.drives.trace import motor_trace
 from placement.dynamics.inverse import TreeDynamics, actuator_efforts
-from placement.dynamics.path import path_dynamics
+from placement.dynamics.path import path_dynamics, sample_rows
 from placement.energy.integration import Energy, sample_power
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.batch import EvaluatedBatch
 from placement.evaluation.memory import keep_freed_memory
 from placement.evaluation.parallel import process_pool
 from placement.evaluation.results import Evaluation, PlacementDetail
+from placement.evaluation.timed import OptimalMotion, optimal_motion
 from placement.exceptions import PlacementError
 from placement.kinematics.base import solver_for
 from placement.kinematics.trajectories import JointTrajectory
@@ -37,7 +38,7 @@ from placement.path.toolpath import ToolPath
 from placement.placing.transform import placed_task
 from placement.registry import restore_runtime_members, runtime_members
 from placement.robot.model import Robot
-from placement.timing.law import TimeLaw, timed_rates
+from placement.timing.law import TimeLaw
 from placement.timing.optimal import time_optimal
 from placement.timing.rules import check_timing
 
@@ -166,17 +167,18 @@ class Evaluator:
         joints, reachable, _ = self.solver.solve(task, k)
         reachable, position_m = reachable.reshape(k, len(solved)), task.position_m.reshape(k, len(solved), 3)
         timing = None
+        act_v = self.robot.actuated_v_indices
         if self.geometry is None:
             effort = actuator_efforts(self.robot, joints, force, self.threads, self.dynamics)
+            shape = (k, len(self.samples), len(act_v))
+            position = joints.q[:, self.robot.actuated_q_indices].reshape(shape)
+            velocity, acceleration = joints.v[:, act_v].reshape(shape), joints.a[:, act_v].reshape(shape)
+            effort = effort.reshape(shape)
         else:
             timing = self._time_optimally(joints, force, np.asarray(reachable.all(axis=1)), law)
-            joints, effort = timing.joints, timing.effort
-            reachable, position_m = reachable[:, self.geometry.grid_rows], position_m[:, self.geometry.grid_rows]
-        act_v = self.robot.actuated_v_indices
-        shape = (k, len(self.samples), len(act_v))
-        position = joints.q[:, self.robot.actuated_q_indices].reshape(shape)
-        velocity, acceleration = joints.v[:, act_v].reshape(shape), joints.a[:, act_v].reshape(shape)
-        effort = effort.reshape(shape)
+            joints, position, velocity, acceleration = timing.joints, timing.position, timing.velocity, timing.acceleration
+            effort = timing.effort
+            reachable, position_m = reachable[:, self.geometry.grid_rows], sample_rows(position_m, self.geometry.grid_rows)
         self.evaluations += k
         return EvaluatedBatch(robot=self.robot, samples=self.samples, placements=placements, reachable=reachable,
                               tool_position_m=position_m, position=position, velocity=velocity,
@@ -192,17 +194,9 @@ class Evaluator:
         """Time each placement optimally (:mod:`placement.timing`), or as ``given``, from its motion at unit speed
         at the path geometry's samples; the motion comes back at the evaluated samples."""
         assert self.geometry is not None
-        k, n, act = len(reachable), len(self.geometry), self.robot.actuated_v_indices
-        dynamics = path_dynamics(self.robot, joints, force, k, self.threads, self.dynamics)
+        dynamics = path_dynamics(self.robot, joints, force, len(reachable), self.threads, self.dynamics)
         law = time_optimal(self.robot, self.geometry, dynamics, reachable) if given is None else given
-        at_samples = law.at_samples(self.geometry)
-        rows = (np.arange(k)[:, None] * n + self.geometry.grid_rows).ravel()
-        unit = JointTrajectory(*(getattr(joints, f.name)[rows] for f in dataclasses.fields(JointTrajectory)))
-        speed, acceleration = at_samples.speed_m_s.reshape(-1, 1), at_samples.acceleration_m_s2.reshape(-1, 1)
-        velocity, accelerated = timed_rates(unit.v, unit.a, speed, acceleration)
-        timed = dataclasses.replace(unit, v=velocity, a=accelerated)
-        effort = dynamics.rows(self.geometry.grid_rows).efforts(at_samples.speed_m_s, at_samples.acceleration_m_s2)
-        return OptimalMotion(law, at_samples, timed, effort.reshape(-1, len(act)))
+        return optimal_motion(self.robot, self.geometry, joints, dynamics, law)
 
     def evaluate(self, placements: np.ndarray) -> Evaluation:
         """Objective and tightest margins of (K, 6) placements."""
@@ -295,23 +289,6 @@ def _hold_effort(robot: Robot, joints: JointTrajectory) -> np.ndarray:
     still = np.zeros_like(joints.v[last])
     return actuator_efforts(robot, JointTrajectory(joints.q[last], still, still, joints.basis[last],
                                                    joints.task_map[last]), threads=1)[0]
-
-
-@dataclass(frozen=True)
-class OptimalMotion:
-    """K placements under the optimal timing law (:meth:`Evaluator._time_optimally`).
-
-    Attributes:
-        law: Their timing at the path geometry's samples.
-        samples_law: The same at the evaluated samples.
-        joints: Every joint's motion at the evaluated samples, K·N rows.
-        effort: (K·N, n_act) the actuator efforts there.
-    """
-
-    law: TimeLaw
-    samples_law: TimeLaw
-    joints: JointTrajectory
-    effort: np.ndarray
 
 
 def _first(energy: Energy) -> Energy:

@@ -123,9 +123,16 @@ def worst_margins(fields: list[MarginField]) -> tuple[np.ndarray, tuple[str, ...
         (K, n_limits) margins and the n_limits labels "kind: where". Keeping the limits apart
         (rather than their minimum) keeps each one smooth for the local search.
     """
-    margins = np.concatenate([field.margin.min(axis=1) for field in fields], axis=-1)
+    margins = np.concatenate([_least_over_samples(field.margin) for field in fields], axis=-1)
     labels = tuple(f"{field.kind}: {name}" for field in fields for name in field.where)
     return margins, labels
+
+
+def _least_over_samples(margin: np.ndarray) -> np.ndarray:
+    """(K, m) the least of (K, N, m) margins over the samples, column by column: numpy's reduction over the middle
+    axis of a C-contiguous array runs about ten times slower (its inner loops then span the m columns alone)."""
+    columns = [margin[..., column].min(axis=1) for column in range(margin.shape[2])]
+    return np.stack(columns, axis=-1) if columns else np.empty((len(margin), 0))
 
 
 def tightest(fields: list[MarginField], placement: int = 0) -> list[Margin]:

@@ -127,6 +127,20 @@ def test_pinocchios_route_gives_the_same_efforts(orthoglide, monkeypatch):
     assert np.abs(compiled.inertia).max() > 1.0 and np.abs(compiled.centripetal).max() > 1.0
 
 
+def test_the_path_dynamics_keep_each_placement_s_samples_and_lay_each_actuator_out_along_them(orthoglide):
+    """Sample n of placement k is row k·N + n of the joints' motion and of the compiled pass's torques, and each
+    actuator's (K, N) numbers are contiguous (numpy's loops on them then run along the samples)."""
+    joints = joint_trajectory(orthoglide, orthoglide_path(np.linspace(0.0, 1.0, 120)))
+    dynamics = path_dynamics(orthoglide, joints, np.zeros((len(joints), 3)), 3)
+    torques = path_torques(tree_inertias(orthoglide.model), joints.q, joints.v, joints.a, joints.basis)
+    act, shape = orthoglide.actuated_v_indices, (3, 40, 3)
+    for name, want in (("velocity", joints.v[:, act]), ("curvature", joints.a[:, act]), ("static", torques[:, 0]),
+                       ("inertia", torques[:, 1]), ("centripetal", torques[:, 2])):
+        values = getattr(dynamics, name)
+        np.testing.assert_array_equal(values, want.reshape(shape), err_msg=name)
+        assert all(values[..., column].flags.c_contiguous for column in range(3)), name
+
+
 def test_the_sine_and_versine_are_the_c_librarys_to_two_units_in_the_last_place():
     """Random angles to 1e5 rad, the quadrants' edges (multiples of π/4) and tiny angles: sin within 2 ulp of
     numpy's (or 4e-30, where it is as small as sin(k·π) of a float near k·π), 1 − cos within 2.3e-16."""
