@@ -2,7 +2,9 @@
 
 The plug-in (``kinematics_plugin`` in the sidecar) gives every joint as a function of the platform
 position, written with second-order Taylor arithmetic (:mod:`placement.kinematics.taylor`), so that one numpy
-pass yields positions, exact rates and accelerations, and ``∂q/∂p`` for all samples at once.
+pass yields positions, exact rates and accelerations, and ``∂q/∂p`` for all samples at once. A plug-in that
+also has a compiled solver (:mod:`placement.robot.plugins`) runs that instead, and a compiled kernel here makes its
+joints' motion from it (the same operations in the same order as the numpy path: the same numbers).
 """
 
 from __future__ import annotations
@@ -10,11 +12,14 @@ from __future__ import annotations
 from typing import ClassVar
 
 import numpy as np
+from numba import njit
 
+from placement.exceptions import PlacementError
 from placement.kinematics.base import SINGULAR_CONDITION, SOLVERS, KinematicsSolver, condition_1
 from placement.kinematics.taylor import Taylor2
 from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
 from placement.robot.model import Robot
+from placement.robot.plugins import CompiledClosedForm, make_compiled_closed_form
 
 
 def _closed_form(robot: Robot, task: TaskTrajectory,
@@ -80,9 +85,92 @@ class ClosedFormSolver(KinematicsSolver):
         super().__init__(robot, threads)
         model = robot.model
         self._columns = {model.names[j]: (joint.idx_q, joint.idx_v) for j, joint in enumerate(model.joints)}
+        self._compiled = make_compiled_closed_form(robot.plugin, model, robot.sidecar_path)
 
     def solve(self, task: TaskTrajectory, placements: int = 1) -> tuple[JointTrajectory, np.ndarray, str]:
-        return _closed_form(self.robot, task, self._columns)
+        if self._compiled is None:
+            return _closed_form(self.robot, task, self._columns)
+        return _compiled_closed_form(self.robot, task, self._compiled, self._columns)
+
+
+def _compiled_closed_form(robot: Robot, task: TaskTrajectory, solve: CompiledClosedForm,
+                          columns: dict[str, tuple[int, int]]) -> tuple[JointTrajectory, np.ndarray, str]:
+    """:func:`_closed_form` by the plug-in's compiled solver and :func:`_joint_motion` (the same numbers)."""
+    names, value, rate, acceleration, gradient = solve(task.position_m, task.velocity_m_s, task.acceleration_m_s2)
+    unknown = sorted(set(names) - set(columns))
+    if unknown:
+        raise PlacementError(f"robot '{robot.name}': the compiled kinematics plug-in returns joints the model does not "
+                             f"have: {unknown}")
+    index = np.array([columns[name] for name in names], dtype=np.int64).reshape(-1, 2)
+    q, v, a, basis, task_map, regular = _joint_motion(
+        value, rate, acceleration, gradient, index[:, 0], index[:, 1], robot.actuated_v_indices.astype(np.int64),
+        robot.reference_q.astype(float), robot.model.nq, robot.model.nv, SINGULAR_CONDITION)
+    return JointTrajectory(q, v, a, basis, task_map), regular, "outside the reach of the closed-form kinematics or singular"
+
+
+@njit(cache=True, error_model="numpy")
+def _joint_motion(value, rate, second, gradient, q_index, v_index, actuated, reference_q, nq, nv, singular):
+    """Every joint's motion from the plug-in's joints (value, rate, acceleration (N, J), gradient (N, J, 3)) as
+    :func:`_closed_form` makes it: q, v, a (N, nq or nv), basis (N, nv, 3), task map (N, 3, 3), regular (N,)."""
+    n = len(value)
+    q, v, a = np.zeros((n, nq)), np.zeros((n, nv)), np.zeros((n, nv))
+    basis, task_map, regular = np.zeros((n, nv, 3)), np.zeros((n, 3, 3)), np.zeros(n, dtype=np.bool_)
+    jacobian, matrix, inverse = np.zeros((nv, 3)), np.zeros((3, 3)), np.zeros((3, 3))  # ∂q/∂p, ∂rho/∂p, ∂p/∂rho
+    for k in range(n):
+        jacobian[:] = 0.0
+        for j in range(len(q_index)):
+            q[k, q_index[j]], v[k, v_index[j]], a[k, v_index[j]] = value[k, j], rate[k, j], second[k, j]
+            for c in range(3):
+                jacobian[v_index[j], c] = gradient[k, j, c]
+        for i in range(3):
+            for c in range(3):
+                matrix[i, c] = jacobian[actuated[i], c]
+        _invert(matrix, inverse)
+        regular[k] = _finite(q[k]) and _finite(v[k]) and _finite(a[k]) and _finite(jacobian.ravel()) \
+            and _condition_1(matrix, inverse) < singular
+        if not regular[k]:  # finite placeholders: the reference configuration at rest
+            q[k], v[k], a[k], jacobian[:], inverse[:] = reference_q, 0.0, 0.0, 0.0, 0.0
+            for c in range(3):
+                inverse[c, c] = 1.0
+        task_map[k] = inverse
+        for i in range(nv):
+            for c in range(3):
+                basis[k, i, c] = jacobian[i, 0] * inverse[0, c] + jacobian[i, 1] * inverse[1, c] \
+                    + jacobian[i, 2] * inverse[2, c]
+    return q, v, a, basis, task_map, regular
+
+
+@njit(error_model="numpy")
+def _finite(values):
+    for value in values:
+        if not np.isfinite(value):
+            return False
+    return True
+
+
+@njit(error_model="numpy")
+def _invert(m, inverse):
+    """:func:`_inverses` of one matrix, into ``inverse``."""
+    a, b, c, d, e, f, g, h, i = m[0, 0], m[0, 1], m[0, 2], m[1, 0], m[1, 1], m[1, 2], m[2, 0], m[2, 1], m[2, 2]
+    inverse[0, 0], inverse[0, 1], inverse[0, 2] = e * i - f * h, c * h - b * i, b * f - c * e
+    inverse[1, 0], inverse[1, 1], inverse[1, 2] = f * g - d * i, a * i - c * g, c * d - a * f
+    inverse[2, 0], inverse[2, 1], inverse[2, 2] = d * h - e * g, b * g - a * h, a * e - b * d
+    determinant = a * inverse[0, 0] + b * inverse[1, 0] + c * inverse[2, 0]
+    for row in range(3):
+        for column in range(3):
+            inverse[row, column] = inverse[row, column] / determinant
+
+
+@njit(error_model="numpy")
+def _condition_1(matrix, inverse):
+    """:func:`placement.kinematics.base.condition_1` of one matrix (inf where the inverse is not finite)."""
+    if not _finite(inverse.ravel()):
+        return np.inf
+    norm = inverse_norm = 0.0
+    for c in range(3):
+        norm = max(norm, np.abs(matrix[0, c]) + np.abs(matrix[1, c]) + np.abs(matrix[2, c]))
+        inverse_norm = max(inverse_norm, np.abs(inverse[0, c]) + np.abs(inverse[1, c]) + np.abs(inverse[2, c]))
+    return norm * inverse_norm
 
 
 SOLVERS.add("closed_form", ClosedFormSolver)

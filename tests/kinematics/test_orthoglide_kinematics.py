@@ -122,3 +122,24 @@ def test_unreachable_positions_are_reported_not_nan(orthoglide, method):
         joint_trajectory(orthoglide, static(points), method)
     assert error.value.sample_indices == [1]
     assert error.value.n_unreachable == 1
+
+
+def test_compiled_plugin_gives_the_taylor_arithmetic_numbers_bit_for_bit(orthoglide):
+    """The plug-in's compiled solver (which the closed_form solver runs) against its Taylor arithmetic, at every
+    sample: inside the cube, beyond the legs' reach, and where a square root or an arc tangent's radius is zero."""
+    from placement.kinematics.closed_form import ClosedFormSolver, _closed_form
+
+    rng = np.random.default_rng(7)
+    n = 3000
+    points = rng.uniform(-0.3, 0.3, (n, 3))
+    points[:4] = [[0.0, LEG, 0.0], [0.0, 0.0, 0.0], [LEG, 0.0, 0.0], [Q_MINUS] * 3]  # sqrt(0), O_b, a leg stretched
+    task = TaskTrajectory(points, rng.normal(0.0, 1.0, (n, 3)), rng.normal(0.0, 10.0, (n, 3)))
+    solver = ClosedFormSolver(orthoglide, 1)
+    assert solver._compiled is not None  # the Orthoglide's plug-in has one: the comparison below is not with itself
+    compiled, reachable, _ = solver.solve(task)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        taylor, taylor_reachable, _ = _closed_form(orthoglide, task, solver._columns)
+    assert 0 < reachable.sum() < n and not reachable[0] and reachable[1]
+    np.testing.assert_array_equal(reachable, taylor_reachable)
+    for field in ("q", "v", "a", "basis", "task_map"):
+        np.testing.assert_array_equal(getattr(compiled, field), getattr(taylor, field), err_msg=field)
