@@ -113,11 +113,17 @@ def _joint_motion(value, rate, second, gradient, q_index, v_index, actuated, ref
     """Every joint's motion from the plug-in's joints (value, rate, acceleration (N, J), gradient (N, J, 3)) as
     :func:`_closed_form` makes it: q, v, a (N, nq or nv), basis (N, nv, 3), task map (N, 3, 3), regular (N,)."""
     n = len(value)
-    q, v, a = np.zeros((n, nq)), np.zeros((n, nv)), np.zeros((n, nv))
-    basis, task_map, regular = np.zeros((n, nv, 3)), np.zeros((n, 3, 3)), np.zeros(n, dtype=np.bool_)
+    q, v, a = np.empty((n, nq)), np.empty((n, nv)), np.empty((n, nv))
+    basis, task_map, regular = np.empty((n, nv, 3)), np.empty((n, 3, 3)), np.empty(n, dtype=np.bool_)
     jacobian, matrix, inverse = np.zeros((nv, 3)), np.zeros((3, 3)), np.zeros((3, 3))  # ∂q/∂p, ∂rho/∂p, ∂p/∂rho
+    q_free, v_free = np.ones(nq, dtype=np.bool_), np.ones(nv, dtype=np.bool_)
+    q_free[q_index], v_free[v_index] = False, False
+    q_zero, v_zero = np.flatnonzero(q_free), np.flatnonzero(v_free)  # the joints the plug-in leaves out: at 0
     for k in range(n):
-        jacobian[:] = 0.0
+        for left_out in q_zero:
+            q[k, left_out] = 0.0
+        for left_out in v_zero:
+            v[k, left_out], a[k, left_out] = 0.0, 0.0
         for j in range(len(q_index)):
             q[k, q_index[j]], v[k, v_index[j]], a[k, v_index[j]] = value[k, j], rate[k, j], second[k, j]
             for c in range(3):
@@ -126,7 +132,7 @@ def _joint_motion(value, rate, second, gradient, q_index, v_index, actuated, ref
             for c in range(3):
                 matrix[i, c] = jacobian[actuated[i], c]
         _invert(matrix, inverse)
-        regular[k] = _finite(q[k]) and _finite(v[k]) and _finite(a[k]) and _finite(jacobian.ravel()) \
+        regular[k] = _finite(q[k]) and _finite(v[k]) and _finite(a[k]) and _finite(jacobian) \
             and _condition_1(matrix, inverse) < singular
         if not regular[k]:  # finite placeholders: the reference configuration at rest
             q[k], v[k], a[k], jacobian[:], inverse[:] = reference_q, 0.0, 0.0, 0.0, 0.0
@@ -142,10 +148,10 @@ def _joint_motion(value, rate, second, gradient, q_index, v_index, actuated, ref
 
 @njit(error_model="numpy")
 def _finite(values):
-    for value in values:
-        if not np.isfinite(value):
-            return False
-    return True
+    finite = True
+    for value in values.flat:  # no early exit: a loop the compiler turns into vector instructions
+        finite &= np.isfinite(value)
+    return finite
 
 
 @njit(error_model="numpy")
@@ -164,7 +170,7 @@ def _invert(m, inverse):
 @njit(error_model="numpy")
 def _condition_1(matrix, inverse):
     """:func:`placement.kinematics.base.condition_1` of one matrix (inf where the inverse is not finite)."""
-    if not _finite(inverse.ravel()):
+    if not _finite(inverse):
         return np.inf
     norm = inverse_norm = 0.0
     for c in range(3):
