@@ -108,6 +108,15 @@ def _compiled_closed_form(robot: Robot, task: TaskTrajectory, solve: CompiledClo
     return JointTrajectory(q, v, a, basis, task_map), regular, "outside the reach of the closed-form kinematics or singular"
 
 
+def touch_joint_motion_kernel() -> None:
+    """Compile the kernel that makes every joint's motion from a compiled plug-in (about 5 s of CPU on a machine's
+    first run), or load it from numba's disk cache, by running it on one sample of one joint: its numba types do not
+    depend on the robot."""
+    one, index = np.zeros((1, 1)), np.zeros(1, dtype=np.int64)
+    _joint_motion(one, one, one, np.zeros((1, 1, 3)), index, index, np.zeros(3, dtype=np.int64), np.zeros(1), 1, 1,
+                  SINGULAR_CONDITION)
+
+
 @njit(cache=True, error_model="numpy")
 def _joint_motion(value, rate, second, gradient, q_index, v_index, actuated, reference_q, nq, nv, singular):
     """Every joint's motion from the plug-in's joints (value, rate, acceleration (N, J), gradient (N, J, 3)) as
