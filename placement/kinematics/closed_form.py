@@ -2,70 +2,50 @@
 
 The plug-in (``kinematics_plugin`` in the sidecar) gives every joint as a function of the platform
 position, written with second-order Taylor arithmetic (:mod:`placement.kinematics.taylor`), so that one numpy
-pass yields positions, exact rates and accelerations, and ``∂q/∂p`` for all samples at once. A plug-in that
-also has a compiled solver (:mod:`placement.robot.plugins`) runs that instead, and a compiled kernel here makes its
-joints' motion from it (the same operations in the same order as the numpy path: the same numbers).
+pass yields positions, exact rates and accelerations, and ``∂q/∂p`` for all samples at once; a plug-in that
+also has a compiled solver (:mod:`placement.robot.plugins`) gives the same faster. A compiled kernel here makes
+every joint's motion from them: the actuators' task map by the adjugate, the singular samples, the null-space basis.
 """
 
 from __future__ import annotations
 
+import functools
 from typing import ClassVar
 
 import numpy as np
 from numba import njit
 
 from placement.exceptions import PlacementError
-from placement.kinematics.base import SINGULAR_CONDITION, SOLVERS, KinematicsSolver, condition_1
+from placement.kinematics.base import SINGULAR_CONDITION, SOLVERS, KinematicsSolver
 from placement.kinematics.taylor import Taylor2
 from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
 from placement.robot.model import Robot
 from placement.robot.plugins import CompiledClosedForm, make_compiled_closed_form
 
 
-def _closed_form(robot: Robot, task: TaskTrajectory,
-                 columns: dict[str, tuple[int, int]]) -> tuple[JointTrajectory, np.ndarray, str]:
-    """Batched plug-in path: Taylor arithmetic gives rates, accelerations and ∂q/∂p at once (``columns``: each
-    joint's q and v index, by name). Samples run along the arrays' last axis until the end."""
-    model, n = robot.model, len(task)
+def _by_taylor_arithmetic(robot: Robot, position_m: np.ndarray, velocity_m_s: np.ndarray,
+                          acceleration_m_s2: np.ndarray) -> tuple[tuple[str, ...], np.ndarray, np.ndarray, np.ndarray,
+                                                                  np.ndarray]:
+    """The plug-in's joints along (N, 3) platform positions, velocities and accelerations, by its Taylor arithmetic,
+    as a compiled plug-in gives them (:mod:`placement.robot.plugins`): their names (J,), values, rates and
+    accelerations (N, J), gradients by the platform position (N, J, 3)."""
+    n = len(position_m)
     # Row 0 carries the trajectory's derivatives; rows 1-3 the unit directions e_x, e_y, e_z (coordinate c's axis),
     # first derivatives only. The value is the same in every row: one row, broadcast.
-    rate, acceleration = np.zeros((3, 4, n)), np.ascontiguousarray(task.acceleration_m_s2.T)[:, None]
-    rate[:, 0] = task.velocity_m_s.T
-    rate[:, 1:][np.eye(3, dtype=bool)] = 1.0
-    value = np.ascontiguousarray(task.position_m.T)
-    coordinates = tuple(Taylor2(value[c][None], rate[c], acceleration[c]) for c in range(3))
+    rates, accelerations = np.zeros((3, 4, n)), np.ascontiguousarray(acceleration_m_s2.T)[:, None]
+    rates[:, 0] = velocity_m_s.T
+    rates[:, 1:][np.eye(3, dtype=bool)] = 1.0
+    values = np.ascontiguousarray(position_m.T)
+    coordinates = tuple(Taylor2(values[c][None], rates[c], accelerations[c]) for c in range(3))
     solve = robot.closed_form
     assert solve is not None  # ClosedFormSolver.unsuitable
     with np.errstate(invalid="ignore", divide="ignore"):
         joints = solve(coordinates)
-    q, v, a = np.zeros((model.nq, n)), np.zeros((model.nv, n)), np.zeros((model.nv, n))
-    jacobian = np.zeros((model.nv, 3, n))  # [joint, coordinate, sample]
-    for name, value in joints.items():
-        i_q, i_v = columns[name]
-        q[i_q], v[i_v], a[i_v], jacobian[i_v] = value.v[0], value.d1[0], value.d2[0], value.d1[1:]
-    finite = (np.isfinite(q).all(axis=0) & np.isfinite(v).all(axis=0) & np.isfinite(a).all(axis=0)
-              & np.isfinite(jacobian).all(axis=(0, 1)))
-    actuated = jacobian[robot.actuated_v_indices]  # ∂rho/∂p
-    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-        task_map = _inverses(actuated)  # ∂p/∂rho
-    bad = ~(finite & (condition_1(np.moveaxis(actuated, -1, 0), np.moveaxis(task_map, -1, 0)) < SINGULAR_CONDITION))
-    if bad.any():  # finite placeholders: the reference configuration at rest
-        q[:, bad], v[:, bad], a[:, bad], jacobian[..., bad] = robot.reference_q[:, None], 0.0, 0.0, 0.0
-        task_map[..., bad] = np.eye(3)[..., None]
-    basis = np.einsum("icn,ckn->ikn", jacobian, task_map)  # ∂q/∂rho: [joint, actuator, sample]
-    reason = "outside the reach of the closed-form kinematics or singular"
-    trajectory = JointTrajectory(*(np.ascontiguousarray(np.moveaxis(x, -1, 0)) for x in (q, v, a, basis, task_map)))
-    return trajectory, ~bad, reason
-
-
-def _inverses(matrices: np.ndarray) -> np.ndarray:
-    """(3, 3, N) the inverses of the 3 × 3 matrices ``matrices[:, :, k]``, by their adjugates (inf or nan where one is
-    singular)."""
-    (a, b, c), (d, e, f), (g, h, i) = matrices
-    adjugate = np.array([[e * i - f * h, c * h - b * i, b * f - c * e],
-                         [f * g - d * i, a * i - c * g, c * d - a * f],
-                         [d * h - e * g, b * g - a * h, a * e - b * d]])
-    return adjugate / (a * adjugate[0, 0] + b * adjugate[1, 0] + c * adjugate[2, 0])
+    value, rate, acceleration = np.empty((n, len(joints))), np.empty((n, len(joints))), np.empty((n, len(joints)))
+    gradient = np.empty((n, len(joints), 3))
+    for j, joint in enumerate(joints.values()):
+        value[:, j], rate[:, j], acceleration[:, j], gradient[:, j] = joint.v[0], joint.d1[0], joint.d2[0], joint.d1[1:].T
+    return tuple(joints), value, rate, acceleration, gradient
 
 
 class ClosedFormSolver(KinematicsSolver):
@@ -86,17 +66,18 @@ class ClosedFormSolver(KinematicsSolver):
         model = robot.model
         self._columns = {model.names[j]: (joint.idx_q, joint.idx_v) for j, joint in enumerate(model.joints)}
         self._compiled = make_compiled_closed_form(robot.plugin, model, robot.sidecar_path)
+        self._joints: CompiledClosedForm = self._compiled or functools.partial(_by_taylor_arithmetic, robot)
 
     def solve(self, task: TaskTrajectory, placements: int = 1) -> tuple[JointTrajectory, np.ndarray, str]:
-        if self._compiled is None:
-            return _closed_form(self.robot, task, self._columns)
-        return _compiled_closed_form(self.robot, task, self._compiled, self._columns)
+        return _closed_form(self.robot, task, self._joints, self._columns)
 
 
-def _compiled_closed_form(robot: Robot, task: TaskTrajectory, solve: CompiledClosedForm,
-                          columns: dict[str, tuple[int, int]]) -> tuple[JointTrajectory, np.ndarray, str]:
-    """:func:`_closed_form` by the plug-in's compiled solver and :func:`_joint_motion` (the same numbers)."""
-    names, value, rate, acceleration, gradient = solve(task.position_m, task.velocity_m_s, task.acceleration_m_s2)
+def _closed_form(robot: Robot, task: TaskTrajectory, joints: CompiledClosedForm,
+                 columns: dict[str, tuple[int, int]]) -> tuple[JointTrajectory, np.ndarray, str]:
+    """Every joint's motion along ``task`` from the plug-in's ``joints`` (its compiled solver or its Taylor
+    arithmetic, :func:`_by_taylor_arithmetic`), and which samples are regular (``columns``: each joint's q and v
+    index, by name)."""
+    names, value, rate, acceleration, gradient = joints(task.position_m, task.velocity_m_s, task.acceleration_m_s2)
     unknown = sorted(set(names) - set(columns))
     if unknown:
         raise PlacementError(f"robot '{robot.name}': the compiled kinematics plug-in returns joints the model does not "
@@ -119,8 +100,10 @@ def touch_joint_motion_kernel() -> None:
 
 @njit(cache=True, error_model="numpy")
 def _joint_motion(value, rate, second, gradient, q_index, v_index, actuated, reference_q, nq, nv, singular):
-    """Every joint's motion from the plug-in's joints (value, rate, acceleration (N, J), gradient (N, J, 3)) as
-    :func:`_closed_form` makes it: q, v, a (N, nq or nv), basis (N, nv, 3), task map (N, 3, 3), regular (N,)."""
+    """Every joint's motion from the plug-in's joints (value, rate, acceleration (N, J), gradient (N, J, 3)): q, v, a
+    (N, nq or nv), basis G = ∂q/∂rho (N, nv, 3), task map ∂p/∂rho (N, 3, 3) by the adjugate, and whether each sample
+    is regular (finite, with a 1-norm condition number of ∂rho/∂p below ``singular``); an irregular one holds
+    finite placeholders: the reference configuration at rest."""
     n = len(value)
     q, v, a = np.empty((n, nq)), np.empty((n, nv)), np.empty((n, nv))
     basis, task_map, regular = np.empty((n, nv, 3)), np.empty((n, 3, 3)), np.empty(n, dtype=np.bool_)
@@ -165,7 +148,7 @@ def _finite(values):
 
 @njit(error_model="numpy")
 def _invert(m, inverse):
-    """:func:`_inverses` of one matrix, into ``inverse``."""
+    """The inverse of the 3 × 3 matrix ``m`` by its adjugate, into ``inverse`` (inf or nan where it is singular)."""
     a, b, c, d, e, f, g, h, i = m[0, 0], m[0, 1], m[0, 2], m[1, 0], m[1, 1], m[1, 2], m[2, 0], m[2, 1], m[2, 2]
     inverse[0, 0], inverse[0, 1], inverse[0, 2] = e * i - f * h, c * h - b * i, b * f - c * e
     inverse[1, 0], inverse[1, 1], inverse[1, 2] = f * g - d * i, a * i - c * g, c * d - a * f
