@@ -342,8 +342,8 @@ def load_robot_argument(robot: str, tool: str | None, cell: str | None = None) -
         print(f"warning: {estimate_warning(loaded)}", file=sys.stderr)
     if solver_name(loaded) == "numeric":
         compile_noticed(touch_kernels, "the generic kinematics", "some 10 to 20 s")
-    elif solver_name(loaded) == "closed_form" and hasattr(loaded.plugin, "make_compiled_closed_form"):
-        compile_noticed(touch_joint_motion_kernel, "the closed-form kinematics", "some 5 s")
+    elif solver_name(loaded) == "closed_form":
+        compile_noticed(touch_joint_motion_kernel, "the closed-form kinematics", "some 5 to 10 s")
     if cell is None:
         return loaded
     equipped = equip(loaded, load_cell(cell))

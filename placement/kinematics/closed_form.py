@@ -90,7 +90,7 @@ def _closed_form(robot: Robot, task: TaskTrajectory, joints: CompiledClosedForm,
 
 
 def touch_joint_motion_kernel() -> None:
-    """Compile the kernel that makes every joint's motion from a compiled plug-in (about 5 s of CPU on a machine's
+    """Compile the kernel that makes every joint's motion from a plug-in's joints (about 5 s of CPU on a machine's
     first run), or load it from numba's disk cache, by running it on one sample of one joint: its numba types do not
     depend on the robot."""
     one, index = np.zeros((1, 1)), np.zeros(1, dtype=np.int64)
