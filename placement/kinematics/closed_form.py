@@ -80,8 +80,8 @@ def _closed_form(robot: Robot, task: TaskTrajectory, joints: CompiledClosedForm,
     names, value, rate, acceleration, gradient = joints(task.position_m, task.velocity_m_s, task.acceleration_m_s2)
     unknown = sorted(set(names) - set(columns))
     if unknown:
-        raise PlacementError(f"robot '{robot.name}': the compiled kinematics plug-in returns joints the model does not "
-                             f"have: {unknown}")
+        raise PlacementError(f"robot '{robot.name}': the kinematics plug-in returns joints the model does not have: "
+                             f"{unknown}")
     index = np.array([columns[name] for name in names], dtype=np.int64).reshape(-1, 2)
     q, v, a, basis, task_map, regular = _joint_motion(
         value, rate, acceleration, gradient, index[:, 0], index[:, 1], robot.actuated_v_indices.astype(np.int64),
@@ -140,6 +140,7 @@ def _joint_motion(value, rate, second, gradient, q_index, v_index, actuated, ref
 
 @njit(error_model="numpy")
 def _finite(values):
+    """Whether every value of the array is finite."""
     finite = True
     for value in values.flat:  # no early exit: a loop the compiler turns into vector instructions
         finite &= np.isfinite(value)
