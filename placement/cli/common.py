@@ -20,6 +20,7 @@ from placement.cli.exceptions import UsageError
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.parallel import SCHEDULER_VARIABLE
 from placement.kinematics.base import solver_name
+from placement.kinematics.closed_form import touch_joint_motion_kernel
 from placement.kinematics.warmup import touch_kernels
 from placement.limits.collision import collision_scene
 from placement.objectives.base import OBJECTIVES
@@ -341,6 +342,8 @@ def load_robot_argument(robot: str, tool: str | None, cell: str | None = None) -
         print(f"warning: {estimate_warning(loaded)}", file=sys.stderr)
     if solver_name(loaded) == "numeric":
         compile_noticed(touch_kernels, "the generic kinematics", "some 10 to 20 s")
+    elif solver_name(loaded) == "closed_form":
+        compile_noticed(touch_joint_motion_kernel, "the closed-form kinematics", "some 5 to 10 s")
     if cell is None:
         return loaded
     equipped = equip(loaded, load_cell(cell))

@@ -1,5 +1,8 @@
 """A robot's kinematics plug-in: a Python file beside its sidecar with a closed-form solver.
 
+The file defines ``make_closed_form(model)``, and may define ``make_compiled_closed_form(model)``: the same solver
+compiled over samples (see ``CompiledClosedForm``), which the ``closed_form`` kinematics then runs instead.
+
 Loading a robot folder that names a plug-in runs that file, as installing a package would; so the
 file must be a ``.py`` file inside the sidecar's own folder (code from elsewhere comes as an
 installed package, through the kinematics solvers' entry points).
@@ -7,7 +10,9 @@ installed package, through the kinematics solvers' entry points).
 
 from __future__ import annotations
 
+import hashlib
 import importlib.util
+import sys
 from pathlib import Path
 from types import ModuleType
 from typing import Any
@@ -18,6 +23,9 @@ from placement.robot.exceptions import RobotFileError
 
 # A closed-form solver: platform coordinates (Taylor2 or arrays, m) -> {joint name: value (m, rad)}.
 ClosedFormFunction = Any
+# The same compiled over samples: (N, 3) platform positions, velocities, accelerations (base frame, SI) -> the joints'
+# names (J,), values (N, J), rates (N, J), accelerations (N, J) and gradients by the platform position (N, J, 3).
+CompiledClosedForm = Any
 
 
 def load_plugin(sidecar_path: Path, plugin: str | None) -> ModuleType | None:
@@ -32,13 +40,18 @@ def load_plugin(sidecar_path: Path, plugin: str | None) -> ModuleType | None:
                              "solver entry point)")
     if not file.is_file():
         raise RobotFileError(sidecar_path, "kinematics_plugin", f"file not found: {file}")
-    spec = importlib.util.spec_from_file_location(f"placement_plugin_{file.stem}", file)
+    # A name of its own per file: the module is registered under it, for numba's on-disk cache of a compiled
+    # plug-in, which finds a function's module by name when it loads the function in a later process.
+    name = f"placement_plugin_{file.stem}_{hashlib.sha1(str(file).encode()).hexdigest()[:12]}"
+    spec = importlib.util.spec_from_file_location(name, file)
     if spec is None or spec.loader is None:
         raise RobotFileError(sidecar_path, "kinematics_plugin", f"not a Python file: {file}")
     module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
     try:
         spec.loader.exec_module(module)
     except (Exception, SystemExit) as error:  # any error in the user's plug-in code, even an exit
+        del sys.modules[name]
         raise RobotFileError(file, "", f"the kinematics plug-in failed to load: {type(error).__name__}: {error}") from None
     if not hasattr(module, "make_closed_form"):
         raise RobotFileError(file, "", "a kinematics plug-in must define make_closed_form(model)")
@@ -49,12 +62,28 @@ def make_closed_form(plugin: ModuleType | None, model: pin.Model, sidecar_path: 
     """The plug-in's closed-form solver for ``model`` (None without a plug-in)."""
     if plugin is None:
         return None
+    return _made(plugin, "make_closed_form", model, sidecar_path, "position")
+
+
+def make_compiled_closed_form(plugin: ModuleType | None, model: pin.Model,
+                              sidecar_path: Path) -> CompiledClosedForm | None:
+    """The plug-in's compiled closed-form solver for ``model`` (None when it has none)."""
+    if plugin is None or not hasattr(plugin, "make_compiled_closed_form"):
+        return None
+    return _made(plugin, "make_compiled_closed_form", model, sidecar_path, "motion")
+
+
+def _made(plugin: ModuleType, maker: str, model: pin.Model, sidecar_path: Path, argument: str) -> Any:
+    """The function the plug-in's ``maker`` makes for ``model``, a function of the end effector's ``argument``.
+
+    Raises:
+        RobotFileError: The maker failed, or made no function.
+    """
     try:
-        solve = plugin.make_closed_form(model)
+        solve = getattr(plugin, maker)(model)
     except (Exception, SystemExit) as error:  # any error in the user's plug-in code, even an exit
-        raise RobotFileError(sidecar_path, "kinematics_plugin",
-                             f"make_closed_form failed: {type(error).__name__}: {error}") from None
+        raise RobotFileError(sidecar_path, "kinematics_plugin", f"{maker} failed: {type(error).__name__}: {error}") from None
     if not callable(solve):
-        raise RobotFileError(sidecar_path, "kinematics_plugin", f"make_closed_form must return a function of the "
-                             f"end-effector position, got {type(solve).__name__}")
+        raise RobotFileError(sidecar_path, "kinematics_plugin", f"{maker} must return a function of the "
+                             f"end-effector {argument}, got {type(solve).__name__}")
     return solve

@@ -222,6 +222,11 @@ def test_urdf_and_plugin_mistakes_name_the_file(tmp_path, capsys):
     (plugin.parent / "closed_form.py").write_text("def make_closed_form(model):\n    return None\n")
     code, err = run(["check", str(plugin)], capsys)
     assert code == 2 and "make_closed_form must return a function" in err
+    compiled = edited_copy("orthoglide", tmp_path / "d", lambda d: None)
+    plugin_file = compiled.parent / "closed_form.py"
+    plugin_file.write_text(plugin_file.read_text() + "\n\ndef make_compiled_closed_form(model):\n    return None\n")
+    code, err = run(["--robot", str(compiled), "--path", str(EXAMPLE), "--at", "x=0"], capsys)
+    assert code == 2 and f"{compiled}, field 'kinematics_plugin': make_compiled_closed_form must return a function" in err
 
 
 def test_a_missing_mesh_is_named_when_drawing(tmp_path, capsys):

@@ -122,3 +122,25 @@ def test_unreachable_positions_are_reported_not_nan(orthoglide, method):
         joint_trajectory(orthoglide, static(points), method)
     assert error.value.sample_indices == [1]
     assert error.value.n_unreachable == 1
+
+
+def test_compiled_plugin_gives_the_taylor_arithmetic_numbers_bit_for_bit(orthoglide):
+    """The plug-in's compiled solver (which the closed_form solver runs) against its Taylor arithmetic, at every
+    sample: inside the cube, beyond the legs' reach, and where a square root or an arc tangent's radius is zero."""
+    from placement.kinematics.closed_form import ClosedFormSolver, _by_taylor_arithmetic
+
+    rng = np.random.default_rng(7)
+    n = 3000
+    points = rng.uniform(-0.3, 0.3, (n, 3))
+    points[:4] = [[0.0, LEG, 0.0], [0.0, 0.0, 0.0], [LEG, 0.0, 0.0], [Q_MINUS] * 3]  # sqrt(0), O_b, a leg stretched
+    task = TaskTrajectory(points, rng.normal(0.0, 1.0, (n, 3)), rng.normal(0.0, 10.0, (n, 3)))
+    compiled = closed_form.make_compiled_closed_form(orthoglide.model)
+    by_kernel = compiled(task.position_m, task.velocity_m_s, task.acceleration_m_s2)
+    by_taylor = _by_taylor_arithmetic(orthoglide, task.position_m, task.velocity_m_s, task.acceleration_m_s2)
+    assert set(by_kernel[0]) == set(orthoglide.model.names[1:]) and by_kernel[0] == by_taylor[0]
+    for kernel, taylor, what in zip(by_kernel[1:], by_taylor[1:], ("value", "rate", "acceleration", "gradient")):
+        np.testing.assert_array_equal(kernel, taylor, err_msg=what)
+    solver = ClosedFormSolver(orthoglide, 1)
+    assert solver._compiled is not None  # the solver runs the compiled plug-in
+    reachable = solver.solve(task)[1]
+    assert 0 < reachable.sum() < n and not reachable[0] and reachable[1]

@@ -7,8 +7,8 @@ modules), where the workers and their command-line processes load them. A warm c
 
 The work is shared by three processes, so that it takes about half its CPU time: the generic kinematics'
 (:func:`placement.kinematics.warmup.touch_kernels`, itself in two processes), then the frames' and placements'
-kernels here, while another process compiles the dynamics', the optimal timing law's and the collision
-bounds'.
+kernels here, while another process compiles the dynamics', the optimal timing law's, the collision
+bounds' and the closed-form kinematics'.
 """
 
 from __future__ import annotations
@@ -23,6 +23,7 @@ import pinocchio as pin
 from placement.cell.bounds import SPHERE, pair_bounds
 from placement.dynamics.tree_rnea import touch_tree_kernels
 from placement.kinematics import kernels
+from placement.kinematics.closed_form import touch_joint_motion_kernel
 from placement.kinematics.tree import tree_arrays
 from placement.kinematics.warmup import touch_kernels
 from placement.timing.topp import time_placements
@@ -44,8 +45,9 @@ def compile_kernels() -> None:
 
 
 def compile_others() -> None:
-    """The dynamics', the optimal timing law's and the collision bounds' kernels."""
+    """The dynamics', the optimal timing law's, the collision bounds' and the closed-form kinematics' kernels."""
     touch_tree_kernels(path=True)
+    touch_joint_motion_kernel()
     rows = np.array([[[1.0], [-1.0]]])  # one placement, two samples: -1 <= s̈ <= 1
     time_placements(np.array([0.0, 1.0]), np.array([0, 2]), np.array([False]), rows, np.zeros((1, 2, 1)),
                     -np.ones((1, 2, 1)), np.ones((1, 2)), np.array([True]))
