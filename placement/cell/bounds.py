@@ -71,7 +71,7 @@ def _support(kind, extent, radius, rotation, n0, n1, n2):
 
 
 @njit(cache=True, inline="always")
-def _gap(d, n0, n1, n2, kind_a, extent_a, radius_a, rotation_a, kind_b, extent_b, radius_b, rotation_b):
+def projection_gap(d, n0, n1, n2, kind_a, extent_a, radius_a, rotation_a, kind_b, extent_b, radius_b, rotation_b):
     """Gap between the projections of two shapes on a direction (any length; 0 gives -inf), centres ``d`` apart."""
     norm = np.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
     if norm == 0.0:
@@ -122,18 +122,18 @@ def pair_bounds(rotation, origin, first, second, against_cell, kind, centre, rad
 @njit(cache=True, inline="always")
 def _refined(d, local, against_cell, kind_a, extent_a, radius_a, ra, kind_b, extent_b, radius_b, rb, box_half_b):
     """The largest gap along the centres' line, towards the second's nearest box point, and the shapes' axes."""
-    best = _gap(d, d[0], d[1], d[2], kind_a, extent_a, radius_a, ra, kind_b, extent_b, radius_b, rb)
+    best = projection_gap(d, d[0], d[1], d[2], kind_a, extent_a, radius_a, ra, kind_b, extent_b, radius_b, rb)
     if against_cell:  # towards the point of the second's box nearest the first's centre (``local``: that centre)
         n0 = n1 = n2 = 0.0
         for i in range(3):
             step = local[i] - min(max(local[i], -box_half_b[i]), box_half_b[i])  # from the box point to the centre
             n0, n1, n2 = n0 + rb[0, i] * step, n1 + rb[1, i] * step, n2 + rb[2, i] * step
-        best = max(best, _gap(d, n0, n1, n2, kind_a, extent_a, radius_a, ra, kind_b, extent_b, radius_b, rb))
+        best = max(best, projection_gap(d, n0, n1, n2, kind_a, extent_a, radius_a, ra, kind_b, extent_b, radius_b, rb))
     for i in range(3):
         if kind_a == BOX or (kind_a == CYLINDER and i == 2):
-            best = max(best, _gap(d, ra[0, i], ra[1, i], ra[2, i], kind_a, extent_a, radius_a, ra,
+            best = max(best, projection_gap(d, ra[0, i], ra[1, i], ra[2, i], kind_a, extent_a, radius_a, ra,
                                   kind_b, extent_b, radius_b, rb))
         if kind_b == BOX or (kind_b == CYLINDER and i == 2):
-            best = max(best, _gap(d, rb[0, i], rb[1, i], rb[2, i], kind_a, extent_a, radius_a, ra,
+            best = max(best, projection_gap(d, rb[0, i], rb[1, i], rb[2, i], kind_a, extent_a, radius_a, ra,
                                   kind_b, extent_b, radius_b, rb))
     return best
