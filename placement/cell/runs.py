@@ -13,15 +13,17 @@ a run along coal's normal ``n``, bounds the pair's distance in every other one f
   (:func:`placement.cell.bounds.projection_gap`): ``d`` itself where it was found, for boxes and
   cylinders, and close to the distance wherever the bodies have turned little, as along a path.
 
-The exact distances go by rounds: in each, every (run, shape pair) whose lowest value may still be
-the smallest distance of its group (its body pair, say) in the run (below the smallest found, to
-the rounding; at most the threshold) gets its exact distance there (:func:`lowest_open`, then
-coal), which raises the bounds of the rest of its run (:func:`record`). Each (run, shape pair)
-keeps the list of its configurations that may still need an exact distance: a value only rises
-and the smallest found only falls, so a configuration leaves it for good, and each round costs
-what is left. A run's smallest distance of a group, where at most the threshold, is then the same
-number as with every distance exact, and every other value stays a lower bound at least that
-smallest.
+The exact distances go by rounds: in each, every chunk of ``CHUNK`` configurations of a run, and
+every shape pair whose lowest value there may still be the smallest distance of its group (its
+body pair, say) in the run (below the smallest found in the run, to the rounding; at most the
+threshold) gets its exact distance there (:func:`lowest_open`, then coal), which raises the bounds
+of the rest of its chunk (:func:`record`). Each chunk and shape pair keeps the list of its
+configurations that may still need an exact distance: a value only rises and the smallest found
+only falls, so a configuration leaves it for good, and each round costs what is left; chunks keep
+those lists short on long runs (a dense re-check's whole path) and let them take an exact distance
+each per round. A run's smallest distance of a group, where at most the threshold, is then the
+same number as with every distance exact, and every other value stays a lower bound at least
+that smallest.
 """
 
 from __future__ import annotations
@@ -31,6 +33,7 @@ from numba import njit
 
 from placement.cell.bounds import projection_gap
 
+CHUNK = 128  # configurations of a run whose pending ones are kept in one list
 LIPSCHITZ_SLACK_M = 1e-5  # what a bound from a neighbouring exact distance gives up to coal's rounding (m)
 
 
@@ -49,14 +52,24 @@ def shape_centres(rotation, origin, centre):
 
 
 @njit(cache=True)
-def smallest_exact(values, exact, column_group, groups, run):
-    """(M // run, groups) each run's smallest exact value of each group of shape pairs (``column_group`` (K,): the
-    group of each; inf where none is exact)."""
-    out = np.full((values.shape[0] // run, groups), np.inf)
-    for m in range(values.shape[0]):
-        for k in range(values.shape[1]):
-            if exact[m, k]:
-                out[m // run, column_group[k]] = min(out[m // run, column_group[k]], values[m, k])
+def smallest_exact(values, exact, column_group, groups, starts, chunk_run, runs):
+    """(runs, groups) each run's smallest exact value of each group of shape pairs (inf where none is exact).
+
+    Args:
+        values: (M, K) the distances of K shape pairs in M configurations: bounds, or exact where ``exact``.
+        exact: (M, K) which values are exact.
+        column_group: (K,) the group of each shape pair (its body pair, say).
+        groups: How many groups.
+        starts: (C + 1,) the first configuration of each of C chunks of the runs, then M.
+        chunk_run: (C,) the run of each chunk.
+        runs: How many runs.
+    """
+    out = np.full((runs, groups), np.inf)
+    for c in range(len(chunk_run)):
+        for m in range(starts[c], starts[c + 1]):
+            for k in range(values.shape[1]):
+                if exact[m, k]:
+                    out[chunk_run[c], column_group[k]] = min(out[chunk_run[c], column_group[k]], values[m, k])
     return out
 
 
@@ -68,61 +81,60 @@ def _pending(value, is_exact, threshold, ceiling):
 
 
 @njit(cache=True)
-def pending_rows(values, exact, smallest, column_group, run, threshold, rounding):
-    """Each run's configurations that may still need an exact distance, shape pair by shape pair.
+def pending_rows(values, exact, smallest, column_group, starts, chunk_run, threshold, rounding):
+    """Each chunk's configurations that may still need an exact distance, shape pair by shape pair.
 
     Args:
-        values: (M, K) the distances of K shape pairs in M configurations: bounds, or exact where ``exact``.
-        exact: (M, K) which values are exact.
-        smallest: (M // run, groups) each run's smallest exact distance of each group so far (inf: none).
-        column_group: (K,) the group of each shape pair (its body pair, say).
-        run: Configurations per run.
+        values, exact, column_group, starts, chunk_run: As :func:`smallest_exact`.
+        smallest: (runs, groups) each run's smallest exact distance of each group so far (inf: none).
         threshold: A value above this needs no exact distance (m).
         rounding: How far below a bound coal's distance may lie (m).
 
     Returns:
-        (M, K) rows: run r's list for shape pair k is ``rows[r·run : r·run + count[r, k], k]``; (M // run, K) count.
+        (M, K) rows: chunk c's list for shape pair k is ``rows[starts[c] : starts[c] + count[c, k], k]``;
+        (C, K) count.
     """
     m_count, k_count = values.shape
-    rows, count = np.empty((m_count, k_count), np.int64), np.zeros((m_count // run, k_count), np.int64)
-    for r in range(m_count // run):
+    rows, count = np.empty((m_count, k_count), np.int64), np.zeros((len(chunk_run), k_count), np.int64)
+    for c in range(len(chunk_run)):
         for k in range(k_count):
-            ceiling = smallest[r, column_group[k]] + rounding
-            for m in range(r * run, (r + 1) * run):
+            ceiling = smallest[chunk_run[c], column_group[k]] + rounding
+            for m in range(starts[c], starts[c + 1]):
                 if _pending(values[m, k], exact[m, k], threshold, ceiling):
-                    rows[r * run + count[r, k], k] = m
-                    count[r, k] += 1
+                    rows[starts[c] + count[c, k], k] = m
+                    count[c, k] += 1
     return rows, count
 
 
 @njit(cache=True)
-def lowest_open(values, exact, rows, count, smallest, column_group, run, threshold, rounding):
-    """The next exact distances to compute: each run's shape pair's lowest value among its pending rows (dropping
+def lowest_open(values, exact, rows, count, smallest, column_group, starts, chunk_run, threshold, rounding):
+    """The next exact distances to compute: each chunk's shape pair's lowest value among its pending rows (dropping
     those no longer pending; :func:`pending_rows` for the arguments).
 
     Returns:
-        The configurations (rows) and shape pairs (columns) to compute, configuration by configuration.
+        The configurations (rows), shape pairs (columns) and chunks to compute, configuration by configuration.
     """
-    runs, k_count = count.shape
-    chosen, columns = np.empty(runs * k_count, np.int64), np.empty(runs * k_count, np.int64)
+    chunks, k_count = count.shape
+    chosen, columns, chunk = (np.empty(chunks * k_count, np.int64), np.empty(chunks * k_count, np.int64),
+                              np.empty(chunks * k_count, np.int64))
     total = 0
-    for r in range(runs):
+    for c in range(chunks):
         for k in range(k_count):
-            ceiling = smallest[r, column_group[k]] + rounding
+            ceiling = smallest[chunk_run[c], column_group[k]] + rounding
             kept, lowest, at = 0, np.inf, -1
-            for i in range(r * run, r * run + count[r, k]):
+            for i in range(starts[c], starts[c] + count[c, k]):
                 m = rows[i, k]
                 if _pending(values[m, k], exact[m, k], threshold, ceiling):
-                    rows[r * run + kept, k] = m
+                    rows[starts[c] + kept, k] = m
                     kept += 1
                     if values[m, k] < lowest:
                         lowest, at = values[m, k], m
-            count[r, k] = kept
+            count[c, k] = kept
             if at >= 0:
-                chosen[total], columns[total] = at, k
+                chosen[total], columns[total], chunk[total] = at, k, c
                 total += 1
     order = np.argsort(chosen[:total], kind="mergesort")
-    return chosen[:total][order], columns[:total][order]
+    return chosen[:total][order], columns[:total][order], chunk[:total][order]
 
 
 @njit(cache=True)
@@ -139,16 +151,17 @@ def _move(centre_m, rotation, shape, radius, one, other):
 
 
 @njit(cache=True)
-def record(values, exact, rows, count, smallest, column_group, run, threshold, rounding, chosen, columns, found,
-           normal, centre_m, rotation, kind, extent, radius, first, second, slack):
+def record(values, exact, rows, count, smallest, column_group, starts, chunk_run, threshold, rounding, chosen, columns,
+           chunk, found, normal, centre_m, rotation, kind, extent, radius, first, second, slack):
     """Write the exact distances ``found`` at (``chosen``, ``columns``), update each run's smallest, and raise the
-    pending values of their runs' shape pairs to the bound they give (module docstring), dropping those no longer
-    pending.
+    pending values of their chunks' shape pairs to the bounds they give (module docstring), dropping those no
+    longer pending.
 
     Args:
-        values, exact, rows, count, smallest, column_group, run, threshold, rounding: As :func:`pending_rows`
-            (``values``, ``exact``, ``rows``, ``count`` and ``smallest`` updated).
-        chosen, columns, found: The configurations, shape pairs and their exact distances (m).
+        values, exact, rows, count, smallest, column_group, starts, chunk_run, threshold, rounding: As
+            :func:`pending_rows` (``values``, ``exact``, ``rows``, ``count`` and ``smallest`` updated).
+        chosen, columns, chunk: The configurations, shape pairs and chunks of the exact distances.
+        found: The exact distances (m).
         normal: (len(chosen), 3) the unit normals along which coal found them (base frame).
         centre_m, rotation: (M, G, 3) and (M, G, 3, 3) every shape's bounding-sphere centre and rotation.
         kind, extent, radius: (G,), (G, 3), (G,) the shapes' enclosures (:func:`placement.cell.bounds.shape_supports`).
@@ -157,25 +170,24 @@ def record(values, exact, rows, count, smallest, column_group, run, threshold, r
     """
     gap = np.empty(3)
     for i_chosen in range(len(chosen)):
-        one, k, distance = chosen[i_chosen], columns[i_chosen], found[i_chosen]
+        one, k, c, distance = chosen[i_chosen], columns[i_chosen], chunk[i_chosen], found[i_chosen]
         values[one, k], exact[one, k] = distance, True
-        r = one // run
-        smallest[r, column_group[k]] = min(smallest[r, column_group[k]], distance)
-        ceiling = smallest[r, column_group[k]] + rounding
+        group = column_group[k]
+        smallest[chunk_run[c], group] = min(smallest[chunk_run[c], group], distance)
+        ceiling = smallest[chunk_run[c], group] + rounding
+        a, b, n = first[k], second[k], normal[i_chosen]
         kept = 0
-        for j in range(r * run, r * run + count[r, k]):
+        for j in range(starts[c], starts[c] + count[c, k]):
             other = rows[j, k]
             if not exact[other, k] and values[other, k] < distance - slack:
-                a, b = first[k], second[k]
                 bound = (distance - slack - _move(centre_m, rotation, a, radius, one, other)
                          - _move(centre_m, rotation, b, radius, one, other))
                 for i in range(3):
                     gap[i] = centre_m[other, b, i] - centre_m[other, a, i]
-                n = normal[i_chosen]
                 plane = projection_gap(gap, n[0], n[1], n[2], kind[a], extent[a], radius[a], rotation[other, a],
                                        kind[b], extent[b], radius[b], rotation[other, b])
                 values[other, k] = max(values[other, k], bound, plane)
             if _pending(values[other, k], exact[other, k], threshold, ceiling):
-                rows[r * run + kept, k] = other
+                rows[starts[c] + kept, k] = other
                 kept += 1
-        count[r, k] = kept
+        count[c, k] = kept

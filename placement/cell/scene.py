@@ -36,7 +36,7 @@ from placement.cell.bounds import pair_bounds, shape_supports
 from placement.cell.exceptions import CellFileError
 from placement.cell.geometry import Body, build_geometry
 from placement.cell.pairs import Pair, select_pairs
-from placement.cell.runs import LIPSCHITZ_SLACK_M, lowest_open, pending_rows, record, shape_centres, smallest_exact
+from placement.cell.runs import CHUNK, LIPSCHITZ_SLACK_M, lowest_open, pending_rows, record, shape_centres, smallest_exact
 from placement.cell.schema import Cell
 from placement.kinematics import kernels
 from placement.kinematics.kernels import TreeArrays
@@ -217,21 +217,24 @@ class CollisionScene:
         exact = np.zeros(values.shape, dtype=bool)
         kind, centre, radius, _, extent = self._enclosures
         centre_m = shape_centres(rotation, origin, centre)
+        runs, offsets = len(q) // run, np.arange(0, run, CHUNK)
+        starts = np.append((np.arange(runs)[:, None] * run + offsets).ravel(), len(q))
+        chunk_run = np.repeat(np.arange(runs), len(offsets))
         settings = [(self._shape_pair, len(self._pair_starts), threshold_m)]
         if least:
             settings.append((np.zeros_like(self._shape_pair), 1, np.inf))
         for column_group, groups, threshold in settings:
-            smallest = smallest_exact(values, exact, column_group, groups, run)
-            rows, count = pending_rows(values, exact, smallest, column_group, run, threshold, ROUNDING_M)
+            smallest = smallest_exact(values, exact, column_group, groups, starts, chunk_run, runs)
+            rows, count = pending_rows(values, exact, smallest, column_group, starts, chunk_run, threshold, ROUNDING_M)
             while True:
-                chosen, columns = lowest_open(values, exact, rows, count, smallest, column_group, run, threshold,
-                                              ROUNDING_M)
+                chosen, columns, chunk = lowest_open(values, exact, rows, count, smallest, column_group, starts,
+                                                     chunk_run, threshold, ROUNDING_M)
                 if not len(chosen):
                     break
                 found, normal = self._exact_at(q, chosen, columns)
-                record(values, exact, rows, count, smallest, column_group, run, threshold, ROUNDING_M, chosen, columns,
-                       found, normal, centre_m, rotation, kind, extent, radius, self._shape_first, self._shape_second,
-                       LIPSCHITZ_SLACK_M)
+                record(values, exact, rows, count, smallest, column_group, starts, chunk_run, threshold, ROUNDING_M,
+                       chosen, columns, chunk, found, normal, centre_m, rotation, kind, extent, radius,
+                       self._shape_first, self._shape_second, LIPSCHITZ_SLACK_M)
 
     def _exact_at(self, q: np.ndarray, rows: np.ndarray, columns: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The exact distances (m) of the shape pairs ``columns`` in the configurations ``rows`` (grouped by
