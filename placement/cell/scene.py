@@ -16,7 +16,7 @@ runs of configurations (a placement's samples along its path, whose margin is th
 them), only each pair's smallest distance over a run needs to be exact, where at most the
 threshold: an exact distance also bounds the pair's distance in the run's other configurations by
 how far the bodies move in between, and the exact ones are computed lowest bound first until no
-bound is below the smallest found (:mod:`placement.cell.runs`). The run's smallest is then the same
+bound is below the smallest found (:mod:`placement.cell.bounds`). The run's smallest is then the same
 number as with every distance exact, its other values lower bounds at least that smallest, and
 checking ``distance >= required`` with a threshold at least the largest requirement decides
 exactly as the exact distances would. A distance does not depend on the other configurations or
@@ -32,11 +32,20 @@ import coal
 import numpy as np
 import pinocchio as pin
 
-from placement.cell.bounds import pair_bounds, shape_supports
+from placement.cell.bounds import (
+    CHUNK,
+    LIPSCHITZ_SLACK_M,
+    lowest_open,
+    pair_bounds,
+    pending_rows,
+    record,
+    shape_centres,
+    shape_supports,
+    smallest_exact,
+)
 from placement.cell.exceptions import CellFileError
 from placement.cell.geometry import Body, build_geometry
 from placement.cell.pairs import Pair, select_pairs
-from placement.cell.runs import CHUNK, LIPSCHITZ_SLACK_M, lowest_open, pending_rows, record, shape_centres, smallest_exact
 from placement.cell.schema import Cell
 from placement.kinematics import kernels
 from placement.kinematics.kernels import TreeArrays
@@ -213,7 +222,7 @@ class CollisionScene:
         """Exact distances in ``values`` (M, K: bounds of the shape pairs in configurations q, whose shapes are
         placed by ``rotation`` and ``origin``) wherever a run's smallest of a body pair at most ``threshold_m`` may
         lie, and, if ``least``, its smallest over all pairs, round by round; the other values raised to the bounds
-        that the exact ones give (:mod:`placement.cell.runs`)."""
+        that the exact ones give (:mod:`placement.cell.bounds`)."""
         exact = np.zeros(values.shape, dtype=bool)
         kind, centre, radius, _, extent = self._enclosures
         centre_m = shape_centres(rotation, origin, centre)
