@@ -34,8 +34,11 @@ every chunk of ``CHUNK`` configurations of a run, and every shape pair whose low
 still be the smallest distance of its group (its body pair, say) in the run (below the smallest
 found in the run, to the rounding; at most the threshold) gets its exact distance there
 (:func:`lowest_open`, then coal), which raises the bounds of the rest of its chunk
-(:func:`record`). Each chunk and shape pair keeps the list of its configurations that may still
-need an exact distance: a value only rises and the smallest found only falls, so a configuration
+(:func:`record`). After ``ONE_BY_ONE`` such rounds, a chunk's shape pair takes all its pending
+configurations in one round instead: where the bounds stay far below the distances (between a
+serial arm's links, say), each exact distance spares few others, and rounds would cost more than
+they spare. Each chunk and shape pair keeps the list of its
+configurations that may still need an exact distance: a value only rises and the smallest found only falls, so a configuration
 leaves it for good, and each round costs what is left; chunks keep those lists short on long runs
 (a dense re-check's whole path) and let them take an exact distance each per round. A run's
 smallest distance of a group, where at most the threshold, is then the same number as with every
@@ -51,6 +54,7 @@ from numba import njit
 
 SPHERE, BOX, CYLINDER = 0, 1, 2  # how a shape's support function is computed
 CHUNK = 128  # configurations of a run whose pending ones are kept in one list
+ONE_BY_ONE = 4  # exact distances a chunk's shape pair takes one at a time, lowest bound first, before all the rest
 LIPSCHITZ_SLACK_M = 1e-5  # what a bound from a neighbouring exact distance gives up to coal's rounding (m)
 
 
@@ -237,34 +241,44 @@ def pending_rows(values, exact, smallest, column_group, starts, chunk_run, thres
 
 
 @njit(cache=True)
-def lowest_open(values, exact, rows, count, smallest, column_group, starts, chunk_run, threshold, rounding):
+def lowest_open(values, exact, rows, count, taken, smallest, column_group, starts, chunk_run, threshold, rounding):
     """The next exact distances to compute: each chunk's shape pair's lowest value among its pending rows (dropping
-    those no longer pending; :func:`pending_rows` for the arguments).
+    those no longer pending; :func:`pending_rows` for the arguments), or, once it has taken ``ONE_BY_ONE`` of
+    them so (``taken`` (C, K), updated), all its pending rows at once (module docstring).
 
     Returns:
-        The configurations (rows), shape pairs (columns) and chunks to compute, configuration by configuration.
+        The configurations (rows), shape pairs (columns) and chunks to compute, configuration by configuration,
+        and whether each was taken one by one (its exact distance then raises the bounds of its chunk).
     """
     chunks, k_count = count.shape
-    chosen, columns, chunk = (np.empty(chunks * k_count, np.int64), np.empty(chunks * k_count, np.int64),
-                              np.empty(chunks * k_count, np.int64))
     total = 0
     for c in range(chunks):
         for k in range(k_count):
             ceiling = smallest[chunk_run[c], column_group[k]] + rounding
-            kept, lowest, at = 0, np.inf, -1
+            kept = 0
             for i in range(starts[c], starts[c] + count[c, k]):
                 m = rows[i, k]
                 if _pending(values[m, k], exact[m, k], threshold, ceiling):
                     rows[starts[c] + kept, k] = m
                     kept += 1
-                    if values[m, k] < lowest:
-                        lowest, at = values[m, k], m
             count[c, k] = kept
-            if at >= 0:
-                chosen[total], columns[total], chunk[total] = at, k, c
-                total += 1
-    order = np.argsort(chosen[:total], kind="mergesort")
-    return chosen[:total][order], columns[:total][order], chunk[:total][order]
+            total += min(kept, 1) if taken[c, k] < ONE_BY_ONE else kept
+    chosen, columns, chunk, alone = (np.empty(total, np.int64), np.empty(total, np.int64), np.empty(total, np.int64),
+                                     np.empty(total, np.bool_))
+    total = 0
+    for c in range(chunks):
+        for k in range(k_count):
+            pending = rows[starts[c]:starts[c] + count[c, k], k]
+            if not len(pending):
+                continue
+            one_by_one = taken[c, k] < ONE_BY_ONE
+            picked = pending[np.argmin(values[pending, k]):][:1] if one_by_one else pending
+            chosen[total:total + len(picked)], columns[total:total + len(picked)] = picked, k
+            chunk[total:total + len(picked)], alone[total:total + len(picked)] = c, one_by_one
+            total += len(picked)
+            taken[c, k] += len(picked)
+    order = np.argsort(chosen, kind="mergesort")
+    return chosen[order], columns[order], chunk[order], alone[order]
 
 
 @njit(cache=True)
@@ -281,20 +295,21 @@ def _move(centre_m, rotation, shape, radius, one, other):
 
 
 @njit(cache=True)
-def record(values, exact, rows, count, smallest, column_group, starts, chunk_run, threshold, rounding, chosen, columns,
-           chunk, found, normal, centre_m, rotation, kind, extent, radius, first, second, slack):
-    """Write the exact distances ``found`` at (``chosen``, ``columns``), update each run's smallest, and raise the
-    pending values of their chunks' shape pairs to the bounds they give (module docstring), dropping those no
-    longer pending.
+def record(values, exact, rows, count, smallest, column_group, starts, chunk_run, chosen, columns, chunk, alone, found,
+           normal, centre_m, rotation, kind, extent, radius, first, second, slack):
+    """Write the exact distances ``found`` at (``chosen``, ``columns``), update each run's smallest, and, for those
+    taken ``alone``, raise the values of their chunks' pending shape pairs to the bounds they give (module
+    docstring).
 
     Args:
-        values, exact, rows, count, smallest, column_group, starts, chunk_run, threshold, rounding: As
-            :func:`pending_rows` (``values``, ``exact``, ``rows``, ``count`` and ``smallest`` updated).
-        chosen, columns, chunk: The configurations, shape pairs and chunks of the exact distances.
+        values, exact, rows, count, smallest, column_group, starts, chunk_run: As :func:`pending_rows`
+            (``values``, ``exact`` and ``smallest`` updated).
+        chosen, columns, chunk, alone: The configurations, shape pairs and chunks of the exact distances, and
+            whether each was taken one by one (:func:`lowest_open`).
         found: The exact distances (m).
         normal: (len(chosen), 3) the unit normals along which coal found them (base frame).
         centre_m, rotation: (M, G, 3) and (M, G, 3, 3) every shape's bounding-sphere centre and rotation.
-        kind, extent, radius: (G,), (G, 3), (G,) the shapes' enclosures (:func:`placement.cell.bounds.shape_supports`).
+        kind, extent, radius: (G,), (G, 3), (G,) the shapes' enclosures (:func:`shape_supports`).
         first, second: (K,) the shapes of each pair.
         slack: Given up to coal's rounding (m).
     """
@@ -304,9 +319,9 @@ def record(values, exact, rows, count, smallest, column_group, starts, chunk_run
         values[one, k], exact[one, k] = distance, True
         group = column_group[k]
         smallest[chunk_run[c], group] = min(smallest[chunk_run[c], group], distance)
-        ceiling = smallest[chunk_run[c], group] + rounding
+        if not alone[i_chosen]:
+            continue
         a, b, n = first[k], second[k], normal[i_chosen]
-        kept = 0
         for j in range(starts[c], starts[c] + count[c, k]):
             other = rows[j, k]
             if not exact[other, k] and values[other, k] < distance - slack:
@@ -317,7 +332,3 @@ def record(values, exact, rows, count, smallest, column_group, starts, chunk_run
                 plane = projection_gap(gap, n[0], n[1], n[2], kind[a], extent[a], radius[a], rotation[other, a],
                                        kind[b], extent[b], radius[b], rotation[other, b])
                 values[other, k] = max(values[other, k], bound, plane)
-            if _pending(values[other, k], exact[other, k], threshold, ceiling):
-                rows[starts[c] + kept, k] = other
-                kept += 1
-        count[c, k] = kept

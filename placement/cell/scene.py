@@ -235,27 +235,31 @@ class CollisionScene:
         for column_group, groups, threshold in settings:
             smallest = smallest_exact(values, exact, column_group, groups, starts, chunk_run, runs)
             rows, count = pending_rows(values, exact, smallest, column_group, starts, chunk_run, threshold, ROUNDING_M)
+            taken = np.zeros(count.shape, np.int64)
             while True:
-                chosen, columns, chunk = lowest_open(values, exact, rows, count, smallest, column_group, starts,
-                                                     chunk_run, threshold, ROUNDING_M)
+                chosen, columns, chunk, alone = lowest_open(values, exact, rows, count, taken, smallest, column_group,
+                                                            starts, chunk_run, threshold, ROUNDING_M)
                 if not len(chosen):
                     break
-                found, normal = self._exact_at(q, chosen, columns)
-                record(values, exact, rows, count, smallest, column_group, starts, chunk_run, threshold, ROUNDING_M,
-                       chosen, columns, chunk, found, normal, centre_m, rotation, kind, extent, radius,
-                       self._shape_first, self._shape_second, LIPSCHITZ_SLACK_M)
+                found, normal = self._exact_at(q, chosen, columns, alone)
+                record(values, exact, rows, count, smallest, column_group, starts, chunk_run, chosen, columns, chunk,
+                       alone, found, normal, centre_m, rotation, kind, extent, radius, self._shape_first,
+                       self._shape_second, LIPSCHITZ_SLACK_M)
 
-    def _exact_at(self, q: np.ndarray, rows: np.ndarray, columns: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def _exact_at(self, q: np.ndarray, rows: np.ndarray, columns: np.ndarray,
+                  normals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The exact distances (m) of the shape pairs ``columns`` in the configurations ``rows`` (grouped by
-        configuration), and the unit normals (base frame) along which coal found them."""
+        configuration), and, where ``normals``, the unit normal (base frame) along which coal found each (else 0)."""
         model, data, geometry_model, geometry_data = self._model, self._data, self.geometry_model, self._geometry_data
-        found, normal, placed = np.empty(len(rows)), np.empty((len(rows), 3)), -1
-        for i, (m, k) in enumerate(zip(rows.tolist(), columns.tolist())):
+        found, normal, placed = np.empty(len(rows)), np.zeros((len(rows), 3)), -1
+        for i, (m, k, with_normal) in enumerate(zip(rows.tolist(), columns.tolist(), normals.tolist())):
             if m != placed:
                 pin.updateGeometryPlacements(model, data, geometry_model, geometry_data, q[m])
                 placed = m
             result = pin.computeDistance(geometry_model, geometry_data, k)
-            found[i], normal[i] = result.min_distance, result.normal
+            found[i] = result.min_distance
+            if with_normal:
+                normal[i] = result.normal
         return found, normal
 
     def _per_pair(self, values: np.ndarray) -> np.ndarray:
