@@ -6,21 +6,21 @@ positive when apart, negative when they overlap (coal's penetration depth, so th
 informative inside an obstacle). A body's distance is the smallest over its shapes.
 
 Exact distances are coal's (GJK, EPA for penetration; converged to about 1e-6 m), computed by
-Pinocchio's loop over the geometry model's collision pairs, one configuration per call. Speed: with
-``threshold_m``, the compiled tree kinematics place every shape of every configuration in one call,
-and a cheap lower bound, compiled too, spares the exact computation of pairs far apart: the gap
-between the two shapes' bounding spheres (against a cell body, from one shape's sphere to the
-other's bounding box), and, near the threshold, between their projections on a few axes
-(:mod:`placement.cell.bounds`). A pair whose bound exceeds the threshold returns the bound (a value above the
-threshold, never above the exact distance); below the threshold every distance is exact, so that
-checking ``distance >= required`` with a threshold at least the largest requirement decides exactly
-as the exact distances would. Given runs of configurations (a placement's samples along its path,
-whose margin is the smallest over them), only each pair's smallest distance over a run needs to be
-exact: the exact distance is computed at the run's lowest bound of the pair first, then wherever a
-bound is still below the smallest distance found (to ``ROUNDING_M``, coal's rounding); the others
-stay bounds, at least that smallest one, so the run's smallest is the same number as with every
-distance exact. A distance does not depend on the other configurations or pairs computed with it
-(coal's warm start is off). A scene is not safe to share between threads.
+Pinocchio, one configuration at a time. Speed: with ``threshold_m``, the compiled tree kinematics
+place every shape of every configuration in one call, and a cheap lower bound, compiled too, spares
+the exact computation of pairs far apart: the gap between the two shapes' bounding spheres (against
+a cell body, from one shape's sphere to the other's bounding box), and, near the threshold, between
+their projections on a few axes (:mod:`placement.cell.bounds`). A pair whose bound exceeds the
+threshold returns the bound (a value above the threshold, never above the exact distance). Given
+runs of configurations (a placement's samples along its path, whose margin is the smallest over
+them), only each pair's smallest distance over a run needs to be exact, where at most the
+threshold: an exact distance also bounds the pair's distance in the run's other configurations by
+how far the bodies move in between, and the exact ones are computed lowest bound first until no
+bound is below the smallest found (:mod:`placement.cell.bounds`). The run's smallest is then the same
+number as with every distance exact, its other values lower bounds at least that smallest, and
+checking ``distance >= required`` with a threshold at least the largest requirement decides
+exactly as the exact distances would. A distance does not depend on the other configurations or
+pairs computed with it (coal's warm start is off). A scene is not safe to share between threads.
 """
 
 from __future__ import annotations
@@ -32,7 +32,17 @@ import coal
 import numpy as np
 import pinocchio as pin
 
-from placement.cell.bounds import pair_bounds, shape_supports
+from placement.cell.bounds import (
+    CHUNK,
+    LIPSCHITZ_SLACK_M,
+    lowest_open,
+    pair_bounds,
+    pending_rows,
+    record,
+    shape_centres,
+    shape_supports,
+    smallest_exact,
+)
 from placement.cell.exceptions import CellFileError
 from placement.cell.geometry import Body, build_geometry
 from placement.cell.pairs import Pair, select_pairs
@@ -115,7 +125,7 @@ class CollisionScene:
         """For another process: the scene is built again there from its robot and cell."""
         return CollisionScene, self._source
 
-    def distances(self, q: np.ndarray, threshold_m: float | None = None, run: int = 1) -> np.ndarray:
+    def distances(self, q: np.ndarray, threshold_m: float | None = None, run: int = 1, least: bool = False) -> np.ndarray:
         """Signed distances (m) of every pair in every configuration.
 
         Args:
@@ -127,6 +137,8 @@ class CollisionScene:
                 one placement's path, say; M is a multiple of it), of which only each pair's smallest
                 distance is sure to be exact when it is at most ``threshold_m``; the pair's other
                 distances in the run may be lower bounds, at least that smallest one.
+            least: With ``threshold_m``, each run's smallest distance over all pairs is exact too, however
+                far (where it is reached: the tightest of a report).
 
         Returns:
             (M, P) distances, pairs in the order of :attr:`pairs`; negative when the bodies overlap.
@@ -139,8 +151,9 @@ class CollisionScene:
             return self._per_pair(self._exact_everywhere(q))
         if run < 1 or len(q) % run:
             raise ValueError(f"{len(q)} configurations do not make runs of {run}")
-        values = self._bounds(q, threshold_m)
-        self._settle(q, values, threshold_m, run)
+        rotation, origin = kernels.placements(self._tree, q)
+        values = self._bounds(rotation, origin, threshold_m)
+        self._settle(q, values, rotation, origin, threshold_m, run, least)
         return self._per_pair(values)
 
     def closest(self, q: np.ndarray) -> Witnesses:
@@ -204,48 +217,50 @@ class CollisionScene:
             values[m] = [result.min_distance for result in results]
         return values
 
-    def _settle(self, q: np.ndarray, values: np.ndarray, threshold_m: float, run: int) -> None:
-        """Exact distances in ``values`` (M, K: bounds of the shape pairs in configurations q) wherever a run's
-        smallest of a body pair at most ``threshold_m`` may lie: first at each run's pair's lowest bound at most
-        ``threshold_m``, then at every bound still below the smallest value of its run's pair (to ``ROUNDING_M``),
-        configuration by configuration."""
-        rows, columns = np.nonzero(values <= threshold_m)
-        if not len(rows):
-            return
-        pairs = len(self._pair_starts)
-        group = rows // run * pairs + self._shape_pair[columns]
-        above = self._per_pair(np.where(values > threshold_m, values, np.inf))
-        smallest = above.reshape(-1, run, pairs).min(axis=1).ravel()  # (runs·P,) smallest bound above the threshold
-        by_group = np.lexsort((values[rows, columns], group))
-        lowest = by_group[np.diff(group[by_group], prepend=-1) != 0]  # each group's lowest bound
-        lowest = np.sort(lowest)  # configuration by configuration (np.nonzero's order)
-        found = self._exact_below(q, values, rows[lowest], columns[lowest], group[lowest], smallest.tolist())
-        rest = np.ones(len(rows), dtype=bool)
-        rest[lowest] = False
-        rest &= values[rows, columns] < np.asarray(found)[group] + ROUNDING_M
-        self._exact_below(q, values, rows[rest], columns[rest], group[rest], found)
+    def _settle(self, q: np.ndarray, values: np.ndarray, rotation: np.ndarray, origin: np.ndarray, threshold_m: float,
+                run: int, least: bool) -> None:
+        """Exact distances in ``values`` (M, K: bounds of the shape pairs in configurations q, whose shapes are
+        placed by ``rotation`` and ``origin``) wherever a run's smallest of a body pair at most ``threshold_m`` may
+        lie, and, if ``least``, its smallest over all pairs, round by round; the other values raised to the bounds
+        that the exact ones give (:mod:`placement.cell.bounds`)."""
+        exact = np.zeros(values.shape, dtype=bool)
+        kind, centre, radius, _, extent = self._enclosures
+        centre_m = shape_centres(rotation, origin, centre)
+        runs, offsets = len(q) // run, np.arange(0, run, CHUNK)
+        starts = np.append((np.arange(runs)[:, None] * run + offsets).ravel(), len(q))
+        chunk_run = np.repeat(np.arange(runs), len(offsets))
+        settings = [(self._shape_pair, len(self._pair_starts), threshold_m)]
+        if least:
+            settings.append((np.zeros_like(self._shape_pair), 1, np.inf))
+        for column_group, groups, threshold in settings:
+            smallest = smallest_exact(values, exact, column_group, groups, starts, chunk_run, runs)
+            rows, count = pending_rows(values, exact, smallest, column_group, starts, chunk_run, threshold, ROUNDING_M)
+            taken = np.zeros(count.shape, np.int64)
+            while True:
+                chosen, columns, chunk, alone = lowest_open(values, exact, rows, count, taken, smallest, column_group,
+                                                            starts, chunk_run, threshold, ROUNDING_M)
+                if not len(chosen):
+                    break
+                found, normal = self._exact_at(q, chosen, columns, alone)
+                record(values, exact, rows, count, smallest, column_group, starts, chunk_run, chosen, columns, chunk,
+                       alone, found, normal, centre_m, rotation, kind, extent, radius, self._shape_first,
+                       self._shape_second, LIPSCHITZ_SLACK_M)
 
-    def _exact_below(self, q: np.ndarray, values: np.ndarray, rows: np.ndarray, columns: np.ndarray,
-                     groups: np.ndarray, smallest: list[float]) -> list[float]:
-        """In order, the exact distance of each shape pair ``columns`` in configuration ``rows`` whose value is
-        still below the ``smallest`` of its group (to ``ROUNDING_M``), into ``values``; returns ``smallest``
-        updated."""
+    def _exact_at(self, q: np.ndarray, rows: np.ndarray, columns: np.ndarray,
+                  normals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The exact distances (m) of the shape pairs ``columns`` in the configurations ``rows`` (grouped by
+        configuration), and, where ``normals``, the unit normal (base frame) along which coal found each (else 0)."""
         model, data, geometry_model, geometry_data = self._model, self._data, self.geometry_model, self._geometry_data
-        placed, done, exact = -1, [], []
-        for i, (m, k, g, bound) in enumerate(zip(rows.tolist(), columns.tolist(), groups.tolist(),
-                                                 values[rows, columns].tolist())):
-            if bound >= smallest[g] + ROUNDING_M:  # a distance here is at least the smallest found (GJK's rounding)
-                continue
+        found, normal, placed = np.empty(len(rows)), np.zeros((len(rows), 3)), -1
+        for i, (m, k, with_normal) in enumerate(zip(rows.tolist(), columns.tolist(), normals.tolist())):
             if m != placed:
                 pin.updateGeometryPlacements(model, data, geometry_model, geometry_data, q[m])
                 placed = m
-            distance = pin.computeDistance(geometry_model, geometry_data, k).min_distance
-            done.append(i)
-            exact.append(distance)
-            if distance < smallest[g]:
-                smallest[g] = distance
-        values[rows[done], columns[done]] = exact
-        return smallest
+            result = pin.computeDistance(geometry_model, geometry_data, k)
+            found[i] = result.min_distance
+            if with_normal:
+                normal[i] = result.normal
+        return found, normal
 
     def _per_pair(self, values: np.ndarray) -> np.ndarray:
         """(M, P) the smallest of each body pair's shape-pair values (M, K)."""
@@ -253,14 +268,12 @@ class CollisionScene:
             return np.empty((len(values), 0))
         return np.minimum.reduceat(values, self._pair_starts, axis=1)
 
-    def _bounds(self, q: np.ndarray, threshold_m: float) -> np.ndarray:
-        """(M, K) lower bounds of the shape pairs' distances in configurations q (M, nq), refined up to
-        ``threshold_m`` (:func:`placement.cell.bounds.pair_bounds`)."""
-        rotation, origin = kernels.placements(self._tree, q)
+    def _bounds(self, rotation: np.ndarray, origin: np.ndarray, threshold_m: float) -> np.ndarray:
+        """(M, K) lower bounds of the shape pairs' distances with the shapes placed by ``rotation`` (M, G, 3, 3) and
+        ``origin`` (M, G, 3), refined up to ``threshold_m`` (:func:`placement.cell.bounds.pair_bounds`)."""
         kind, centre, radius, box_half, extent = self._enclosures
         return pair_bounds(rotation, origin, self._shape_first, self._shape_second, self._against_cell,
                            kind, centre, radius, box_half, extent, float(threshold_m))
-
 
 def _shape_tree(robot: Robot, geometry_model: pin.GeometryModel) -> TreeArrays:
     """The compiled tree with one frame per shape (its parent joint and placement there)."""

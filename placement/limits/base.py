@@ -36,6 +36,8 @@ class MarginField:
         limit: (K, N, m) the limit it is compared with.
         where: The m column names (actuator joint or axis).
         units: The m units of value and limit.
+        samples: (N,) the batch's samples that the N rows are, in order, when a limit checks only some
+            of them (each standing for the samples up to the next); None: every sample.
     """
 
     kind: str
@@ -44,6 +46,7 @@ class MarginField:
     limit: np.ndarray
     where: tuple[str, ...]
     units: tuple[str, ...]
+    samples: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -143,6 +146,7 @@ def tightest(fields: list[MarginField], placement: int = 0) -> list[Margin]:
         sample, column = np.unravel_index(np.argmin(margin), margin.shape)
         out.append(Margin(kind=field.kind, where=field.where[column], margin=float(margin[sample, column]),
                           value=float(field.value[placement, sample, column]),
-                          limit=float(field.limit[placement, sample, column]), sample=int(sample),
+                          limit=float(field.limit[placement, sample, column]),
+                          sample=int(sample if field.samples is None else field.samples[sample]),
                           unit=field.units[column]))
     return out

@@ -11,11 +11,12 @@
   placement's path is computed exactly; at its other samples the batch's distances may be lower
   bounds, at least that smallest one (:meth:`placement.cell.scene.CollisionScene.distances`, in
   runs). Such a batch is also checked only at samples ``CHECK_SPACING_M`` apart along the path
-  (and at its ends), each other sample taking the value of the checked one before it, and asks
+  (and at its ends; the field's rows, each standing for the samples up to the next), and asks
   each pair for ``CHECK_SPACING_M`` more clearance: the bodies near the tool move about that much
   between two checked samples, so the placement it finds keeps the real clearance in between. A
-  batch marked exact (a report's, a re-check's) gets exact distances at every sample against the
-  real clearances.
+  batch marked exact (a report's, a re-check's) checks every sample against the real clearances,
+  in runs too, and also each placement's smallest distance over all pairs is exact however far,
+  at the sample where it is reached: the tightest collision that a report shows.
 - ``workpiece region``: every tool point inside the cell's ``workpiece_region`` box; the scale
   is the box's side, as for the robot's workspace.
 
@@ -78,17 +79,18 @@ class Collision(Limit):
             return []
         required = scene.required_m
         if batch.exact:
-            distance = scene.distances(batch.joints.q).reshape(k, n, -1)
+            threshold = float(required.max()) + EXACT_BAND_M
+            distance = scene.distances(batch.joints.q, threshold_m=threshold, run=n, least=True).reshape(k, n, -1)
+            checked = None
         else:
             required = required + CHECK_SPACING_M
             checked = checked_samples(batch.samples.position_m)
             q = batch.joints.q.reshape(k, n, -1)[:, checked].reshape(k * len(checked), -1)
             threshold = float(required.max()) + EXACT_BAND_M
             distance = scene.distances(q, threshold_m=threshold, run=len(checked)).reshape(k, len(checked), -1)
-            distance = distance[:, np.searchsorted(checked, np.arange(n), side="right") - 1]
         required = np.broadcast_to(required, distance.shape)
         return [MarginField("collision", (distance - required) / CLEARANCE_SCALE_M, distance, required,
-                            tuple(f"{a} / {b}" for a, b in scene.pairs), ("m",) * len(scene.pairs))]
+                            tuple(f"{a} / {b}" for a, b in scene.pairs), ("m",) * len(scene.pairs), checked)]
 
 
 class WorkpieceRegion(Limit):

@@ -15,6 +15,7 @@ import yaml
 from placement.cell.exceptions import CellFileError
 from placement.cell.scene import CollisionScene
 from placement.cell.schema import load_cell
+from placement.kinematics import kernels
 from placement.robot import load_robot
 from placement.robot.exceptions import RobotFileError
 from placement.robot.tool import mount_tool, pose_placement, tool_inertia
@@ -179,7 +180,8 @@ def test_prefilter_never_changes_a_distance_below_the_threshold(ur5):
     high = np.array([a.position_max for a in ur5.actuators])
     q = low + (high - low) * rng.random((150, ur5.model.nq))
     exact = scene.distances(q)
-    assert (scene._per_pair(scene._bounds(q, np.inf)) <= exact + 1e-9).all()  # overlapping pairs too
+    bounds = scene._per_pair(scene._bounds(*kernels.placements(scene._tree, q), np.inf))
+    assert (bounds <= exact + 1e-9).all()  # overlapping pairs too
     for threshold in (0.0, 0.05, 0.2):
         filtered = scene.distances(q, threshold_m=threshold)
         below = exact <= threshold
@@ -196,7 +198,7 @@ def test_refined_bounds_stay_below_the_exact_distances_of_the_orthoglide_cell():
     scene = CollisionScene(robot, load_cell(ORTHOGLIDE_CELL))
     q = robot.reference_q + np.random.default_rng(3).uniform(-0.25, 0.25, (400, robot.model.nq))
     exact = scene.distances(q)
-    bounds = scene._per_pair(scene._bounds(q, np.inf))
+    bounds = scene._per_pair(scene._bounds(*kernels.placements(scene._tree, q), np.inf))
     assert (bounds <= exact + 1e-9).all()  # face to face, a bound is the distance, to GJK's rounding
     assert np.median(exact - bounds) < 0.01  # tighter than the bounding spheres' (their median gap is about 4 cm)
     for threshold in (0.0, 0.056, 0.2):
@@ -232,6 +234,28 @@ def test_a_runs_smallest_distance_is_exact_and_its_other_distances_are_bounds_be
     assert (scene.distances(q, threshold_m=0.056, run=run) != exact).mean() > 0.5  # most are spared
     with pytest.raises(ValueError, match="runs of 7"):
         scene.distances(q[:20], threshold_m=0.056, run=7)
+
+
+def test_along_a_path_few_exact_distances_settle_each_runs_smallest(monkeypatch):
+    """Runs of small steps, as a path's samples: the bounds that an exact distance gives its neighbours (the bodies'
+    moves, the gap along coal's normal) leave a few exact distances per pair and run (every value below the
+    smallest found would take one without them: about 12 per pair and run here), and never rise above coal's."""
+    robot = load_robot("orthoglide")
+    scene = CollisionScene(robot, load_cell(ORTHOGLIDE_CELL))
+    runs, run = 30, 60
+    ends = robot.reference_q + np.random.default_rng(5).uniform(-0.1, 0.1, (runs, 2, robot.model.nq))
+    share = np.linspace(0.0, 1.0, run)[None, :, None]
+    q = (ends[:, :1] * (1 - share) + ends[:, 1:] * share).reshape(runs * run, -1)
+    exact = scene.distances(q)
+    smallest = exact.reshape(runs, run, -1).min(axis=1)
+    calls = []
+    compute = pin.computeDistance
+    monkeypatch.setattr(pin, "computeDistance", lambda *args: calls.append(1) or compute(*args))
+    filtered = scene.distances(q, threshold_m=0.2, run=run)
+    within = smallest <= 0.2
+    np.testing.assert_array_equal(filtered.reshape(runs, run, -1).min(axis=1)[within], smallest[within])
+    assert (filtered <= exact + 1e-9).all()
+    assert within.sum() > 500 and len(calls) < 6 * within.sum()
 
 
 # ---------------------------------------------------------------- which pairs

@@ -14,6 +14,7 @@ from placement import Evaluator, EvaluatorSettings, load_path, load_robot
 from placement.__main__ import main
 from placement.cell.schema import load_cell
 from placement.cell.tool import equip
+from placement.limits.base import margin_fields, tightest
 from placement.limits.collision import collision_scene
 from placement.robot.tool import mount_tool
 from placement.search.optimize import SearchSettings, optimize_placement
@@ -129,3 +130,19 @@ def test_the_ur5_deburring_job_in_its_cell_keeps_its_clearances_between_samples(
     distances = scene.distances(dense.configuration)  # exact, every pair, every sample
     assert (distances >= scene.required_m).all()
     assert {"table", "wall", "fixture", "operator"} <= {second for _, second in scene.pairs}
+
+
+def test_a_search_batchs_tightest_clearance_is_coals_distance_at_the_path_sample_it_names():
+    """A search's batch checks some samples only: its tightest collision names the path's sample, where coal
+    gives the same distance."""
+    robot = equip(load_robot("orthoglide"), load_cell("examples/cell_orthoglide.yaml"))
+    evaluator = Evaluator(robot, load_path("examples/pocket.yaml"), EvaluatorSettings())  # 6,842 samples
+    placement = np.array([-0.108, -0.107, -0.0997, -2.19, 0.0, 0.0])  # the legs close to the vice
+    batch = evaluator.batch(placement[None], exact=False)
+    fields = margin_fields(batch)
+    field = next(field for field in fields if field.kind == "collision")
+    assert field.samples is not None and len(field.samples) < len(evaluator.samples) / 2  # the checked samples
+    margin = next(margin for margin in tightest(fields) if margin.kind == "collision")
+    scene = collision_scene(robot)
+    exact = scene.distances(batch.joints.q[margin.sample])[0, scene.pairs.index(tuple(margin.where.split(" / ")))]
+    assert margin.value == pytest.approx(exact, abs=1e-12) and margin.value < 0.05
