@@ -40,9 +40,10 @@ def load_plugin(sidecar_path: Path, plugin: str | None) -> ModuleType | None:
                              "solver entry point)")
     if not file.is_file():
         raise RobotFileError(sidecar_path, "kinematics_plugin", f"file not found: {file}")
-    # A name of its own per file: the module is registered under it, for numba's on-disk cache of a compiled
-    # plug-in, which finds a function's module by name when it loads the function in a later process.
-    name = f"placement_plugin_{file.stem}_{hashlib.sha1(str(file).encode()).hexdigest()[:12]}"
+    # A name of its own per content: the module is registered under it, for numba's on-disk cache of a compiled
+    # plug-in, which finds a function's module by name when it loads the function in a later process; a copy of
+    # the file (a robot folder copied with its cache) finds the same name there.
+    name = f"placement_plugin_{file.stem}_{hashlib.sha1(file.read_bytes()).hexdigest()[:12]}"
     spec = importlib.util.spec_from_file_location(name, file)
     if spec is None or spec.loader is None:
         raise RobotFileError(sidecar_path, "kinematics_plugin", f"not a Python file: {file}")
