@@ -278,6 +278,18 @@ def _inertia_times(mass, lever, inertia, motion, count, out):
         out[5, n] = i20 * w0 + i21 * w1 + i22 * w2 + (c0 * l1 - c1 * l0)
 
 
+@njit(cache=True, _nrt=False, inline="always")  # type: ignore[call-overload]
+def _add_cross(force, n, v0, v1, v2, w0, w1, w2, h0, h1, h2, g0, g1, g2):
+    """Sample ``n`` of ``force`` (6, BLOCK) gains v ×* h for the motion v = (v0, v1, v2, w0, w1, w2) and the momentum
+    h = (h0, h1, h2, g0, g1, g2): (ω × h_lin, ω × h_ang + v × h_lin)."""
+    force[0, n] += w1 * h2 - w2 * h1
+    force[1, n] += w2 * h0 - w0 * h2
+    force[2, n] += w0 * h1 - w1 * h0
+    force[3, n] += w1 * g2 - w2 * g1 + v1 * h2 - v2 * h1
+    force[4, n] += w2 * g0 - w0 * g2 + v2 * h0 - v0 * h2
+    force[5, n] += w0 * g1 - w1 * g0 + v0 * h1 - v1 * h0
+
+
 @_uncounted
 def _add_velocity_force(mass, lever, inertia, velocity, count, force):
     """``force`` (6, BLOCK) gains v ×* (I·v), v = ``velocity``: (ω × h_lin, ω × h_ang + v × h_lin), h = I·v."""
@@ -292,12 +304,7 @@ def _add_velocity_force(mass, lever, inertia, velocity, count, force):
         g0 = i00 * w0 + i01 * w1 + i02 * w2 + (c1 * h2 - c2 * h1)
         g1 = i10 * w0 + i11 * w1 + i12 * w2 + (c2 * h0 - c0 * h2)
         g2 = i20 * w0 + i21 * w1 + i22 * w2 + (c0 * h1 - c1 * h0)
-        force[0, n] += w1 * h2 - w2 * h1
-        force[1, n] += w2 * h0 - w0 * h2
-        force[2, n] += w0 * h1 - w1 * h0
-        force[3, n] += w1 * g2 - w2 * g1 + v1 * h2 - v2 * h1
-        force[4, n] += w2 * g0 - w0 * g2 + v2 * h0 - v0 * h2
-        force[5, n] += w0 * g1 - w1 * g0 + v0 * h1 - v1 * h0
+        _add_cross(force, n, v0, v1, v2, w0, w1, w2, h0, h1, h2, g0, g1, g2)
 
 
 @_uncounted
@@ -307,12 +314,7 @@ def _add_momentum_force(velocity, momentum, count, force):
     for n in range(count):
         v0, v1, v2, w0, w1, w2 = velocity[0, n], velocity[1, n], velocity[2, n], velocity[3, n], velocity[4, n], velocity[5, n]
         h0, h1, h2, g0, g1, g2 = momentum[0, n], momentum[1, n], momentum[2, n], momentum[3, n], momentum[4, n], momentum[5, n]
-        force[0, n] += w1 * h2 - w2 * h1
-        force[1, n] += w2 * h0 - w0 * h2
-        force[2, n] += w0 * h1 - w1 * h0
-        force[3, n] += w1 * g2 - w2 * g1 + v1 * h2 - v2 * h1
-        force[4, n] += w2 * g0 - w0 * g2 + v2 * h0 - v0 * h2
-        force[5, n] += w0 * g1 - w1 * g0 + v0 * h1 - v1 * h0
+        _add_cross(force, n, v0, v1, v2, w0, w1, w2, h0, h1, h2, g0, g1, g2)
 
 
 @_uncounted
