@@ -118,27 +118,26 @@ def projection_gap(d, n0, n1, n2, kind_a, extent_a, radius_a, rotation_a, kind_b
 
 
 @njit(cache=True)
-def pair_bounds(rotation, origin, first, second, against_cell, kind, centre, radius, box_half, extent, threshold):
+def pair_bounds(rotation, centre_m, first, second, against_cell, kind, radius, box_half, extent, threshold):
     """(M, K) lower bounds of the distances of K shape pairs in M configurations (see the module).
 
     Args:
-        rotation, origin: (M, G, 3, 3) and (M, G, 3): every shape's frame in every configuration.
+        rotation, centre_m: (M, G, 3, 3) and (M, G, 3): every shape's rotation and bounding-sphere centre in every
+            configuration (:func:`shape_centres`).
         first, second: (K,) the shapes of each pair.
         against_cell: (K,) the second shape is a cell body (its bounding box then bounds the sphere's gap).
-        kind, centre, radius, box_half, extent: the shapes' enclosures (:func:`shape_supports`).
+        kind, radius, box_half, extent: the shapes' enclosures (:func:`shape_supports`).
         threshold: A bound above this is not refined further (m).
     """
     m_count, k_count = rotation.shape[0], len(first)
     out = np.empty((m_count, k_count))
-    ca, cb, d, local = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    d, local = np.empty(3), np.empty(3)
     for m in range(m_count):
         for k in range(k_count):
             a, b = first[k], second[k]
             ra, rb = rotation[m, a], rotation[m, b]
             for i in range(3):
-                ca[i] = ra[i, 0] * centre[a, 0] + ra[i, 1] * centre[a, 1] + ra[i, 2] * centre[a, 2] + origin[m, a, i]
-                cb[i] = rb[i, 0] * centre[b, 0] + rb[i, 1] * centre[b, 1] + rb[i, 2] * centre[b, 2] + origin[m, b, i]
-                d[i] = cb[i] - ca[i]
+                d[i] = centre_m[m, b, i] - centre_m[m, a, i]
             if against_cell[k]:  # from the first sphere to the second's bounding box, in the box's frame
                 outside, depth = 0.0, np.inf  # how far the centre is outside the box, or inside it
                 for i in range(3):

@@ -151,9 +151,9 @@ class CollisionScene:
             return self._per_pair(self._exact_everywhere(q))
         if run < 1 or len(q) % run:
             raise ValueError(f"{len(q)} configurations do not make runs of {run}")
-        rotation, origin = kernels.placements(self._tree, q)
-        values = self._bounds(rotation, origin, threshold_m)
-        self._settle(q, values, rotation, origin, threshold_m, run, least)
+        rotation, centre_m = self._placed(q)
+        values = self._bounds(rotation, centre_m, threshold_m)
+        self._settle(q, values, rotation, centre_m, threshold_m, run, least)
         return self._per_pair(values)
 
     def closest(self, q: np.ndarray) -> Witnesses:
@@ -217,15 +217,14 @@ class CollisionScene:
             values[m] = [result.min_distance for result in results]
         return values
 
-    def _settle(self, q: np.ndarray, values: np.ndarray, rotation: np.ndarray, origin: np.ndarray, threshold_m: float,
-                run: int, least: bool) -> None:
+    def _settle(self, q: np.ndarray, values: np.ndarray, rotation: np.ndarray, centre_m: np.ndarray,
+                threshold_m: float, run: int, least: bool) -> None:
         """Exact distances in ``values`` (M, K: bounds of the shape pairs in configurations q, whose shapes are
-        placed by ``rotation`` and ``origin``) wherever a run's smallest of a body pair at most ``threshold_m`` may
-        lie, and, if ``least``, its smallest over all pairs, round by round; the other values raised to the bounds
-        that the exact ones give (:mod:`placement.cell.bounds`)."""
+        placed by ``rotation`` and ``centre_m``, :meth:`_placed`) wherever a run's smallest of a body pair at most
+        ``threshold_m`` may lie, and, if ``least``, its smallest over all pairs, round by round; the other values
+        raised to the bounds that the exact ones give (:mod:`placement.cell.bounds`)."""
         exact = np.zeros(values.shape, dtype=bool)
-        kind, centre, radius, _, extent = self._enclosures
-        centre_m = shape_centres(rotation, origin, centre)
+        kind, _, radius, _, extent = self._enclosures
         runs, offsets = len(q) // run, np.arange(0, run, CHUNK)
         starts = np.append((np.arange(runs)[:, None] * run + offsets).ravel(), len(q))
         chunk_run = np.repeat(np.arange(runs), len(offsets))
@@ -268,12 +267,19 @@ class CollisionScene:
             return np.empty((len(values), 0))
         return np.minimum.reduceat(values, self._pair_starts, axis=1)
 
-    def _bounds(self, rotation: np.ndarray, origin: np.ndarray, threshold_m: float) -> np.ndarray:
-        """(M, K) lower bounds of the shape pairs' distances with the shapes placed by ``rotation`` (M, G, 3, 3) and
-        ``origin`` (M, G, 3), refined up to ``threshold_m`` (:func:`placement.cell.bounds.pair_bounds`)."""
-        kind, centre, radius, box_half, extent = self._enclosures
-        return pair_bounds(rotation, origin, self._shape_first, self._shape_second, self._against_cell,
-                           kind, centre, radius, box_half, extent, float(threshold_m))
+    def _placed(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(M, G, 3, 3) every shape's rotation and (M, G, 3) its bounding-sphere centre (base frame, m) in
+        configurations q (M, nq)."""
+        rotation, origin = kernels.placements(self._tree, q)
+        return rotation, shape_centres(rotation, origin, self._enclosures[1])
+
+    def _bounds(self, rotation: np.ndarray, centre_m: np.ndarray, threshold_m: float) -> np.ndarray:
+        """(M, K) lower bounds of the shape pairs' distances with the shapes placed by ``rotation`` and ``centre_m``
+        (:meth:`_placed`), refined up to ``threshold_m`` (:func:`placement.cell.bounds.pair_bounds`)."""
+        kind, _, radius, box_half, extent = self._enclosures
+        return pair_bounds(rotation, centre_m, self._shape_first, self._shape_second, self._against_cell,
+                           kind, radius, box_half, extent, float(threshold_m))
+
 
 def _shape_tree(robot: Robot, geometry_model: pin.GeometryModel) -> TreeArrays:
     """The compiled tree with one frame per shape (its parent joint and placement there)."""

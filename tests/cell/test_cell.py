@@ -15,7 +15,6 @@ import yaml
 from placement.cell.exceptions import CellFileError
 from placement.cell.scene import CollisionScene
 from placement.cell.schema import load_cell
-from placement.kinematics import kernels
 from placement.robot import load_robot
 from placement.robot.exceptions import RobotFileError
 from placement.robot.tool import mount_tool, pose_placement, tool_inertia
@@ -180,7 +179,7 @@ def test_prefilter_never_changes_a_distance_below_the_threshold(ur5):
     high = np.array([a.position_max for a in ur5.actuators])
     q = low + (high - low) * rng.random((150, ur5.model.nq))
     exact = scene.distances(q)
-    bounds = scene._per_pair(scene._bounds(*kernels.placements(scene._tree, q), np.inf))
+    bounds = scene._per_pair(scene._bounds(*scene._placed(q), np.inf))
     assert (bounds <= exact + 1e-9).all()  # overlapping pairs too
     for threshold in (0.0, 0.05, 0.2):
         filtered = scene.distances(q, threshold_m=threshold)
@@ -198,7 +197,7 @@ def test_refined_bounds_stay_below_the_exact_distances_of_the_orthoglide_cell():
     scene = CollisionScene(robot, load_cell(ORTHOGLIDE_CELL))
     q = robot.reference_q + np.random.default_rng(3).uniform(-0.25, 0.25, (400, robot.model.nq))
     exact = scene.distances(q)
-    bounds = scene._per_pair(scene._bounds(*kernels.placements(scene._tree, q), np.inf))
+    bounds = scene._per_pair(scene._bounds(*scene._placed(q), np.inf))
     assert (bounds <= exact + 1e-9).all()  # face to face, a bound is the distance, to GJK's rounding
     assert np.median(exact - bounds) < 0.01  # tighter than the bounding spheres' (their median gap is about 4 cm)
     for threshold in (0.0, 0.056, 0.2):

@@ -51,10 +51,10 @@ def compile_others() -> None:
     rows = np.array([[[1.0], [-1.0]]])  # one placement, two samples: -1 <= s̈ <= 1
     time_placements(np.array([0.0, 1.0]), np.array([0, 2]), np.array([False]), rows, np.zeros((1, 2, 1)),
                     -np.ones((1, 2, 1)), np.ones((1, 2)), np.array([True]))
-    rotation, origin = np.eye(3)[None, None], np.zeros((1, 1, 3))  # one shape, in one configuration
+    rotation, centre_m = np.eye(3)[None, None], np.zeros((1, 1, 3))  # one shape, in one configuration
     shape = np.array([0], dtype=np.int64)
-    pair_bounds(rotation, origin, shape, shape, np.array([False]), np.full(1, SPHERE, dtype=np.int64),
-                np.zeros((1, 3)), np.ones(1), np.ones((1, 3)), np.zeros((1, 3)), 0.0)
+    pair_bounds(rotation, centre_m, shape, shape, np.array([False]), np.full(1, SPHERE, dtype=np.int64),
+                np.ones(1), np.ones((1, 3)), np.zeros((1, 3)), 0.0)
 
 
 def _one_joint_tree() -> kernels.TreeArrays:
