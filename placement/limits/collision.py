@@ -5,8 +5,12 @@
   from obstacles, 0 from keep-out zones and between links (see :mod:`placement.cell.scene`). The
   margin is (distance − clearance)/``CLEARANCE_SCALE_M``: negative where the bodies come closer
   than allowed, and inside one another. In a search's batch, distances above ``EXACT_BAND_M``
-  beyond the largest clearance may be cheap lower bounds (bounding spheres): never above the exact
-  distance, so a pair they clear is clear, and every distance that decides feasibility is exact.
+  beyond the largest clearance (and the margin kept, ``EvaluatorSettings.margin``) may be cheap lower
+  bounds (bounding spheres): never above the exact distance, so a pair they clear is clear, and every
+  distance that decides feasibility is exact. A batch that only feasibility is read from (a global
+  search's, a tolerance box's: ``feasibility_only``) has no band: only distances up to the clearance
+  and margin are exact; a gradient-based polish differentiates the margins near zero, which the band
+  keeps exact.
   Since a margin is the smallest over the samples, only each pair's smallest distance along a
   placement's path is computed exactly; at its other samples the batch's distances may be lower
   bounds, at least that smallest one (:meth:`placement.cell.scene.CollisionScene.distances`, in
@@ -66,6 +70,12 @@ def checked_samples(position_m: np.ndarray) -> np.ndarray:
     return np.union1d(first_of_mark, [len(position_m) - 1])
 
 
+def exact_up_to(required_m: np.ndarray, required_margin: float, band_m: float) -> float:
+    """The distance (m) up to which a batch's distances are exact: the largest clearance required, plus the
+    margin a feasible placement keeps (a share of ``CLEARANCE_SCALE_M``), plus ``band_m``."""
+    return float(required_m.max()) + CLEARANCE_SCALE_M * required_margin + band_m
+
+
 class Collision(Limit):
     """Every checked pair of bodies keeps its clearance."""
 
@@ -78,15 +88,16 @@ class Collision(Limit):
         if not scene.pairs:
             return []
         required = scene.required_m
+        band = 0.0 if batch.feasibility_only else EXACT_BAND_M
         if batch.exact:
-            threshold = float(required.max()) + EXACT_BAND_M
+            threshold = exact_up_to(required, batch.required_margin, band)
             distance = scene.distances(batch.joints.q, threshold_m=threshold, run=n, least=True).reshape(k, n, -1)
             checked = None
         else:
             required = required + CHECK_SPACING_M
             checked = checked_samples(batch.samples.position_m)
             q = batch.joints.q.reshape(k, n, -1)[:, checked].reshape(k * len(checked), -1)
-            threshold = float(required.max()) + EXACT_BAND_M
+            threshold = exact_up_to(required, batch.required_margin, band)
             distance = scene.distances(q, threshold_m=threshold, run=len(checked)).reshape(k, len(checked), -1)
         required = np.broadcast_to(required, distance.shape)
         return [MarginField("collision", (distance - required) / CLEARANCE_SCALE_M, distance, required,
