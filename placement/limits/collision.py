@@ -98,7 +98,8 @@ class Collision(Limit):
             checked = checked_samples(batch.samples.position_m)
             q = batch.joints.q.reshape(k, n, -1)[:, checked].reshape(k * len(checked), -1)
             threshold = exact_up_to(required, batch.required_margin, band)
-            distance = scene.distances(q, threshold_m=threshold, run=len(checked)).reshape(k, len(checked), -1)
+            distance = scene.distances(q, threshold_m=threshold, run=len(checked),
+                                       coarse=batch.feasibility_only).reshape(k, len(checked), -1)
         required = np.broadcast_to(required, distance.shape)
         return [MarginField("collision", (distance - required) / CLEARANCE_SCALE_M, distance, required,
                             tuple(f"{a} / {b}" for a, b in scene.pairs), ("m",) * len(scene.pairs), checked)]
