@@ -45,8 +45,8 @@ smallest distance of a group, where at most the threshold, is then the same numb
 distance exact, and every other value stays a lower bound at least that smallest. (One file: numba's
 cache does not follow calls into other files.)
 
-Coarse bounds, along runs, from the joints' motion (a batch that only asks whether each distance
-exceeds the threshold: :func:`lever_bounds`). A point of a shape moves, when joint ``j`` turns by
+Coarse bounds, along runs, from the joints' motion (:func:`lever_bounds`), where the others need not
+be computed. A point of a shape moves, when joint ``j`` turns by
 ``Δq``, by at most ``Δq`` times its distance from the joint's origin, and by ``Δq`` when the joint
 slides; that distance is at most the lengths of the links in between (and the travel of the
 sliding joints among them) plus the shape's sphere's offset and radius, whatever the
@@ -66,7 +66,7 @@ import numpy as np
 from numba import njit
 
 SPHERE, BOX, CYLINDER = 0, 1, 2  # how a shape's support function is computed
-ANCHOR_STRIDE = 8  # a coarse batch places the shapes at every this many configurations of a run first
+ANCHOR_STRIDE = 8  # the shapes are placed at every this many configurations of a run first
 CHUNK = 128  # configurations of a run whose pending ones are kept in one list
 ONE_BY_ONE = 4  # exact distances a chunk's shape pair takes one at a time, lowest bound first, before all the rest
 LIPSCHITZ_SLACK_M = 1e-5  # what a bound from a neighbouring exact distance gives up to coal's rounding (m)

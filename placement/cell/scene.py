@@ -19,11 +19,12 @@ how far the bodies move in between, and the exact ones are computed lowest bound
 bound is below the smallest found (:mod:`placement.cell.bounds`). The run's smallest is then the same
 number as with every distance exact, its other values lower bounds at least that smallest, and
 checking ``distance >= required`` with a threshold at least the largest requirement decides
-exactly as the exact distances would. A batch read only for which distances exceed the threshold
-(``coarse``) places the shapes at every few configurations of a run first, and in between only
-where the joints' motion since those could bring a pair within the threshold. A distance does not
-depend on the other configurations or pairs computed with it (coal's warm start is off). A scene is
-not safe to share between threads.
+exactly as the exact distances would. Along runs (without ``least``), the shapes are placed at every
+few configurations of a run first, and in between only where the joints' motion since could bring
+a pair within the threshold; elsewhere a value above the threshold may be the bound that motion
+leaves (:func:`placement.cell.bounds.lever_bounds`). A distance does not depend on the other
+configurations or pairs computed with it (coal's warm start is off). A scene is not safe to share
+between threads.
 """
 
 from __future__ import annotations
@@ -133,8 +134,7 @@ class CollisionScene:
         """For another process: the scene is built again there from its robot and cell."""
         return CollisionScene, self._source
 
-    def distances(self, q: np.ndarray, threshold_m: float | None = None, run: int = 1, least: bool = False,
-                  coarse: bool = False) -> np.ndarray:
+    def distances(self, q: np.ndarray, threshold_m: float | None = None, run: int = 1, least: bool = False) -> np.ndarray:
         """Signed distances (m) of every pair in every configuration.
 
         Args:
@@ -148,11 +148,6 @@ class CollisionScene:
                 distances in the run may be lower bounds, at least that smallest one.
             least: With ``threshold_m``, each run's smallest distance over all pairs is exact too, however
                 far (where it is reached: the tightest of a report).
-            coarse: With ``threshold_m``, and not ``least``: a value above ``threshold_m`` may be a looser lower
-                bound, from a neighbouring configuration's by how far the joints' motion can move the bodies in
-                between (:func:`placement.cell.bounds.lever_bounds`), which spares placing the shapes in most
-                configurations far from the cell (for a batch read only for whether each distance exceeds the
-                threshold).
 
         Returns:
             (M, P) distances, pairs in the order of :attr:`pairs`; negative when the bodies overlap.
@@ -165,7 +160,7 @@ class CollisionScene:
             return self._per_pair(self._exact_everywhere(q))
         if run < 1 or len(q) % run:
             raise ValueError(f"{len(q)} configurations do not make runs of {run}")
-        if coarse and not least and self._levers is not None:
+        if run > ANCHOR_STRIDE and not least and self._levers is not None:
             rotation, centre_m, slot, values = self._bounds_from_anchors(q, threshold_m, run)
         else:
             rotation, centre_m = self._placed(q)

@@ -6,7 +6,8 @@
   margin is (distance − clearance)/``CLEARANCE_SCALE_M``: negative where the bodies come closer
   than allowed, and inside one another. In a search's batch, distances above ``EXACT_BAND_M``
   beyond the largest clearance (and the margin kept, ``EvaluatorSettings.margin``) may be cheap lower
-  bounds (bounding spheres): never above the exact distance, so a pair they clear is clear, and every
+  bounds (bounding spheres, or how far the joints' motion since a nearby sample can move the
+  bodies): never above the exact distance, so a pair they clear is clear, and every
   distance that decides feasibility is exact. A batch that only feasibility is read from (a global
   search's, a tolerance box's: ``feasibility_only``) has no band: only distances up to the clearance
   and margin are exact; a gradient-based polish differentiates the margins near zero, which the band
@@ -98,8 +99,7 @@ class Collision(Limit):
             checked = checked_samples(batch.samples.position_m)
             q = batch.joints.q.reshape(k, n, -1)[:, checked].reshape(k * len(checked), -1)
             threshold = exact_up_to(required, batch.required_margin, band)
-            distance = scene.distances(q, threshold_m=threshold, run=len(checked),
-                                       coarse=batch.feasibility_only).reshape(k, len(checked), -1)
+            distance = scene.distances(q, threshold_m=threshold, run=len(checked)).reshape(k, len(checked), -1)
         required = np.broadcast_to(required, distance.shape)
         return [MarginField("collision", (distance - required) / CLEARANCE_SCALE_M, distance, required,
                             tuple(f"{a} / {b}" for a, b in scene.pairs), ("m",) * len(scene.pairs), checked)]

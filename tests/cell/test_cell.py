@@ -209,11 +209,10 @@ def test_refined_bounds_stay_below_the_exact_distances_of_the_orthoglide_cell():
             assert np.array_equal(filtered >= scene.required_m, exact >= scene.required_m)
 
 
-@pytest.mark.parametrize("coarse", [False, True])
-def test_a_runs_smallest_distance_is_exact_and_its_other_distances_are_bounds_below_the_exact_ones(coarse):
+def test_a_runs_smallest_distance_is_exact_and_its_other_distances_are_bounds_below_the_exact_ones():
     """Runs of configurations along straight lines in joint space (a path's samples): each pair's smallest
     distance over a run is coal's wherever it is within the threshold, though most exact distances are spared;
-    a bound above a distance would spare the wrong ones. So with the coarse bounds from the joints' motion."""
+    a bound above a distance would spare the wrong ones (a looser one from the joints' motion too)."""
     robot = load_robot("orthoglide")
     scene = CollisionScene(robot, load_cell(ORTHOGLIDE_CELL))
     rng = np.random.default_rng(5)
@@ -224,7 +223,7 @@ def test_a_runs_smallest_distance_is_exact_and_its_other_distances_are_bounds_be
     exact = scene.distances(q)
     smallest = exact.reshape(runs, run, -1).min(axis=1)
     for threshold in (0.0, 0.056, 0.2, np.inf):
-        filtered = scene.distances(q, threshold_m=threshold, run=run, coarse=coarse)
+        filtered = scene.distances(q, threshold_m=threshold, run=run)
         assert (filtered <= exact + 1e-9).all()  # lower bounds everywhere, to GJK's rounding
         least = filtered.reshape(runs, run, -1).min(axis=1)
         within = smallest <= threshold
