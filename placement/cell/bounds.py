@@ -147,23 +147,24 @@ def pair_bounds(rotation, centre_m, first, second, against_cell, kind, radius, b
     out = np.empty((m_count, k_count))
     d, local = np.empty(3), np.empty(3)
     for m in range(m_count):
-        for k in range(k_count):
+        for k in range(k_count):  # scalars, not views: the loop runs for every pair of every configuration
             a, b = first[k], second[k]
-            ra, rb = rotation[m, a], rotation[m, b]
-            for i in range(3):
-                d[i] = centre_m[m, b, i] - centre_m[m, a, i]
+            d0 = centre_m[m, b, 0] - centre_m[m, a, 0]
+            d1 = centre_m[m, b, 1] - centre_m[m, a, 1]
+            d2 = centre_m[m, b, 2] - centre_m[m, a, 2]
             if against_cell[k]:  # from the first sphere to the second's bounding box, in the box's frame
                 outside, depth = 0.0, np.inf  # how far the centre is outside the box, or inside it
                 for i in range(3):
-                    local[i] = -(rb[0, i] * d[0] + rb[1, i] * d[1] + rb[2, i] * d[2])
+                    local[i] = -(rotation[m, b, 0, i] * d0 + rotation[m, b, 1, i] * d1 + rotation[m, b, 2, i] * d2)
                     outside += max(abs(local[i]) - box_half[b, i], 0.0) ** 2
                     depth = min(depth, box_half[b, i] - abs(local[i]))
                 bound = (np.sqrt(outside) if depth < 0.0 else -depth) - radius[a]
             else:
-                bound = np.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) - radius[a] - radius[b]
+                bound = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2) - radius[a] - radius[b]
             if bound <= threshold:
-                bound = max(bound, _refined(d, local, against_cell[k], kind[a], extent[a], radius[a], ra,
-                                            kind[b], extent[b], radius[b], rb, box_half[b]))
+                d[0], d[1], d[2] = d0, d1, d2
+                bound = max(bound, _refined(d, local, against_cell[k], kind[a], extent[a], radius[a], rotation[m, a],
+                                            kind[b], extent[b], radius[b], rotation[m, b], box_half[b]))
             out[m, k] = bound
     return out
 
