@@ -30,6 +30,7 @@ Both apply to a robot equipped with a cell (:func:`placement.cell.tool.equip`).
 
 from __future__ import annotations
 
+import weakref
 from weakref import WeakKeyDictionary
 
 import numpy as np
@@ -45,6 +46,7 @@ EXACT_BAND_M = 0.05  # distances within this of the largest clearance are exact,
 CHECK_SPACING_M = 0.001  # a search's batch checks samples this far apart along the path
 
 _SCENES: WeakKeyDictionary[Robot, CollisionScene] = WeakKeyDictionary()
+_CHECKED: dict[int, np.ndarray] = {}  # checked_samples() of each positions array alive, by its id
 
 
 def collision_scene(robot: Robot) -> CollisionScene:
@@ -64,7 +66,17 @@ def closest_points(robot: Robot, configuration: np.ndarray, pair: str) -> tuple[
 
 def checked_samples(position_m: np.ndarray) -> np.ndarray:
     """Indices of the samples a search checks: the first, then each one ``CHECK_SPACING_M`` of path beyond the
-    last checked, and the last (positions (N, 3) in the path frame, m)."""
+    last checked, and the last (positions (N, 3) in the path frame, m; found once per array: an evaluator's
+    batches share their path's samples)."""
+    key = id(position_m)
+    if key not in _CHECKED:
+        _CHECKED[key] = _spaced(position_m)
+        _CHECKED[key].flags.writeable = False
+        weakref.finalize(position_m, _CHECKED.pop, key, None)
+    return _CHECKED[key]
+
+
+def _spaced(position_m: np.ndarray) -> np.ndarray:
     travelled = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(position_m, axis=0), axis=1))])
     marks = np.floor(travelled / CHECK_SPACING_M)
     first_of_mark = np.flatnonzero(np.concatenate([[True], np.diff(marks) > 0]))
