@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
-import math
 import multiprocessing
 import os
 import time
@@ -36,7 +35,7 @@ from dataclasses import dataclass
 from multiprocessing.sharedctypes import Synchronized
 
 import numpy as np
-from scipy.optimize import NonlinearConstraint, OptimizeResult, differential_evolution, minimize
+from scipy.optimize import NonlinearConstraint, differential_evolution
 
 from placement.dynamics.inverse import openmp_started
 from placement.evaluation.evaluator import EvaluationJob, Evaluator, EvaluatorSettings, denser
@@ -45,19 +44,13 @@ from placement.evaluation.results import Evaluation, PlacementDetail
 from placement.path.toolpath import ToolPath
 from placement.robot.model import Robot
 from placement.search.guide import SearchModels, guide_value, search_models
+from placement.search.local import POLISH_STARTS, Problem, distinct_basins, inward_until_feasible, polish_across
 from placement.search.reporting import binding, reported_point
 from placement.search.space import PlacementSpace, default_space
 
-POLISH_STARTS = 3  # distinct candidates polished locally
 GIVE_UP_GENERATIONS = 25  # generations without any feasible placement after which the search stops
 RECHECK_DENSITY = 4  # the re-check samples the path this many times more densely
-INWARD_SHARES = np.array([0.0, 1e-6, 1e-5, 1e-4, 1e-3])  # a repair's pulls towards the box centre, tried in order
-GRADIENT_STEP = 1e-7  # forward-difference step of the polish, as a share of each variable's range
 POLISH_EVALUATIONS = 30  # placement evaluations of a typical polish, for the duration estimate (gradients count n + 1)
-BASIN_RADIUS = 0.02  # candidates within this share of the box of one another share a basin
-EDGE_SHARE = 1e-6  # a polish ending within this share of a period of a periodic variable's edge goes on across it
-STALL_ITERATIONS = 10  # the polish stops when this many iterations improve the objective by at most
-STALL_TOLERANCE = 1e-9  # this share of it (SLSQP otherwise dithers on a limit until its iteration cap)
 
 
 @dataclass(frozen=True)
@@ -176,59 +169,8 @@ class PlacementResult:
         return float(abs(worst - best) / larger) if larger else None
 
 
-class _Problem:
-    """Objective and constraints over the free variables, sharing one evaluation per point.
-
-    ``sign * value`` is minimised: +1 searches the best placement of a lower-is-better objective.
-    """
-
-    def __init__(self, evaluator: Evaluator, space: PlacementSpace, sign: float) -> None:
-        self.evaluator, self.space, self.sign = evaluator, space, sign
-        self.required = evaluator.settings.margin  # margins are kept less this: >= 0 is feasible
-        self._cache: dict[bytes, tuple[float, np.ndarray]] = {}
-        # (unreachable, violation, x, margins) of the least infeasible point seen, a reachable one before any other:
-        # an unreachable point's margins are all UNREACHABLE_MARGIN, a small violation beside a motor overloaded 50 times
-        self.least_infeasible: tuple[bool, float, np.ndarray, np.ndarray] | None = None
-        self.best_feasible: float | None = None  # signed value of the best feasible point seen
-
-    def _lookup(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        points = self.space.wrap(np.atleast_2d(points))  # a periodic variable is evaluated in its range
-        todo = [p for p in points if p.tobytes() not in self._cache]
-        if todo:
-            evaluation = self.evaluator.evaluate(self.space.full(np.array(todo)))
-            self._remember(np.array(todo), evaluation)
-        values = [self._cache[p.tobytes()] for p in points]
-        return np.array([v[0] for v in values]), np.array([v[1] for v in values])
-
-    def _remember(self, points: np.ndarray, evaluation: Evaluation) -> None:
-        if len(self._cache) > 200_000:
-            self._cache.clear()
-        margins_less_required = evaluation.margins - self.required
-        violations = np.clip(-margins_less_required, 0.0, None).sum(axis=1)
-        for point, value, margins, reachable, violation in zip(points, evaluation.value.tolist(), margins_less_required,
-                                                               evaluation.reachable.tolist(), violations.tolist(),
-                                                               strict=True):
-            self._cache[point.tobytes()] = (value, margins)
-            rank = (not reachable, violation)
-            if violation > 0 and (self.least_infeasible is None or rank < self.least_infeasible[:2]):
-                self.least_infeasible = (not reachable, violation, point, margins)
-            elif violation == 0 and math.isfinite(value):
-                signed = self.sign * value
-                self.best_feasible = signed if self.best_feasible is None else min(self.best_feasible, signed)
-
-    def objective(self, points: np.ndarray) -> np.ndarray:
-        """Signed objective of (n_free, S) or (n_free,) points (scipy's layouts)."""
-        value, _ = self._lookup(np.asarray(points).T)
-        return np.where(np.isfinite(value), self.sign * value, 1e30)
-
-    def margins(self, points: np.ndarray) -> np.ndarray:
-        """Tightest margin of every limit less the required one, (n_limits, S) or (n_limits,)."""
-        _, margins = self._lookup(np.asarray(points).T)
-        return margins.T if np.ndim(points) > 1 else margins[0]
-
-
 def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: float, settings: SearchSettings,
-            progress: Callable[[], None] | None) -> tuple[list[np.ndarray], _Problem]:
+            progress: Callable[[], None] | None) -> tuple[list[np.ndarray], Problem]:
     """Global search on the coarse sampling, polish on the fine one.
 
     Returns:
@@ -236,7 +178,7 @@ def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: flo
         feasible ones (empty if there is none); and the problem that explains why there is none:
         the coarse one when the global search found nothing feasible, else the fine one.
     """
-    problem = _Problem(coarse, space, sign)
+    problem = Problem(coarse, space, sign)
     bounds = list(zip(space.lower, space.upper))  # a periodic variable's edge is wrapped by the polish
     n_limits = problem.margins(space.lower[:, None]).shape[0]
     constraint = NonlinearConstraint(problem.margins, np.zeros(n_limits), np.full(n_limits, np.inf))
@@ -254,125 +196,27 @@ def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: flo
         popsize=_popsize(settings, len(bounds)), maxiter=settings.max_generations, tol=settings.tolerance,
         polish=False, init="sobol", rng=np.random.default_rng(settings.seed), callback=generation_done)
     population = space.wrap(np.asarray(result.population))
-    values, margins = problem._lookup(population)
+    values, margins = problem.lookup(population)
     feasible = (margins >= 0).all(axis=1) & np.isfinite(values)
     if not feasible.any():
         return [], problem
     ranked = population[feasible][np.argsort(sign * values[feasible])]
-    local = _Problem(fine, space, sign)
-    fine_margins = local._lookup(ranked)[1]  # one batch
+    local = Problem(fine, space, sign)
+    fine_margins = local.lookup(ranked)[1]  # one batch
     starts = ranked[(fine_margins >= 0).all(axis=1)]
     if not len(starts):  # the finer sampling breaks a limit the coarse one missed: repair the closest
         closest = ranked[np.argmin(np.clip(-fine_margins, 0.0, None).sum(axis=1))]
-        repaired = _inward_until_feasible(local, _polish_across(local, closest, space), space)
+        repaired = inward_until_feasible(local, polish_across(local, closest, space), space)
         return ([] if repaired is None else [repaired]), local
-    polished = [_polish_across(local, start, space) for start in _distinct(starts, space)]
-    polished.sort(key=lambda x: sign * local._lookup(x)[0][0])
+    polished = [polish_across(local, start, space) for start in distinct_basins(starts, space)]
+    polished.sort(key=lambda x: sign * local.lookup(x)[0][0])
     return polished + list(starts), local
-
-
-def _polish_across(problem: _Problem, start: np.ndarray, space: PlacementSpace) -> np.ndarray:
-    """The polish from ``start`` in the space's box; if it ends on a periodic variable's edge, on again from there
-    in a box that leaves that variable free for half a period either way (the objective wraps it: no bound cuts
-    through a basin at the range's edge). The result lies in the space's range."""
-    x = _polish(problem, start, list(zip(space.lower, space.upper)))
-    edge = EDGE_SHARE * np.where(space.period > 0, space.period, np.inf)
-    if not ((np.abs(x - space.lower) <= edge) | (np.abs(x - space.upper) <= edge)).any():
-        return x
-    half = space.period / 2
-    cyclic = half > 0
-    box = list(zip(np.where(cyclic, x - half, space.lower), np.where(cyclic, x + half, space.upper)))
-    return space.wrap(_polish(problem, x, box))
 
 
 def _popsize(settings: SearchSettings, free: int) -> int:
     """Differential evolution's population per free variable (its population then rounds up to a power of 2,
     as its Sobol initialisation needs)."""
     return max(5, settings.population // free)
-
-
-def _inward_until_feasible(problem: _Problem, x: np.ndarray, space: PlacementSpace) -> np.ndarray | None:
-    """``x``, or ``x`` pulled towards the centre of the search box by the least of INWARD_SHARES of the way that
-    keeps every limit (None if none does): a repair by SLSQP often ends a hair outside a limit on the box's edge."""
-    centre = (space.lower + space.upper) / 2
-    candidates = x + INWARD_SHARES[:, None] * (centre - x)
-    feasible = (problem._lookup(candidates)[1] >= 0).all(axis=1)
-    return candidates[np.argmax(feasible)] if feasible.any() else None
-
-
-def _distinct(candidates: np.ndarray, space: PlacementSpace) -> list[np.ndarray]:
-    """The best candidates of POLISH_STARTS distinct basins, best first: skipping any within BASIN_RADIUS of the box
-    of one already kept (across a periodic variable's wrap too)."""
-    kept: list[np.ndarray] = []
-    for candidate in candidates:
-        if not _near(candidate, kept, space):
-            kept.append(candidate)
-        if len(kept) == POLISH_STARTS:
-            break
-    return kept
-
-
-def _near(point: np.ndarray, others: list[np.ndarray], space: PlacementSpace) -> bool:
-    """Whether ``point`` lies within BASIN_RADIUS of the box of one of ``others`` (across a periodic variable's wrap too)."""
-    scale = np.where(space.upper > space.lower, space.upper - space.lower, 1.0)
-    return any(np.abs(space.difference(point, other) / scale).max() <= BASIN_RADIUS for other in others)
-
-
-def _polish(problem: _Problem, start: np.ndarray, bounds: list) -> np.ndarray:
-    """SLSQP from ``start``; from a feasible start, returns a feasible point at least as good."""
-    scale = np.array([hi - lo if hi > lo else 1.0 for lo, hi in bounds])  # search in box units
-
-    def differences(u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Forward-difference gradient of the objective and Jacobian of the margins, in one batch."""
-        points = (u + np.vstack([np.zeros(len(u)), GRADIENT_STEP * np.eye(len(u))])) * scale
-        value, margins = problem._lookup(points)
-        return (problem.sign * (value[1:] - value[0]) / GRADIENT_STEP,
-                (margins[1:] - margins[0]).T / GRADIENT_STEP)
-
-    result = minimize(lambda u: problem.objective(u * scale)[0], start / scale, method="SLSQP",
-                      jac=lambda u: differences(u)[0], callback=_stall_detector(),
-                      bounds=[(lo / s, hi / s) for (lo, hi), s in zip(bounds, scale)],
-                      constraints=[{"type": "ineq", "fun": lambda u: problem.margins(u * scale),
-                                    "jac": lambda u: differences(u)[1]}],
-                      options={"maxiter": 100, "ftol": 1e-10})
-    polished = np.clip(result.x * scale, [b[0] for b in bounds], [b[1] for b in bounds])
-    if not (problem._lookup(start)[1] >= 0).all():  # an infeasible start: take what SLSQP reached
-        return polished
-    polished = _feasible_towards(problem, start, polished)
-    value, _ = problem._lookup(polished)
-    start_value, _ = problem._lookup(start)
-    return polished if problem.sign * value[0] <= problem.sign * start_value[0] else start
-
-
-def _stall_detector() -> Callable[..., None]:
-    """An SLSQP callback that stops the polish once STALL_ITERATIONS iterations gained at most STALL_TOLERANCE."""
-    history: list[float] = []
-
-    def callback(intermediate_result: OptimizeResult) -> None:  # scipy passes the result by this name
-        history.append(float(intermediate_result.fun))
-        if len(history) > STALL_ITERATIONS:
-            before = history[-STALL_ITERATIONS - 1]
-            if before - min(history[-STALL_ITERATIONS:]) <= STALL_TOLERANCE * abs(before):
-                raise StopIteration
-
-    return callback
-
-
-def _feasible_towards(problem: _Problem, feasible: np.ndarray, target: np.ndarray) -> np.ndarray:
-    """The point nearest ``target`` on the segment from ``feasible`` that keeps every limit.
-
-    The local search ends on the limits, often a hair outside them; bisection brings it back.
-    """
-    if (problem._lookup(target)[1] >= 0).all():
-        return target
-    inside, outside = 0.0, 1.0
-    for _ in range(40):
-        middle = (inside + outside) / 2
-        if (problem._lookup(feasible + middle * (target - feasible))[1] >= 0).all():
-            inside = middle
-        else:
-            outside = middle
-    return feasible + inside * (target - feasible)
 
 
 def search_sampling(path: ToolPath, evaluation: EvaluatorSettings,
@@ -584,7 +428,7 @@ def _optimize(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, setting
                            regeneration=evaluator.settings.regeneration, infeasible=infeasible)
 
 
-def _binding_limit(problem: _Problem, evaluator: Evaluator) -> str:
+def _binding_limit(problem: Problem, evaluator: Evaluator) -> str:
     """Describe the limit that the least infeasible placement found breaks the most."""
     if problem.least_infeasible is None:
         return "no placement could be evaluated"

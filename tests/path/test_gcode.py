@@ -399,16 +399,16 @@ def test_only_a_gap_is_a_jump_for_the_batched_march():
 def test_a_repair_a_hair_outside_the_workspace_is_pulled_back_in():
     """The pocket's worst placement lies in a corner of the Orthoglide's workspace box, where the search's repair
     (the path's own sampling breaks a limit its coarse sampling missed: an arc's extreme) ends a hair outside."""
-    from placement.search.optimize import _inward_until_feasible, _Problem
+    from placement.search.local import Problem, inward_until_feasible
     from placement.search.space import default_space
 
     robot, path = load_robot("orthoglide"), load_path(EXAMPLES / "pocket.yaml")
     space = default_space(robot, half_turn=path.half_turn_symmetric())
     outside = np.array([-0.10800862, -0.10677171, -0.12279492, -2.18036395])
     with Evaluator(robot, path) as evaluator:
-        problem = _Problem(evaluator, space, -1.0)
+        problem = Problem(evaluator, space, -1.0)
         assert -1e-7 < problem.margins(outside).min() < 0
-        inside = _inward_until_feasible(problem, outside, space)
+        inside = inward_until_feasible(problem, outside, space)
         assert problem.margins(inside).min() >= 0 and np.abs(inside - outside).max() < 1e-5
 
 

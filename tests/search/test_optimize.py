@@ -171,23 +171,23 @@ class _Bowl:
     def __init__(self, space):
         self.space = space
 
-    def _lookup(self, points):
+    def lookup(self, points):
         points = self.space.wrap(np.atleast_2d(points))
         turn = self.space.difference(points, np.array([0.0, np.radians(89.6)]))
         return 1.0 + (turn[:, 0] / 0.01) ** 2 + turn[:, 1] ** 2, np.ones((len(points), 1))
 
     def objective(self, points):
-        return self._lookup(np.asarray(points).T)[0]
+        return self.lookup(np.asarray(points).T)[0]
 
     def margins(self, points):
-        _, margins = self._lookup(np.asarray(points).T)
+        _, margins = self.lookup(np.asarray(points).T)
         return margins.T if np.ndim(points) > 1 else margins[0]
 
 
 def test_a_basin_at_the_edge_of_phi_s_range_is_searched_across_the_edge():
     """From a start just inside −90°, the polish bounded by φ's half-turn range [−90°, 90°) stops on its edge; the
     polish that wraps φ goes on across it and ends in range, in the basin at 89.6°, lower."""
-    from placement.search.optimize import _polish, _polish_across
+    from placement.search.local import _polish, polish_across
     from placement.search.space import PlacementSpace
 
     space = PlacementSpace(free=("x", "phi"), lower=np.array([-0.1, -np.pi / 2]), upper=np.array([0.1, np.pi / 2]),
@@ -195,8 +195,8 @@ def test_a_basin_at_the_edge_of_phi_s_range_is_searched_across_the_edge():
     problem = _Bowl(space)
     start = np.array([0.02, -np.pi / 2 + 1e-3])
     bounded = _polish(problem, start, list(zip(space.lower, space.upper)))
-    across = _polish_across(problem, start, space)
+    across = polish_across(problem, start, space)
     assert bounded[-1] == pytest.approx(-np.pi / 2, abs=1e-9)
     assert space.lower[-1] <= across[-1] < space.upper[-1]
     assert across == pytest.approx([0.0, np.radians(89.6)], abs=1e-4)
-    assert problem._lookup(across)[0][0] < problem._lookup(bounded)[0][0]
+    assert problem.lookup(across)[0][0] < problem.lookup(bounded)[0][0]
