@@ -31,7 +31,6 @@ from typing import TypeVar
 
 import numpy as np
 
-from placement.cli.place import tolerance_boxes
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.path.load import load_path
 from placement.path.toolpath import ToolPath
@@ -162,12 +161,11 @@ def run(file: Path) -> None:
     samples = stages("sample path", path.sample)
     print(f"{path.name}: {len(path.segments)} segments, {path.length_m * 1e3:.1f} mm, {len(samples)} samples")
     space = stages("half-turn symmetry", lambda: default_space(robot, half_turn=path.half_turn_symmetric()))
-    evaluation, settings = EvaluatorSettings(), SearchSettings()
+    evaluation, settings = EvaluatorSettings(), SearchSettings(box_within=0.01)  # the command line's 1 % boxes
     models = stages("guides", lambda: search_models(path, *search_sampling(path, evaluation, settings)))
     print(f"  guides: global {len(models.coarse_path.segments)} segments, polish {len(models.polish_path.segments)}")
-    result = stages("search (both directions, re-check, detail)",
+    result = stages("search (both directions, re-check, detail, tolerance boxes)",
                     lambda: optimize_placement(robot, path, space=space, evaluation=evaluation, settings=settings))
-    stages("tolerance boxes", lambda: tolerance_boxes(robot, path, evaluation, 1.0, space, result, True, None))
     for label, optimum in (("best", result.best), ("worst", result.worst)):
         if optimum is not None:
             gap = "" if optimum.guide_gap is None else f", guide {optimum.guide_value:.6f} J ({optimum.guide_gap:+.4%})"

@@ -8,7 +8,6 @@
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import json
 import sys
 from pathlib import Path
@@ -62,10 +61,9 @@ from placement.path.samples import PathSamples
 from placement.path.toolpath import ToolPath
 from placement.placing.transform import VARIABLES
 from placement.robot.model import Robot
-from placement.search.optimize import PlacementResult, SearchSettings, optimize_placement
+from placement.search.optimize import SearchSettings, optimize_placement
 from placement.search.plausibility import feed_warnings, length_warnings
 from placement.search.space import PlacementSpace, default_space
-from placement.search.tolerance import ToleranceBox, tolerance_boxes
 
 if TYPE_CHECKING:  # the scene's modules (meshcat, trimesh) load only for --html and --show
     from placement.output.scene import Scene
@@ -230,7 +228,7 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
     lower = objective.better == "lower"
     settings = SearchSettings(seed=args.seed, max_generations=args.generations, population=args.population,
                               best=not (args.maximize if lower else args.minimize),
-                              worst=not (args.minimize if lower else args.maximize))
+                              worst=not (args.minimize if lower else args.maximize), box_within=args.within / 100)
     if args.objectives:
         front_document, details, infeasible = place_front(robot, path, space, args, evaluation, settings, remote)
         document.update(front_document)
@@ -240,7 +238,8 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
         result = optimize_placement(robot, path, space=space, evaluation=evaluation, settings=settings,
                                     progress=bar.update, announce=lambda e: bar.write(duration_line(e), sys.stdout),
                                     executor=remote.executor if remote else None)
-    boxes = optimum_boxes(robot, path, evaluation, args.within, space, result, lower, remote)
+    boxes = {key: optimum.tolerance for key, optimum in (("best", result.best), ("worst", result.worst))
+             if optimum is not None and optimum.tolerance is not None}
     print("\n" + format_result(robot, result, args.rest, boxes))
     details = {}
     for key, optimum in (("best", result.best), ("worst", result.worst)):
@@ -269,22 +268,6 @@ def misfit_line(robot: Robot, samples: PathSamples, space: PlacementSpace) -> st
     else:
         turns = (float(space.fixed[3]), float(space.fixed[3]))
     return workspace_misfit(workspace.min_m, workspace.max_m, samples.position_m, turns)
-
-
-def optimum_boxes(robot: Robot, path: ToolPath, evaluation: EvaluatorSettings, within_percent: float,
-                  space: PlacementSpace, result: PlacementResult, lower: bool,
-                  remote: Cluster | None) -> dict[str, ToleranceBox]:
-    """The tolerance box around each optimum found (:mod:`placement.search.tolerance`), on the exact model."""
-    optima = {key: optimum for key, optimum in (("best", result.best), ("worst", result.worst)) if optimum is not None}
-    if not optima:
-        return {}
-    guide = result.guide  # a long path's search ran on guides: the box is found on the polish's
-    model, settings = (path, evaluation) if guide is None else (guide.polish_path, guide.polish)
-    settings = dataclasses.replace(settings, feasibility_only=True)  # a box reads feasibility and values only
-    with Evaluator(robot, model, settings, remote.executor if remote else None) as evaluator:
-        boxes = tolerance_boxes(evaluator, space, [(optimum.detail.placement, lower == (key == "best"))
-                                                   for key, optimum in optima.items()], within_percent / 100)
-    return {key: dataclasses.replace(box, guided=guide is not None) for key, box in zip(optima, boxes)}
 
 
 def duration_line(seconds: float) -> str:

@@ -47,6 +47,7 @@ from placement.search.guide import SearchModels, guide_value, search_models
 from placement.search.local import POLISH_STARTS, Problem, distinct_basins, inward_until_feasible, polish_across
 from placement.search.reporting import binding, reported_point
 from placement.search.space import PlacementSpace, default_space
+from placement.search.tolerance import ToleranceBox, tolerance_box
 
 GIVE_UP_GENERATIONS = 25  # generations without any feasible placement after which the search stops
 RECHECK_DENSITY = 4  # the re-check samples the path this many times more densely
@@ -67,6 +68,9 @@ class SearchSettings:
             sampling than the path's own when the path has more; the polish and the reported
             energies use the path's own).
         best, worst: Which directions to search: the best placement by the objective, the worst.
+        box_within: The share of the objective (0.01: 1 %) that the tolerance box around each optimum keeps
+            (:mod:`placement.search.tolerance`, found on the polish's model right after its direction's search,
+            in its process), or None for no box.
     """
 
     population: int = 48
@@ -76,6 +80,7 @@ class SearchSettings:
     search_samples: int = 64
     best: bool = True
     worst: bool = True
+    box_within: float | None = None
 
 
 @dataclass(frozen=True)
@@ -94,6 +99,7 @@ class Optimum:
             every limit, with the margin, once printed or on the denser sampling), else None.
         guide_value: When guides steered the search (:mod:`placement.search.guide`), the objective at the
             same placement on the polish's guide, else None.
+        tolerance: The tolerance box around it, when the search was asked for one (``SearchSettings.box_within``).
     """
 
     detail: PlacementDetail
@@ -103,6 +109,7 @@ class Optimum:
     evaluations: int
     note: str | None = None
     guide_value: float | None = None
+    tolerance: ToleranceBox | None = None
 
     @property
     def holds(self) -> bool:
@@ -302,7 +309,8 @@ def estimate(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, settings
 class _Outcome:
     """One direction's search: its best point (None if no placement is feasible), the placements it evaluated,
     when none is feasible, why (the binding limit), why the point is not the search's own optimum, if not, its
-    4x denser re-check, and when guides steered the search, the polish's guide's value there."""
+    4x denser re-check, when guides steered the search, the polish's guide's value there, and its tolerance box
+    if one was asked for."""
 
     x: np.ndarray | None
     evaluations: int
@@ -310,6 +318,7 @@ class _Outcome:
     note: str | None = None
     check: Evaluation | None = None
     guide_value: float | None = None
+    box: ToleranceBox | None = None
 
 
 @dataclass(frozen=True)
@@ -360,7 +369,19 @@ def _outcome(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: fl
         x, note, check = reported_point(candidates, reported, dense, space, sign, None if exact is None else fine)
         guide = None if exact is None else guide_value(fine, space.full(x))
         evaluations = coarse.evaluations + fine.evaluations + reported.evaluations * (exact is not None)
-        return _Outcome(x, evaluations + dense.evaluations - before, None, note, check, guide)
+        evaluations += dense.evaluations - before
+    box = None if settings.box_within is None else _box_around(fine, space, x, sign, settings.box_within, exact is not None)
+    return _Outcome(x, evaluations, None, note, check, guide, box)
+
+
+def _box_around(fine: Evaluator, space: PlacementSpace, x: np.ndarray, sign: float, within: float,
+                guided: bool) -> ToleranceBox:
+    """The tolerance box around a direction's optimum ``x`` (free values) on the polish's model, which it reads for
+    feasibility and values only."""
+    settings = dataclasses.replace(fine.settings, feasibility_only=True)
+    with Evaluator(fine.robot, fine.path, settings, fine.executor) as evaluator:
+        box = tolerance_box(evaluator, space, space.full(x)[0], lower_is_better=sign > 0, within=within)
+    return dataclasses.replace(box, guided=guided)
 
 
 def in_parallel(coarse: Evaluator, fine: Evaluator, directions: int) -> bool:
@@ -423,7 +444,7 @@ def _optimize(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, setting
                                    recheck_margin=float(check.margins[0, tightest]),
                                    recheck_limit=check.limits[tightest],
                                    evaluations=outcome.evaluations + evaluator.evaluations - before, note=outcome.note,
-                                   guide_value=outcome.guide_value)
+                                   guide_value=outcome.guide_value, tolerance=outcome.box)
     return PlacementResult(best=found["best"], worst=found["worst"], space=space, objective=evaluator.objective_name,
                            regeneration=evaluator.settings.regeneration, infeasible=infeasible)
 

@@ -33,9 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.stats import qmc
 
-from placement.evaluation.evaluator import EvaluationJob, Evaluator
-from placement.evaluation.parallel import run_in_order
-from placement.search.optimize import in_parallel
+from placement.evaluation.evaluator import Evaluator
 from placement.search.space import PlacementSpace
 
 SCAN_LEVELS = 11  # widths scanned per axis: its reach times 1, 1/2, ..., 1/1024
@@ -137,22 +135,3 @@ def tolerance_box(evaluator: Evaluator, space: PlacementSpace, placement: np.nda
     else:
         scale = 0.0
     return ToleranceBox(space.free, low * scale, within, count[0], len(tried), INTERIOR_SAMPLES)
-
-
-def tolerance_boxes(evaluator: Evaluator, space: PlacementSpace, optima: list[tuple[np.ndarray, bool]],
-                    within: float = 0.01) -> list[ToleranceBox]:
-    """:func:`tolerance_box` around each of some optima, given as ((6,) placement, whether lower is better): the
-    best's and the worst's at once, a process each, when the evaluations run in this process on a machine of two
-    cores or more (:func:`placement.search.optimize.in_parallel`), else one after the other."""
-    if len(optima) == 2 and in_parallel(evaluator, evaluator, len(optima)):
-        none = np.zeros((0, 6))
-        return run_in_order(_box_of_job, [(evaluator.job(none), space, placement, lower, within)
-                                          for placement, lower in optima], len(optima), None)
-    return [tolerance_box(evaluator, space, placement, lower, within) for placement, lower in optima]
-
-
-def _box_of_job(job: EvaluationJob, space: PlacementSpace, placement: np.ndarray, lower_is_better: bool,
-                within: float) -> ToleranceBox:
-    """:func:`tolerance_box` in a worker process, on the job's evaluator."""
-    with job.evaluator() as evaluator:
-        return tolerance_box(evaluator, space, placement, lower_is_better, within)
