@@ -155,6 +155,6 @@ def path_dynamics(robot: Robot, joints: JointTrajectory, force: np.ndarray, plac
     shape = (placements, len(joints.q) // placements, len(act))
     efforts = (dynamics or TreeDynamics(robot.model)).path_efforts(joints.q, joints.v, joints.a, joints.basis,
                                                                    threads)  # (K·N, 3, n_act): C, A, B
-    static = efforts[:, 0] - load_efforts(joints, force)
+    static = np.subtract(efforts[:, 0], load_efforts(joints, force), order="F")  # laid out as the torques are
     return PathDynamics(*(np.moveaxis(np.ascontiguousarray(x.T).reshape(shape[::-1][:1] + shape[:2]), 0, -1)
                           for x in (joints.v[:, act], joints.a[:, act], efforts[:, 1], efforts[:, 2], static)))
