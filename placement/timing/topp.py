@@ -173,10 +173,11 @@ def _controllable_sets(arc_m: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.nd
     upper_active, lower_active = np.zeros(2, dtype=np.int64), np.zeros(2, dtype=np.int64)
     sets[stop - 1, 0], sets[stop - 1, 1] = 0.0, 0.0
     for i in range(stop - 2, start - 1, -1):
-        _stage_rows(arc_m, a, b, c, i, sets[i + 1, 0], sets[i + 1, 1], rows)
+        stage = rows[i]
+        _stage_rows(arc_m, a, b, c, i, sets[i + 1, 0], sets[i + 1, 1], stage)
         x_high = min(VAR_BOUND, x_max[i])
-        feasible_high, highest = _lp2d(-OBJECTIVE_TILT, 1.0, rows[0], rows[1], rows[2], x_high, upper_active, order)
-        feasible_low, lowest = _lp2d(OBJECTIVE_TILT, -1.0, rows[0], rows[1], rows[2], x_high, lower_active, order)
+        feasible_high, highest = _lp2d(-OBJECTIVE_TILT, 1.0, stage[0], stage[1], stage[2], x_high, upper_active, order)
+        feasible_low, lowest = _lp2d(OBJECTIVE_TILT, -1.0, stage[0], stage[1], stage[2], x_high, lower_active, order)
         if not (feasible_high and feasible_low):
             return False
         sets[i, 0], sets[i, 1] = max(lowest, 0.0), highest
@@ -191,8 +192,8 @@ def _greedy_pass(arc_m: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray,
     x[start] = 0.0
     i, tries = start, 0
     while i < stop - 1:
-        delta = _stage_rows(arc_m, a, b, c, i, sets[i + 1, 0], sets[i + 1, 1], rows)
-        feasible, step = _lp1d(2 * delta, rows, x[i], -VAR_BOUND, VAR_BOUND)
+        delta = arc_m[i + 1] - arc_m[i]
+        feasible, step = _lp1d(2 * delta, rows[i], x[i], -VAR_BOUND, VAR_BOUND)
         if not feasible:
             if tries == MAX_TRIES:
                 return False
@@ -249,7 +250,7 @@ def _time_placements(arc_m: np.ndarray, run_starts: np.ndarray, held: np.ndarray
     """:func:`time_placements` on checked arrays, into ``speed`` and ``acceleration`` (zeros); ``timed`` is updated."""
     n, width = len(arc_m), 2 + 2 * a.shape[2]
     sets, x, u = np.zeros((n, 2)), np.zeros(n), np.zeros(n)
-    rows = np.zeros((3, width))
+    rows = np.zeros((n, 3, width))
     order = np.zeros(width, dtype=np.int64)
     for p in range(len(timed)):
         if not timed[p]:
