@@ -58,8 +58,7 @@ def interval_power(robot: Robot, trace: MotorTrace, dt_s: np.ndarray) -> PowerPa
     """Power parts of every interval between samples, by each drive's motor model, (..., N-1, n_act) W."""
     parts = [model.interval_power(motor, trace.speed_rad_s[..., i], trace.current_A[..., i], dt_s)
              for i, (model, motor) in enumerate(motor_models(robot))]
-    return PowerParts(*(np.stack([getattr(p, name) for p in parts], axis=-1)
-                        for name in ("joule_W", "inductive_W", "back_emf_W")))
+    return PowerParts(*(_columns([getattr(p, name) for p in parts]) for name in ("joule_W", "inductive_W", "back_emf_W")))
 
 
 def sample_power(robot: Robot, trace: MotorTrace, t_s: np.ndarray, piece: np.ndarray) -> np.ndarray:
@@ -182,4 +181,10 @@ def step_energies(robot: Robot, trace: MotorTrace) -> tuple[np.ndarray, np.ndarr
     samples at an instant, by its motor model: (..., N-1, n_act) each."""
     steps = [model.step_energy(motor, trace.current_A[..., :-1, i], trace.current_A[..., 1:, i])
              for i, (model, motor) in enumerate(motor_models(robot))]
-    return np.stack([s[0] for s in steps], axis=-1), np.stack([s[1] for s in steps], axis=-1)
+    return _columns([s[0] for s in steps]), _columns([s[1] for s in steps])
+
+
+def _columns(columns: list[np.ndarray]) -> np.ndarray:
+    """(..., n_act) from the n_act arrays (...) of each drive, each drive's numbers contiguous
+    (:func:`placement.dynamics.path.sample_rows` says why)."""
+    return np.moveaxis(np.stack(columns), 0, -1)
