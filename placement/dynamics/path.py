@@ -39,10 +39,6 @@ class PathDynamics:
         (:func:`sample_rows`)."""
         return PathDynamics(*(sample_rows(getattr(self, f.name), index) for f in dataclasses.fields(PathDynamics)))
 
-    def efforts(self, speed: np.ndarray, acceleration: np.ndarray) -> np.ndarray:
-        """(K, N, n_act) actuator efforts for ṡ and s̈ of shape (K, N)."""
-        return (self.inertia * acceleration[..., None] + self.centripetal * speed[..., None] ** 2 + self.static)
-
     @property
     def shape(self) -> tuple[int, ...]:
         """(K, N, n_act)."""

@@ -71,30 +71,40 @@ def bound_rows(bounds: list[PathBound], speed_max: np.ndarray) -> tuple[np.ndarr
     first = 0
     for bound in kept:
         shape = speed_max.shape + np.shape(bound.top)
-        terms = (np.broadcast_to(np.asarray(term, dtype=float), shape) for term in bound.form.terms)
-        _bound_rows(*terms, bar, np.asarray(bound.top, dtype=float), *rows, first)
+        _bound_rows(*(_columns(term, shape) for term in bound.form.terms), bar, np.array(bound.top, dtype=float), *rows,
+                    first)
         first += 2 * shape[-1]
     return rows
+
+
+def _columns(term: np.ndarray | float, shape: tuple[int, ...]) -> np.ndarray:
+    """A form's term broadcast to ``shape`` (K, N, m), as a read-only C-contiguous (m, K, N) array: without a copy
+    when laid out column by column (:func:`placement.dynamics.path.sample_rows`), and the same array type for the
+    kernel whatever the term (one compiled version)."""
+    columns = np.ascontiguousarray(np.moveaxis(np.broadcast_to(np.asarray(term, dtype=float), shape), -1, 0))
+    columns = columns.view()
+    columns.flags.writeable = False
+    return columns
 
 
 @njit(cache=True)
 def _bound_rows(a: np.ndarray, b: np.ndarray, c: np.ndarray, w: np.ndarray, bar: np.ndarray, top: np.ndarray,
                 rows_a: np.ndarray, rows_b: np.ndarray, rows_c: np.ndarray, first: int) -> None:
-    """The rows of |a·s̈ + b·ṡ² + c + w·ṡ| ≤ top, the terms (K, N, m), into the columns ``first`` to ``first`` + 2·m
+    """The rows of |a·s̈ + b·ṡ² + c + w·ṡ| ≤ top, the terms (m, K, N), into the columns ``first`` to ``first`` + 2·m
     of ``rows_a``, ``rows_b`` and ``rows_c`` (K, N, rows): the bound on +form, then on −form, column by column;
     ``bar`` (K, N) is √x̄ (module docstring)."""
-    k_count, n_count, m = a.shape
+    m, k_count, n_count = a.shape
     for k in range(k_count):
         for n in range(n_count):
             s = bar[k, n]
             for j in range(m):
-                v = w[k, n, j]
+                v = w[j, k, n]
                 tangent, chord, lift = v / (2 * s), v / s, v * s / 2  # ±w·ṡ's bounds, for either sign negated
                 for half, sign, raising in ((0, 1.0, v > 0), (m, -1.0, v < 0)):
                     slope, offset = (tangent, lift) if raising else (chord, 0.0)
-                    rows_a[k, n, first + half + j] = sign * a[k, n, j]
-                    rows_b[k, n, first + half + j] = sign * (b[k, n, j] + slope)
-                    rows_c[k, n, first + half + j] = sign * (c[k, n, j] + offset) - SAFETY * top[j]
+                    rows_a[k, n, first + half + j] = sign * a[j, k, n]
+                    rows_b[k, n, first + half + j] = sign * (b[j, k, n] + slope)
+                    rows_c[k, n, first + half + j] = sign * (c[j, k, n] + offset) - SAFETY * top[j]
 
 
 def time_optimal(robot: Robot, geometry: PathGeometry, dynamics: PathDynamics, reachable: np.ndarray) -> TimeLaw:
