@@ -119,7 +119,7 @@ def drive_power(robot: Robot, trace: MotorTrace, t_s: np.ndarray, piece: np.ndar
     stepped = np.flatnonzero(steps.reshape(-1, steps.shape[-1]).any(axis=0))  # the optimal law's: half the intervals
     return DrivePower(dt_s=dt, parts=parts, joule_J=_integral(parts.joule_W, dt),
                       inductive_J=_integral(parts.inductive_W, dt), back_emf_J=_integral(parts.back_emf_W, dt),
-                      mechanical_J=_integral(mechanical, dt), stepped=stepped, steps=steps[..., stepped],
+                      mechanical_J=_integral(mechanical, dt), stepped=stepped, steps=np.take(steps, stepped, axis=-1),
                       step_J=step_energies(robot, trace, stepped) if len(stepped) else None)
 
 
@@ -182,9 +182,9 @@ def _over_intervals(energy: np.ndarray) -> np.ndarray:
 def step_energies(robot: Robot, trace: MotorTrace, intervals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """What each drive's windings give back (≤ 0) and take (≥ 0), J, if its current stepped between the two samples
     of each of some ``intervals`` (S,) at an instant, by its motor model: (..., S, n_act) each."""
-    steps = [model.step_energy(motor, trace.current_A[..., i][..., intervals],
-                               trace.current_A[..., i][..., intervals + 1])
-             for i, (model, motor) in enumerate(motor_models(robot))]
+    steps = [model.step_energy(motor, np.take(trace.current_A[..., i], intervals, axis=-1),
+                               np.take(trace.current_A[..., i], intervals + 1, axis=-1))
+             for i, (model, motor) in enumerate(motor_models(robot))]  # take: each placement's numbers contiguous
     return _columns([s[0] for s in steps]), _columns([s[1] for s in steps])
 
 
