@@ -20,25 +20,27 @@ class Workspace(Limit):
     def fields(self, batch: EvaluatedBatch) -> list[MarginField]:
         workspace = batch.robot.workspace
         assert workspace is not None  # applies_to
-        return [box_field("workspace", batch.tool_position_m, workspace.min_m, workspace.max_m)]
+        return [box_field("workspace", batch, workspace.min_m, workspace.max_m)]
 
 
-def box_field(kind: str, tool_position_m: np.ndarray, min_m: Sequence[float], max_m: Sequence[float]) -> MarginField:
-    """Margins of the tool points (K, N, 3) inside an axis-aligned box of the base frame; the scale is its side."""
+def box_field(kind: str, batch: EvaluatedBatch, min_m: Sequence[float], max_m: Sequence[float]) -> MarginField:
+    """Margins of the batch's tool points inside an axis-aligned box of the base frame, at its distinct samples
+    (:meth:`placement.evaluation.batch.EvaluatedBatch.distinct`); the scale is the box's side."""
     low, high = np.array(min_m, dtype=float), np.array(max_m, dtype=float)
-    side, tool = high - low, tool_position_m
+    side, tool = high - low, batch.distinct(batch.tool_position_m)
     margin = np.concatenate([(tool - low) / side, (high - tool) / side], axis=-1)
     return MarginField(kind, margin, np.concatenate([tool, tool], axis=-1),
                        np.broadcast_to(np.concatenate([low, high]), margin.shape),
-                       ("x min", "y min", "z min", "x max", "y max", "z max"), ("m",) * 6)
+                       ("x min", "y min", "z min", "x max", "y max", "z max"), ("m",) * 6, batch.distinct_samples)
 
 
 class Reachability(Limit):
     """Every sample has a configuration: margin 1 where it does, −1 where it does not."""
 
     def fields(self, batch: EvaluatedBatch) -> list[MarginField]:
-        reached = batch.reachable[..., None].astype(float)
-        return [MarginField("reachability", 2 * reached - 1, reached, np.ones_like(reached), ("path",), ("",))]
+        reached = batch.distinct(batch.reachable[..., None]).astype(float)
+        return [MarginField("reachability", 2 * reached - 1, reached, np.ones_like(reached), ("path",), ("",),
+                            batch.distinct_samples)]
 
 
 LIMITS.add("workspace", Workspace())
