@@ -61,9 +61,11 @@ def optimal_motion(robot: Robot, geometry: PathGeometry, unit: JointTrajectory, 
     speed, acceleration = at_samples.speed_m_s, at_samples.acceleration_m_s2
     position = unit.q[:, robot.actuated_q_indices].reshape(k, len(geometry), -1)
     columns = np.empty((4, position.shape[2], k, len(grid)))  # each actuator's (K, N) numbers contiguous
-    _timed_columns(*(np.ascontiguousarray(x) for x in (position, *(np.moveaxis(getattr(dynamics, name), -1, 0)
-                                                                  for name in PATH_TERMS), grid, speed, acceleration)),
-                   columns)  # C-contiguous (laid out so, the path dynamics need no copy): one compiled version
+    # C-contiguous (the path dynamics, laid out column by column, without a copy): one compiled version
+    rate, curvature, inertia, centripetal, static = (np.moveaxis(getattr(dynamics, name), -1, 0) for name in PATH_TERMS)
+    _timed_columns(np.ascontiguousarray(position), np.ascontiguousarray(rate), np.ascontiguousarray(curvature),
+                   np.ascontiguousarray(inertia), np.ascontiguousarray(centripetal), np.ascontiguousarray(static),
+                   np.ascontiguousarray(grid), np.ascontiguousarray(speed), np.ascontiguousarray(acceleration), columns)
     position, velocity, accelerated, effort = np.moveaxis(columns, 1, -1)
     rows = (np.arange(k)[:, None] * len(geometry) + grid).ravel()
     return OptimalMotion(law, at_samples, TimedJoints(unit, rows, speed.reshape(-1, 1), acceleration.reshape(-1, 1)),

@@ -67,14 +67,14 @@ def bound_rows(bounds: list[PathBound], speed_max: np.ndarray) -> tuple[np.ndarr
     bar = np.maximum(speed_max, 1e-12)  # √x̄, the speed bound
     kept = [bound for bound in bounds if not bound.form.speed_only]
     width = sum(2 * np.size(bound.top) for bound in kept)
-    rows = tuple(np.empty(speed_max.shape + (width,)) for _ in range(3))
+    rows_a, rows_b, rows_c = (np.empty(speed_max.shape + (width,)) for _ in range(3))
     first = 0
     for bound in kept:
         shape = speed_max.shape + np.shape(bound.top)
-        _bound_rows(*(_columns(term, shape) for term in bound.form.terms), bar, np.array(bound.top, dtype=float), *rows,
-                    first)
+        a, b, c, w = (_columns(term, shape) for term in bound.form.terms)
+        _bound_rows(a, b, c, w, bar, np.array(bound.top, dtype=float), rows_a, rows_b, rows_c, first)
         first += 2 * shape[-1]
-    return rows
+    return rows_a, rows_b, rows_c
 
 
 def _columns(term: np.ndarray | float, shape: tuple[int, ...]) -> np.ndarray:
