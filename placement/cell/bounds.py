@@ -44,6 +44,19 @@ leaves it for good, and each round costs what is left; chunks keep those lists s
 smallest distance of a group, where at most the threshold, is then the same number as with every
 distance exact, and every other value stays a lower bound at least that smallest. (One file: numba's
 cache does not follow calls into other files.)
+
+Coarse bounds, along runs, from the joints' motion (:func:`lever_bounds`), where the others need not
+be computed. A point of a shape moves, when joint ``j`` turns by
+``Δq``, by at most ``Δq`` times its distance from the joint's origin, and by ``Δq`` when the joint
+slides; that distance is at most the lengths of the links in between (and the travel of the
+sliding joints among them) plus the shape's sphere's offset and radius, whatever the
+configuration: a lever ``L[g, j]`` of shape ``g``. So from one configuration of a run to another,
+shape ``g`` moves by at most ``Σ_j L[g, j]·|Δq_j|`` (along the straight line between them in joint
+space), and a pair's distance changes by at most its two shapes' moves. The shapes are placed at
+every ``ANCHOR_STRIDE``-th configuration of a run and its last (the anchors) first; a configuration
+in between whose pairs all keep a bound above the threshold from one of its two anchors takes those
+bounds, and the others are placed in turn. Along a path, the shapes far from the cell are placed at
+the anchors only.
 """
 
 from __future__ import annotations
@@ -53,6 +66,7 @@ import numpy as np
 from numba import njit
 
 SPHERE, BOX, CYLINDER = 0, 1, 2  # how a shape's support function is computed
+ANCHOR_STRIDE = 8  # the shapes are placed at every this many configurations of a run first
 CHUNK = 128  # configurations of a run whose pending ones are kept in one list
 ONE_BY_ONE = 4  # exact distances a chunk's shape pair takes one at a time, lowest bound first, before all the rest
 LIPSCHITZ_SLACK_M = 1e-5  # what a bound from a neighbouring exact distance gives up to coal's rounding (m)
@@ -133,23 +147,24 @@ def pair_bounds(rotation, centre_m, first, second, against_cell, kind, radius, b
     out = np.empty((m_count, k_count))
     d, local = np.empty(3), np.empty(3)
     for m in range(m_count):
-        for k in range(k_count):
+        for k in range(k_count):  # scalars, not views: the loop runs for every pair of every configuration
             a, b = first[k], second[k]
-            ra, rb = rotation[m, a], rotation[m, b]
-            for i in range(3):
-                d[i] = centre_m[m, b, i] - centre_m[m, a, i]
+            d0 = centre_m[m, b, 0] - centre_m[m, a, 0]
+            d1 = centre_m[m, b, 1] - centre_m[m, a, 1]
+            d2 = centre_m[m, b, 2] - centre_m[m, a, 2]
             if against_cell[k]:  # from the first sphere to the second's bounding box, in the box's frame
                 outside, depth = 0.0, np.inf  # how far the centre is outside the box, or inside it
                 for i in range(3):
-                    local[i] = -(rb[0, i] * d[0] + rb[1, i] * d[1] + rb[2, i] * d[2])
+                    local[i] = -(rotation[m, b, 0, i] * d0 + rotation[m, b, 1, i] * d1 + rotation[m, b, 2, i] * d2)
                     outside += max(abs(local[i]) - box_half[b, i], 0.0) ** 2
                     depth = min(depth, box_half[b, i] - abs(local[i]))
                 bound = (np.sqrt(outside) if depth < 0.0 else -depth) - radius[a]
             else:
-                bound = np.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) - radius[a] - radius[b]
+                bound = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2) - radius[a] - radius[b]
             if bound <= threshold:
-                bound = max(bound, _refined(d, local, against_cell[k], kind[a], extent[a], radius[a], ra,
-                                            kind[b], extent[b], radius[b], rb, box_half[b]))
+                d[0], d[1], d[2] = d0, d1, d2
+                bound = max(bound, _refined(d, local, against_cell[k], kind[a], extent[a], radius[a], rotation[m, a],
+                                            kind[b], extent[b], radius[b], rotation[m, b], box_half[b]))
             out[m, k] = bound
     return out
 
@@ -295,7 +310,7 @@ def _move(centre_m, rotation, shape, radius, one, other):
 
 @njit(cache=True)
 def record(values, exact, rows, count, smallest, column_group, starts, chunk_run, chosen, columns, chunk, alone, found,
-           normal, centre_m, rotation, kind, extent, radius, first, second, slack):
+           normal, centre_m, rotation, slot, kind, extent, radius, first, second, slack):
     """Write the exact distances ``found`` at (``chosen``, ``columns``), update each run's smallest, and, for those
     taken ``alone``, raise the values of their chunks' pending shape pairs to the bounds they give (module
     docstring).
@@ -307,7 +322,10 @@ def record(values, exact, rows, count, smallest, column_group, starts, chunk_run
             whether each was taken one by one (:func:`lowest_open`).
         found: The exact distances (m).
         normal: (len(chosen), 3) the unit normals along which coal found them (base frame).
-        centre_m, rotation: (M, G, 3) and (M, G, 3, 3) every shape's bounding-sphere centre and rotation.
+        centre_m, rotation: (S, G, 3) and (S, G, 3, 3) every shape's bounding-sphere centre and rotation in the
+            configurations placed.
+        slot: (M,) where each configuration's shapes are in ``centre_m`` and ``rotation`` (those of the
+            configurations pending, at least).
         kind, extent, radius: (G,), (G, 3), (G,) the shapes' enclosures (:func:`shape_supports`).
         first, second: (K,) the shapes of each pair.
         slack: Given up to coal's rounding (m).
@@ -320,14 +338,85 @@ def record(values, exact, rows, count, smallest, column_group, starts, chunk_run
         smallest[chunk_run[c], group] = min(smallest[chunk_run[c], group], distance)
         if not alone[i_chosen]:
             continue
-        a, b, n = first[k], second[k], normal[i_chosen]
+        a, b, n, placed = first[k], second[k], normal[i_chosen], slot[one]
         for j in range(starts[c], starts[c] + count[c, k]):
             other = rows[j, k]
             if not exact[other, k] and values[other, k] < distance - slack:
-                bound = (distance - slack - _move(centre_m, rotation, a, radius, one, other)
-                         - _move(centre_m, rotation, b, radius, one, other))
+                there = slot[other]
+                bound = (distance - slack - _move(centre_m, rotation, a, radius, placed, there)
+                         - _move(centre_m, rotation, b, radius, placed, there))
                 for i in range(3):
-                    gap[i] = centre_m[other, b, i] - centre_m[other, a, i]
-                plane = projection_gap(gap, n[0], n[1], n[2], kind[a], extent[a], radius[a], rotation[other, a],
-                                       kind[b], extent[b], radius[b], rotation[other, b])
+                    gap[i] = centre_m[there, b, i] - centre_m[there, a, i]
+                plane = projection_gap(gap, n[0], n[1], n[2], kind[a], extent[a], radius[a], rotation[there, a],
+                                       kind[b], extent[b], radius[b], rotation[there, b])
                 values[other, k] = max(values[other, k], bound, plane)
+
+
+# ---------------------------------------------------------------- from the joints' motion
+
+
+@njit(cache=True)
+def anchor_rows(m_count, run, stride):
+    """The anchors of runs of ``run`` configurations (M = ``m_count``): every ``stride``-th of each, and its last."""
+    out = np.empty(m_count, np.int64)
+    count = 0
+    for m in range(m_count):
+        offset = m % run
+        if offset % stride == 0 or offset == run - 1:
+            out[count] = m
+            count += 1
+    return out[:count]
+
+
+@njit(cache=True)
+def _moves(q, one, other, lever_start, lever_q, lever_value, out):
+    """How far each shape may move from configuration ``one`` to ``other`` (m), into ``out`` (G,)."""
+    for g in range(len(lever_start) - 1):
+        total = 0.0
+        for e in range(lever_start[g], lever_start[g + 1]):
+            total += lever_value[e] * abs(q[other, lever_q[e]] - q[one, lever_q[e]])
+        out[g] = total
+
+
+@njit(cache=True)
+def lever_bounds(q, values, run, stride, lever_start, lever_q, lever_value, first, second, threshold, slack):
+    """Bounds above ``threshold`` of the configurations between the anchors (module docstring), where every pair has
+    one; returns the configurations that do not (their values untouched).
+
+    Args:
+        q: (M, nq) the configurations, in runs of ``run``.
+        values: (M, K) bounds of the K shape pairs, filled at the anchors (:func:`anchor_rows` of ``stride``).
+        lever_start, lever_q, lever_value: The levers, shape by shape (G + 1,), then their joints' configuration
+            indices and lengths (m, 1 for a sliding joint), for the shapes of ``lever_start[g]`` to
+            ``lever_start[g + 1]``.
+        first, second: (K,) the shapes of each pair.
+        threshold: The bound every pair of a configuration must exceed (m).
+        slack: Given up to the rounding (m).
+    """
+    m_count, k_count = values.shape
+    moves = np.empty((2, len(lever_start) - 1))
+    bound = np.empty(k_count)
+    rest, count = np.empty(m_count, np.int64), 0
+    for before in anchor_rows(m_count, run, stride):
+        after = min(before + stride, before - before % run + run - 1)
+        hopeless = False  # a pair at most the threshold at both anchors is so in between
+        for k in range(k_count):
+            hopeless = hopeless or (values[before, k] <= threshold and values[after, k] <= threshold)
+        for m in range(before + 1, after):
+            kept = not hopeless
+            if kept:
+                _moves(q, before, m, lever_start, lever_q, lever_value, moves[0])
+                _moves(q, after, m, lever_start, lever_q, lever_value, moves[1])
+            for k in range(k_count if kept else 0):
+                a, b = first[k], second[k]
+                bound[k] = max(values[before, k] - moves[0, a] - moves[0, b],
+                               values[after, k] - moves[1, a] - moves[1, b]) - slack
+                if not bound[k] > threshold:
+                    kept = False
+                    break
+            if kept:
+                values[m] = bound
+            else:
+                rest[count] = m
+                count += 1
+    return rest[:count]

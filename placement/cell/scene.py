@@ -19,8 +19,12 @@ how far the bodies move in between, and the exact ones are computed lowest bound
 bound is below the smallest found (:mod:`placement.cell.bounds`). The run's smallest is then the same
 number as with every distance exact, its other values lower bounds at least that smallest, and
 checking ``distance >= required`` with a threshold at least the largest requirement decides
-exactly as the exact distances would. A distance does not depend on the other configurations or
-pairs computed with it (coal's warm start is off). A scene is not safe to share between threads.
+exactly as the exact distances would. Along runs (without ``least``), the shapes are placed at every
+few configurations of a run first, and in between only where the joints' motion since could bring
+a pair within the threshold; elsewhere a value above the threshold may be the bound that motion
+leaves (:func:`placement.cell.bounds.lever_bounds`). A distance does not depend on the other
+configurations or pairs computed with it (coal's warm start is off). A scene is not safe to share
+between threads.
 """
 
 from __future__ import annotations
@@ -33,8 +37,11 @@ import numpy as np
 import pinocchio as pin
 
 from placement.cell.bounds import (
+    ANCHOR_STRIDE,
     CHUNK,
     LIPSCHITZ_SLACK_M,
+    anchor_rows,
+    lever_bounds,
     lowest_open,
     pair_bounds,
     pending_rows,
@@ -54,6 +61,7 @@ from placement.robot.exceptions import RobotFileError
 from placement.robot.model import Robot
 
 TOUCHING_M = 1e-5  # two bodies closer than this at the reference configuration touch by design (m)
+LONGEST_TRAVEL_M = 1e3  # a sliding joint limited beyond this is unlimited: its shapes' moves have no bound (m)
 ROUNDING_M = 1e-9  # coal's distance may be this much below a bound equal to the distance (faces parallel) (m)
 
 
@@ -107,6 +115,7 @@ class CollisionScene:
         self._model, self._data = robot.model, robot.model.createData()
         self._tree = _shape_tree(robot, self.geometry_model)
         self._enclosures = shape_supports([item.geometry for item in self.geometry_model.geometryObjects])
+        self._levers = _shape_levers(robot.model, self._tree, self._enclosures[1], self._enclosures[2])
         candidates = select_pairs(robot, cell, self.bodies)
         self._set_pairs(candidates)
         reference = self._per_pair(self._exact_everywhere(self._checked(robot.reference_q)))[0]
@@ -151,9 +160,12 @@ class CollisionScene:
             return self._per_pair(self._exact_everywhere(q))
         if run < 1 or len(q) % run:
             raise ValueError(f"{len(q)} configurations do not make runs of {run}")
-        rotation, centre_m = self._placed(q)
-        values = self._bounds(rotation, centre_m, threshold_m)
-        self._settle(q, values, rotation, centre_m, threshold_m, run, least)
+        if run > ANCHOR_STRIDE and not least and self._levers is not None:
+            rotation, centre_m, slot, values = self._bounds_from_anchors(q, threshold_m, run)
+        else:
+            rotation, centre_m = self._placed(q)
+            slot, values = np.arange(len(q)), self._bounds(rotation, centre_m, threshold_m)
+        self._settle(q, values, rotation, centre_m, slot, threshold_m, run, least)
         return self._per_pair(values)
 
     def closest(self, q: np.ndarray) -> Witnesses:
@@ -197,6 +209,7 @@ class CollisionScene:
         self._shape_second = np.array([b for _, b, _ in shape_pairs], dtype=np.int64)
         self._shape_pair = np.array([p for _, _, p in shape_pairs], dtype=np.int64)
         self._pair_starts = np.searchsorted(self._shape_pair, np.arange(len(pairs)))
+        self._later_shapes = [(int(k), int(p)) for k, p in enumerate(self._shape_pair) if k not in self._pair_starts]
         self._against_cell = np.array([not self.bodies[pairs[p].second].is_robot for _, _, p in shape_pairs], dtype=bool)
         self.geometry_model.removeAllCollisionPairs()
         for a, b, _ in shape_pairs:
@@ -217,10 +230,10 @@ class CollisionScene:
             values[m] = [result.min_distance for result in results]
         return values
 
-    def _settle(self, q: np.ndarray, values: np.ndarray, rotation: np.ndarray, centre_m: np.ndarray,
+    def _settle(self, q: np.ndarray, values: np.ndarray, rotation: np.ndarray, centre_m: np.ndarray, slot: np.ndarray,
                 threshold_m: float, run: int, least: bool) -> None:
         """Exact distances in ``values`` (M, K: bounds of the shape pairs in configurations q, whose shapes are
-        placed by ``rotation`` and ``centre_m``, :meth:`_placed`) wherever a run's smallest of a body pair at most
+        placed by ``rotation[slot]`` and ``centre_m[slot]``, :meth:`_placed`) wherever a run's smallest of a body pair at most
         ``threshold_m`` may lie, and, if ``least``, its smallest over all pairs, round by round; the other values
         raised to the bounds that the exact ones give (:mod:`placement.cell.bounds`)."""
         exact = np.zeros(values.shape, dtype=bool)
@@ -242,7 +255,7 @@ class CollisionScene:
                     break
                 found, normal = self._exact_at(q, chosen, columns, alone)
                 record(values, exact, rows, count, smallest, column_group, starts, chunk_run, chosen, columns, chunk,
-                       alone, found, normal, centre_m, rotation, kind, extent, radius, self._shape_first,
+                       alone, found, normal, centre_m, rotation, slot, kind, extent, radius, self._shape_first,
                        self._shape_second, LIPSCHITZ_SLACK_M)
 
     def _exact_at(self, q: np.ndarray, rows: np.ndarray, columns: np.ndarray,
@@ -262,16 +275,47 @@ class CollisionScene:
         return found, normal
 
     def _per_pair(self, values: np.ndarray) -> np.ndarray:
-        """(M, P) the smallest of each body pair's shape-pair values (M, K)."""
-        if not len(self._pair_starts):
-            return np.empty((len(values), 0))
-        return np.minimum.reduceat(values, self._pair_starts, axis=1)
+        """(M, P) the smallest of each body pair's shape-pair values (M, K) (a gather, then the pairs of several
+        shapes: numpy's ``minimum.reduceat`` takes seven times as long)."""
+        out = values[:, self._pair_starts]
+        for column, pair in self._later_shapes:
+            np.minimum(out[:, pair], values[:, column], out=out[:, pair])
+        return out
 
     def _placed(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(M, G, 3, 3) every shape's rotation and (M, G, 3) its bounding-sphere centre (base frame, m) in
         configurations q (M, nq)."""
         rotation, origin = kernels.placements(self._tree, q)
         return rotation, shape_centres(rotation, origin, self._enclosures[1])
+
+    def _bounds_from_anchors(self, q: np.ndarray, threshold_m: float,
+                             run: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`_placed` and :meth:`_bounds` at the anchors of runs of ``run`` configurations, then at those of the
+        others that the anchors' bounds and the levers do not keep above ``threshold_m``, or at every
+        configuration if that is most of them; the rest take the levers' bounds (above the threshold: never
+        pending in :meth:`_settle`, which reads no placement of theirs).
+
+        Returns:
+            The placements (S, G, 3, 3) and (S, G, 3) of the configurations placed, where each configuration's
+            are (M,), and the bounds (M, K).
+        """
+        assert self._levers is not None  # distances() asks only then
+        lever_start, lever_q, lever_m = self._levers
+        anchors = anchor_rows(len(q), run, ANCHOR_STRIDE)
+        anchor_rotation, anchor_centre_m = self._placed(q[anchors])
+        values = np.empty((len(q), len(self._shape_pair)))
+        values[anchors] = self._bounds(anchor_rotation, anchor_centre_m, threshold_m)
+        rest = lever_bounds(q, values, run, ANCHOR_STRIDE, lever_start, lever_q, lever_m, self._shape_first,
+                            self._shape_second, float(threshold_m), LIPSCHITZ_SLACK_M)
+        if len(rest) > len(q) / 2:  # most of the configurations near the cell: place them all, as one block
+            rotation, centre_m = self._placed(q)
+            return rotation, centre_m, np.arange(len(q)), self._bounds(rotation, centre_m, threshold_m)
+        rest_rotation, rest_centre_m = self._placed(q[rest])
+        values[rest] = self._bounds(rest_rotation, rest_centre_m, threshold_m)
+        slot = np.full(len(q), -1)
+        slot[anchors], slot[rest] = np.arange(len(anchors)), np.arange(len(anchors), len(anchors) + len(rest))
+        return (np.concatenate([anchor_rotation, rest_rotation]), np.concatenate([anchor_centre_m, rest_centre_m]),
+                slot, values)
 
     def _bounds(self, rotation: np.ndarray, centre_m: np.ndarray, threshold_m: float) -> np.ndarray:
         """(M, K) lower bounds of the shape pairs' distances with the shapes placed by ``rotation`` and ``centre_m``
@@ -291,6 +335,28 @@ def _shape_tree(robot: Robot, geometry_model: pin.GeometryModel) -> TreeArrays:
     frames = [model.addFrame(pin.Frame(f"shape:{item.name}", item.parentJoint, item.placement, pin.FrameType.OP_FRAME),
                              False) for item in geometry_model.geometryObjects]
     return tree_arrays(model, frames)
+
+
+def _shape_levers(model: pin.Model, tree: TreeArrays, centre_m: np.ndarray,
+                  radius_m: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """Each shape's levers (:mod:`placement.cell.bounds`): for each joint that moves it, the most a point of its
+    bounding sphere moves per radian or metre of that joint, whatever the configuration, as (G + 1,) starts, then
+    the joints' configuration indices and the lengths (m, or 1 for a sliding joint); None if a sliding joint that
+    moves a shape has no finite travel."""
+    travel = np.maximum(np.abs(model.lowerPositionLimit), np.abs(model.upperPositionLimit))
+    starts, indices, lengths = [0], [], []
+    for g, joint in enumerate(tree.frame_parent):
+        chain = [int(j) for j in model.supports[int(joint)]][1:]
+        reach = np.linalg.norm(tree.frame_translation[g] + tree.frame_rotation[g] @ centre_m[g]) + radius_m[g]
+        for position in range(len(chain) - 1, -1, -1):  # from the shape's joint back to the root
+            j = chain[position]
+            if not tree.revolute[j] and not travel[tree.q_index[j]] <= LONGEST_TRAVEL_M:
+                return None
+            indices.append(tree.q_index[j])
+            lengths.append(reach if tree.revolute[j] else 1.0)
+            reach += np.linalg.norm(tree.constants[j, :, 10]) + (0.0 if tree.revolute[j] else travel[tree.q_index[j]])
+        starts.append(len(indices))
+    return np.array(starts, np.int64), np.array(indices, np.int64), np.array(lengths, float)
 
 
 def _check_fixed(cell: Cell | None, bodies: tuple[Body, ...], pairs: list[Pair], reference: np.ndarray) -> None:

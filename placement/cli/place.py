@@ -280,6 +280,7 @@ def optimum_boxes(robot: Robot, path: ToolPath, evaluation: EvaluatorSettings, w
         return {}
     guide = result.guide  # a long path's search ran on guides: the box is found on the polish's
     model, settings = (path, evaluation) if guide is None else (guide.polish_path, guide.polish)
+    settings = dataclasses.replace(settings, feasibility_only=True)  # a box reads feasibility and values only
     with Evaluator(robot, model, settings, remote.executor if remote else None) as evaluator:
         boxes = tolerance_boxes(evaluator, space, [(optimum.detail.placement, lower == (key == "best"))
                                                    for key, optimum in optima.items()], within_percent / 100)

@@ -37,6 +37,10 @@ class EvaluatedBatch:
         joints: Motion of every joint of the spanning tree, K·N rows (placement-major).
         exact: Every limit is to be computed exactly at every sample (for a report or a re-check);
             else a limit may spare work that cannot change feasibility (a search's batch).
+        required_margin: The share of every limit a feasible placement keeps free
+            (:attr:`placement.evaluation.evaluator.EvaluatorSettings.margin`).
+        feasibility_only: Only whether each margin reaches ``required_margin`` is read, not how far
+            beyond: a limit may return, for a margin beyond it, a lower bound still beyond it.
         time_law: Each placement's own timing at ``samples`` under the optimal timing law
             (``samples`` then hold the path at unit speed), else None: every placement shares
             ``samples.t_s``.
@@ -60,6 +64,8 @@ class EvaluatedBatch:
     regeneration: str
     joints: JointTrajectory
     exact: bool = False
+    required_margin: float = 0.0
+    feasibility_only: bool = False
     time_law: TimeLaw | None = None
     path_law: TimeLaw | None = None
     distinct_samples: np.ndarray | None = None

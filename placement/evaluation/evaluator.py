@@ -68,6 +68,10 @@ class EvaluatorSettings:
             of a joint's range, of a speed or torque limit, of the workspace box's side, reachability
             and timing as they are; for a collision, the clearance beyond the required one per
             100 mm (0.05: 5 mm more than the cell's ``margin_m``). 0, the default: the limits themselves.
+        feasibility_only: Only whether each placement is feasible is read from :meth:`Evaluator.evaluate`, not
+            how much room a limit that holds has left (a global search, a tolerance box): a limit may then
+            return, for a margin beyond ``margin``, a lower bound of it still beyond ``margin``. A
+            gradient-based polish reads the margins near ``margin`` as values, and needs the default.
     """
 
     objective: str | tuple[str, ...] = "energy"
@@ -79,6 +83,7 @@ class EvaluatorSettings:
     exact: bool = False
     refine: int = 1
     margin: float = 0.0
+    feasibility_only: bool = False
 
     def __post_init__(self) -> None:
         if not 0.0 <= self.margin < 1.0:
@@ -163,6 +168,7 @@ class Evaluator:
                 geometry (:meth:`placement.timing.law.TimeLaw.resampled`) instead of their time-optimal one.
         """
         k = len(placements)
+        exact = self.settings.exact if exact is None else exact
         solved = self.samples if self.geometry is None else self.geometry.samples
         task, force = placed_task(self.robot, solved, placements)
         joints, reachable, _ = self.solver.solve(task, k)
@@ -186,7 +192,8 @@ class Evaluator:
                               acceleration=acceleration, effort=effort,
                               motor=motor_trace(self.robot, effort, velocity, acceleration),
                               regeneration=self.settings.regeneration, joints=joints,
-                              exact=self.settings.exact if exact is None else exact,
+                              exact=exact, required_margin=self.settings.margin,
+                              feasibility_only=self.settings.feasibility_only and not exact,
                               time_law=None if timing is None else timing.samples_law,
                               path_law=None if timing is None else timing.law, distinct_samples=self.distinct)
 

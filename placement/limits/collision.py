@@ -5,8 +5,13 @@
   from obstacles, 0 from keep-out zones and between links (see :mod:`placement.cell.scene`). The
   margin is (distance − clearance)/``CLEARANCE_SCALE_M``: negative where the bodies come closer
   than allowed, and inside one another. In a search's batch, distances above ``EXACT_BAND_M``
-  beyond the largest clearance may be cheap lower bounds (bounding spheres): never above the exact
-  distance, so a pair they clear is clear, and every distance that decides feasibility is exact.
+  beyond the largest clearance (and the margin kept, ``EvaluatorSettings.margin``) may be cheap lower
+  bounds (bounding spheres, or how far the joints' motion since a nearby sample can move the
+  bodies): never above the exact distance, so a pair they clear is clear, and every
+  distance that decides feasibility is exact. A batch that only feasibility is read from (a global
+  search's, a tolerance box's: ``feasibility_only``) has no band: only distances up to the clearance
+  and margin are exact; a gradient-based polish differentiates the margins near zero, which the band
+  keeps exact.
   Since a margin is the smallest over the samples, only each pair's smallest distance along a
   placement's path is computed exactly; at its other samples the batch's distances may be lower
   bounds, at least that smallest one (:meth:`placement.cell.scene.CollisionScene.distances`, in
@@ -25,6 +30,7 @@ Both apply to a robot equipped with a cell (:func:`placement.cell.tool.equip`).
 
 from __future__ import annotations
 
+import weakref
 from weakref import WeakKeyDictionary
 
 import numpy as np
@@ -40,6 +46,7 @@ EXACT_BAND_M = 0.05  # distances within this of the largest clearance are exact,
 CHECK_SPACING_M = 0.001  # a search's batch checks samples this far apart along the path
 
 _SCENES: WeakKeyDictionary[Robot, CollisionScene] = WeakKeyDictionary()
+_CHECKED: dict[int, np.ndarray] = {}  # checked_samples() of each positions array alive, by its id
 
 
 def collision_scene(robot: Robot) -> CollisionScene:
@@ -59,11 +66,27 @@ def closest_points(robot: Robot, configuration: np.ndarray, pair: str) -> tuple[
 
 def checked_samples(position_m: np.ndarray) -> np.ndarray:
     """Indices of the samples a search checks: the first, then each one ``CHECK_SPACING_M`` of path beyond the
-    last checked, and the last (positions (N, 3) in the path frame, m)."""
+    last checked, and the last (positions (N, 3) in the path frame, m; found once per array: an evaluator's
+    batches share their path's samples)."""
+    key = id(position_m)
+    if key not in _CHECKED:
+        _CHECKED[key] = _spaced(position_m)
+        _CHECKED[key].flags.writeable = False
+        weakref.finalize(position_m, _CHECKED.pop, key, None)
+    return _CHECKED[key]
+
+
+def _spaced(position_m: np.ndarray) -> np.ndarray:
     travelled = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(position_m, axis=0), axis=1))])
     marks = np.floor(travelled / CHECK_SPACING_M)
     first_of_mark = np.flatnonzero(np.concatenate([[True], np.diff(marks) > 0]))
     return np.union1d(first_of_mark, [len(position_m) - 1])
+
+
+def exact_up_to(required_m: np.ndarray, required_margin: float, band_m: float) -> float:
+    """The distance (m) up to which a batch's distances are exact: the largest clearance required, plus the
+    margin a feasible placement keeps (a share of ``CLEARANCE_SCALE_M``), plus ``band_m``."""
+    return float(required_m.max()) + CLEARANCE_SCALE_M * required_margin + band_m
 
 
 class Collision(Limit):
@@ -78,15 +101,16 @@ class Collision(Limit):
         if not scene.pairs:
             return []
         required = scene.required_m
+        band = 0.0 if batch.feasibility_only else EXACT_BAND_M
         if batch.exact:
-            threshold = float(required.max()) + EXACT_BAND_M
+            threshold = exact_up_to(required, batch.required_margin, band)
             distance = scene.distances(batch.joints.q, threshold_m=threshold, run=n, least=True).reshape(k, n, -1)
             checked = None
         else:
             required = required + CHECK_SPACING_M
             checked = checked_samples(batch.samples.position_m)
             q = batch.joints.q.reshape(k, n, -1)[:, checked].reshape(k * len(checked), -1)
-            threshold = float(required.max()) + EXACT_BAND_M
+            threshold = exact_up_to(required, batch.required_margin, band)
             distance = scene.distances(q, threshold_m=threshold, run=len(checked)).reshape(k, len(checked), -1)
         required = np.broadcast_to(required, distance.shape)
         return [MarginField("collision", (distance - required) / CLEARANCE_SCALE_M, distance, required,

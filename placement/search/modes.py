@@ -116,6 +116,7 @@ def optimize_modes(robot: Robot, path: ToolPath, modes: Sequence[str], *, space:
     """
     space = space or default_space(robot, half_turn=path.half_turn_symmetric())
     coarse, fine = (dataclasses.replace(each, workers=1) for each in search_sampling(path, evaluation, settings))
+    coarse = dataclasses.replace(coarse, feasibility_only=True)  # differential evolution reads violations only
     if search_models(path, coarse, fine).guided:
         raise PlacementError(f"{path.name}: a path searched on guides cannot share its chain among modes")
     shared = [SharedChain(Evaluator(robot, path, each), modes) for each in (coarse, fine)]

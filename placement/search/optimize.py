@@ -419,6 +419,7 @@ def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | 
         before an evaluation)."""
         coarse, fine, exact = (dataclasses.replace(each, threads=threads or evaluation.threads)
                                for each in (models.coarse, models.polish, models.exact))
+        coarse = dataclasses.replace(coarse, feasibility_only=True)  # differential evolution reads violations only
         return (Evaluator(robot, models.coarse_path, coarse, executor),
                 Evaluator(robot, models.polish_path, fine, executor),
                 Evaluator(robot, path, exact, executor) if models.guided else None)

@@ -212,7 +212,7 @@ def test_refined_bounds_stay_below_the_exact_distances_of_the_orthoglide_cell():
 def test_a_runs_smallest_distance_is_exact_and_its_other_distances_are_bounds_below_the_exact_ones():
     """Runs of configurations along straight lines in joint space (a path's samples): each pair's smallest
     distance over a run is coal's wherever it is within the threshold, though most exact distances are spared;
-    a bound above a distance would spare the wrong ones."""
+    a bound above a distance would spare the wrong ones (a looser one from the joints' motion too)."""
     robot = load_robot("orthoglide")
     scene = CollisionScene(robot, load_cell(ORTHOGLIDE_CELL))
     rng = np.random.default_rng(5)
@@ -233,6 +233,30 @@ def test_a_runs_smallest_distance_is_exact_and_its_other_distances_are_bounds_be
     assert (scene.distances(q, threshold_m=0.056, run=run) != exact).mean() > 0.5  # most are spared
     with pytest.raises(ValueError, match="runs of 7"):
         scene.distances(q[:20], threshold_m=0.056, run=7)
+
+
+def test_no_point_of_a_shape_moves_more_than_its_levers_allow():
+    """Between two configurations, every point of a shape's bounding sphere moves by at most the sum of its joints'
+    levers times their motion (Pinocchio's placements, on the Orthoglide's closed loop and the UR5's chain)."""
+    for robot, cell in ((load_robot("orthoglide"), ORTHOGLIDE_CELL), (load_robot("ur5"), UR5_CELL)):
+        scene = CollisionScene(robot, load_cell(cell))
+        start, index, length = scene._levers
+        _, centre, radius, _, _ = scene._enclosures
+        data, geometry_data = robot.model.createData(), pin.GeometryData(scene.geometry_model)
+        rng = np.random.default_rng(7)
+        tight = 0.0
+        for _ in range(40):
+            ends = robot.reference_q + rng.uniform(-0.3, 0.3, (2, robot.model.nq))
+            placed = []
+            for q in ends:
+                pin.updateGeometryPlacements(robot.model, data, scene.geometry_model, geometry_data, q)
+                placed.append([(p.rotation, p.act(c)) for p, c in zip(geometry_data.oMg, centre)])
+            for g, ((r0, c0), (r1, c1)) in enumerate(zip(*placed)):
+                move = np.linalg.norm(c1 - c0) + np.linalg.norm(r1 - r0, 2) * radius[g]  # the most a point moves
+                allowed = length[start[g]:start[g + 1]] @ np.abs(ends[1] - ends[0])[index[start[g]:start[g + 1]]]
+                assert move <= allowed + 1e-12
+                tight = max(tight, move / allowed if allowed else 0.0)
+        assert tight > 0.5  # the levers are not loose everywhere
 
 
 def test_along_a_path_few_exact_distances_settle_each_runs_smallest(monkeypatch):

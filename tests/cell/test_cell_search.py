@@ -15,7 +15,14 @@ from placement.__main__ import main
 from placement.cell.schema import load_cell
 from placement.cell.tool import equip
 from placement.limits.base import margin_fields, tightest
-from placement.limits.collision import collision_scene
+from placement.limits.collision import (
+    CHECK_SPACING_M,
+    CLEARANCE_SCALE_M,
+    EXACT_BAND_M,
+    Collision,
+    checked_samples,
+    collision_scene,
+)
 from placement.robot.tool import mount_tool
 from placement.search.optimize import SearchSettings, optimize_placement
 from placement.search.space import default_space
@@ -146,3 +153,35 @@ def test_a_search_batchs_tightest_clearance_is_coals_distance_at_the_path_sample
     scene = collision_scene(robot)
     exact = scene.distances(batch.joints.q[margin.sample])[0, scene.pairs.index(tuple(margin.where.split(" / ")))]
     assert margin.value == pytest.approx(exact, abs=1e-12) and margin.value < 0.05
+
+
+@pytest.mark.parametrize("margin", [0.0, 0.6])
+def test_a_search_batchs_distances_are_coals_up_to_the_clearance_and_margin_kept(margin, monkeypatch):
+    """Each pair's smallest distance along a placement's checked samples is coal's wherever it is at most the
+    clearance asked (the cell's, the search's 1 mm, the margin kept: 60 mm at 0.6) plus, unless the batch is
+    read for feasibility only (a global search's), a 50 mm band; elsewhere a lower bound above that. So both
+    decide every clearance as coal's distances do, the batch read for feasibility with fewer of coal's."""
+    robot = equip(load_robot("orthoglide"), load_cell("examples/cell_orthoglide.yaml"))
+    evaluator = Evaluator(robot, load_path("examples/pocket.yaml"), EvaluatorSettings(margin=margin))
+    placements = np.array([[-0.108, -0.107, -0.11, -2.19, 0, 0], [-0.108, -0.107, -0.0997, -2.19, 0, 0],  # the legs
+                           [-0.1, -0.09, -0.08, -2.0, 0, 0], [0.055, -0.097, 0.064, -1.08, 0, 0]])  # in the vice, near, far
+    batch = evaluator.batch(placements)
+    scene = collision_scene(robot)
+    checked = checked_samples(batch.samples.position_m)
+    q = batch.joints.q.reshape(len(placements), -1, robot.model.nq)[:, checked].reshape(-1, robot.model.nq)
+    exact = scene.distances(q).reshape(len(placements), len(checked), -1).min(axis=1)  # coal's, every pair
+    required = scene.required_m + CHECK_SPACING_M + CLEARANCE_SCALE_M * margin
+    calls, counts = [], {}
+    compute = pin.computeDistance
+    monkeypatch.setattr(pin, "computeDistance", lambda *args: calls.append(1) or compute(*args))
+    for feasibility_only, band in ((False, EXACT_BAND_M), (True, 0.0)):
+        calls.clear()
+        field = Collision().fields(dataclasses.replace(batch, feasibility_only=feasibility_only))[0]
+        least = field.value.min(axis=1)
+        within = exact <= required.max() + band
+        assert within.any() and not within.all()
+        np.testing.assert_array_equal(least[within], exact[within])
+        assert (least[~within] > required.max() + band).all() and (least <= exact + 1e-9).all()
+        np.testing.assert_array_equal(least >= required, exact >= required)
+        counts[feasibility_only] = len(calls)
+    assert counts[True] < counts[False] / 2
