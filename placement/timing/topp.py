@@ -169,7 +169,9 @@ def _stage_rows(arc_m: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray, 
 def _controllable_sets(arc_m: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray, x_max: np.ndarray,
                        start: int, stop: int, sets: np.ndarray, rows: np.ndarray, order: np.ndarray) -> bool:
     """The backward pass over the run of samples start to stop − 1: ``sets[i]``, the lowest and highest ṡ² at
-    sample i from which the run can end at rest. Returns whether every set exists and holds rest at the start."""
+    sample i from which the run can end at rest, and ``rows[i]`` (3, width), interval i's rows
+    (:func:`_stage_rows`), which the forward pass reads. Returns whether every set exists and holds rest at the
+    start."""
     upper_active, lower_active = np.zeros(2, dtype=np.int64), np.zeros(2, dtype=np.int64)
     sets[stop - 1, 0], sets[stop - 1, 1] = 0.0, 0.0
     for i in range(stop - 2, start - 1, -1):
@@ -187,8 +189,9 @@ def _controllable_sets(arc_m: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.nd
 @njit(cache=True)
 def _greedy_pass(arc_m: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray, sets: np.ndarray, start: int,
                  stop: int, x: np.ndarray, u: np.ndarray, rows: np.ndarray) -> bool:
-    """The forward pass over the run of samples start to stop − 1, from rest: ``x[i]``, ṡ² at sample i, and
-    ``u[i]``, the largest s̈ after it whose next state is controllable. Returns whether every step found one."""
+    """The forward pass over the run of samples start to stop − 1, from rest, on the backward pass's ``rows``:
+    ``x[i]``, ṡ² at sample i, and ``u[i]``, the largest s̈ after it whose next state is controllable. Returns whether
+    every step found one."""
     x[start] = 0.0
     i, tries = start, 0
     while i < stop - 1:
