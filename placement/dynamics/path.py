@@ -39,10 +39,6 @@ class PathDynamics:
         (:func:`sample_rows`)."""
         return PathDynamics(*(sample_rows(getattr(self, f.name), index) for f in dataclasses.fields(PathDynamics)))
 
-    def efforts(self, speed: np.ndarray, acceleration: np.ndarray) -> np.ndarray:
-        """(K, N, n_act) actuator efforts for ṡ and s̈ of shape (K, N)."""
-        return (self.inertia * acceleration[..., None] + self.centripetal * speed[..., None] ** 2 + self.static)
-
     @property
     def shape(self) -> tuple[int, ...]:
         """(K, N, n_act)."""
@@ -155,6 +151,6 @@ def path_dynamics(robot: Robot, joints: JointTrajectory, force: np.ndarray, plac
     shape = (placements, len(joints.q) // placements, len(act))
     efforts = (dynamics or TreeDynamics(robot.model)).path_efforts(joints.q, joints.v, joints.a, joints.basis,
                                                                    threads)  # (K·N, 3, n_act): C, A, B
-    static = efforts[:, 0] - load_efforts(joints, force)
+    static = np.subtract(efforts[:, 0], load_efforts(joints, force), order="F")  # laid out as the torques are
     return PathDynamics(*(np.moveaxis(np.ascontiguousarray(x.T).reshape(shape[::-1][:1] + shape[:2]), 0, -1)
                           for x in (joints.v[:, act], joints.a[:, act], efforts[:, 1], efforts[:, 2], static)))

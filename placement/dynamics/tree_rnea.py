@@ -97,7 +97,7 @@ def joint_torques(tree: TreeInertias, q: np.ndarray, v: np.ndarray, a: np.ndarra
 def path_torques(tree: TreeInertias, q: np.ndarray, rate: np.ndarray, curvature: np.ndarray, basis: np.ndarray,
                  threads: int = 1) -> np.ndarray:
     """(N, 3, m) the tree's joint torques C, A and B (module docstring) at N samples, times ``basis``: Gᵀ·C, Gᵀ·A
-    and Gᵀ·B.
+    and Gᵀ·B, each column's N numbers contiguous (as :func:`placement.dynamics.path.path_dynamics` lays them out).
 
     Args:
         tree: The tree (:func:`tree_inertias`).
@@ -107,7 +107,7 @@ def path_torques(tree: TreeInertias, q: np.ndarray, rate: np.ndarray, curvature:
         basis: (N, nv, m) G at each sample.
         threads: Threads, each on its share of the samples (the kernel releases the GIL).
     """
-    out = np.empty((len(q), 3, basis.shape[2]))
+    out = np.empty((3, basis.shape[2], len(q))).transpose(2, 0, 1)  # each column's samples contiguous
     _in_threads(_path_torques, tree, (q, rate, curvature), basis, out, (3, 3), threads)
     return out
 

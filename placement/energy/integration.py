@@ -58,8 +58,7 @@ def interval_power(robot: Robot, trace: MotorTrace, dt_s: np.ndarray) -> PowerPa
     """Power parts of every interval between samples, by each drive's motor model, (..., N-1, n_act) W."""
     parts = [model.interval_power(motor, trace.speed_rad_s[..., i], trace.current_A[..., i], dt_s)
              for i, (model, motor) in enumerate(motor_models(robot))]
-    return PowerParts(*(np.stack([getattr(p, name) for p in parts], axis=-1)
-                        for name in ("joule_W", "inductive_W", "back_emf_W")))
+    return PowerParts(*(_columns([getattr(p, name) for p in parts]) for name in ("joule_W", "inductive_W", "back_emf_W")))
 
 
 def sample_power(robot: Robot, trace: MotorTrace, t_s: np.ndarray, piece: np.ndarray) -> np.ndarray:
@@ -88,9 +87,10 @@ class DrivePower:
         joule_J, inductive_J, back_emf_J: (..., n_act) integrals of the parts over the intervals (without the
             current steps' energies).
         mechanical_J: (..., n_act) integral of motor shaft power τ·ω.
-        steps: (N-1,) or (..., N-1) where two samples of a piece share an instant.
-        step_J: Where ``steps`` has any: what each drive's windings give back and take there
-            (:func:`step_energies`), else None.
+        stepped: (S,) the intervals where two samples of a piece share an instant, for some placement.
+        steps: (S,) or (..., S) where they do, on those intervals.
+        step_J: Where ``steps`` has any: what each drive's windings give back and take on those intervals
+            (:func:`step_energies`), (..., S, n_act) each, else None.
     """
 
     dt_s: np.ndarray
@@ -99,6 +99,7 @@ class DrivePower:
     inductive_J: np.ndarray
     back_emf_J: np.ndarray
     mechanical_J: np.ndarray
+    stepped: np.ndarray
     steps: np.ndarray
     step_J: tuple[np.ndarray, np.ndarray] | None
 
@@ -115,10 +116,11 @@ def drive_power(robot: Robot, trace: MotorTrace, t_s: np.ndarray, piece: np.ndar
     shaft = trace.torque_Nm * trace.speed_rad_s
     mechanical = (shaft[..., :-1, :] + shaft[..., 1:, :]) / 2
     steps = (dt == 0) & (piece[1:] == piece[:-1])
+    stepped = np.flatnonzero(steps.reshape(-1, steps.shape[-1]).any(axis=0))  # the optimal law's: half the intervals
     return DrivePower(dt_s=dt, parts=parts, joule_J=_integral(parts.joule_W, dt),
                       inductive_J=_integral(parts.inductive_W, dt), back_emf_J=_integral(parts.back_emf_W, dt),
-                      mechanical_J=_integral(mechanical, dt), steps=steps,
-                      step_J=step_energies(robot, trace) if steps.any() else None)
+                      mechanical_J=_integral(mechanical, dt), stepped=stepped, steps=np.take(steps, stepped, axis=-1),
+                      step_J=step_energies(robot, trace, stepped) if len(stepped) else None)
 
 
 def electric_energy(robot: Robot, trace: MotorTrace, t_s: np.ndarray, piece: np.ndarray,
@@ -177,9 +179,16 @@ def _over_intervals(energy: np.ndarray) -> np.ndarray:
     return np.stack([energy[..., column].sum(axis=-1) for column in range(energy.shape[-1])], axis=-1)
 
 
-def step_energies(robot: Robot, trace: MotorTrace) -> tuple[np.ndarray, np.ndarray]:
-    """What each drive's windings give back (≤ 0) and take (≥ 0), J, if its current stepped between consecutive
-    samples at an instant, by its motor model: (..., N-1, n_act) each."""
-    steps = [model.step_energy(motor, trace.current_A[..., :-1, i], trace.current_A[..., 1:, i])
-             for i, (model, motor) in enumerate(motor_models(robot))]
-    return np.stack([s[0] for s in steps], axis=-1), np.stack([s[1] for s in steps], axis=-1)
+def step_energies(robot: Robot, trace: MotorTrace, intervals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """What each drive's windings give back (≤ 0) and take (≥ 0), J, if its current stepped between the two samples
+    of each of some ``intervals`` (S,) at an instant, by its motor model: (..., S, n_act) each."""
+    steps = [model.step_energy(motor, np.take(trace.current_A[..., i], intervals, axis=-1),
+                               np.take(trace.current_A[..., i], intervals + 1, axis=-1))
+             for i, (model, motor) in enumerate(motor_models(robot))]  # take: each placement's numbers contiguous
+    return _columns([s[0] for s in steps]), _columns([s[1] for s in steps])
+
+
+def _columns(columns: list[np.ndarray]) -> np.ndarray:
+    """(..., n_act) from the n_act arrays (...) of each drive, each drive's numbers contiguous
+    (:func:`placement.dynamics.path.sample_rows` says why)."""
+    return np.moveaxis(np.stack(columns), 0, -1)

@@ -9,6 +9,7 @@ from functools import cached_property
 import numpy as np
 
 from placement.drives.trace import MotorTrace
+from placement.dynamics.path import sample_rows
 from placement.energy.integration import DrivePower, Energy, drive_power, electric_energy, interval_widths
 from placement.kinematics.trajectories import JointTrajectory
 from placement.path.samples import PathSamples
@@ -45,6 +46,9 @@ class EvaluatedBatch:
             ``samples.t_s``.
         path_law: The same timing at the samples of the path geometry it was found on
             (:class:`placement.path.samples.PathGeometry`), or None.
+        distinct_samples: The samples that do not repeat the one before (under the optimal timing law, a sample
+            inside a run is evaluated twice, zero time apart, at the same position and velocity), or None: every
+            sample. A limit on position or velocity checks these alone (:meth:`distinct`).
     """
 
     robot: Robot
@@ -64,9 +68,15 @@ class EvaluatedBatch:
     feasibility_only: bool = False
     time_law: TimeLaw | None = None
     path_law: TimeLaw | None = None
+    distinct_samples: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.placements)
+
+    def distinct(self, values: np.ndarray) -> np.ndarray:
+        """(K, N', m) ``values`` (K, N, m), a function of the samples' position and velocity, at the distinct samples
+        (laid out column by column, :func:`placement.dynamics.path.sample_rows`), or the values themselves."""
+        return values if self.distinct_samples is None else sample_rows(values, self.distinct_samples)
 
     @cached_property
     def energy(self) -> Energy:

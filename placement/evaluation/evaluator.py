@@ -132,6 +132,7 @@ class Evaluator:
         step = settings.time_step_s
         self.geometry = path.geometry(step, settings.refine) if path.timing.mode == "optimal" else None
         self.samples = path.sample(step) if self.geometry is None else self.geometry.evaluated_samples
+        self.distinct = None if self.geometry is None else np.flatnonzero(np.diff(self.geometry.grid_rows, prepend=-1))
         self.evaluations = 0  # placements evaluated so far
         spread = executor is not None or not self.solver.vectorized
         cores = (os.cpu_count() or 1) if multiprocessing.parent_process() is None else 1
@@ -194,7 +195,7 @@ class Evaluator:
                               exact=exact, required_margin=self.settings.margin,
                               feasibility_only=self.settings.feasibility_only and not exact,
                               time_law=None if timing is None else timing.samples_law,
-                              path_law=None if timing is None else timing.law)
+                              path_law=None if timing is None else timing.law, distinct_samples=self.distinct)
 
     def _time_optimally(self, joints: JointTrajectory, force: np.ndarray, reachable: np.ndarray,
                         given: TimeLaw | None) -> OptimalMotion:

@@ -13,12 +13,15 @@ from collections.abc import Callable
 from dataclasses import dataclass, fields
 
 import numpy as np
+from numba import njit
 
-from placement.dynamics.path import PathDynamics, sample_rows
+from placement.dynamics.path import PathDynamics
 from placement.kinematics.trajectories import JointTrajectory
 from placement.path.samples import PathGeometry
 from placement.robot.model import Robot
 from placement.timing.law import TimeLaw, timed_rates
+
+PATH_TERMS = ("velocity", "curvature", "inertia", "centripetal", "static")  # the path dynamics the motion takes
 
 
 @dataclass(frozen=True)
@@ -56,12 +59,37 @@ def optimal_motion(robot: Robot, geometry: PathGeometry, unit: JointTrajectory, 
     k, grid = len(law.timed), geometry.grid_rows
     at_samples = law.at_samples(geometry)
     speed, acceleration = at_samples.speed_m_s, at_samples.acceleration_m_s2
-    at_rows = dynamics.rows(grid)
-    velocity, accelerated = timed_rates(at_rows.velocity, at_rows.curvature, speed[..., None], acceleration[..., None])
-    position = sample_rows(unit.q[:, robot.actuated_q_indices].reshape(k, len(geometry), -1), grid)
+    position = unit.q[:, robot.actuated_q_indices].reshape(k, len(geometry), -1)
+    columns = np.empty((4, position.shape[2], k, len(grid)))  # each actuator's (K, N) numbers contiguous
+    # C-contiguous (the path dynamics, laid out column by column, without a copy): one compiled version
+    rate, curvature, inertia, centripetal, static = (np.moveaxis(getattr(dynamics, name), -1, 0) for name in PATH_TERMS)
+    _timed_columns(np.ascontiguousarray(position), np.ascontiguousarray(rate), np.ascontiguousarray(curvature),
+                   np.ascontiguousarray(inertia), np.ascontiguousarray(centripetal), np.ascontiguousarray(static),
+                   np.ascontiguousarray(grid), np.ascontiguousarray(speed), np.ascontiguousarray(acceleration), columns)
+    position, velocity, accelerated, effort = np.moveaxis(columns, 1, -1)
     rows = (np.arange(k)[:, None] * len(geometry) + grid).ravel()
     return OptimalMotion(law, at_samples, TimedJoints(unit, rows, speed.reshape(-1, 1), acceleration.reshape(-1, 1)),
-                         position, velocity, accelerated, at_rows.efforts(speed, acceleration))
+                         position, velocity, accelerated, effort)
+
+
+@njit(cache=True)
+def _timed_columns(position: np.ndarray, rate: np.ndarray, curvature: np.ndarray, inertia: np.ndarray,
+                   centripetal: np.ndarray, static: np.ndarray, grid: np.ndarray, speed_m_s: np.ndarray,
+                   acceleration_m_s2: np.ndarray, columns: np.ndarray) -> None:
+    """``columns`` (4, m, K, N): the actuated joints' position q, velocity q'·ṡ, acceleration q'·s̈ + q''·ṡ²
+    (:func:`placement.timing.law.timed_rates`) and effort A·s̈ + B·ṡ² + C
+    (:class:`placement.dynamics.path.PathDynamics`) at the evaluated samples, each the path geometry's sample
+    ``grid[n]``, from q (K, len(geometry), m), the path dynamics there (m, K, len(geometry)) each, and ṡ and s̈
+    (K, N)."""
+    for j in range(columns.shape[1]):
+        for k in range(columns.shape[2]):
+            for n in range(columns.shape[3]):
+                row, s_dot, s_ddot = grid[n], speed_m_s[k, n], acceleration_m_s2[k, n]
+                squared = s_dot**2
+                columns[0, j, k, n] = position[k, row, j]
+                columns[1, j, k, n] = rate[j, k, row] * s_dot
+                columns[2, j, k, n] = rate[j, k, row] * s_ddot + curvature[j, k, row] * squared
+                columns[3, j, k, n] = inertia[j, k, row] * s_ddot + centripetal[j, k, row] * squared + static[j, k, row]
 
 
 class TimedJoints(JointTrajectory):

@@ -126,7 +126,7 @@ class WorkpieceRegion(Limit):
     def fields(self, batch: EvaluatedBatch) -> list[MarginField]:
         assert batch.robot.cell is not None and batch.robot.cell.workpiece_region is not None  # applies_to
         region = batch.robot.cell.workpiece_region
-        return [box_field("workpiece region", batch.tool_position_m, region.min_m, region.max_m)]
+        return [box_field("workpiece region", batch, region.min_m, region.max_m)]
 
 
 LIMITS.add("collision", Collision())

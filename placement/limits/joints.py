@@ -22,12 +22,12 @@ class JointRange(Limit):
         actuators = batch.robot.actuators
         low = np.array([a.position_min for a in actuators])
         high = np.array([a.position_max for a in actuators])
-        position, span = batch.position, high - low
+        position, span = batch.distinct(batch.position), high - low
         names, units = _names_and_units(batch.robot)
         return [MarginField("joint lower limit", (position - low) / span, position,
-                            np.broadcast_to(low, position.shape), names, units),
+                            np.broadcast_to(low, position.shape), names, units, batch.distinct_samples),
                 MarginField("joint upper limit", (high - position) / span, position,
-                            np.broadcast_to(high, position.shape), names, units)]
+                            np.broadcast_to(high, position.shape), names, units, batch.distinct_samples)]
 
 
 class JointSpeed(Limit):
@@ -35,10 +35,10 @@ class JointSpeed(Limit):
 
     def fields(self, batch: EvaluatedBatch) -> list[MarginField]:
         speed = _speed_max(batch.robot)
-        velocity = batch.velocity
+        velocity = batch.distinct(batch.velocity)
         names, units = _names_and_units(batch.robot, "/s")
         return [MarginField("joint speed", (speed - np.abs(velocity)) / speed, velocity,
-                            np.broadcast_to(speed, velocity.shape), names, units)]
+                            np.broadcast_to(speed, velocity.shape), names, units, batch.distinct_samples)]
 
     def path_bounds(self, robot: Robot, dynamics: PathDynamics) -> list[PathBound]:
         return [PathBound("joint speed", dynamics.joint_velocity, _speed_max(robot))]

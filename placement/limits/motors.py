@@ -39,10 +39,11 @@ class MotorSpeed(Limit):
     def fields(self, batch: EvaluatedBatch) -> list[MarginField]:
         top = Drives.of(batch.robot).max_speed_rad_s
         bounded = np.flatnonzero(np.isfinite(top))
-        speed = batch.motor.speed_rad_s[..., bounded]
+        speed = batch.distinct(batch.motor.speed_rad_s)[..., bounded]
         names = tuple(batch.robot.actuators[i].joint for i in bounded)
         return [MarginField("motor speed", (top[bounded] - np.abs(speed)) / top[bounded], speed,
-                            np.broadcast_to(top[bounded], speed.shape), names, ("rad/s",) * len(names))]
+                            np.broadcast_to(top[bounded], speed.shape), names, ("rad/s",) * len(names),
+                            batch.distinct_samples)]
 
     def path_bounds(self, robot: Robot, dynamics: PathDynamics) -> list[PathBound]:
         drives = Drives.of(robot)

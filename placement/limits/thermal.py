@@ -34,11 +34,14 @@ class Thermal(Limit):
         bounded = _bounded(batch.robot)
         widths = batch.widths_by_placement_s
         squared = squared_torque_integral(batch.motor.torque_Nm[..., bounded], widths)
+        last = None if batch.exact else np.array([len(batch.samples) - 1])  # the margin only falls along the path
+        if last is not None:
+            squared = squared[:, last]
         cycle = widths.sum(axis=-1)[:, None, None]
         rms = np.sqrt(squared / np.where(cycle > 0, cycle, np.inf))
         names = tuple(batch.robot.actuators[i].joint for i in bounded)
         return [MarginField("thermal (RMS)", (rated[bounded] - rms) / rated[bounded], rms,
-                            np.broadcast_to(rated[bounded], rms.shape), names, ("N m",) * len(names))]
+                            np.broadcast_to(rated[bounded], rms.shape), names, ("N m",) * len(names), last)]
 
 
 def _bounded(robot: Robot) -> np.ndarray:

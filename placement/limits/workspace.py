@@ -20,32 +20,33 @@ class Workspace(Limit):
     def fields(self, batch: EvaluatedBatch) -> list[MarginField]:
         workspace = batch.robot.workspace
         assert workspace is not None  # applies_to
-        return [box_field("workspace", batch.tool_position_m, workspace.min_m, workspace.max_m)]
+        return [box_field("workspace", batch, workspace.min_m, workspace.max_m)]
 
 
-def box_field(kind: str, tool_position_m: np.ndarray, min_m: Sequence[float], max_m: Sequence[float]) -> MarginField:
-    """Margins of the tool points (K, N, 3) inside an axis-aligned box of the base frame; the scale is its side."""
+def box_field(kind: str, batch: EvaluatedBatch, min_m: Sequence[float], max_m: Sequence[float]) -> MarginField:
+    """Margins of the batch's tool points inside an axis-aligned box of the base frame, at its distinct samples
+    (:meth:`placement.evaluation.batch.EvaluatedBatch.distinct`); the scale is the box's side."""
     low, high = np.array(min_m, dtype=float), np.array(max_m, dtype=float)
-    side, points = high - low, tool_position_m.reshape(-1, 3)
-    value, margin = np.empty((len(points), 6)), np.empty((len(points), 6))
-    for axis in range(3):  # axis by axis: numpy broadcasts along a last axis of three slowly
-        value[:, axis] = value[:, 3 + axis] = points[:, axis]
-        np.subtract(points[:, axis], low[axis], out=margin[:, axis])
-        np.subtract(high[axis], points[:, axis], out=margin[:, 3 + axis])
-        margin[:, axis] /= side[axis]
-        margin[:, 3 + axis] /= side[axis]
-    shape = (*tool_position_m.shape[:-1], 6)
-    return MarginField(kind, margin.reshape(shape), value.reshape(shape),
-                       np.broadcast_to(np.concatenate([low, high]), shape),
-                       ("x min", "y min", "z min", "x max", "y max", "z max"), ("m",) * 6)
+    side, axes = high - low, np.moveaxis(batch.distinct(batch.tool_position_m), -1, 0)  # (3, K, N)
+    value, margin = np.empty((6, *axes.shape[1:])), np.empty((6, *axes.shape[1:]))
+    for axis in range(3):  # axis by axis (numpy broadcasts along a last axis of three slowly), each laid out along
+        value[axis] = value[3 + axis] = axes[axis]  # the samples (sample_rows says why)
+        np.subtract(axes[axis], low[axis], out=margin[axis])
+        np.subtract(high[axis], axes[axis], out=margin[3 + axis])
+        margin[axis] /= side[axis]
+        margin[3 + axis] /= side[axis]
+    margin, value = np.moveaxis(margin, 0, -1), np.moveaxis(value, 0, -1)
+    return MarginField(kind, margin, value, np.broadcast_to(np.concatenate([low, high]), margin.shape),
+                       ("x min", "y min", "z min", "x max", "y max", "z max"), ("m",) * 6, batch.distinct_samples)
 
 
 class Reachability(Limit):
     """Every sample has a configuration: margin 1 where it does, −1 where it does not."""
 
     def fields(self, batch: EvaluatedBatch) -> list[MarginField]:
-        reached = batch.reachable[..., None].astype(float)
-        return [MarginField("reachability", 2 * reached - 1, reached, np.ones_like(reached), ("path",), ("",))]
+        reached = batch.distinct(batch.reachable[..., None]).astype(float)
+        return [MarginField("reachability", 2 * reached - 1, reached, np.ones_like(reached), ("path",), ("",),
+                            batch.distinct_samples)]
 
 
 LIMITS.add("workspace", Workspace())

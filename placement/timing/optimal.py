@@ -37,6 +37,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import numpy as np
+from numba import njit
 
 from placement.dynamics.path import PathDynamics
 from placement.limits.base import PathBound, path_bounds
@@ -63,20 +64,47 @@ def speed_bound(bounds: list[PathBound], feed_m_s: np.ndarray, placements: int) 
 
 def bound_rows(bounds: list[PathBound], speed_max: np.ndarray) -> tuple[np.ndarray, ...]:
     """Rows a·s̈ + b·ṡ² + c ≤ 0, (K, N, rows) each, of the bounds that are not speed bounds (module docstring)."""
-    bar = np.maximum(speed_max, 1e-12)[..., None]  # √x̄, the speed bound
-    rows: list[tuple[np.ndarray, ...]] = []
-    for bound in bounds:
-        if bound.form.speed_only:
-            continue
+    bar = np.maximum(speed_max, 1e-12)  # √x̄, the speed bound
+    kept = [bound for bound in bounds if not bound.form.speed_only]
+    width = sum(2 * np.size(bound.top) for bound in kept)
+    rows_a, rows_b, rows_c = (np.empty(speed_max.shape + (width,)) for _ in range(3))
+    first = 0
+    for bound in kept:
         shape = speed_max.shape + np.shape(bound.top)
-        a, b, c, w = (np.broadcast_to(term, shape) for term in bound.form.terms)
-        for sign in (1.0, -1.0):
-            raising = sign * w > 0
-            slope = np.where(raising, sign * w / (2 * bar), sign * w / bar)
-            offset = np.where(raising, sign * w * bar / 2, 0.0)
-            rows.append((sign * a, sign * b + slope, sign * c + offset - SAFETY * bound.top))
-    empty = np.zeros(speed_max.shape + (0,))
-    return tuple(np.concatenate([empty] + [row[i] for row in rows], axis=-1) for i in range(3))
+        a, b, c, w = (_columns(term, shape) for term in bound.form.terms)
+        _bound_rows(a, b, c, w, bar, np.array(bound.top, dtype=float), rows_a, rows_b, rows_c, first)
+        first += 2 * shape[-1]
+    return rows_a, rows_b, rows_c
+
+
+def _columns(term: np.ndarray | float, shape: tuple[int, ...]) -> np.ndarray:
+    """A form's term broadcast to ``shape`` (K, N, m), as a read-only C-contiguous (m, K, N) array: without a copy
+    when laid out column by column (:func:`placement.dynamics.path.sample_rows`), and the same array type for the
+    kernel whatever the term (one compiled version)."""
+    columns = np.ascontiguousarray(np.moveaxis(np.broadcast_to(np.asarray(term, dtype=float), shape), -1, 0))
+    columns = columns.view()
+    columns.flags.writeable = False
+    return columns
+
+
+@njit(cache=True)
+def _bound_rows(a: np.ndarray, b: np.ndarray, c: np.ndarray, w: np.ndarray, bar: np.ndarray, top: np.ndarray,
+                rows_a: np.ndarray, rows_b: np.ndarray, rows_c: np.ndarray, first: int) -> None:
+    """The rows of |a·s̈ + b·ṡ² + c + w·ṡ| ≤ top, the terms (m, K, N), into the columns ``first`` to ``first`` + 2·m
+    of ``rows_a``, ``rows_b`` and ``rows_c`` (K, N, rows): the bound on +form, then on −form, column by column;
+    ``bar`` (K, N) is √x̄ (module docstring)."""
+    m, k_count, n_count = a.shape
+    for k in range(k_count):
+        for n in range(n_count):
+            s = bar[k, n]
+            for j in range(m):
+                v = w[j, k, n]
+                tangent, chord, lift = v / (2 * s), v / s, v * s / 2  # ±w·ṡ's bounds, for either sign negated
+                for half, sign, raising in ((0, 1.0, v > 0), (m, -1.0, v < 0)):
+                    slope, offset = (tangent, lift) if raising else (chord, 0.0)
+                    rows_a[k, n, first + half + j] = sign * a[j, k, n]
+                    rows_b[k, n, first + half + j] = sign * (b[j, k, n] + slope)
+                    rows_c[k, n, first + half + j] = sign * (c[j, k, n] + offset) - SAFETY * top[j]
 
 
 def time_optimal(robot: Robot, geometry: PathGeometry, dynamics: PathDynamics, reachable: np.ndarray) -> TimeLaw:

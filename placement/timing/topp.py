@@ -38,38 +38,38 @@ OBJECTIVE_TILT = 1e-9  # weight of s̈ in the backward pass's objectives (toppra
 
 
 @njit(cache=True)
-def _lp1d(direction: float, rows: int, a: np.ndarray, b: np.ndarray, low: float,
-          high: float) -> tuple[bool, float, int]:
-    """max direction·t over a·t + b ≤ 0 (the first ``rows`` rows), low ≤ t ≤ high.
+def _lp1d(direction: float, rows: np.ndarray, x: float, low: float, high: float) -> tuple[bool, float]:
+    """max direction·t over the rows (3, width) a·t + b·x + c ≤ 0 at a given x, low ≤ t ≤ high.
 
     Returns:
-        Whether it is feasible, the optimal t, and the row active there (−1, −2: low, high).
+        Whether it is feasible, and the optimal t.
     """
-    lowest, low_row, highest, high_row = low, -1, high, -2
-    for i in range(rows):
-        if a[i] > LP_TINY:
-            t = -b[i] / a[i]
+    lowest, highest = low, high
+    for i in range(rows.shape[1]):
+        a = rows[0, i]
+        if a > LP_TINY:
+            t = -(rows[1, i] * x + rows[2, i]) / a
             if t < highest:
-                highest, high_row = t, i
-        elif a[i] < -LP_TINY:
-            t = -b[i] / a[i]
+                highest = t
+        elif a < -LP_TINY:
+            t = -(rows[1, i] * x + rows[2, i]) / a
             if t > lowest:
-                lowest, low_row = t, i
+                lowest = t
     if lowest > highest:
-        return False, np.nan, 0
+        return False, np.nan
     if abs(direction) < LP_TINY or direction < 0:
-        return True, lowest, low_row
-    return True, highest, high_row
+        return True, lowest
+    return True, highest
 
 
 @njit(cache=True)
 def _lp2d(v_u: float, v_x: float, a: np.ndarray, b: np.ndarray, c: np.ndarray, x_high: float, active: np.ndarray,
-          order: np.ndarray, a_1d: np.ndarray, b_1d: np.ndarray) -> tuple[bool, float]:
+          order: np.ndarray) -> tuple[bool, float]:
     """max v_u·u + v_x·x over a·u + b·x + c ≤ 0, |u| ≤ VAR_BOUND and 0 ≤ x ≤ x_high, by Seidel's incremental
     algorithm.
 
-    The rows that were active at the previous solution (``active``, updated) go first. ``order``,
-    ``a_1d`` and ``b_1d`` are scratch (rows, rows + 4).
+    The rows that were active at the previous solution (``active``, updated) go first. ``order`` is scratch
+    (rows,).
 
     Returns:
         Whether it is feasible, and the optimal x.
@@ -98,34 +98,56 @@ def _lp2d(v_u: float, v_x: float, a: np.ndarray, b: np.ndarray, c: np.ndarray, x
         norm = a[i] ** 2 + b[i] ** 2
         origin_u, origin_x = -a[i] * c[i] / norm, -b[i] * c[i] / norm  # the origin projected on the row's line
         tangent_u, tangent_x = -b[i], a[i]
-        for j in range(k + 4):
-            if j == k:
-                aj, bj, cj = -1.0, 0.0, low_u
-            elif j == k + 1:
-                aj, bj, cj = 1.0, 0.0, -high_u
-            elif j == k + 2:
-                aj, bj, cj = 0.0, -1.0, low_x
-            elif j == k + 3:
-                aj, bj, cj = 0.0, 1.0, -x_high
-            else:
-                aj, bj, cj = a[order[j]], b[order[j]], c[order[j]]
-            denominator = tangent_u * aj + tangent_x * bj
-            at_origin = cj + origin_x * bj + origin_u * aj
-            if denominator > LP_TINY:
-                a_1d[j], b_1d[j] = 1.0, at_origin / denominator
-            elif denominator < -LP_TINY:
-                a_1d[j], b_1d[j] = -1.0, -at_origin / denominator
-            else:  # parallel to the row's line
-                if at_origin > LP_SMALL:
-                    return False, np.nan
-                a_1d[j], b_1d[j] = 0.0, -1.0
-        feasible, t, row = _lp1d(tangent_u * v_u + tangent_x * v_x, k + 4, a_1d, b_1d, -LP1D_BOUND, LP1D_BOUND)
+        feasible, t, row = _on_line(origin_u, origin_x, tangent_u, tangent_x, tangent_u * v_u + tangent_x * v_x, k,
+                                    a, b, c, order, low_u, high_u, low_x, x_high)
         if not feasible or row < 0:  # infeasible, or unbounded along the line
             return False, np.nan
         best_u, best_x = origin_u + t * tangent_u, origin_x + t * tangent_x
         second = order[row] if row < k else -1 - (row - k)
     active[0], active[1] = first, second
     return True, best_x
+
+
+@njit(cache=True)
+def _on_line(origin_u: float, origin_x: float, tangent_u: float, tangent_x: float, direction: float, k: int,
+             a: np.ndarray, b: np.ndarray, c: np.ndarray, order: np.ndarray, low_u: float, high_u: float, low_x: float,
+             x_high: float) -> tuple[bool, float, int]:
+    """max direction·t along the line origin + t·tangent over the rows ``order[:k]`` and the bounds on u and x
+    (rows k to k + 3), within ±LP1D_BOUND: each row bounds t from one side, or holds or fails everywhere along the
+    line (parallel to it).
+
+    Returns:
+        Whether it is feasible, the optimal t, and the row active there (−1, −2: the line's own bounds).
+    """
+    lowest, low_row, highest, high_row = -LP1D_BOUND, -1, LP1D_BOUND, -2
+    for j in range(k + 4):
+        if j == k:
+            aj, bj, cj = -1.0, 0.0, low_u
+        elif j == k + 1:
+            aj, bj, cj = 1.0, 0.0, -high_u
+        elif j == k + 2:
+            aj, bj, cj = 0.0, -1.0, low_x
+        elif j == k + 3:
+            aj, bj, cj = 0.0, 1.0, -x_high
+        else:
+            aj, bj, cj = a[order[j]], b[order[j]], c[order[j]]
+        denominator = tangent_u * aj + tangent_x * bj
+        at_origin = cj + origin_x * bj + origin_u * aj
+        if denominator > LP_TINY:  # t ≤ −at_origin/denominator
+            t = -(at_origin / denominator)
+            if t < highest:
+                highest, high_row = t, j
+        elif denominator < -LP_TINY:  # t ≥ −at_origin/denominator
+            t = -at_origin / denominator
+            if t > lowest:
+                lowest, low_row = t, j
+        elif at_origin > LP_SMALL:  # parallel to the row's line, and beyond it
+            return False, np.nan, 0
+    if lowest > highest:
+        return False, np.nan, 0
+    if abs(direction) < LP_TINY or direction < 0:
+        return True, lowest, low_row
+    return True, highest, high_row
 
 
 @njit(cache=True)
@@ -145,19 +167,19 @@ def _stage_rows(arc_m: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray, 
 
 @njit(cache=True)
 def _controllable_sets(arc_m: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray, x_max: np.ndarray,
-                       start: int, stop: int, sets: np.ndarray, rows: np.ndarray, order: np.ndarray,
-                       a_1d: np.ndarray, b_1d: np.ndarray) -> bool:
+                       start: int, stop: int, sets: np.ndarray, rows: np.ndarray, order: np.ndarray) -> bool:
     """The backward pass over the run of samples start to stop − 1: ``sets[i]``, the lowest and highest ṡ² at
-    sample i from which the run can end at rest. Returns whether every set exists and holds rest at the start."""
+    sample i from which the run can end at rest, and ``rows[i]`` (3, width), interval i's rows
+    (:func:`_stage_rows`), which the forward pass reads. Returns whether every set exists and holds rest at the
+    start."""
     upper_active, lower_active = np.zeros(2, dtype=np.int64), np.zeros(2, dtype=np.int64)
     sets[stop - 1, 0], sets[stop - 1, 1] = 0.0, 0.0
     for i in range(stop - 2, start - 1, -1):
-        _stage_rows(arc_m, a, b, c, i, sets[i + 1, 0], sets[i + 1, 1], rows)
+        stage = rows[i]
+        _stage_rows(arc_m, a, b, c, i, sets[i + 1, 0], sets[i + 1, 1], stage)
         x_high = min(VAR_BOUND, x_max[i])
-        feasible_high, highest = _lp2d(-OBJECTIVE_TILT, 1.0, rows[0], rows[1], rows[2], x_high, upper_active, order,
-                                       a_1d, b_1d)
-        feasible_low, lowest = _lp2d(OBJECTIVE_TILT, -1.0, rows[0], rows[1], rows[2], x_high, lower_active, order,
-                                     a_1d, b_1d)
+        feasible_high, highest = _lp2d(-OBJECTIVE_TILT, 1.0, stage[0], stage[1], stage[2], x_high, upper_active, order)
+        feasible_low, lowest = _lp2d(OBJECTIVE_TILT, -1.0, stage[0], stage[1], stage[2], x_high, lower_active, order)
         if not (feasible_high and feasible_low):
             return False
         sets[i, 0], sets[i, 1] = max(lowest, 0.0), highest
@@ -166,16 +188,15 @@ def _controllable_sets(arc_m: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.nd
 
 @njit(cache=True)
 def _greedy_pass(arc_m: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray, sets: np.ndarray, start: int,
-                 stop: int, x: np.ndarray, u: np.ndarray, rows: np.ndarray, offset: np.ndarray) -> bool:
-    """The forward pass over the run of samples start to stop − 1, from rest: ``x[i]``, ṡ² at sample i, and
-    ``u[i]``, the largest s̈ after it whose next state is controllable. Returns whether every step found one."""
+                 stop: int, x: np.ndarray, u: np.ndarray, rows: np.ndarray) -> bool:
+    """The forward pass over the run of samples start to stop − 1, from rest, on the backward pass's ``rows``:
+    ``x[i]``, ṡ² at sample i, and ``u[i]``, the largest s̈ after it whose next state is controllable. Returns whether
+    every step found one."""
     x[start] = 0.0
     i, tries = start, 0
     while i < stop - 1:
-        delta = _stage_rows(arc_m, a, b, c, i, sets[i + 1, 0], sets[i + 1, 1], rows)
-        for j in range(rows.shape[1]):
-            offset[j] = rows[1, j] * x[i] + rows[2, j]
-        feasible, step, _ = _lp1d(2 * delta, rows.shape[1], rows[0], offset, -VAR_BOUND, VAR_BOUND)
+        delta = arc_m[i + 1] - arc_m[i]
+        feasible, step = _lp1d(2 * delta, rows[i], x[i], -VAR_BOUND, VAR_BOUND)
         if not feasible:
             if tries == MAX_TRIES:
                 return False
@@ -232,8 +253,8 @@ def _time_placements(arc_m: np.ndarray, run_starts: np.ndarray, held: np.ndarray
     """:func:`time_placements` on checked arrays, into ``speed`` and ``acceleration`` (zeros); ``timed`` is updated."""
     n, width = len(arc_m), 2 + 2 * a.shape[2]
     sets, x, u = np.zeros((n, 2)), np.zeros(n), np.zeros(n)
-    rows, offset = np.zeros((3, width)), np.zeros(width)
-    order, a_1d, b_1d = np.zeros(width, dtype=np.int64), np.zeros(width + 4), np.zeros(width + 4)
+    rows = np.zeros((n, 3, width))
+    order = np.zeros(width, dtype=np.int64)
     for p in range(len(timed)):
         if not timed[p]:
             continue
@@ -241,8 +262,8 @@ def _time_placements(arc_m: np.ndarray, run_starts: np.ndarray, held: np.ndarray
             start, stop = run_starts[r], run_starts[r + 1]
             if held[r]:
                 continue
-            if not (_controllable_sets(arc_m, a[p], b[p], c[p], x_max[p], start, stop, sets, rows, order, a_1d, b_1d)
-                    and _greedy_pass(arc_m, a[p], b[p], c[p], sets, start, stop, x, u, rows, offset)):
+            if not (_controllable_sets(arc_m, a[p], b[p], c[p], x_max[p], start, stop, sets, rows, order)
+                    and _greedy_pass(arc_m, a[p], b[p], c[p], sets, start, stop, x, u, rows)):
                 timed[p] = False
                 break
             for i in range(start, stop):

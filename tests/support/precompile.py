@@ -21,11 +21,15 @@ import numpy as np
 import pinocchio as pin
 
 from placement.cell.bounds import SPHERE, pair_bounds
+from placement.dynamics.path import PathForm
 from placement.dynamics.tree_rnea import touch_tree_kernels
+from placement.evaluation.timed import _timed_columns
 from placement.kinematics import kernels
 from placement.kinematics.closed_form import touch_joint_motion_kernel
 from placement.kinematics.tree import tree_arrays
 from placement.kinematics.warmup import touch_kernels
+from placement.limits.base import PathBound
+from placement.timing.optimal import bound_rows
 from placement.timing.topp import time_placements
 from tests.support.paths import ROOT
 
@@ -51,6 +55,10 @@ def compile_others() -> None:
     rows = np.array([[[1.0], [-1.0]]])  # one placement, two samples: -1 <= s̈ <= 1
     time_placements(np.array([0.0, 1.0]), np.array([0, 2]), np.array([False]), rows, np.zeros((1, 2, 1)),
                     -np.ones((1, 2, 1)), np.ones((1, 2)), np.array([True]))
+    column = np.moveaxis(np.ones((1, 1, 2)), 0, -1)  # one placement's two samples, laid out as the path dynamics
+    bound_rows([PathBound("motor torque", PathForm(a=column, b=column, c=column, w=column), np.ones(1))], np.ones((1, 2)))
+    _timed_columns(np.ones((1, 2, 1)), *[np.ones((1, 1, 2))] * 5, np.array([0, 1, 1]), np.ones((1, 3)), np.ones((1, 3)),
+                   np.empty((4, 1, 1, 3)))
     rotation, centre_m = np.eye(3)[None, None], np.zeros((1, 1, 3))  # one shape, in one configuration
     shape = np.array([0], dtype=np.int64)
     pair_bounds(rotation, centre_m, shape, shape, np.array([False]), np.full(1, SPHERE, dtype=np.int64),
