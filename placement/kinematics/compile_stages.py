@@ -101,7 +101,6 @@ def compile_newton(sample: Sample) -> None:
     """The helper's second stage: Newton on one configuration (the square solve and the residual found in the
     cache, compiled by the command's first stage) and the buffers, which the path solve and the rates make."""
     tree, buffers = sample.tree, sample.buffers
-    _compile(kernels._model_remainder, np.eye(3), np.zeros(3), np.eye(3))
     _compile(kernels._newton_one, tree, buffers, sample.q, sample.positions[0], sample.rotations[0], False,
              np.zeros(SETTINGS_LENGTH), 0.0, buffers.drift, np.empty((1, 1)))
     _compile(kernels._buffers, tree, 0)
