@@ -19,10 +19,10 @@ point itself (a wrapper compiles its callees' code once more), no Python wrapper
 only the kernels call (one unboxes the 30 arrays of the tree and buffer tuples, and is optimised
 again in every caller), one set of argument types per function (rows passed as views, no literal
 constants). A function with a single caller is inlined into it by numba (``_inlined``: ``_assemble``,
-``_branch_scale``, ``least_squares``, ``_newton_step``, ``_model_remainder``, ``_factor_passive``): compiled
-on its own, LLVM would optimise and emit it once for itself and once more within its caller, which keeps
-it as a function of its own (a tenth of the kernels' first compile). ``rates``' callees stay apart:
-inlined there, they make the rates about 9 % slower.
+``_branch_scale``, ``least_squares``, ``_newton_step``, ``_model_remainder``, ``_factor_passive``,
+``_task_inverse``): compiled on its own, LLVM would optimise and emit it once for itself and once more
+within its caller, which keeps it as a function of its own (together a tenth of the kernels' first
+compile). ``passive_correction`` stays apart: inlined into ``rates``, it makes them 8 % slower.
 
 Conventions follow Pinocchio: a joint's world placement ``oMi = oMparent · jointPlacement ·
 motion(q)``; Jacobians and classical accelerations at a frame's origin in world-aligned axes
@@ -686,7 +686,7 @@ def rates(tree, q, twist, acceleration, damping):
     return v_out, a_out, g_out, m_out, condition
 
 
-@_internal
+@_inlined
 def _task_inverse(task_map, inverse, square, factors, square_inverse):
     """The task map's inverse, or for a tall one its left inverse (MᵀM)⁻¹·Mᵀ, (n_act, dim) into ``inverse``;
     returns its condition number: 1-norm when square; for a tall map the square root of MᵀM's (within a
