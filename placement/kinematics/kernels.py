@@ -20,7 +20,7 @@ only the kernels call (one unboxes the 30 arrays of the tree and buffer tuples, 
 again in every caller), one set of argument types per function (rows passed as views, no literal
 constants). A function with a single caller is inlined into it by numba (``_inlined``: ``_assemble``,
 ``_branch_scale``, ``least_squares``, ``_newton_step``, ``_model_remainder``, ``_factor_passive``,
-``_task_inverse``): compiled on its own, LLVM would optimise and emit it once for itself and once more
+``_task_inverse``, ``drifts``): compiled on its own, LLVM would optimise and emit it once for itself and once more
 within its caller, which keeps it as a function of its own (together a tenth of the kernels' first
 compile). ``passive_correction`` stays apart: inlined into ``rates``, it makes them 8 % slower.
 
@@ -482,7 +482,7 @@ def _add_frame_drift(tree, f, v, buffers, sign, out):
             out[2] += rate * tz
 
 
-@_uncounted
+@_inlined
 def drifts(tree, v, buffers):
     """Closure drifts, then the task drift, into ``buffers.drift`` (velocities already propagated)."""
     drift = buffers.drift

@@ -8,8 +8,8 @@ import sys
 
 from placement.kinematics import warmup
 
-INLINED = {"least_squares", "_newton_step", "_model_remainder", "_factor_passive", "_task_inverse", "_assemble",
-           "_branch_scale"}
+INLINED = {"least_squares", "_newton_step", "_model_remainder", "_factor_passive", "_task_inverse", "drifts",
+           "_assemble", "_branch_scale"}
 
 STAGES = """
 import sys
