@@ -73,7 +73,8 @@ def compile_probe(sample: Sample) -> None:
 
 def compile_leaves(sample: Sample) -> None:
     """The command's first stage: kernels that call no low-level one (the square solve and the residual, which
-    Newton and the tangent map call, the path solve's small helpers, the drifts, which the rates call)."""
+    Newton and the tangent map call, the path solve's small helpers, and the buffers, which the path solve and
+    the rates make)."""
     tree, buffers, vector, matrix = sample.tree, sample.buffers, np.zeros(3), np.eye(3)
     _compile(kernels._solve_square, matrix, matrix, 0)
     _compile(kernels.residual, tree, buffers, vector, matrix, False, vector)
@@ -83,7 +84,7 @@ def compile_leaves(sample: Sample) -> None:
     _compile(kernels._cubic, matrix, 0, np.zeros(5, dtype=np.int64), vector)
     _compile(kernels._left_branch, vector, vector, 0.0, 0.0)
     _compile(kernels._max_abs, vector)
-    _compile(kernels.drifts, tree, sample.q, buffers)  # for the helper's rates: a share of their callees
+    _compile(kernels._buffers, tree, 0)
 
 
 def compile_low_level(sample: Sample) -> None:
@@ -99,12 +100,10 @@ def compile_low_level(sample: Sample) -> None:
 
 def compile_newton(sample: Sample) -> None:
     """The helper's second stage: Newton on one configuration (the square solve and the residual found in the
-    cache, compiled by the command's first stage) and the buffers, which the path solve and the rates make."""
+    cache, compiled by the command's first stage)."""
     tree, buffers = sample.tree, sample.buffers
-    _compile(kernels._model_remainder, np.eye(3), np.zeros(3), np.eye(3))
     _compile(kernels._newton_one, tree, buffers, sample.q, sample.positions[0], sample.rotations[0], False,
              np.zeros(SETTINGS_LENGTH), 0.0, buffers.drift, np.empty((1, 1)))
-    _compile(kernels._buffers, tree, 0)
 
 
 def compile_rates(sample: Sample) -> None:

@@ -18,7 +18,11 @@ compile implementations of their own, once per process), each entry point's loop
 point itself (a wrapper compiles its callees' code once more), no Python wrappers for functions
 only the kernels call (one unboxes the 30 arrays of the tree and buffer tuples, and is optimised
 again in every caller), one set of argument types per function (rows passed as views, no literal
-constants), and ``_assemble`` and ``_branch_scale`` inlined.
+constants). A function with a single caller is inlined into it by numba (``_inlined``: ``_assemble``,
+``_branch_scale``, ``least_squares``, ``_newton_step``, ``_model_remainder``, ``_factor_passive``,
+``_task_inverse``, ``drifts``): compiled on its own, LLVM would optimise and emit it once for itself and once more
+within its caller, which keeps it as a function of its own (together a tenth of the kernels' first
+compile). ``passive_correction`` stays apart: inlined into ``rates``, it makes them 8 % slower.
 
 Conventions follow Pinocchio: a joint's world placement ``oMi = oMparent · jointPlacement ·
 motion(q)``; Jacobians and classical accelerations at a frame's origin in world-aligned axes
@@ -55,6 +59,7 @@ PIVOT_FLOOR = 1e-300  # a pivot below this makes a square system singular
 # numba's stub lacks the flags for no reference counting and no Python wrappers
 _internal = njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]
 _uncounted = njit(cache=True, _nrt=False, no_cpython_wrapper=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]
+_inlined = njit(inline='always')  # typed and compiled within its one caller
 
 
 class TreeArrays(NamedTuple):
@@ -204,7 +209,7 @@ def _cholesky_solve(factor, n, rhs, k):
             rhs[i, c] = total / factor[i, i]
 
 
-@_internal
+@_inlined
 def least_squares(matrix, rhs, damping):
     """Solution (n, k) of ``matrix · x ≈ rhs`` (rhs (m, k), m ≥ n): exact when square and regular, else damped
     least squares."""
@@ -477,7 +482,7 @@ def _add_frame_drift(tree, f, v, buffers, sign, out):
             out[2] += rate * tz
 
 
-@_uncounted
+@_inlined
 def drifts(tree, v, buffers):
     """Closure drifts, then the task drift, into ``buffers.drift`` (velocities already propagated)."""
     drift = buffers.drift
@@ -494,7 +499,7 @@ def drifts(tree, v, buffers):
 # ---------------------------------------------------------------- the solver's quantities of one sample
 
 
-@_uncounted
+@_inlined
 def _factor_passive(tree, buffers, rows, damping):
     """Cholesky factor of J_pᵀ·J_p + damping·I (passive columns of the closure rows) in ``buffers.normal``."""
     _normal_lower(buffers.jacobian, rows, tree.passive, buffers.normal, buffers.nonzero)
@@ -541,7 +546,7 @@ def passive_correction(tree, buffers, rows, values, out):
         for r in range(rows):
             total -= jacobian[r, passive[i]] * values[r]
         rhs[i, 0] = total
-    _cholesky_solve(buffers.normal, n, rhs, 1)
+    _cholesky_solve(buffers.normal, n, rhs, np.int64(1))  # a literal 1 would compile a second solve
     for i in range(n):
         out[passive[i]] = rhs[i, 0]
 
@@ -591,7 +596,7 @@ def _newton_one(tree, buffers, x, target_position, target_rotation, pose, settin
     return False
 
 
-@_internal
+@_inlined
 def _model_remainder(jacobian, error, step):
     """Norm of ``error − J·step``: the residual that the linear model predicts after the step."""
     total = 0.0
@@ -603,7 +608,7 @@ def _model_remainder(jacobian, error, step):
     return np.sqrt(total)
 
 
-@_uncounted
+@_inlined
 def _newton_step(buffers, error, step, square, damping):
     """The step (nv, 1) solving J·step ≈ error: exact when square and regular, else damped least squares
     (the mobility check at load leaves at least as many rows as joints)."""
@@ -638,7 +643,7 @@ def _tangent_one(tree, buffers, q, damping, g, identity):
     return _product(g, least_squares(task_map, identity, damping))
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]
 def rates(tree, q, twist, acceleration, damping):
     """Joint rates and accelerations at solved configurations.
 
@@ -681,7 +686,7 @@ def rates(tree, q, twist, acceleration, damping):
     return v_out, a_out, g_out, m_out, condition
 
 
-@_internal
+@_inlined
 def _task_inverse(task_map, inverse, square, factors, square_inverse):
     """The task map's inverse, or for a tall one its left inverse (MᵀM)⁻¹·Mᵀ, (n_act, dim) into ``inverse``;
     returns its condition number: 1-norm when square; for a tall map the square root of MᵀM's (within a
@@ -719,7 +724,7 @@ def _task_inverse(task_map, inverse, square, factors, square_inverse):
     return np.sqrt(value)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]
 def frames(tree, q, v):
     """Every solver frame's rotation (B, nf, 3, 3), origin (B, nf, 3), Jacobian (B, nf, 6, nv) and drift
     (B, nf, 6) for configurations q and rates v (B, nv)."""
@@ -741,7 +746,7 @@ def frames(tree, q, v):
     return rotation_out, origin_out, jacobian_out, drift_out
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]
 def placements(tree, q):
     """Every solver frame's rotation (B, nf, 3, 3) and origin (B, nf, 3) for configurations q (B, nq), without
     Jacobians: the placements of many bodies (collision shapes, say) in one call."""
@@ -757,7 +762,7 @@ def placements(tree, q):
     return rotation_out, origin_out
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]
 def rotation_vectors(rotation):
     """(B, 3) rotation vectors of (B, 3, 3) rotation matrices."""
     out = np.empty((rotation.shape[0], 3))
@@ -795,7 +800,7 @@ def _displacement(position_0, rotation_0, position_1, rotation_1, pose, out, scr
         log3(scratch, out[3:])
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]
 def _left_branch(solved, seed, local, tolerance):
     """Whether Newton moved a sample farther from its seed than twice ``local`` (m or rad), the most the
     joints can move on one branch over the stretch of path the seed was taken from, plus ``tolerance``."""
@@ -805,7 +810,7 @@ def _left_branch(solved, seed, local, tolerance):
     return moved > 2.0 * local + tolerance
 
 
-@njit(inline='always')
+@_inlined
 def _branch_scale(tree, buffers, q, settings, g, identity):
     """Largest joint motion (m or rad) per metre of task motion at ``q`` on its branch: the largest row norm of
     D = G·M⁺, its rotation columns per ``settings[6]`` m (the length a radian counts for along the path)."""
@@ -866,7 +871,7 @@ def _cubic(q, base, row, out):
             out[k] += weight * q[base + row[1 + i], k]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]
 def solve_paths(tree, reference_q, positions, rotations, pose, n, coarse, schedule, arc, settings):
     """Every sample of every placement's path, placement after placement (see :mod:`placement.kinematics.batched`).
 
@@ -945,7 +950,7 @@ def solve_paths(tree, reference_q, positions, rotations, pose, n, coarse, schedu
     return q, ok, flipped
 
 
-@njit(inline='always')
+@_inlined
 def _assemble(tree, buffers, reference_q, reference_position, reference_rotation, target_position, target_rotation,
               pose, settings, out, error, step, g, identity, motion, scratch):
     """The first configuration of a path, by predicted continuation from the reference configuration in

@@ -1,7 +1,7 @@
 """The generic kinematics' compiled kernels made ready before a command needs them: loaded from numba's cache, or,
 on a machine's first run, compiled by two processes at once.
 
-A first compile costs about 17 s of CPU. It is shared with a helper process in the stages of
+A first compile costs about 15 s of CPU. It is shared with a helper process in the stages of
 :mod:`placement.kinematics.compile_stages`; both processes write numba's on-disk cache, which each reads
 before compiling a function. This process waits for the helper's stage announcements (on the helper's
 standard output) before the stages that call what the helper compiles, so that no function is compiled
@@ -37,7 +37,7 @@ helper_stages()
 
 
 def touch_kernels() -> None:
-    """Load or compile every kernel a robot uses (on a machine's first run some 9 s, shared with a helper
+    """Load or compile every kernel a robot uses (on a machine's first run some 8 s, shared with a helper
     process)."""
     if all(function.signatures for function in ENTRY_POINTS):  # this process has them already
         return

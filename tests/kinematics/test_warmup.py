@@ -8,6 +8,9 @@ import sys
 
 from placement.kinematics import warmup
 
+INLINED = {"least_squares", "_newton_step", "_model_remainder", "_factor_passive", "_task_inverse", "drifts",
+           "_assemble", "_branch_scale"}
+
 STAGES = """
 import sys
 from placement.kinematics import compile_stages, kernels, warmup
@@ -40,8 +43,9 @@ def _run(cache: str, *stages: str) -> dict[str, list[str]]:
 def test_no_function_is_compiled_twice(tmp_path):
     """The command's leaves, the helper's stages, then the command's tangent map and path solve, each in a process of
     its own on one cache: no process compiles a function another compiled, and the solver's calls of the entry
-    points then add no second signature; the cache then holds the kernels, which an empty one does not, and a
-    later command loads the probe and the entry points alone."""
+    points then add no second signature; a function inlined into its one caller is never compiled on its own; the
+    cache then holds the kernels, which an empty one does not, and a later command loads the probe and the entry
+    points alone."""
     cache = str(tmp_path / "cache")
     leaves = _run(cache, "compile_probe", "compile_leaves")
     helper = _run(cache, "helper_stages")
@@ -50,6 +54,7 @@ def test_no_function_is_compiled_twice(tmp_path):
     compiled = [set(leaves["compiled"]), set(helper["compiled"]), set(command["compiled"])]
     assert {"_solve_square", "_newton_one", "rates", "solve_paths"} <= set.union(*compiled)
     assert not compiled[0] & compiled[1] and not compiled[0] & compiled[2] and not compiled[1] & compiled[2]
+    assert not INLINED & set.union(*compiled)  # typed within their one caller, never compiled on their own
     assert command["signatures"] == ["1", "1", "1"]
     assert _run(cache, "in_cache")["in_cache"] == ["True"]
     assert _run(str(tmp_path / "empty"), "in_cache")["in_cache"] == ["False"]
