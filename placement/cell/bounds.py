@@ -45,18 +45,18 @@ smallest distance of a group, where at most the threshold, is then the same numb
 distance exact, and every other value stays a lower bound at least that smallest. (One file: numba's
 cache does not follow calls into other files.)
 
-Coarse bounds, along runs, from the joints' motion (:func:`lever_bounds`), where the others need not
-be computed. A point of a shape moves, when joint ``j`` turns by
-``Δq``, by at most ``Δq`` times its distance from the joint's origin, and by ``Δq`` when the joint
-slides; that distance is at most the lengths of the links in between (and the travel of the
-sliding joints among them) plus the shape's sphere's offset and radius, whatever the
-configuration: a lever ``L[g, j]`` of shape ``g``. So from one configuration of a run to another,
-shape ``g`` moves by at most ``Σ_j L[g, j]·|Δq_j|`` (along the straight line between them in joint
-space), and a pair's distance changes by at most its two shapes' moves. The shapes are placed at
-every ``ANCHOR_STRIDE``-th configuration of a run and its last (the anchors) first; a configuration
-in between whose pairs all keep a bound above the threshold from one of its two anchors takes those
-bounds, and the others are placed in turn. Along a path, the shapes far from the cell are placed at
-the anchors only.
+Coarse bounds, along runs, from the joints' motion (:func:`lever_bounds`), where the others need
+not be computed. A point of a shape moves, when joint ``j`` turns by ``Δq``, by at most ``Δq``
+times its distance from the joint's origin, and by ``Δq`` when the joint slides; that distance is
+at most the lengths of the links in between (and the travel of the sliding joints among them) plus
+the shape's sphere's offset and radius, whatever the configuration: a lever ``L[g, j]`` of shape
+``g``. So from one configuration of a run to another, shape ``g`` moves by at most
+``Σ_j L[g, j]·|Δq_j|`` (along the straight line between them in joint space), and a pair's
+distance changes by at most its two shapes' moves. The shapes are placed at every
+``ANCHOR_STRIDE``-th configuration of a run and its last (the anchors) first; a configuration in
+between whose pairs all keep a bound above the threshold from one of its two anchors takes those
+bounds, and the others are placed in turn (all of them at once, where they are most). Along a
+path, the shapes far from the cell are placed at the anchors only.
 """
 
 from __future__ import annotations
