@@ -307,7 +307,8 @@ class CollisionScene:
         values[anchors] = self._bounds(anchor_rotation, anchor_centre_m, threshold_m)
         rest = lever_bounds(q, values, run, ANCHOR_STRIDE, lever_start, lever_q, lever_m, self._shape_first,
                             self._shape_second, float(threshold_m), LIPSCHITZ_SLACK_M)
-        if len(rest) > len(q) / 2:  # most of the configurations near the cell: place them all, as one block
+        if len(rest) > len(q) / 2:  # most of the configurations near the cell: place them all, anchors again, as
+            # one block (joining the anchors' block and the rest's took longer than placing the anchors twice)
             rotation, centre_m = self._placed(q)
             return rotation, centre_m, np.arange(len(q)), self._bounds(rotation, centre_m, threshold_m)
         rest_rotation, rest_centre_m = self._placed(q[rest])
