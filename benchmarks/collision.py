@@ -4,7 +4,7 @@ Run: ``python benchmarks/collision.py [--configurations M] [--seconds S]``. Conf
 drawn around the reference posture (each joint within ±0.6 rad, the tool above the table, as a
 search visits them) and over the joints' whole ranges. Each line prints the time per configuration
 and distances (pairs × configurations) per second: exact everywhere, then with the compiled lower
-bounds' prefilter (:mod:`placement.cell.bounds`) at a few thresholds (with the share of pairs
+bounds' prefilter (:mod:`placement.collision.bounds`) at a few thresholds (with the share of pairs
 computed exactly), and Pinocchio's own loop (``computeDistances``, every pair in C++, one
 configuration per call) for comparison.
 """
@@ -24,9 +24,9 @@ import numpy as np  # noqa: E402
 import pinocchio as pin  # noqa: E402
 from throughput import best_seconds  # noqa: E402  (the benchmarks' folder is on the path when run)
 
-from placement.cell.scene import CollisionScene  # noqa: E402
-from placement.cell.schema import load_cell  # noqa: E402
-from placement.robot import Robot, load_robot  # noqa: E402
+from placement import Robot, load_robot  # noqa: E402
+from placement.cell.cell_file import load_cell  # noqa: E402
+from placement.collision.distances import CollisionScene  # noqa: E402
 
 CELL = Path(__file__).parent.parent / "examples" / "cell_ur5_table_wall.yaml"
 

@@ -31,12 +31,13 @@ from typing import TypeVar
 
 import numpy as np
 
+from placement import load_robot
+from placement.cli.memory import keep_freed_memory
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.path.load import load_path
 from placement.path.toolpath import ToolPath
-from placement.robot import load_robot
 from placement.robot.model import Robot
-from placement.search.guide import SearchModels, search_models
+from placement.search.coarse_guide import SearchModels, search_models
 from placement.search.optimize import SearchSettings, optimize_placement, search_sampling
 from placement.search.space import default_space
 
@@ -196,4 +197,5 @@ def main() -> None:
 
 
 if __name__ == "__main__":
+    keep_freed_memory()  # as the command line does: the batches\' freed memory kept for the next ones
     main()

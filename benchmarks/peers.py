@@ -28,9 +28,10 @@ from pathlib import Path  # noqa: E402
 import numpy as np  # noqa: E402
 from scipy.optimize import NonlinearConstraint, differential_evolution  # noqa: E402
 
+from placement import load_robot  # noqa: E402
+from placement.cli.memory import keep_freed_memory  # noqa: E402
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings  # noqa: E402
 from placement.path.load import load_path  # noqa: E402
-from placement.robot import load_robot  # noqa: E402
 from placement.search.optimize import SearchSettings, optimize_placement  # noqa: E402
 from placement.search.space import default_space  # noqa: E402
 
@@ -214,4 +215,5 @@ def main() -> None:
 
 
 if __name__ == "__main__":
+    keep_freed_memory()  # as the command line does: the batches\' freed memory kept for the next ones
     main()

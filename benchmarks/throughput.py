@@ -23,13 +23,14 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
+from placement import load_robot  # noqa: E402
+from placement.cli.memory import keep_freed_memory  # noqa: E402
 from placement.dynamics.inverse import inverse_dynamics  # noqa: E402
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings  # noqa: E402
 from placement.kinematics import joint_trajectory  # noqa: E402
 from placement.kinematics.trajectories import TaskTrajectory  # noqa: E402
 from placement.path.load import load_path  # noqa: E402
-from placement.path.schema import Timing  # noqa: E402
-from placement.robot import load_robot  # noqa: E402
+from placement.path.path_file import Timing  # noqa: E402
 from placement.search.sweep import sweep  # noqa: E402
 
 closed_form = load_robot("orthoglide").plugin
@@ -140,4 +141,5 @@ def main() -> None:
 
 
 if __name__ == "__main__":
+    keep_freed_memory()  # as the command line does: the batches\' freed memory kept for the next ones
     main()

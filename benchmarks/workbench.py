@@ -2,7 +2,7 @@
 
 Run: ``python benchmarks/workbench.py [--repeats N]``. For the Orthoglide groove and the UR5 on the
 same path (examples/rect.yaml), it prints the median and the slowest time of the live reading
-(:meth:`placement.app.bench.Bench.live`: the search's coarse sampling, feasibility, tightest limit,
+(:meth:`placement.app.evaluations.Bench.live`: the search's coarse sampling, feasibility, tightest limit,
 per-actuator energy and the robot's pose at every sample) and of the exact value (``--at``'s), on
 placements drawn at random within the search's bounds, as dragging visits them. The targets are
 50 ms (Orthoglide) and 100 ms (UR5) for a live reading; nothing here is asserted.
@@ -21,9 +21,9 @@ from pathlib import Path
 
 import numpy as np
 
-from placement.app.bench import Bench
+from placement import load_robot
+from placement.app.evaluations import Bench
 from placement.path.load import load_path
-from placement.robot import load_robot
 
 EXAMPLE = Path(__file__).parents[1] / "examples" / "rect.yaml"
 TARGETS_MS = {"orthoglide": 50.0, "ur5": 100.0}

@@ -34,16 +34,16 @@ STATED_KT = 0.5
 
 
 def fitted_robot(values: np.ndarray):
-    from placement.drives.calibration import with_drive_constants
-    from placement.robot import load_robot
+    from placement import load_robot
+    from placement.workshop.calibration import with_drive_constants
 
     return with_drive_constants(load_robot("orthoglide"), {DRIVE: dict(zip(CONSTANTS, values, strict=True))})
 
 
 def search(width_mm: int, values: list[float] | None, time_step_s: float) -> dict:
     """Least- and most-energy placements of one rectangle (runs in a worker)."""
+    from placement import load_robot
     from placement.evaluation.evaluator import EvaluatorSettings
-    from placement.robot import load_robot
     from placement.search.optimize import optimize_placement
 
     robot = load_robot("orthoglide") if values is None else fitted_robot(np.array(values))

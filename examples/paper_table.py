@@ -44,7 +44,7 @@ def rectangle(width_mm: int, timing: str = "paper"):
 @functools.cache
 def orthoglide():
     """The robot, loaded once per worker process."""
-    from placement.robot import load_robot
+    from placement import load_robot
 
     return load_robot("orthoglide")
 

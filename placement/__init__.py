@@ -13,8 +13,9 @@ kinematics solvers, robots) each have a base class and a registry that installed
 through entry points; see :mod:`placement.registry`.
 """
 
-from placement.cell.schema import Cell, load_cell
-from placement.cell.tool import equip
+from placement.cell.cell_file import Cell, load_cell
+from placement.contract.limit import LIMITS, Limit, Margin, MarginField
+from placement.contract.objective import OBJECTIVES, Objective
 from placement.drives.motors import MOTOR_MODELS, MotorModel, PowerParts, register_motor_model
 from placement.drives.transmissions import TRANSMISSIONS, Transmission
 from placement.dynamics.inverse import ActuatorTrajectory, actuator_efforts, inverse_dynamics
@@ -28,21 +29,20 @@ from placement.kinematics.base import SOLVERS, KinematicsSolver
 from placement.kinematics.exceptions import UnreachableError
 from placement.kinematics.generic import solve_configuration
 from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
-from placement.limits.base import LIMITS, Limit, Margin, MarginField
-from placement.objectives.base import OBJECTIVES, Objective
 from placement.path.exceptions import PathFileError
 from placement.path.load import load_path
 from placement.path.toolpath import ToolPath
 from placement.robot import Actuator, Closure
-from placement.robot.catalog import robot_names
-from placement.robot.checks import CheckReport, check_robot
+from placement.robot.equip import equip
 from placement.robot.exceptions import RobotFileError, UnknownRobotError
-from placement.robot.load import load_robot
 from placement.robot.model import Robot
 from placement.search.optimize import Optimum, PlacementResult, SearchSettings, optimize_placement
 from placement.search.pareto import FrontMember, ParetoFront, pareto_front
 from placement.search.space import PlacementSpace, default_space
 from placement.search.sweep import SweepResult, sweep
+from placement.workshop.catalog import robot_names
+from placement.workshop.checks import CheckReport, check_robot
+from placement.workshop.load import load_robot
 
 __all__ = [
     "LIMITS",

@@ -8,7 +8,7 @@ Each package defines its own errors beside its code, in its ``exceptions`` modul
 - :mod:`placement.timing.exceptions`: timing laws the objectives or the path cannot take;
 - :mod:`placement.robot.exceptions`: robot files, robot names, assembly, example-robot-data arms;
 - :mod:`placement.kinematics.exceptions`: unreachable samples;
-- :mod:`placement.drives.exceptions`: measured logs;
+- :mod:`placement.workshop.exceptions`: measured logs;
 - :mod:`placement.cell.exceptions`: cell files;
 - :mod:`placement.cli.exceptions`: command-line options.
 
@@ -56,6 +56,10 @@ class InputFileError(PlacementError):
         self.problem = problem
         where = f"{self.path}" + (f", field '{field}'" if field else "")
         super().__init__(f"{where}: {problem}")
+
+
+class SettingsError(PlacementError):
+    """A setting or an option has a value it cannot take (a placement value, a bound, a name, a count)."""
 
 
 class UnknownMemberError(PlacementError):

@@ -1,18 +1,20 @@
 """Registries of plug-in families: objectives, limits, motor models, regeneration policies,
 transmissions, kinematics solvers and robots.
 
-Each family has one :class:`Registry`, filled with the built-in members when its module is
-imported and with the members that installed packages declare under the family's entry-point
-group (``placement.objectives``, ``placement.motor_models``, ...) the first time a name is looked
-up. Every process loads the same entry points, so worker processes started by fork, forkserver or
-spawn see the same members; an installed entry that fails to load makes only its own name unusable.
-Members registered at run time with :meth:`Registry.register` live in one process only;
-:func:`runtime_members` and :func:`restore_runtime_members` carry those a job uses to its worker
-process (they must then be picklable, i.e. importable by name).
+Each family has one :class:`Registry`, filled with the built-in members when their module is
+imported (at the first look-up, for a registry that names that module) and with the members that
+installed packages declare under the family's entry-point group (``placement.objectives``,
+``placement.motor_models``, ...) the first time a name is looked up. Every process loads the same
+entry points, so worker processes started by fork, forkserver or spawn see the same members; an
+installed entry that fails to load makes only its own name unusable. Members registered at run
+time with :meth:`Registry.register` live in one process only; :func:`runtime_members` and
+:func:`restore_runtime_members` carry those a job uses to its worker process (they must then be
+picklable, i.e. importable by name).
 """
 
 from __future__ import annotations
 
+import importlib
 import threading
 from importlib.metadata import entry_points
 from typing import Generic, TypeVar
@@ -33,13 +35,17 @@ class Registry(Generic[Member]):
         kind: What every member must be: an instance of this class (``instances=True``) or a
             subclass of it, checked as it is added, registered or loaded.
         instances: Whether members are instances (objectives, motor models) or classes (solvers).
+        builtins: The module that adds the built-in members, imported at the first look-up, when the family's
+            base lives below its members (the objectives and limits, whose bases are :mod:`placement.contract`).
     """
 
-    def __init__(self, family: str, group: str, kind: type | None = None, instances: bool = True) -> None:
+    def __init__(self, family: str, group: str, kind: type | None = None, instances: bool = True,
+                 builtins: str | None = None) -> None:
         self.family = family
         self.group = group
         self.kind = kind
         self.instances = instances
+        self.builtins = builtins
         self._members: dict[str, Member] = {}
         self._runtime: dict[str, Member] = {}
         self._broken: dict[str, str] = {}  # installed entries that failed to load: name -> why
@@ -93,6 +99,8 @@ class Registry(Generic[Member]):
     def _load_entry_points(self) -> None:
         if self._entry_points_loaded:
             return
+        if self.builtins is not None:
+            importlib.import_module(self.builtins)  # its members first, in the order it adds them
         with self._lock:
             if self._entry_points_loaded:
                 return

@@ -1,7 +1,8 @@
 
 import pytest
 
-from placement.robot import load_robot
+from placement import load_robot
+from placement.cli.memory import keep_freed_memory
 
 
 @pytest.fixture
@@ -13,6 +14,11 @@ def orthoglide():
 @pytest.fixture
 def fivebar():
     return load_robot("fivebar")
+
+
+def pytest_configure(config):
+    """The test processes keep freed memory for the next batch, as the command line does (placement.cli.memory)."""
+    keep_freed_memory()
 
 
 @pytest.hookimpl(tryfirst=True)

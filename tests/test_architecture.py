@@ -11,11 +11,7 @@ import their package.
 """
 
 import ast
-import importlib
-import sys
 from pathlib import Path
-
-import pytest
 
 import placement
 from tests.support.paths import ROOT
@@ -140,12 +136,3 @@ def test_the_sidecar_check_sees_a_read_and_not_the_sidecar_path(tmp_path):
     module = tmp_path / "module.py"
     module.write_text("def f(batch):\n    return batch.robot.sidecar.workspace, batch.robot.sidecar_path\n")
     assert sidecar_reads(module, tmp_path) == ["module.py:2: batch.robot.sidecar"]
-
-
-@pytest.mark.parametrize(("old", "name", "new"), [("placement.batch", "EvaluatedBatch", "placement.evaluation.batch"),
-                                                  ("placement.taylor", "Taylor2", "placement.kinematics.taylor")])
-def test_the_module_paths_plug_ins_used_still_work_with_a_deprecation_warning(old, name, new):
-    sys.modules.pop(old, None)
-    with pytest.warns(DeprecationWarning, match=f"{old} is deprecated"):
-        module = importlib.import_module(old)
-    assert getattr(module, name) is getattr(importlib.import_module(new), name)

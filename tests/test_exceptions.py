@@ -60,7 +60,7 @@ def test_every_error_of_the_package_is_a_placement_error_defined_in_an_exception
         "RobotFileError": "placement.robot.exceptions", "UnknownRobotError": "placement.robot.exceptions",
         "AssemblyError": "placement.robot.exceptions", "ExampleRobotError": "placement.robot.exceptions",
         "CellFileError": "placement.cell.exceptions", "UnreachableError": "placement.kinematics.exceptions",
-        "LogFileError": "placement.drives.exceptions", "UsageError": "placement.cli.exceptions",
+        "LogFileError": "placement.workshop.exceptions", "UsageError": "placement.cli.exceptions",
         "TimingError": "placement.timing.exceptions"}.items()
     assert stray_errors(modules) == []
 

@@ -15,8 +15,8 @@ from typing import Any
 import numpy as np
 
 from placement.app.panels import Host
+from placement.contract.objective import OBJECTIVES
 from placement.evaluation.results import PlacementDetail
-from placement.objectives.base import OBJECTIVES
 from placement.output.report import json_text
 
 EXPORT_FILE = "placement.json"

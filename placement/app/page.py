@@ -1,6 +1,6 @@
 """The workbench's page (viser): the robot, its cell and workspace, the placed path with a gizmo, and the numbers.
 
-Every number on the page comes from :class:`placement.app.bench.Bench`: while the path's gizmo is
+Every number on the page comes from :class:`placement.app.evaluations.Bench`: while the path's gizmo is
 dragged, readings on the search's coarse sampling (objective, feasibility, tightest limit,
 per-actuator energy, the robot posed along the path); on release, or when a value is typed, the
 exact value at the path's own sampling, the number ``--at`` prints. Whatever the user types that
@@ -20,17 +20,18 @@ import numpy as np
 import pinocchio as pin
 import viser
 
-from placement.app.bench import Bench, Choices, Reading, shown_value, si_value
 from placement.app.compare import ComparePanel, ExportPanel
+from placement.app.evaluations import Bench, Choices, Reading, shown_value, si_value
 from placement.app.searches import FrontPanel, MapPanel, OptimisePanel
-from placement.cell.geometry import package_dirs
+from placement.collision.geometry import package_dirs
+from placement.contract.objective import OBJECTIVES, quantity, wording
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.results import PlacementDetail
 from placement.exceptions import PlacementError
 from placement.limits.collision import collision_scene
-from placement.objectives.base import OBJECTIVES, quantity, wording
 from placement.output.palette import CELL_COLORS, rgb
 from placement.placing.transform import ANGLES, VARIABLES, placement_pose
+from placement.placing.values import parse_values
 from placement.robot.model import Robot
 from placement.search.space import box_corners
 
@@ -344,8 +345,6 @@ class Workbench:
         self.set_placement(values, exact=True)
 
     def _at_given(self) -> None:
-        from placement.cli.common import parse_values
-
         text = self.at_text.value.strip()
         given = parse_values(text, "--at")
         if not given:

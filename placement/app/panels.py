@@ -17,7 +17,7 @@ import numpy as np
 import viser
 from matplotlib.figure import Figure
 
-from placement.app.bench import Bench
+from placement.app.evaluations import Bench
 from placement.app.jobs import Job
 from placement.exceptions import PlacementError
 

@@ -16,12 +16,12 @@ from typing import Any
 
 import numpy as np
 
-from placement.app.bench import MAP_POINTS, shown_value
+from placement.app.evaluations import MAP_POINTS, shown_value
 from placement.app.jobs import Job
 from placement.app.panels import Host, JobPanel, figure_image
+from placement.contract.objective import OBJECTIVES, quantity, wording
 from placement.evaluation.results import PlacementDetail
 from placement.exceptions import PlacementError
-from placement.objectives.base import OBJECTIVES, quantity, wording
 from placement.placing.transform import VARIABLES
 from placement.search.optimize import PlacementResult
 from placement.search.pareto import ParetoFront

@@ -26,6 +26,7 @@ from importlib import metadata
 
 from placement.cli import app, assemble, calibrate, check, export, feed, place, robots, study
 from placement.cli import map as map_command
+from placement.cli.memory import keep_freed_memory
 from placement.exceptions import PlacementError
 
 SUBCOMMANDS = {"robots": robots, "check": check, "map": map_command, "feed": feed, "calibrate": calibrate,
@@ -76,7 +77,13 @@ PYTHON_FORMAT = warnings.formatwarning
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line; returns the exit code."""
+    """Run the command line; returns the exit code.
+
+    The command line owns its process, so it tunes it: freed memory is kept for the next batch
+    (:func:`placement.cli.memory.keep_freed_memory`), in this process and in the workers it forks. The library
+    never changes a host program's process-wide state.
+    """
+    keep_freed_memory()
     warnings.formatwarning = _format_warning
     try:
         return _main(sys.argv[1:] if argv is None else list(argv))

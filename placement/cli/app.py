@@ -18,12 +18,11 @@ from placement.cli.common import (
     add_tool_option,
     configured_path,
     load_robot_argument,
-    parse_free,
-    parse_values,
     serve_until_stopped,
     whole_number,
 )
 from placement.cli.exceptions import UsageError
+from placement.placing.values import parse_free, parse_values
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
@@ -49,7 +48,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 def start(args: argparse.Namespace):  # -> placement.app.page.Workbench (viser loads only here)
     """Build the bench and serve its page; returns the workbench (its ``url``, ``close()``)."""
-    from placement.app.bench import Bench, Choices
+    from placement.app.evaluations import Bench, Choices
     from placement.app.page import Workbench
     from placement.search.optimize import SearchSettings
     from placement.search.space import default_space

@@ -3,7 +3,7 @@
     placement assemble ROBOT [--near joint=value,...] [--write] [--no-lock]
 
 It solves the closure equations from the sidecar's ``reference_configuration`` (see
-:mod:`placement.robot.assemble`), reports the gaps before and after and how far the closed
+:mod:`placement.workshop.assemble`), reports the gaps before and after and how far the closed
 configuration is from a singularity, and prints the ``reference_configuration`` block to paste
 into the sidecar, or with ``--write`` rewrites that block in the sidecar file itself. When the
 closures leave passive joints free that move neither the end effector nor any actuator (a pin cut
@@ -19,7 +19,10 @@ import dataclasses
 from placement.cli.common import parse_joint_values, require_sidecar
 from placement.cli.exceptions import UsageError
 from placement.kinematics.base import SINGULAR_CONDITION
-from placement.robot.assemble import (
+from placement.robot.build import PRISMATIC_JOINTS
+from placement.robot.closures import closure_residuals
+from placement.robot.model import Robot
+from placement.workshop.assemble import (
     SINGULAR_SIGMA,
     Assembly,
     ClosureGap,
@@ -35,11 +38,9 @@ from placement.robot.assemble import (
     write_gepetto_sidecar,
     write_reference_configuration,
 )
-from placement.robot.catalog import builtin_robots_dir, sidecar_path
-from placement.robot.closures import closure_residuals
-from placement.robot.gepetto import YAML_NAME, is_gepetto, sidecar_beside
-from placement.robot.load import PRISMATIC_JOINTS, _load_robot
-from placement.robot.model import Robot
+from placement.workshop.catalog import builtin_robots_dir, sidecar_path
+from placement.workshop.gepetto import YAML_NAME, is_gepetto, sidecar_beside
+from placement.workshop.load import _load_robot
 
 LOCK_REASON = ("placement assemble: locked at its closed value; with it free, the closures leave it and the joints "
                "moving with it spinning about their axis, moving neither the end effector nor any actuator")

@@ -10,7 +10,8 @@ from pathlib import Path
 
 from placement.cli.common import check_outputs, require_sidecar, robot_files
 from placement.cli.exceptions import UsageError
-from placement.drives.calibration import (
+from placement.robot.model import Robot
+from placement.workshop.calibration import (
     FITTABLE,
     UNITS,
     Calibration,
@@ -19,8 +20,7 @@ from placement.drives.calibration import (
     read_log,
     write_calibrated,
 )
-from placement.robot.load import load_robot
-from placement.robot.model import Robot
+from placement.workshop.load import load_robot
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:

@@ -3,7 +3,7 @@
     placement check ROBOT [--samples N] [--amplitude AMPLITUDE_M]
 
 The check moves the end effector around its reference position by an amplitude scaled to the
-robot's size (see :func:`placement.robot.checks.default_amplitude`) unless ``--amplitude`` gives one,
+robot's size (see :func:`placement.workshop.checks.default_amplitude`) unless ``--amplitude`` gives one,
 and ends with plausibility warnings about the robot files (heavy links, efforts beyond the
 drives, joints without URDF limits).
 """
@@ -18,8 +18,8 @@ from placement.cli.common import add_tool_option, load_robot_argument, positive_
 from placement.cli.exceptions import UsageError
 from placement.kinematics.base import solver_name
 from placement.kinematics.exceptions import UnreachableError
-from placement.robot.checks import CheckReport, check_robot
 from placement.robot.model import Robot
+from placement.workshop.checks import CheckReport, check_robot
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:

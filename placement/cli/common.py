@@ -14,25 +14,24 @@ from pathlib import Path
 
 import numpy as np
 
-from placement.cell.schema import load_cell
-from placement.cell.tool import equip
+from placement.cell.cell_file import load_cell
 from placement.cli.exceptions import UsageError
+from placement.contract.objective import OBJECTIVES
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.parallel import SCHEDULER_VARIABLE
 from placement.kinematics.base import solver_name
 from placement.kinematics.closed_form import touch_joint_motion_kernel
 from placement.kinematics.warmup import touch_kernels
 from placement.limits.collision import collision_scene
-from placement.objectives.base import OBJECTIVES
 from placement.path.load import load_path
 from placement.path.toolpath import ToolPath
-from placement.placing.transform import ANGLES, VARIABLES
-from placement.robot.catalog import ERD_FORM, sidecar_path
-from placement.robot.erd import erd_name, estimate_warning, load_erd_robot
-from placement.robot.load import load_robot
+from placement.robot.equip import equip
 from placement.robot.model import Robot
 from placement.robot.urdf import ERD_PREFIX
 from placement.timing.rules import override_timing, timing_for
+from placement.workshop.catalog import ERD_FORM, sidecar_path
+from placement.workshop.example_robot_data import erd_name, estimate_warning, load_erd_robot
+from placement.workshop.load import load_robot
 
 
 def whole_number(low: int, high: int) -> Callable[[str], int]:
@@ -94,19 +93,6 @@ def add_sampling_options(parser: argparse.ArgumentParser) -> None:
                         help="path sampling step (s; default: the path file's)")
 
 
-def parse_names(text: str, option: str) -> tuple[str, ...]:
-    """'x,y,phi' -> placement variable names, each once, at least one."""
-    names = tuple(name.strip() for name in text.split(",") if name.strip())
-    unknown = [name[:20] for name in names if name not in VARIABLES]
-    if not names or unknown:
-        raise UsageError(f"{option}: {f'unknown placement variable(s) {unknown}; ' if unknown else ''}expected names "
-                         f"from {', '.join(VARIABLES)}, got '{text[:40]}'")
-    twice = sorted({name for name in names if names.count(name) > 1})
-    if twice:
-        raise UsageError(f"{option}: {', '.join(twice)} is given twice")
-    return names
-
-
 def add_margin_option(parser: argparse.ArgumentParser) -> None:
     """--margin: the share of every limit a feasible placement keeps free, in percent."""
     parser.add_argument("--margin", type=margin_percent, default=0.0, metavar="PERCENT",
@@ -124,34 +110,6 @@ def margin_percent(text: str) -> float:
     if not 0.0 <= value < 100.0:
         raise argparse.ArgumentTypeError(f"expected a percentage from 0 to under 100, got '{text[:40]}'")
     return value
-
-
-def parse_values(text: str, option: str) -> dict[str, float]:
-    """'x=10,phi=30' -> SI values; lengths in mm and angles in deg unless suffixed m / rad."""
-    values: dict[str, float] = {}
-    for item in filter(None, (part.strip() for part in text.split(","))):
-        name, _, raw = item.partition("=")
-        name = name.strip()
-        if name not in VARIABLES or not raw:
-            raise UsageError(f"{option}: expected name=value with names from {', '.join(VARIABLES)}, "
-                             f"got '{item[:40]}'")
-        if name in values:
-            raise UsageError(f"{option}: {name} is given twice")
-        value = _quantity(raw, name)
-        if value is None:
-            raise UsageError(f"{option}: '{raw[:40]}' is not a number for {name}")
-        if not np.isfinite(value):
-            raise UsageError(f"{option}: {name} must be a finite number, got '{raw[:40]}'")
-        values[name] = value
-    return values
-
-
-def unsuffixed_lengths(text: str) -> dict[str, float]:
-    """The lengths of a 'x=10,phi=30' option given without a unit (read as mm), in mm, by name; call after
-    :func:`parse_values` has accepted ``text``."""
-    items = (item.partition("=") for item in filter(None, (part.strip() for part in text.split(","))))
-    return {name.strip(): float(raw) for name, _, raw in items
-            if name.strip() not in ANGLES and _quantity(raw, name.strip()) is not None and not raw.strip().endswith("m")}
 
 
 def parse_joint_values(text: str, option: str) -> dict[str, tuple[float, str]]:
@@ -181,58 +139,6 @@ def parse_joint_values(text: str, option: str) -> dict[str, tuple[float, str]]:
     if not values:
         raise UsageError(f"{option}: expected joint=value,... (rad or m), got '{text[:40]}'")
     return values
-
-
-def parse_free(text: str, option: str) -> tuple[tuple[str, ...], dict[str, tuple[float, float]]]:
-    """'y=-40:40,x,phi=-90:90' -> the free variables and the bounds given (SI).
-
-    Bounds are in mm and deg unless a number ends in m or rad, as for --fix; a variable without
-    bounds keeps the sidecar's or the workspace's.
-
-    Returns:
-        The names, each once, and {name: (lower, upper)} (m, rad) for those given bounds.
-
-    Raises:
-        UsageError: An unknown or repeated name, or bounds that are not two finite numbers MIN < MAX.
-    """
-    items = [item.strip() for item in text.split(",") if item.strip()]
-    if any(not item.partition("=")[0].strip() for item in items):
-        raise UsageError(f"{option}: expected name or name=MIN:MAX for each variable, got '{text[:40]}'")
-    names = parse_names(",".join(item.partition("=")[0] for item in items), option)
-    bounds = {}
-    for item in items:
-        name, equals, spec = (part.strip() for part in item.partition("="))
-        if equals:
-            bounds[name] = _bounds(name, spec, item, option)
-    return names, bounds
-
-
-def _bounds(name: str, spec: str, item: str, option: str) -> tuple[float, float]:
-    """'-40:40' -> (lower, upper) of ``name`` in SI, lower < upper."""
-    unit, example = ("deg", f"{name}=-90:90") if name in ANGLES else ("mm", f"{name}=-40:40")
-    parts = spec.split(":")
-    numbers = [value for value in (_quantity(part, name) for part in parts) if value is not None and np.isfinite(value)]
-    if len(parts) != 2 or len(numbers) != 2:
-        raise UsageError(f"{option}: expected name or name=MIN:MAX with two finite numbers ({unit}), e.g. {example}, "
-                         f"got '{item[:40]}'")
-    low, high = numbers
-    if not low < high:
-        raise UsageError(f"{option}: expected MIN below MAX in name=MIN:MAX ({unit}), e.g. {example}, "
-                         f"got '{item[:40]}' (--fix gives a single value)")
-    return low, high
-
-
-def _quantity(raw: str, name: str) -> float | None:
-    """A value of variable ``name`` in SI: mm and deg unless suffixed m / rad; None if not a number."""
-    angle = name in ANGLES
-    units = {"rad": 1.0, "deg": np.pi / 180} if angle else {"mm": 1e-3, "m": 1.0}
-    text = raw.strip()
-    unit = next((u for u in sorted(units, key=len, reverse=True) if text.endswith(u)), None)
-    number = text[: -len(unit)] if unit else text
-    try:
-        return float(number) * units[unit or ("deg" if angle else "mm")]
-    except ValueError:
-        return None
 
 
 def configured_path(args: argparse.Namespace, file: str) -> ToolPath:
@@ -388,7 +294,7 @@ def require_sidecar(robot: str, command: str) -> None:
     name = erd_name(robot)
     if name is None:
         return
-    from placement.robot.catalog import builtin_robots_dir  # here: only this message needs it
+    from placement.workshop.catalog import builtin_robots_dir  # here: only this message needs it
 
     model = builtin_robots_dir() / "ur5" / "ur5.yaml"
     raise UsageError(f"{command} needs a robot folder or sidecar file, not {robot[:80]}, whose estimated sidecar exists "

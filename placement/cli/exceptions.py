@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from placement.exceptions import PlacementError
+from placement.exceptions import SettingsError
 
 
-class UsageError(PlacementError):
+class UsageError(SettingsError):
     """A command-line option has a value it cannot take."""

@@ -17,13 +17,13 @@ from placement.cli.common import (
     check_outputs,
     configured_path,
     load_robot_argument,
-    parse_values,
     robot_files,
 )
 from placement.cli.exceptions import UsageError
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.evaluator import EvaluatorSettings
 from placement.placing.transform import VARIABLES
+from placement.placing.values import parse_values
 from placement.search.feed import feed_study
 
 MAX_FEEDS = 1000

@@ -10,10 +10,10 @@ import numpy as np
 from tqdm import tqdm
 
 from placement.cli.exceptions import UsageError
+from placement.contract.objective import OBJECTIVES, quantity
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.evaluation.parallel import Cluster
 from placement.evaluation.results import PlacementDetail
-from placement.objectives.base import OBJECTIVES, quantity
 from placement.output.report import detail_json
 from placement.path.toolpath import ToolPath
 from placement.placing.transform import ANGLES, VARIABLES

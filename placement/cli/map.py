@@ -21,16 +21,16 @@ from placement.cli.common import (
     check_outputs,
     configured_path,
     load_robot_argument,
-    parse_values,
     robot_files,
     whole_number,
 )
 from placement.cli.exceptions import UsageError
+from placement.contract.objective import quantity, wording
 from placement.evaluation.evaluator import EvaluatorSettings
 from placement.evaluation.parallel import cluster, scheduler_address
-from placement.objectives.base import quantity, wording
 from placement.output.report import write_atomically
 from placement.placing.transform import ANGLES, VARIABLES, placement_pose
+from placement.placing.values import parse_values
 from placement.search.sweep import sweep
 
 MAX_GRID_POINTS = 1_000_000

@@ -28,16 +28,14 @@ from placement.cli.common import (
     configured_path,
     load_robot_argument,
     non_negative,
-    parse_free,
-    parse_values,
     positive_number,
     robot_files,
     serve_until_stopped,
-    unsuffixed_lengths,
     whole_number,
 )
 from placement.cli.exceptions import UsageError
 from placement.cli.front import parse_members, parse_objectives, place_front
+from placement.contract.objective import OBJECTIVES, wording
 from placement.dynamics.inverse import TreeDynamics
 from placement.dynamics.tree_rnea import touch_tree_kernels
 from placement.energy.regeneration import REGENERATION
@@ -45,7 +43,6 @@ from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.evaluation.parallel import Cluster, cluster, scheduler_address
 from placement.limits.collision import closest_points
 from placement.limits.workspace import workspace_misfit
-from placement.objectives.base import OBJECTIVES, wording
 from placement.output.report import (
     detail_json,
     format_detail,
@@ -60,6 +57,7 @@ from placement.output.report import (
 from placement.path.samples import PathSamples
 from placement.path.toolpath import ToolPath
 from placement.placing.transform import VARIABLES
+from placement.placing.values import parse_free, parse_values, unsuffixed_lengths
 from placement.robot.model import Robot
 from placement.search.optimize import SearchSettings, optimize_placement
 from placement.search.plausibility import feed_warnings, length_warnings

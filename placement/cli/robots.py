@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from placement.robot.catalog import ERD_FORM, robot_description, robot_names
+from placement.workshop.catalog import ERD_FORM, robot_description, robot_names
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:

@@ -28,9 +28,9 @@ from placement.cli.common import (
     whole_number,
 )
 from placement.cli.exceptions import UsageError
+from placement.contract.objective import OBJECTIVES
 from placement.evaluation.evaluator import EvaluatorSettings
 from placement.evaluation.parallel import cluster, scheduler_address
-from placement.objectives.base import OBJECTIVES
 from placement.output.report import write_atomically
 from placement.search.optimize import SearchSettings
 from placement.search.study import StudyRow, run_study

@@ -62,7 +62,7 @@ class Motor(Strict):
     bus_voltage_V: Positive | None = Field(None, description="DC bus voltage of the drive: bounds the phase voltage "
                                                              "R·I + L·dI/dt + K_e·ω (see phase_voltage_limit_V)")
     continuous_torque_Nm: Positive | None = Field(None, description="rated continuous (RMS) torque: the thermal "
-                                                                     "limit of a duty cycle (see placement.drives.duty)")
+                                                                     "limit of a duty cycle (see placement.energy.duty)")
     parameters: dict[str, Number] = Field({}, description="extra constants of a plug-in motor model")
 
     @property

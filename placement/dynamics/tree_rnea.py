@@ -2,7 +2,7 @@
 
 :func:`joint_torques` is Pinocchio's RNEA, rnea(q, v, a), for many samples: the efforts of the paper's and the
 realistic timing laws (:func:`placement.dynamics.inverse.actuator_efforts`). Along a path under the optimal law,
-:func:`placement.dynamics.path.path_dynamics` needs, at every sample, the tree's joint torques of three motions at
+:func:`placement.dynamics.path_dynamics.path_dynamics` needs, at every sample, the tree's joint torques of three motions at
 the same configuration q: at rest under gravity (C), with q̈ = q' and no velocity nor gravity (A = M·q'), and with
 q̇ = q', q̈ = q'' and no gravity (B = c(q, q') + M·q''). Pinocchio's RNEA gives each in its own pass (C, A + C,
 B + C), computing the joints' placements three times and the velocity terms of motions that have none.
@@ -97,7 +97,7 @@ def joint_torques(tree: TreeInertias, q: np.ndarray, v: np.ndarray, a: np.ndarra
 def path_torques(tree: TreeInertias, q: np.ndarray, rate: np.ndarray, curvature: np.ndarray, basis: np.ndarray,
                  threads: int = 1) -> np.ndarray:
     """(N, 3, m) the tree's joint torques C, A and B (module docstring) at N samples, times ``basis``: Gᵀ·C, Gᵀ·A
-    and Gᵀ·B, each column's N numbers contiguous (as :func:`placement.dynamics.path.path_dynamics` lays them out).
+    and Gᵀ·B, each column's N numbers contiguous (as :func:`placement.dynamics.path_dynamics.path_dynamics` lays them out).
 
     Args:
         tree: The tree (:func:`tree_inertias`).

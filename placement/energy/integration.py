@@ -17,8 +17,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from placement.drives.motors import MOTOR_MODELS, Motor, MotorModel, PowerParts
-from placement.drives.trace import MotorTrace
 from placement.energy.regeneration import REGENERATION
+from placement.energy.trace import MotorTrace
 from placement.robot.model import Robot
 
 
@@ -190,5 +190,5 @@ def step_energies(robot: Robot, trace: MotorTrace, intervals: np.ndarray) -> tup
 
 def _columns(columns: list[np.ndarray]) -> np.ndarray:
     """(..., n_act) from the n_act arrays (...) of each drive, each drive's numbers contiguous
-    (:func:`placement.dynamics.path.sample_rows` says why)."""
+    (:func:`placement.dynamics.path_dynamics.sample_rows` says why)."""
     return np.moveaxis(np.stack(columns), 0, -1)

@@ -19,26 +19,25 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from placement.drives.trace import motor_trace
+from placement.contract.batch import EvaluatedBatch
+from placement.contract.limit import LIMITS, margin_fields, tightest, worst_margins
+from placement.contract.objective import OBJECTIVES, Objective
 from placement.dynamics.inverse import TreeDynamics, actuator_efforts
-from placement.dynamics.path import path_dynamics, sample_rows
+from placement.dynamics.path_dynamics import path_dynamics, sample_rows
 from placement.energy.integration import Energy, sample_power
 from placement.energy.regeneration import REGENERATION
-from placement.evaluation.batch import EvaluatedBatch
-from placement.evaluation.memory import keep_freed_memory
+from placement.energy.trace import motor_trace
 from placement.evaluation.parallel import process_pool
 from placement.evaluation.results import Evaluation, PlacementDetail
-from placement.evaluation.timed import OptimalMotion, optimal_motion
+from placement.evaluation.timed_motion import OptimalMotion, optimal_motion
 from placement.exceptions import PlacementError
 from placement.kinematics.base import solver_for
 from placement.kinematics.trajectories import JointTrajectory
-from placement.limits.base import LIMITS, margin_fields, tightest, worst_margins
-from placement.objectives.base import OBJECTIVES, Objective
+from placement.path.time_law import TimeLaw
 from placement.path.toolpath import ToolPath
 from placement.placing.transform import placed_task
 from placement.registry import restore_runtime_members, runtime_members
 from placement.robot.model import Robot
-from placement.timing.law import TimeLaw
 from placement.timing.optimal import time_optimal
 from placement.timing.rules import check_timing
 
@@ -117,7 +116,6 @@ class Evaluator:
     def __init__(self, robot: Robot, path: ToolPath, settings: EvaluatorSettings = EvaluatorSettings(),
                  executor: Executor | None = None) -> None:
         REGENERATION.get(settings.regeneration)  # unknown names fail here, before any work
-        keep_freed_memory()  # the batches' arrays are reused, not faulted in again (placement.evaluation.memory)
         self.robot = robot
         self.path = path
         self.settings = settings
@@ -165,7 +163,7 @@ class Evaluator:
             placements: (K, 6) placement vectors.
             exact: Limits computed exactly at every sample (default: the settings' ``exact``).
             law: Under the optimal timing law, the placements' timing on this evaluator's path
-                geometry (:meth:`placement.timing.law.TimeLaw.resampled`) instead of their time-optimal one.
+                geometry (:meth:`placement.path.time_law.TimeLaw.resampled`) instead of their time-optimal one.
         """
         k = len(placements)
         exact = self.settings.exact if exact is None else exact
@@ -231,7 +229,7 @@ class Evaluator:
         source's samples.
 
         Under the optimal timing law, the placements keep the timing found on the source's samples
-        (:meth:`placement.timing.law.TimeLaw.resampled`) instead of being timed anew; the other laws
+        (:meth:`placement.path.time_law.TimeLaw.resampled`) instead of being timed anew; the other laws
         time every placement alike anyway.
         """
         placements = np.atleast_2d(np.asarray(placements, dtype=float))

@@ -6,9 +6,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from placement.drives.trace import MotorTrace
+from placement.contract.limit import Margin
 from placement.energy.integration import Energy
-from placement.limits.base import Margin
+from placement.energy.trace import MotorTrace
 from placement.path.samples import PathSamples
 
 
@@ -90,7 +90,7 @@ class PlacementDetail:
         duration_s: The time the path takes (inf under the optimal law when no timing keeps every
             limit: ``samples`` then hold still at the feed's times).
         hold_effort: (n_act,) actuator efforts holding the path's end pose still, the tool out of the
-            cut: gravity alone (N or N·m), for a rest between passes (:mod:`placement.drives.duty`).
+            cut: gravity alone (N or N·m), for a rest between passes (:mod:`placement.energy.duty`).
         required_margin: The margin a feasible placement keeps from every limit (a share).
     """
 

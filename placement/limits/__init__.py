@@ -1,7 +1,9 @@
-"""Limits as margins (a plug-in family, see :mod:`placement.limits.base`)."""
+"""The built-in limits, as margins (members of the family :mod:`placement.contract.limit`).
+
+Importing this package registers them in :data:`placement.contract.limit.LIMITS`, which imports it at its first
+look-up.
+"""
 
 from placement.limits import collision, joints, motors, thermal, timing, workspace
-from placement.limits.base import LIMITS, Limit, Margin, MarginField, margin_fields, tightest, worst_margins
 
-__all__ = ["LIMITS", "Limit", "Margin", "MarginField", "collision", "joints", "margin_fields", "motors", "thermal",
-           "tightest", "timing", "workspace", "worst_margins"]
+__all__ = ["collision", "joints", "motors", "thermal", "timing", "workspace"]

@@ -2,7 +2,7 @@
 
 - ``collision``: every checked pair of bodies (a robot link or its tool against an obstacle or a
   keep-out zone, or two robot links) keeps its clearance at every sample: the cell's ``margin_m``
-  from obstacles, 0 from keep-out zones and between links (see :mod:`placement.cell.scene`). The
+  from obstacles, 0 from keep-out zones and between links (see :mod:`placement.collision.distances`). The
   margin is (distance − clearance)/``CLEARANCE_SCALE_M``: negative where the bodies come closer
   than allowed, and inside one another. In a search's batch, distances above ``EXACT_BAND_M``
   beyond the largest clearance (and the margin kept, ``EvaluatorSettings.margin``) may be cheap lower
@@ -14,7 +14,7 @@
   keeps exact.
   Since a margin is the smallest over the samples, only each pair's smallest distance along a
   placement's path is computed exactly; at its other samples the batch's distances may be lower
-  bounds, at least that smallest one (:meth:`placement.cell.scene.CollisionScene.distances`, in
+  bounds, at least that smallest one (:meth:`placement.collision.distances.CollisionScene.distances`, in
   runs). Such a batch is also checked only at samples ``CHECK_SPACING_M`` apart along the path
   (and at its ends; the field's rows, each standing for the samples up to the next), and asks
   each pair for ``CHECK_SPACING_M`` more clearance: the bodies near the tool move about that much
@@ -25,7 +25,7 @@
 - ``workpiece region``: every tool point inside the cell's ``workpiece_region`` box; the scale
   is the box's side, as for the robot's workspace.
 
-Both apply to a robot equipped with a cell (:func:`placement.cell.tool.equip`).
+Both apply to a robot equipped with a cell (:func:`placement.robot.equip.equip`).
 """
 
 from __future__ import annotations
@@ -35,9 +35,9 @@ from weakref import WeakKeyDictionary
 
 import numpy as np
 
-from placement.cell.scene import CollisionScene
-from placement.evaluation.batch import EvaluatedBatch
-from placement.limits.base import LIMITS, Limit, MarginField
+from placement.collision.distances import CollisionScene
+from placement.contract.batch import EvaluatedBatch
+from placement.contract.limit import LIMITS, Limit, MarginField
 from placement.limits.workspace import box_field
 from placement.robot.model import Robot
 

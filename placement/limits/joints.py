@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from placement.dynamics.path import PathDynamics
-from placement.evaluation.batch import EvaluatedBatch
-from placement.limits.base import LIMITS, Limit, MarginField, PathBound
+from placement.contract.batch import EvaluatedBatch
+from placement.contract.limit import LIMITS, Limit, MarginField, PathBound
+from placement.dynamics.path_dynamics import PathDynamics
 from placement.robot.model import Robot
 
 

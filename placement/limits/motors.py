@@ -1,6 +1,6 @@
 """Motor limits: peak torque, speed where a drive declares one, and phase voltage where a drive gives its bus voltage.
 
-Each comes from the drive equations of :class:`placement.drives.trace.Drives`, on the motor
+Each comes from the drive equations of :class:`placement.energy.trace.Drives`, on the motor
 trace for the margins and on the motion along the path for the optimal timing law's bounds.
 """
 
@@ -8,10 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from placement.drives.trace import Drives
-from placement.dynamics.path import PathDynamics
-from placement.evaluation.batch import EvaluatedBatch
-from placement.limits.base import LIMITS, Limit, MarginField, PathBound
+from placement.contract.batch import EvaluatedBatch
+from placement.contract.limit import LIMITS, Limit, MarginField, PathBound
+from placement.dynamics.path_dynamics import PathDynamics
+from placement.energy.trace import Drives
 from placement.robot.model import Robot
 
 

@@ -1,7 +1,7 @@
 """The thermal limit: each motor's RMS torque over the cycle within its rated continuous torque.
 
 Where a drive gives ``continuous_torque_Nm`` from a source other than an estimate, the path run back
-to back (no rest, the strictest duty) must keep sqrt(∫τ² dt / T) ≤ τ_c (:mod:`placement.drives.duty`).
+to back (no rest, the strictest duty) must keep sqrt(∫τ² dt / T) ≤ τ_c (:mod:`placement.energy.duty`).
 A rating whose source is EST (a maker that publishes none, a rule of thumb) is reported against in
 the duty cycle but rejects no placement: a guess should not decide feasibility. A user who enters
 the datasheet's figure (status CATALOG, or no source) makes it a limit. The margin at a sample is
@@ -16,10 +16,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from placement.drives.duty import rating_status, squared_torque_integral
-from placement.drives.trace import Drives
-from placement.evaluation.batch import EvaluatedBatch
-from placement.limits.base import LIMITS, Limit, MarginField
+from placement.contract.batch import EvaluatedBatch
+from placement.contract.limit import LIMITS, Limit, MarginField
+from placement.energy.duty import rating_status, squared_torque_integral
+from placement.energy.trace import Drives
 from placement.robot.model import Robot
 
 

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from placement.evaluation.batch import EvaluatedBatch
-from placement.limits.base import LIMITS, Limit, MarginField
+from placement.contract.batch import EvaluatedBatch
+from placement.contract.limit import LIMITS, Limit, MarginField
 
 
 class OptimalTiming(Limit):

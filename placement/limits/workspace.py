@@ -6,8 +6,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from placement.evaluation.batch import EvaluatedBatch
-from placement.limits.base import LIMITS, Limit, MarginField
+from placement.contract.batch import EvaluatedBatch
+from placement.contract.limit import LIMITS, Limit, MarginField
 from placement.robot.model import Robot
 
 
@@ -25,7 +25,7 @@ class Workspace(Limit):
 
 def box_field(kind: str, batch: EvaluatedBatch, min_m: Sequence[float], max_m: Sequence[float]) -> MarginField:
     """Margins of the batch's tool points inside an axis-aligned box of the base frame, at its distinct samples
-    (:meth:`placement.evaluation.batch.EvaluatedBatch.distinct`); the scale is the box's side."""
+    (:meth:`placement.contract.batch.EvaluatedBatch.distinct`); the scale is the box's side."""
     low, high = np.array(min_m, dtype=float), np.array(max_m, dtype=float)
     side, axes = high - low, np.moveaxis(batch.distinct(batch.tool_position_m), -1, 0)  # (3, K, N)
     value, margin = np.empty((6, *axes.shape[1:])), np.empty((6, *axes.shape[1:]))

@@ -1,12 +1,14 @@
-"""Objectives: what placements are ranked by (a plug-in family, see :mod:`placement.objectives.base`)."""
+"""The built-in objectives: what placements are ranked by (members of the family :mod:`placement.contract.objective`).
 
-from placement.objectives.base import OBJECTIVES, Objective, Wording, quantity, wording
+Importing this package registers them in :data:`placement.contract.objective.OBJECTIVES`, which imports it at its
+first look-up.
+"""
+
 from placement.objectives.energy import ElectricEnergy, MechanicalEnergy
 from placement.objectives.kinetostatics import Dexterity, Transmission
 from placement.objectives.motors import PeakTorque, RmsCurrent
 from placement.objectives.shaking import ShakingForce, ShakingMoment
 from placement.objectives.timing import CycleTime
 
-__all__ = ["OBJECTIVES", "CycleTime", "Dexterity", "ElectricEnergy", "MechanicalEnergy", "Objective", "PeakTorque", "RmsCurrent",
-           "ShakingForce", "ShakingMoment", "Transmission", "Wording", "quantity",
-           "wording"]
+__all__ = ["CycleTime", "Dexterity", "ElectricEnergy", "MechanicalEnergy", "PeakTorque", "RmsCurrent", "ShakingForce",
+           "ShakingMoment", "Transmission"]

@@ -22,8 +22,8 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from placement.evaluation.batch import EvaluatedBatch
-from placement.objectives.base import OBJECTIVES, Objective
+from placement.contract.batch import EvaluatedBatch
+from placement.contract.objective import OBJECTIVES, Objective
 from placement.robot.model import Robot
 
 SINGULAR_FLOOR = 1e-12  # smallest singular value divided by: a singular sample gives a huge but finite index

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from placement.evaluation.batch import EvaluatedBatch
-from placement.objectives.base import OBJECTIVES, Objective
+from placement.contract.batch import EvaluatedBatch
+from placement.contract.objective import OBJECTIVES, Objective
 
 
 class PeakTorque(Objective):

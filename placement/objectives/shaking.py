@@ -17,9 +17,9 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
+from placement.contract.batch import EvaluatedBatch
+from placement.contract.objective import OBJECTIVES, Objective
 from placement.dynamics.inverse import rnea_batch
-from placement.evaluation.batch import EvaluatedBatch
-from placement.objectives.base import OBJECTIVES, Objective
 from placement.robot.model import Robot
 
 FREE_FLYER_NQ, FREE_FLYER_NV = 7, 6

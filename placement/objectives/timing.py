@@ -6,8 +6,8 @@ from typing import ClassVar
 
 import numpy as np
 
-from placement.evaluation.batch import EvaluatedBatch
-from placement.objectives.base import OBJECTIVES, Objective
+from placement.contract.batch import EvaluatedBatch
+from placement.contract.objective import OBJECTIVES, Objective
 
 
 class CycleTime(Objective):

@@ -16,13 +16,13 @@ from matplotlib.axes import Axes  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.transforms import Bbox  # noqa: E402
 
-from placement.drives.calibration import UNITS, Calibration
-from placement.objectives.base import OBJECTIVES
-from placement.objectives.base import quantity as with_unit
+from placement.contract.objective import OBJECTIVES
+from placement.contract.objective import quantity as with_unit
 from placement.placing.transform import ANGLES
 from placement.search.feed import FeedStudy  # noqa: E402
 from placement.search.pareto import ParetoFront  # noqa: E402
 from placement.search.sweep import SweepResult  # noqa: E402
+from placement.workshop.calibration import UNITS, Calibration
 
 # Where a point's label may sit (points from the point), nearest first: diagonals, then the sides, farther and farther.
 LABEL_OFFSETS_PT = [(sx * r, sy * r) for r in (5, 12, 22, 34, 48)

@@ -14,22 +14,22 @@ from typing import Any
 
 import numpy as np
 
-from placement.drives.calibration import TOOL_FORCE_COLUMNS
-from placement.drives.duty import SECONDS_PER_HOUR, DutyCycle, duty_cycle, rating_status
-from placement.drives.trace import Drives
+from placement.contract.limit import Margin
+from placement.contract.objective import OBJECTIVES, quantity, wording
+from placement.energy.duty import SECONDS_PER_HOUR, DutyCycle, duty_cycle, rating_status
 from placement.energy.integration import interval_widths
+from placement.energy.trace import Drives
 from placement.evaluation.evaluator import EvaluatorSettings
 from placement.evaluation.results import PlacementDetail
 from placement.files import staged
-from placement.limits.base import Margin
 from placement.limits.collision import closest_points
-from placement.objectives.base import OBJECTIVES, quantity, wording
 from placement.path.toolpath import ToolPath
 from placement.placing.transform import ANGLES, VARIABLES, describe_plane, transform_path_to_base
 from placement.robot.model import Robot
 from placement.search.optimize import Optimum, PlacementResult
 from placement.search.reporting import REPORTED_DECIMALS
 from placement.search.tolerance import ToleranceBox
+from placement.workshop.calibration import TOOL_FORCE_COLUMNS
 
 
 def format_placement(placement: np.ndarray) -> str:
@@ -60,7 +60,7 @@ def results_lines(document: dict[str, Any]) -> list[str]:
 
 
 def placement_duty(robot: Robot, detail: PlacementDetail, rest_s: float = 0.0) -> DutyCycle | None:
-    """The placement's duty cycle with ``rest_s`` (s) between passes (:mod:`placement.drives.duty`), or None when no
+    """The placement's duty cycle with ``rest_s`` (s) between passes (:mod:`placement.energy.duty`), or None when no
     drive gives a continuous torque or the placement has no timing."""
     drives = Drives.of(robot)
     if not detail.reachable or not np.isfinite(detail.duration_s) or not np.isfinite(drives.continuous_torque_Nm).any():
@@ -333,7 +333,7 @@ def write_trace(path: str | Path, robot: Robot, detail: PlacementDetail) -> None
     frame, N), then for each actuator, named by its joint: q_JOINT, qd_JOINT, qdd_JOINT, force_JOINT
     (N or N·m at the joint), motor_speed_JOINT (rad/s), motor_torque_JOINT (N·m), current_JOINT (A),
     power_JOINT (W, electric). The names are a calibration log's
-    (:func:`placement.drives.calibration.read_log`): the trace calibrates the drives it was made with,
+    (:func:`placement.workshop.calibration.read_log`): the trace calibrates the drives it was made with,
     its rates and process force included. Two rows of one time are the motion either side of a step
     in its acceleration (a segment's end, a switch of the optimal timing law).
     """

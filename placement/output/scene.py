@@ -35,7 +35,7 @@ import umsgpack
 from meshcat.animation import Animation
 from meshcat.servers.tree import SceneTree, find_node, walk
 
-from placement.cell.geometry import package_dirs
+from placement.collision.geometry import package_dirs
 from placement.kinematics.batched import jump_steps
 from placement.limits.collision import collision_scene
 from placement.output.meshes import OverlayMesh, WholeMeshVisualizer, overlay_material, tube

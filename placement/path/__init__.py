@@ -1,6 +1,6 @@
 """Tool paths in their own frame F_p: the file schema, shapes, segments, G-code, pose lists and sampling.
 
-A path file (:mod:`placement.path.schema`) is read by :func:`placement.path.load.load_path` into a
+A path file (:mod:`placement.path.path_file`) is read by :func:`placement.path.load.load_path` into a
 :class:`placement.path.toolpath.ToolPath`: segments (:mod:`placement.path.segments`) written in
 the file, read from a G-code program (:mod:`placement.path.gcode`) or a pose list
 (:mod:`placement.path.poses`), with their feeds, process forces and timing law. The path is

@@ -10,9 +10,9 @@ import numpy as np
 
 from placement.path.exceptions import PathFileError
 from placement.path.gcode import MM_M, Machine, Program, read_program
+from placement.path.path_file import LENGTH_SCALE, Circle, Gcode, PathFile, Polyline, Poses, Rapids, Rectangle, Slot
 from placement.path.poses import TimedPoses, pose_segments, read_poses
 from placement.path.samples import default_time_step_s
-from placement.path.schema import LENGTH_SCALE, Circle, Gcode, PathFile, Polyline, Poses, Rapids, Rectangle, Slot
 from placement.path.segments import Hold, Segment
 from placement.path.toolpath import MIN_LENGTH_M, ToolPath
 from placement.schema import read_yaml, validate_document

@@ -10,12 +10,12 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from placement.exceptions import PlacementError
+from placement.path.paper_law import sample_paper
+from placement.path.path_file import ForceSet, Timing
 from placement.path.poses import TimedPoses
+from placement.path.realistic_law import sample_realistic
 from placement.path.samples import END_SPLIT, MAX_SAMPLES, MIN_PATH_STEPS, MIN_RUN_SAMPLES, PathGeometry, PathSamples, run_joins
-from placement.path.schema import ForceSet, Timing
 from placement.path.segments import Hold, Run, Segment, segments_motion, split_runs
-from placement.timing.paper import sample_paper
-from placement.timing.realistic import sample_realistic
 
 MIN_LENGTH_M = 1e-6
 SHAPE_POINTS = 9  # points of each piece compared by half_turn_symmetric

@@ -16,7 +16,7 @@ from placement.robot.exceptions import RobotFileError
 from placement.robot.plugins import ClosedFormFunction, load_plugin, make_closed_form
 
 if TYPE_CHECKING:
-    from placement.cell.schema import Cell, ToolBody
+    from placement.cell.cell_file import Cell, ToolBody
     from placement.robot.sidecar import Drive, PlacementDefaults, Plane, Sidecar, Workspace
 
 
@@ -70,7 +70,7 @@ class Robot:
         sidecar: The validated sidecar data, for this package only: other layers read what they need
             through the properties below (a test holds them to it).
         cell: The cell the robot works in (obstacles, keep-out zones, workpiece region, tool), if
-            any: its distances become a limit (see :func:`placement.cell.tool.equip`).
+            any: its distances become a limit (see :func:`placement.robot.equip.equip`).
     """
 
     name: str
@@ -210,7 +210,7 @@ class Robot:
     @property
     def tool(self) -> ToolBody | None:
         """The tool body of the robot's own description (the sidecar's ``tool``), which loading mounts, or None.
-        A cell's tool replaces it at work (see :func:`placement.cell.tool.tool_of`)."""
+        A cell's tool replaces it at work (see :func:`placement.robot.equip.tool_of`)."""
         return self.sidecar.tool
 
     @property

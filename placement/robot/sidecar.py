@@ -13,7 +13,7 @@ from typing import Annotated, Literal
 
 from pydantic import BeforeValidator, Field, model_validator
 
-from placement.cell.schema import ToolBody, check_mesh_file
+from placement.cell.cell_file import ToolBody, check_mesh_file
 from placement.drives.motors import Motor
 from placement.drives.transmissions import Transmission, parse_transmission
 from placement.robot.exceptions import RobotFileError
@@ -150,7 +150,7 @@ class Collision(Strict):
     """Self-collision settings: pairs of links never checked against each other (they touch by design).
 
     Links adjacent in the tree, links joined by a closure and links already touching at the
-    reference configuration are skipped without being listed (see :mod:`placement.cell.pairs`).
+    reference configuration are skipped without being listed (see :mod:`placement.collision.pairs`).
     """
 
     ignore_pairs: list[tuple[str, str]] = []

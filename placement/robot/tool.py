@@ -17,8 +17,8 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
+from placement.cell.cell_file import Posed, ToolBody
 from placement.cell.exceptions import CellFileError
-from placement.cell.schema import Posed, ToolBody
 from placement.exceptions import InputFileError
 from placement.robot.exceptions import RobotFileError
 from placement.robot.model import Robot

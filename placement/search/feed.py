@@ -13,9 +13,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
+from placement.path.realistic_law import segment_speeds
 from placement.path.toolpath import ToolPath
 from placement.robot.model import Robot
-from placement.timing.realistic import segment_speeds
 
 
 @dataclass(frozen=True)
@@ -26,7 +26,7 @@ class FeedStudy:
         feeds_m_s: (F,) programmed feed rates.
         top_speed_m_s: (F,) the fastest the tool moves (below the feed where the timing law cannot reach it).
         speed_bound: (F,) what bounds that speed: "feed", under the realistic law what bounds its fastest
-            segment (:func:`placement.timing.realistic.segment_speeds`: "centripetal acceleration", "length
+            segment (:func:`placement.path.realistic_law.segment_speeds`: "centripetal acceleration", "length
             (short of the feed cap)", ...), under the optimal law "robot limits" below the feed.
         time_s: (F,) duration of one pass.
         energy_J: (F,) electric energy of one pass (NaN where a sample is unreachable).

@@ -22,12 +22,12 @@ import numpy as np
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings, batch_margins, batch_values
 from placement.evaluation.results import Evaluation
 from placement.exceptions import PlacementError
+from placement.path.time_law import TimeLaw
 from placement.path.toolpath import ToolPath
 from placement.robot.model import Robot
-from placement.search.guide import search_models
+from placement.search.coarse_guide import search_models
 from placement.search.optimize import PlacementResult, SearchSettings, _optimize, search_sampling
 from placement.search.space import PlacementSpace, default_space
-from placement.timing.law import TimeLaw
 
 
 class SharedChain:
@@ -101,7 +101,7 @@ def optimize_modes(robot: Robot, path: ToolPath, modes: Sequence[str], *, space:
     Args:
         robot: The robot (its actuators need drives).
         path: The tool path, under a timing law that times every placement alike (not "optimal"), and short
-            enough to be searched on itself (:mod:`placement.search.guide`).
+            enough to be searched on itself (:mod:`placement.search.coarse_guide`).
         modes: The regeneration modes' names (``evaluation``'s own is not used).
         space: Free variables and bounds (default: :func:`placement.search.space.default_space`).
         evaluation: The objective, the path's sampling step and the threads, as for :func:`optimize_placement`;

@@ -43,7 +43,7 @@ from placement.evaluation.parallel import process_pool
 from placement.evaluation.results import Evaluation, PlacementDetail
 from placement.path.toolpath import ToolPath
 from placement.robot.model import Robot
-from placement.search.guide import SearchModels, guide_value, search_models
+from placement.search.coarse_guide import SearchModels, guide_value, search_models
 from placement.search.local import POLISH_STARTS, Problem, distinct_basins, inward_until_feasible, polish_across
 from placement.search.reporting import binding, reported_point
 from placement.search.space import PlacementSpace, default_space
@@ -97,7 +97,7 @@ class Optimum:
         evaluations: Placements evaluated by the search.
         note: Why the reported placement is not the search's own optimum (which failed to keep
             every limit, with the margin, once printed or on the denser sampling), else None.
-        guide_value: When guides steered the search (:mod:`placement.search.guide`), the objective at the
+        guide_value: When guides steered the search (:mod:`placement.search.coarse_guide`), the objective at the
             same placement on the polish's guide, else None.
         tolerance: The tolerance box around it, when the search was asked for one (``SearchSettings.box_within``).
     """
@@ -146,7 +146,7 @@ class PlacementResult:
         objective: The objective's name.
         regeneration: Regeneration policy of the energies.
         infeasible: Why no feasible placement was found (the binding limit), else None.
-        guide: The models that steered the search when they were guides (:mod:`placement.search.guide`), else None.
+        guide: The models that steered the search when they were guides (:mod:`placement.search.coarse_guide`), else None.
     """
 
     best: Optimum | None
@@ -359,7 +359,7 @@ def _search_direction(job: _DirectionJob) -> _Outcome:
 def _outcome(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: float, settings: SearchSettings,
              progress: Callable[[], None] | None, exact: Evaluator | None = None) -> _Outcome:
     """One direction's search: global and polish on ``coarse`` and ``fine``, the reported point on ``exact``
-    (``fine`` when None; else ``fine`` is a guide, see :mod:`placement.search.guide`)."""
+    (``fine`` when None; else ``fine`` is a guide, see :mod:`placement.search.coarse_guide`)."""
     reported = fine if exact is None else exact
     before = coarse.evaluations + fine.evaluations + reported.evaluations * (exact is not None)
     candidates, problem = _search(coarse, fine, space, sign, settings, progress)

@@ -33,10 +33,10 @@ from pymoo.algorithms.moo.nsga2 import NSGA2
 from pymoo.core.problem import Problem
 from pymoo.optimize import minimize
 
+from placement.contract.objective import OBJECTIVES
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings, denser
 from placement.evaluation.results import Evaluation, PlacementDetail
 from placement.exceptions import PlacementError
-from placement.objectives.base import OBJECTIVES
 from placement.path.toolpath import ToolPath
 from placement.robot.model import Robot
 from placement.search.optimize import RECHECK_DENSITY, SearchSettings, optimize_placement, search_sampling

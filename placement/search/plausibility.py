@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from placement.path.schema import MM_PER_MIN
+from placement.path.path_file import MM_PER_MIN
 from placement.path.toolpath import ToolPath
 from placement.robot.model import Robot
 

@@ -47,7 +47,7 @@ def reported_point(candidates: list[np.ndarray], fine: Evaluator, dense: Evaluat
     A candidate is printed (:func:`as_printed`) as the best of the corners of the printed grid's cell around it
     that keeps every limit on the path's samples, or else pulled inwards by the least of RETREAT_SHARES that does;
     at most RECHECK_TRIES of those are re-checked on the denser sampling, best first. With a ``guide`` (a cheaper
-    model of the path, :mod:`placement.search.guide`), the corners and pulls are ranked and sifted on it, and each
+    model of the path, :mod:`placement.search.coarse_guide`), the corners and pulls are ranked and sifted on it, and each
     of those re-checked is evaluated on the path's samples first.
 
     Returns:

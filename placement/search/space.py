@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from placement.cell.schema import Region
+from placement.cell.cell_file import Region
 from placement.exceptions import PlacementError
 from placement.placing.transform import ANGLES, VARIABLES, plane_frame
 from placement.robot.model import Robot

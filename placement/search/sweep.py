@@ -19,11 +19,11 @@ from pathlib import Path
 
 import numpy as np
 
+from placement.contract.objective import OBJECTIVES
 from placement.evaluation.evaluator import EvaluationJob, EvaluatorSettings, evaluate_job, members_used
 from placement.evaluation.parallel import run_in_order
 from placement.evaluation.results import Evaluation
 from placement.exceptions import PlacementError
-from placement.objectives.base import OBJECTIVES
 from placement.path.toolpath import ToolPath
 from placement.placing.transform import VARIABLES
 from placement.registry import runtime_members

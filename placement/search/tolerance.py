@@ -56,7 +56,7 @@ class ToleranceBox:
         evaluations: Placements evaluated to find and check it.
         corners_checked: Corners of the box in its final check (all 2^n up to four free variables).
         inside_checked: Points inside the box in its final check.
-        guided: Whether the box was found and checked on a long path's guide (:mod:`placement.search.guide`)
+        guided: Whether the box was found and checked on a long path's guide (:mod:`placement.search.coarse_guide`)
             instead of the exact model.
     """
 

@@ -2,14 +2,14 @@
 
 Along a path p(s) sampled in arc length s, every joint moves as q(s), so its velocity and
 acceleration are q'·ṡ and q'·s̈ + q''·ṡ², and the dynamics give each actuator's effort exactly as
-F(s) = A(s)·s̈ + B(s)·ṡ² + C(s) (:mod:`placement.dynamics.path`). Every limit on how fast the
+F(s) = A(s)·s̈ + B(s)·ṡ² + C(s) (:mod:`placement.dynamics.path_dynamics`). Every limit on how fast the
 path is run states its bounds in that form, |a·s̈ + b·ṡ² + c + w·ṡ| ≤ top at each sample
-(:meth:`placement.limits.base.Limit.path_bounds`), and this law keeps those of every limit that
+(:meth:`placement.contract.limit.Limit.path_bounds`), and this law keeps those of every limit that
 applies to the robot, an installed one included. The built-in ones:
 
 - joint speed and motor speed (where a drive gives one), and the path's feed: bounds on ṡ;
 - joint acceleration (where the sidecar gives ``acceleration_max``): |q'·s̈ + q''·ṡ²| ≤ a_max;
-- motor torque (:class:`placement.drives.trace.Drives`), driving and braking: braking is held to
+- motor torque (:class:`placement.energy.trace.Drives`), driving and braking: braking is held to
   the driving bound too (conservative by η², exact for η = 1);
 - drive voltage (where the sidecar gives ``bus_voltage_V``): R·I + K_e·ω within the phase voltage
   (:class:`placement.limits.motors.DriveVoltage`, which checks L·dI/dt on the timed samples).
@@ -39,10 +39,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
-from placement.dynamics.path import PathDynamics
-from placement.limits.base import PathBound, path_bounds
+from placement.contract.limit import PathBound, path_bounds
+from placement.dynamics.path_dynamics import PathDynamics
+from placement.path.time_law import TimeLaw
 from placement.robot.model import Robot
-from placement.timing.law import TimeLaw
 from placement.timing.topp import time_placements
 
 if TYPE_CHECKING:
@@ -79,7 +79,7 @@ def bound_rows(bounds: list[PathBound], speed_max: np.ndarray) -> tuple[np.ndarr
 
 def _columns(term: np.ndarray | float, shape: tuple[int, ...]) -> np.ndarray:
     """A form's term broadcast to ``shape`` (K, N, m), as a read-only C-contiguous (m, K, N) array: without a copy
-    when laid out column by column (:func:`placement.dynamics.path.sample_rows`), and the same array type for the
+    when laid out column by column (:func:`placement.dynamics.path_dynamics.sample_rows`), and the same array type for the
     kernel whatever the term (one compiled version)."""
     columns = np.ascontiguousarray(np.moveaxis(np.broadcast_to(np.asarray(term, dtype=float), shape), -1, 0))
     columns = columns.view()

@@ -1,6 +1,6 @@
 """Which timing law times a path: the one its objectives need, and the overrides of the path file's.
 
-An objective may need a timing law (:attr:`placement.objectives.base.Objective.timing`): the cycle
+An objective may need a timing law (:attr:`placement.contract.objective.Objective.timing`): the cycle
 time needs the optimal law, under which each placement is timed as fast as the robot allows, since
 under the others every placement takes the same time. The rule is stated once here: the command
 line times a path by the law its objectives need (:func:`timing_for`), and an evaluator refuses a
@@ -15,8 +15,8 @@ from collections.abc import Sequence
 
 from pydantic import ValidationError
 
-from placement.objectives.base import OBJECTIVES
-from placement.path.schema import Timing
+from placement.contract.objective import OBJECTIVES
+from placement.path.path_file import Timing
 from placement.path.toolpath import ToolPath
 from placement.timing.exceptions import TimingError
 

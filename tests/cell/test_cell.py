@@ -12,10 +12,10 @@ import pinocchio as pin
 import pytest
 import yaml
 
+from placement import load_robot
+from placement.cell.cell_file import load_cell
 from placement.cell.exceptions import CellFileError
-from placement.cell.scene import CollisionScene
-from placement.cell.schema import load_cell
-from placement.robot import load_robot
+from placement.collision.distances import CollisionScene
 from placement.robot.exceptions import RobotFileError
 from placement.robot.tool import mount_tool, pose_placement, tool_inertia
 from tests.support.paths import ROOT

@@ -12,9 +12,8 @@ import yaml
 
 from placement import Evaluator, EvaluatorSettings, load_path, load_robot
 from placement.__main__ import main
-from placement.cell.schema import load_cell
-from placement.cell.tool import equip
-from placement.limits.base import margin_fields, tightest
+from placement.cell.cell_file import load_cell
+from placement.contract.limit import margin_fields, tightest
 from placement.limits.collision import (
     CHECK_SPACING_M,
     CLEARANCE_SCALE_M,
@@ -23,6 +22,7 @@ from placement.limits.collision import (
     checked_samples,
     collision_scene,
 )
+from placement.robot.equip import equip
 from placement.robot.tool import mount_tool
 from placement.search.optimize import SearchSettings, optimize_placement
 from placement.search.space import default_space

@@ -12,7 +12,7 @@ import pytest
 from placement import Evaluator, EvaluatorSettings, load_path, load_robot
 from placement.__main__ import main
 from placement.placing.transform import VARIABLES
-from placement.robot.catalog import builtin_robots_dir
+from placement.workshop.catalog import builtin_robots_dir
 from tests.support.paths import EXAMPLE
 
 

@@ -7,10 +7,10 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
+from placement import load_robot
 from placement.__main__ import main
-from placement.cli.common import parse_free
 from placement.cli.exceptions import UsageError
-from placement.robot import load_robot
+from placement.placing.values import parse_free
 from placement.robot.exceptions import RobotFileError
 from tests.support.paths import EXAMPLE
 from tests.support.robot_copies import TOOL_OFFSET_M, TOOL_RPY_RAD, edited_copy, with_tool

@@ -13,13 +13,13 @@ import pytest
 
 from placement import load_robot
 from placement.cli import main
-from placement.drives.calibration import FITTABLE, MeasuredLog, calibrate, read_log
-from placement.drives.exceptions import LogFileError
-from placement.drives.trace import motor_trace
 from placement.dynamics.inverse import inverse_dynamics
 from placement.energy.integration import sample_power
-from placement.robot.catalog import builtin_robots_dir
-from placement.robot.checks import demo_trajectory
+from placement.energy.trace import motor_trace
+from placement.workshop.calibration import FITTABLE, MeasuredLog, calibrate, read_log
+from placement.workshop.catalog import builtin_robots_dir
+from placement.workshop.checks import demo_trajectory
+from placement.workshop.exceptions import LogFileError
 from tests.support.robot_copies import edited_copy
 
 DRIVE = "sanyo_p30b06040d_ball_screw"

@@ -5,7 +5,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from placement.drives.trace import Drives
+from placement.energy.trace import Drives
 
 
 def test_drives_are_built_once_per_set_of_actuators_and_follow_a_change(orthoglide):

@@ -5,12 +5,12 @@ import numpy as np
 import pytest
 from scipy.integrate import trapezoid
 
-from placement.drives.duty import SECONDS_PER_HOUR, duty_cycle, squared_torque_integral
-from placement.drives.trace import Drives
+from placement import load_robot
+from placement.contract.limit import LIMITS, margin_fields
+from placement.energy.duty import SECONDS_PER_HOUR, duty_cycle, squared_torque_integral
+from placement.energy.trace import Drives
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
-from placement.limits.base import LIMITS, margin_fields
 from placement.path.load import load_path
-from placement.robot import load_robot
 from tests.support.paths import EXAMPLE
 
 
@@ -62,7 +62,7 @@ def test_a_hold_torque_over_the_rating_allows_no_rest():
 
 def test_an_estimated_rating_is_reported_but_limits_nothing():
     """The UR5's ratings are EST (UR publishes none): no thermal limit; the Orthoglide's are DERIVED: one."""
-    from placement.drives.duty import rating_status
+    from placement.energy.duty import rating_status
 
     ur5, orthoglide = load_robot("ur5"), load_robot("orthoglide")
     assert set(rating_status(ur5)) == {"EST"} and not LIMITS.get("thermal").applies_to(ur5)

@@ -13,7 +13,7 @@ import pytest
 from placement import TaskTrajectory, load_path, load_robot
 from placement.dynamics.inverse import actuator_efforts
 from placement.kinematics import joint_trajectory
-from placement.robot.checks import demo_trajectory
+from placement.workshop.checks import demo_trajectory
 from tests.support.paths import EXAMPLE
 
 mujoco_model = pytest.importorskip("tests.support.mujoco_model", reason="the optional test extra 'mujoco' is not installed")

@@ -8,8 +8,8 @@ are checked with every other robot's in tests/robot/test_contract.py.
 import numpy as np
 import pinocchio as pin
 
+from placement import load_robot
 from placement.dynamics.inverse import inverse_dynamics
-from placement.robot import load_robot
 from tests.support.trajectories import orthoglide_path
 
 closed_form = load_robot("orthoglide").plugin

@@ -7,12 +7,12 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
+from placement import load_robot
 from placement.dynamics import inverse as inverse_module
 from placement.dynamics.inverse import actuator_efforts
-from placement.dynamics.path import path_dynamics
+from placement.dynamics.path_dynamics import path_dynamics
 from placement.dynamics.tree_rnea import BLOCK, _sine_versine, joint_torques, path_torques, tree_inertias
 from placement.kinematics import joint_trajectory
-from placement.robot import load_robot
 from tests.support.trajectories import orthoglide_path
 
 JOINT_KINDS = (pin.JointModelRX, pin.JointModelRY, pin.JointModelRZ, pin.JointModelPX, pin.JointModelPY,

@@ -6,13 +6,13 @@ import numpy as np
 import pytest
 
 from placement.drives.motors import MotorModel, Pmsm, PowerParts, register_motor_model
-from placement.drives.trace import motor_trace
 from placement.dynamics.inverse import inverse_dynamics
 from placement.energy.integration import electric_energy, interval_widths
+from placement.energy.trace import motor_trace
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.kinematics import TaskTrajectory
 from placement.path.load import load_path
-from placement.path.schema import Timing
+from placement.path.path_file import Timing
 from tests.support.paths import EXAMPLE
 
 PLACEMENTS = np.array([[0.0, 0.0, 0.0, 0.0, 0.0, 0.0], [-0.06, -0.05, -0.04, 0.7, 0.0, 0.0],

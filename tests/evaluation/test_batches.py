@@ -6,10 +6,10 @@ import dataclasses
 import numpy as np
 import pytest
 
+from placement import load_robot
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.path.load import load_path
-from placement.path.schema import Timing
-from placement.robot import load_robot
+from placement.path.path_file import Timing
 
 
 @pytest.mark.parametrize(("timing", "objectives"), [("paper", ("energy",)), ("optimal", ("energy", "cycle_time"))])

@@ -11,7 +11,7 @@ import pytest
 from placement import Evaluator, EvaluatorSettings, load_path, load_robot
 from placement.__main__ import main
 from placement.evaluation.parallel import cluster, scheduler_address
-from placement.path.schema import Timing
+from placement.path.path_file import Timing
 from placement.search.optimize import SearchSettings
 from placement.search.pareto import pareto_front
 from placement.search.sweep import sweep

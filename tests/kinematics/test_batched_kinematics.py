@@ -6,13 +6,13 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
+from placement import load_robot
 from placement.kinematics import SOLVERS, TaskTrajectory, solver_for
 from placement.kinematics.base import task_error
 from placement.kinematics.batched import SOLVE_TOLERANCE
 from placement.kinematics.tree import frame_kinematics, log3
 from placement.path import load_path
 from placement.placing.transform import placed_task
-from placement.robot import load_robot
 from placement.robot.closures import closure_residuals
 from placement.search.space import default_space
 

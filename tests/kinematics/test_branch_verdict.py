@@ -11,11 +11,11 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
+from placement import load_robot
 from placement.kinematics.base import SOLVERS
 from placement.kinematics.exceptions import UnreachableError
 from placement.kinematics.trajectories import TaskTrajectory
-from placement.robot import load_robot
-from placement.robot.checks import check_robot, default_amplitude
+from placement.workshop.checks import check_robot, default_amplitude
 from tests.support.gepetto_weld import assembled_weld_fivebar
 from tests.support.trajectories import lissajous
 

@@ -5,10 +5,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from placement import load_robot
 from placement.kinematics import joint_trajectory
 from placement.kinematics.exceptions import UnreachableError
 from placement.kinematics.trajectories import TaskTrajectory
-from placement.robot import load_robot
 from placement.robot.closures import closure_jacobian, closure_residuals
 from tests.support.trajectories import orthoglide_path
 

@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 
 from placement import Evaluator, EvaluatorSettings, load_path, load_robot
-from placement.drives.trace import Drives
-from placement.dynamics.path import path_dynamics
-from placement.limits.base import path_bounds
+from placement.contract.limit import path_bounds
+from placement.dynamics.path_dynamics import path_dynamics
+from placement.energy.trace import Drives
 from placement.placing.transform import placed_task
 from placement.timing.optimal import SAFETY, bound_rows, speed_bound
 from tests.support.paths import EXAMPLE

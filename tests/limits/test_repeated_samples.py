@@ -6,11 +6,11 @@ import dataclasses
 
 import numpy as np
 
+from placement import load_robot
+from placement.contract.limit import margin_fields, tightest
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings, batch_margins
-from placement.limits.base import margin_fields, tightest
 from placement.path.load import load_path
-from placement.path.schema import Timing
-from placement.robot import load_robot
+from placement.path.path_file import Timing
 
 PLACEMENTS = np.array([[0.0, 0.0, -0.03, 0.0, 0.0, 0.0], [0.04, -0.02, -0.1, 0.5, 0.0, 0.0],
                        [-0.06, 0.03, 0.0, -1.0, 0.0, 0.0], [0.3, 0.0, 0.0, 0.0, 0.0, 0.0]])  # the last out of reach

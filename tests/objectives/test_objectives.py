@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from placement import OBJECTIVES, Evaluator, EvaluatorSettings, Objective, load_path, load_robot
-from placement.path.schema import Timing
+from placement.path.path_file import Timing
 from tests.support.paths import EXAMPLE
 from tests.support.robot_copies import edited_copy, orthoglide_motor
 

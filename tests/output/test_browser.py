@@ -26,7 +26,7 @@ def shot(tmp_path_factory):
         if os.environ.get("CI"):  # CI must show that the scene renders: .ci/run installs Chromium
             pytest.fail("no Chromium on the CI machine: the 3-D scene cannot be checked")
         pytest.skip("no Chromium on this machine (.ci/run installs Debian's chromium package)")
-    from placement.robot import load_robot
+    from placement import load_robot
 
     robot = load_robot("orthoglide")
     evaluator = Evaluator(robot, load_path(EXAMPLE))
@@ -86,7 +86,7 @@ def test_show_serves_the_page_on_loopback_only_and_stops(monkeypatch, capsys):
 
 
 def test_markup_from_input_files_is_inert_in_the_page(tmp_path):
-    from placement.robot import load_robot
+    from placement import load_robot
 
     scene = Scene(load_robot("orthoglide"))
     scene.add_path("0_best", np.zeros((3, 3)), BEST_COLOR, "<img src=x onerror=alert(1)>")

@@ -15,7 +15,7 @@ import pinocchio as pin
 import pytest
 
 from placement import load_robot
-from placement.cell.geometry import package_dirs
+from placement.collision.geometry import package_dirs
 from placement.output.scene import Scene
 from tests.support.browser import chromium
 from tests.support.paths import EXAMPLE

@@ -5,11 +5,11 @@ import time
 import numpy as np
 import pytest
 
-from placement.app.bench import Bench, Choices
+from placement import load_robot
+from placement.app.evaluations import Bench, Choices
 from placement.evaluation.evaluator import Evaluator
 from placement.exceptions import PlacementError
 from placement.path import load_path
-from placement.robot import load_robot
 from tests.support.paths import EXAMPLE
 
 AT = np.array([0.0125, -0.007, -0.02, np.radians(30), 0.0, 0.0])

@@ -10,12 +10,12 @@ import re
 import numpy as np
 import pytest
 
+from placement import load_robot
 from placement.__main__ import main
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.path import ngc_flow
 from placement.path.exceptions import GcodeError, PathFileError
 from placement.path.load import load_path
-from placement.robot import load_robot
 from tests.support.paths import EXAMPLES
 
 PLACEMENTS = [[0.0, 0.0, 0.0, 0.0, 0.0, 0.0], [0.05, -0.04, 0.03, 0.5, 0.0, 0.0], [-0.06, 0.05, -0.05, -1.0, 0.0, 0.0]]

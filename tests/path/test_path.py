@@ -5,7 +5,7 @@ import pytest
 
 from placement.path.exceptions import PathFileError
 from placement.path.load import load_path
-from placement.timing.realistic import DoubleS
+from placement.path.realistic_law import DoubleS
 from tests.support.paths import EXAMPLE
 
 

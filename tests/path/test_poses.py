@@ -4,12 +4,12 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
+from placement import load_robot
 from placement.evaluation.evaluator import Evaluator
 from placement.kinematics import joint_trajectory
 from placement.path import load_path
 from placement.path.exceptions import PoseFileError
 from placement.placing.transform import OrientationIgnoredWarning, placed_task
-from placement.robot import load_robot
 from placement.robot.closures import LWA
 
 AT = np.array([0.45, 0.1, 0.2, 0.3, 0.1, -0.05])  # inside the UR5's workspace, the workpiece tilted
@@ -209,7 +209,7 @@ def test_fields_a_timed_list_refuses_or_needs(tmp_path, settings, field):
 def test_the_schema_offers_every_orientation_kind():
     from typing import get_args
 
+    from placement.path.path_file import Poses
     from placement.path.poses import ORIENTATION_COLUMNS
-    from placement.path.schema import Poses
 
     assert set(get_args(Poses.model_fields["orientation"].annotation)) == set(ORIENTATION_COLUMNS)

@@ -2,16 +2,14 @@
 
 It is declared as an installed distribution (``placement_demo_plugin-0.1.dist-info``) whose entry
 points register an objective, a motor model and a limit, exactly as ``pip install`` of a package
-with ``[project.entry-points."placement.objectives"]`` would. It imports ``EvaluatedBatch`` from
-its 0.1 module path, ``placement.evaluation.batch``, which must keep working.
+with ``[project.entry-points."placement.objectives"]`` would. It imports what it builds on from the
+plug-in contract, :mod:`placement.contract`, and the motor model it extends from :mod:`placement.drives.motors`.
 """
 
 import numpy as np
 
+from placement.contract import EvaluatedBatch, Limit, MarginField, Objective, PathBound
 from placement.drives.motors import Motor, Pmsm, PowerParts
-from placement.evaluation.batch import EvaluatedBatch
-from placement.limits.base import Limit, MarginField, PathBound
-from placement.objectives import Objective
 
 
 class PeakMotorSpeed(Objective):

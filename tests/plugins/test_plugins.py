@@ -17,9 +17,9 @@ import numpy as np
 import pytest
 
 from placement import Evaluator, EvaluatorSettings, load_path, load_robot, sweep
+from placement.contract import OBJECTIVES
 from placement.drives.motors import MOTOR_MODELS, Motor, MotorModel, PowerParts, register_motor_model
 from placement.exceptions import UnknownMemberError
-from placement.objectives import OBJECTIVES
 from placement.registry import runtime_members
 from tests.support.paths import EXAMPLE, PLUGIN
 from tests.support.robot_copies import edited_copy, orthoglide_motor
@@ -31,7 +31,7 @@ from multiprocessing import get_context
 from pathlib import Path
 import numpy as np, yaml
 import placement
-from placement.robot.catalog import builtin_robots_dir
+from placement.workshop.catalog import builtin_robots_dir
 
 assert "peak_motor_speed" in placement.OBJECTIVES.names() and "standby_pmsm" in placement.MOTOR_MODELS.names()
 import shutil

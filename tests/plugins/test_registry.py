@@ -7,13 +7,12 @@ import numpy as np
 import pytest
 import yaml
 
-from placement import Evaluator, EvaluatorSettings, load_path
+from placement import Evaluator, EvaluatorSettings, load_path, load_robot, robot_names
 from placement.__main__ import main
 from placement.placing.transform import VARIABLES
-from placement.robot import load_robot, robot_names
-from placement.robot.catalog import builtin_robots_dir
 from placement.robot.exceptions import RobotFileError
 from placement.search import optimize
+from placement.workshop.catalog import builtin_robots_dir
 from tests.support.paths import EXAMPLE
 
 CIRCLE = EXAMPLE.with_name("circle.yaml")

@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 import yaml
 
+from placement import load_robot
 from placement.__main__ import main
-from placement.robot import load_robot
-from placement.robot.catalog import builtin_robots_dir
 from placement.robot.closures import closure_residuals
 from placement.robot.exceptions import RobotFileError
+from placement.workshop.catalog import builtin_robots_dir
 from tests.support.robot_copies import edited_copy
 
 
@@ -163,7 +163,7 @@ def test_singular_passive_joints_are_reported_as_singular(tmp_path, capsys):
 
 def test_the_joints_outside_their_limits_are_named_with_the_limits_that_apply():
     """An actuator's range is the sidecar's, a passive joint's the URDF's."""
-    from placement.robot.assemble import outside_limits
+    from placement.workshop.assemble import outside_limits
 
     robot = load_robot("fivebar")
     assert outside_limits(robot, {"a1": 3.0, "b2": -3.0}) == []

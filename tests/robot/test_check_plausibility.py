@@ -6,10 +6,10 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
+from placement import load_robot
 from placement.__main__ import main
-from placement.robot import load_robot
-from placement.robot.checks import check_robot, default_amplitude
 from placement.robot.exceptions import RobotFileError
+from placement.workshop.checks import check_robot, default_amplitude
 from tests.support.robot_copies import edited_copy
 
 SAMPLES = 20

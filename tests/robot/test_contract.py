@@ -1,6 +1,6 @@
 """The robot contract: every built-in robot and every test robot obeys the same physics.
 
-Each robot follows a smooth demonstration motion (:func:`placement.robot.checks.demo_trajectory`: a
+Each robot follows a smooth demonstration motion (:func:`placement.workshop.checks.demo_trajectory`: a
 Lissajous figure of the end effector about its reference position, in every direction the mechanism
 can move it there, DEMO_SCALE times the ``check`` command's amplitude, over DEMO_DURATION_S) while the
 environment pushes on its end effector (:func:`tool_load`). Along that motion, for every kinematics
@@ -28,13 +28,13 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
+from placement import Robot, load_robot, robot_names
 from placement.dynamics.inverse import ActuatorTrajectory, inverse_dynamics
 from placement.kinematics import TaskTrajectory
 from placement.kinematics.base import SOLVERS
-from placement.robot import Robot, load_robot, robot_names
-from placement.robot.checks import check_robot, default_amplitude, demo_trajectory, energy_rate, forward_accelerations
 from placement.robot.closures import closure_residuals
-from placement.robot.erd import load_erd_robot
+from placement.workshop.checks import check_robot, default_amplitude, demo_trajectory, energy_rate, forward_accelerations
+from placement.workshop.example_robot_data import load_erd_robot
 from tests.support import delta_analytic, fivebar_analytic, robot_copies
 
 DEMO_SCALE = 4.0  # times the check command's amplitude (5 % of the workspace's smallest side): 20 % of it

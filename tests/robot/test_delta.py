@@ -13,12 +13,11 @@ import math
 import numpy as np
 import pytest
 
-from placement import Evaluator, EvaluatorSettings, load_path
+from placement import Evaluator, EvaluatorSettings, load_path, load_robot
 from placement.__main__ import main
 from placement.dynamics.inverse import inverse_dynamics
 from placement.kinematics import joint_trajectory
-from placement.robot import load_robot
-from placement.robot.catalog import builtin_robots_dir
+from placement.workshop.catalog import builtin_robots_dir
 from tests.support.delta_analytic import lumped_torques_Nm, williams_inverse_kinematics
 from tests.support.paths import CIRCLE
 from tests.support.trajectories import lissajous

@@ -15,18 +15,18 @@ import numpy as np
 import pytest
 import yaml
 
+from placement import load_robot
 from placement.__main__ import main
 from placement.kinematics.base import SOLVERS
 from placement.kinematics.exceptions import UnreachableError
 from placement.kinematics.trajectories import TaskTrajectory
-from placement.robot import load_robot
-from placement.robot.assemble import _solve
-from placement.robot.catalog import sidecar_path
-from placement.robot.checks import check_robot, default_amplitude
 from placement.robot.closures import closure_residuals
 from placement.robot.exceptions import RobotFileError
-from placement.robot.gepetto import EstimatesWarning, StaleSidecarWarning, estimated_drive, generate
-from placement.robot.load import _load_robot
+from placement.workshop.assemble import _solve
+from placement.workshop.catalog import sidecar_path
+from placement.workshop.checks import check_robot, default_amplitude
+from placement.workshop.gepetto import EstimatesWarning, StaleSidecarWarning, estimated_drive, generate
+from placement.workshop.load import _load_robot
 from tests.support.gepetto_weld import assembled_weld_fivebar
 from tests.support.paths import CIRCLE, DATA
 

@@ -8,10 +8,10 @@ import pinocchio as pin
 import pytest
 import yaml
 
+from placement import load_robot
 from placement.__main__ import main
 from placement.kinematics import joint_trajectory
 from placement.kinematics.trajectories import TaskTrajectory
-from placement.robot import load_robot
 from placement.robot.exceptions import RobotFileError
 from tests.support.paths import CIRCLE
 from tests.support.robot_copies import planar_arm, spinning_rods_fivebar

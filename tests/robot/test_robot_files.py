@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 import yaml
 
-from placement.robot import load_robot, robot_names
-from placement.robot.catalog import builtin_robots_dir
+from placement import load_robot, robot_names
 from placement.robot.exceptions import RobotFileError, UnknownRobotError
+from placement.workshop.catalog import builtin_robots_dir
 
 ORTHOGLIDE_DIR = builtin_robots_dir() / "orthoglide"
 

@@ -3,10 +3,10 @@
 import numpy as np
 import pinocchio as pin
 
+from placement import load_robot
 from placement.dynamics.inverse import inverse_dynamics
 from placement.kinematics import joint_trajectory
 from placement.kinematics.trajectories import TaskTrajectory
-from placement.robot import load_robot
 from placement.robot.closures import LWA
 
 

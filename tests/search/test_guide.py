@@ -8,7 +8,7 @@ import pytest
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings, denser
 from placement.path.load import load_path
 from placement.path.segments import Hold
-from placement.search import guide
+from placement.search import coarse_guide as guide
 from placement.search.optimize import SearchSettings, optimize_placement, search_sampling
 from placement.search.space import default_space
 
@@ -63,7 +63,7 @@ def test_a_path_with_few_samples_needs_no_guide_and_one_with_many_gets_one(tmp_p
 @pytest.fixture(scope="module")
 def guided(tmp_path_factory):
     """A guided search of a 1,500-point contour (3,000 samples), the guides' thresholds lowered to make it one."""
-    from placement.robot import load_robot
+    from placement import load_robot
 
     with pytest.MonkeyPatch.context() as patch:  # undone even when the search fails
         patch.setattr(guide, "GUIDE_THRESHOLD", 1_000)

@@ -18,7 +18,7 @@ STEP_S = 0.004
 
 @pytest.fixture(scope="module")
 def robot():
-    from placement.robot import load_robot
+    from placement import load_robot
 
     return load_robot("orthoglide")
 

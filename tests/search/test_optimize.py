@@ -21,7 +21,7 @@ ROUND_OFF = 1e-9  # "never worse than the grid" up to round-off: optima sit on l
 @pytest.fixture(scope="module")
 def case():
     """30 x 60 mm rectangle at z = 0, phi = 0; x and y free; a coarse time step keeps it quick."""
-    from placement.robot import load_robot
+    from placement import load_robot
 
     robot = load_robot("orthoglide")
     path = load_path(EXAMPLE)
@@ -88,7 +88,7 @@ def test_a_path_too_large_for_the_workspace_is_reported_with_the_binding_limit(t
 
 
 def test_the_duration_is_announced_once_before_the_search_starts():
-    from placement.robot import load_robot
+    from placement import load_robot
 
     events: list = []
     robot = load_robot("orthoglide")
@@ -132,8 +132,8 @@ def test_the_evaluation_settings_are_plain_data_that_each_search_takes_once():
     once, and a sweep maps one objective: both refuse otherwise before any work."""
     import pickle
 
+    from placement import load_robot
     from placement.exceptions import PlacementError
-    from placement.robot import load_robot
     from placement.search.pareto import pareto_front
     from placement.search.sweep import sweep
 

@@ -11,7 +11,7 @@ from hypothesis.extra.numpy import arrays
 
 from placement import load_path, load_robot
 from placement.__main__ import main
-from placement.objectives import OBJECTIVES
+from placement.contract import OBJECTIVES
 from placement.search.optimize import SearchSettings
 from placement.search.pareto import knee_index, non_dominated, pareto_front
 

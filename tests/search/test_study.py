@@ -11,9 +11,9 @@ import pytest
 
 from placement import Evaluator, EvaluatorSettings, load_path, load_robot
 from placement.__main__ import main
-from placement.cell.schema import load_cell
-from placement.cell.tool import equip
-from placement.path.schema import Timing
+from placement.cell.cell_file import load_cell
+from placement.path.path_file import Timing
+from placement.robot.equip import equip
 from placement.search.optimize import SearchSettings, optimize_placement
 from placement.search.study import run_study
 

@@ -17,7 +17,7 @@ FIXED = {"z": -0.01, "phi": 0.3}
 
 @pytest.fixture(scope="module")
 def serial():
-    from placement.robot import load_robot
+    from placement import load_robot
 
     robot = load_robot("orthoglide")
     path = load_path(EXAMPLE)
@@ -70,7 +70,7 @@ def test_workers_evaluate_the_robot_as_changed_in_memory():
     """A robot without a plug-in travels to the workers as it is, not reloaded from its file."""
     import dataclasses
 
-    from placement.robot import load_robot
+    from placement import load_robot
 
     robot = load_robot("fivebar")
     path = load_path(EXAMPLE.with_name("circle.yaml"))

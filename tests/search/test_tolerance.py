@@ -10,10 +10,10 @@ import sys
 import numpy as np
 import pytest
 
+from placement import load_robot
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.evaluation.results import Evaluation
 from placement.path.load import load_path
-from placement.robot import load_robot
 from placement.search.space import PlacementSpace, default_space
 from placement.search.tolerance import tolerance_box
 from tests.support.paths import EXAMPLE, ROOT
@@ -115,7 +115,7 @@ import json
 import numpy as np
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.path.load import load_path
-from placement.robot import load_robot
+from placement import load_robot
 from placement.search.optimize import SearchSettings, optimize_placement
 from placement.search.space import default_space
 from placement.search.tolerance import tolerance_box

@@ -5,7 +5,7 @@ import warnings
 from pathlib import Path
 
 from placement.__main__ import main
-from placement.robot.gepetto import EstimatesWarning
+from placement.workshop.gepetto import EstimatesWarning
 from tests.support.paths import DATA
 
 WELD_DATA = DATA / "gepetto_fivebar_weld"

@@ -20,15 +20,15 @@ import sys
 import numpy as np
 import pinocchio as pin
 
-from placement.cell.bounds import SPHERE, pair_bounds
-from placement.dynamics.path import PathForm
+from placement.collision.bounds import SPHERE, pair_bounds
+from placement.contract.limit import PathBound
+from placement.dynamics.path_dynamics import PathForm
 from placement.dynamics.tree_rnea import touch_tree_kernels
-from placement.evaluation.timed import _timed_columns
+from placement.evaluation.timed_motion import _timed_columns
 from placement.kinematics import kernels
 from placement.kinematics.closed_form import touch_joint_motion_kernel
 from placement.kinematics.tree import tree_arrays
 from placement.kinematics.warmup import touch_kernels
-from placement.limits.base import PathBound
 from placement.timing.optimal import bound_rows
 from placement.timing.topp import time_placements
 from tests.support.paths import ROOT

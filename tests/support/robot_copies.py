@@ -14,9 +14,9 @@ from pathlib import Path
 import numpy as np
 import yaml
 
+from placement import load_robot
 from placement.__main__ import main
-from placement.robot import load_robot
-from placement.robot.catalog import builtin_robots_dir
+from placement.workshop.catalog import builtin_robots_dir
 from tests.support.paths import DATA
 
 GEPETTO_FIVEBAR = DATA / "gepetto_fivebar"

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from placement.path.load import load_path
-from placement.timing.realistic import segment_speeds
+from placement.path.realistic_law import segment_speeds
 
 ACCELERATION, JERK = 10.0, 500.0
 TIMING = f"timing: {{mode: realistic, max_acceleration_m_s2: {ACCELERATION:g}, max_jerk_m_s3: {JERK:g}}}\n"

@@ -13,7 +13,7 @@ from placement.__main__ import main
 from placement.dynamics.inverse import actuator_efforts
 from placement.evaluation.evaluator import denser
 from placement.exceptions import PlacementError
-from placement.path.schema import Timing
+from placement.path.path_file import Timing
 from placement.placing.transform import placed_task
 from placement.search.pareto import non_dominated
 from placement.timing.exceptions import TimingError

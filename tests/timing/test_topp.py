@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from placement import Evaluator, EvaluatorSettings, load_path, load_robot
-from placement.dynamics.path import path_dynamics
-from placement.limits.base import path_bounds
-from placement.path.schema import Timing
+from placement.contract.limit import path_bounds
+from placement.dynamics.path_dynamics import path_dynamics
+from placement.path.path_file import Timing
 from placement.placing.transform import placed_task
 from placement.timing.optimal import bound_rows, speed_bound, time_optimal
 from placement.timing.topp import time_placements

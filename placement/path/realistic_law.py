@@ -36,7 +36,7 @@ from placement.exceptions import PlacementError
 if TYPE_CHECKING:
     from placement.path.samples import PathSamples
     from placement.path.segments import Run, Segment
-    from placement.timing.interface import TimedPath
+    from placement.path.timed_path import TimedPath
 
 ARC_SAFETY = 0.98  # share of the bounds used on curved stretches, where they are checked on samples
 CURVATURE_TOLERANCE_1_M = 1e-6  # curvature vectors closer than this (1/m) are one: no jump at the join

@@ -18,7 +18,7 @@ import yaml
 
 from placement.registry import Registry
 from placement.robot.exceptions import UnknownRobotError
-from placement.robot.gepetto import folder_sidecar
+from placement.workshop.gepetto import folder_sidecar
 
 ROBOTS: Registry[Callable[[], str | Path]] = Registry("robot", "placement.robots")
 ERD_FORM = "erd:"  # a robot argument naming one of example-robot-data's arms: erd:NAME
@@ -49,7 +49,7 @@ def robot_names() -> list[str]:
 
 def sidecar_path(name_or_path: str | Path) -> Path:
     """The sidecar file of a robot name, or of a path: a file, or a robot folder (see
-    :func:`placement.robot.gepetto.folder_sidecar`: Gepetto's example-parallel-robots format too).
+    :func:`placement.workshop.gepetto.folder_sidecar`: Gepetto's example-parallel-robots format too).
 
     Raises:
         UnknownRobotError: Neither a known name nor an existing file or folder.

@@ -57,15 +57,17 @@ import pinocchio as pin
 import yaml
 from pydantic import Field, ValidationError
 
+from placement.kinematics.base import SOLVERS
+from placement.kinematics.generic import null_space_basis
+from placement.kinematics.trajectories import TaskTrajectory
+from placement.placing.transform import plane_frame
+from placement.robot.closures import LWA, closure_jacobian
 from placement.robot.exceptions import RobotFileError
+from placement.robot.formats import SIDECAR_NAME, URDF_NAME, YAML_NAME, is_gepetto
 from placement.robot.model import Robot
-from placement.robot.sidecar import Sidecar
-from placement.schema import MAX_FILE_BYTES, Strict, read_yaml
+from placement.robot.sidecar import Plane, Sidecar
+from placement.schema import Strict, read_yaml
 
-YAML_NAME = "robot.yaml"
-URDF_NAME = "robot.urdf"
-SIDECAR_NAME = "placement.yaml"
-GEPETTO_KEYS = ("closed_loop", "type", "name_mot", "joint_name", "joint_type")
 MOTOR_SPEED_RAD_S = 314.16  # rated speed of the estimated motors (3000 rpm)
 PEAK_CURRENT_A = 10.0
 PHASES = 3
@@ -121,17 +123,6 @@ class _Urdf:
             return float(text) if text is not None else None
         except ValueError:
             raise RobotFileError(self.path, f"joint '{joint}' limit {attribute}", f"not a number: '{text}'"[:80]) from None
-
-
-def is_gepetto(path: Path) -> bool:
-    """Whether ``path`` is a ``robot.yaml`` in the Gepetto format: a mapping with its keys and no ``urdf``."""
-    try:
-        if not path.is_file() or path.stat().st_size > MAX_FILE_BYTES:
-            return False
-        document = yaml.safe_load(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, yaml.YAMLError, RecursionError):
-        return False
-    return isinstance(document, dict) and "urdf" not in document and any(key in document for key in GEPETTO_KEYS)
 
 
 def folder_sidecar(path: Path) -> Path | None:
@@ -356,7 +347,7 @@ def _estimates_text(path: Path, estimates: list[str]) -> str:
 def sidecar_text(path: Path, robot: Robot, reference: dict[str, float], locks: dict[str, float] | None = None,
                  reason: str = "") -> str:
     """The sidecar of the Gepetto ``robot.yaml`` at ``path``, its loops closed at ``reference``, as YAML text
-    (:func:`placement.robot.assemble.write_gepetto_sidecar` writes it beside, if it loads).
+    (:func:`placement.workshop.assemble.write_gepetto_sidecar` writes it beside, if it loads).
 
     Args:
         path: The ``robot.yaml``.
@@ -394,8 +385,6 @@ def _workspace(robot: Robot, sources: dict[str, str]) -> dict[str, Any]:
     a CAD export with its arms stretched has its end effector at the edge of its reach, and half of
     the box around it would lie beyond.
     """
-    from placement.kinematics.generic import null_space_basis  # here: the kinematics import this package
-    from placement.robot.closures import LWA, closure_jacobian
 
     model, data, q = robot.model, robot.model.createData(), robot.reference_q
     basis, _, _ = null_space_basis(robot, closure_jacobian(robot, data, q))
@@ -430,8 +419,6 @@ def _reachable_box(robot: Robot, center: np.ndarray, half: np.ndarray,
     """The bounding box (m) of the points of a ``REACH_GRID``-per-side grid over ``center`` ± ``half`` (m, 0 along
     the axes the end effector does not move along), moved onto the plane through ``center`` of ``normal`` when
     given, that the generic solver reaches from the reference configuration (on its branch, not singular)."""
-    from placement.kinematics.base import SOLVERS
-    from placement.kinematics.trajectories import TaskTrajectory
 
     axes = [np.linspace(c - h, c + h, REACH_GRID) if h > 0 else np.array([c]) for c, h in zip(center, half)]
     points = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
@@ -446,8 +433,6 @@ def _reachable_box(robot: Robot, center: np.ndarray, half: np.ndarray,
 def _plane_normal(normal: np.ndarray) -> list[float]:
     """A plane's unit normal, rounded to 6 decimals, signed so that the plane's y axis (see
     :func:`placement.placing.transform.plane_frame`) does not point down (along -Z_b): placements read y upwards."""
-    from placement.placing.transform import plane_frame
-    from placement.robot.sidecar import Plane
 
     rounded = [round(float(c), 6) + 0.0 for c in normal]
     rotation, _ = plane_frame(Plane.model_validate({"normal": rounded}))

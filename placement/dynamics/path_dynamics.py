@@ -74,7 +74,7 @@ class PathForm:
     Each term is an array broadcastable to (K, N, m): K placements, N samples, m columns (actuators,
     or some of them). Forms add, subtract and scale by arrays, so that an equation written once for
     a motion sampled in time (arrays) gives the same quantity along the path (forms): the drives'
-    equations (:class:`placement.drives.trace.Drives`) serve the motor trace and the optimal timing
+    equations (:class:`placement.energy.trace.Drives`) serve the motor trace and the optimal timing
     law alike.
     """
 

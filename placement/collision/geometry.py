@@ -19,10 +19,10 @@ import coal
 import numpy as np
 import pinocchio as pin
 
+from placement.cell.cell_file import BoxShape, Cell, CylinderShape, MeshShape, Shape, SphereShape, ToolBody, mesh_path
 from placement.cell.exceptions import CellFileError
-from placement.cell.schema import BoxShape, Cell, CylinderShape, MeshShape, Shape, SphereShape, ToolBody, mesh_path
-from placement.cell.tool import tool_of
 from placement.exceptions import InputFileError
+from placement.robot.equip import tool_of
 from placement.robot.exceptions import RobotFileError
 from placement.robot.model import Robot
 from placement.robot.tool import declaring_file_error, pose_placement, tool_mount
@@ -74,7 +74,7 @@ class SceneGeometry:
 
 
 def build_geometry(robot: Robot, cell: Cell | None) -> SceneGeometry:
-    """The collision geometry of ``robot`` carrying its tool (see :func:`placement.cell.tool.tool_of`) in ``cell``.
+    """The collision geometry of ``robot`` carrying its tool (see :func:`placement.robot.equip.tool_of`) in ``cell``.
 
     Args:
         robot: The robot (its model may be reduced by locked joints).

@@ -1,9 +1,10 @@
-"""Robots as data: load a URDF (spanning tree) and its sidecar into a validated :class:`Robot`.
+"""Robots as data: a URDF (spanning tree) and its sidecar built into a validated :class:`Robot`.
 
-``load_robot("orthoglide")`` loads a built-in robot; ``load_robot("path/to/robot.yaml")`` loads
-any sidecar. Loading checks every name against the URDF, the physical sense of every number, that
-each loop closure closes at the reference configuration, and that the actuated joints are exactly
-the mechanism's degrees of freedom. Errors name the file and the field.
+Building checks every name against the URDF, the physical sense of every number, that each loop
+closure closes at the reference configuration, and that the actuated joints are exactly the
+mechanism's degrees of freedom. Errors name the file and the field. The kinematics checks and the
+tool's mounting follow in :func:`placement.workshop.load.robot_from_sidecar`, which
+:func:`placement.workshop.load.load_robot` calls.
 """
 
 from __future__ import annotations
@@ -15,83 +16,29 @@ import numpy as np
 import pinocchio as pin
 from pydantic import BaseModel
 
-from placement.exceptions import PlacementError
-from placement.files import staged
-from placement.robot.catalog import sidecar_path
 from placement.robot.closures import closure_jacobian, closure_residuals
-from placement.robot.exceptions import AssemblyError, RobotFileError
-from placement.robot.gepetto import SIDECAR_NAME, is_gepetto, read_gepetto
+from placement.robot.exceptions import RobotFileError
+from placement.robot.formats import SIDECAR_NAME, is_gepetto
 from placement.robot.model import Actuator, Closure, Robot
 from placement.robot.plugins import load_plugin, make_closed_form
-from placement.robot.sidecar import Sidecar, read_sidecar
-from placement.robot.tool import add_tool_frame, find_frame, mount_tool
+from placement.robot.sidecar import Sidecar
+from placement.robot.tool import add_tool_frame, find_frame
 from placement.robot.urdf import pinocchio_model, read_urdf, resolve_urdf, urdf_limits_missing
 
 CLOSURE_TOLERANCE_M = 1e-6
 PRISMATIC_JOINTS = ("JointModelPX", "JointModelPY", "JointModelPZ", "JointModelPrismaticUnaligned")
 
 
-def load_robot(name_or_path: str | Path) -> Robot:
-    """Load a built-in robot by name, or any robot from its sidecar YAML file.
-
-    Args:
-        name_or_path: A robot name (see :func:`placement.robot.catalog.robot_names`) or a sidecar path.
-
-    Returns:
-        The validated robot.
-
-    Raises:
-        UnknownRobotError: Neither a built-in name nor an existing file.
-        RobotFileError: The sidecar or its URDF is wrong (the message names file and field).
-    """
-    return _load_robot(name_or_path)
-
-
-def _load_robot(name_or_path: str | Path, *, check_closures: bool = True) -> Robot:
-    """:func:`load_robot`; ``check_closures=False`` accepts loops open at the reference configuration.
-
-    Without the closure check, the checks that need the loops closed (mobility, plug-in agreement)
-    are skipped too: the robot is only fit for :mod:`placement.robot.assemble` to close its loops.
-    """
-    path = sidecar_path(name_or_path)
-    sidecar = read_gepetto(path) if is_gepetto(path) else read_sidecar(path)
-    return build_robot(path, sidecar, check_closures=check_closures)
-
-
-def write_if_it_loads(path: Path, text: str) -> Robot:
-    """Write the sidecar ``text`` to ``path`` only if it loads, every check passing (loops closed).
-
-    The text goes to a temporary file beside ``path``, so that its URDF and plug-in resolve as they
-    will from ``path``; it is loaded from there and only then renamed to ``path``. A sidecar that
-    does not load leaves ``path`` as it was (or absent).
-
-    Args:
-        path: The sidecar file to write.
-        text: Its new content (UTF-8 YAML).
-
-    Returns:
-        The robot loaded from the new file.
-
-    Raises:
-        AssemblyError: The text does not load; the message names ``path`` and the loading error.
-    """
-    with staged(path, text) as temporary:
-        try:
-            robot = load_robot(temporary)
-        except PlacementError as error:
-            said = str(error).replace(str(temporary), str(path))
-            raise AssemblyError(f"{path} not written: it would not load: {said}") from None
-    robot.sidecar_path = path
-    return robot
-
-
 def build_robot(path: Path, sidecar: Sidecar, *, check_closures: bool = True) -> Robot:
-    """A robot from a validated sidecar held in memory (one generated from a URDF, say).
+    """A robot from a validated sidecar held in memory (one generated from a URDF, say), before its kinematics
+    are checked and its tool mounted (:func:`placement.workshop.load.robot_from_sidecar` does both).
 
     Args:
         path: Where the sidecar stands: its folder resolves a relative URDF, and errors name it.
         sidecar: The sidecar.
-        check_closures: As for :func:`_load_robot`.
+        check_closures: Whether the loops must close at the reference configuration (and the actuated
+            joints parametrise the closed-loop motion); without, the robot is only fit for
+            :mod:`placement.workshop.assemble` to close its loops.
 
     Raises:
         RobotFileError: The sidecar disagrees with its URDF (the message names ``path`` and field).
@@ -122,26 +69,7 @@ def build_robot(path: Path, sidecar: Sidecar, *, check_closures: bool = True) ->
     if check_closures:
         _check_closed_at_reference(robot)
         _check_mobility(robot)
-        _check_plugin(robot)
-    _check_solver(robot)
-    if sidecar.tool is not None:
-        robot = mount_tool(robot, sidecar.tool)
     return robot
-
-
-def _check_solver(robot: Robot) -> None:
-    """A solver named in the sidecar must exist and serve this robot."""
-    from placement.kinematics.base import SOLVERS  # here: the solvers import this package's modules
-
-    name = robot.kinematics_name
-    if name is None:
-        return
-    if name not in SOLVERS:
-        raise RobotFileError(robot.sidecar_path, "kinematics", f"unknown kinematics solver '{name[:40]}', expected one "
-                             f"of {', '.join(SOLVERS.names())}")
-    reason = SOLVERS.get(name).unsuitable(robot)
-    if reason:
-        raise RobotFileError(robot.sidecar_path, "kinematics", f"the {name} solver cannot serve this robot: {reason}")
 
 
 def _lock_joints(model: pin.Model, path: Path, locked: dict[str, float]) -> pin.Model:
@@ -277,31 +205,6 @@ def _check_closed_at_reference(robot: Robot) -> None:
             raise RobotFileError(robot.sidecar_path, field, f"closure '{closure.name}' does not close at "
                                  f"reference_configuration: gap {gap:.3g} (m and rad), expected below "
                                  f"{CLOSURE_TOLERANCE_M}; {fix}")
-
-
-def _check_plugin(robot: Robot) -> None:
-    """A closed-form plug-in must cover every joint and agree with the reference configuration."""
-    if robot.closed_form is None:
-        return
-    field = "kinematics_plugin"
-    if robot.task != "position" or len(robot.actuators) != 3:
-        raise RobotFileError(robot.sidecar_path, field, "closed-form plug-ins serve position tasks of "
-                             "three-actuator robots; remove the plug-in to use the generic solver")
-    data = robot.model.createData()
-    pin.framesForwardKinematics(robot.model, data, robot.reference_q)
-    position = data.oMf[robot.end_effector_frame_id].translation
-    from placement.kinematics.taylor import Taylor2  # here: the kinematics import this package
-
-    joints = robot.closed_form(tuple(Taylor2.constant([c]) for c in position))
-    movable = set(robot.model.names[1:])
-    if set(joints) != movable:
-        raise RobotFileError(robot.sidecar_path, field, f"the plug-in must return exactly the joints {sorted(movable)}, "
-                             f"got {sorted(joints)}")
-    for name, value in joints.items():
-        joint = robot.model.joints[robot.model.getJointId(name)]
-        if joint.nq != 1 or abs(float(value.v[0]) - robot.reference_q[joint.idx_q]) > 1e-9:
-            raise RobotFileError(robot.sidecar_path, field, f"the plug-in disagrees with reference_configuration "
-                                 f"at joint '{name}'")
 
 
 def _check_mobility(robot: Robot) -> None:

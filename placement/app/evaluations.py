@@ -19,10 +19,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from placement.app.jobs import Job, front_task, map_task, search_task
+from placement.contract.limit import margin_fields, worst_margins
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.evaluation.results import PlacementDetail
 from placement.exceptions import PlacementError
-from placement.limits.base import margin_fields, worst_margins
 from placement.output.report import detail_json, job_document
 from placement.path.toolpath import ToolPath
 from placement.placing.transform import ANGLES, VARIABLES

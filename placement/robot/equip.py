@@ -8,7 +8,7 @@ from __future__ import annotations
 import dataclasses
 from pathlib import Path
 
-from placement.cell.schema import Cell, ToolBody
+from placement.cell.cell_file import Cell, ToolBody
 from placement.robot.model import Robot
 from placement.robot.tool import mount_tool, unmount_tool
 

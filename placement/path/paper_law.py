@@ -13,7 +13,7 @@ import numpy as np
 
 if TYPE_CHECKING:
     from placement.path.samples import PathSamples
-    from placement.timing.interface import TimedPath
+    from placement.path.timed_path import TimedPath
 
 
 def sample_paper(path: TimedPath, step_s: float) -> PathSamples:

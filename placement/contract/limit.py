@@ -19,8 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from placement.dynamics.path import PathDynamics, PathForm
-from placement.evaluation.batch import EvaluatedBatch
+from placement.contract.batch import EvaluatedBatch
+from placement.dynamics.path_dynamics import PathDynamics, PathForm
 from placement.registry import Registry
 from placement.robot.model import Robot
 
@@ -104,7 +104,7 @@ class Limit(ABC):
         return []
 
 
-LIMITS: Registry[Limit] = Registry("limit", "placement.limits", Limit)
+LIMITS: Registry[Limit] = Registry("limit", "placement.limits", Limit, builtins="placement.limits")
 
 
 def margin_fields(batch: EvaluatedBatch) -> list[MarginField]:

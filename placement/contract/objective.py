@@ -14,7 +14,7 @@ from typing import ClassVar, Literal
 
 import numpy as np
 
-from placement.evaluation.batch import EvaluatedBatch
+from placement.contract.batch import EvaluatedBatch
 from placement.registry import Registry
 
 
@@ -49,7 +49,8 @@ class Objective(ABC):
         return 1.0 if self.better == "lower" else -1.0
 
 
-OBJECTIVES: Registry[Objective] = Registry("objective", "placement.objectives", Objective)
+OBJECTIVES: Registry[Objective] = Registry("objective", "placement.objectives", Objective,
+                                              builtins="placement.objectives")
 
 
 @dataclass(frozen=True)

@@ -11,8 +11,8 @@ from typing import TYPE_CHECKING, Protocol
 if TYPE_CHECKING:
     import numpy as np
 
+    from placement.path.path_file import Timing
     from placement.path.samples import PathSamples
-    from placement.path.schema import Timing
     from placement.path.segments import Hold, Run, Segment
 
 

@@ -43,13 +43,14 @@ import numpy as np
 import pinocchio as pin
 from pydantic import ValidationError
 
-from placement.robot.catalog import ERD_FORM, erd_names
+from placement.robot.build import reduced_model
 from placement.robot.exceptions import ExampleRobotError
-from placement.robot.load import build_robot, reduced_model
 from placement.robot.model import Robot
 from placement.robot.sidecar import Sidecar
 from placement.robot.tool import find_frame
 from placement.robot.urdf import ERD_PREFIX, erd_urdf_path, pinocchio_model, urdf_limits_missing
+from placement.workshop.catalog import ERD_FORM, erd_names
+from placement.workshop.load import robot_from_sidecar
 
 GEAR_RATIO = 100.0
 SCREW_LEAD_M = 0.01
@@ -87,7 +88,7 @@ def load_erd_robot(name: str, tool: str | None) -> Robot:
     Raises:
         ExampleRobotError: Unknown name, missing or unknown tool, or an arm the rules cannot estimate.
     """
-    return build_robot(Path(ERD_FORM + name), erd_sidecar(name, tool))
+    return robot_from_sidecar(Path(ERD_FORM + name), erd_sidecar(name, tool))
 
 
 def erd_sidecar(name: str, tool: str | None) -> Sidecar:

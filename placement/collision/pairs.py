@@ -8,7 +8,7 @@
   through bodies without shapes (a parallel robot's wrist joints, say); the pairs the sidecar's
   ``collision.ignore_pairs`` lists. The tool is skipped only against the links of its own body.
 
-Pairs already touching at the reference configuration are dropped by :class:`placement.cell.scene.CollisionScene`,
+Pairs already touching at the reference configuration are dropped by :class:`placement.collision.distances.CollisionScene`,
 which knows distances; pairs between bodies fixed to the base never change and are checked there once.
 """
 
@@ -19,9 +19,9 @@ from dataclasses import dataclass
 
 import pinocchio as pin
 
+from placement.cell.cell_file import Cell
 from placement.cell.exceptions import CellFileError
-from placement.cell.geometry import KEEP_OUT, LINK, OBSTACLE, TOOL, Body
-from placement.cell.schema import Cell
+from placement.collision.geometry import KEEP_OUT, LINK, OBSTACLE, TOOL, Body
 from placement.robot.exceptions import RobotFileError
 from placement.robot.model import Robot
 

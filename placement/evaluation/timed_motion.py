@@ -15,11 +15,11 @@ from dataclasses import dataclass, fields
 import numpy as np
 from numba import njit
 
-from placement.dynamics.path import PathDynamics
+from placement.dynamics.path_dynamics import PathDynamics
 from placement.kinematics.trajectories import JointTrajectory
 from placement.path.samples import PathGeometry
+from placement.path.time_law import TimeLaw, timed_rates
 from placement.robot.model import Robot
-from placement.timing.law import TimeLaw, timed_rates
 
 PATH_TERMS = ("velocity", "curvature", "inertia", "centripetal", "static")  # the path dynamics the motion takes
 
@@ -53,7 +53,7 @@ def optimal_motion(robot: Robot, geometry: PathGeometry, unit: JointTrajectory, 
         robot: The robot.
         geometry: The path geometry.
         unit: Every joint's motion at unit speed along the path at the geometry's samples, K·len(geometry) rows.
-        dynamics: Their path dynamics (:func:`placement.dynamics.path.path_dynamics`).
+        dynamics: Their path dynamics (:func:`placement.dynamics.path_dynamics.path_dynamics`).
         law: Their timing.
     """
     k, grid = len(law.timed), geometry.grid_rows
@@ -77,8 +77,8 @@ def _timed_columns(position: np.ndarray, rate: np.ndarray, curvature: np.ndarray
                    centripetal: np.ndarray, static: np.ndarray, grid: np.ndarray, speed_m_s: np.ndarray,
                    acceleration_m_s2: np.ndarray, columns: np.ndarray) -> None:
     """``columns`` (4, m, K, N): the actuated joints' position q, velocity q'·ṡ, acceleration q'·s̈ + q''·ṡ²
-    (:func:`placement.timing.law.timed_rates`) and effort A·s̈ + B·ṡ² + C
-    (:class:`placement.dynamics.path.PathDynamics`) at the evaluated samples, each the path geometry's sample
+    (:func:`placement.path.time_law.timed_rates`) and effort A·s̈ + B·ṡ² + C
+    (:class:`placement.dynamics.path_dynamics.PathDynamics`) at the evaluated samples, each the path geometry's sample
     ``grid[n]``, from q (K, len(geometry), m), the path dynamics there (m, K, len(geometry)) each, and ṡ and s̈
     (K, N)."""
     for j in range(columns.shape[1]):
@@ -94,7 +94,7 @@ def _timed_columns(position: np.ndarray, rate: np.ndarray, curvature: np.ndarray
 
 class TimedJoints(JointTrajectory):
     """Every joint's motion at some rows of a motion at unit speed along the path, timed by ṡ and s̈ there
-    (:func:`placement.timing.law.timed_rates`): a :class:`placement.kinematics.trajectories.JointTrajectory` whose
+    (:func:`placement.path.time_law.timed_rates`): a :class:`placement.kinematics.trajectories.JointTrajectory` whose
     fields are computed when first read (the chain needs few of them, most often none).
 
     Args:

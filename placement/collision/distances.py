@@ -1,7 +1,7 @@
 """Collision distances of a robot in a cell, for many configurations at once.
 
 ``CollisionScene(robot, cell).distances(q)`` gives, for each configuration and each checked pair
-of bodies (see :mod:`placement.cell.pairs`), the signed distance in metres between the two bodies:
+of bodies (see :mod:`placement.collision.pairs`), the signed distance in metres between the two bodies:
 positive when apart, negative when they overlap (coal's penetration depth, so that a margin stays
 informative inside an obstacle). A body's distance is the smallest over its shapes.
 
@@ -10,19 +10,19 @@ Pinocchio, one configuration at a time. Speed: with ``threshold_m``, the compile
 place every shape of every configuration in one call, and a cheap lower bound, compiled too, spares
 the exact computation of pairs far apart: the gap between the two shapes' bounding spheres (against
 a cell body, from one shape's sphere to the other's bounding box), and, near the threshold, between
-their projections on a few axes (:mod:`placement.cell.bounds`). A pair whose bound exceeds the
+their projections on a few axes (:mod:`placement.collision.bounds`). A pair whose bound exceeds the
 threshold returns the bound (a value above the threshold, never above the exact distance). Given
 runs of configurations (a placement's samples along its path, whose margin is the smallest over
 them), only each pair's smallest distance over a run needs to be exact, where at most the
 threshold: an exact distance also bounds the pair's distance in the run's other configurations by
 how far the bodies move in between, and the exact ones are computed lowest bound first until no
-bound is below the smallest found (:mod:`placement.cell.bounds`). The run's smallest is then the same
+bound is below the smallest found (:mod:`placement.collision.bounds`). The run's smallest is then the same
 number as with every distance exact, its other values lower bounds at least that smallest, and
 checking ``distance >= required`` with a threshold at least the largest requirement decides
 exactly as the exact distances would. Along runs (without ``least``), the shapes are placed at every
 few configurations of a run first, and in between only where the joints' motion since could bring
 a pair within the threshold; elsewhere a value above the threshold may be the bound that motion
-leaves (:func:`placement.cell.bounds.lever_bounds`). A distance does not depend on the other
+leaves (:func:`placement.collision.bounds.lever_bounds`). A distance does not depend on the other
 configurations or pairs computed with it (coal's warm start is off). A scene is not safe to share
 between threads.
 """
@@ -36,7 +36,9 @@ import coal
 import numpy as np
 import pinocchio as pin
 
-from placement.cell.bounds import (
+from placement.cell.cell_file import Cell
+from placement.cell.exceptions import CellFileError
+from placement.collision.bounds import (
     ANCHOR_STRIDE,
     CHUNK,
     LIPSCHITZ_SLACK_M,
@@ -50,10 +52,8 @@ from placement.cell.bounds import (
     shape_supports,
     smallest_exact,
 )
-from placement.cell.exceptions import CellFileError
-from placement.cell.geometry import Body, build_geometry
-from placement.cell.pairs import Pair, select_pairs
-from placement.cell.schema import Cell
+from placement.collision.geometry import Body, build_geometry
+from placement.collision.pairs import Pair, select_pairs
 from placement.kinematics import kernels
 from placement.kinematics.kernels import TreeArrays
 from placement.kinematics.tree import tree_arrays, unsupported_joints
@@ -235,7 +235,7 @@ class CollisionScene:
         """Exact distances in ``values`` (M, K: bounds of the shape pairs in configurations q, whose shapes are
         placed by ``rotation[slot]`` and ``centre_m[slot]``, :meth:`_placed`) wherever a run's smallest of a body pair at most
         ``threshold_m`` may lie, and, if ``least``, its smallest over all pairs, round by round; the other values
-        raised to the bounds that the exact ones give (:mod:`placement.cell.bounds`)."""
+        raised to the bounds that the exact ones give (:mod:`placement.collision.bounds`)."""
         exact = np.zeros(values.shape, dtype=bool)
         kind, _, radius, _, extent = self._enclosures
         runs, offsets = len(q) // run, np.arange(0, run, CHUNK)
@@ -320,7 +320,7 @@ class CollisionScene:
 
     def _bounds(self, rotation: np.ndarray, centre_m: np.ndarray, threshold_m: float) -> np.ndarray:
         """(M, K) lower bounds of the shape pairs' distances with the shapes placed by ``rotation`` and ``centre_m``
-        (:meth:`_placed`), refined up to ``threshold_m`` (:func:`placement.cell.bounds.pair_bounds`)."""
+        (:meth:`_placed`), refined up to ``threshold_m`` (:func:`placement.collision.bounds.pair_bounds`)."""
         kind, _, radius, box_half, extent = self._enclosures
         return pair_bounds(rotation, centre_m, self._shape_first, self._shape_second, self._against_cell,
                            kind, radius, box_half, extent, float(threshold_m))
@@ -340,7 +340,7 @@ def _shape_tree(robot: Robot, geometry_model: pin.GeometryModel) -> TreeArrays:
 
 def _shape_levers(model: pin.Model, tree: TreeArrays, centre_m: np.ndarray,
                   radius_m: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
-    """Each shape's levers (:mod:`placement.cell.bounds`): for each joint that moves it, the most a point of its
+    """Each shape's levers (:mod:`placement.collision.bounds`): for each joint that moves it, the most a point of its
     bounding sphere moves per radian or metre of that joint, whatever the configuration, as (G + 1,) starts, then
     the joints' configuration indices and the lengths (m, or 1 for a sliding joint); None if a sliding joint that
     moves a shape has no finite travel."""

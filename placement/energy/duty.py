@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from placement.drives.trace import Drives
+from placement.energy.trace import Drives
 from placement.robot.model import Robot
 
 SECONDS_PER_HOUR = 3600.0

@@ -8,7 +8,7 @@ multiplies it when the load drives the motor. The current is I = τ/K_t and the 
 R·I + L·dI/dt + K_e·ω.
 
 :class:`Drives` writes these equations once. They take arrays (a motion sampled in time: the
-motor trace) or :class:`placement.dynamics.path.PathForm` (a motion along the path, affine in
+motor trace) or :class:`placement.dynamics.path_dynamics.PathForm` (a motion along the path, affine in
 s̈, ṡ² and ṡ: the bounds that the motor limits put on the optimal timing law).
 """
 
@@ -19,7 +19,7 @@ from typing import TypeVar
 
 import numpy as np
 
-from placement.dynamics.path import PathDynamics, PathForm
+from placement.dynamics.path_dynamics import PathDynamics, PathForm
 from placement.robot.model import Robot
 
 Quantity = TypeVar("Quantity", np.ndarray, PathForm)

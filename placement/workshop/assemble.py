@@ -22,12 +22,13 @@ import pinocchio as pin
 import yaml
 
 from placement.kinematics.generic import null_space_basis
+from placement.robot.build import joints_to_lock
 from placement.robot.closures import LWA, closure_jacobian, closure_residuals
 from placement.robot.exceptions import AssemblyError
-from placement.robot.gepetto import URDF_NAME, YAML_NAME, sidecar_beside, sidecar_text
-from placement.robot.load import build_robot, joints_to_lock, write_if_it_loads
 from placement.robot.model import Robot
 from placement.robot.urdf import urdf_limits_missing
+from placement.workshop.gepetto import URDF_NAME, YAML_NAME, sidecar_beside, sidecar_text
+from placement.workshop.load import robot_from_sidecar, write_if_it_loads
 
 CLOSED_TOLERANCE = 1e-10  # largest gap (m, rad) at which a loop counts as closed
 MAX_ITERATIONS = 500
@@ -261,7 +262,7 @@ def internal_freedoms(robot: Robot, q: np.ndarray) -> dict[str, float]:
     A weld closure between two links that each end in a revolute joint about the same axis (as a
     CAD export cuts a loop at a pin) leaves the pair free to spin together: a motion no actuator
     drives and that moves neither the end effector nor any closure. Such a freedom is locked by
-    holding one joint of the group that moves with it (:func:`placement.robot.load.joints_to_lock`),
+    holding one joint of the group that moves with it (:func:`placement.robot.build.joints_to_lock`),
     which changes neither the tool's motion nor the loads the actuators carry. A free motion that
     moves the end effector is a missing actuator, not something to lock: then nothing is proposed.
 
@@ -294,11 +295,11 @@ def locked_robot(robot: Robot, reference: dict[str, float], locks: dict[str, flo
     """``robot`` with the ``locks`` joints held at their values and ``reference`` as its reference configuration.
 
     Raises:
-        RobotFileError: Pinocchio cannot hold these joints (see :func:`placement.robot.load.reduced_model`).
+        RobotFileError: Pinocchio cannot hold these joints (see :func:`placement.robot.build.reduced_model`).
     """
     sidecar = robot.sidecar.model_copy(update={"locked_joints": {**robot.sidecar.locked_joints, **locks},
                                                "reference_configuration": reference})
-    return build_robot(robot.sidecar_path, sidecar, check_closures=False)
+    return robot_from_sidecar(robot.sidecar_path, sidecar, check_closures=False)
 
 
 def _snapped(value: float) -> float:
@@ -373,7 +374,7 @@ def write_reference_configuration(path: Path, values: dict[str, float], locks: d
     comments and the line endings stay byte for byte. A sidecar without the field gets it appended.
     ``locks`` go at the end of ``locked_joints``, each with an entry ``locked_joints.NAME: "EST:
     reason"`` at the end of ``sources`` (fields appended when missing). The file changes only if the
-    rewritten sidecar loads (:func:`placement.robot.load.write_if_it_loads`).
+    rewritten sidecar loads (:func:`placement.workshop.load.write_if_it_loads`).
 
     Args:
         path: The sidecar file (UTF-8 YAML).

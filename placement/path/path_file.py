@@ -35,7 +35,7 @@ Timing laws (a timed pose list has its own times instead):
         own feed (a G-code move at its F).
     realistic: the tool stops at every sharp corner, at every gap a skipped rapid leaves, and
         wherever a pose list's orientation changes its rate of turning; between such stops it
-        follows a jerk-limited feed profile with look-ahead (:mod:`placement.timing.realistic`):
+        follows a jerk-limited feed profile with look-ahead (:mod:`placement.path.realistic_law`):
         each segment runs at its own feed where its length allows, slowed only where the
         geometry requires it (on arcs, until the tangential and centripetal acceleration and
         jerk together stay within the bounds; where the curvature jumps), and accelerates

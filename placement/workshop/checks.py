@@ -17,8 +17,8 @@ from xml.etree import ElementTree
 import numpy as np
 import pinocchio as pin
 
-from placement.drives.trace import motor_trace
 from placement.dynamics.inverse import actuator_efforts
+from placement.energy.trace import motor_trace
 from placement.kinematics import joint_trajectory
 from placement.kinematics.exceptions import UnreachableError
 from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
@@ -320,7 +320,7 @@ def heavy_link_warnings(masses: dict[str, float]) -> list[str]:
 def effort_warnings(robot: Robot, joints: JointTrajectory, effort: np.ndarray) -> list[str]:
     """Actuators whose drive cannot deliver the motor torque the check motion needs.
 
-    The motor torque comes from :func:`placement.drives.trace.motor_trace` (transmission ratio,
+    The motor torque comes from :func:`placement.energy.trace.motor_trace` (transmission ratio,
     efficiency, friction and rotor inertia); actuators without a drive are skipped.
     """
     driven = [i for i, actuator in enumerate(robot.actuators) if actuator.drive is not None]

@@ -8,13 +8,13 @@ from functools import cached_property
 
 import numpy as np
 
-from placement.drives.trace import MotorTrace
-from placement.dynamics.path import sample_rows
+from placement.dynamics.path_dynamics import sample_rows
 from placement.energy.integration import DrivePower, Energy, drive_power, electric_energy, interval_widths
+from placement.energy.trace import MotorTrace
 from placement.kinematics.trajectories import JointTrajectory
 from placement.path.samples import PathSamples
+from placement.path.time_law import TimeLaw
 from placement.robot.model import Robot
-from placement.timing.law import TimeLaw
 
 
 @dataclass(frozen=True)
@@ -75,7 +75,7 @@ class EvaluatedBatch:
 
     def distinct(self, values: np.ndarray) -> np.ndarray:
         """(K, N', m) ``values`` (K, N, m), a function of the samples' position and velocity, at the distinct samples
-        (laid out column by column, :func:`placement.dynamics.path.sample_rows`), or the values themselves."""
+        (laid out column by column, :func:`placement.dynamics.path_dynamics.sample_rows`), or the values themselves."""
         return values if self.distinct_samples is None else sample_rows(values, self.distinct_samples)
 
     @cached_property

@@ -42,16 +42,16 @@ from ruamel.yaml.comments import CommentedMap
 from scipy.interpolate import make_interp_spline
 from scipy.optimize import least_squares
 
-from placement.drives.exceptions import LogFileError
-from placement.drives.trace import MotorTrace, motor_trace
 from placement.dynamics.inverse import actuator_efforts
 from placement.energy.integration import sample_power
+from placement.energy.trace import MotorTrace, motor_trace
 from placement.exceptions import PlacementError
 from placement.kinematics import joint_trajectory
 from placement.kinematics.base import task_jacobian
 from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
 from placement.robot.model import Robot
 from placement.robot.sidecar import Drive
+from placement.workshop.exceptions import LogFileError
 
 # Constants a fit may free: where they sit in a drive, their bounds and a typical size (SI).
 FITTABLE: dict[str, tuple[str, tuple[float, float], float]] = {

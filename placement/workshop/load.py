@@ -1,0 +1,95 @@
+"""Load a robot by name or file: built-in robots, sidecars and Gepetto folders, checked whole.
+
+``load_robot("orthoglide")`` loads a built-in robot; ``load_robot("path/to/robot.yaml")`` loads
+any sidecar, and a Gepetto ``robot.yaml`` (its folder too) with its estimates. Loading builds the
+robot (:func:`placement.robot.build.build_robot`: every name against the URDF, the physical sense
+of every number, the loops closed, the mobility), checks its kinematics
+(:func:`placement.kinematics.validation.check_kinematics`) and mounts its tool. Errors name the
+file and the field.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from placement.exceptions import PlacementError
+from placement.files import staged
+from placement.kinematics.validation import check_kinematics
+from placement.robot.build import build_robot
+from placement.robot.exceptions import AssemblyError
+from placement.robot.formats import is_gepetto
+from placement.robot.model import Robot
+from placement.robot.sidecar import Sidecar, read_sidecar
+from placement.robot.tool import mount_tool
+from placement.workshop.catalog import sidecar_path
+from placement.workshop.gepetto import read_gepetto
+
+
+def load_robot(name_or_path: str | Path) -> Robot:
+    """Load a built-in robot by name, or any robot from its sidecar YAML file.
+
+    Args:
+        name_or_path: A robot name (see :func:`placement.workshop.catalog.robot_names`) or a sidecar path.
+
+    Returns:
+        The validated robot.
+
+    Raises:
+        UnknownRobotError: Neither a built-in name nor an existing file.
+        RobotFileError: The sidecar or its URDF is wrong (the message names file and field).
+    """
+    return _load_robot(name_or_path)
+
+
+def _load_robot(name_or_path: str | Path, *, check_closures: bool = True) -> Robot:
+    """:func:`load_robot`; ``check_closures=False`` accepts loops open at the reference configuration.
+
+    Without the closure check, the checks that need the loops closed (mobility, plug-in agreement)
+    are skipped too: the robot is only fit for :mod:`placement.workshop.assemble` to close its loops.
+    """
+    path = sidecar_path(name_or_path)
+    sidecar = read_gepetto(path) if is_gepetto(path) else read_sidecar(path)
+    return robot_from_sidecar(path, sidecar, check_closures=check_closures)
+
+
+def write_if_it_loads(path: Path, text: str) -> Robot:
+    """Write the sidecar ``text`` to ``path`` only if it loads, every check passing (loops closed).
+
+    The text goes to a temporary file beside ``path``, so that its URDF and plug-in resolve as they
+    will from ``path``; it is loaded from there and only then renamed to ``path``. A sidecar that
+    does not load leaves ``path`` as it was (or absent).
+
+    Args:
+        path: The sidecar file to write.
+        text: Its new content (UTF-8 YAML).
+
+    Returns:
+        The robot loaded from the new file.
+
+    Raises:
+        AssemblyError: The text does not load; the message names ``path`` and the loading error.
+    """
+    with staged(path, text) as temporary:
+        try:
+            robot = load_robot(temporary)
+        except PlacementError as error:
+            said = str(error).replace(str(temporary), str(path))
+            raise AssemblyError(f"{path} not written: it would not load: {said}") from None
+    robot.sidecar_path = path
+    return robot
+
+
+def robot_from_sidecar(path: Path, sidecar: Sidecar, *, check_closures: bool = True) -> Robot:
+    """A robot from a validated sidecar held in memory (one generated from a URDF, say), checked and with its tool.
+
+    Args:
+        path: Where the sidecar stands: its folder resolves a relative URDF, and errors name it.
+        sidecar: The sidecar.
+        check_closures: As for :func:`_load_robot`.
+
+    Raises:
+        RobotFileError: The sidecar disagrees with its URDF (the message names ``path`` and field).
+    """
+    robot = build_robot(path, sidecar, check_closures=check_closures)
+    check_kinematics(robot, plugin=check_closures)
+    return robot if sidecar.tool is None else mount_tool(robot, sidecar.tool)
