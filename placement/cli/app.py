@@ -11,13 +11,14 @@ import argparse
 import sys
 
 from placement.cli.common import (
-    add_cell_option,
-    add_margin_option,
-    add_model_options,
-    add_sampling_options,
-    add_tool_option,
     configured_path,
+    job_options,
     load_robot_argument,
+    margin_option,
+    model_options,
+    placement_options,
+    sampling_options,
+    seed_option,
     serve_until_stopped,
     whole_number,
 )
@@ -29,17 +30,9 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     """The ``app`` subcommand's options."""
     parser = commands.add_parser("app", help="the workbench: drag, read, search and play a placement in the browser",
                                  description="Serve the workbench page: the robot, its workspace and the placed "
-                                             "path with a gizmo, live and exact readings, searches, the motion.")
-    parser.add_argument("--robot", required=True, help="built-in robot name or robot sidecar YAML")
-    add_tool_option(parser)
-    add_cell_option(parser)
-    parser.add_argument("--path", required=True, help="path file (YAML)")
-    parser.add_argument("--free", metavar="y=-40:40,x,phi", help="free placement variables and bounds, as the main job's")
-    parser.add_argument("--fix", metavar="z=0,theta=0", help="values of fixed variables (mm, deg; default 0)")
-    add_model_options(parser)
-    add_sampling_options(parser)
-    add_margin_option(parser)
-    parser.add_argument("--seed", type=whole_number(0, 2**32 - 1), default=0, help="random seed of the search (default 0)")
+                                             "path with a gizmo, live and exact readings, searches, the motion.",
+                                 parents=[job_options(), placement_options(), model_options(), sampling_options(),
+                                          margin_option(), seed_option()])
     parser.add_argument("--port", type=whole_number(0, 65535), default=0,
                         help="port to serve on (default: the first free one from 8080)")
     parser.add_argument("--host", default="127.0.0.1",

@@ -14,7 +14,7 @@ import argparse
 
 import numpy as np
 
-from placement.cli.common import add_tool_option, load_robot_argument, positive_number, whole_number
+from placement.cli.common import load_robot_argument, positive_number, tool_option, whole_number
 from placement.cli.exceptions import UsageError
 from placement.kinematics.base import solver_name
 from placement.kinematics.exceptions import UnreachableError
@@ -24,9 +24,8 @@ from placement.workshop.checks import CheckReport, check_robot
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
     """The 'check' subcommand's options."""
-    check = commands.add_parser("check", help="describe a robot and prove its dynamic model exact")
+    check = commands.add_parser("check", help="describe a robot and prove its dynamic model exact", parents=[tool_option()])
     check.add_argument("robot", help="robot name, path to a sidecar YAML file, or erd:NAME (with --tool)")
-    add_tool_option(check)
     check.add_argument("--samples", type=whole_number(10, 100_000), default=100,
                        help="samples of the check trajectory (default 100)")
     check.add_argument("--amplitude", type=positive_number, metavar="AMPLITUDE_M",

@@ -71,34 +71,117 @@ def non_negative(text: str) -> float:
     return value
 
 
-def add_model_options(parser: argparse.ArgumentParser) -> None:
-    """--objective and --regen: what placements are ranked by, and what braking energy does."""
-    parser.add_argument("--objective", default="energy", metavar="NAME",
-                        help=f"what placements are ranked by: {', '.join(OBJECTIVES.names())} (default: energy, "
-                             "the electric energy)")
-    parser.add_argument("--regen", choices=REGENERATION.names(), default="clip",
-                        help="what happens to braking energy (default: clip, no regeneration)")
+def parent() -> argparse.ArgumentParser:
+    """An empty parent parser, whose options a command takes with ``parents=[...]``."""
+    return argparse.ArgumentParser(add_help=False)
 
 
-def add_sampling_options(parser: argparse.ArgumentParser) -> None:
-    """Options that override how a path file is timed and sampled (see configured_path)."""
-    parser.add_argument("--timing", choices=("paper", "realistic", "optimal"),
-                        help="override the path file's timing law (optimal: as fast as the robot allows at each "
-                             "placement, the feed an upper bound)")
-    parser.add_argument("--max-acceleration", type=positive_number, metavar="M_S2",
-                        help="tool acceleration bound of the realistic timing law (m/s^2)")
-    parser.add_argument("--max-jerk", type=positive_number, metavar="M_S3",
-                        help="tool jerk bound of the realistic timing law (m/s^3)")
-    parser.add_argument("--time-step", type=positive_number, metavar="S",
-                        help="path sampling step (s; default: the path file's)")
+def job_options(*, several_paths: bool = False) -> argparse.ArgumentParser:
+    """--robot, --tool, --cell and --path: the robot, where it works, and the path it follows (a parent parser).
+
+    Args:
+        several_paths: Whether --path takes one or more files (the main job), else exactly one.
+    """
+    options = parent()
+    options.add_argument("--robot", required=True, help="built-in robot name, path to a robot sidecar YAML, or "
+                         "erd:NAME (an example-robot-data arm, with --tool)")
+    _add_tool(options)
+    _add_cell(options)
+    if several_paths:
+        options.add_argument("--path", required=True, nargs="+", help="path file(s) (YAML), e.g. examples/rect.yaml")
+    else:
+        options.add_argument("--path", required=True, help="path file (YAML), e.g. examples/rect.yaml")
+    return options
 
 
-def add_margin_option(parser: argparse.ArgumentParser) -> None:
-    """--margin: the share of every limit a feasible placement keeps free, in percent."""
-    parser.add_argument("--margin", type=margin_percent, default=0.0, metavar="PERCENT",
-                        help="keep this share of every limit's range, speed, torque or workspace side free at every "
-                             "sample, and a collision's clearance this many mm per 100 mm beyond the cell's margin "
-                             "(default 0: the limits themselves)")
+def tool_option() -> argparse.ArgumentParser:
+    """--tool alone, for a command whose robot is a positional argument (a parent parser)."""
+    options = parent()
+    _add_tool(options)
+    return options
+
+
+def cell_option() -> argparse.ArgumentParser:
+    """--cell alone, for a command that names its robots otherwise (a parent parser)."""
+    options = parent()
+    _add_cell(options)
+    return options
+
+
+def _add_tool(options: argparse.ArgumentParser) -> None:
+    options.add_argument("--tool", metavar="FRAME",
+                         help="with --robot erd:NAME (any serial arm of example-robot-data, drives and workspace "
+                              "estimated): the link or joint that follows the path, e.g. tool0")
+
+
+def _add_cell(options: argparse.ArgumentParser) -> None:
+    options.add_argument("--cell", metavar="FILE",
+                         help="a cell file (YAML): obstacles the robot must clear, keep-out zones, the region where "
+                              "the workpiece may be placed, and a tool body; collisions then become a limit")
+
+
+def model_options() -> argparse.ArgumentParser:
+    """--objective and --regen: what placements are ranked by, and what braking energy does (a parent parser)."""
+    options = parent()
+    options.add_argument("--objective", default="energy", metavar="NAME",
+                         help=f"what placements are ranked by: {', '.join(OBJECTIVES.names())} (default: energy, "
+                              "the electric energy)")
+    _add_regeneration(options)
+    return options
+
+
+def regeneration_option() -> argparse.ArgumentParser:
+    """--regen: what braking energy does (a parent parser)."""
+    options = parent()
+    _add_regeneration(options)
+    return options
+
+
+def _add_regeneration(options: argparse.ArgumentParser) -> None:
+    options.add_argument("--regen", choices=REGENERATION.names(), default="clip",
+                         help="what happens to braking energy (default: clip, no regeneration)")
+
+
+def sampling_options() -> argparse.ArgumentParser:
+    """Options that override how a path file is timed and sampled (see configured_path; a parent parser)."""
+    options = parent()
+    options.add_argument("--timing", choices=("paper", "realistic", "optimal"),
+                         help="override the path file's timing law (optimal: as fast as the robot allows at each "
+                              "placement, the feed an upper bound)")
+    options.add_argument("--max-acceleration", type=positive_number, metavar="M_S2",
+                         help="tool acceleration bound of the realistic timing law (m/s^2)")
+    options.add_argument("--max-jerk", type=positive_number, metavar="M_S3",
+                         help="tool jerk bound of the realistic timing law (m/s^3)")
+    options.add_argument("--time-step", type=positive_number, metavar="S",
+                         help="path sampling step (s; default: the path file's)")
+    return options
+
+
+def margin_option() -> argparse.ArgumentParser:
+    """--margin: the share of every limit a feasible placement keeps free, in percent (a parent parser)."""
+    options = parent()
+    options.add_argument("--margin", type=margin_percent, default=0.0, metavar="PERCENT",
+                         help="keep this share of every limit's range, speed, torque or workspace side free at every "
+                              "sample, and a collision's clearance this many mm per 100 mm beyond the cell's margin "
+                              "(default 0: the limits themselves)")
+    return options
+
+
+def placement_options() -> argparse.ArgumentParser:
+    """--free and --fix: which placement variables a search frees, and the values of the others (a parent parser)."""
+    options = parent()
+    options.add_argument("--free", metavar="y=-40:40,x,phi",
+                         help="free placement variables, each optionally with bounds name=MIN:MAX (mm, deg) "
+                              "overriding the robot's (default: the robot's, e.g. x,y,z,phi for the Orthoglide)")
+    options.add_argument("--fix", metavar="z=0,theta=0", help="values of fixed variables (mm, deg; default 0)")
+    return options
+
+
+def seed_option() -> argparse.ArgumentParser:
+    """--seed: the random seed of the searches (a parent parser)."""
+    options = parent()
+    options.add_argument("--seed", type=whole_number(0, 2**32 - 1), default=0, help="random seed of the search (default 0)")
+    return options
 
 
 def margin_percent(text: str) -> float:
@@ -203,25 +286,21 @@ def _identity(file: Path) -> tuple[int, int]:
     return status.st_dev, status.st_ino
 
 
-def add_scheduler_option(parser: argparse.ArgumentParser) -> None:
-    """--scheduler: run the work on a Dask cluster (else the environment variable's, else this machine)."""
-    parser.add_argument("--scheduler", metavar="ADDRESS",
-                        help=f"run the evaluations on the Dask cluster of this scheduler (e.g. tcp://10.0.0.5:8786; "
-                             f"default: ${SCHEDULER_VARIABLE} if set, else this machine)")
+def run_options(*, workers: str | None = None) -> argparse.ArgumentParser:
+    """--scheduler (a Dask cluster, else the environment variable's, else this machine), --workers when the command
+    runs its work in processes of its own, and --quiet (a parent parser).
 
-
-def add_tool_option(parser: argparse.ArgumentParser) -> None:
-    """--tool: the frame that follows the path, for a robot given as erd:NAME."""
-    parser.add_argument("--tool", metavar="FRAME",
-                        help="with --robot erd:NAME (any serial arm of example-robot-data, drives and workspace "
-                             "estimated): the link or joint that follows the path, e.g. tool0")
-
-
-def add_cell_option(parser: argparse.ArgumentParser) -> None:
-    """--cell: the robot works in a cell (obstacles, keep-out zones, workpiece region, tool)."""
-    parser.add_argument("--cell", metavar="FILE",
-                        help="a cell file (YAML): obstacles the robot must clear, keep-out zones, the region where "
-                             "the workpiece may be placed, and a tool body; collisions then become a limit")
+    Args:
+        workers: --workers's help, when the command takes it.
+    """
+    options = parent()
+    if workers is not None:
+        options.add_argument("--workers", type=whole_number(1, 1024), help=workers)
+    options.add_argument("--scheduler", metavar="ADDRESS",
+                         help=f"run the evaluations on the Dask cluster of this scheduler (e.g. tcp://10.0.0.5:8786; "
+                              f"default: ${SCHEDULER_VARIABLE} if set, else this machine)")
+    options.add_argument("--quiet", action="store_true", help="no progress bar")
+    return options
 
 
 def load_robot_argument(robot: str, tool: str | None, cell: str | None = None) -> Robot:

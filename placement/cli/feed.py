@@ -11,13 +11,13 @@ import sys
 import numpy as np
 
 from placement.cli.common import (
-    add_cell_option,
-    add_sampling_options,
-    add_tool_option,
     check_outputs,
     configured_path,
+    job_options,
     load_robot_argument,
+    regeneration_option,
     robot_files,
+    sampling_options,
 )
 from placement.cli.exceptions import UsageError
 from placement.energy.regeneration import REGENERATION
@@ -32,16 +32,11 @@ MAX_FEED_M_S = 100.0
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
     """The 'feed' subcommand's options."""
-    command = commands.add_parser("feed", help="energy and time per part against the feed rate, at one placement")
-    command.add_argument("--robot", required=True, help="robot name, sidecar YAML, or erd:NAME (with --tool)")
-    add_tool_option(command)
-    add_cell_option(command)
-    command.add_argument("--path", required=True, help="path file (YAML)")
+    command = commands.add_parser("feed", help="energy and time per part against the feed rate, at one placement",
+                                  parents=[job_options(), regeneration_option(), sampling_options()])
     command.add_argument("--at", required=True, metavar="x=..,y=..,phi=..",
                          help="the placement (mm and deg unless a value ends in m or rad)")
     command.add_argument("--feeds", required=True, metavar="START:STOP:COUNT", help="feed rates in m/s, e.g. 0.2:1.2:11")
-    command.add_argument("--regen", choices=REGENERATION.names(), default="clip", help="regeneration mode")
-    add_sampling_options(command)
     command.add_argument("--png", help="also draw energy per part against time per part (PNG and SVG)")
 
 

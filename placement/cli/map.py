@@ -12,17 +12,15 @@ import numpy as np
 from tqdm import tqdm
 
 from placement.cli.common import (
-    add_cell_option,
-    add_margin_option,
-    add_model_options,
-    add_sampling_options,
-    add_scheduler_option,
-    add_tool_option,
     check_outputs,
     configured_path,
+    job_options,
     load_robot_argument,
+    margin_option,
+    model_options,
     robot_files,
-    whole_number,
+    run_options,
+    sampling_options,
 )
 from placement.cli.exceptions import UsageError
 from placement.contract.objective import quantity, wording
@@ -38,24 +36,16 @@ MAX_GRID_POINTS = 1_000_000
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
     """The 'map' subcommand's options."""
-    energy_map = commands.add_parser("map", help="map of the objective over a grid of placements (saved as .npz)")
-    energy_map.add_argument("--robot", required=True, help="robot name, sidecar YAML, or erd:NAME (with --tool)")
-    add_tool_option(energy_map)
-    add_cell_option(energy_map)
-    energy_map.add_argument("--path", required=True, help="path file (YAML)")
+    energy_map = commands.add_parser("map", help="map of the objective over a grid of placements (saved as .npz)",
+                                     parents=[job_options(), model_options(), sampling_options(), margin_option(),
+                                              run_options(workers="worker processes (default: every core)")])
     energy_map.add_argument("--grid", required=True, metavar="x=-120:60:41,y=-120:60:41",
                             help="swept variables: name=start:stop:count, in mm and degrees")
     energy_map.add_argument("--fix", metavar="z=0,phi=0", help="values of the other variables (mm, deg; default 0)")
-    add_model_options(energy_map)
-    add_sampling_options(energy_map)
-    add_margin_option(energy_map)
-    energy_map.add_argument("--workers", type=whole_number(1, 1024), help="worker processes (default: every core)")
-    add_scheduler_option(energy_map)
     energy_map.add_argument("--out", help="the map file to write (.npz; reload with SweepResult.load); at least one "
                                           "of --out, --png and --html")
     energy_map.add_argument("--png", help="also draw the map (two variables) as PNG and SVG")
     energy_map.add_argument("--html", help="also draw the feasible placements as coloured points in a 3-D scene")
-    energy_map.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
 def parse_grid(text: str) -> dict[str, np.ndarray]:

@@ -17,19 +17,20 @@ import numpy as np
 from tqdm import tqdm
 
 from placement.cli.common import (
-    add_cell_option,
-    add_margin_option,
-    add_model_options,
-    add_sampling_options,
-    add_scheduler_option,
-    add_tool_option,
     check_outputs,
     compile_noticed,
     configured_path,
+    job_options,
     load_robot_argument,
+    margin_option,
+    model_options,
     non_negative,
+    placement_options,
     positive_number,
     robot_files,
+    run_options,
+    sampling_options,
+    seed_option,
     serve_until_stopped,
     whole_number,
 )
@@ -71,12 +72,9 @@ def build_parser() -> argparse.ArgumentParser:
     """The parser of the main job: place a path on a robot."""
     parser = argparse.ArgumentParser(
         prog="placement", description="Find where to place a tool path in a robot's workspace so that the "
-        "actuators draw the least electric energy while every limit holds.")  # the commands: cli.main_parser
-    parser.add_argument("--robot", required=True, help="built-in robot name, path to a robot sidecar YAML, or "
-                        "erd:NAME (an example-robot-data arm, with --tool)")
-    add_tool_option(parser)
-    add_cell_option(parser)
-    parser.add_argument("--path", required=True, nargs="+", help="path file(s) (YAML), e.g. examples/rect.yaml")
+        "actuators draw the least electric energy while every limit holds.",  # the commands: cli.main_parser
+        parents=[job_options(several_paths=True), placement_options(), model_options(), sampling_options(),
+                 margin_option(), seed_option(), run_options()])
     direction = parser.add_mutually_exclusive_group()
     direction.add_argument("--minimize", action="store_true",
                            help="only search the placement of least objective (the best for energy)")
@@ -88,18 +86,9 @@ def build_parser() -> argparse.ArgumentParser:
                         help="evaluate the placement of a result written by --json (its best, or --which)")
     parser.add_argument("--which", choices=("best", "worst", "at"), default=None,
                         help="with --at-json: which placement of the result (default best)")
-    add_margin_option(parser)
     parser.add_argument("--strict", action="store_true",
                         help="refuse (exit 2) what would only be warned about: a feed or a length whose size "
                              "suggests another unit")
-    parser.add_argument("--free", metavar="y=-40:40,x,phi",
-                        help="free placement variables, each optionally with bounds name=MIN:MAX (mm, deg) "
-                             "overriding the robot's (default: the robot's, e.g. x,y,z,phi for the Orthoglide)")
-    parser.add_argument("--fix", metavar="z=0,theta=0", help="values of fixed variables (mm, deg; default 0)")
-    add_model_options(parser)
-    add_sampling_options(parser)
-    parser.add_argument("--seed", type=whole_number(0, 2**32 - 1), default=0,
-                        help="random seed of the search (default 0)")
     parser.add_argument("--generations", type=whole_number(1, 100_000), default=SearchSettings.max_generations,
                         metavar="N",
                         help=f"most generations of the global search (default {SearchSettings.max_generations})")
@@ -127,8 +116,6 @@ def build_parser() -> argparse.ArgumentParser:
                         help="serve the 3-D scene on this machine (127.0.0.1) and print its address")
     parser.add_argument("--show-host", metavar="ADDRESS", default="127.0.0.1",
                         help="serve --show on this address instead (0.0.0.0: every network the machine is on)")
-    add_scheduler_option(parser)
-    parser.add_argument("--quiet", action="store_true", help="no progress bar")
     return parser
 
 

@@ -17,14 +17,15 @@ from dataclasses import asdict
 from tqdm import tqdm
 
 from placement.cli.common import (
-    add_cell_option,
-    add_model_options,
-    add_sampling_options,
-    add_scheduler_option,
+    cell_option,
     check_outputs,
     configured_path,
     load_robot_argument,
+    model_options,
     robot_files,
+    run_options,
+    sampling_options,
+    seed_option,
     whole_number,
 )
 from placement.cli.exceptions import UsageError
@@ -38,22 +39,17 @@ from placement.search.study import StudyRow, run_study
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
     """The 'study' subcommand's options."""
-    command = commands.add_parser("study", help="search every path on every robot and write one table")
+    command = commands.add_parser("study", help="search every path on every robot and write one table",
+                                  parents=[cell_option(), model_options(), sampling_options(), seed_option(),
+                                           run_options(workers="searches run at once on this machine (default: every "
+                                                               "core)")])
     command.add_argument("--robots", required=True, metavar="A,B",
                          help="robots, comma-separated: names or sidecar YAML files")
     command.add_argument("--paths", required=True, nargs="+", metavar="FILE", help="path files (YAML)")
     command.add_argument("--out", required=True, metavar="FILE.csv",
                          help="the table (CSV; also FILE.parquet when pyarrow is installed)")
-    add_cell_option(command)
-    add_model_options(command)
-    add_sampling_options(command)
     command.add_argument("--generations", type=whole_number(1, 100_000), default=SearchSettings.max_generations,
                          metavar="N", help=f"most generations of each search (default {SearchSettings.max_generations})")
-    command.add_argument("--seed", type=whole_number(0, 2**32 - 1), default=0, help="random seed (default 0)")
-    command.add_argument("--workers", type=whole_number(1, 1024),
-                         help="searches run at once on this machine (default: every core)")
-    add_scheduler_option(command)
-    command.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
 def run(args: argparse.Namespace) -> int:

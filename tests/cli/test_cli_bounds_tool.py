@@ -9,7 +9,7 @@ import pytest
 
 from placement import load_robot
 from placement.__main__ import main
-from placement.cli.exceptions import UsageError
+from placement.exceptions import SettingsError
 from placement.placing.values import parse_free
 from placement.robot.exceptions import RobotFileError
 from tests.support.paths import EXAMPLE
@@ -53,7 +53,7 @@ def test_bad_bounds_exit_2_naming_the_option(capsys, text, words):
     assert err.startswith("error: --free: ") and len(err.strip().splitlines()) == 1
     for word in words:
         assert word in err
-    with pytest.raises(UsageError):
+    with pytest.raises(SettingsError):
         parse_free(text, "--free")
 
 
