@@ -27,6 +27,8 @@ from placement.robot.tool import mount_tool
 from placement.search.optimize import SearchSettings, optimize_placement
 from placement.search.space import default_space
 
+pytestmark = pytest.mark.slow  # about a minute on a 2-core machine: starts first under -n 2
+
 SMALL = SearchSettings(population=24, max_generations=25)
 RECT = "examples/rect.yaml"
 

@@ -14,6 +14,8 @@ from placement.search.reporting import as_printed, binding, reported_point
 from placement.search.space import default_space
 from tests.support.paths import EXAMPLE
 
+pytestmark = pytest.mark.slow  # about a minute on a 2-core machine: starts first under -n 2
+
 # An 80 x 40 mm rectangle with 10 mm corner radii, as a G-code program, at 0.3 m/s under the paper's timing law.
 ROUNDED = """%
 G21 G90 G17

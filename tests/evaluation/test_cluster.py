@@ -16,6 +16,8 @@ from placement.search.optimize import SearchSettings
 from placement.search.pareto import pareto_front
 from placement.search.sweep import sweep
 
+pytestmark = pytest.mark.slow  # about a minute on a 2-core machine: starts first under -n 2
+
 distributed = pytest.importorskip("distributed")
 
 

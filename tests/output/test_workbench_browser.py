@@ -19,6 +19,8 @@ import pytest
 
 from tests.support.paths import EXAMPLE
 
+pytestmark = pytest.mark.slow  # about a minute on a 2-core machine: starts first under -n 2
+
 PLACEMENT = {"x": "12.5", "y": "-7", "z": "-20", "phi": "30"}  # mm, degrees
 # The page's searches and the command line's run on this smaller budget than the default (48 x 80): they must
 # find the same placements and fronts whatever the budget.

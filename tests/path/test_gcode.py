@@ -260,6 +260,7 @@ def test_the_pocket_costs_the_same_energy_as_its_polyline(tmp_path):
     assert np.all(np.abs(energies[1] / energies[0] - 1) < 0.01)
 
 
+@pytest.mark.slow
 def test_the_pocket_example_runs_end_to_end(capsys):
     code = main(["--robot", "orthoglide", "--path", str(EXAMPLES / "pocket.yaml"), "--generations", "2",
                  "--population", "8", "--quiet", "--time-step", "0.004"])

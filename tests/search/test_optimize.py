@@ -13,6 +13,8 @@ from placement.search.optimize import SearchSettings, optimize_placement
 from placement.search.space import default_space
 from tests.support.paths import EXAMPLE
 
+pytestmark = pytest.mark.slow  # about a minute on a 2-core machine: starts first under -n 2
+
 GRID = 41
 PRINTED_GRID = 1e-4  # the energy one 0.01 mm step of the printed grid moves at a limit, as a share
 ROUND_OFF = 1e-9  # "never worse than the grid" up to round-off: optima sit on limits the grid can hit exactly

@@ -17,6 +17,8 @@ from placement.robot.equip import equip
 from placement.search.optimize import SearchSettings, optimize_placement
 from placement.search.study import run_study
 
+pytestmark = pytest.mark.slow  # about a minute on a 2-core machine: starts first under -n 2
+
 SMALL = SearchSettings(population=16, max_generations=5)
 
 

@@ -2,12 +2,15 @@
 
 Each test is its own unit of work, handed to whichever worker is free, except the tests of a module
 that builds a module-scoped fixture (a search, a browser, a Dask cluster, a workbench): they go to
-one worker together, in their order, so that the fixture is built once. The longest units start
-first, so that no worker is left with a long test while the other has finished.
+one worker together, in their order, so that the fixture is built once. The units marked ``slow``
+(``pytestmark = pytest.mark.slow`` in a module, or ``@pytest.mark.slow`` on a test: about a minute
+on a 2-core machine) start first, so that no worker is left with a long test while the other has
+finished; ``-m "not slow"`` leaves them out.
 """
 
 from __future__ import annotations
 
+import ast
 from functools import cache
 from pathlib import Path
 
@@ -15,18 +18,39 @@ from xdist.scheduler import LoadScopeScheduling
 
 from tests.support.paths import ROOT
 
-# Units that take a minute or so on a 2-core machine (a Dask cluster, a browser, searches); they start first. Only
-# the order changes: every test runs either way.
-LONGEST_FIRST = ("tests/output/test_workbench_browser.py", "tests/evaluation/test_cluster.py",
-                 "tests/cell/test_cell_search.py", "tests/search/test_study.py", "tests/cli/test_reuse.py",
-                 "tests/search/test_optimize.py", "tests/path/test_gcode.py::test_the_pocket_example_runs_end_to_end")
-
 
 @cache
 def builds_a_module_fixture(module: str) -> bool:
     """Whether the test module (a path from the repository's root) defines a module-scoped fixture."""
     file = ROOT / module
     return file.suffix == ".py" and file.is_file() and 'scope="module"' in Path(file).read_text(encoding="utf-8")
+
+
+@cache
+def slow_tests(module: str) -> frozenset[str] | None:
+    """The tests of a module (a path from the repository's root) marked ``slow``: None for all of them (the module's
+    ``pytestmark`` has the mark), else the names of the test functions that carry it."""
+    file = ROOT / module
+    if file.suffix != ".py" or not file.is_file():
+        return frozenset()
+    tree = ast.parse(file.read_text(encoding="utf-8"))
+
+    def slow(node: ast.expr) -> bool:
+        return any(isinstance(part, ast.Attribute) and part.attr == "slow" for part in ast.walk(node))
+
+    for statement in tree.body:
+        if isinstance(statement, ast.Assign) and any(getattr(target, "id", "") == "pytestmark"
+                                                     for target in statement.targets) and slow(statement.value):
+            return None
+    return frozenset(node.name for node in tree.body if isinstance(node, ast.FunctionDef)
+                     and any(slow(decorator) for decorator in node.decorator_list))
+
+
+def is_slow(scope: str) -> bool:
+    """Whether a unit of work (a module or a test's node id) holds a test marked ``slow``."""
+    module, _, test = scope.partition("::")
+    marked = slow_tests(module)
+    return marked is None or (bool(marked) and (not test or test.split("[")[0] in marked))
 
 
 class SharedFixtureScheduling(LoadScopeScheduling):
@@ -38,10 +62,7 @@ class SharedFixtureScheduling(LoadScopeScheduling):
 
     def _assign_work_unit(self, node) -> None:
         if not getattr(self, "ordered", False):  # the first assignment: the queue is full, in xdist's order
-            def rank(scope: str) -> int:
-                return next((k for k, prefix in enumerate(LONGEST_FIRST) if scope.startswith(prefix)), len(LONGEST_FIRST))
-
-            ordered = sorted(self.workqueue.items(), key=lambda unit: rank(unit[0]))  # stable: otherwise as before
+            ordered = sorted(self.workqueue.items(), key=lambda unit: not is_slow(unit[0]))  # stable: otherwise as before
             self.workqueue.clear()
             self.workqueue.update(ordered)
             self.ordered = True
