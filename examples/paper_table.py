@@ -52,8 +52,9 @@ def orthoglide():
 def run_group(width_mm: int, timing: str, modes: tuple[str, ...], time_step_s: float) -> list[dict]:
     """Both searches for one rectangle and timing law, for each regeneration mode, the modes sharing the chain
     (runs in a worker, on one thread: the workers share the cores)."""
+    from regeneration_modes import optimize_modes  # beside this file
+
     from placement.evaluation.evaluator import EvaluatorSettings
-    from placement.search.modes import optimize_modes
 
     path = rectangle(width_mm, timing)
     results = optimize_modes(orthoglide(), path, modes,

@@ -1,4 +1,4 @@
-"""Searches of one path under several regeneration modes, sharing the exact chain.
+"""Searches of one path under several regeneration modes, sharing the exact chain (for examples/paper_table.py).
 
 A regeneration mode (:mod:`placement.energy.regeneration`) only decides how braking power is counted: the
 kinematics, dynamics, drives and limits of a placement are the same under every mode. :func:`optimize_modes`
@@ -26,7 +26,7 @@ from placement.path.time_law import TimeLaw
 from placement.path.toolpath import ToolPath
 from placement.robot.model import Robot
 from placement.search.coarse_guide import search_models
-from placement.search.optimize import PlacementResult, SearchSettings, _optimize, search_sampling
+from placement.search.optimize import PlacementResult, SearchSettings, search_evaluators, search_sampling
 from placement.search.space import PlacementSpace, default_space
 
 
@@ -129,7 +129,7 @@ def optimize_modes(robot: Robot, path: ToolPath, modes: Sequence[str], *, space:
         one_way = dataclasses.replace(settings, best=direction == "best", worst=direction == "worst")
         for mode in modes:
             global_search, polish = views[mode]
-            found[mode][direction] = _optimize(global_search, polish, space, one_way, None)
+            found[mode][direction] = search_evaluators(global_search, polish, space, one_way)
     return {mode: _merged(results) for mode, results in found.items()}
 
 

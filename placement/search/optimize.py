@@ -282,7 +282,7 @@ def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | 
     with coarse, fine, exact if exact is not None else contextlib.nullcontext():
         if announce is not None:
             announce(estimate(coarse, fine, space, settings, 1 if at_once else directions))
-        result = _optimize(coarse, fine, space, settings, progress, exact)
+        result = search_evaluators(coarse, fine, space, settings, progress, exact)
     return dataclasses.replace(result, guide=models) if models.guided else result
 
 
@@ -419,10 +419,14 @@ def _outcomes(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, signs: 
         return [future.result() for future in futures]
 
 
-def _optimize(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, settings: SearchSettings,
-              progress: Callable[[], None] | None, exact: Evaluator | None = None) -> PlacementResult:
-    """Both directions' searches (on ``coarse`` and ``fine``), and each optimum's detail on ``exact`` (``fine``
-    when None) and its 4x denser re-check."""
+def search_evaluators(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, settings: SearchSettings,
+                      progress: Callable[[], None] | None = None, exact: Evaluator | None = None) -> PlacementResult:
+    """Both directions' searches on evaluators built by the caller: the global search on ``coarse``, the polish on
+    ``fine``, and each optimum's detail on ``exact`` (``fine`` when None) and its 4x denser re-check.
+
+    :func:`optimize_placement` builds the evaluators from a robot and a path (see :func:`search_sampling` for the
+    sampling of each); a caller that shares work between searches (examples/regeneration_modes.py) builds its own.
+    """
     evaluator = fine if exact is None else exact
     better = evaluator.objective.sign
     directions = [(name, sign) for name, sign, wanted in (("best", better, settings.best),

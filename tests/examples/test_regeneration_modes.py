@@ -1,13 +1,13 @@
-"""Searches of several regeneration modes sharing the chain: each mode's numbers are its own evaluator's and its
-own search's, with every placement through the chain once."""
+"""examples/regeneration_modes.py: searches of several regeneration modes sharing the chain; each mode's numbers
+are its own evaluator's and its own search's, with every placement through the chain once."""
 
 import numpy as np
 import pytest
+from regeneration_modes import SharedChain, optimize_modes
 
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.exceptions import PlacementError
 from placement.path import load_path
-from placement.search.modes import SharedChain, optimize_modes
 from placement.search.optimize import SearchSettings, optimize_placement
 from placement.search.space import default_space
 from tests.support.paths import EXAMPLE
