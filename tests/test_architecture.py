@@ -1,5 +1,6 @@
-"""The package's layout holds: no import cycle, a short top level, files one can hold in one's head, and only
-the robot package reads a robot's sidecar (every other module asks the robot: ``Robot.workspace``,
+"""The package's layout holds: every package in one layer of the import-linter contract (pyproject.toml, checked
+by ``lint-imports``), no import cycle, a short top level, files one can hold in one's head, and only
+the robot package and the workshop read a robot's sidecar (every other module asks the robot: ``Robot.workspace``,
 ``Robot.plane``, ``Robot.named_drives``, ..., so the sidecar's schema can change behind it).
 
 Imports are read from the source with ``ast``, two ways. As Python runs them when a module is
@@ -11,6 +12,7 @@ import their package.
 """
 
 import ast
+import tomllib
 from pathlib import Path
 
 import placement
@@ -123,10 +125,10 @@ def sidecar_reads(file: Path, root: Path = ROOT) -> list[str]:
             if isinstance(node, ast.Attribute) and node.attr == "sidecar"]
 
 
-def test_only_the_robot_package_reads_the_sidecar():
-    owner = PACKAGE / "robot"
+def test_only_the_robot_package_and_the_workshop_read_the_sidecar():
+    owners = (PACKAGE / "robot", PACKAGE / "workshop")  # the workshop writes sidecars: assemble, estimates, calibration
     files = [file for folder in ("placement", "examples", "benchmarks") for file in sorted((ROOT / folder).rglob("*.py"))
-             if owner not in file.parents]
+             if not any(owner in file.parents for owner in owners)]
     assert len(files) > 50
     reads = [read for file in files for read in sidecar_reads(file)]
     assert not reads, "read it through a property of placement.robot.model.Robot:\n" + "\n".join(reads)
@@ -136,3 +138,25 @@ def test_the_sidecar_check_sees_a_read_and_not_the_sidecar_path(tmp_path):
     module = tmp_path / "module.py"
     module.write_text("def f(batch):\n    return batch.robot.sidecar.workspace, batch.robot.sidecar_path\n")
     assert sidecar_reads(module, tmp_path) == ["module.py:2: batch.robot.sidecar"]
+
+
+def contract_layers() -> list[list[str]]:
+    """The layers of pyproject.toml's import-linter contract, bottom last, each a list of its packages."""
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["tool"]["importlinter"]
+    (contract,) = [c for c in config["contracts"] if c["type"] == "layers"]
+    assert contract["containers"] == ["placement"]
+    return [[name.strip() for name in layer.replace(":", "|").split("|")] for layer in contract["layers"]]
+
+
+def test_every_package_and_top_level_module_is_in_one_layer():
+    listed = [name for layer in contract_layers() for name in layer]
+    assert len(listed) == len(set(listed)), listed
+    own = {file.stem if file.suffix else file.name for file in PACKAGE.iterdir()
+           if (file.suffix == ".py" and file.stem not in ("__init__", "__main__")) or (file / "__init__.py").is_file()}
+    assert own == set(listed), f"not in a layer: {sorted(own - set(listed))}; no such package: {sorted(set(listed) - own)}"
+
+
+def test_the_plug_in_contract_is_below_its_members_and_above_the_physics():
+    order = {name: depth for depth, layer in enumerate(contract_layers()) for name in layer}
+    assert order["objectives"] < order["contract"] and order["limits"] < order["contract"]  # the list is top first
+    assert order["contract"] < order["energy"] < order["kinematics"] < order["robot"] < order["path"]
