@@ -29,7 +29,7 @@ from placement.robot.equip import equip
 from placement.robot.model import Robot
 from placement.robot.urdf import ERD_PREFIX
 from placement.timing.rules import override_timing, timing_for
-from placement.workshop.catalog import ERD_FORM, sidecar_path
+from placement.workshop.catalog import ERD_FORM, builtin_robots_dir, sidecar_path
 from placement.workshop.example_robot_data import erd_name, estimate_warning, load_erd_robot
 from placement.workshop.load import load_robot
 
@@ -373,8 +373,6 @@ def require_sidecar(robot: str, command: str) -> None:
     name = erd_name(robot)
     if name is None:
         return
-    from placement.workshop.catalog import builtin_robots_dir  # here: only this message needs it
-
     model = builtin_robots_dir() / "ur5" / "ur5.yaml"
     raise UsageError(f"{command} needs a robot folder or sidecar file, not {robot[:80]}, whose estimated sidecar exists "
                      f"only in memory: write one for it, e.g. copy {model} (a serial arm's sidecar) and set "
