@@ -1,4 +1,4 @@
-"""Exceptions raised by placement: the root of every error, and those every package shares.
+"""Exceptions raised by placement: the root of every error and of every warning, and those every package shares.
 
 Every error a user can cause derives from :class:`PlacementError`, so a caller (or the command
 line) can catch one type and report its message, which always says what was wrong and where.
@@ -26,6 +26,11 @@ Each package defines its own errors beside its code, in its ``exceptions`` modul
 - :mod:`placement.output.exceptions`: result files, controller exports;
 - :mod:`placement.app.exceptions`: workbench actions that come too early;
 - :mod:`placement.cli.exceptions`: command-line options (a :class:`SettingsError`).
+
+Every warning placement gives for a user-facing reason derives from :class:`PlacementWarning` (a
+``UserWarning``), so ``warnings.filterwarnings("ignore", category=PlacementWarning)`` silences them
+all; each is defined beside the code that gives it (``EstimatesWarning`` and ``StaleSidecarWarning``
+in :mod:`placement.workshop.gepetto`, ``OrientationIgnoredWarning`` in :mod:`placement.placing.transform`).
 """
 
 from __future__ import annotations
@@ -98,3 +103,8 @@ class UnknownMemberError(SettingsError):
     def __init__(self, family: str, name: str, known: list[str]) -> None:
         self.family, self.name, self.known = family, name, known
         super().__init__(f"unknown {family} '{name}': expected one of {', '.join(known) or '(none registered)'}")
+
+
+class PlacementWarning(UserWarning):
+    """Base class of every warning placement gives for a user-facing reason (an estimate, a stale file, a value
+    ignored); the command line shows each as a ``warning: ...`` line."""
