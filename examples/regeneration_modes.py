@@ -21,13 +21,14 @@ import numpy as np
 
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings, batch_margins, batch_values
 from placement.evaluation.results import Evaluation
-from placement.exceptions import PlacementError
+from placement.exceptions import SettingsError
 from placement.path.time_law import TimeLaw
 from placement.path.toolpath import ToolPath
 from placement.robot.model import Robot
 from placement.search.coarse_guide import search_models
 from placement.search.optimize import PlacementResult, SearchSettings, search_evaluators, search_sampling
 from placement.search.space import PlacementSpace, default_space
+from placement.timing.exceptions import TimingError
 
 
 class SharedChain:
@@ -42,7 +43,7 @@ class SharedChain:
 
     def __init__(self, chain: Evaluator, modes: Sequence[str]) -> None:
         if chain.geometry is not None:
-            raise PlacementError("a shared chain needs a timing law that times every placement alike, not 'optimal'")
+            raise TimingError("a shared chain needs a timing law that times every placement alike, not 'optimal'")
         self.chain, self.modes = chain, tuple(modes)
         self.limits: tuple[str, ...] | None = None
         # placement bytes -> ((n_modes, n_objectives) values, (n_limits,) margins, reachable)
@@ -112,13 +113,14 @@ def optimize_modes(robot: Robot, path: ToolPath, modes: Sequence[str], *, space:
         Each mode's result, by name.
 
     Raises:
-        PlacementError: The optimal timing law, or a path searched on guides.
+        TimingError: The optimal timing law.
+        SettingsError: A path searched on guides.
     """
     space = space or default_space(robot, half_turn=path.half_turn_symmetric())
     coarse, fine = (dataclasses.replace(each, workers=1) for each in search_sampling(path, evaluation, settings))
     coarse = dataclasses.replace(coarse, feasibility_only=True)  # differential evolution reads violations only
     if search_models(path, coarse, fine).guided:
-        raise PlacementError(f"{path.name}: a path searched on guides cannot share its chain among modes")
+        raise SettingsError(f"{path.name}: a path searched on guides cannot share its chain among modes")
     shared = [SharedChain(Evaluator(robot, path, each), modes) for each in (coarse, fine)]
     views = {mode: [ModeEvaluator(robot, path, dataclasses.replace(each, regeneration=mode), chain)
                     for each, chain in zip((coarse, fine), shared)] for mode in modes}

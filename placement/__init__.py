@@ -23,7 +23,15 @@ from placement.energy.integration import Energy
 from placement.energy.regeneration import REGENERATION, RegenerationPolicy
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.evaluation.results import Evaluation, PlacementDetail
-from placement.exceptions import InputFileError, PlacementError, UnknownMemberError
+from placement.exceptions import (
+    InfeasibleError,
+    InputFileError,
+    PlacementError,
+    PlacementWarning,
+    PluginError,
+    SettingsError,
+    UnknownMemberError,
+)
 from placement.kinematics import joint_trajectory
 from placement.kinematics.base import SOLVERS, KinematicsSolver
 from placement.kinematics.exceptions import UnreachableError
@@ -61,6 +69,7 @@ __all__ = [
     "Evaluator",
     "EvaluatorSettings",
     "FrontMember",
+    "InfeasibleError",
     "InputFileError",
     "JointTrajectory",
     "KinematicsSolver",
@@ -76,11 +85,14 @@ __all__ = [
     "PlacementError",
     "PlacementResult",
     "PlacementSpace",
+    "PlacementWarning",
+    "PluginError",
     "PowerParts",
     "RegenerationPolicy",
     "Robot",
     "RobotFileError",
     "SearchSettings",
+    "SettingsError",
     "SweepResult",
     "TaskTrajectory",
     "ToolPath",

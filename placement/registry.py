@@ -19,7 +19,7 @@ import threading
 from importlib.metadata import entry_points
 from typing import Generic, TypeVar
 
-from placement.exceptions import PlacementError, UnknownMemberError
+from placement.exceptions import PluginError, UnknownMemberError
 
 Member = TypeVar("Member")
 _REGISTRIES: dict[str, Registry] = {}
@@ -67,11 +67,11 @@ class Registry(Generic[Member]):
 
         Raises:
             UnknownMemberError: No member has that name (the message lists the known ones).
-            PlacementError: The installed package that declares it failed to load it.
+            PluginError: The installed package that declares it failed to load it.
         """
         self._load_entry_points()
         if name in self._broken:
-            raise PlacementError(self._broken[name])
+            raise PluginError(self._broken[name])
         if name not in self._members:
             raise UnknownMemberError(self.family, name, self.names())
         return self._members[name]
@@ -92,8 +92,8 @@ class Registry(Generic[Member]):
                                                                      and issubclass(member, self.kind))
         if not fits:
             what = f"an instance of {self.kind.__name__}" if self.instances else f"a subclass of {self.kind.__name__}"
-            raise PlacementError(f"the {self.family} '{name}' must be {what}, got {type(member).__name__} "
-                                 f"{str(member)[:60]}")
+            raise PluginError(f"the {self.family} '{name}' must be {what}, got {type(member).__name__} "
+                              f"{str(member)[:60]}")
         return member
 
     def _load_entry_points(self) -> None:

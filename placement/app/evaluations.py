@@ -22,7 +22,7 @@ from placement.app.jobs import Job, front_task, map_task, search_task
 from placement.contract.limit import margin_fields, worst_margins
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.evaluation.results import PlacementDetail
-from placement.exceptions import PlacementError
+from placement.exceptions import SettingsError
 from placement.output.report import detail_json, job_document
 from placement.path.toolpath import ToolPath
 from placement.placing.transform import ANGLES, VARIABLES
@@ -176,9 +176,9 @@ class Bench:
         u, v = variables
         free = self.space.free
         if u == v or u not in free or v not in free:
-            raise PlacementError(f"map: choose two different free variables ({', '.join(free)}), got {u} and {v}")
+            raise SettingsError(f"map: choose two different free variables ({', '.join(free)}), got {u} and {v}")
         if not 2 <= points <= MAP_POINTS:
-            raise PlacementError(f"map: points per variable: expected a whole number from 2 to {MAP_POINTS}, got {points}")
+            raise SettingsError(f"map: points per variable: expected a whole number from 2 to {MAP_POINTS}, got {points}")
         placement = _finite(placement)
         axes, grid = {}, []
         for name in variables:
@@ -200,7 +200,7 @@ class Bench:
         """The Pareto front of two objectives, as ``--objectives`` searches it, started in its own process (steps:
         generations); the path timed by the law they need."""
         if len(set(objectives)) != 2:
-            raise PlacementError(f"front: choose two different objectives, got {' and '.join(objectives)}")
+            raise SettingsError(f"front: choose two different objectives, got {' and '.join(objectives)}")
         mode, _ = timing_for(objectives, self.choices.timing, self.source_path)
         path = override_timing(self.source_path, mode)
         settings = dataclasses.replace(self.settings, objective=objectives)
@@ -227,5 +227,5 @@ def si_value(name: str, shown: float) -> float:
 def _finite(placement: np.ndarray) -> np.ndarray:
     values = np.asarray(placement, dtype=float).reshape(-1)
     if values.shape != (6,) or not np.isfinite(values).all():
-        raise PlacementError("a placement is six finite numbers: x, y, z (m), phi, theta, psi (rad)")
+        raise SettingsError("a placement is six finite numbers: x, y, z (m), phi, theta, psi (rad)")
     return values

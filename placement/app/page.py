@@ -27,7 +27,7 @@ from placement.collision.geometry import package_dirs
 from placement.contract.objective import OBJECTIVES, quantity, wording
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.results import PlacementDetail
-from placement.exceptions import PlacementError
+from placement.exceptions import PlacementError, SettingsError
 from placement.limits.collision import collision_scene
 from placement.output.palette import CELL_COLORS, rgb
 from placement.placing.transform import ANGLES, VARIABLES, placement_pose
@@ -348,16 +348,16 @@ class Workbench:
         text = self.at_text.value.strip()
         given = parse_values(text, "--at")
         if not given:
-            raise PlacementError("--at: give at least one value, e.g. x=0,phi=30")
+            raise SettingsError("--at: give at least one value, e.g. x=0,phi=30")
         fixed = [name for name in given if name not in self.bench.space.free
                  and given[name] != self.bench.space.fixed[VARIABLES.index(name)]]
         if fixed:
-            raise PlacementError(f"--at: {', '.join(fixed)} is fixed here (free: {', '.join(self.bench.space.free)})")
+            raise SettingsError(f"--at: {', '.join(fixed)} is fixed here (free: {', '.join(self.bench.space.free)})")
         placement = np.array([given.get(name, 0.0) for name in VARIABLES])
         clamped = self.bench.clamp(placement)
         if not np.allclose(clamped, placement, atol=1e-12):
             outside = [name for k, name in enumerate(VARIABLES) if abs(clamped[k] - placement[k]) > 1e-12]
-            raise PlacementError(f"--at: {', '.join(outside)} outside the bounds of the search (see the fields' limits)")
+            raise SettingsError(f"--at: {', '.join(outside)} outside the bounds of the search (see the fields' limits)")
         self.set_placement(placement, exact=True)
 
     # --- the readings --------------------------------------------------------------------------------------

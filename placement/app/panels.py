@@ -18,8 +18,8 @@ import viser
 from matplotlib.figure import Figure
 
 from placement.app.evaluations import Bench
+from placement.app.exceptions import NotReadyError
 from placement.app.jobs import Job
-from placement.exceptions import PlacementError
 
 
 class Host(Protocol):
@@ -72,7 +72,7 @@ class JobPanel(ABC):
 
     def _start(self) -> None:
         if self.job is not None:
-            raise PlacementError(f"{self.what} is being computed: wait for it or cancel it")
+            raise NotReadyError(f"{self.what} is being computed: wait for it or cancel it")
         job = self.job = self.launch()
         self.start_button.disabled, self.cancel_button.disabled = True, False
         self.progress.value, self.progress.visible = 0.0, True

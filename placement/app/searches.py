@@ -17,11 +17,12 @@ from typing import Any
 import numpy as np
 
 from placement.app.evaluations import MAP_POINTS, shown_value
+from placement.app.exceptions import NotReadyError
 from placement.app.jobs import Job
 from placement.app.panels import Host, JobPanel, figure_image
 from placement.contract.objective import OBJECTIVES, quantity, wording
 from placement.evaluation.results import PlacementDetail
-from placement.exceptions import PlacementError
+from placement.exceptions import SettingsError
 from placement.placing.transform import VARIABLES
 from placement.search.optimize import PlacementResult
 from placement.search.pareto import ParetoFront
@@ -83,7 +84,7 @@ class OptimisePanel(JobPanel):
     def go_to(self, key: str) -> None:
         """Go to the best or worst placement found."""
         if key not in self.optima:
-            raise PlacementError(f"no {key} placement yet: optimise first")
+            raise NotReadyError(f"no {key} placement yet: optimise first")
         self.host.set_placement(self.optima[key].placement, exact=True)
 
 
@@ -107,8 +108,8 @@ class MapPanel(JobPanel):
     def launch(self) -> Job:
         points = float(self.points.value)
         if not points.is_integer():
-            raise PlacementError(f"map: points per variable: expected a whole number from 2 to {MAP_POINTS}, "
-                                 f"got {points:g}")
+            raise SettingsError(f"map: points per variable: expected a whole number from 2 to {MAP_POINTS}, "
+                                f"got {points:g}")
         job, self.command = self.host.bench.map((self.across.value, self.up.value), int(points), self.host.placement)
         self.say(f"mapping {int(points) ** 2} placements...")
         return job
@@ -136,7 +137,7 @@ class MapPanel(JobPanel):
     def go_to_best(self) -> None:
         """Go to the map's best placement."""
         if self.best is None:
-            raise PlacementError("no map with a feasible placement yet: map first")
+            raise NotReadyError("no map with a feasible placement yet: map first")
         self.host.set_placement(self.best, exact=True)
 
 
@@ -189,5 +190,5 @@ class FrontPanel(JobPanel):
     def go_to_member(self) -> None:
         """Go to the member chosen."""
         if self.member.value not in self.member.options or not self.members:
-            raise PlacementError("no front yet: search the front first")
+            raise NotReadyError("no front yet: search the front first")
         self.host.set_placement(self.members[self.member.options.index(self.member.value)], exact=True)

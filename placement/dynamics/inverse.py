@@ -23,7 +23,7 @@ import numpy as np
 import pinocchio as pin
 
 from placement.dynamics.tree_rnea import joint_torques, path_torques, tree_inertias
-from placement.exceptions import PlacementError
+from placement.exceptions import SettingsError
 from placement.kinematics import joint_trajectory
 from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
 from placement.robot.model import Robot
@@ -148,8 +148,8 @@ def load_efforts(joints: JointTrajectory, external_load: np.ndarray) -> np.ndarr
     (see :func:`actuator_efforts`)."""
     load = np.asarray(external_load, dtype=float)
     if load.shape != (len(joints.q), joints.task_map.shape[1]):
-        raise PlacementError(f"external load must have shape {(len(joints.q), joints.task_map.shape[1])}, "
-                             f"got {load.shape}")
+        raise SettingsError(f"external load must have shape {(len(joints.q), joints.task_map.shape[1])}, "
+                            f"got {load.shape}")
     return np.einsum("nta,nt->na", joints.task_map, load)
 
 

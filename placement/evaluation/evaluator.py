@@ -30,7 +30,7 @@ from placement.energy.trace import motor_trace
 from placement.evaluation.parallel import process_pool
 from placement.evaluation.results import Evaluation, PlacementDetail
 from placement.evaluation.timed_motion import OptimalMotion, optimal_motion
-from placement.exceptions import PlacementError
+from placement.exceptions import SettingsError
 from placement.kinematics.base import solver_for
 from placement.kinematics.trajectories import JointTrajectory
 from placement.path.time_law import TimeLaw
@@ -86,7 +86,7 @@ class EvaluatorSettings:
 
     def __post_init__(self) -> None:
         if not 0.0 <= self.margin < 1.0:
-            raise PlacementError(f"the margin kept from every limit must be a share from 0 to 1, got {self.margin}")
+            raise SettingsError(f"the margin kept from every limit must be a share from 0 to 1, got {self.margin}")
         if not isinstance(self.objective, str):  # any sequence of names, kept as a tuple (hashable, picklable)
             object.__setattr__(self, "objective", tuple(self.objective))
 
@@ -208,8 +208,8 @@ class Evaluator:
         """Objective and tightest margins of (K, 6) placements."""
         placements = np.atleast_2d(np.asarray(placements, dtype=float))
         if placements.ndim != 2 or placements.shape[1] != 6 or not np.isfinite(placements).all():
-            raise PlacementError(f"placements must be finite (K, 6) arrays [x, y, z, phi, theta, psi], got shape "
-                                 f"{placements.shape}{'' if np.isfinite(placements).all() else ' with NaN or inf'}")
+            raise SettingsError(f"placements must be finite (K, 6) arrays [x, y, z, phi, theta, psi], got shape "
+                                f"{placements.shape}{'' if np.isfinite(placements).all() else ' with NaN or inf'}")
         if (self.executor is not None or self.workers > 1) and len(placements) >= 2:
             return self._evaluate_in_workers(placements)
         return self._in_batches(placements, self._evaluate_batch)

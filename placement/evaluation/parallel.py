@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from typing import Any, TypeVar
 
 from placement.dynamics.inverse import openmp_started
-from placement.exceptions import PlacementError
+from placement.evaluation.exceptions import ClusterError
 
 Result = TypeVar("Result")
 
@@ -53,7 +53,7 @@ def cluster(address: str | None) -> Iterator[Cluster | None]:
     """Connect to the Dask scheduler at ``address`` for the duration of the block (None: yield None).
 
     Raises:
-        PlacementError: The scheduler cannot be reached, or Dask's distributed package is missing.
+        ClusterError: The scheduler cannot be reached, or Dask's distributed package is missing.
     """
     if address is None:
         yield None
@@ -61,12 +61,12 @@ def cluster(address: str | None) -> Iterator[Cluster | None]:
     try:
         from distributed import Client
     except ImportError:
-        raise PlacementError("a Dask scheduler was given, but the 'distributed' package is not installed "
-                             "(pip install 'dask[distributed]')") from None
+        raise ClusterError("a Dask scheduler was given, but the 'distributed' package is not installed "
+                           "(pip install 'dask[distributed]')") from None
     try:
         client = Client(address, timeout=CONNECT_TIMEOUT_S, set_as_default=False)
     except (OSError, TimeoutError, ValueError) as error:
-        raise PlacementError(f"cannot reach the Dask scheduler at '{address}': {str(error)[:200]}") from None
+        raise ClusterError(f"cannot reach the Dask scheduler at '{address}': {str(error)[:200]}") from None
     try:
         threads = max(1, sum(client.nthreads().values()))
         # pure=False: each chunk's key is a fresh id. A pure key hashes the chunk's pickled robot, path and settings

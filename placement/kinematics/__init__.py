@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from placement.exceptions import PlacementError
+from placement.exceptions import SettingsError
 from placement.kinematics.base import SOLVERS, KinematicsSolver, solver_for
 from placement.kinematics.batched import BatchedSolver
 from placement.kinematics.closed_form import ClosedFormSolver
@@ -32,7 +32,7 @@ def joint_trajectory(robot: Robot, task: TaskTrajectory, method: str = "auto") -
 
     Raises:
         UnreachableError: Some samples have no configuration or are singular (all are listed).
-        PlacementError: The task does not match the robot, or the solver cannot serve it.
+        SettingsError: The task does not match the robot, or the solver cannot serve it.
     """
     joints, reachable, reason = _solve(robot, task, method)
     if not reachable.all():
@@ -44,6 +44,6 @@ def joint_trajectory(robot: Robot, task: TaskTrajectory, method: str = "auto") -
 
 def _solve(robot: Robot, task: TaskTrajectory, method: str) -> tuple[JointTrajectory, np.ndarray, str]:
     if task.is_pose != (robot.task == "pose"):
-        raise PlacementError(f"robot '{robot.name}' has a {robot.task} task; the trajectory gives "
-                             f"{'a pose' if task.is_pose else 'positions only'}")
+        raise SettingsError(f"robot '{robot.name}' has a {robot.task} task; the trajectory gives "
+                            f"{'a pose' if task.is_pose else 'positions only'}")
     return solver_for(robot, method).solve(task)

@@ -18,7 +18,7 @@ from typing import ClassVar
 import numpy as np
 import pinocchio as pin
 
-from placement.exceptions import PlacementError
+from placement.exceptions import SettingsError
 from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
 from placement.registry import Registry
 from placement.robot.closures import LWA
@@ -41,7 +41,7 @@ class KinematicsSolver(ABC):
     def __init__(self, robot: Robot, threads: int | None = None) -> None:
         reason = self.unsuitable(robot)
         if reason:
-            raise PlacementError(f"kinematics solver '{type(self).__name__}' cannot serve robot '{robot.name}': {reason}")
+            raise SettingsError(f"kinematics solver '{type(self).__name__}' cannot serve robot '{robot.name}': {reason}")
         self.robot = robot
         self.threads = threads or os.cpu_count() or 1
 

@@ -15,7 +15,7 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
-from placement.exceptions import PlacementError
+from placement.exceptions import PluginError
 from placement.kinematics.base import SINGULAR_CONDITION, SOLVERS, KinematicsSolver
 from placement.kinematics.taylor import Taylor2
 from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
@@ -80,8 +80,8 @@ def _closed_form(robot: Robot, task: TaskTrajectory, joints: CompiledClosedForm,
     names, value, rate, acceleration, gradient = joints(task.position_m, task.velocity_m_s, task.acceleration_m_s2)
     unknown = sorted(set(names) - set(columns))
     if unknown:
-        raise PlacementError(f"robot '{robot.name}': the kinematics plug-in returns joints the model does not have: "
-                             f"{unknown}")
+        raise PluginError(f"robot '{robot.name}': the kinematics plug-in returns joints the model does not have: "
+                          f"{unknown}")
     index = np.array([columns[name] for name in names], dtype=np.int64).reshape(-1, 2)
     q, v, a, basis, task_map, regular = _joint_motion(
         value, rate, acceleration, gradient, index[:, 0], index[:, 1], robot.actuated_v_indices.astype(np.int64),

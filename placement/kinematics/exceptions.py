@@ -2,11 +2,12 @@
 
 from __future__ import annotations
 
-from placement.exceptions import PlacementError
+from placement.exceptions import InfeasibleError
 
 
-class UnreachableError(PlacementError):
-    """Some samples of a task-space trajectory have no valid robot configuration.
+class UnreachableError(InfeasibleError):
+    """Some samples of a task-space trajectory have no valid robot configuration (at this placement, nothing
+    reaches them: an :class:`~placement.exceptions.InfeasibleError`).
 
     Attributes:
         sample_indices: Indices of the unreachable samples (at most the first 20 are kept).

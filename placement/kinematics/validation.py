@@ -10,7 +10,7 @@ import pinocchio as pin
 
 from placement.kinematics.base import SOLVERS
 from placement.kinematics.taylor import Taylor2
-from placement.robot.exceptions import RobotFileError
+from placement.robot.exceptions import KinematicsPluginError, RobotFileError
 from placement.robot.model import Robot
 
 
@@ -52,8 +52,8 @@ def _check_plugin(robot: Robot) -> None:
     joints = robot.closed_form(tuple(Taylor2.constant([c]) for c in position))
     movable = set(robot.model.names[1:])
     if set(joints) != movable:
-        raise RobotFileError(robot.sidecar_path, field, f"the plug-in must return exactly the joints {sorted(movable)}, "
-                             f"got {sorted(joints)}")
+        raise KinematicsPluginError(robot.sidecar_path, field, f"the plug-in must return exactly the joints "
+                                    f"{sorted(movable)}, got {sorted(joints)}")
     for name, value in joints.items():
         joint = robot.model.joints[robot.model.getJointId(name)]
         if joint.nq != 1 or abs(float(value.v[0]) - robot.reference_q[joint.idx_q]) > 1e-9:

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from placement.path.exceptions import CycleError
+from placement.path.exceptions import _CycleError
 
 CYCLES = (73, 81, 82, 83, 85, 89)
 PLANE_AXES = {17: (0, 1, 2), 18: (2, 0, 1), 19: (1, 2, 0)}  # hole's first, second axis, drilling axis
@@ -73,34 +73,34 @@ def expand_cycle(code: int, plane: int, incremental: bool, unit_m: float, inch: 
         state: The remembered values, updated.
 
     Raises:
-        CycleError: A missing or impossible R, Z, Q, P or L.
+        _CycleError: A missing or impossible R, Z, Q, P or L.
     """
     first, second, drill = PLANE_AXES[plane]
     letters = "XYZ"
     bottom_letter = letters[drill]
     if not continuing and bottom_letter not in values:
-        raise CycleError("", f"a canned cycle needs the bottom of the hole ({bottom_letter}) on its first line")
+        raise _CycleError("", f"a canned cycle needs the bottom of the hole ({bottom_letter}) on its first line")
     if "R" in values:
         state.r_m = values["R"] * unit_m
     elif not continuing or state.r_m is None:
-        raise CycleError("", "a canned cycle needs its retract level R on its first line")
+        raise _CycleError("", "a canned cycle needs its retract level R on its first line")
     if bottom_letter in values:
         state.bottom_m = values[bottom_letter] * unit_m
     for letter, needed in (("Q", (73, 83)), ("P", (82, 89))):
         if letter in values:
             if letter == "Q":
                 if values["Q"] <= 0:
-                    raise CycleError("Q", "the peck depth Q must be > 0")
+                    raise _CycleError("Q", "the peck depth Q must be > 0")
                 state.q_m = values["Q"] * unit_m
             else:
                 if values["P"] < 0:
-                    raise CycleError("P", "the dwell P must be ≥ 0 s")
+                    raise _CycleError("P", "the dwell P must be ≥ 0 s")
                 state.p_s = values["P"]
         elif code in needed and (not continuing or (state.q_m if letter == "Q" else state.p_s) is None):
-            raise CycleError("", f"G{code} needs {letter} on its first line")
+            raise _CycleError("", f"G{code} needs {letter} on its first line")
     repeats = values.get("L", 1.0)
     if repeats != int(repeats) or repeats < 1:
-        raise CycleError("L", "the repeat count L must be a whole number ≥ 1")
+        raise _CycleError("L", "the repeat count L must be a whole number ≥ 1")
     assert state.r_m is not None and state.bottom_m is not None
     current = position_m[drill]
     if state.initial_level_m is None:  # the first of consecutive cycle lines (the machine clears it)
@@ -108,7 +108,7 @@ def expand_cycle(code: int, plane: int, incremental: bool, unit_m: float, inch: 
     old = state.initial_level_m
     polar = "@" in values or "^" in values
     if polar and plane != 17:
-        raise CycleError("@" if "@" in values else "^", "polar words (@, ^) in a drilling cycle need the XY plane (G17)")
+        raise _CycleError("@" if "@" in values else "^", "polar words (@, ^) in a drilling cycle need the XY plane (G17)")
     step_radius, step_angle = values.get("@", 0.0) * unit_m, np.radians(values.get("^", 0.0))
     if incremental:
         step_a, step_b = (values.get(letters[k], 0.0) * unit_m for k in (first, second))
@@ -125,7 +125,7 @@ def expand_cycle(code: int, plane: int, incremental: bool, unit_m: float, inch: 
             angle = np.radians(values["^"]) if "^" in values else float(np.arctan2(b, a))
             a, b = radius * np.cos(angle), radius * np.sin(angle)
     if r < bottom:
-        raise CycleError("R", f"the retract level R ({r / unit_m:g}) is below the bottom of the hole "
+        raise _CycleError("R", f"the retract level R ({r / unit_m:g}) is below the bottom of the hole "
                               f"({bottom / unit_m:g})")
     steps: list[Step] = []
 
@@ -143,7 +143,7 @@ def expand_cycle(code: int, plane: int, incremental: bool, unit_m: float, inch: 
         a, b = a + step_a, b + step_b
         if incremental and polar:  # each hole turns and moves out from the last, about the origin
             if a == 0 and b == 0:
-                raise CycleError("@" if "@" in values else "^", "incremental polar motion is indeterminate at the "
+                raise _CycleError("@" if "@" in values else "^", "incremental polar motion is indeterminate at the "
                                                                  "origin")
             radius, angle = float(np.hypot(a, b)) + step_radius, float(np.arctan2(b, a)) + step_angle
             a, b = radius * np.cos(angle), radius * np.sin(angle)

@@ -1,10 +1,11 @@
-"""Errors of path files, the G-code programs and the pose lists they name."""
+"""Errors of path files, the G-code programs and the pose lists they name; and the G-code reader's own, private,
+which it turns into located :class:`GcodeError` before they leave it."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from placement.exceptions import InputFileError, PlacementError
+from placement.exceptions import InputFileError
 
 
 class PathFileError(InputFileError):
@@ -42,7 +43,15 @@ class PoseFileError(PathFileError):
         Exception.__init__(self, f"{self.path}{where}: {problem}")
 
 
-class CycleError(PlacementError):
+class _ReaderError(Exception):
+    """Inside the G-code reader only: a fault that the reader turns into a :class:`GcodeError` naming its line.
+
+    Private, and no PlacementError: a caller catching PlacementError sees the located error only, and one of these
+    escaping the reader would show as the bug it is.
+    """
+
+
+class _CycleError(_ReaderError):
     """A drilling cycle line that cannot be run (the reader names its line in a GcodeError); ``letter`` is the word
     at fault ("" for the cycle word)."""
 
@@ -51,7 +60,7 @@ class CycleError(PlacementError):
         self.letter, self.problem = letter, problem
 
 
-class ExpressionError(PlacementError):
+class _ExpressionError(_ReaderError):
     """Inside the reader (which names the line in a GcodeError): a line that cannot be read or evaluated; ``text``
     is the part at fault as written ("" for the line)."""
 
@@ -61,7 +70,7 @@ class ExpressionError(PlacementError):
         self.problem = problem
 
 
-class FlowError(PlacementError):
+class _FlowError(_ReaderError):
     """Inside the reader (which names the line in a GcodeError): a control-flow error at a line (index from 0),
     blaming a text as written."""
 

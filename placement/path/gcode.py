@@ -31,7 +31,7 @@ import numpy as np
 from placement.path.arcs import SAME_POINT_M, arc_segment
 from placement.path.canned import CYCLES, CycleState, expand_cycle
 from placement.path.compensation import Compensation, begin, circular, end_compensation, straight, tool_diameter_m
-from placement.path.exceptions import CycleError, ExpressionError, FlowError, GcodeError, PathFileError
+from placement.path.exceptions import GcodeError, PathFileError, _CycleError, _ExpressionError, _FlowError
 from placement.path.ngc_expressions import Block, Parameters, read_line
 from placement.path.ngc_flow import run_blocks
 from placement.path.ngc_words import EXTRA_AXES, check_unused, sorted_words
@@ -169,7 +169,7 @@ def read_program(file: Path, machine: Machine | None = None) -> Program:
             raise GcodeError(file, number, "", f"the line is longer than {MAX_LINE_CHARS} characters")
         try:
             blocks.append(read_line(line))
-        except ExpressionError as error:
+        except _ExpressionError as error:
             raise GcodeError(file, number, error.text, error.problem) from None
     machine = machine or Machine()
     state = _State(machine, references={280: _path_point(machine, machine.g28_m), 300: _path_point(machine,
@@ -183,7 +183,7 @@ def read_program(file: Path, machine: Machine | None = None) -> Program:
 
     try:
         run_blocks(blocks, Parameters(), execute)
-    except FlowError as error:
+    except _FlowError as error:
         raise GcodeError(file, error.index + 1, error.text, error.problem) from None
     return _program(file, state)
 
@@ -577,7 +577,7 @@ def _cycle(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, s
     try:
         steps = expand_cycle(state.motion // 10, state.plane, state.incremental, state.length_m,
                              state.length_m == INCH_M, position, values, previous == state.motion, state.cycle)
-    except CycleError as error:
+    except _CycleError as error:
         raise fail(written.get(error.letter, word), error.problem) from None
     feed = _feed(fail, state, word, 1.0, values)
     for step in steps:

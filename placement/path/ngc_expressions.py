@@ -24,7 +24,7 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from placement.path.exceptions import ExpressionError
+from placement.path.exceptions import _ExpressionError
 
 EQUAL_TOLERANCE = 1e-4  # EQ and NE compare within this, as LinuxCNC's TOLERANCE_EQUAL
 MAX_NUMBERED_PARAMETER = 5602  # LinuxCNC's numbered parameters are #1 to #5602
@@ -57,7 +57,7 @@ class Parameters:
     def number(self, index: float, text: str) -> int:
         """A numbered parameter's index, checked."""
         if index != int(index) or not 1 <= index <= MAX_NUMBERED_PARAMETER:
-            raise ExpressionError(text, f"parameter number {index:g} is not a whole number from 1 to "
+            raise _ExpressionError(text, f"parameter number {index:g} is not a whole number from 1 to "
                                         f"{MAX_NUMBERED_PARAMETER}")
         return int(index)
 
@@ -69,7 +69,7 @@ class Parameters:
         """The value of ``#<name>``; an undefined name is an error, as in LinuxCNC."""
         scope = self.globals if name.startswith("_") else self.locals
         if name not in scope:
-            raise ExpressionError(text, f"the named parameter #<{name}> is read before it is set")
+            raise _ExpressionError(text, f"the named parameter #<{name}> is read before it is set")
         return scope[name]
 
     def exists(self, name: str) -> bool:
@@ -127,7 +127,7 @@ def read_line(line: str) -> Block:
     """Read one line of a program.
 
     Raises:
-        ExpressionError: A malformed word, number, expression or comment.
+        _ExpressionError: A malformed word, number, expression or comment.
     """
     compact = _strip(line)
     if compact.startswith("/"):
@@ -144,7 +144,7 @@ def _strip(line: str) -> str:
     for char in line:
         if char == "(":
             if depth:
-                raise ExpressionError("", "a comment may not hold '(' (nested comments)")
+                raise _ExpressionError("", "a comment may not hold '(' (nested comments)")
             depth = 1
         elif char == ")" and depth:
             depth = 0
@@ -152,10 +152,10 @@ def _strip(line: str) -> str:
             break
         elif not depth and char not in " \t\r":
             if not char.isascii() or not char.isprintable():
-                raise ExpressionError(char, "a character outside comments that is not printable ASCII")
+                raise _ExpressionError(char, "a character outside comments that is not printable ASCII")
             code.append(char)
     if depth:
-        raise ExpressionError("", "the comment opened by '(' is not closed on its line")
+        raise _ExpressionError("", "the comment opened by '(' is not closed on its line")
     return "".join(code).upper()
 
 
@@ -165,9 +165,9 @@ class _Reader:
     def __init__(self, text: str) -> None:
         self.text, self.low, self.at = text, text.lower(), 0
 
-    def fail(self, start: int, problem: str) -> ExpressionError:
+    def fail(self, start: int, problem: str) -> _ExpressionError:
         end = self.at if self.at > start else start + 1
-        return ExpressionError(self.text[start:end], problem)
+        return _ExpressionError(self.text[start:end], problem)
 
     def peek(self, count: int = 1) -> str:
         return self.low[self.at:self.at + count]
@@ -309,7 +309,7 @@ class _Reader:
         def apply(p: Parameters) -> float:
             x = argument(p)
             if domain is not None and not (domain[0] <= x <= domain[1] and (name != "ln" or x > 0)):
-                raise ExpressionError(text, f"{name.upper()} of {x:g} is undefined")
+                raise _ExpressionError(text, f"{name.upper()} of {x:g} is undefined")
             return function(x)
 
         return apply
@@ -349,7 +349,7 @@ class _Reader:
             try:
                 return inner(p)
             except (OverflowError, ValueError, ZeroDivisionError) as error:
-                raise ExpressionError(text, f"the expression cannot be evaluated: {error}") from None
+                raise _ExpressionError(text, f"the expression cannot be evaluated: {error}") from None
 
         return checked
 
@@ -367,14 +367,14 @@ def _binary(operator: str, text: str, left: Value, right: Value) -> Value:
         def divide(p: Parameters) -> float:
             divisor = right(p)
             if divisor == 0:
-                raise ExpressionError(text, "division by zero")
+                raise _ExpressionError(text, "division by zero")
             return left(p) / divisor
         return divide
     if operator == "mod":
         def modulo(p: Parameters) -> float:
             divisor = right(p)
             if divisor == 0:
-                raise ExpressionError(text, "MOD by zero")
+                raise _ExpressionError(text, "MOD by zero")
             value = math.fmod(left(p), divisor)
             return value + abs(divisor) if value < 0 else value
         return modulo
@@ -382,7 +382,7 @@ def _binary(operator: str, text: str, left: Value, right: Value) -> Value:
         def power(p: Parameters) -> float:
             base, exponent = left(p), right(p)
             if base < 0 and exponent != int(exponent):
-                raise ExpressionError(text, f"{base:g} ** {exponent:g}: a negative number to a fractional power")
+                raise _ExpressionError(text, f"{base:g} ** {exponent:g}: a negative number to a fractional power")
             return float(base**exponent)
         return power
     simple: dict[str, Callable[[float, float], float]] = {

@@ -16,7 +16,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from placement.path.exceptions import ExpressionError, FlowError
+from placement.path.exceptions import _ExpressionError, _FlowError
 from placement.path.ngc_expressions import SUBROUTINE_PARAMETERS, Block, OWord, Parameters
 
 MAX_EXECUTED_BLOCKS = 10_000_000
@@ -45,8 +45,8 @@ def run_blocks(blocks: list[Block], parameters: Parameters,
             parameter settings; returns False to end the program (M2, M30).
 
     Raises:
-        FlowError: Unmatched or misplaced O-words, a call of an unknown subroutine, too many lines run.
-        ExpressionError: From evaluating a line (the caller knows the line: ``FlowError`` wraps none).
+        _FlowError: Unmatched or misplaced O-words, a call of an unknown subroutine, too many lines run, or a
+            line that cannot be evaluated (its ``_ExpressionError``, with the line's index).
     """
     flow = _Flow(blocks)
     main = _Frame(len(blocks), {}, {})
@@ -55,7 +55,7 @@ def run_blocks(blocks: list[Block], parameters: Parameters,
     while index < len(blocks):
         executed += 1
         if executed > MAX_EXECUTED_BLOCKS:
-            raise FlowError(index, "", f"more than {MAX_EXECUTED_BLOCKS:,} lines run: the program does not end "
+            raise _FlowError(index, "", f"more than {MAX_EXECUTED_BLOCKS:,} lines run: the program does not end "
                                        "(an endless loop?)")
         block = blocks[index]
         try:
@@ -70,8 +70,8 @@ def run_blocks(blocks: list[Block], parameters: Parameters,
                 continue
             words = [(word.letter, word.value(parameters), word.text) for word in block.words]
             values = [(a, a.value(parameters)) for a in block.assignments]
-        except ExpressionError as error:
-            raise FlowError(index, error.text, error.problem) from None
+        except _ExpressionError as error:
+            raise _FlowError(index, error.text, error.problem) from None
         for assignment, value in values:
             if assignment.name is not None:
                 parameters.set_named(assignment.name, value)
@@ -79,14 +79,14 @@ def run_blocks(blocks: list[Block], parameters: Parameters,
                 assert assignment.index is not None
                 try:
                     number = parameters.number(assignment.index(parameters), assignment.text)
-                except ExpressionError as error:
-                    raise FlowError(index, error.text, error.problem) from None
+                except _ExpressionError as error:
+                    raise _FlowError(index, error.text, error.problem) from None
                 parameters.numbered[number] = value
         if words and not execute(index, words):
             return
         index += 1
     if len(frames) > 1:
-        raise FlowError(len(blocks) - 1, "", "the program ends inside a subroutine (no endsub)")
+        raise _FlowError(len(blocks) - 1, "", "the program ends inside a subroutine (no endsub)")
 
 
 class _Flow:
@@ -100,7 +100,7 @@ class _Flow:
         for i, oword in self.owords:
             if oword.keyword == "sub":
                 if oword.name in self.subs:
-                    raise FlowError(i, oword.text, f"subroutine O{oword.name} is defined twice")
+                    raise _FlowError(i, oword.text, f"subroutine O{oword.name} is defined twice")
                 self.subs[oword.name] = i
             elif oword.keyword == "do":
                 open_dos.setdefault(oword.name, []).append(i)
@@ -125,7 +125,7 @@ class _Flow:
             found = next((i for i, o in lines if (i > at if forward else i < at) and o.name == oword.name
                           and o.keyword in keywords and (do_end is None or (i in self.do_ends) == do_end)), None)
             if found is None:
-                raise FlowError(at, oword.text, f"O{oword.name} {oword.keyword} has no matching "
+                raise _FlowError(at, oword.text, f"O{oword.name} {oword.keyword} has no matching "
                                                 f"{' or '.join(keywords)} {'after' if forward else 'before'} it")
             self.cache[key] = found
         return self.cache[key]
@@ -136,14 +136,14 @@ class _Flow:
 
         def condition() -> bool:
             if len(oword.arguments) != 1:
-                raise FlowError(at, oword.text, f"O{oword.name} {keyword} needs one condition in [ ]")
+                raise _FlowError(at, oword.text, f"O{oword.name} {keyword} needs one condition in [ ]")
             return oword.arguments[0](parameters) != 0
 
         if keyword == "sub":
             return self.find(at, oword, ("endsub",)) + 1
         if keyword in ("endsub", "return"):
             if len(frames) == 1:
-                raise FlowError(at, oword.text, f"O{oword.name} {keyword} outside a subroutine call")
+                raise _FlowError(at, oword.text, f"O{oword.name} {keyword} outside a subroutine call")
             if oword.arguments:
                 parameters.globals["_value"] = oword.arguments[0](parameters)
             frames.pop()
@@ -152,12 +152,12 @@ class _Flow:
             return frame.return_to
         if keyword == "call":
             if oword.name not in self.subs:
-                raise FlowError(at, oword.text, f"no subroutine O{oword.name} sub in this program (subroutines in other "
+                raise _FlowError(at, oword.text, f"no subroutine O{oword.name} sub in this program (subroutines in other "
                                                 "files are not read)")
             if len(frames) > MAX_CALL_DEPTH:
-                raise FlowError(at, oword.text, f"calls nested deeper than {MAX_CALL_DEPTH} (endless recursion?)")
+                raise _FlowError(at, oword.text, f"calls nested deeper than {MAX_CALL_DEPTH} (endless recursion?)")
             if len(oword.arguments) > SUBROUTINE_PARAMETERS:
-                raise FlowError(at, oword.text, f"more than {SUBROUTINE_PARAMETERS} arguments")
+                raise _FlowError(at, oword.text, f"more than {SUBROUTINE_PARAMETERS} arguments")
             arguments = [argument(parameters) for argument in oword.arguments]
             saved = {k: parameters.numbered.get(k, 0.0) for k in range(1, SUBROUTINE_PARAMETERS + 1)}
             frames.append(_Frame(at + 1, saved, parameters.locals))
@@ -181,7 +181,7 @@ class _Flow:
             return self.find(at, oword, ("while",), forward=False, do_end=False)
         if keyword == "repeat":
             if len(oword.arguments) != 1:
-                raise FlowError(at, oword.text, f"O{oword.name} repeat needs a count in [ ]")
+                raise _FlowError(at, oword.text, f"O{oword.name} repeat needs a count in [ ]")
             count = int(oword.arguments[0](parameters))
             if count <= 0:
                 return self.find(at, oword, ("endrepeat",)) + 1
@@ -215,7 +215,7 @@ class _Flow:
             following = next(o for i, o in self.owords if i == at)
             if following.keyword == "elseif":
                 if len(following.arguments) != 1:
-                    raise FlowError(at, following.text, f"O{following.name} elseif needs one condition in [ ]")
+                    raise _FlowError(at, following.text, f"O{following.name} elseif needs one condition in [ ]")
                 if following.arguments[0](parameters) != 0:
                     return at + 1
                 continue

@@ -31,7 +31,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from placement.exceptions import PlacementError
+from placement.exceptions import InfeasibleError
 
 if TYPE_CHECKING:
     from placement.path.samples import PathSamples
@@ -242,7 +242,7 @@ def run_profile(path: TimedPath, run: Run) -> RunProfile:
         run: One of its runs.
 
     Raises:
-        PlacementError: No cap keeps a curved stretch's sampled acceleration and jerk within the bounds.
+        InfeasibleError: No cap keeps a curved stretch's sampled acceleration and jerk within the bounds.
     """
     acceleration, jerk = path.timing.max_acceleration_m_s2, path.timing.max_jerk_m_s3
     assert acceleration is not None and jerk is not None  # the realistic law's schema requires them
@@ -260,7 +260,7 @@ def run_profile(path: TimedPath, run: Run) -> RunProfile:
             return profile
         for stretch in over:
             stretch.cap_m_s, stretch.bound = 0.95 * stretch.peak_m_s, "sampled acceleration and jerk"
-    raise PlacementError(f"no feed profile keeps the path within {acceleration} m/s^2 and {jerk} m/s^3")
+    raise InfeasibleError(f"no feed profile keeps the path within {acceleration} m/s^2 and {jerk} m/s^3")
 
 
 def _within(profile: Profile, run: Run, inside_s: np.ndarray, acceleration: float, jerk: float) -> bool:

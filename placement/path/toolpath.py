@@ -9,7 +9,7 @@ from functools import cached_property
 import numpy as np
 from scipy.spatial import cKDTree
 
-from placement.exceptions import PlacementError
+from placement.exceptions import SettingsError
 from placement.path.paper_law import sample_paper
 from placement.path.path_file import ForceSet, Timing
 from placement.path.poses import TimedPoses
@@ -71,7 +71,7 @@ class ToolPath:
         """Sample the path in time with the given step (default: the file's ``time_step_s``)."""
         step = self.time_step_s if time_step_s is None else time_step_s
         if not 0 < step < np.inf:
-            raise PlacementError(f"the sampling time step must be a finite number > 0 s, got {step}")
+            raise SettingsError(f"the sampling time step must be a finite number > 0 s, got {step}")
         if self.timed is not None:
             count = self.sample_counts([self.timed.duration_s * self.timed.mean_speed_m_s / self.feed_m_s], step)[0]
             return self.assemble([self.timed.sample(count, self.feed_m_s / self.timed.mean_speed_m_s)])
@@ -93,15 +93,15 @@ class ToolPath:
         coarser samples are among the finer ones (a re-check's sampling).
 
         Raises:
-            PlacementError: A timed pose list (timed by its own t column), or more than MAX_SAMPLES
+            SettingsError: A timed pose list (timed by its own t column), or more than MAX_SAMPLES
                 samples at ``time_step_s`` (before ``refine``).
         """
         step = self.time_step_s if time_step_s is None else time_step_s
         if self.timed is not None:
-            raise PlacementError(f"the path '{self.name}' is a pose list with times: it is timed by its t column, "
-                                 "not by the optimal timing law")
+            raise SettingsError(f"the path '{self.name}' is a pose list with times: it is timed by its t column, "
+                                "not by the optimal timing law")
         if not 0 < step < np.inf:
-            raise PlacementError(f"the sampling time step must be a finite number > 0 s, got {step}")
+            raise SettingsError(f"the sampling time step must be a finite number > 0 s, got {step}")
         runs = self.runs()
         fastest = max(self.speed_m_s(s) for s in self.segments)
         nominal = [run.length_m / fastest for run in runs]
@@ -188,21 +188,21 @@ class ToolPath:
         """Samples of each independently timed piece.
 
         Raises:
-            PlacementError: More than MAX_SAMPLES samples in all, or a step longer than the path's duration over
+            SettingsError: More than MAX_SAMPLES samples in all, or a step longer than the path's duration over
                 MIN_PATH_STEPS: the energy would be integrated over a handful of samples, and corners, arcs and
                 accelerations left out (``--time-step 1e6`` on the 0.27 s groove gave 8 samples and 4.39 J
                 instead of 4.80 J).
         """
         total = sum(durations_s)
         if step > total / MIN_PATH_STEPS:
-            raise PlacementError(f"the sampling time step {step:g} s cannot sample the path '{self.name}', which lasts "
-                                 f"{total:.4g} s: give a time step of at most {total / MIN_PATH_STEPS:.3g} s "
-                                 "(time_step_s in the path file, or --time-step); the default is 1 ms")
+            raise SettingsError(f"the sampling time step {step:g} s cannot sample the path '{self.name}', which lasts "
+                                f"{total:.4g} s: give a time step of at most {total / MIN_PATH_STEPS:.3g} s "
+                                "(time_step_s in the path file, or --time-step); the default is 1 ms")
         counts = [max(2, int(np.ceil(d / step)) + 1) if d / step < MAX_SAMPLES else MAX_SAMPLES + 1 for d in durations_s]
         if sum(counts) > MAX_SAMPLES:
-            raise PlacementError(f"the path '{self.name}' lasts {sum(durations_s):.4g} s: sampled every {step:g} s it "
-                                 f"would need more than {MAX_SAMPLES:,} samples; use a larger time step (time_step_s "
-                                 "in the path file, or --time-step), or check the path's size and feed")
+            raise SettingsError(f"the path '{self.name}' lasts {sum(durations_s):.4g} s: sampled every {step:g} s it "
+                                f"would need more than {MAX_SAMPLES:,} samples; use a larger time step (time_step_s "
+                                "in the path file, or --time-step), or check the path's size and feed")
         return counts
 
     def half_turn_symmetric(self) -> bool:

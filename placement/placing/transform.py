@@ -18,6 +18,7 @@ import warnings
 
 import numpy as np
 
+from placement.exceptions import PlacementWarning
 from placement.kinematics.trajectories import TaskTrajectory
 from placement.path.samples import PathSamples
 from placement.robot.model import Robot
@@ -119,7 +120,7 @@ def placed_task(robot: Robot, samples: PathSamples, placements: np.ndarray) -> t
     return pose, np.hstack([force, np.zeros_like(force)])
 
 
-class OrientationIgnoredWarning(UserWarning):
+class OrientationIgnoredWarning(PlacementWarning):
     """A path's tool orientations meet a robot whose task is a position."""
 
 

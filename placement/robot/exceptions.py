@@ -1,12 +1,19 @@
-"""Errors of robots: their files, their names, the closing of their loops, example-robot-data arms."""
+"""Errors of robots: their files (kinematics plug-ins too), their names, the closing of their loops,
+example-robot-data arms."""
 
 from __future__ import annotations
 
-from placement.exceptions import InputFileError, PlacementError
+from placement.exceptions import InputFileError, PlacementError, PluginError
 
 
 class RobotFileError(InputFileError):
     """A robot description (URDF or sidecar YAML) is missing, malformed or inconsistent."""
+
+
+class KinematicsPluginError(RobotFileError, PluginError):
+    """A robot's kinematics plug-in file fails to load or breaks the contract (no ``make_closed_form``, a maker
+    that fails or makes no function, joints that are not the model's): located as a :class:`RobotFileError`, and a
+    :class:`~placement.exceptions.PluginError`."""
 
 
 class UnknownRobotError(PlacementError):

@@ -19,7 +19,7 @@ from typing import Any
 
 import pinocchio as pin
 
-from placement.robot.exceptions import RobotFileError
+from placement.robot.exceptions import KinematicsPluginError, RobotFileError
 
 # A closed-form solver: platform coordinates (Taylor2 or arrays, m) -> {joint name: value (m, rad)}.
 ClosedFormFunction = Any
@@ -53,9 +53,9 @@ def load_plugin(sidecar_path: Path, plugin: str | None) -> ModuleType | None:
         spec.loader.exec_module(module)
     except (Exception, SystemExit) as error:  # any error in the user's plug-in code, even an exit
         del sys.modules[name]
-        raise RobotFileError(file, "", f"the kinematics plug-in failed to load: {type(error).__name__}: {error}") from None
+        raise KinematicsPluginError(file, "", f"the kinematics plug-in failed to load: {type(error).__name__}: {error}") from None
     if not hasattr(module, "make_closed_form"):
-        raise RobotFileError(file, "", "a kinematics plug-in must define make_closed_form(model)")
+        raise KinematicsPluginError(file, "", "a kinematics plug-in must define make_closed_form(model)")
     return module
 
 
@@ -78,13 +78,14 @@ def _made(plugin: ModuleType, maker: str, model: pin.Model, sidecar_path: Path, 
     """The function the plug-in's ``maker`` makes for ``model``, a function of the end effector's ``argument``.
 
     Raises:
-        RobotFileError: The maker failed, or made no function.
+        KinematicsPluginError: The maker failed, or made no function.
     """
     try:
         solve = getattr(plugin, maker)(model)
     except (Exception, SystemExit) as error:  # any error in the user's plug-in code, even an exit
-        raise RobotFileError(sidecar_path, "kinematics_plugin", f"{maker} failed: {type(error).__name__}: {error}") from None
+        raise KinematicsPluginError(sidecar_path, "kinematics_plugin",
+                                    f"{maker} failed: {type(error).__name__}: {error}") from None
     if not callable(solve):
-        raise RobotFileError(sidecar_path, "kinematics_plugin", f"{maker} must return a function of the "
-                             f"end-effector {argument}, got {type(solve).__name__}")
+        raise KinematicsPluginError(sidecar_path, "kinematics_plugin", f"{maker} must return a function of the "
+                                    f"end-effector {argument}, got {type(solve).__name__}")
     return solve

@@ -36,7 +36,7 @@ from pymoo.optimize import minimize
 from placement.contract.objective import OBJECTIVES
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings, denser
 from placement.evaluation.results import Evaluation, PlacementDetail
-from placement.exceptions import PlacementError
+from placement.exceptions import SettingsError
 from placement.path.toolpath import ToolPath
 from placement.robot.model import Robot
 from placement.search.optimize import RECHECK_DENSITY, SearchSettings, optimize_placement, search_sampling
@@ -156,10 +156,10 @@ def pareto_front(robot: Robot, path: ToolPath, objectives: tuple[str, ...], *, s
         The front, or, when no placement is feasible, the reason.
     """
     if not 2 <= len(objectives) <= 3 or len(set(objectives)) != len(objectives):
-        raise PlacementError(f"a Pareto front needs two or three different objectives, got {', '.join(objectives)}")
+        raise SettingsError(f"a Pareto front needs two or three different objectives, got {', '.join(objectives)}")
     if evaluation.objectives not in (EvaluatorSettings().objectives, tuple(objectives)):
-        raise PlacementError(f"a Pareto front's objectives are given once, as objectives ({', '.join(objectives)}); "
-                             f"the evaluation settings name {', '.join(evaluation.objectives)}")
+        raise SettingsError(f"a Pareto front's objectives are given once, as objectives ({', '.join(objectives)}); "
+                            f"the evaluation settings name {', '.join(evaluation.objectives)}")
     signs = np.array([OBJECTIVES.get(name).sign for name in objectives])
     space = space or default_space(robot, half_turn=path.half_turn_symmetric())
     step = evaluation.time_step_s if evaluation.time_step_s is not None else path.time_step_s

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from placement.cell.cell_file import Region
-from placement.exceptions import PlacementError
+from placement.exceptions import InfeasibleError, SettingsError
 from placement.placing.transform import ANGLES, VARIABLES, plane_frame
 from placement.robot.model import Robot
 from placement.robot.sidecar import PLANE_VARIABLES, Plane, Workspace
@@ -36,9 +36,9 @@ class PlacementSpace:
     def __post_init__(self) -> None:
         unknown = set(self.free) - set(VARIABLES)
         if unknown:
-            raise PlacementError(f"unknown placement variable(s) {sorted(unknown)}; expected some of {VARIABLES}")
+            raise SettingsError(f"unknown placement variable(s) {sorted(unknown)}; expected some of {VARIABLES}")
         if len(self.lower) != len(self.free) or np.any(np.asarray(self.lower) > np.asarray(self.upper)):
-            raise PlacementError("placement bounds must give lower <= upper for every free variable")
+            raise SettingsError("placement bounds must give lower <= upper for every free variable")
 
     @property
     def period(self) -> np.ndarray:
@@ -98,10 +98,10 @@ def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict
     free = tuple(free)
     unknown = sorted(set(free) - set(VARIABLES))
     if unknown:
-        raise PlacementError(f"unknown placement variable(s) {unknown}; expected some of {', '.join(VARIABLES)}")
+        raise SettingsError(f"unknown placement variable(s) {unknown}; expected some of {', '.join(VARIABLES)}")
     clash = sorted(set(free) & set(fixed or {}))
     if clash:
-        raise PlacementError(f"{clash} cannot be both free and fixed")
+        raise SettingsError(f"{clash} cannot be both free and fixed")
     limits: dict[str, tuple[float, float]] = {name: bound for name, bound in (defaults.bounds if defaults else {}).items()}
     limits.update(bounds or {})
     if plane is not None:
@@ -113,15 +113,15 @@ def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict
         bound = limits.get(axis, (low, high))
         limits[axis] = (max(bound[0], low), min(bound[1], high))
         if limits[axis][0] > limits[axis][1]:
-            raise PlacementError(f"the cell's workpiece region ({axis} from {low * 1e3:.1f} to {high * 1e3:.1f} mm) "
-                                 f"does not meet the placement bounds of robot '{robot.name}' ({axis} from "
-                                 f"{bound[0] * 1e3:.1f} to {bound[1] * 1e3:.1f} mm)")
+            raise InfeasibleError(f"the cell's workpiece region ({axis} from {low * 1e3:.1f} to {high * 1e3:.1f} mm) "
+                                  f"does not meet the placement bounds of robot '{robot.name}' ({axis} from "
+                                  f"{bound[0] * 1e3:.1f} to {bound[1] * 1e3:.1f} mm)")
     limits.setdefault("phi", (-np.pi / 2, np.pi / 2) if half_turn else (-np.pi, np.pi))
     for angle in ("theta", "psi"):
         limits.setdefault(angle, (-np.pi, np.pi))
     missing = [name for name in free if name not in limits]
     if missing:
-        raise PlacementError(_missing_bounds(robot.name, missing))
+        raise SettingsError(_missing_bounds(robot.name, missing))
     fixed_vector = np.array([float((fixed or {}).get(name, 0.0)) for name in VARIABLES])
     names = tuple(n for n in VARIABLES if n in free)
     return PlacementSpace(free=names,
@@ -167,9 +167,9 @@ def _check_in_plane(robot: str, plane: Plane, free: tuple[str, ...], fixed: dict
     off = [name for name in free if name not in PLANE_VARIABLES]
     off += [name for name, value in fixed.items() if name not in PLANE_VARIABLES and value != 0.0]
     if off:
-        raise PlacementError(f"robot '{robot}' moves in the plane of normal {list(plane.normal)} (sidecar "
-                             f"placement.plane): paths stay in it, so only {', '.join(PLANE_VARIABLES)} may be free or "
-                             f"fixed (x, y along the plane's own axes), got {', '.join(sorted(set(off)))}")
+        raise SettingsError(f"robot '{robot}' moves in the plane of normal {list(plane.normal)} (sidecar "
+                            f"placement.plane): paths stay in it, so only {', '.join(PLANE_VARIABLES)} may be free or "
+                            f"fixed (x, y along the plane's own axes), got {', '.join(sorted(set(off)))}")
 
 
 def _missing_bounds(robot: str, missing: list[str]) -> str:

@@ -23,7 +23,7 @@ from placement.contract.objective import OBJECTIVES
 from placement.evaluation.evaluator import EvaluationJob, EvaluatorSettings, evaluate_job, members_used
 from placement.evaluation.parallel import run_in_order
 from placement.evaluation.results import Evaluation
-from placement.exceptions import PlacementError
+from placement.exceptions import SettingsError
 from placement.path.toolpath import ToolPath
 from placement.placing.transform import VARIABLES
 from placement.registry import runtime_members
@@ -129,9 +129,9 @@ def sweep(robot: Robot, path: ToolPath, axes: dict[str, np.ndarray], fixed: dict
     """
     unknown = set(axes) - set(VARIABLES) | set(fixed or {}) - set(VARIABLES)
     if unknown:
-        raise PlacementError(f"unknown placement variable(s) {sorted(unknown)}; expected some of {VARIABLES}")
+        raise SettingsError(f"unknown placement variable(s) {sorted(unknown)}; expected some of {VARIABLES}")
     if len(evaluation.objectives) != 1:
-        raise PlacementError(f"a sweep maps one objective, got {', '.join(evaluation.objectives)}")
+        raise SettingsError(f"a sweep maps one objective, got {', '.join(evaluation.objectives)}")
     objective, regeneration = evaluation.objectives[0], evaluation.regeneration
     OBJECTIVES.get(objective)  # unknown names fail before any work
     variables = tuple(axes)

@@ -6,4 +6,5 @@ from placement.exceptions import PlacementError
 
 
 class TimingError(PlacementError):
-    """A timing law conflicts with what the objectives need, or lacks what it needs (the realistic law's bounds)."""
+    """A timing law conflicts with what the objectives (or a search) need, or lacks what it needs (the realistic law's
+    bounds)."""

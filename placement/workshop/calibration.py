@@ -45,13 +45,13 @@ from scipy.optimize import least_squares
 from placement.dynamics.inverse import actuator_efforts
 from placement.energy.integration import sample_power
 from placement.energy.trace import MotorTrace, motor_trace
-from placement.exceptions import PlacementError
+from placement.exceptions import SettingsError
 from placement.kinematics import joint_trajectory
 from placement.kinematics.base import task_jacobian
 from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
 from placement.robot.model import Robot
 from placement.robot.sidecar import Drive
-from placement.workshop.exceptions import LogFileError
+from placement.workshop.exceptions import CalibrationError, LogFileError
 
 # Constants a fit may free: where they sit in a drive, their bounds and a typical size (SI).
 FITTABLE: dict[str, tuple[str, tuple[float, float], float]] = {
@@ -322,21 +322,21 @@ def calibrate(robot: Robot, log: MeasuredLog, fit: list[str], held_out: float = 
         The fitted constants with 95 % intervals, the errors and the robot with them.
 
     Raises:
-        PlacementError: An unknown constant, constants the log cannot determine (the resistance
-            from currents alone, or with the torque constant from power alone), or a log too
-            short to hold anything out.
+        SettingsError: An unknown constant, or a log too short to hold anything out.
+        CalibrationError: Constants the log cannot determine (the resistance from currents alone, or
+            with the torque constant from power alone, a log without motion, constants left loose).
     """
     unknown = sorted(set(fit) - set(FITTABLE))
     if unknown or not fit:
-        raise PlacementError(f"constants to fit: expected some of {', '.join(FITTABLE)}, got {', '.join(unknown) or 'none'}")
+        raise SettingsError(f"constants to fit: expected some of {', '.join(FITTABLE)}, got {', '.join(unknown) or 'none'}")
     if "power" not in log.measured and "resistance_ohm" in fit:
-        raise PlacementError("resistance_ohm cannot be fitted to currents alone: log the electric power too")
+        raise CalibrationError("resistance_ohm cannot be fitted to currents alone: log the electric power too")
     if "current" not in log.measured and {"resistance_ohm", "torque_constant_Nm_per_A"} <= set(fit):
-        raise PlacementError("resistance_ohm and torque_constant_Nm_per_A cannot both be fitted to power alone "
-                             "(only R/K_t² shows): log the currents too, or fit one of them")
+        raise CalibrationError("resistance_ohm and torque_constant_Nm_per_A cannot both be fitted to power alone "
+                               "(only R/K_t² shows): log the currents too, or fit one of them")
     split = int(round(len(log.t_s) * (1 - held_out)))
     if not 10 <= split <= len(log.t_s) - 10 or not 0 < held_out < 1:
-        raise PlacementError(f"held-out share {held_out}: both parts of the {len(log.t_s)}-sample log need 10 samples")
+        raise SettingsError(f"held-out share {held_out}: both parts of the {len(log.t_s)}-sample log need 10 samples")
     names = sorted({a.drive_name for a in robot.actuators if a.drive_name})
     keys = [(drive, constant) for drive in names for constant in fit]
     start = np.array([constant_value(robot.named_drives[d], c) for d, c in keys])
@@ -345,7 +345,7 @@ def calibrate(robot: Robot, log: MeasuredLog, fit: list[str], held_out: float = 
     scale = np.maximum(np.abs(start), typical)  # the search runs in these units
     motion = _motion(robot, log)
     if not np.abs(motion.velocity).max() > 0:
-        raise PlacementError("the log shows no motion of the actuators: log a motion that moves every axis")
+        raise CalibrationError("the log shows no motion of the actuators: log a motion that moves every axis")
     quantities = sorted(log.measured)
     size = {q: float(np.sqrt(np.mean(log.measured[q][:split] ** 2))) or 1.0 for q in quantities}  # weighs W against A
 
@@ -379,8 +379,8 @@ def calibrate(robot: Robot, log: MeasuredLog, fit: list[str], held_out: float = 
     loose = [f"{d}.{c}" for (d, c), value, width in zip(keys, result.x * scale, half_width, strict=True)
              if not width <= max(abs(value), FITTABLE[c][2])]
     if loose:
-        raise PlacementError(f"the log does not determine {', '.join(loose)} (95 % intervals wider than the values): "
-                             "log a richer motion of every axis, or fit fewer constants")
+        raise CalibrationError(f"the log does not determine {', '.join(loose)} (95 % intervals wider than the values): "
+                               "log a richer motion of every axis, or fit fewer constants")
     return Calibration(robot=calibrated, values=values, confidence_95=intervals,
                        fit_rmse={q: float(np.sqrt(np.mean(e[:split] ** 2))) for q, e in error.items()},
                        held_out_rmse={q: float(np.sqrt(np.mean(e[split:] ** 2))) for q, e in error.items()},
@@ -407,11 +407,11 @@ def write_calibrated(robot: Robot, calibration: Calibration, folder: str | Path,
         The calibrated sidecar's path.
 
     Raises:
-        PlacementError: ``folder`` exists.
+        SettingsError: ``folder`` exists.
     """
     target = Path(folder)
     if target.exists():
-        raise PlacementError(f"--out: '{target}' exists; name a new folder")
+        raise SettingsError(f"--out: '{target}' exists; name a new folder")
     shutil.copytree(robot.sidecar_path.parent, target, ignore=shutil.ignore_patterns("__pycache__"))
     (target / robot.sidecar_path.name).unlink()
     sidecar = target / f"{target.name}.yaml"

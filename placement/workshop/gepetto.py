@@ -57,6 +57,7 @@ import pinocchio as pin
 import yaml
 from pydantic import Field, ValidationError
 
+from placement.exceptions import PlacementWarning
 from placement.kinematics.base import SOLVERS
 from placement.kinematics.generic import null_space_basis
 from placement.kinematics.trajectories import TaskTrajectory
@@ -80,11 +81,11 @@ REACH_GRID = 9  # points per side of the grid whose reachable part bounds the es
 JOINT_TYPES = ("revolute", "continuous", "prismatic")
 
 
-class EstimatesWarning(UserWarning):
+class EstimatesWarning(PlacementWarning):
     """A robot loads with quantities its files do not give, estimated as stated in the message."""
 
 
-class StaleSidecarWarning(UserWarning):
+class StaleSidecarWarning(PlacementWarning):
     """A ``placement.yaml`` is loaded although the ``robot.yaml`` it was written from changed since."""
 
 

@@ -183,7 +183,7 @@ def test_a_broken_installed_entry_spoils_only_its_own_name(tmp_path):
               "    try:\n"
               "        placement.OBJECTIVES.get(name)\n"
               "    except placement.PlacementError as error:\n"
-              "        errors.append(str(error))\n"
+              "        errors.append([type(error).__name__, str(error)])\n"
               "print(json.dumps([names, errors]))\n")
     environment = {**os.environ, "PYTHONPATH": os.pathsep.join([str(tmp_path), *sys.path])}
     result = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, env=environment,
@@ -192,5 +192,6 @@ def test_a_broken_installed_entry_spoils_only_its_own_name(tmp_path):
     names, errors = json.loads(result.stdout.strip().splitlines()[-1])
     assert set(names) == {"cycle_time", "dexterity", "energy", "mechanical_energy", "peak_torque", "rms_current",
                           "shaking_force", "shaking_moment", "transmission"}
-    assert "'aaa_broken' installed as 'no_such_module:thing' failed to load: ModuleNotFoundError" in errors[0]
-    assert "must be an instance of Objective" in errors[1]
+    assert [kind for kind, _ in errors] == ["PluginError", "PluginError"]
+    assert "'aaa_broken' installed as 'no_such_module:thing' failed to load: ModuleNotFoundError" in errors[0][1]
+    assert "must be an instance of Objective" in errors[1][1]
