@@ -11,11 +11,16 @@ the actuator efforts (:func:`inverse_dynamics`); :func:`check_robot` proves a ro
 Plug-in families (objectives, limits, motor models, regeneration policies, transmissions,
 kinematics solvers, robots) each have a base class and a registry that installed packages extend
 through entry points; see :mod:`placement.registry`.
+
+``__version__`` is the distribution's version (:func:`placement.distribution.version`). ``import placement``
+loads the core only: the scene, the plots, Pareto fronts' NSGA-II, the workbench and a Dask cluster import
+their optional packages (the extras, :mod:`placement.distribution`) when they are used.
 """
 
 from placement.cell.cell_file import Cell, load_cell
 from placement.contract.limit import LIMITS, Limit, Margin, MarginField
 from placement.contract.objective import OBJECTIVES, Objective
+from placement.distribution import version
 from placement.drives.motors import MOTOR_MODELS, MotorModel, PowerParts, register_motor_model
 from placement.drives.transmissions import TRANSMISSIONS, Transmission
 from placement.dynamics.inverse import ActuatorTrajectory, actuator_efforts, inverse_dynamics
@@ -26,6 +31,7 @@ from placement.evaluation.results import Evaluation, PlacementDetail
 from placement.exceptions import (
     InfeasibleError,
     InputFileError,
+    MissingExtraError,
     PlacementError,
     PlacementWarning,
     PluginError,
@@ -52,6 +58,8 @@ from placement.workshop.catalog import robot_names
 from placement.workshop.checks import CheckReport, check_robot
 from placement.workshop.load import load_robot
 
+__version__ = version()
+
 __all__ = [
     "LIMITS",
     "MOTOR_MODELS",
@@ -76,6 +84,7 @@ __all__ = [
     "Limit",
     "Margin",
     "MarginField",
+    "MissingExtraError",
     "MotorModel",
     "Objective",
     "Optimum",

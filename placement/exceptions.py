@@ -12,6 +12,8 @@ The kinds every package shares are defined here, each directly under the root:
 - :class:`InfeasibleError`: the request is sound but nothing satisfies it (no placement within the
   bounds, no feed profile within the limits, samples no configuration reaches);
 - :class:`PluginError`: a plug-in fails to load or breaks its family's contract.
+- :class:`MissingExtraError`: a feature asked for needs an extra that is not installed (also an
+  ``ImportError``; :mod:`placement.distribution`).
 
 Each package defines its own errors beside its code, in its ``exceptions`` module:
 
@@ -108,3 +110,20 @@ class UnknownMemberError(SettingsError):
 class PlacementWarning(UserWarning):
     """Base class of every warning placement gives for a user-facing reason (an estimate, a stale file, a value
     ignored); the command line shows each as a ``warning: ...`` line."""
+
+
+class MissingExtraError(PlacementError, ImportError):
+    """A feature needs an optional package that is not installed; the message names the extra that brings it.
+
+    Also an :class:`ImportError`, as the import it stands for (see :mod:`placement.distribution`).
+
+    Attributes:
+        feature: The feature, in the user's words (e.g. "the 3-D scene (--html, --show)").
+        extra: The extra that installs what it needs (e.g. "viz").
+        missing: The module that could not be imported.
+    """
+
+    def __init__(self, feature: str, extra: str, missing: str, distribution: str, reason: str) -> None:
+        self.feature, self.extra, self.missing = feature, extra, missing
+        super().__init__(f"{feature} needs the '{extra}' extra: pip install '{distribution}[{extra}]' ({reason})",
+                         name=missing)

@@ -127,7 +127,8 @@ def test_the_walk_finds_an_error_defined_against_the_rule():
 def test_the_public_errors_stay_importable_from_placement():
     public = [name for name in placement.__all__ if name.endswith("Error")]
     assert {"PlacementError", "InputFileError", "RobotFileError", "PathFileError", "UnknownRobotError",
-            "UnreachableError", "UnknownMemberError", "SettingsError", "InfeasibleError", "PluginError"} <= set(public)
+            "UnreachableError", "UnknownMemberError", "SettingsError", "InfeasibleError", "PluginError",
+            "MissingExtraError"} <= set(public)
     assert all(issubclass(getattr(placement, name), PlacementError) for name in public)
     assert "PlacementWarning" in placement.__all__ and placement.PlacementWarning is PlacementWarning
 
@@ -318,7 +319,8 @@ def test_a_kinematics_plugin_that_fails_is_a_located_plugin_error(tmp_path):
 
 
 def test_an_unreachable_scheduler_is_a_cluster_error(monkeypatch):
-    """Whether Dask's distributed package is installed (the scheduler cannot be reached) or not (it is missing)."""
+    """Dask's distributed package installed, the scheduler cannot be reached (without the package: a
+    MissingExtraError naming the cluster extra, tests/test_extras.py)."""
     from placement.evaluation.exceptions import ClusterError
     from placement.evaluation.parallel import cluster
 

@@ -1,4 +1,5 @@
-"""The wheel ships every module and the top-level robots/, and runs outside the clone."""
+"""The wheel ships every module, the top-level robots/ and the type hints' marker (py.typed), and runs outside
+the clone."""
 
 import shutil
 import subprocess
@@ -26,6 +27,7 @@ def test_the_wheel_holds_every_module_and_robot_and_runs_from_elsewhere(tmp_path
               if p.is_file() and p.suffix in (".py", ".urdf", ".yaml", ".md") and "__pycache__" not in p.parts}
     assert {"placement/robots/orthoglide/orthoglide.urdf", "placement/robots/orthoglide/orthoglide.yaml"} <= robots
     assert modules - names == set() and robots - names == set()
+    assert "placement/py.typed" in names  # PEP 561: type checkers read the package's own hints
     unpacked = tmp_path / "site"
     zipfile.ZipFile(wheel).extractall(unpacked)
     share_compiled_kinematics(unpacked / "placement" / "kinematics")

@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 import pinocchio as pin
-import viser
+import viser  # optional dependency: the [app] extra, checked by placement.app
 
 from placement.app.compare import ComparePanel, ExportPanel
 from placement.app.evaluations import Bench, Choices, Reading, shown_value, si_value
@@ -56,7 +56,7 @@ class RobotDrawing:
     """The robot's URDF visuals (and its cell's shapes, as they are checked) as viser meshes, posed by q."""
 
     def __init__(self, server: viser.ViserServer, robot: Robot) -> None:
-        import trimesh
+        import trimesh  # optional dependency: the [app] extra, checked by placement.app
 
         self.robot = robot
         self.model = robot.model

@@ -14,8 +14,8 @@ from collections.abc import Callable
 from typing import Any, Protocol
 
 import numpy as np
-import viser
-from matplotlib.figure import Figure
+import viser  # optional dependency: the [app] extra, checked by placement.app
+from matplotlib.figure import Figure  # optional dependency: the [app] extra, checked by placement.app
 
 from placement.app.evaluations import Bench
 from placement.app.exceptions import NotReadyError
@@ -99,7 +99,7 @@ class JobPanel(ABC):
 
 def figure_image(figure: Figure) -> np.ndarray:
     """A matplotlib figure as an (H, W, 3) RGB image, for the page; the figure is closed."""
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # optional dependency: the [app] extra, checked by placement.app
 
     figure.canvas.draw()
     image = np.asarray(figure.canvas.buffer_rgba())[..., :3].copy()  # type: ignore[attr-defined]

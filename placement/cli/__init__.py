@@ -22,11 +22,11 @@ import argparse
 import os
 import sys
 import warnings
-from importlib import metadata
 
 from placement.cli import app, assemble, calibrate, check, export, feed, place, robots, study
 from placement.cli import map as map_command
 from placement.cli.memory import keep_freed_memory
+from placement.distribution import version
 from placement.exceptions import PlacementError
 
 SUBCOMMANDS = {"robots": robots, "check": check, "map": map_command, "feed": feed, "calibrate": calibrate,
@@ -55,14 +55,6 @@ def main_parser() -> argparse.ArgumentParser:
                                 "  --debug    anywhere on the line: the traceback of an unexpected error instead of "
                                 "its one-line summary"])
     return parser
-
-
-def version() -> str:
-    """The installed package's version ("unknown (not installed)" when run from a source tree never installed)."""
-    try:
-        return metadata.version("placement")
-    except metadata.PackageNotFoundError:
-        return "unknown (not installed)"
 
 
 def _format_warning(message: Warning | str, category: type[Warning], filename: str, lineno: int,

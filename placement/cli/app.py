@@ -23,6 +23,7 @@ from placement.cli.common import (
     whole_number,
 )
 from placement.cli.exceptions import UsageError
+from placement.distribution import WORKBENCH, require
 from placement.placing.values import parse_free, parse_values
 
 
@@ -41,6 +42,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 def start(args: argparse.Namespace):  # -> placement.app.page.Workbench (viser loads only here)
     """Build the bench and serve its page; returns the workbench (its ``url``, ``close()``)."""
+    require(WORKBENCH)  # before any work: the [app] extra's packages, or a message naming the extra
     from placement.app.evaluations import Bench, Choices
     from placement.app.page import Workbench
     from placement.search.optimize import SearchSettings

@@ -8,8 +8,9 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from placement.cli.common import check_outputs, require_sidecar, robot_files
+from placement.cli.common import check_outputs, require_features, require_sidecar, robot_files
 from placement.cli.exceptions import UsageError
+from placement.distribution import PLOTS
 from placement.robot.model import Robot
 from placement.workshop.calibration import (
     FITTABLE,
@@ -41,6 +42,7 @@ def run(args: argparse.Namespace) -> int:
     """Fit, print the constants with their 95 % intervals and the errors; write the outputs asked for."""
     require_sidecar(args.robot, "calibrate")
     check_outputs(("--png", args.png), inputs=(args.log, *robot_files(args.robot)))
+    require_features((args.png, PLOTS))
     if args.out is not None and Path(args.out).exists():
         raise UsageError(f"--out: '{args.out}' exists; name a new folder")
     if not 0 < args.held_out < 1:

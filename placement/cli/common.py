@@ -17,6 +17,7 @@ import numpy as np
 from placement.cell.cell_file import load_cell
 from placement.cli.exceptions import UsageError
 from placement.contract.objective import OBJECTIVES
+from placement.distribution import Feature, require
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.parallel import SCHEDULER_VARIABLE
 from placement.kinematics.base import solver_name
@@ -240,6 +241,18 @@ def objective_names(args: argparse.Namespace) -> list[str]:
     """The objectives a command was given (--objective, and --objectives where it has it), known ones only."""
     names = [getattr(args, "objective", None)] + (getattr(args, "objectives", None) or "").split(",")
     return [name.strip() for name in names if name and name.strip() in OBJECTIVES]
+
+
+def require_features(*wanted: tuple[object, Feature]) -> None:
+    """The optional features the options ask for, checked before any work: (option's value, feature) pairs, a
+    feature being needed when its option's value is set (not None, empty or false).
+
+    Raises:
+        MissingExtraError: A feature asked for needs an extra that is not installed; the message names it.
+    """
+    for value, feature in wanted:
+        if value:
+            require(feature)
 
 
 def check_outputs(*pairs: tuple[str, str | None], inputs: tuple[str, ...] = ()) -> None:

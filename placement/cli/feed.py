@@ -16,10 +16,12 @@ from placement.cli.common import (
     job_options,
     load_robot_argument,
     regeneration_option,
+    require_features,
     robot_files,
     sampling_options,
 )
 from placement.cli.exceptions import UsageError
+from placement.distribution import PLOTS
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.evaluator import EvaluatorSettings
 from placement.placing.transform import VARIABLES
@@ -56,6 +58,7 @@ def parse_feeds(text: str) -> np.ndarray:
 def run(args: argparse.Namespace) -> int:
     """Print the table (and draw the figure) of time and energy per part against feed."""
     check_outputs(("--png", args.png), inputs=(args.path, *robot_files(args.robot, args.cell)))
+    require_features((args.png, PLOTS))
     feeds = parse_feeds(args.feeds)
     given = parse_values(args.at, "--at")
     robot = load_robot_argument(args.robot, args.tool, args.cell)

@@ -18,12 +18,14 @@ from placement.cli.common import (
     load_robot_argument,
     margin_option,
     model_options,
+    require_features,
     robot_files,
     run_options,
     sampling_options,
 )
 from placement.cli.exceptions import UsageError
 from placement.contract.objective import quantity, wording
+from placement.distribution import CLUSTER, PLOTS, SCENE
 from placement.evaluation.evaluator import EvaluatorSettings
 from placement.evaluation.parallel import cluster, scheduler_address
 from placement.output.report import write_atomically
@@ -93,6 +95,7 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"--fix: {', '.join(clash)} is also swept by --grid")
     if args.png and len(axes) != 2:
         raise UsageError(f"--png draws maps over exactly two variables; --grid gives {len(axes)}")
+    require_features((args.png, PLOTS), (args.html, SCENE), (scheduler_address(args.scheduler), CLUSTER))
     robot = load_robot_argument(args.robot, args.tool, args.cell)
     path = configured_path(args, args.path)
     total = int(np.prod([len(v) for v in axes.values()]))

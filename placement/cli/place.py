@@ -27,6 +27,7 @@ from placement.cli.common import (
     non_negative,
     placement_options,
     positive_number,
+    require_features,
     robot_files,
     run_options,
     sampling_options,
@@ -37,6 +38,7 @@ from placement.cli.common import (
 from placement.cli.exceptions import UsageError
 from placement.cli.front import parse_members, parse_objectives, place_front
 from placement.contract.objective import OBJECTIVES, wording
+from placement.distribution import CLUSTER, FRONTS, PLOTS, SCENE
 from placement.dynamics.inverse import TreeDynamics
 from placement.dynamics.tree_rnea import touch_tree_kernels
 from placement.energy.regeneration import REGENERATION
@@ -64,7 +66,7 @@ from placement.search.optimize import SearchSettings, optimize_placement
 from placement.search.plausibility import feed_warnings, length_warnings
 from placement.search.space import PlacementSpace, default_space
 
-if TYPE_CHECKING:  # the scene's modules (meshcat, trimesh) load only for --html and --show
+if TYPE_CHECKING:  # the scene's modules (meshcat, trimesh: the [viz] extra) load only for --html and --show
     from placement.output.scene import Scene
 
 
@@ -363,6 +365,8 @@ def run(args: argparse.Namespace) -> int:
     check_outputs(("--json", args.json), ("--trace", args.trace), ("--html", args.html),
                   ("--png", args.png),
                   inputs=(*args.path, *robot_files(args.robot, args.cell)))
+    require_features((args.html or args.show, SCENE), (args.png, PLOTS), (args.objectives, FRONTS),
+                     (scheduler_address(args.scheduler), CLUSTER))
     scene = None
     if args.html or args.show:
         from placement.output.scene import Scene

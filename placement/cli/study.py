@@ -22,6 +22,7 @@ from placement.cli.common import (
     configured_path,
     load_robot_argument,
     model_options,
+    require_features,
     robot_files,
     run_options,
     sampling_options,
@@ -30,6 +31,7 @@ from placement.cli.common import (
 )
 from placement.cli.exceptions import UsageError
 from placement.contract.objective import OBJECTIVES
+from placement.distribution import CLUSTER
 from placement.evaluation.evaluator import EvaluatorSettings
 from placement.evaluation.parallel import cluster, scheduler_address
 from placement.output.report import write_atomically
@@ -62,6 +64,7 @@ def run(args: argparse.Namespace) -> int:
     check_outputs(("--out", args.out), ("--out", args.out.removesuffix(".csv") + ".parquet"),
                   inputs=(*args.paths, *(file for name in names for file in robot_files(name, args.cell))))
     OBJECTIVES.get(args.objective)  # an unknown name is refused before any robot is loaded
+    require_features((scheduler_address(args.scheduler), CLUSTER))
     robots = [load_robot_argument(name, None, args.cell) for name in names]
     paths = [configured_path(args, file) for file in args.paths]
     settings = SearchSettings(seed=args.seed, max_generations=args.generations)

@@ -6,5 +6,5 @@ from placement.exceptions import PlacementError
 
 
 class ClusterError(PlacementError):
-    """A Dask scheduler was given but cannot be used: it cannot be reached, or Dask's distributed package is
-    missing."""
+    """A Dask scheduler was given but cannot be reached (Dask's distributed package missing is a
+    :class:`~placement.exceptions.MissingExtraError`: the ``cluster`` extra)."""

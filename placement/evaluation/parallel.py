@@ -18,6 +18,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any, TypeVar
 
+from placement.distribution import CLUSTER, require
 from placement.dynamics.inverse import openmp_started
 from placement.evaluation.exceptions import ClusterError
 
@@ -53,16 +54,15 @@ def cluster(address: str | None) -> Iterator[Cluster | None]:
     """Connect to the Dask scheduler at ``address`` for the duration of the block (None: yield None).
 
     Raises:
-        ClusterError: The scheduler cannot be reached, or Dask's distributed package is missing.
+        ClusterError: The scheduler cannot be reached.
+        MissingExtraError: Dask's distributed package (the ``cluster`` extra) is not installed.
     """
     if address is None:
         yield None
         return
-    try:
-        from distributed import Client
-    except ImportError:
-        raise ClusterError("a Dask scheduler was given, but the 'distributed' package is not installed "
-                           "(pip install 'dask[distributed]')") from None
+    require(CLUSTER)
+    from distributed import Client  # optional dependency: the [cluster] extra
+
     try:
         client = Client(address, timeout=CONNECT_TIMEOUT_S, set_as_default=False)
     except (OSError, TimeoutError, ValueError) as error:

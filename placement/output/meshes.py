@@ -15,6 +15,13 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import cast
 
+from placement.distribution import SCENE, require
+
+# Optional dependencies: the [viz] extra, checked first so that a missing one is named with the extra that brings
+# it; the imports below follow that check, not the top of the module.
+# ruff: noqa: E402
+require(SCENE)
+
 import coal
 import meshcat.geometry as g
 import numpy as np

@@ -6,7 +6,11 @@ energy.
 
 from __future__ import annotations
 
-import matplotlib
+from placement.distribution import PLOTS, require
+
+require(PLOTS)  # optional dependency: the [viz] extra; checked first, so that a missing one names the extra
+
+import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")  # files only; no display needed
 
@@ -16,13 +20,13 @@ from matplotlib.axes import Axes  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.transforms import Bbox  # noqa: E402
 
-from placement.contract.objective import OBJECTIVES
-from placement.contract.objective import quantity as with_unit
-from placement.placing.transform import ANGLES
+from placement.contract.objective import OBJECTIVES  # noqa: E402
+from placement.contract.objective import quantity as with_unit  # noqa: E402
+from placement.placing.transform import ANGLES  # noqa: E402
 from placement.search.feed import FeedStudy  # noqa: E402
 from placement.search.pareto import ParetoFront  # noqa: E402
 from placement.search.sweep import SweepResult  # noqa: E402
-from placement.workshop.calibration import UNITS, Calibration
+from placement.workshop.calibration import UNITS, Calibration  # noqa: E402
 
 # Where a point's label may sit (points from the point), nearest first: diagonals, then the sides, farther and farther.
 LABEL_OFFSETS_PT = [(sx * r, sy * r) for r in (5, 12, 22, 34, 48)

@@ -26,6 +26,13 @@ import tempfile
 import threading
 from pathlib import Path
 
+from placement.distribution import SCENE, require
+
+# Optional dependencies: the [viz] extra, checked first so that a missing one is named with the extra that brings
+# it; the imports below follow that check, not the top of the module.
+# ruff: noqa: E402
+require(SCENE)
+
 import matplotlib
 import meshcat
 import meshcat.geometry as g

@@ -27,13 +27,12 @@ import dataclasses
 from collections.abc import Callable
 from concurrent.futures import Executor
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
-from pymoo.algorithms.moo.nsga2 import NSGA2
-from pymoo.core.problem import Problem
-from pymoo.optimize import minimize
 
 from placement.contract.objective import OBJECTIVES
+from placement.distribution import FRONTS, require
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings, denser
 from placement.evaluation.results import Evaluation, PlacementDetail
 from placement.exceptions import SettingsError
@@ -116,21 +115,28 @@ def knee_index(values: np.ndarray) -> int:
     return int(np.argmin(np.linalg.norm(scaled, axis=1)))
 
 
-class _FrontProblem(Problem):
-    """The objectives (signed to be minimised) and margins of placements, for pymoo; archives feasible ones."""
+def _front_problem(evaluator: Evaluator, space: PlacementSpace, signs: np.ndarray, n_limits: int) -> Any:
+    """The objectives (signed to be minimised) and margins of placements, as a pymoo problem; its ``archive`` lists
+    the (free values, signed objectives) of the feasible placements it evaluated."""
+    require(FRONTS)
+    from pymoo.core.problem import Problem  # optional dependency: the [pareto] extra
 
-    def __init__(self, evaluator: Evaluator, space: PlacementSpace, signs: np.ndarray, n_limits: int) -> None:
-        super().__init__(n_var=len(space.free), n_obj=len(signs), n_ieq_constr=n_limits, xl=space.lower,
-                         xu=space.upper)
-        self.evaluator, self.space, self.signs = evaluator, space, signs
-        self.archive: list[tuple[np.ndarray, np.ndarray]] = []  # (free values, signed objectives) of feasible ones
+    class FrontProblem(Problem):
+        """The problem pymoo solves, built here: pymoo's base class is imported only when a front is searched."""
 
-    def _evaluate(self, x: np.ndarray, out: dict, *args: object, **kwargs: object) -> None:
-        evaluation = self.evaluator.evaluate(self.space.full(x))
-        signed = evaluation.values * self.signs
-        out["F"] = np.where(np.isfinite(signed), signed, UNREACHABLE_VALUE)
-        out["G"] = -evaluation.margins
-        self.archive.extend(zip(x[evaluation.feasible], out["F"][evaluation.feasible]))
+        def __init__(self) -> None:
+            super().__init__(n_var=len(space.free), n_obj=len(signs), n_ieq_constr=n_limits, xl=space.lower,
+                             xu=space.upper)
+            self.archive: list[tuple[np.ndarray, np.ndarray]] = []
+
+        def _evaluate(self, x: np.ndarray, out: dict, *args: object, **kwargs: object) -> None:
+            evaluation = evaluator.evaluate(space.full(x))
+            signed = evaluation.values * signs
+            out["F"] = np.where(np.isfinite(signed), signed, UNREACHABLE_VALUE)
+            out["G"] = -evaluation.margins
+            self.archive.extend(zip(x[evaluation.feasible], out["F"][evaluation.feasible]))
+
+    return FrontProblem()
 
 
 def pareto_front(robot: Robot, path: ToolPath, objectives: tuple[str, ...], *, space: PlacementSpace | None = None,
@@ -154,12 +160,17 @@ def pareto_front(robot: Robot, path: ToolPath, objectives: tuple[str, ...], *, s
 
     Returns:
         The front, or, when no placement is feasible, the reason.
+
+    Raises:
+        SettingsError: Not two or three different objectives, or evaluation settings naming others.
+        MissingExtraError: pymoo (the ``pareto`` extra) is not installed; raised before any search.
     """
     if not 2 <= len(objectives) <= 3 or len(set(objectives)) != len(objectives):
         raise SettingsError(f"a Pareto front needs two or three different objectives, got {', '.join(objectives)}")
     if evaluation.objectives not in (EvaluatorSettings().objectives, tuple(objectives)):
         raise SettingsError(f"a Pareto front's objectives are given once, as objectives ({', '.join(objectives)}); "
                             f"the evaluation settings name {', '.join(evaluation.objectives)}")
+    require(FRONTS)  # before the single-objective searches: NSGA-II is the [pareto] extra's
     signs = np.array([OBJECTIVES.get(name).sign for name in objectives])
     space = space or default_space(robot, half_turn=path.half_turn_symmetric())
     step = evaluation.time_step_s if evaluation.time_step_s is not None else path.time_step_s
@@ -191,8 +202,12 @@ def pareto_front(robot: Robot, path: ToolPath, objectives: tuple[str, ...], *, s
 def _evolve(evaluator: Evaluator, space: PlacementSpace, signs: np.ndarray, seeds: np.ndarray,
             settings: SearchSettings, progress: Callable[[], None] | None) -> np.ndarray:
     """NSGA-II from a population holding ``seeds``; the archive's non-dominated free values (coarse sampling)."""
+    require(FRONTS)
+    from pymoo.algorithms.moo.nsga2 import NSGA2  # optional dependency: the [pareto] extra
+    from pymoo.optimize import minimize
+
     n_limits = evaluator.evaluate(space.full(space.lower)).margins.shape[1]
-    problem = _FrontProblem(evaluator, space, signs, n_limits)
+    problem = _front_problem(evaluator, space, signs, n_limits)
     rng = np.random.default_rng(settings.seed)
     population = max(settings.population, 2 * len(seeds))
     start = np.vstack([seeds, rng.uniform(space.lower, space.upper, (population - len(seeds), len(space.free)))])
