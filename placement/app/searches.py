@@ -117,7 +117,7 @@ class MapPanel(JobPanel):
     def finished(self, result: SweepResult) -> None:
         words = wording(result.objective)
         unit = OBJECTIVES.get(result.objective).unit
-        from placement.output.plots import map_figure
+        from placement.output.plots import map_figure  # the [viz] extra (matplotlib, meshcat): imported only here
 
         self.image.image = figure_image(map_figure(result, f"{result.path}: {words.subject} ({result.regeneration})"))
         self.image.visible = True
@@ -163,7 +163,7 @@ class FrontPanel(JobPanel):
         return job
 
     def finished(self, front: ParetoFront) -> None:
-        from placement.output.plots import front_figure
+        from placement.output.plots import front_figure  # the [viz] extra (matplotlib, meshcat): imported only here
 
         if front.infeasible:
             self.say(f"no feasible placement: {front.infeasible}", error=True)

@@ -25,6 +25,8 @@ from placement.cli.common import (
 from placement.cli.exceptions import UsageError
 from placement.distribution import WORKBENCH, require
 from placement.placing.values import parse_free, parse_values
+from placement.search.optimize import SearchSettings
+from placement.search.space import default_space
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
@@ -43,10 +45,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 def start(args: argparse.Namespace):  # -> placement.app.page.Workbench (viser loads only here)
     """Build the bench and serve its page; returns the workbench (its ``url``, ``close()``)."""
     require(WORKBENCH)  # before any work: the [app] extra's packages, or a message naming the extra
-    from placement.app.evaluations import Bench, Choices
+    from placement.app.evaluations import Bench, Choices  # the [app] extra's modules: imported only here
     from placement.app.page import Workbench
-    from placement.search.optimize import SearchSettings
-    from placement.search.space import default_space
 
     if not args.host.strip():
         raise UsageError("--host: expected an address, got ''")

@@ -59,7 +59,7 @@ def run(args: argparse.Namespace) -> int:
         sidecar = write_calibrated(robot, result, args.out, Path(args.log).name)
         print(f"calibrated robot written to {sidecar}")
     if args.png:
-        from placement.output.plots import calibration_figure, save
+        from placement.output.plots import calibration_figure, save  # the [viz] extra (matplotlib, meshcat): imported only here
 
         save(calibration_figure(result, [a.joint for a in robot.actuators]), str(args.png).removesuffix(".png"))
         print(f"figure written to {args.png} (and .svg)")

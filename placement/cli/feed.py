@@ -74,7 +74,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"  {feed:9.3f} {study.top_speed_m_s[k]:12.3f} {study.time_s[k]:12.4f} {study.energy_J[k]:14.4f} "
               f"{study.energy_J[k] / study.time_s[k]:13.2f}  {study.speed_bound[k]:<{width}s}  {state}")
     if args.png:
-        from placement.output.plots import feed_figure, save
+        from placement.output.plots import feed_figure, save  # the [viz] extra (matplotlib, meshcat): imported only here
 
         save(feed_figure(study, f"{path.name} on {robot.name}"), str(args.png).removesuffix(".png"))
         print(f"figure written to {args.png} (and .svg)")

@@ -51,7 +51,7 @@ def place_front(robot: Robot, path: ToolPath, space: PlacementSpace, args: argpa
         return document, {}, front.infeasible
     print("\n" + format_front(front))
     if args.png:
-        from placement.output.plots import front_figure, save
+        from placement.output.plots import front_figure, save  # the [viz] extra (matplotlib, meshcat): imported only here
 
         names = save(front_figure(front, f"{path.name} on {robot.name}"), str(args.png).removesuffix(".png"))
         print(f"front plotted in {' and '.join(names)}")

@@ -113,12 +113,12 @@ def run(args: argparse.Namespace) -> int:
           + (f", {words.subject} {feasible.min():.4f} to {quantity(feasible.max(), words.unit)}" if len(feasible) else "")
           + (f"; written to {out}" if out else ""))
     if args.png:
-        from placement.output.plots import map_figure, save
+        from placement.output.plots import map_figure, save  # the [viz] extra (matplotlib, meshcat): imported only here
 
         save(map_figure(result, f"{path.name}: {words.subject} ({args.regen})"), str(args.png).removesuffix(".png"))
         print(f"figure written to {args.png} (and .svg)")
     if args.html:
-        from placement.output.scene import Scene
+        from placement.output.scene import Scene  # the [viz] extra (matplotlib, meshcat): imported only here
 
         scene = Scene(robot)
         scene.add_workspace()

@@ -46,6 +46,7 @@ from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.evaluation.parallel import Cluster, cluster, scheduler_address
 from placement.limits.collision import closest_points
 from placement.limits.workspace import workspace_misfit
+from placement.output.palette import AT_COLOR, BEST_COLOR, WORST_COLOR, path_color
 from placement.output.report import (
     detail_json,
     format_detail,
@@ -67,7 +68,7 @@ from placement.search.plausibility import feed_warnings, length_warnings
 from placement.search.space import PlacementSpace, default_space
 
 if TYPE_CHECKING:  # the scene's modules (meshcat, trimesh: the [viz] extra) load only for --html and --show
-    from placement.output.scene import Scene
+    from placement.output.scene import Scene  # the [viz] extra (matplotlib, meshcat): imported only here
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -281,7 +282,6 @@ def draw(scene: Scene, robot: Robot, index: int, details: dict, name: str, sever
     ones). Several paths (``several``): one colour per path, named in the legend, its best solid and its worst
     dashed.
     """
-    from placement.output.palette import AT_COLOR, BEST_COLOR, WORST_COLOR, path_color
 
     words = wording(next(iter(details.values())).objective) if details else None
     best, worst = (f"{words.best} {words.subject}", f"{words.worst} {words.subject}") if words else ("", "")
@@ -315,7 +315,7 @@ def show(page: str, host: str) -> None:
     if not (host == "localhost" or host.startswith("127.") or host == "::1"):
         print(f"warning: --show-host {host}: the scene is served to every machine that can reach this address",
               file=sys.stderr)
-    from placement.output.scene import PageServer
+    from placement.output.scene import PageServer  # the [viz] extra (matplotlib, meshcat): imported only here
 
     try:
         server = PageServer(page, host)
@@ -369,7 +369,7 @@ def run(args: argparse.Namespace) -> int:
                      (scheduler_address(args.scheduler), CLUSTER))
     scene = None
     if args.html or args.show:
-        from placement.output.scene import Scene
+        from placement.output.scene import Scene  # the [viz] extra (matplotlib, meshcat): imported only here
 
         scene = Scene(robot)
     if scene:
