@@ -152,7 +152,9 @@ def _lacking_text(robot: Robot, lacking: Sequence[str]) -> str:
     kinds = ([f"{_names(massless)} without mass (no <inertial>, or below {MASSLESS_KG:g} kg)"] if massless else []) + (
         [f"{_names(flat)} with a rotational inertia that is not positive definite"] if flat else [])
     first = lacking[0]
-    where = (f"an <inertial> for each in {robot.urdf_path.name}" if is_gepetto(robot.sidecar_path) else
+    where = (f"an <inertial> for each in {robot.urdf_path.name} (or, once 'placement assemble "
+             f"{robot.sidecar_path.parent} --write' has written its sidecar, their values under the sidecar's links)"
+             if is_gepetto(robot.sidecar_path) else
              f"each link's mass_kg, com_m (m) and inertia_kg_m2 (about the centre of mass, link axes) under the "
              f"sidecar's links, e.g. links: {{{first}: {{mass_kg: ..., com_m: [...], inertia_kg_m2: [ixx, iyy, izz, "
              f"ixy, ixz, iyz]}}}} with a sources entry links.{first}, or an <inertial> in {robot.urdf_path.name}")

@@ -10,6 +10,7 @@ file and the field.
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 from placement.exceptions import PlacementError
@@ -19,6 +20,7 @@ from placement.robot.build import build_robot
 from placement.robot.exceptions import AssemblyError
 from placement.robot.formats import is_gepetto
 from placement.robot.model import Robot
+from placement.robot.plausibility import MasslessWarning
 from placement.robot.sidecar import Sidecar, read_sidecar
 from placement.robot.tool import mount_tool
 from placement.workshop.catalog import sidecar_path
@@ -63,7 +65,9 @@ def write_if_it_loads(path: Path, text: str) -> Robot:
 
     The text goes to a temporary file beside ``path``, so that its URDF and plug-in resolve as they
     will from ``path``; it is loaded from there and only then renamed to ``path``. A sidecar that
-    does not load leaves ``path`` as it was (or absent).
+    does not load leaves ``path`` as it was (or absent). Moving links without inertia do not stop it (as
+    ``allow_massless``, without its warning): the file written is where their inertials go (its ``links``);
+    the robot returned names them (``massless_links``).
 
     Args:
         path: The sidecar file to write.
@@ -77,7 +81,9 @@ def write_if_it_loads(path: Path, text: str) -> Robot:
     """
     with staged(path, text) as temporary:
         try:
-            robot = load_robot(temporary)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", MasslessWarning)
+                robot = load_robot(temporary, allow_massless=True)
         except PlacementError as error:
             said = str(error).replace(str(temporary), str(path))
             raise AssemblyError(f"{path} not written: it would not load: {said}") from None
