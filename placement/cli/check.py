@@ -1,11 +1,12 @@
 """The 'check' command: describe a robot and prove its dynamic model exact.
 
-    placement check ROBOT [--samples N] [--amplitude AMPLITUDE_M]
+    placement check ROBOT [--samples N] [--amplitude AMPLITUDE_M] [--allow-massless]
 
 The check moves the end effector around its reference position by an amplitude scaled to the
 robot's size (see :func:`placement.workshop.checks.default_amplitude`) unless ``--amplitude`` gives one,
 and ends with plausibility warnings about the robot files (heavy links, efforts beyond the
-drives, joints without URDF limits).
+drives, joints without URDF limits). A robot whose moving links have no inertia is refused as it
+loads (exit 2, naming the links), unless ``--allow-massless``: it is then checked, with a warning.
 """
 
 from __future__ import annotations
