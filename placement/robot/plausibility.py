@@ -35,6 +35,7 @@ from collections.abc import Sequence
 import numpy as np
 import pinocchio as pin
 
+from placement.exceptions import PlacementWarning
 from placement.robot.exceptions import RobotFileError
 from placement.robot.formats import is_gepetto
 from placement.robot.model import Robot
@@ -48,7 +49,7 @@ NAMED = 8  # names listed in a message, then "and N more"
 ALLOW = "--allow-massless (load_robot(..., allow_massless=True))"
 
 
-class MasslessWarning(UserWarning):
+class MasslessWarning(PlacementWarning):
     """A robot loads as asked (``allow_massless``) with moving links without inertia or actuated joints without an
     effort bound: its energies leave out the missing inertia."""
 
@@ -76,7 +77,7 @@ def check_plausible(robot: Robot, urdf: UrdfContents, *, allow_massless: bool = 
                  if actuator.drive is None and not robot.model.effortLimit[actuator.v_index] > 0]
     if allow_massless:
         if lacking or unbounded:
-            warnings.warn(MasslessWarning(_allowed_text(robot, lacking, unbounded)), stacklevel=2)
+            warnings.warn(_allowed_text(robot, lacking, unbounded), MasslessWarning, stacklevel=2)
         return tuple(lacking)
     if lacking:
         raise RobotFileError(robot.sidecar_path, f"urdf.link.{lacking[0]}.inertial", _lacking_text(robot, lacking))
