@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import Annotated, Any, Literal
 
 import numpy as np
-from pydantic import BeforeValidator, Field, field_validator, model_validator
+from pydantic import AfterValidator, BeforeValidator, Field, model_validator
 
 from placement.cell.exceptions import CellFileError
 from placement.exceptions import InputFileError
@@ -107,6 +107,26 @@ def _inertia_rows(value: Any) -> Any:
                      f"got {str(value)[:80]}")
 
 
+def _physical(value: tuple[Vector3, Vector3, Vector3]) -> tuple[Vector3, Vector3, Vector3]:
+    """A symmetric, positive-definite inertia whose principal moments satisfy the triangle inequality."""
+    tensor = np.array(value, dtype=float)
+    if not np.allclose(tensor, tensor.T, rtol=0.0, atol=1e-12 * max(1.0, float(np.abs(tensor).max()))):
+        raise ValueError(f"a 3x3 inertia must be symmetric (got {tensor.tolist()})")
+    moments = np.linalg.eigvalsh(tensor)
+    if not moments.min() > 0.0:
+        raise ValueError(f"the inertia must be positive definite: principal moments > 0 kg m^2 "
+                         f"(got {moments.tolist()})")
+    if moments.sum() - 2.0 * moments.max() < -1e-12 * moments.max():
+        raise ValueError(f"the principal moments must satisfy the triangle inequality, each at most the sum of "
+                         f"the other two (got {moments.tolist()} kg m^2)")
+    return value
+
+
+InertiaTensor = Annotated[tuple[Vector3, Vector3, Vector3], BeforeValidator(_inertia_rows), AfterValidator(_physical)]
+"""An inertia about a centre of mass (kg·m²): six numbers [ixx, iyy, izz, ixy, ixz, iyz] or a symmetric 3×3, positive
+definite, its principal moments satisfying the triangle inequality."""
+
+
 class ToolBody(Posed):
     """A rigid tool (a spindle, a gripper) fixed on a frame of the robot.
 
@@ -123,24 +143,9 @@ class ToolBody(Posed):
     frame: str | None = None
     mass_kg: Positive
     com_m: Vector3 = (0.0, 0.0, 0.0)
-    inertia_kg_m2: Annotated[tuple[Vector3, Vector3, Vector3], BeforeValidator(_inertia_rows)]
+    inertia_kg_m2: InertiaTensor
     collision: Shape | None = None
     tip: Posed | None = None
-
-    @field_validator("inertia_kg_m2")
-    @classmethod
-    def _physical(cls, value: tuple[Vector3, Vector3, Vector3]) -> tuple[Vector3, Vector3, Vector3]:
-        tensor = np.array(value, dtype=float)
-        if not np.allclose(tensor, tensor.T, rtol=0.0, atol=1e-12 * max(1.0, float(np.abs(tensor).max()))):
-            raise ValueError(f"a 3x3 inertia must be symmetric (got {tensor.tolist()})")
-        moments = np.linalg.eigvalsh(tensor)
-        if not moments.min() > 0.0:
-            raise ValueError(f"the inertia must be positive definite: principal moments > 0 kg m^2 "
-                             f"(got {moments.tolist()})")
-        if moments.sum() - 2.0 * moments.max() < -1e-12 * moments.max():
-            raise ValueError(f"the principal moments must satisfy the triangle inequality, each at most the sum of "
-                             f"the other two (got {moments.tolist()} kg m^2)")
-        return value
 
     @property
     def inertia_matrix(self) -> np.ndarray:

@@ -15,6 +15,7 @@ from placement.cli.common import (
     job_options,
     load_robot_argument,
     margin_option,
+    massless_option,
     model_options,
     placement_options,
     sampling_options,
@@ -34,8 +35,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     parser = commands.add_parser("app", help="the workbench: drag, read, search and play a placement in the browser",
                                  description="Serve the workbench page: the robot, its workspace and the placed "
                                              "path with a gizmo, live and exact readings, searches, the motion.",
-                                 parents=[job_options(), placement_options(), model_options(), sampling_options(),
-                                          margin_option(), seed_option()])
+                                 parents=[job_options(), massless_option(), placement_options(), model_options(),
+                                          sampling_options(), margin_option(), seed_option()])
     parser.add_argument("--port", type=whole_number(0, 65535), default=0,
                         help="port to serve on (default: the first free one from 8080)")
     parser.add_argument("--host", default="127.0.0.1",
@@ -53,7 +54,7 @@ def start(args: argparse.Namespace):  # -> placement.app.page.Workbench (viser l
     if not (args.host == "localhost" or args.host.startswith("127.") or args.host == "::1"):
         print(f"warning: --host {args.host}: the workbench is served to every machine that can reach this address",
               file=sys.stderr)
-    robot = load_robot_argument(args.robot, args.tool, args.cell)
+    robot = load_robot_argument(args.robot, args.tool, args.cell, allow_massless=args.allow_massless)
     path = configured_path(args, args.path)
     free, bounds = parse_free(args.free, "--free") if args.free is not None else (None, {})
     space = default_space(robot, free=free, fixed=parse_values(args.fix or "", "--fix"), bounds=bounds,

@@ -156,4 +156,9 @@ def run(args: argparse.Namespace) -> int:
               + (f" and locked_joints ({len(locks)} joints, EST under sources)" if locks else "") + f" to {path}")
     gap = float(abs(closure_residuals(written, written.model.createData(), written.reference_q)).max(initial=0.0))
     print(f"  it loads; largest closure residual {gap:.1e} (m, rad)")
+    if written.massless_links:
+        print(f"  warning: {len(written.massless_links)} moving link(s) have no inertia "
+              f"({', '.join(written.massless_links[:8])}{', ...' if len(written.massless_links) > 8 else ''}): the "
+              f"commands refuse it until {written.sidecar_path}'s links gives their mass_kg, com_m and inertia_kg_m2, "
+              "or with --allow-massless")
     return 0

@@ -1,11 +1,12 @@
 """The 'check' command: describe a robot and prove its dynamic model exact.
 
-    placement check ROBOT [--samples N] [--amplitude AMPLITUDE_M]
+    placement check ROBOT [--samples N] [--amplitude AMPLITUDE_M] [--allow-massless]
 
 The check moves the end effector around its reference position by an amplitude scaled to the
 robot's size (see :func:`placement.workshop.checks.default_amplitude`) unless ``--amplitude`` gives one,
 and ends with plausibility warnings about the robot files (heavy links, efforts beyond the
-drives, joints without URDF limits).
+drives, joints without URDF limits). A robot whose moving links have no inertia is refused as it
+loads (exit 2, naming the links), unless ``--allow-massless``: it is then checked, with a warning.
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ import argparse
 
 import numpy as np
 
-from placement.cli.common import load_robot_argument, positive_number, tool_option, whole_number
+from placement.cli.common import load_robot_argument, massless_option, positive_number, tool_option, whole_number
 from placement.cli.exceptions import UsageError
 from placement.kinematics.base import solver_name
 from placement.kinematics.exceptions import UnreachableError
@@ -24,7 +25,8 @@ from placement.workshop.checks import CheckReport, check_robot
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
     """The 'check' subcommand's options."""
-    check = commands.add_parser("check", help="describe a robot and prove its dynamic model exact", parents=[tool_option()])
+    check = commands.add_parser("check", help="describe a robot and prove its dynamic model exact",
+                                parents=[tool_option(), massless_option()])
     check.add_argument("robot", help="robot name, path to a sidecar YAML file, or erd:NAME (with --tool)")
     check.add_argument("--samples", type=whole_number(10, 100_000), default=100,
                        help="samples of the check trajectory (default 100)")
@@ -72,7 +74,7 @@ def describe(robot: Robot) -> str:
 
 def run(args: argparse.Namespace) -> int:
     """Load, describe and check one robot; returns the exit code."""
-    robot = load_robot_argument(args.robot, args.tool)
+    robot = load_robot_argument(args.robot, args.tool, allow_massless=args.allow_massless)
     print(describe(robot))
     try:
         report = check_robot(robot, args.samples, args.amplitude)

@@ -109,6 +109,17 @@ def cell_option() -> argparse.ArgumentParser:
     return options
 
 
+def massless_option() -> argparse.ArgumentParser:
+    """--allow-massless: load a robot whose physics is incomplete, knowingly (a parent parser)."""
+    options = parent()
+    options.add_argument("--allow-massless", action="store_true",
+                         help="load a robot whose moving links have no inertia (a URDF without <inertial>) or whose "
+                              "actuated joints have neither drive nor effort limit, with a warning: the energies "
+                              "leave out their inertia (without it, such a robot is refused; better, give the values "
+                              "under the sidecar's links)")
+    return options
+
+
 def _add_tool(options: argparse.ArgumentParser) -> None:
     options.add_argument("--tool", metavar="FRAME",
                          help="with --robot erd:NAME (any serial arm of example-robot-data, drives and workspace "
@@ -316,9 +327,10 @@ def run_options(*, workers: str | None = None) -> argparse.ArgumentParser:
     return options
 
 
-def load_robot_argument(robot: str, tool: str | None, cell: str | None = None) -> Robot:
+def load_robot_argument(robot: str, tool: str | None, cell: str | None = None, *, allow_massless: bool = False) -> Robot:
     """The robot a command line names: built-in, installed, a sidecar file, or erd:NAME with --tool; in
-    the cell of the file ``cell``, if given.
+    the cell of the file ``cell``, if given; with ``allow_massless`` (--allow-massless), even if moving links lack
+    inertia (:mod:`placement.robot.plausibility`).
 
     An ``erd:`` robot's estimates are said once, as a warning on standard error. A robot solved by the
     compiled generic kinematics has it loaded here, with a word on standard error when it is being
@@ -334,9 +346,9 @@ def load_robot_argument(robot: str, tool: str | None, cell: str | None = None) -
         if tool is not None:
             raise UsageError(f"--tool applies to robots given as {ERD_FORM}NAME; the sidecar of '{robot[:80]}' names "
                              "its tool in end_effector.frame")
-        loaded = load_robot(robot)
+        loaded = load_robot(robot, allow_massless=allow_massless)
     else:
-        loaded = load_erd_robot(name, tool)
+        loaded = load_erd_robot(name, tool, allow_massless=allow_massless)
         print(f"warning: {estimate_warning(loaded)}", file=sys.stderr)
     if solver_name(loaded) == "numeric":
         compile_noticed(touch_kernels, "the generic kinematics", "some 10 to 20 s")

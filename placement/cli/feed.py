@@ -15,6 +15,7 @@ from placement.cli.common import (
     configured_path,
     job_options,
     load_robot_argument,
+    massless_option,
     regeneration_option,
     require_features,
     robot_files,
@@ -35,7 +36,7 @@ MAX_FEED_M_S = 100.0
 def add_parser(commands: argparse._SubParsersAction) -> None:
     """The 'feed' subcommand's options."""
     command = commands.add_parser("feed", help="energy and time per part against the feed rate, at one placement",
-                                  parents=[job_options(), regeneration_option(), sampling_options()])
+                                  parents=[job_options(), massless_option(), regeneration_option(), sampling_options()])
     command.add_argument("--at", required=True, metavar="x=..,y=..,phi=..",
                          help="the placement (mm and deg unless a value ends in m or rad)")
     command.add_argument("--feeds", required=True, metavar="START:STOP:COUNT", help="feed rates in m/s, e.g. 0.2:1.2:11")
@@ -61,7 +62,7 @@ def run(args: argparse.Namespace) -> int:
     require_features((args.png, PLOTS))
     feeds = parse_feeds(args.feeds)
     given = parse_values(args.at, "--at")
-    robot = load_robot_argument(args.robot, args.tool, args.cell)
+    robot = load_robot_argument(args.robot, args.tool, args.cell, allow_massless=args.allow_massless)
     path = configured_path(args, args.path)
     study = feed_study(robot, path, np.array([given.get(name, 0.0) for name in VARIABLES]), feeds,
                        EvaluatorSettings(regeneration=args.regen, time_step_s=args.time_step))

@@ -17,6 +17,7 @@ from placement.cli.common import (
     job_options,
     load_robot_argument,
     margin_option,
+    massless_option,
     model_options,
     require_features,
     robot_files,
@@ -39,7 +40,8 @@ MAX_GRID_POINTS = 1_000_000
 def add_parser(commands: argparse._SubParsersAction) -> None:
     """The 'map' subcommand's options."""
     energy_map = commands.add_parser("map", help="map of the objective over a grid of placements (saved as .npz)",
-                                     parents=[job_options(), model_options(), sampling_options(), margin_option(),
+                                     parents=[job_options(), massless_option(), model_options(), sampling_options(),
+                                              margin_option(),
                                               run_options(workers="worker processes (default: every core)")])
     energy_map.add_argument("--grid", required=True, metavar="x=-120:60:41,y=-120:60:41",
                             help="swept variables: name=start:stop:count, in mm and degrees")
@@ -96,7 +98,7 @@ def run(args: argparse.Namespace) -> int:
     if args.png and len(axes) != 2:
         raise UsageError(f"--png draws maps over exactly two variables; --grid gives {len(axes)}")
     require_features((args.png, PLOTS), (args.html, SCENE), (scheduler_address(args.scheduler), CLUSTER))
-    robot = load_robot_argument(args.robot, args.tool, args.cell)
+    robot = load_robot_argument(args.robot, args.tool, args.cell, allow_massless=args.allow_massless)
     path = configured_path(args, args.path)
     total = int(np.prod([len(v) for v in axes.values()]))
     with cluster(scheduler_address(args.scheduler)) as remote, \

@@ -23,6 +23,7 @@ from placement.cli.common import (
     job_options,
     load_robot_argument,
     margin_option,
+    massless_option,
     model_options,
     non_negative,
     placement_options,
@@ -63,6 +64,7 @@ from placement.path.toolpath import ToolPath
 from placement.placing.transform import VARIABLES
 from placement.placing.values import parse_free, parse_values, unsuffixed_lengths
 from placement.robot.model import Robot
+from placement.robot.plausibility import massless_note
 from placement.search.optimize import SearchSettings, optimize_placement
 from placement.search.plausibility import feed_warnings, length_warnings
 from placement.search.space import PlacementSpace, default_space
@@ -76,8 +78,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="placement", description="Find where to place a tool path in a robot's workspace so that the "
         "actuators draw the least electric energy while every limit holds.",  # the commands: cli.main_parser
-        parents=[job_options(several_paths=True), placement_options(), model_options(), sampling_options(),
-                 margin_option(), seed_option(), run_options()])
+        parents=[job_options(several_paths=True), massless_option(), placement_options(), model_options(),
+                 sampling_options(), margin_option(), seed_option(), run_options()])
     direction = parser.add_mutually_exclusive_group()
     direction.add_argument("--minimize", action="store_true",
                            help="only search the placement of least objective (the best for energy)")
@@ -178,6 +180,9 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
     print(f"{path.name} on {robot.name}: {len(path.segments)} segment(s), {path.length_m * 1e3:.1f} mm, "
           f"{feed_words(path)}, {timing_words(path, samples)}; energy: {REGENERATION.get(args.regen).description}"
           + ("" if args.objective == "energy" else f"; objective: {objective.title} ({args.objective})"))
+    note = massless_note(robot)
+    if note is not None:
+        print(f"note: {note}")
     dynamics, optimal = TreeDynamics(robot.model), path.timing.mode == "optimal"
     if dynamics.tree is not None and (dynamics.compiled_efforts or optimal):
         compile_noticed(lambda: touch_tree_kernels(dynamics.compiled_efforts, optimal), "the dynamics",
@@ -347,7 +352,7 @@ def check_front_options(args: argparse.Namespace) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """The main job; returns the exit code."""
-    robot = load_robot_argument(args.robot, args.tool, args.cell)
+    robot = load_robot_argument(args.robot, args.tool, args.cell, allow_massless=args.allow_massless)
     if args.trace and len(args.path) > 1:
         raise UsageError("--trace: give a single --path")
     if args.at is not None and args.at_json is not None:

@@ -21,6 +21,7 @@ from placement.cli.common import (
     check_outputs,
     configured_path,
     load_robot_argument,
+    massless_option,
     model_options,
     require_features,
     robot_files,
@@ -42,7 +43,7 @@ from placement.search.study import StudyRow, run_study
 def add_parser(commands: argparse._SubParsersAction) -> None:
     """The 'study' subcommand's options."""
     command = commands.add_parser("study", help="search every path on every robot and write one table",
-                                  parents=[cell_option(), model_options(), sampling_options(), seed_option(),
+                                  parents=[cell_option(), massless_option(), model_options(), sampling_options(), seed_option(),
                                            run_options(workers="searches run at once on this machine (default: every "
                                                                "core)")])
     command.add_argument("--robots", required=True, metavar="A,B",
@@ -65,7 +66,7 @@ def run(args: argparse.Namespace) -> int:
                   inputs=(*args.paths, *(file for name in names for file in robot_files(name, args.cell))))
     OBJECTIVES.get(args.objective)  # an unknown name is refused before any robot is loaded
     require_features((scheduler_address(args.scheduler), CLUSTER))
-    robots = [load_robot_argument(name, None, args.cell) for name in names]
+    robots = [load_robot_argument(name, None, args.cell, allow_massless=args.allow_massless) for name in names]
     paths = [configured_path(args, file) for file in args.paths]
     settings = SearchSettings(seed=args.seed, max_generations=args.generations)
     evaluation = EvaluatorSettings(objective=args.objective, regeneration=args.regen, time_step_s=args.time_step)

@@ -1,8 +1,9 @@
 """Robots as data: a URDF (spanning tree) and its sidecar built into a validated :class:`Robot`.
 
 Building checks every name against the URDF, the physical sense of every number, that each loop
-closure closes at the reference configuration, and that the actuated joints are exactly the
-mechanism's degrees of freedom. Errors name the file and the field. The kinematics checks and the
+closure closes at the reference configuration, that the actuated joints are exactly the
+mechanism's degrees of freedom, and that its physics is plausible (no moving link without inertia:
+:mod:`placement.robot.plausibility`). Errors name the file and the field. The kinematics checks and the
 tool's mounting follow in :func:`placement.workshop.load.robot_from_sidecar`, which
 :func:`placement.workshop.load.load_robot` calls.
 """
@@ -20,6 +21,7 @@ from placement.robot.closures import closure_jacobian, closure_residuals
 from placement.robot.exceptions import RobotFileError
 from placement.robot.formats import SIDECAR_NAME, is_gepetto
 from placement.robot.model import Actuator, Closure, Robot
+from placement.robot.plausibility import check_plausible
 from placement.robot.plugins import load_plugin, make_closed_form
 from placement.robot.sidecar import Sidecar
 from placement.robot.tool import add_tool_frame, find_frame
@@ -29,7 +31,7 @@ CLOSURE_TOLERANCE_M = 1e-6
 PRISMATIC_JOINTS = ("JointModelPX", "JointModelPY", "JointModelPZ", "JointModelPrismaticUnaligned")
 
 
-def build_robot(path: Path, sidecar: Sidecar, *, check_closures: bool = True) -> Robot:
+def build_robot(path: Path, sidecar: Sidecar, *, check_closures: bool = True, allow_massless: bool = False) -> Robot:
     """A robot from a validated sidecar held in memory (one generated from a URDF, say), before its kinematics
     are checked and its tool mounted (:func:`placement.workshop.load.robot_from_sidecar` does both).
 
@@ -38,14 +40,20 @@ def build_robot(path: Path, sidecar: Sidecar, *, check_closures: bool = True) ->
         sidecar: The sidecar.
         check_closures: Whether the loops must close at the reference configuration (and the actuated
             joints parametrise the closed-loop motion); without, the robot is only fit for
-            :mod:`placement.workshop.assemble` to close its loops.
+            :mod:`placement.workshop.assemble` to close its loops, and its physics is not checked.
+        allow_massless: Load a robot with moving links without inertia or actuated joints without an effort bound,
+            with a warning (:func:`placement.robot.plausibility.check_plausible`); else it is refused.
 
     Raises:
-        RobotFileError: The sidecar disagrees with its URDF (the message names ``path`` and field).
+        RobotFileError: The sidecar disagrees with its URDF, or the physics is implausible (the message names
+            ``path`` and field).
     """
     urdf_path = resolve_urdf(path, sidecar.urdf)
-    urdf = read_urdf(urdf_path)
-    model = _lock_joints(pinocchio_model(urdf_path), path, sidecar.locked_joints)
+    urdf = read_urdf(urdf_path, sidecar.links)
+    for name in sidecar.links:
+        if name not in urdf.names["link"]:
+            raise RobotFileError(path, f"links.{name}", f"no link '{name}' in {urdf_path.name}")
+    model = _lock_joints(pinocchio_model(urdf_path, sidecar.links), path, sidecar.locked_joints)
     plugin = load_plugin(path, sidecar.kinematics_plugin)
     model.gravity = pin.Motion(np.array(sidecar.gravity_m_s2), np.zeros(3))
     robot = Robot(
@@ -65,10 +73,11 @@ def build_robot(path: Path, sidecar: Sidecar, *, check_closures: bool = True) ->
     )
     for actuator in robot.actuators:
         model.armature[actuator.v_index] += actuator.reflected_inertia
-    _check_sources(path, sidecar, urdf)
+    _check_sources(path, sidecar, urdf.names)
     if check_closures:
         _check_closed_at_reference(robot)
         _check_mobility(robot)
+        robot.massless_links = check_plausible(robot, urdf, allow_massless=allow_massless)
     return robot
 
 
@@ -149,7 +158,10 @@ def _actuator(model: pin.Model, path: Path, sidecar: Sidecar, i: int) -> Actuato
     if not lower < upper:
         raise RobotFileError(path, f"actuators.{i}.position_min", f"must be below position_max ({lower} >= {upper})")
     if not velocity > 0:
-        raise RobotFileError(path, f"actuators.{i}.velocity_max", f"must be > 0 (got {velocity}; URDF gives none)")
+        unit = "m/s" if model.joints[joint_id].shortname() in PRISMATIC_JOINTS else "rad/s"
+        raise RobotFileError(path, f"actuators.{i}.velocity_max", f"joint '{spec.joint}' has velocity limit {velocity:g} "
+                             f"in the URDF (urdf.joint.{spec.joint}.limit.velocity): set actuators.{i}.velocity_max in "
+                             f"the sidecar ({unit}), expected > 0")
     drive = sidecar.drives[spec.drive] if spec.drive else None
     return Actuator(joint=spec.joint, q_index=q_index, v_index=v_index, position_min=float(lower),
                     position_max=float(upper), velocity_max=float(velocity), drive=drive,

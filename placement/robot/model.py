@@ -17,7 +17,7 @@ from placement.robot.plugins import ClosedFormFunction, load_plugin, make_closed
 
 if TYPE_CHECKING:
     from placement.cell.cell_file import Cell, ToolBody
-    from placement.robot.sidecar import Drive, PlacementDefaults, Plane, Sidecar, Workspace
+    from placement.robot.sidecar import Drive, LinkInertial, PlacementDefaults, Plane, Sidecar, Workspace
 
 
 @dataclass(frozen=True)
@@ -71,6 +71,8 @@ class Robot:
             through the properties below (a test holds them to it).
         cell: The cell the robot works in (obstacles, keep-out zones, workpiece region, tool), if
             any: its distances become a limit (see :func:`placement.robot.equip.equip`).
+        massless_links: The moving links without inertia it was loaded with, as asked (``allow_massless``; see
+            :mod:`placement.robot.plausibility`): its energies leave out their weight and inertia. Empty otherwise.
     """
 
     name: str
@@ -86,6 +88,7 @@ class Robot:
     closed_form: ClosedFormFunction | None
     sidecar: Sidecar
     cell: Cell | None = None
+    massless_links: tuple[str, ...] = ()
 
     def __repr__(self) -> str:
         """A short summary (the Pinocchio model's own repr runs to pages)."""
@@ -212,6 +215,12 @@ class Robot:
         """The tool body of the robot's own description (the sidecar's ``tool``), which loading mounts, or None.
         A cell's tool replaces it at work (see :func:`placement.robot.equip.tool_of`)."""
         return self.sidecar.tool
+
+    @property
+    def link_inertials(self) -> dict[str, LinkInertial]:
+        """The inertials the sidecar gives URDF links (its ``links``: mass, centre of mass, inertia), replacing the
+        URDF's, by link name; the model carries them."""
+        return dict(self.sidecar.links)
 
     @property
     def collision_ignore_pairs(self) -> tuple[tuple[str, str], ...]:

@@ -13,7 +13,7 @@ from typing import Annotated, Literal
 
 from pydantic import BeforeValidator, Field, model_validator
 
-from placement.cell.cell_file import ToolBody, check_mesh_file
+from placement.cell.cell_file import InertiaTensor, ToolBody, check_mesh_file
 from placement.drives.motors import Motor
 from placement.drives.transmissions import Transmission, parse_transmission
 from placement.robot.exceptions import RobotFileError
@@ -156,6 +156,16 @@ class Collision(Strict):
     ignore_pairs: list[tuple[str, str]] = []
 
 
+class LinkInertial(Strict):
+    """A URDF link's inertial, replacing the URDF's: its mass (kg), its centre of mass ``com_m`` (m) in the link
+    frame, and its inertia about the centre of mass in the link frame's axes (kg·m²: [ixx, iyy, izz, ixy, ixz, iyz]
+    or a symmetric 3×3), as a URDF ``<inertial>`` without rotation."""
+
+    mass_kg: Positive
+    com_m: Vector3 = (0.0, 0.0, 0.0)
+    inertia_kg_m2: InertiaTensor
+
+
 class Sidecar(Strict):
     """The whole sidecar file."""
 
@@ -176,6 +186,8 @@ class Sidecar(Strict):
     tool: ToolBody | None = Field(None, description="a tool body on the robot (mass and collision shape); a cell's "
                                   "tool replaces it")
     collision: Collision = Collision()
+    links: dict[str, LinkInertial] = Field({}, description="inertials replacing the URDF's, by link name (a URDF "
+                                           "without them, say)")
     sources: dict[str, str] = {}
 
 
@@ -197,6 +209,10 @@ def _check_references(path: Path, sidecar: Sidecar) -> None:
             raise RobotFileError(path, f"actuators.{i}.drive", f"unknown drive '{actuator.drive}', expected one of "
                                  f"{sorted(sidecar.drives) or 'the names under drives (none given)'}")
     _check_tool_sources(path, sidecar)
+    for name in sidecar.links:
+        if not {f"links.{name}", "links"} & set(sidecar.sources):
+            raise RobotFileError(path, f"links.{name}", f"a link's inertial needs its source: add the entry links.{name}: "
+                                 f"\"STATUS: note\" under sources, STATUS one of {', '.join(SOURCE_STATUSES)}")
     if sidecar.tool is not None:
         check_mesh_file(path, "tool.collision", sidecar.tool.collision, RobotFileError)
     for key, text in sidecar.sources.items():

@@ -2,23 +2,29 @@
 
 A sidecar names its URDF by a path relative to itself or as ``example-robot-data:KEY``
 (:func:`resolve_urdf`). The standard library's XML parser reads what loading checks (inertials,
-link and joint names, :func:`read_urdf`) and rewrites the ``continuous`` joints as one-angle
-revolute ones (:func:`one_angle_urdf`); Pinocchio builds the model from the rewritten text
-(:func:`pinocchio_model`). A URDF library would add a second of imports to every command.
+link and joint names, link masses, :func:`read_urdf`), rewrites the ``continuous`` joints as one-angle
+revolute ones (:func:`one_angle_urdf`) and puts in the inertials a sidecar gives (its ``links``);
+Pinocchio builds the model from the rewritten text (:func:`pinocchio_model`). A URDF library would add
+a second of imports to every command.
 """
 
 from __future__ import annotations
 
 import os
 import tempfile
+from collections.abc import Mapping
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 from xml.etree import ElementTree
 
 import numpy as np
 import pinocchio as pin
 
 from placement.robot.exceptions import RobotFileError
+
+if TYPE_CHECKING:
+    from placement.robot.sidecar import LinkInertial
 
 ERD_PREFIX = "example-robot-data:"
 NO_LIMIT = 1e10  # a position limit this large (m or rad) is Pinocchio's stand-in for none
@@ -64,12 +70,14 @@ def erd_urdf_path(loader: Any) -> Path:
     return Path(os.path.join(loader.model_path or getModelPath(relative), relative)).resolve()
 
 
-def pinocchio_model(path: Path) -> pin.Model:
+def pinocchio_model(path: Path, inertials: Mapping[str, LinkInertial] | None = None) -> pin.Model:
     """Pinocchio's model of the URDF, every ``continuous`` joint read as a ``revolute`` one without position limits
-    (:func:`one_angle_urdf`).
+    (:func:`one_angle_urdf`), and the links named in ``inertials`` given those instead of the URDF's.
 
     Args:
         path: The URDF file.
+        inertials: Inertials by link name (a sidecar's ``links``), each replacing the link's ``<inertial>``; the
+            names must be the URDF's links (:func:`read_urdf` lists them).
 
     Returns:
         The model, one coordinate per revolute or prismatic joint.
@@ -79,9 +87,12 @@ def pinocchio_model(path: Path) -> pin.Model:
             become the message.
     """
     try:
-        text = one_angle_urdf(path.read_bytes())
+        root = ElementTree.fromstring(path.read_bytes())
     except ElementTree.ParseError as error:
         raise _not_xml(path, error) from None
+    _one_angle(root)
+    _replace_inertials(root, inertials or {})
+    text = ElementTree.tostring(root, encoding="unicode")
     with tempfile.TemporaryFile(mode="w+") as capture:
         saved = os.dup(2)
         os.dup2(capture.fileno(), 2)
@@ -123,6 +134,12 @@ def one_angle_urdf(document: str | bytes) -> str:
         xml.etree.ElementTree.ParseError: ``document`` is not well-formed XML.
     """
     root = ElementTree.fromstring(document)
+    _one_angle(root)
+    return ElementTree.tostring(root, encoding="unicode")
+
+
+def _one_angle(root: ElementTree.Element) -> None:
+    """:func:`one_angle_urdf` on the parsed document, in place."""
     for joint in root.findall("joint"):
         if joint.get("type") != "continuous":
             continue
@@ -133,32 +150,67 @@ def one_angle_urdf(document: str | bytes) -> str:
                 limit.attrib.pop(bound, None)
         if not limits:
             ElementTree.SubElement(joint, "limit", effort="0", velocity="0")
-    return ElementTree.tostring(root, encoding="unicode")
 
 
-def read_urdf(path: Path) -> dict[str, set[str]]:
-    """Parse the URDF, check every inertial is physical, and return its link and joint names.
+def _replace_inertials(root: ElementTree.Element, inertials: Mapping[str, LinkInertial]) -> None:
+    """Each link named in ``inertials`` given that inertial instead of its own, in place (numbers written exactly)."""
+    for link in root.findall("link"):
+        given = inertials.get(str(link.get("name")))
+        if given is None:
+            continue
+        for old in link.findall("inertial"):
+            link.remove(old)
+        inertial = ElementTree.SubElement(link, "inertial")
+        ElementTree.SubElement(inertial, "origin", xyz=" ".join(repr(float(c)) for c in given.com_m), rpy="0 0 0")
+        ElementTree.SubElement(inertial, "mass", value=repr(float(given.mass_kg)))
+        (xx, xy, xz), (_, yy, yz), (_, _, zz) = given.inertia_kg_m2
+        ElementTree.SubElement(inertial, "inertia", {key: repr(float(value)) for key, value in (
+            ("ixx", xx), ("ixy", xy), ("ixz", xz), ("iyy", yy), ("iyz", yz), ("izz", zz))})
+
+
+@dataclass(frozen=True)
+class UrdfContents:
+    """What loading reads of a URDF besides Pinocchio's model.
+
+    Attributes:
+        names: The names of the ``link`` and of the ``joint`` elements, by kind.
+        masses: The mass of every link that has an inertial, by link name (kg); a sidecar's ``links`` replace the
+            URDF's.
+    """
+
+    names: dict[str, set[str]]
+    masses: dict[str, float]
+
+
+def read_urdf(path: Path, inertials: Mapping[str, LinkInertial] | None = None) -> UrdfContents:
+    """Parse the URDF, check every inertial is physical, and return its link and joint names and link masses.
 
     Args:
         path: The URDF file.
+        inertials: Inertials by link name (a sidecar's ``links``) replacing the URDF's, which are then not checked.
 
     Returns:
-        The names of the ``link`` and of the ``joint`` elements, by kind.
+        The names of the ``link`` and ``joint`` elements, and the links' masses.
 
     Raises:
         RobotFileError: The file is not XML, not a URDF, or an inertial is not physical (the field names the link).
     """
+    inertials = inertials or {}
     try:
         root = ElementTree.parse(path).getroot()
     except (ElementTree.ParseError, UnicodeDecodeError) as error:
         raise _not_xml(path, error) from None
     if root.tag != "robot":
         raise RobotFileError(path, "", f"not a URDF: the root element is <{root.tag[:40]}>, expected <robot>")
+    masses = {}
     for link in root.findall("link"):
-        inertial = link.find("inertial")
-        if inertial is not None:
-            _check_inertial(path, f"link '{link.get('name')}' inertial", inertial)
-    return {kind: {str(element.get("name")) for element in root.findall(kind)} for kind in ("link", "joint")}
+        name, inertial = str(link.get("name")), link.find("inertial")
+        if name in inertials:
+            masses[name] = float(inertials[name].mass_kg)
+        elif inertial is not None:
+            masses[name] = _check_inertial(path, f"link '{name}' inertial", inertial)
+    return UrdfContents({kind: {str(element.get("name")) for element in root.findall(kind)} for kind in ("link", "joint")},
+                        masses)
 
 
 def _not_xml(path: Path, error: Exception) -> RobotFileError:
@@ -166,20 +218,21 @@ def _not_xml(path: Path, error: Exception) -> RobotFileError:
     return RobotFileError(path, "", f"not an XML file: {str(error)[:200]}")
 
 
-def _check_inertial(path: Path, field: str, inertial: ElementTree.Element) -> None:
-    """A finite mass >= 0 and a physical inertia tensor (principal moments >= 0, triangle inequality)."""
+def _check_inertial(path: Path, field: str, inertial: ElementTree.Element) -> float:
+    """A finite mass >= 0 and a physical inertia tensor (principal moments >= 0, triangle inequality); the mass (kg)."""
     mass = _attribute(path, field, inertial.find("mass"), "value")
     if not np.isfinite(mass) or mass < 0:
         raise RobotFileError(path, field, f"mass must be a finite number >= 0 kg (got {mass})")
     inertia = inertial.find("inertia")
     if inertia is None:
-        return
+        return mass
     xx, xy, xz, yy, yz, zz = (_attribute(path, field, inertia, key) for key in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"))
     tensor = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
     moments = np.linalg.eigvalsh(tensor) if np.isfinite(tensor).all() else np.full(3, np.nan)
     if not moments.min() >= -1e-12 or moments.sum() - 2 * moments.max() < -1e-12:
         raise RobotFileError(path, field, f"inertia tensor must be physical: principal moments >= 0 "
                              f"and satisfying the triangle inequality (got {moments.tolist()} kg m^2)")
+    return mass
 
 
 def _attribute(path: Path, field: str, element: ElementTree.Element | None, key: str) -> float:

@@ -24,6 +24,7 @@ from placement.kinematics.exceptions import UnreachableError
 from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
 from placement.robot.closures import LWA, closure_residuals
 from placement.robot.model import Robot
+from placement.robot.plausibility import massless_note
 from placement.robot.urdf import urdf_limits_missing
 
 AMPLITUDE_FRACTION = 0.05  # default check amplitude, as a fraction of the robot's size
@@ -272,10 +273,11 @@ def plausibility_warnings(robot: Robot, joints: JointTrajectory, effort: np.ndar
         effort: (N, n_act) actuator efforts along it (N or N·m), rotor inertia included.
 
     Returns:
-        Warnings about heavy links, efforts beyond the drives, motors whose peak torque takes an implausible
-        current, and joints without URDF limits.
+        Warnings about moving links without inertia (loaded with ``allow_massless``), heavy links, efforts beyond
+        the drives, motors whose peak torque takes an implausible current, and joints without URDF limits.
     """
-    return (*heavy_link_warnings(link_masses(robot)), *effort_warnings(robot, joints, effort),
+    note = massless_note(robot)
+    return (*([note] if note else []), *heavy_link_warnings(link_masses(robot)), *effort_warnings(robot, joints, effort),
             *current_warnings(robot), *limit_warnings(robot))
 
 
@@ -297,13 +299,13 @@ def current_warnings(robot: Robot) -> list[str]:
 
 
 def link_masses(robot: Robot) -> dict[str, float]:
-    """Mass of every URDF link that declares an inertial, kg, by link name."""
+    """Mass of every URDF link that declares an inertial, or that the sidecar's ``links`` gives one, kg, by link name."""
     masses = {}
     for link in ElementTree.parse(robot.urdf_path).getroot().iter("link"):
         mass = link.find("inertial/mass")
         if mass is not None:
             masses[link.get("name", "?")] = float(mass.get("value", "0"))
-    return masses
+    return masses | {name: float(inertial.mass_kg) for name, inertial in robot.link_inertials.items()}
 
 
 def heavy_link_warnings(masses: dict[str, float]) -> list[str]:

@@ -78,17 +78,19 @@ def estimate_warning(robot: Robot) -> str:
             "absolute energies are only as good as they are (write a sidecar: docs/adding_a_robot.md)")
 
 
-def load_erd_robot(name: str, tool: str | None) -> Robot:
+def load_erd_robot(name: str, tool: str | None, *, allow_massless: bool = False) -> Robot:
     """Load example-robot-data's robot ``name`` with ``tool`` following the path (rules: module docstring).
 
     Args:
         name: An example-robot-data name, e.g. "ur10".
         tool: The frame (link or joint) that follows the path, e.g. "tool0".
+        allow_massless: As for :func:`placement.workshop.load.load_robot`.
 
     Raises:
         ExampleRobotError: Unknown name, missing or unknown tool, or an arm the rules cannot estimate.
+        RobotFileError: Its physics is implausible (:mod:`placement.robot.plausibility`).
     """
-    return robot_from_sidecar(Path(ERD_FORM + name), erd_sidecar(name, tool))
+    return robot_from_sidecar(Path(ERD_FORM + name), erd_sidecar(name, tool), allow_massless=allow_massless)
 
 
 def erd_sidecar(name: str, tool: str | None) -> Sidecar:

@@ -10,6 +10,7 @@ file and the field.
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 from placement.exceptions import PlacementError
@@ -19,37 +20,44 @@ from placement.robot.build import build_robot
 from placement.robot.exceptions import AssemblyError
 from placement.robot.formats import is_gepetto
 from placement.robot.model import Robot
+from placement.robot.plausibility import MasslessWarning
 from placement.robot.sidecar import Sidecar, read_sidecar
 from placement.robot.tool import mount_tool
 from placement.workshop.catalog import sidecar_path
 from placement.workshop.gepetto import read_gepetto
 
 
-def load_robot(name_or_path: str | Path) -> Robot:
+def load_robot(name_or_path: str | Path, *, allow_massless: bool = False) -> Robot:
     """Load a built-in robot by name, or any robot from its sidecar YAML file.
 
     Args:
         name_or_path: A robot name (see :func:`placement.workshop.catalog.robot_names`) or a sidecar path.
+        allow_massless: Load a robot whose moving links lack inertia (a URDF without ``<inertial>``), or whose
+            actuated joints have neither a drive nor a URDF effort limit, with a
+            :class:`placement.robot.plausibility.MasslessWarning`: its energies leave out the missing inertia
+            (``Robot.massless_links`` names the links). Without, such a robot is refused.
 
     Returns:
         The validated robot.
 
     Raises:
         UnknownRobotError: Neither a built-in name nor an existing file.
-        RobotFileError: The sidecar or its URDF is wrong (the message names file and field).
+        RobotFileError: The sidecar or its URDF is wrong, or its physics implausible (the message names file and
+            field; :mod:`placement.robot.plausibility`).
     """
-    return _load_robot(name_or_path)
+    return _load_robot(name_or_path, allow_massless=allow_massless)
 
 
-def _load_robot(name_or_path: str | Path, *, check_closures: bool = True) -> Robot:
+def _load_robot(name_or_path: str | Path, *, check_closures: bool = True, allow_massless: bool = False) -> Robot:
     """:func:`load_robot`; ``check_closures=False`` accepts loops open at the reference configuration.
 
     Without the closure check, the checks that need the loops closed (mobility, plug-in agreement)
-    are skipped too: the robot is only fit for :mod:`placement.workshop.assemble` to close its loops.
+    are skipped too, and the physics is not checked: the robot is only fit for
+    :mod:`placement.workshop.assemble` to close its loops.
     """
     path = sidecar_path(name_or_path)
     sidecar = read_gepetto(path) if is_gepetto(path) else read_sidecar(path)
-    return robot_from_sidecar(path, sidecar, check_closures=check_closures)
+    return robot_from_sidecar(path, sidecar, check_closures=check_closures, allow_massless=allow_massless)
 
 
 def write_if_it_loads(path: Path, text: str) -> Robot:
@@ -57,7 +65,9 @@ def write_if_it_loads(path: Path, text: str) -> Robot:
 
     The text goes to a temporary file beside ``path``, so that its URDF and plug-in resolve as they
     will from ``path``; it is loaded from there and only then renamed to ``path``. A sidecar that
-    does not load leaves ``path`` as it was (or absent).
+    does not load leaves ``path`` as it was (or absent). Moving links without inertia do not stop it (as
+    ``allow_massless``, without its warning): the file written is where their inertials go (its ``links``);
+    the robot returned names them (``massless_links``).
 
     Args:
         path: The sidecar file to write.
@@ -71,7 +81,9 @@ def write_if_it_loads(path: Path, text: str) -> Robot:
     """
     with staged(path, text) as temporary:
         try:
-            robot = load_robot(temporary)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", MasslessWarning)
+                robot = load_robot(temporary, allow_massless=True)
         except PlacementError as error:
             said = str(error).replace(str(temporary), str(path))
             raise AssemblyError(f"{path} not written: it would not load: {said}") from None
@@ -79,17 +91,20 @@ def write_if_it_loads(path: Path, text: str) -> Robot:
     return robot
 
 
-def robot_from_sidecar(path: Path, sidecar: Sidecar, *, check_closures: bool = True) -> Robot:
+def robot_from_sidecar(path: Path, sidecar: Sidecar, *, check_closures: bool = True,
+                       allow_massless: bool = False) -> Robot:
     """A robot from a validated sidecar held in memory (one generated from a URDF, say), checked and with its tool.
 
     Args:
         path: Where the sidecar stands: its folder resolves a relative URDF, and errors name it.
         sidecar: The sidecar.
         check_closures: As for :func:`_load_robot`.
+        allow_massless: As for :func:`load_robot`.
 
     Raises:
-        RobotFileError: The sidecar disagrees with its URDF (the message names ``path`` and field).
+        RobotFileError: The sidecar disagrees with its URDF, or the physics is implausible (the message names
+            ``path`` and field).
     """
-    robot = build_robot(path, sidecar, check_closures=check_closures)
+    robot = build_robot(path, sidecar, check_closures=check_closures, allow_massless=allow_massless)
     check_kinematics(robot, plugin=check_closures)
     return robot if sidecar.tool is None else mount_tool(robot, sidecar.tool)

@@ -55,6 +55,7 @@ TEST_ROBOTS: dict[str, Callable[[Path], Robot]] = {
     "fivebar_vertical": lambda folder: load_robot(robot_copies.vertical_fivebar(folder)),
     "fivebar_spin_locked": lambda folder: load_robot(robot_copies.spinning_rods_fivebar(folder, locked=True)),
     "planar_arm": lambda folder: load_robot(robot_copies.planar_arm(folder)),
+    "universal_shoulder_arm": lambda folder: load_robot(robot_copies.universal_shoulder_arm(folder)),
     "gantry": lambda folder: load_robot(robot_copies.gantry(folder)),
     "ur5_continuous": lambda folder: load_robot(robot_copies.continuous_ur5(folder)),
     "ur5_tool_offset": lambda folder: load_robot(robot_copies.edited_copy(

@@ -248,3 +248,45 @@ GRIPPER = {"name": "gripper", "mass_kg": 1.2, "inertia_kg_m2": [2e-3, 2e-3, 1e-3
 def with_gripper(document: dict) -> None:
     """A sidecar edit: the robot carries GRIPPER, a 1.2 kg tool body, at its end-effector frame."""
     document["tool"] = copy.deepcopy(GRIPPER)
+
+
+# --- an arm on a universal shoulder: two revolute joints and a massless body between them ---------------------------
+
+UNIVERSAL_URDF = """<?xml version="1.0"?>
+<robot name="universal_arm">
+  <link name="base"/>
+  <link name="gimbal"/>
+  <link name="upper"><inertial><origin xyz="0.15 0 0"/><mass value="1.0"/>
+    <inertia ixx="1e-4" iyy="0.0075" izz="0.0075" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="fore"><inertial><origin xyz="0.125 0 0"/><mass value="0.6"/>
+    <inertia ixx="6e-5" iyy="0.003125" izz="0.003125" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="tip"/>
+  <joint name="yaw" type="revolute"><parent link="base"/><child link="gimbal"/><origin xyz="0 0 0.3"/><axis xyz="0 0 1"/>
+    <limit lower="-3.1416" upper="3.1416" effort="20" velocity="10"/></joint>
+  <joint name="shoulder" type="revolute"><parent link="gimbal"/><child link="upper"/><origin xyz="{offset} 0 0"/>
+    <axis xyz="0 -1 0"/><limit lower="-3.1416" upper="3.1416" effort="20" velocity="10"/></joint>
+  <joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="0.3 0 0"/><axis xyz="0 -1 0"/>
+    <limit lower="-3.1416" upper="3.1416" effort="20" velocity="10"/></joint>
+  <joint name="tip_joint" type="fixed"><parent link="fore"/><child link="tip"/><origin xyz="0.25 0 0"/></joint>
+</robot>
+"""
+
+
+def universal_shoulder_arm(folder: Path, gimbal_offset_m: float = 0.0, massless: tuple[str, ...] = ()) -> Path:
+    """A three-joint arm whose shoulder is a universal joint: yaw, then shoulder (pitch), through the massless link
+    ``gimbal``, which has no extent (the shoulder joint at its origin) unless ``gimbal_offset_m`` (m, along its x); the links
+    ``massless`` lose their inertials. The planar arm's links and drives (:func:`planar_arm`), a position task."""
+    text = UNIVERSAL_URDF.format(offset=gimbal_offset_m)
+    for link in massless:
+        text = re.sub(rf'(<link name="{link}">)<inertial>.*?</inertial>', r"\1", text, flags=re.S)
+    (folder / "arm.urdf").write_text(text)
+    document = copy.deepcopy(ARM_SIDECAR)
+    document.update(name="universal_arm", description="Arm on a universal shoulder (a massless gimbal between yaw "
+                    "and shoulder)", reference_configuration={"yaw": 0.3, "shoulder": 1.0, "elbow": -1.6})
+    document["actuators"].insert(0, {"joint": "yaw", "drive": "servo"})
+    centre = np.array([0.368 * np.cos(0.3), 0.368 * np.sin(0.3), 0.3 + 0.111])  # the tip at the reference
+    document["workspace"] = {"type": "box", "min_m": (centre - 0.06).tolist(), "max_m": (centre + 0.06).tolist()}
+    document["placement"] = {"free": ["x", "y", "z", "phi"]}
+    sidecar = folder / "arm.yaml"
+    sidecar.write_text(yaml.safe_dump(document))
+    return sidecar
