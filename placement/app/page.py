@@ -23,7 +23,6 @@ import viser  # optional dependency: the [app] extra, checked by placement.app
 from placement.app.compare import ComparePanel, ExportPanel
 from placement.app.evaluations import Bench, Choices, Reading, shown_value, si_value
 from placement.app.searches import FrontPanel, MapPanel, OptimisePanel
-from placement.collision.geometry import package_dirs
 from placement.contract.objective import OBJECTIVES, quantity, wording
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.results import PlacementDetail
@@ -33,6 +32,7 @@ from placement.output.palette import CELL_COLORS, rgb
 from placement.placing.transform import ANGLES, VARIABLES, placement_pose
 from placement.placing.values import parse_values
 from placement.robot.model import Robot
+from placement.robot.packages import description_geometry
 from placement.search.space import box_corners
 
 PATH_COLOR, CUBE_COLOR = (0, 176, 80), (48, 48, 48)
@@ -60,8 +60,7 @@ class RobotDrawing:
 
         self.robot = robot
         self.model = robot.model
-        self.visual = pin.buildGeomFromUrdf(robot.model, str(robot.urdf_path), pin.GeometryType.VISUAL,
-                                            package_dirs=package_dirs(robot))
+        self.visual = description_geometry(robot, pin.GeometryType.VISUAL)
         opacity: dict[int, float] = {}
         scene: Any = server.scene  # viser's own annotations are narrower than what it takes
         if robot.cell is not None or robot.tool is not None:

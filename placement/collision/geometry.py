@@ -9,7 +9,6 @@ fixed to the base (joint 0); the tool rides on its mount frame's joint.
 
 from __future__ import annotations
 
-import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -25,8 +24,8 @@ from placement.exceptions import InputFileError
 from placement.robot.equip import tool_of
 from placement.robot.exceptions import RobotFileError
 from placement.robot.model import Robot
+from placement.robot.packages import description_geometry
 from placement.robot.tool import declaring_file_error, pose_placement, tool_mount
-from placement.robot.urdf import ERD_PREFIX
 
 LINK, TOOL, OBSTACLE, KEEP_OUT = "link", "tool", "obstacle", "keep_out"
 Declared = tuple[Path, str, type[InputFileError]]  # the file declaring a shape, its field there, and the error to raise
@@ -103,26 +102,14 @@ def build_geometry(robot: Robot, cell: Cell | None) -> SceneGeometry:
     return SceneGeometry(geometry_model, tuple(bodies), tuple(notices))
 
 
-def package_dirs(robot: Robot) -> list[str]:
-    """Folders where the URDF's meshes may live: its own folder, and example-robot-data's for its robots
-    (whose URDFs name meshes ``package://example-robot-data/robots/...``)."""
-    folders = [str(robot.urdf_path.parent)]
-    if robot.urdf_source.startswith(ERD_PREFIX):
-        from example_robot_data.robots_loader import ROBOTS
-
-        loader = ROBOTS[robot.urdf_source.removeprefix(ERD_PREFIX)]()
-        folders += [os.path.dirname(os.path.dirname(loader.model_path)), loader.model_path]
-    return folders
-
-
 def _robot_geometry(robot: Robot) -> tuple[pin.GeometryModel, list[str]]:
     """The links' collision shapes (visual shapes for links without any), meshes as hulls; and the links that
     use their visuals."""
     declared = _declared_shapes(robot.urdf_path)
     used_visuals = sorted(link for link, (collision, visual) in declared.items() if visual and not collision)
-    geometry_model = _urdf_geometry(robot, pin.GeometryType.COLLISION)
+    geometry_model = description_geometry(robot, pin.GeometryType.COLLISION)
     if used_visuals:
-        visual = _urdf_geometry(robot, pin.GeometryType.VISUAL)
+        visual = description_geometry(robot, pin.GeometryType.VISUAL)
         for item in visual.geometryObjects:
             if robot.model.frames[item.parentFrame].name in used_visuals:
                 geometry_model.addGeometryObject(item)
@@ -137,14 +124,6 @@ def _declared_shapes(urdf_path: Path) -> dict[str, tuple[bool, bool]]:
     root = ElementTree.parse(urdf_path).getroot()  # the robot loaded: the file parses
     return {str(link.get("name")): (link.find("collision") is not None, link.find("visual") is not None)
             for link in root.findall("link")}
-
-
-def _urdf_geometry(robot: Robot, kind: pin.GeometryType) -> pin.GeometryModel:
-    """Pinocchio's geometry model of the URDF's collision or visual elements, on the robot's (reduced) model."""
-    try:
-        return pin.buildGeomFromUrdf(robot.model, str(robot.urdf_path), kind, package_dirs=package_dirs(robot))
-    except ValueError as error:  # a mesh the URDF names is not there
-        raise RobotFileError(robot.urdf_path, "", f"cannot build the collision geometry: {str(error)[:200]}") from None
 
 
 def _hull(mesh: coal.BVHModelBase, path: Path, field: str) -> coal.ConvexBase:

@@ -42,7 +42,6 @@ import umsgpack
 from meshcat.animation import Animation
 from meshcat.servers.tree import SceneTree, find_node, walk
 
-from placement.collision.geometry import package_dirs
 from placement.kinematics.batched import jump_steps
 from placement.limits.collision import collision_scene
 from placement.output.meshes import OverlayMesh, WholeMeshVisualizer, overlay_material, tube
@@ -56,8 +55,8 @@ from placement.output.palette import (
     REGION_COLOR,
     rgb,
 )
-from placement.robot.exceptions import RobotFileError
 from placement.robot.model import Robot
+from placement.robot.packages import description_geometry
 from placement.search.space import box_corners
 
 VIEWER_SCRIPT = Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js"
@@ -116,11 +115,7 @@ class Scene:
         self.legend: list[tuple[str, int | None]] = []  # (label, colour); no colour: a line of text
         self.results: list[str] = []  # lines of the page's results panel (add_results)
         self.result_blocks = 0  # calls of add_results: the paths answered
-        try:
-            visual = pin.buildGeomFromUrdf(robot.model, str(robot.urdf_path), pin.GeometryType.VISUAL,
-                                           package_dirs=package_dirs(robot))
-        except ValueError as error:  # a mesh the URDF names is not there
-            raise RobotFileError(robot.urdf_path, "", f"cannot draw the robot: {str(error)[:200]}") from None
+        visual = description_geometry(robot, pin.GeometryType.VISUAL)
         self.drawn_points_m: list[np.ndarray] = [robot_points(robot, visual)]  # the camera frames the robot, not the cell
         if robot.cell is not None or robot.tool is not None:
             self._add_cell_shapes(visual)

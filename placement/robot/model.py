@@ -73,6 +73,8 @@ class Robot:
             any: its distances become a limit (see :func:`placement.robot.equip.equip`).
         massless_links: The moving links without inertia it was loaded with, as asked (``allow_massless``; see
             :mod:`placement.robot.plausibility`): its energies leave out their weight and inertia. Empty otherwise.
+        package_paths: Folders where the packages its URDF's ``package://`` meshes name are looked for first
+            (the sidecar's ``package_paths`` and ``--package-path``; see :mod:`placement.robot.packages`).
     """
 
     name: str
@@ -89,6 +91,7 @@ class Robot:
     sidecar: Sidecar
     cell: Cell | None = None
     massless_links: tuple[str, ...] = ()
+    package_paths: tuple[Path, ...] = ()
 
     def __repr__(self) -> str:
         """A short summary (the Pinocchio model's own repr runs to pages)."""

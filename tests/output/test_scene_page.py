@@ -15,8 +15,8 @@ import pinocchio as pin
 import pytest
 
 from placement import load_robot
-from placement.collision.geometry import package_dirs
 from placement.output.scene import Scene
+from placement.robot.packages import description_geometry
 from tests.support.browser import chromium
 from tests.support.paths import EXAMPLE
 
@@ -60,8 +60,7 @@ def triangles_in_mesh_files(robot) -> int:
     """The triangles of every visual's Collada file, each geometry counted as often as the file's scene places it."""
     import collada
 
-    visual = pin.buildGeomFromUrdf(robot.model, str(robot.urdf_path), pin.GeometryType.VISUAL,
-                                   package_dirs=package_dirs(robot))
+    visual = description_geometry(robot, pin.GeometryType.VISUAL)
     total = 0
     for item in visual.geometryObjects:
         assert item.meshPath.lower().endswith(".dae")  # the robots chosen draw Collada files only
