@@ -9,6 +9,7 @@ extras (pyproject.toml's ``[project.optional-dependencies]``), each a :class:`Fe
 - ``pareto``: Pareto fronts (``--objectives``: pymoo's NSGA-II);
 - ``app``: the workbench (``placement app``: viser, and the meshes, pictures and fronts it shows);
 - ``cluster``: a Dask cluster (``--scheduler``: dask's distributed);
+- ``xacro``: robot descriptions in xacro, expanded without ROS (xacrodoc);
 - ``all``: every one of them.
 
 A module that needs an optional package imports it only where it is needed, after :func:`require`,
@@ -50,7 +51,8 @@ PLOTS = Feature("plotting (--png)", "viz", ("matplotlib",))
 FRONTS = Feature("the Pareto front search (--objectives)", "pareto", ("pymoo",))
 WORKBENCH = Feature("the workbench (placement app)", "app", ("viser", "trimesh", "collada", "matplotlib", "pymoo"))
 CLUSTER = Feature("a Dask cluster (--scheduler, PLACEMENT_SCHEDULER)", "cluster", ("distributed",))
-FEATURES = (SCENE, PLOTS, FRONTS, WORKBENCH, CLUSTER)
+XACRO = Feature("robot descriptions in xacro (.xacro, .urdf.xacro)", "xacro", ("xacrodoc",))
+FEATURES = (SCENE, PLOTS, FRONTS, WORKBENCH, CLUSTER, XACRO)
 
 
 def require(feature: Feature) -> None:

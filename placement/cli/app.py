@@ -54,7 +54,7 @@ def start(args: argparse.Namespace):  # -> placement.app.page.Workbench (viser l
     if not (args.host == "localhost" or args.host.startswith("127.") or args.host == "::1"):
         print(f"warning: --host {args.host}: the workbench is served to every machine that can reach this address",
               file=sys.stderr)
-    robot = load_robot_argument(args.robot, args.tool, args.cell, allow_massless=args.allow_massless)
+    robot = load_robot_argument(args.robot, args, args.cell)
     path = configured_path(args, args.path)
     free, bounds = parse_free(args.free, "--free") if args.free is not None else (None, {})
     space = default_space(robot, free=free, fixed=parse_values(args.fix or "", "--fix"), bounds=bounds,

@@ -74,7 +74,7 @@ def describe(robot: Robot) -> str:
 
 def run(args: argparse.Namespace) -> int:
     """Load, describe and check one robot; returns the exit code."""
-    robot = load_robot_argument(args.robot, args.tool, allow_massless=args.allow_massless)
+    robot = load_robot_argument(args.robot, args)
     print(describe(robot))
     try:
         report = check_robot(robot, args.samples, args.amplitude)

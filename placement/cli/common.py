@@ -27,11 +27,18 @@ from placement.limits.collision import collision_scene
 from placement.path.load import load_path
 from placement.path.toolpath import ToolPath
 from placement.robot.equip import equip
+from placement.robot.formats import DescriptionOptions, is_description
 from placement.robot.model import Robot
 from placement.robot.urdf import ERD_PREFIX
 from placement.timing.rules import override_timing, timing_for
 from placement.workshop.catalog import ERD_FORM, builtin_robots_dir, sidecar_path
-from placement.workshop.example_robot_data import erd_name, estimate_warning, load_erd_robot
+from placement.workshop.estimates import (
+    erd_name,
+    estimate_warning,
+    load_description_robot,
+    load_erd_robot,
+    write_estimated_sidecar,
+)
 from placement.workshop.load import load_robot
 
 
@@ -84,8 +91,8 @@ def job_options(*, several_paths: bool = False) -> argparse.ArgumentParser:
         several_paths: Whether --path takes one or more files (the main job), else exactly one.
     """
     options = parent()
-    options.add_argument("--robot", required=True, help="built-in robot name, path to a robot sidecar YAML, or "
-                         "erd:NAME (an example-robot-data arm, with --tool)")
+    options.add_argument("--robot", required=True, help="built-in robot name, a robot sidecar YAML, a robot "
+                         "description (URDF, xacro) with --tool, or erd:NAME (an example-robot-data arm, with --tool)")
     _add_tool(options)
     _add_cell(options)
     if several_paths:
@@ -96,7 +103,8 @@ def job_options(*, several_paths: bool = False) -> argparse.ArgumentParser:
 
 
 def tool_option() -> argparse.ArgumentParser:
-    """--tool alone, for a command whose robot is a positional argument (a parent parser)."""
+    """--tool and the description's options alone, for a command whose robot is a positional argument (a parent
+    parser)."""
     options = parent()
     _add_tool(options)
     return options
@@ -122,8 +130,16 @@ def massless_option() -> argparse.ArgumentParser:
 
 def _add_tool(options: argparse.ArgumentParser) -> None:
     options.add_argument("--tool", metavar="FRAME",
-                         help="with --robot erd:NAME (any serial arm of example-robot-data, drives and workspace "
-                              "estimated): the link or joint that follows the path, e.g. tool0")
+                         help="with --robot FILE (a URDF or xacro description) or erd:NAME (any serial arm of "
+                              "example-robot-data): the link or joint that follows the path, e.g. tool0; drives, "
+                              "workspace and posture are estimated")
+    options.add_argument("--robot-arg", action="append", default=[], metavar="NAME:=VALUE",
+                         help="an argument of a xacro description (repeatable), e.g. ur_type:=ur5e")
+    options.add_argument("--package-path", action="append", default=[], metavar="DIR",
+                         help="a folder where the description's package:// meshes and $(find PKG) are looked for "
+                              "first (repeatable): a package, or a folder holding packages")
+    options.add_argument("--write-sidecar", metavar="FILE",
+                         help="with --tool: write the estimated sidecar to FILE (YAML), to refine and load instead")
 
 
 def _add_cell(options: argparse.ArgumentParser) -> None:
@@ -327,29 +343,39 @@ def run_options(*, workers: str | None = None) -> argparse.ArgumentParser:
     return options
 
 
-def load_robot_argument(robot: str, tool: str | None, cell: str | None = None, *, allow_massless: bool = False) -> Robot:
-    """The robot a command line names: built-in, installed, a sidecar file, or erd:NAME with --tool; in
-    the cell of the file ``cell``, if given; with ``allow_massless`` (--allow-massless), even if moving links lack
-    inertia (:mod:`placement.robot.plausibility`).
+def load_robot_argument(robot: str, args: argparse.Namespace, cell: str | None = None) -> Robot:
+    """The robot a command line names: built-in, installed, a sidecar file, a description file (URDF, xacro) or
+    erd:NAME with --tool; in the cell of the file ``cell``, if given; with --allow-massless, even if moving links lack
+    inertia (:mod:`placement.robot.plausibility`); its sidecar written where --write-sidecar says.
 
-    An ``erd:`` robot's estimates are said once, as a warning on standard error. A robot solved by the
+    An estimated robot's estimates are said once, as a warning on standard error. A robot solved by the
     compiled generic kinematics has it loaded here, with a word on standard error when it is being
     compiled (a machine's first run). A cell's collision scene is built here, and its notices (shapes
     taken from visuals, convex hulls, pairs left out) are printed.
 
+    Args:
+        robot: The robot argument.
+        args: The command's options: --tool, --robot-arg, --package-path, --write-sidecar, --allow-massless (each
+            optional).
+
     Raises:
-        UsageError: --tool given for a robot that is not erd:NAME.
+        UsageError: --tool given for a robot that is not a description or erd:NAME, or a --robot-arg without ':='.
         PlacementError: The robot cannot be loaded (the message says why).
     """
-    name = erd_name(robot)
-    if name is None:
-        if tool is not None:
-            raise UsageError(f"--tool applies to robots given as {ERD_FORM}NAME; the sidecar of '{robot[:80]}' names "
-                             "its tool in end_effector.frame")
-        loaded = load_robot(robot, allow_massless=allow_massless)
-    else:
-        loaded = load_erd_robot(name, tool, allow_massless=allow_massless)
+    tool, allow_massless = getattr(args, "tool", None), getattr(args, "allow_massless", False)
+    options = description_options(args)
+    name, path = erd_name(robot), Path(robot)
+    if name is not None or is_description(path):
+        loaded = (load_erd_robot(name, tool, allow_massless=allow_massless) if name is not None else
+                  load_description_robot(path, tool, allow_massless=allow_massless, options=options))
         print(f"warning: {estimate_warning(loaded)}", file=sys.stderr)
+        if getattr(args, "write_sidecar", None):
+            write_estimated_sidecar(Path(args.write_sidecar), loaded)
+    else:
+        if tool is not None or getattr(args, "write_sidecar", None):
+            raise UsageError(f"--tool and --write-sidecar apply to robots given as a description file (URDF, xacro) or "
+                             f"{ERD_FORM}NAME; the sidecar of '{robot[:80]}' names its tool in end_effector.frame")
+        loaded = load_robot(robot, allow_massless=allow_massless, options=options)
     if solver_name(loaded) == "numeric":
         compile_noticed(touch_kernels, "the generic kinematics", "some 10 to 20 s")
     elif solver_name(loaded) == "closed_form":
@@ -360,6 +386,21 @@ def load_robot_argument(robot: str, tool: str | None, cell: str | None = None, *
     for notice in collision_scene(equipped).notices:
         print(f"note: {notice}")
     return equipped
+
+
+def description_options(args: argparse.Namespace) -> DescriptionOptions:
+    """--package-path and --robot-arg (NAME:=VALUE, as ROS's launch files write them) as description options.
+
+    Raises:
+        UsageError: A --robot-arg without ':=' or without a name.
+    """
+    arguments = {}
+    for item in getattr(args, "robot_arg", []):
+        name, separator, value = item.partition(":=")
+        if not separator or not name.strip():
+            raise UsageError(f"--robot-arg: expected NAME:=VALUE (a xacro argument, e.g. ur_type:=ur5e), got '{item[:60]}'")
+        arguments[name.strip()] = value.strip()
+    return DescriptionOptions(tuple(Path(folder) for folder in getattr(args, "package_path", [])), arguments)
 
 
 def compile_noticed(work: Callable[[], None], what: str, expected: str, patience_s: float = 2.0) -> float | None:

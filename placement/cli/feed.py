@@ -62,7 +62,7 @@ def run(args: argparse.Namespace) -> int:
     require_features((args.png, PLOTS))
     feeds = parse_feeds(args.feeds)
     given = parse_values(args.at, "--at")
-    robot = load_robot_argument(args.robot, args.tool, args.cell, allow_massless=args.allow_massless)
+    robot = load_robot_argument(args.robot, args, args.cell)
     path = configured_path(args, args.path)
     study = feed_study(robot, path, np.array([given.get(name, 0.0) for name in VARIABLES]), feeds,
                        EvaluatorSettings(regeneration=args.regen, time_step_s=args.time_step))

@@ -98,7 +98,7 @@ def run(args: argparse.Namespace) -> int:
     if args.png and len(axes) != 2:
         raise UsageError(f"--png draws maps over exactly two variables; --grid gives {len(axes)}")
     require_features((args.png, PLOTS), (args.html, SCENE), (scheduler_address(args.scheduler), CLUSTER))
-    robot = load_robot_argument(args.robot, args.tool, args.cell, allow_massless=args.allow_massless)
+    robot = load_robot_argument(args.robot, args, args.cell)
     path = configured_path(args, args.path)
     total = int(np.prod([len(v) for v in axes.values()]))
     with cluster(scheduler_address(args.scheduler)) as remote, \

@@ -352,7 +352,7 @@ def check_front_options(args: argparse.Namespace) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """The main job; returns the exit code."""
-    robot = load_robot_argument(args.robot, args.tool, args.cell, allow_massless=args.allow_massless)
+    robot = load_robot_argument(args.robot, args, args.cell)
     if args.trace and len(args.path) > 1:
         raise UsageError("--trace: give a single --path")
     if args.at is not None and args.at_json is not None:

@@ -66,7 +66,7 @@ def run(args: argparse.Namespace) -> int:
                   inputs=(*args.paths, *(file for name in names for file in robot_files(name, args.cell))))
     OBJECTIVES.get(args.objective)  # an unknown name is refused before any robot is loaded
     require_features((scheduler_address(args.scheduler), CLUSTER))
-    robots = [load_robot_argument(name, None, args.cell, allow_massless=args.allow_massless) for name in names]
+    robots = [load_robot_argument(name, args, args.cell) for name in names]
     paths = [configured_path(args, file) for file in args.paths]
     settings = SearchSettings(seed=args.seed, max_generations=args.generations)
     evaluation = EvaluatorSettings(objective=args.objective, regeneration=args.regen, time_step_s=args.time_step)

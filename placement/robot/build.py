@@ -19,19 +19,21 @@ from pydantic import BaseModel
 
 from placement.robot.closures import closure_jacobian, closure_residuals
 from placement.robot.exceptions import RobotFileError
-from placement.robot.formats import SIDECAR_NAME, is_gepetto
+from placement.robot.formats import SIDECAR_NAME, DescriptionOptions, is_gepetto
 from placement.robot.model import Actuator, Closure, Robot
 from placement.robot.plausibility import check_plausible
 from placement.robot.plugins import load_plugin, make_closed_form
 from placement.robot.sidecar import Sidecar
 from placement.robot.tool import add_tool_frame, find_frame
 from placement.robot.urdf import pinocchio_model, read_urdf, resolve_urdf, urdf_limits_missing
+from placement.robot.xacro import expand_xacro, is_xacro
 
 CLOSURE_TOLERANCE_M = 1e-6
 PRISMATIC_JOINTS = ("JointModelPX", "JointModelPY", "JointModelPZ", "JointModelPrismaticUnaligned")
 
 
-def build_robot(path: Path, sidecar: Sidecar, *, check_closures: bool = True, allow_massless: bool = False) -> Robot:
+def build_robot(path: Path, sidecar: Sidecar, *, check_closures: bool = True, allow_massless: bool = False,
+                options: DescriptionOptions = DescriptionOptions()) -> Robot:
     """A robot from a validated sidecar held in memory (one generated from a URDF, say), before its kinematics
     are checked and its tool mounted (:func:`placement.workshop.load.robot_from_sidecar` does both).
 
@@ -43,12 +45,16 @@ def build_robot(path: Path, sidecar: Sidecar, *, check_closures: bool = True, al
             :mod:`placement.workshop.assemble` to close its loops, and its physics is not checked.
         allow_massless: Load a robot with moving links without inertia or actuated joints without an effort bound,
             with a warning (:func:`placement.robot.plausibility.check_plausible`); else it is refused.
+        options: Package folders and xacro arguments beyond the sidecar's (the command line's).
 
     Raises:
         RobotFileError: The sidecar disagrees with its URDF, or the physics is implausible (the message names
             ``path`` and field).
     """
+    package_paths = (*options.package_paths, *((path.parent / folder).resolve() for folder in sidecar.package_paths))
     urdf_path = resolve_urdf(path, sidecar.urdf)
+    if is_xacro(urdf_path):
+        urdf_path = expand_xacro(urdf_path, {**sidecar.xacro_args, **options.xacro_args}, package_paths, path, "urdf")
     urdf = read_urdf(urdf_path, sidecar.links)
     for name in sidecar.links:
         if name not in urdf.names["link"]:
@@ -70,6 +76,7 @@ def build_robot(path: Path, sidecar: Sidecar, *, check_closures: bool = True, al
         plugin=plugin,
         closed_form=make_closed_form(plugin, model, path),
         sidecar=sidecar,
+        package_paths=package_paths,
     )
     for actuator in robot.actuators:
         model.armature[actuator.v_index] += actuator.reflected_inertia

@@ -1,4 +1,4 @@
-"""Which robot file a path holds: a sidecar, or a ``robot.yaml`` of Gepetto's example-parallel-robots.
+"""Which robot file a path holds: a sidecar, a description (URDF, xacro), or a Gepetto ``robot.yaml``.
 
 A Gepetto folder holds ``robot.yaml`` (the loops, the motors, the end effector) and ``robot.urdf``;
 ``placement assemble FOLDER --write`` writes the sidecar ``placement.yaml`` beside them
@@ -7,6 +7,8 @@ A Gepetto folder holds ``robot.yaml`` (the loops, the motors, the end effector) 
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import yaml
@@ -17,6 +19,12 @@ YAML_NAME = "robot.yaml"
 URDF_NAME = "robot.urdf"
 SIDECAR_NAME = "placement.yaml"
 GEPETTO_KEYS = ("closed_loop", "type", "name_mot", "joint_name", "joint_type")
+DESCRIPTION_SUFFIXES = (".urdf", ".xacro")  # a robot description (``.urdf.xacro`` ends in .xacro)
+
+
+def is_description(path: Path) -> bool:
+    """Whether ``path`` names a robot description (a URDF or xacro file, by its suffix) rather than a sidecar."""
+    return path.suffix.lower() in DESCRIPTION_SUFFIXES
 
 
 def is_gepetto(path: Path) -> bool:
@@ -28,3 +36,17 @@ def is_gepetto(path: Path) -> bool:
     except (OSError, UnicodeDecodeError, yaml.YAMLError, RecursionError):
         return False
     return isinstance(document, dict) and "urdf" not in document and any(key in document for key in GEPETTO_KEYS)
+
+
+@dataclass(frozen=True)
+class DescriptionOptions:
+    """How to read a robot description beyond what its files say: given on the command line or by a program.
+
+    Attributes:
+        package_paths: Folders where its ``package://`` meshes and a xacro's ``$(find PKG)`` are looked for first
+            (``--package-path DIR``), before the sidecar's ``package_paths`` (:mod:`placement.robot.packages`).
+        xacro_args: A xacro file's arguments (``--robot-arg NAME:=VALUE``), over the sidecar's ``xacro_args``.
+    """
+
+    package_paths: tuple[Path, ...] = ()
+    xacro_args: Mapping[str, str] = field(default_factory=dict)

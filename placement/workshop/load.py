@@ -18,7 +18,7 @@ from placement.files import staged
 from placement.kinematics.validation import check_kinematics
 from placement.robot.build import build_robot
 from placement.robot.exceptions import AssemblyError
-from placement.robot.formats import is_gepetto
+from placement.robot.formats import DescriptionOptions, is_gepetto
 from placement.robot.model import Robot
 from placement.robot.plausibility import MasslessWarning
 from placement.robot.sidecar import Sidecar, read_sidecar
@@ -27,7 +27,8 @@ from placement.workshop.catalog import sidecar_path
 from placement.workshop.gepetto import read_gepetto
 
 
-def load_robot(name_or_path: str | Path, *, allow_massless: bool = False) -> Robot:
+def load_robot(name_or_path: str | Path, *, allow_massless: bool = False,
+               options: DescriptionOptions = DescriptionOptions()) -> Robot:
     """Load a built-in robot by name, or any robot from its sidecar YAML file.
 
     Args:
@@ -36,6 +37,7 @@ def load_robot(name_or_path: str | Path, *, allow_massless: bool = False) -> Rob
             actuated joints have neither a drive nor a URDF effort limit, with a
             :class:`placement.robot.plausibility.MasslessWarning`: its energies leave out the missing inertia
             (``Robot.massless_links`` names the links). Without, such a robot is refused.
+        options: Package folders and xacro arguments beyond the sidecar's (``--package-path``, ``--robot-arg``).
 
     Returns:
         The validated robot.
@@ -45,10 +47,11 @@ def load_robot(name_or_path: str | Path, *, allow_massless: bool = False) -> Rob
         RobotFileError: The sidecar or its URDF is wrong, or its physics implausible (the message names file and
             field; :mod:`placement.robot.plausibility`).
     """
-    return _load_robot(name_or_path, allow_massless=allow_massless)
+    return _load_robot(name_or_path, allow_massless=allow_massless, options=options)
 
 
-def _load_robot(name_or_path: str | Path, *, check_closures: bool = True, allow_massless: bool = False) -> Robot:
+def _load_robot(name_or_path: str | Path, *, check_closures: bool = True, allow_massless: bool = False,
+                options: DescriptionOptions = DescriptionOptions()) -> Robot:
     """:func:`load_robot`; ``check_closures=False`` accepts loops open at the reference configuration.
 
     Without the closure check, the checks that need the loops closed (mobility, plug-in agreement)
@@ -57,7 +60,8 @@ def _load_robot(name_or_path: str | Path, *, check_closures: bool = True, allow_
     """
     path = sidecar_path(name_or_path)
     sidecar = read_gepetto(path) if is_gepetto(path) else read_sidecar(path)
-    return robot_from_sidecar(path, sidecar, check_closures=check_closures, allow_massless=allow_massless)
+    return robot_from_sidecar(path, sidecar, check_closures=check_closures, allow_massless=allow_massless,
+                              options=options)
 
 
 def write_if_it_loads(path: Path, text: str) -> Robot:
@@ -92,7 +96,7 @@ def write_if_it_loads(path: Path, text: str) -> Robot:
 
 
 def robot_from_sidecar(path: Path, sidecar: Sidecar, *, check_closures: bool = True,
-                       allow_massless: bool = False) -> Robot:
+                       allow_massless: bool = False, options: DescriptionOptions = DescriptionOptions()) -> Robot:
     """A robot from a validated sidecar held in memory (one generated from a URDF, say), checked and with its tool.
 
     Args:
@@ -100,11 +104,12 @@ def robot_from_sidecar(path: Path, sidecar: Sidecar, *, check_closures: bool = T
         sidecar: The sidecar.
         check_closures: As for :func:`_load_robot`.
         allow_massless: As for :func:`load_robot`.
+        options: As for :func:`load_robot`.
 
     Raises:
         RobotFileError: The sidecar disagrees with its URDF, or the physics is implausible (the message names
             ``path`` and field).
     """
-    robot = build_robot(path, sidecar, check_closures=check_closures, allow_massless=allow_massless)
+    robot = build_robot(path, sidecar, check_closures=check_closures, allow_massless=allow_massless, options=options)
     check_kinematics(robot, plugin=check_closures)
     return robot if sidecar.tool is None else mount_tool(robot, sidecar.tool)

@@ -36,21 +36,25 @@ number the URDF does not give is an estimate, labelled ``EST`` in the sidecar's 
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
+import yaml
 from pydantic import ValidationError
 
 from placement.robot.build import reduced_model
 from placement.robot.exceptions import ExampleRobotError
+from placement.robot.formats import DescriptionOptions
 from placement.robot.model import Robot
 from placement.robot.sidecar import Sidecar
 from placement.robot.tool import find_frame
 from placement.robot.urdf import ERD_PREFIX, erd_urdf_path, pinocchio_model, urdf_limits_missing
+from placement.robot.xacro import expand_xacro, is_xacro
 from placement.workshop.catalog import ERD_FORM, erd_names
-from placement.workshop.load import robot_from_sidecar
+from placement.workshop.load import robot_from_sidecar, write_if_it_loads
 
 GEAR_RATIO = 100.0
 SCREW_LEAD_M = 0.01
@@ -95,16 +99,54 @@ def load_erd_robot(name: str, tool: str | None, *, allow_massless: bool = False)
 
 def erd_sidecar(name: str, tool: str | None) -> Sidecar:
     """The estimated sidecar of example-robot-data's robot ``name`` with ``tool`` following the path."""
-    arm = _Arm.read(name, tool)
+    return _estimated_sidecar(_Arm.read(name, tool), ERD_FORM + name, ERD_PREFIX + name,
+                              f"example-robot-data '{name}', tool {tool}: drives and workspace estimated")
+
+
+def load_description_robot(path: Path, tool: str | None, *, allow_massless: bool = False,
+                           options: DescriptionOptions = DescriptionOptions()) -> Robot:
+    """Load a serial arm from its URDF or xacro file with ``tool`` following the path, its drives, workspace and
+    posture estimated as for example-robot-data's arms (rules: module docstring; the posture starts from the
+    description's neutral one, clipped into the joint limits).
+
+    Args:
+        path: The URDF (``.urdf``) or xacro (``.xacro``, ``.urdf.xacro``) file.
+        tool: The frame (link or joint) that follows the path, e.g. "tool0".
+        allow_massless: As for :func:`placement.workshop.load.load_robot`.
+        options: Its package folders and xacro arguments (``--package-path``, ``--robot-arg``).
+
+    Raises:
+        ExampleRobotError: Missing or unknown tool, or an arm the rules cannot estimate.
+        RobotFileError: The file cannot be read or expanded, or its physics is implausible.
+    """
+    sidecar = description_sidecar(path, tool, options)
+    return robot_from_sidecar(path, sidecar, allow_massless=allow_massless, options=options)
+
+
+def description_sidecar(path: Path, tool: str | None, options: DescriptionOptions = DescriptionOptions()) -> Sidecar:
+    """The estimated sidecar of the robot described by the URDF or xacro file ``path``, ``tool`` following the path;
+    its ``urdf`` is ``path`` (absolute), a xacro's arguments its ``xacro_args``."""
+    path = path.resolve()
+    urdf = expand_xacro(path, options.xacro_args, options.package_paths, path, "") if is_xacro(path) else path
+    model = pinocchio_model(urdf)
+    q0 = np.clip(pin.neutral(model), model.lowerPositionLimit, model.upperPositionLimit)
+    arm = _Arm.of(str(path), model, q0, tool, posture="the description's neutral posture, clipped into its limits")
+    name = path.name.removesuffix(path.suffix).removesuffix(".urdf")
+    sidecar = _estimated_sidecar(arm, name, str(path), f"{path.name}, tool {tool}: drives and workspace estimated")
+    return sidecar.model_copy(update={"xacro_args": dict(options.xacro_args)}) if is_xacro(path) else sidecar
+
+
+def _estimated_sidecar(arm: _Arm, name: str, urdf: str, description: str) -> Sidecar:
+    """The sidecar of an arm with every number its description does not give estimated (module docstring)."""
     box_low, box_high, q_ref = arm.workspace_and_reference()
     drives = {arm.drive_name(j): arm.drive(j) for j in arm.active}
-    end_effector: dict[str, object] = {"frame": tool, "task": arm.task}
+    end_effector: dict[str, object] = {"frame": arm.tool, "task": arm.task}
     if arm.pose:  # the reference posture's tool orientation, z along -Z_p
         end_effector["tool_rpy_in_path_rad"] = [float(v) for v in pin.rpy.matrixToRpy(arm.tool_rotation(q_ref))]
     document = {
-        "name": ERD_FORM + name,
-        "description": f"example-robot-data '{name}', tool {tool}: drives and workspace estimated",
-        "urdf": ERD_PREFIX + name,
+        "name": name,
+        "description": description,
+        "urdf": urdf,
         "gravity_m_s2": [0.0, 0.0, -9.81],
         "end_effector": end_effector,
         "reference_configuration": {arm.model.names[j]: float(q_ref[arm.q_index(j)]) for j in arm.active},
@@ -121,15 +163,16 @@ def erd_sidecar(name: str, tool: str | None) -> Sidecar:
         return Sidecar.model_validate(document)
     except ValidationError as error:
         problem = error.errors()[0]
-        raise ExampleRobotError(f"{ERD_FORM}{name}: cannot estimate {'.'.join(map(str, problem['loc']))}: "
+        raise ExampleRobotError(f"{arm.label}: cannot estimate {'.'.join(map(str, problem['loc']))}: "
                                 f"{problem['msg']}; write a sidecar (docs/adding_a_robot.md)") from None
 
 
 @dataclass
 class _Arm:
-    """An example-robot-data model, its moving chain and the estimates made on it."""
+    """A serial arm's model (example-robot-data's, or a description file's), its moving chain and the estimates
+    made on it."""
 
-    name: str
+    label: str  # the robot as the user named it (erd:NAME, or the file), in messages
     tool: str
     model: pin.Model
     frame_id: int
@@ -138,9 +181,11 @@ class _Arm:
     active: list[int]
     locked: dict[str, float]
     unlimited: list[int]  # chain joints without position limits in the URDF (continuous ones)
+    posture: str = "example-robot-data's q0"  # where q0 comes from, for the sources
 
     @classmethod
     def read(cls, name: str, tool: str | None) -> _Arm:
+        """example-robot-data's robot ``name``, from its reference posture ``q0``."""
         from example_robot_data.robots_loader import ROBOTS
 
         if name not in ROBOTS:
@@ -148,12 +193,17 @@ class _Arm:
                                     f"its robots: {', '.join(erd_names())}")
         loader = ROBOTS[name]()
         model = pinocchio_model(erd_urdf_path(ROBOTS[name]))
-        q0 = _reference_posture(model, loader.robot.model, loader.robot.q0)
-        frame_id = _tool_frame(model, name, tool)
+        return cls.of(ERD_FORM + name, model, _reference_posture(model, loader.robot.model, loader.robot.q0), tool)
+
+    @classmethod
+    def of(cls, label: str, model: pin.Model, q0: np.ndarray, tool: str | None,
+           posture: str = "example-robot-data's q0") -> _Arm:
+        """The arm of ``model`` whose chain ends at ``tool``, from the posture ``q0`` (rules: module docstring)."""
+        frame_id = _tool_frame(model, label, tool)
         chain = [int(j) for j in model.supports[model.frames[frame_id].parentJoint][1:]]
         odd = [model.names[j] for j in chain if model.joints[j].nq != 1 or model.joints[j].nv != 1]
         if odd:
-            raise ExampleRobotError(f"{ERD_FORM}{name}: joints {odd} between the base and '{tool}' are not revolute, "
+            raise ExampleRobotError(f"{label}: joints {odd} between the base and '{tool}' are not revolute, "
                                     "continuous or prismatic joints of one coordinate; write a sidecar "
                                     "(docs/adding_a_robot.md)")
         unlimited = [j for j in chain if urdf_limits_missing(model, j)]  # continuous, or revolute without bounds
@@ -161,14 +211,14 @@ class _Arm:
             index = model.joints[j].idx_q
             model.lowerPositionLimit[index], model.upperPositionLimit[index] = -np.inf, np.inf
         if len(chain) not in (3, 6, 7):
-            raise ExampleRobotError(f"{ERD_FORM}{name}: {len(chain)} joint(s) from the base to '{tool}'; a path needs "
+            raise ExampleRobotError(f"{label}: {len(chain)} joint(s) from the base to '{tool}'; a path needs "
                                     "3 (a position task), 6 (a pose task) or 7 (the third locked): choose another "
                                     "--tool, or write a sidecar that locks the joints the path should not move "
                                     "(docs/adding_a_robot.md)")
         active = [j for k, j in enumerate(chain) if not (len(chain) == 7 and k == 2)]
         locked = {model.names[j]: float(_clip(model, j, q0[model.joints[j].idx_q]))
                   for j in range(1, model.njoints) if j not in active}
-        return cls(name, str(tool), model, frame_id, q0, chain, active, locked, unlimited)
+        return cls(label, str(tool), model, frame_id, q0, chain, active, locked, unlimited, posture)
 
     @property
     def pose(self) -> bool:
@@ -210,7 +260,7 @@ class _Arm:
         joint_name, v = self.model.names[joint], self.model.joints[joint].idx_v
         effort, speed = float(self.model.effortLimit[v]), float(self.model.velocityLimit[v])
         if not (0 < effort < np.inf and 0 < speed < np.inf):
-            raise ExampleRobotError(f"{ERD_FORM}{self.name}: joint '{joint_name}' has no effort or velocity limit in its "
+            raise ExampleRobotError(f"{self.label}: joint '{joint_name}' has no effort or velocity limit in its "
                                     f"URDF (got {effort:g}, {speed:g}), so its drive cannot be estimated; write a sidecar")
         prismatic = self.model.joints[joint].shortname().startswith("JointModelP")
         k = 2 * np.pi / SCREW_LEAD_M if prismatic else GEAR_RATIO
@@ -227,14 +277,14 @@ class _Arm:
         """An EST (or DERIVED) entry for every estimate."""
         entries = {
             "gravity_m_s2": "EST: floor-mounted, base z up",
-            "reference_configuration": "EST: tool pointing down at the workspace centre, solved from example-robot-data's "
-                                       "q0 (else seeded postures) with a well-conditioned task Jacobian",
+            "reference_configuration": f"EST: tool pointing down at the workspace centre, solved from {self.posture} "
+                                       "(else seeded postures) with a well-conditioned task Jacobian",
             "workspace": f"EST: a cube of side {BOX_SIDE_OF_REACH} L centred at {list(BOX_CENTRE_OF_REACH)} L, L = "
                          f"{self.reach_m:.3f} m the chain length, shrunk until the tool reaches its corners",
             "placement": f"EST: the workpiece may be tilted by up to {np.degrees(TILT_RAD):.0f} degrees",
         }
         if self.locked:
-            entries["locked_joints"] = ("EST: joints off the base-to-tool chain held at example-robot-data's q0"
+            entries["locked_joints"] = (f"EST: joints off the base-to-tool chain held at {self.posture}"
                                         + ("; the chain's third joint locked, as the built-in panda's joint 3"
                                            if len(self.chain) == 7 else ""))
         for i, joint in enumerate(self.active):
@@ -264,7 +314,7 @@ class _Arm:
         try:
             return reduced_model(self.model, ids, q)
         except ValueError as error:
-            raise ExampleRobotError(f"{ERD_FORM}{self.name}: {error}") from None
+            raise ExampleRobotError(f"{self.label}: {error}") from None
 
     def tool_point(self, q_full: np.ndarray) -> np.ndarray:
         """The tool frame's origin at a configuration of the full model (m)."""
@@ -285,7 +335,7 @@ class _Arm:
         solver = _Solver(self.reduced(), self.tool, self.pose, reach)
         q_ref = solver.reference(centre, solver.from_full(self.model, self.q0), np.random.default_rng(0))
         if q_ref is None:
-            raise ExampleRobotError(f"{ERD_FORM}{self.name}: '{self.tool}' cannot reach {np.round(centre, 3).tolist()} m "
+            raise ExampleRobotError(f"{self.label}: '{self.tool}' cannot reach {np.round(centre, 3).tolist()} m "
                                     f"(the estimated workspace centre) {'pointing down ' if self.pose else ''}with a "
                                     f"condition number below {MAX_CONDITION:g}; write a sidecar (docs/adding_a_robot.md)")
         for _ in range(BOX_SHRINKS):
@@ -294,7 +344,7 @@ class _Arm:
                 break
             half *= BOX_SHRINK
         else:
-            raise ExampleRobotError(f"{ERD_FORM}{self.name}: '{self.tool}' cannot reach the corners of a box around "
+            raise ExampleRobotError(f"{self.label}: '{self.tool}' cannot reach the corners of a box around "
                                     f"{np.round(centre, 3).tolist()} m; write a sidecar (docs/adding_a_robot.md)")
         return centre - half, centre + half, solver.to_full(self.model, self.q0, q_ref)
 
@@ -398,16 +448,38 @@ def _clip(model: pin.Model, joint: int, value: float) -> float:
     return float(np.clip(value, model.lowerPositionLimit[index], model.upperPositionLimit[index]))
 
 
-def _tool_frame(model: pin.Model, name: str, tool: str | None) -> int:
+def _tool_frame(model: pin.Model, label: str, tool: str | None) -> int:
     """The id of the tool frame (a link, else a joint), or an error listing the candidates."""
     parents = {frame.parentFrame for frame in model.frames}
     leaves = [f.name for i, f in enumerate(model.frames) if f.type == pin.FrameType.BODY and i not in parents]
     if tool is None:
-        raise ExampleRobotError(f"{ERD_FORM}{name} needs --tool FRAME, the frame that follows the path; candidates "
+        raise ExampleRobotError(f"{label} needs --tool FRAME, the frame that follows the path; candidates "
                                 f"(the leaves of its tree): {', '.join(leaves)}")
     frame_id = find_frame(model, tool)
     if frame_id is not None:
         return frame_id
     links = [f.name for f in model.frames if f.type == pin.FrameType.BODY]
-    raise ExampleRobotError(f"--tool: {ERD_FORM}{name} has no frame '{tool[:40]}'; the leaves of its tree: "
+    raise ExampleRobotError(f"--tool: {label} has no frame '{tool[:40]}'; the leaves of its tree: "
                             f"{', '.join(leaves)}; its links: {', '.join(links)}")
+
+
+def write_estimated_sidecar(path: Path, robot: Robot) -> Robot:
+    """Write the estimated sidecar of ``robot`` (loaded from a description file or as erd:NAME) to ``path``, for its
+    user to refine: its URDF and package folders relative to ``path``, every estimate marked EST under ``sources``.
+
+    Returns:
+        The robot loaded from the file written (it is written only if it loads).
+
+    Raises:
+        AssemblyError: The file would not load (nothing is written).
+    """
+    path = path.resolve()
+    document = robot.sidecar.model_dump(mode="json", exclude_defaults=True, serialize_as_any=True)
+    if not document["urdf"].startswith(ERD_PREFIX):
+        document["urdf"] = os.path.relpath(robot.sidecar.urdf, path.parent)
+    if robot.package_paths:
+        document["package_paths"] = [os.path.relpath(folder, path.parent) for folder in robot.package_paths]
+    header = (f"# Written by 'placement --write-sidecar' from {robot.sidecar_path}: the drives, the workspace and the\n"
+              "# reference posture are estimates (EST under sources). Replace them with the robot's own values\n"
+              "# (docs/adding_a_robot.md) and load this file with --robot.\n")
+    return write_if_it_loads(path, header + yaml.safe_dump(document, sort_keys=False, default_flow_style=None, width=120))
