@@ -58,9 +58,9 @@ def expand_xacro(path: Path, arguments: Mapping[str, str], package_paths: Sequen
         text = xacrodoc.XacroDoc.from_file(str(path), subargs=dict(arguments), walk_up=True).to_urdf_string()
     except Exception as error:  # xacro's own errors (XacroException, package look-ups) and XML errors
         said = " ".join(str(error).split())[:200] or type(error).__name__
-        missing = re.fullmatch(r"Undefined substitution argument (\S+)", said)
+        missing = re.match(r"Undefined substitution argument (\S+)", said)
         if missing:
-            said = f"its argument '{missing.group(1)}' is not given"
+            said = f"its argument '{missing.group(1)}' is not given{said[missing.end():]}"
         hint = " (give it with --robot-arg NAME:=VALUE, or in the sidecar's xacro_args)" if "argument" in said else ""
         raise RobotFileError(declaring, field, f"xacro cannot expand {path}: {said}{hint}") from None
     digest = hashlib.sha256(text.encode()).hexdigest()[:16]

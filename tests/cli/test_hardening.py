@@ -236,7 +236,8 @@ def test_a_missing_mesh_is_named_when_drawing(tmp_path, capsys):
                                              '<geometry><box', 1))
     code, err = run(["--robot", str(sidecar), "--path", str(EXAMPLE.with_name("circle.yaml")), "--at", "x=0",
                      "--html", str(tmp_path / "scene.html")], capsys)
-    assert code == 2 and "fivebar.urdf: cannot draw the robot: Mesh missing.stl could not be found" in err
+    assert code == 2 and "fivebar.urdf, field 'urdf.link.base.visual': 'missing.stl' names " in err
+    assert err.rstrip().endswith("missing.stl, which does not exist") and len(err.strip().splitlines()) == 1
 
 
 def test_bad_calibration_logs_exit_2_naming_the_column(tmp_path, capsys):

@@ -16,7 +16,7 @@ from placement.path import load_path
 from placement.robot.exceptions import RobotFileError
 from placement.robot.urdf import one_angle_urdf, pinocchio_model, read_urdf, urdf_limits_missing
 from placement.search.space import default_space
-from placement.workshop.example_robot_data import load_erd_robot
+from placement.workshop.estimates import load_erd_robot
 from tests.support.paths import DATA
 from tests.support.robot_copies import CONTINUOUS, continuous_ur5, continuous_ur5_urdf, edited_copy
 
@@ -223,11 +223,11 @@ def test_an_erd_arm_with_unlimited_continuous_joints_gets_a_full_turn_about_its_
     """example-robot-data's UR5 with two continuous joints without position limits: each gets the range of a full
     turn about the reference posture, labelled as an estimate, and the arm moves as the revolute one."""
     import placement.robot.urdf as urdf_module
-    from placement.workshop import example_robot_data
+    from placement.workshop import estimates
 
     urdf = tmp_path / "ur5.urdf"
     urdf.write_text(continuous_ur5_urdf())
-    monkeypatch.setattr(example_robot_data, "erd_urdf_path", lambda loader: urdf)
+    monkeypatch.setattr(estimates, "erd_urdf_path", lambda loader: urdf)
     monkeypatch.setattr(urdf_module, "erd_urdf_path", lambda loader: urdf)
     robot = load_erd_robot("ur5", "tool0")
     for name in CONTINUOUS:

@@ -34,7 +34,7 @@ from placement.kinematics import TaskTrajectory
 from placement.kinematics.base import SOLVERS
 from placement.robot.closures import closure_residuals
 from placement.workshop.checks import check_robot, default_amplitude, demo_trajectory, energy_rate, forward_accelerations
-from placement.workshop.example_robot_data import load_erd_robot
+from placement.workshop.estimates import load_erd_robot
 from tests.support import delta_analytic, fivebar_analytic, robot_copies
 
 DEMO_SCALE = 4.0  # times the check command's amplitude (5 % of the workspace's smallest side): 20 % of it

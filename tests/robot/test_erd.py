@@ -10,7 +10,7 @@ from placement import load_robot
 from placement.__main__ import main
 from placement.robot.urdf import erd_urdf_path
 from placement.workshop.catalog import builtin_robots_dir
-from placement.workshop.example_robot_data import GEAR_RATIO, load_erd_robot
+from placement.workshop.estimates import GEAR_RATIO, load_erd_robot
 from tests.support.paths import CIRCLE
 
 

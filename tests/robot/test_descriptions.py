@@ -1,0 +1,146 @@
+"""Robots as users bring them: a URDF or xacro file with --tool (the rest estimated), its package:// meshes found
+where a cloned repository or ROS keeps them, and the estimated sidecar written for the user to refine."""
+
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from example_robot_data.robots_loader import ROBOTS
+
+from placement.cli import main
+from placement.robot.exceptions import RobotFileError
+from placement.robot.formats import DescriptionOptions
+from placement.robot.packages import description_geometry, find_package, resolve_uri, search_folders
+from placement.robot.urdf import erd_urdf_path
+from placement.workshop.checks import check_robot
+from placement.workshop.estimates import description_sidecar, erd_sidecar, load_description_robot
+from tests.support.paths import CIRCLE
+
+PACKAGE = "placement_demo_description"  # a name no machine has installed
+STL = """solid box
+facet normal 0 0 1
+ outer loop
+  vertex 0 0 0
+  vertex 0.01 0 0
+  vertex 0 0.01 0
+ endloop
+endfacet
+facet normal 0 0 -1
+ outer loop
+  vertex 0 0 0
+  vertex 0 0.01 0
+  vertex 0 0 0.01
+ endloop
+endfacet
+endsolid box
+"""
+ARM_XACRO = """<?xml version="1.0"?>
+<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="three_link">
+  <xacro:property name="l" value="$(arg reach)"/>
+  <xacro:macro name="segment" params="i parent axis z">
+    <link name="link${i}">
+      <inertial><origin xyz="0 0 ${l/4}"/><mass value="2"/>
+        <inertia ixx="0.02" iyy="0.02" izz="0.004" ixy="0" ixz="0" iyz="0"/></inertial>
+      <visual><geometry><mesh filename="package://PACKAGE/meshes/box.stl"/></geometry></visual>
+    </link>
+    <joint name="joint${i}" type="revolute"><parent link="${parent}"/><child link="link${i}"/>
+      <origin xyz="0 0 ${z}"/><axis xyz="${axis}"/><limit lower="-3" upper="3" effort="150" velocity="3"/></joint>
+  </xacro:macro>
+  <link name="base"/>
+  <xacro:segment i="1" parent="base" axis="0 0 1" z="0.1"/>
+  <xacro:segment i="2" parent="link1" axis="0 1 0" z="0.1"/>
+  <xacro:segment i="3" parent="link2" axis="0 1 0" z="${l}"/>
+  <link name="tip"/>
+  <joint name="tip_joint" type="fixed"><parent link="link3"/><child link="tip"/><origin xyz="0 0 ${l}"/></joint>
+</robot>
+""".replace("PACKAGE", PACKAGE)
+
+
+@pytest.fixture
+def cloned(tmp_path):
+    """A description package as a repository clone holds it: the folder's name is not the package's."""
+    root = tmp_path / "Demo_Description_Repository"
+    (root / "meshes").mkdir(parents=True)
+    (root / "urdf").mkdir()
+    (root / "package.xml").write_text(f"<package format='3'><name>{PACKAGE}</name></package>")
+    (root / "meshes" / "box.stl").write_text(STL)
+    (root / "urdf" / "arm.urdf.xacro").write_text(ARM_XACRO)
+    return root
+
+
+def test_a_package_is_found_above_the_description_by_its_package_xml_though_its_folder_has_another_name(cloned):
+    urdf = cloned / "urdf" / "arm.urdf.xacro"
+    mesh = resolve_uri(f"package://{PACKAGE}/meshes/box.stl", urdf, search_folders(urdf), "field")
+    assert mesh == (cloned / "meshes" / "box.stl").resolve()
+
+
+def test_a_missing_package_names_the_folders_looked_in_and_the_ways_to_give_it(cloned, tmp_path_factory, monkeypatch):
+    monkeypatch.delenv("ROS_PACKAGE_PATH", raising=False)
+    monkeypatch.delenv("AMENT_PREFIX_PATH", raising=False)
+    elsewhere = tmp_path_factory.mktemp("elsewhere") / "robot.urdf"  # neither in the clone nor beside it
+    folders = search_folders(elsewhere)
+    with pytest.raises(RobotFileError, match=f"package '{PACKAGE}'.*not found in {elsewhere.parent}.*--package-path"):
+        resolve_uri(f"package://{PACKAGE}/meshes/box.stl", elsewhere, folders, "urdf.link.link1.visual")
+    assert find_package(PACKAGE, search_folders(elsewhere, [cloned])) == cloned  # --package-path: the package
+    assert find_package(PACKAGE, search_folders(elsewhere, [cloned.parent])) == cloned  # or a folder holding it
+    monkeypatch.setenv("ROS_PACKAGE_PATH", str(cloned.parent))
+    assert find_package(PACKAGE, search_folders(elsewhere)) == cloned
+
+
+def test_a_missing_mesh_file_names_the_link_and_the_file(cloned):
+    (cloned / "meshes" / "box.stl").unlink()
+    urdf = cloned / "urdf" / "arm.urdf.xacro"
+    with pytest.raises(RobotFileError, match=r"urdf.link.link1.visual.*box.stl.*does not exist"):
+        resolve_uri(f"package://{PACKAGE}/meshes/box.stl", urdf, search_folders(urdf), "urdf.link.link1.visual")
+
+
+def test_a_xacro_arm_loads_with_its_argument_and_its_meshes_and_the_argument_shapes_it(cloned):
+    path = cloned / "urdf" / "arm.urdf.xacro"
+    short = load_description_robot(path, "tip", options=DescriptionOptions(xacro_args={"reach": "0.3"}))
+    long = load_description_robot(path, "tip", options=DescriptionOptions(xacro_args={"reach": "0.5"}))
+    for robot, reach in ((short, 0.3), (long, 0.5)):
+        assert robot.model.jointPlacements[robot.model.getJointId("joint3")].translation[2] == pytest.approx(reach)
+        assert robot.sidecar.xacro_args == {"reach": str(reach)}
+        visual = description_geometry(robot, pin.GeometryType.VISUAL)
+        assert {Path(item.meshPath) for item in visual.geometryObjects} == {(cloned / "meshes" / "box.stl").resolve()}
+    assert check_robot(short, samples=30).passed
+
+
+def test_a_xacro_without_its_argument_says_which_and_how_to_give_it(cloned):
+    with pytest.raises(RobotFileError, match="argument 'reach' is not given.*--robot-arg NAME:=VALUE"):
+        load_description_robot(cloned / "urdf" / "arm.urdf.xacro", "tip")
+
+
+def test_a_urdf_file_gets_the_drives_an_erd_arm_of_the_same_urdf_gets():
+    by_file = description_sidecar(erd_urdf_path(ROBOTS["ur5"]), "tool0")
+    by_name = erd_sidecar("ur5", "tool0")
+    assert by_file.drives == by_name.drives and by_file.actuators == by_name.actuators
+    assert by_file.urdf == str(erd_urdf_path(ROBOTS["ur5"]).resolve())
+    assert "neutral posture" in by_file.sources["reference_configuration"]
+
+
+def test_the_command_line_places_a_path_on_a_urdf_file_and_writes_a_sidecar_that_gives_the_same_energy(tmp_path, capsys):
+    urdf = tmp_path / "ur5_robot.urdf"
+    shutil.copy(erd_urdf_path(ROBOTS["ur5"]), urdf)
+    sidecar, direct, reloaded = tmp_path / "ur5.yaml", tmp_path / "direct.json", tmp_path / "reloaded.json"
+    at = ["--path", str(CIRCLE), "--at", "x=450,y=0,z=150"]
+    package = ["--package-path", str(Path(erd_urdf_path(ROBOTS["ur5"])).parents[2])]  # its meshes' package
+    assert main(["--robot", str(urdf), "--tool", "tool0", *package, *at, "--json", str(direct),
+                 "--write-sidecar", str(sidecar)]) == 0
+    assert "estimates" in capsys.readouterr().err
+    assert main(["--robot", str(sidecar), *at, "--json", str(reloaded)]) == 0
+    first, second = (json.loads(file.read_text())["at"] for file in (direct, reloaded))
+    assert second["energy_J"] == pytest.approx(first["energy_J"], rel=1e-9)
+    assert np.isfinite(first["energy_J"]) and first["energy_J"] > 0
+    assert "urdf: ur5_robot.urdf" in sidecar.read_text()  # relative to the sidecar, which can move with it
+
+
+def test_tool_on_a_sidecar_and_a_bad_robot_arg_exit_2_with_one_line(capsys):
+    assert main(["--robot", "ur5", "--tool", "tool0", "--path", str(CIRCLE)]) == 2
+    assert "description file (URDF, xacro)" in capsys.readouterr().err
+    assert main(["--robot", "ur5", "--robot-arg", "reach", "--path", str(CIRCLE)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: --robot-arg: expected NAME:=VALUE") and len(err.strip().splitlines()) == 1
