@@ -370,7 +370,9 @@ def load_robot_argument(robot: str, args: argparse.Namespace, cell: str | None =
                   load_description_robot(path, tool, allow_massless=allow_massless, options=options))
         print(f"warning: {estimate_warning(loaded)}", file=sys.stderr)
         if getattr(args, "write_sidecar", None):
-            write_estimated_sidecar(Path(args.write_sidecar), loaded)
+            written = write_estimated_sidecar(Path(args.write_sidecar), loaded)
+            print(f"wrote the estimated sidecar {written.sidecar_path}: replace its estimates (EST under sources) with "
+                  f"the robot's own values and load it with --robot {written.sidecar_path}", file=sys.stderr)
     else:
         if tool is not None or getattr(args, "write_sidecar", None):
             raise UsageError(f"--tool and --write-sidecar apply to robots given as a description file (URDF, xacro) or "
