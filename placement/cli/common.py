@@ -93,7 +93,7 @@ def job_options(*, several_paths: bool = False) -> argparse.ArgumentParser:
     options = parent()
     options.add_argument("--robot", required=True, help="built-in robot name, a robot sidecar YAML, a robot "
                          "description (URDF, xacro) with --tool, or erd:NAME (an example-robot-data arm, with --tool)")
-    _add_tool(options)
+    _add_description(options)
     _add_cell(options)
     if several_paths:
         options.add_argument("--path", required=True, nargs="+", help="path file(s) (YAML), e.g. examples/rect.yaml")
@@ -105,15 +105,19 @@ def job_options(*, several_paths: bool = False) -> argparse.ArgumentParser:
 def tool_option() -> argparse.ArgumentParser:
     """--tool and the description's options alone, for a command whose robot is a positional argument (a parent
     parser)."""
-    options = parent()
-    _add_tool(options)
-    return options
+    return _parent_with(_add_description)
 
 
 def cell_option() -> argparse.ArgumentParser:
     """--cell alone, for a command that names its robots otherwise (a parent parser)."""
+    return _parent_with(_add_cell)
+
+
+def _parent_with(*adders: Callable[[argparse.ArgumentParser], None]) -> argparse.ArgumentParser:
+    """A parent parser with the options each of ``adders`` adds."""
     options = parent()
-    _add_cell(options)
+    for add in adders:
+        add(options)
     return options
 
 
@@ -128,7 +132,7 @@ def massless_option() -> argparse.ArgumentParser:
     return options
 
 
-def _add_tool(options: argparse.ArgumentParser) -> None:
+def _add_description(options: argparse.ArgumentParser) -> None:
     options.add_argument("--tool", metavar="FRAME",
                          help="with --robot FILE (a URDF or xacro description) or erd:NAME (any serial arm of "
                               "example-robot-data): the link or joint that follows the path, e.g. tool0; drives, "
@@ -160,9 +164,7 @@ def model_options() -> argparse.ArgumentParser:
 
 def regeneration_option() -> argparse.ArgumentParser:
     """--regen: what braking energy does (a parent parser)."""
-    options = parent()
-    _add_regeneration(options)
-    return options
+    return _parent_with(_add_regeneration)
 
 
 def _add_regeneration(options: argparse.ArgumentParser) -> None:
