@@ -32,7 +32,8 @@ Each package defines its own errors beside its code, in its ``exceptions`` modul
 Every warning placement gives for a user-facing reason derives from :class:`PlacementWarning` (a
 ``UserWarning``), so ``warnings.filterwarnings("ignore", category=PlacementWarning)`` silences them
 all; each is defined beside the code that gives it (``EstimatesWarning`` and ``StaleSidecarWarning``
-in :mod:`placement.workshop.gepetto`, ``OrientationIgnoredWarning`` in :mod:`placement.placing.transform`).
+in :mod:`placement.workshop.gepetto`, ``OrientationIgnoredWarning`` in :mod:`placement.placing.transform`,
+``GcodeDialectWarning`` in :mod:`placement.path.exceptions`).
 """
 
 from __future__ import annotations
