@@ -15,13 +15,21 @@ what it does to the energy and the time.
 Where the tool starts: an axis the program never gives stays at the path frame's origin (a 2-D
 program runs in the X_p Y_p plane). An axis given somewhere in the program is unknown until it
 is given (or after a return to a reference point the path file does not give): a move from an
-unknown position is left out (a feed move with a note). G92 offsets shift the program's
-coordinates into the path frame.
+unknown position is left out (a feed move with a note). The work coordinate systems' offsets
+(G10 L2, G10 L20, G54-G59.3) and G92's shift the program's coordinates into the path frame
+(:mod:`placement.path.ngc_offsets`).
+
+Other controllers' words (grbl's ``$`` lines, Centroid's M25, Haas's M88, the main program's M99,
+feed moves before any F at the path file's initial feed) are read as their controller does, each
+kind with one :class:`~placement.path.exceptions.GcodeDialectWarning` naming its lines; Fanuc
+Macro B is refused by its own name.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import re
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -31,10 +39,11 @@ import numpy as np
 from placement.path.arcs import SAME_POINT_M, arc_segment
 from placement.path.canned import CYCLES, CycleState, expand_cycle
 from placement.path.compensation import Compensation, begin, circular, end_compensation, straight, tool_diameter_m
-from placement.path.exceptions import GcodeError, PathFileError, _CycleError, _ExpressionError, _FlowError
+from placement.path.exceptions import GcodeDialectWarning, GcodeError, PathFileError, _CycleError, _ExpressionError, _FlowError
 from placement.path.ngc_expressions import Block, Parameters, read_line
 from placement.path.ngc_flow import run_blocks
-from placement.path.ngc_words import EXTRA_AXES, check_unused, sorted_words
+from placement.path.ngc_offsets import BY_NUMBER, NAMES, Offsets
+from placement.path.ngc_words import CONTROLLER_M, EXTRA_AXES, check_unused, sorted_words
 from placement.path.segments import Segment
 
 MM_M = 1e-3
@@ -42,6 +51,7 @@ INCH_M = 0.0254
 MAX_PROGRAM_BYTES = 50_000_000
 MAX_LINE_CHARS = 1000
 STOPS_M = {0, 1, 60}  # program pauses: the tool stops there
+MAX_LISTED_LINES = 8  # a warning names at most this many lines of each kind
 
 
 @dataclass(frozen=True)
@@ -53,6 +63,8 @@ class Machine:
         g28_m, g30_m: (3,) the reference positions G28 and G30 move to (None: not given).
         given: Whether the path file gave these (G53 needs it; without, G53 moves are left out).
         tool_diameters_m: Each tool's diameter by its number (what G41 and G42 offset the path by).
+        initial_feed_m_s: The controller's modal feed when the program starts, which feed moves before the
+            program's first F run at (None: such a move is refused).
     """
 
     work_offset_m: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))
@@ -60,6 +72,7 @@ class Machine:
     g30_m: np.ndarray | None = None
     given: bool = False
     tool_diameters_m: dict[int, float] = dataclasses.field(default_factory=dict)
+    initial_feed_m_s: float | None = None
 
 
 @dataclass(frozen=True)
@@ -118,7 +131,6 @@ class _State:
     plane: int = 17
     motion: int | None = None  # in tenths
     plain_motion: int | None = None  # the last G0-G3: the motion after G80, as on Fanuc-style controls
-    coordinate_system: int | None = None  # G54-G59, once given
     feed_mode: int = 940
     feed: float | None = None  # F as given, in ...
     feed_unit_m: float = MM_M  # ... the length unit of its line
@@ -126,15 +138,17 @@ class _State:
     exact_path: bool = False  # G61
     exact_stop: bool = False  # G61.1
     cycle: CycleState = dataclasses.field(default_factory=CycleState)
-    references: dict[int, np.ndarray | None] = dataclasses.field(default_factory=dict)  # 280, 300 -> path frame
-    offset_m: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))  # G92: path frame - program's
-    saved_offset_m: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))  # what G92.3 restores
+    stored: dict[int, np.ndarray] = dataclasses.field(default_factory=dict)  # 280, 300 -> G28.1, G30.1's (path frame)
+    offsets: Offsets = dataclasses.field(default_factory=lambda: Offsets(np.full(3, np.nan)))  # G10, G54-G59.3, G92
+    offset_m: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))  # path frame - program's (offsets')
     extra_axes: dict[str, float] = dataclasses.field(default_factory=dict)  # A, B, C, U, V, W: the one value held
     position_m: list[float | None] = dataclasses.field(default_factory=lambda: [None, None, None])
     given: set[int] = dataclasses.field(default_factory=set)  # the axes given a value so far
     moves: list[_Move] = dataclasses.field(default_factory=list)
     dwells: list[Dwell] = dataclasses.field(default_factory=list)
     notes: dict[str, str] = dataclasses.field(default_factory=dict)
+    dialect: dict[str, list[int]] = dataclasses.field(default_factory=dict)  # a controller's words read: their lines
+    line: int = 0  # the line being run
     tool_selected: int | None = None  # T
     tool_loaded: int | None = None  # M6
     compensation: Compensation | None = None  # G41, G42 under way
@@ -172,25 +186,35 @@ def read_program(file: Path, machine: Machine | None = None) -> Program:
         except _ExpressionError as error:
             raise GcodeError(file, number, error.text, error.problem) from None
     machine = machine or Machine()
-    state = _State(machine, references={280: _path_point(machine, machine.g28_m), 300: _path_point(machine,
-                                                                                                    machine.g30_m)})
+    state = _State(machine, offsets=Offsets(np.array(machine.work_offset_m, dtype=float) if machine.given
+                                            else np.full(3, np.nan)))
 
-    def execute(index: int, words: list[tuple[str, float, str]]) -> bool:
+    def execute(index: int, words: list[tuple[str, float, str]], depth: int) -> bool:
         def fail(word: str, problem: str) -> GcodeError:
             return GcodeError(file, index + 1, word, problem)
 
-        return _execute(fail, index + 1, words, state)
+        return _execute(fail, index + 1, words, state, depth)
+
+    def system(index: int, text: str) -> None:
+        _system_command(lambda problem: GcodeError(file, index + 1, text, problem), index + 1, text, state)
 
     try:
-        run_blocks(blocks, Parameters(), execute)
+        run_blocks(blocks, Parameters(), execute, system)
     except _FlowError as error:
         raise GcodeError(file, error.index + 1, error.text, error.problem) from None
-    return _program(file, state)
+    program = _program(file, state)
+    for text in _dialect_notes(file, state):
+        warnings.warn(text, GcodeDialectWarning, stacklevel=2)
+    return program
 
 
-def _path_point(machine: Machine, point: np.ndarray | None) -> np.ndarray | None:
-    """A machine position in the path frame."""
-    return None if point is None else point - machine.work_offset_m
+def _reference_point(state: _State, code: int) -> np.ndarray | None:
+    """Where G28 (280) or G30 (300) goes, in the path frame: the point G28.1/G30.1 stored, else the path file's
+    machine position (NaN along an axis whose origin is not known on the machine); None: not given."""
+    if code in state.stored:
+        return state.stored[code]
+    point = state.machine.g28_m if code == 280 else state.machine.g30_m
+    return None if point is None else point - state.offsets.origin()
 
 
 def _program(file: Path, state: _State) -> Program:
@@ -224,9 +248,16 @@ def _program(file: Path, state: _State) -> Program:
 
 
 def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tuple[str, float, str]],
-             state: _State) -> bool:
-    """Apply one line's words to the state, in RS-274/NGC's order; False at the program's end (M2, M30)."""
+             state: _State, depth: int = 0) -> bool:
+    """Apply one line's words to the state, in RS-274/NGC's order; False at the program's end (M2, M30, M99 in
+    the main program)."""
+    state.line = line
     codes, m_codes, values, written = sorted_words(fail, words)
+    if 99 in m_codes and depth:
+        raise fail(m_codes[99], "M99 inside an O-word subroutine (LinuxCNC refuses it): end the subroutine with "
+                                "O<name> endsub or O<name> return")
+    for code in sorted(set(m_codes) & set(CONTROLLER_M)):
+        state.dialect.setdefault(f"M{code}", []).append(line)
     if "feed mode" in codes:
         state.feed_mode = codes["feed mode"][0]
     if "units" in codes:  # before F and the axes: their numbers are in the line's units
@@ -256,12 +287,7 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
     if "cutter compensation" in codes:
         _compensation_mode(fail, codes["cutter compensation"], values, written, state)
     if "coordinate system" in codes:
-        system, word = codes["coordinate system"]
-        if state.coordinate_system not in (None, system) or (state.coordinate_system is None and system != 540
-                                                            and state.given):
-            raise fail(word, "the program changes work coordinate system: their offsets are not in the program; "
-                             "write it in one system, the path frame")
-        state.coordinate_system = system
+        _select_system(fail, codes["coordinate system"], state)
     if "path control" in codes:
         code = codes["path control"][0]
         state.exact_path, state.exact_stop = code == 610, code == 611
@@ -271,24 +297,30 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
         state.absolute_centres = codes["arc distance"][0] == 901
     if "retract mode" in codes:
         state.cycle.retract_to_r = codes["retract mode"][0] == 990
+    if non_modal is not None and non_modal[0] == 100:  # G10's extra axis words are offsets of axes the path has not
+        for letter in EXTRA_AXES:
+            values.pop(letter, None), written.pop(letter, None)
     _extra_axes(fail, values, written, line, state)
     motion = codes["motion"][0] if "motion" in codes else state.motion
-    check_unused(fail, codes, values, written, motion)
+    check_unused(fail, codes, values, written, motion, m_codes)
     if ("@" in values or "^" in values) and not (motion is not None and motion // 10 in CYCLES):
         _polar(fail, values, written, state)
     axes = [values.get(letter) for letter in "XYZ"]
     if non_modal is not None and non_modal[0] in (921, 922, 923):  # before the line's move, which they leave alone
-        _offset(fail, non_modal, axes, state)
+        state.offsets.clear_g92(non_modal[0])
+        state.offset_m = state.offsets.total_m()
     if non_modal is not None and non_modal[0] in (280, 300) and state.compensation is not None:
         raise fail(non_modal[1], "G28 and G30 cannot run under cutter radius compensation: G40 first")
     if non_modal is not None and non_modal[0] in (280, 300):
         _reference(fail, non_modal, axes, written, line, state)
     elif non_modal is not None and non_modal[0] == 920:  # its axis words are the offset's, not a move
         _offset(fail, non_modal, axes, state)
+    elif non_modal is not None and non_modal[0] == 100:  # its axis words are the offsets', not a move
+        _set_offsets(fail, non_modal[1], values, written, line, state)
     elif non_modal is not None and non_modal[0] in (281, 301):
         if any(value is None for value in state.position_m) and state.given:
             raise fail(non_modal[1], "the position to store is not known yet")
-        state.references[non_modal[0] - 1] = np.array([p if p is not None else 0.0 for p in state.position_m])
+        state.stored[non_modal[0] - 1] = np.array([p if p is not None else 0.0 for p in state.position_m])
     else:
         if "canned cycle" in codes:
             state.motion = state.plain_motion
@@ -300,16 +332,21 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
                 state.plain_motion = state.motion
         else:
             previous = state.motion
-        arc_words = [letter for letter in "IJKR" if letter in values]
+        arc_words = [letter for letter in "IJKR" if letter in values and not (letter == "R" and 19 in m_codes)]
         if arc_words and state.motion not in (20, 30) and (state.motion is None or state.motion // 10 not in CYCLES):
-            raise fail(written[arc_words[0]], "I, J, K and R belong to arcs (G2, G3), R also to drilling cycles")
+            raise fail(written[arc_words[0]], "I, J, K and R belong to arcs (G2, G3), R also to drilling cycles and "
+                                              "M19")
         if any(value is not None for value in axes) or "@" in values or "^" in values or (
                 state.motion in (20, 30) and any(letter in values for letter in "IJK")):  # (a full circle)
             _motion(fail, codes, axes, values, written, line, state, previous)
+    if 25 in m_codes:
+        _z_home(fail, m_codes[25], line, state)
     if any(code in m_codes for code in STOPS_M) and state.moves:
         state.moves[-1] = dataclasses.replace(state.moves[-1], segment=dataclasses.replace(
             state.moves[-1].segment, exact_stop=True))
-    return not (2 in m_codes or 30 in m_codes)
+    if 99 in m_codes:
+        state.dialect.setdefault("M99", []).append(line)
+    return not (2 in m_codes or 30 in m_codes or 99 in m_codes)
 
 
 def _compensation_mode(fail: Callable[[str, str], GcodeError], code_word: tuple[int, str],
@@ -360,6 +397,7 @@ def _compensated(fail: Callable[[str, str], GcodeError], values: dict[str, float
     else:
         circular(comp, state.moves, local_end, centre, turns if state.motion == 30 else -turns, blame, add)
     state.position_m = [None if value is None else float(e) for value, e in zip(target, end)]
+    state.offsets.bind({k for k in range(3) if target[k] is not None})
 
 
 def _polar(fail: Callable[[str, str], GcodeError], values: dict[str, float], written: dict[str, str],
@@ -408,6 +446,166 @@ def _note(state: _State, key: str, text: str) -> None:
     state.notes.setdefault(key, text)
 
 
+def _select_system(fail: Callable[[str, str], GcodeError], code_word: tuple[int, str], state: _State) -> None:
+    """G54-G59.3: the program's coordinates are in that system from here (its offset must be known, or the program
+    must not have moved yet: then the system is the path frame)."""
+    system, word = code_word
+    offsets = state.offsets
+    if system == offsets.active:
+        return
+    if state.compensation is not None:
+        raise fail(word, "the work coordinate system changes while cutter radius compensation is on: G40 first")
+    unknown = offsets.select(system)
+    if unknown:
+        axes = ", ".join("XYZ"[k] for k in unknown)
+        number = {code: number for number, code in BY_NUMBER.items()}[system]
+        if system in offsets.machine_m:
+            raise fail(word, f"the program changes work coordinate system to {NAMES[system]}, whose offset G10 sets in "
+                             f"machine coordinates ({axes}), but where the path frame's origin ({NAMES[offsets.active]}'s) "
+                             "is on the machine is not known: give it in the path file (shape.machine.work_offset_mm), "
+                             "or set that system's offset too (G10 L2) before the first move")
+        raise fail(word, f"the program changes work coordinate system to {NAMES[system]}, whose offset ({axes}) is not in "
+                         f"the program: set it before (G10 L2 P{number} or G10 L20 P{number}), or write the program in one "
+                         "system, the path frame")
+    state.offset_m = offsets.total_m()
+
+
+def _set_offsets(fail: Callable[[str, str], GcodeError], word: str, values: dict[str, float], written: dict[str, str],
+                 line: int, state: _State) -> None:
+    """G10, as LinuxCNC reads it: L2 sets a work coordinate system's offset (machine coordinates), L20 sets it so
+    that the current point reads the given coordinates; L1, L10, L11 write the tool table, whose lengths do not move
+    the tool tip's path (R, the radius, is refused: Fanuc and Haas read it as a length or wear)."""
+    if "L" not in values or values["L"] != round(values["L"]):
+        raise fail(word, "G10 needs L: L2 or L20 (a work coordinate system's offset), L1, L10 or L11 (a tool's)")
+    form = round(values["L"])
+    if form in (1, 10, 11):
+        if "R" in values:
+            raise fail(written["R"], f"G10 L{form}'s R is a tool's radius in LinuxCNC but a length or a wear on Fanuc "
+                                     "and Haas controls: give each tool's diameter in the path file "
+                                     "(shape.tool_diameters_mm)")
+        return  # the program's coordinates are the tool tip's, whatever the tool's length
+    if form in (12, 13):
+        raise fail(written["L"], f"G10 L{form} sets a cutter radius or diameter offset (Fanuc, Haas), read differently "
+                                 "by each: give each tool's diameter in the path file (shape.tool_diameters_mm)")
+    if form not in (2, 20):
+        raise fail(written["L"], f"G10 L{form} is not read: G10 L2 and L20 (work offsets) and L1, L10, L11 (tool "
+                                 "lengths) are")
+    number = values.get("P")
+    if number is None or number != round(number) or not 0 <= number <= 9:
+        extra = (" (Fanuc's and Haas's G10 L20 P sets an additional work offset, G54.1 P or G154 P, which is not "
+                 "read)" if form == 20 and number is not None and number > 9 else "")
+        raise fail(written.get("P", word), f"G10 L{form} needs P, the coordinate system: 0 the active one, 1-9 "
+                                           f"G54-G59.3{extra}")
+    if values.get("R", 0.0) != 0.0:
+        raise fail(written["R"], "a rotated coordinate system (G10 L2 or L20 with R) is not read")
+    offsets = state.offsets
+    system = offsets.active if number == 0 else BY_NUMBER[round(number)]
+    if state.compensation is not None and system == offsets.active:
+        raise fail(word, "the work coordinate system's offset changes while cutter radius compensation is on: G40 "
+                         "first")
+    given = {k: values[letter] * state.length_m for k, letter in enumerate("XYZ") if letter in values}
+    if form == 2:
+        lost = offsets.set_machine(system, given)
+        if lost:
+            axes = ", ".join("XYZ"[k] for k in lost)
+            raise fail(word, f"G10 L2 moves {NAMES[system]}, the system the program runs in, after it has moved ({axes}):"
+                             " where its origin was on the machine is not known, so neither is the shift; give it in the"
+                             " path file (shape.machine.work_offset_mm)")
+    else:
+        unknown, known = offsets.set_current(system, given, state.position_m, line)
+        if unknown:
+            axes = ", ".join("XYZ"[k] for k in unknown)
+            raise fail(word, f"G10 L20 sets the offset from the current position, which is not known here ({axes}): "
+                             "move to a point first")
+        for axis, value in known.items():
+            state.position_m[axis] = value
+            state.given.add(axis)
+        offsets.bind(set(known))
+    state.offset_m = offsets.total_m()
+
+
+def _z_home(fail: Callable[[str, str], GcodeError], word: str, line: int, state: _State) -> None:
+    """M25, as Centroid's controls read it: Z alone to the machine's home at rapid (the home the path file gives as
+    the G28 reference, shape.machine.g28_mm); without it Z is unknown after it, like a retract that ends the cut."""
+    if state.compensation is not None:
+        raise fail(word, "M25 (Z home) cannot run under cutter radius compensation: G40 first")
+    state.dialect.setdefault("M25", []).append(line)
+    home = state.machine.g28_m
+    z = None if home is None else float(home[2] - state.offsets.origin()[2])
+    end = list(state.position_m)
+    end[2] = None if z is None or np.isnan(z) else z
+    _add(state, end, None, line, word)
+
+
+GRBL_SKIPPED = re.compile(r"\$(|\$|#|G|I|N|X|N\d+=.*|\d+=.*|I=.*)")  # reports, settings, startup lines, unlock
+GRBL_HOMING = re.compile(r"\$H([XYZABCUVW]*)")
+
+
+def _system_command(fail: Callable[[str], GcodeError], line: int, text: str, state: _State) -> None:
+    """A grbl system command: the reports, settings and unlock are the sender's and skipped; homing ($H) leaves the
+    position unknown; a jog, check mode, sleep and a reset of the settings are refused by name."""
+    refused = {"$J=": "a grbl jog ('$J=') is an operator's positioning move, which grbl accepts only while idle, not "
+                      "among a job's moves: remove it, or write the move as G0 or G1",
+               "$C": "grbl's check mode ('$C') runs the lines after it without moving the machine: remove it",
+               "$SLP": "grbl's sleep ('$SLP') disables the machine until it is reset: remove it",
+               "$RST=": "'$RST=' restores grbl's defaults, which may erase its work offsets (G54-G59, G28, G30) and so "
+                        "move the program: remove it"}
+    for start, problem in refused.items():
+        if text == start or (start.endswith("=") and text.startswith(start)):
+            raise fail(problem)
+    homing = GRBL_HOMING.fullmatch(text)
+    if homing is not None:
+        if state.compensation is not None:
+            raise fail("grbl's homing ($H) cannot run under cutter radius compensation: G40 first")
+        for k, letter in enumerate("XYZ"):
+            if not homing.group(1) or letter in homing.group(1):
+                state.position_m[k] = None
+        state.tool_start_m = None
+        state.dialect.setdefault("$H", []).append(line)
+    elif GRBL_SKIPPED.fullmatch(text):
+        state.dialect.setdefault("$", []).append(line)
+    else:
+        raise fail("an unknown grbl system command: those read are $H (homing), $X, $$, $#, $G, $I, $N and settings "
+                   "($100=...); a jog ($J=) is refused")
+
+
+def _lines(lines: list[int]) -> str:
+    """'line 4' or 'lines 4, 9, 12', at most MAX_LISTED_LINES of them."""
+    unique = sorted(set(lines))
+    listed = ", ".join(str(n) for n in unique[:MAX_LISTED_LINES])
+    more = f" and {len(unique) - MAX_LISTED_LINES} more" if len(unique) > MAX_LISTED_LINES else ""
+    return f"line{'s' if len(unique) > 1 else ''} {listed}{more}"
+
+
+def _dialect_notes(file: Path, state: _State) -> list[str]:
+    """One warning per kind of controller word read, naming its lines."""
+    dialect, notes = state.dialect, []
+    if "$" in dialect or "$H" in dialect:
+        skipped = [*dialect.get("$", []), *dialect.get("$H", [])]
+        homing = (f"; $H ({_lines(dialect['$H'])}) sends the machine home, so the position is unknown after it until "
+                  "the program gives one" if "$H" in dialect else "")
+        notes.append(f"grbl system commands ({_lines(skipped)}) are the sender's and grbl's, not moves: skipped{homing}")
+    codes = sorted(int(key[1:]) for key in dialect if key[1:].isdigit() and int(key[1:]) in CONTROLLER_M)
+    if codes:
+        listed = "; ".join(f"M{code}, {CONTROLLER_M[code]} ({_lines(dialect[f'M{code}'])})" for code in codes)
+        notes.append(f"other controllers' M codes that do not move the tool are ignored: {listed}")
+    if "M25" in dialect:
+        where = ("to the Z of shape.machine.g28_mm, the machine's home" if state.machine.g28_m is not None else
+                 "to the machine's home, which the path file does not give (shape.machine.g28_mm): the retract is left "
+                 "out and Z is unknown after it until the program gives it")
+        notes.append(f"M25 ({_lines(dialect['M25'])}) is Centroid's Z home: Z alone moves at rapid {where}")
+    if "M99" in dialect:
+        notes.append(f"M99 ({_lines(dialect['M99'])}) ends the main program, as M2 (LinuxCNC's reading; Fanuc-style "
+                     "controls run the program again from its start: the path is one pass)")
+    if "initial feed" in dialect:
+        feed = state.machine.initial_feed_m_s
+        assert feed is not None
+        notes.append(f"the feed moves of {_lines(dialect['initial feed'])} come before the program's first F: they run "
+                     f"at the controller's modal feed the path file gives (shape.initial_feed_m_s: {feed:g} m/s = "
+                     f"{feed / MM_M * 60:g} mm/min)")
+    return [f"{file}: {note}" for note in notes]
+
+
 def _target(axes: list[float | None], state: _State, fail: Callable[[str, str], GcodeError], word: str,
             machine_coordinates: bool = False) -> list[float | None]:
     """The end point of a move to the given axes (None: not given), in metres."""
@@ -416,7 +614,7 @@ def _target(axes: list[float | None], state: _State, fail: Callable[[str, str], 
         if value is None:
             target.append(state.position_m[k])
         elif machine_coordinates:
-            target.append(value * state.length_m - state.machine.work_offset_m[k])
+            target.append(value * state.length_m - float(state.offsets.origin()[k]))
         elif state.incremental:
             start = state.position_m[k]
             if start is None and value == 0:  # "G28 G91 Z0": no move along an unknown axis
@@ -433,26 +631,17 @@ def _target(axes: list[float | None], state: _State, fail: Callable[[str, str], 
 
 def _offset(fail: Callable[[str, str], GcodeError], non_modal: tuple[int, str], axes: list[float | None],
             state: _State) -> None:
-    """G92: the current point gets the given coordinates (the program's origin moves); G92.1, G92.2: no offset
-    (G92.1 forgets it, G92.2 keeps it for G92.3); G92.3: the offset kept restored."""
-    code, word = non_modal
-    if code == 920:
-        if all(value is None for value in axes):
-            raise fail(word, "G92 needs the coordinates the current point gets (X, Y or Z)")
-        for k, value in enumerate(axes):
-            if value is None:
-                continue
-            here = state.position_m[k]
-            if here is None and k in state.given:
-                raise fail(word, f"G92 from an unknown position ({'XYZ'[k]} not known here): move to a point first")
-            state.offset_m[k] = (here or 0.0) - value * state.length_m
-        state.saved_offset_m = state.offset_m.copy()
-    elif code == 923:
-        state.offset_m = state.saved_offset_m.copy()
-    else:
-        state.offset_m = np.zeros(3)
-        if code == 921:
-            state.saved_offset_m = np.zeros(3)
+    """G92: the current point gets the given coordinates (the program's origin moves; G92.1-G92.3 are
+    :meth:`~placement.path.ngc_offsets.Offsets.clear_g92`'s)."""
+    word = non_modal[1]
+    if all(value is None for value in axes):
+        raise fail(word, "G92 needs the coordinates the current point gets (X, Y or Z)")
+    for k, value in enumerate(axes):
+        if value is not None and state.position_m[k] is None and k in state.given:
+            raise fail(word, f"G92 from an unknown position ({'XYZ'[k]} not known here): move to a point first")
+    state.offsets.set_g92({k: value * state.length_m for k, value in enumerate(axes) if value is not None},
+                          state.position_m)
+    state.offset_m = state.offsets.total_m()
 
 
 def _add(state: _State, end: list[float | None], feed: float | None, line: int, word: str,
@@ -465,6 +654,7 @@ def _add(state: _State, end: list[float | None], feed: float | None, line: int, 
     unknown = frozenset(k for k in range(3) if start[k] is None)
     state.position_m = list(end)
     state.given |= {k for k in range(3) if end[k] is not None}
+    state.offsets.bind({k for k in range(3) if end[k] is not None})
     if any(end[k] is None and start[k] is not None for k in range(3)):
         return  # to an unknown place (a reference position not given)
     # An axis unknown at both ends is at the origin if the program never gives it (else the move is left out).
@@ -489,15 +679,20 @@ def _reference(fail: Callable[[str, str], GcodeError], non_modal: tuple[int, str
     move_word = next((written[a] for a in "XYZ" if a in written), word)
     if any(value is not None for value in axes):
         _add(state, _target(axes, state, fail, move_word), None, line, move_word)
-    reference = state.references[code]
+    reference = _reference_point(state, code)
     moved = [k for k in range(3) if axes[k] is not None] or [0, 1, 2]
     end = list(state.position_m)
     for k in moved:
-        end[k] = None if reference is None else float(reference[k])
+        end[k] = None if reference is None or np.isnan(reference[k]) else float(reference[k])
     if reference is None:
         _note(state, f"G{code // 10}", f"G{code // 10} (line {line}) moves to the machine's reference position, "
                                        f"which the path file does not give (shape.machine.g{code // 10}_mm): the "
                                        "rapids to and from it are left out")
+    elif any(end[k] is None for k in moved):
+        _note(state, f"G{code // 10}", f"G{code // 10} (line {line}) moves to the machine's reference position, "
+                                       "whose place in the path frame is not known (G10 L20 at line "
+                                       f"{state.offsets.set_where_unknown} set the program's origin where the machine "
+                                       "happened to be): the rapids to and from it are left out")
     _add(state, end, None, line, word)
 
 
@@ -508,8 +703,12 @@ def _feed(fail: Callable[[str, str], GcodeError], state: _State, word: str, leng
         if "F" not in values:
             raise fail(word, "in inverse time mode (G93) every feed move gives its F (1/minutes)")
         return length_m * values["F"] / 60.0
+    if state.feed is None and state.feed_mode == 940 and state.machine.initial_feed_m_s is not None:
+        state.dialect.setdefault("initial feed", []).append(state.line)
+        return state.machine.initial_feed_m_s
     if state.feed is None:
-        raise fail(word, f"a feed move (G{(state.motion or 0) // 10}) before any feed rate: give F first")
+        raise fail(word, f"a feed move (G{(state.motion or 0) // 10}) before any feed rate: give F first, or the "
+                         "controller's modal feed in the path file (shape.initial_feed_m_s, docs/paths.md)")
     if state.feed_mode == 950:
         if not state.spindle_rpm:
             raise fail(word, "feed per revolution (G95) needs the spindle speed S > 0")
@@ -529,10 +728,12 @@ def _motion(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, 
     if codes.get("non-modal", (0, ""))[0] == 530:
         if state.motion not in (0, 10) or state.incremental:
             raise fail(codes["non-modal"][1], "G53 moves in machine coordinates with G0 or G1, in G90")
-        if not state.machine.given:
+        origin = state.offsets.origin()
+        if any(np.isnan(origin[k]) for k in range(3) if axes[k] is not None):
+            cause = ("the path file does not give (shape.machine.work_offset_mm)" if not state.offsets.set_where_unknown
+                     else f"G10 L20 at line {state.offsets.set_where_unknown} set where the machine happened to be")
             _note(state, "G53", f"G53 (line {line}) moves in machine coordinates, whose offset from the program's "
-                                "origin the path file does not give (shape.machine.work_offset_mm): those moves "
-                                "are left out")
+                                f"origin {cause}: those moves are left out")
             _add(state, [None if a is not None else p for a, p in zip(axes, state.position_m)], None, line, move_word)
             return
         target = _target(axes, state, fail, move_word, machine_coordinates=True)

@@ -35,14 +35,17 @@ class _Frame:
 
 
 def run_blocks(blocks: list[Block], parameters: Parameters,
-               execute: Callable[[int, list[tuple[str, float, str]]], bool]) -> None:
+               execute: Callable[[int, list[tuple[str, float, str]], int], bool],
+               system: Callable[[int, str], None]) -> None:
     """Run a program's lines in order of control flow.
 
     Args:
         blocks: The lines, read (:func:`placement.path.ngc_expressions.read_line`).
         parameters: The parameter store, changed as the lines set parameters.
-        execute: Called with each line's index and its words (letter, value, text as written) after its
-            parameter settings; returns False to end the program (M2, M30).
+        execute: Called with each line's index, its words (letter, value, text as written) after its parameter
+            settings, and the depth of subroutine calls it runs in (0: the main program); returns False to end the
+            program (M2, M30, M99 in the main program).
+        system: Called with the index and text of each grbl system command (``$H``, ...) in its turn.
 
     Raises:
         _FlowError: Unmatched or misplaced O-words, a call of an unknown subroutine, too many lines run, or a
@@ -68,6 +71,10 @@ def run_blocks(blocks: list[Block], parameters: Parameters,
             if block.oword is not None:
                 index = flow.step(index, block.oword, parameters, frames)
                 continue
+            if block.system:
+                system(index, block.system)
+                index += 1
+                continue
             words = [(word.letter, word.value(parameters), word.text) for word in block.words]
             values = [(a, a.value(parameters)) for a in block.assignments]
         except _ExpressionError as error:
@@ -82,7 +89,7 @@ def run_blocks(blocks: list[Block], parameters: Parameters,
                 except _ExpressionError as error:
                     raise _FlowError(index, error.text, error.problem) from None
                 parameters.numbered[number] = value
-        if words and not execute(index, words):
+        if words and not execute(index, words, len(frames) - 1):
             return
         index += 1
     if len(frames) > 1:
