@@ -39,7 +39,7 @@ import numpy as np
 from placement.path.arcs import SAME_POINT_M, arc_segment
 from placement.path.canned import CYCLES, CycleState, expand_cycle
 from placement.path.compensation import Compensation, begin, circular, end_compensation, straight, tool_diameter_m
-from placement.path.exceptions import GcodeDialectWarning, GcodeError, PathFileError, _CycleError, _ExpressionError, _FlowError
+from placement.path.exceptions import GcodeDialectWarning, GcodeError, PathFileError, _CycleError, _FlowError
 from placement.path.ngc_expressions import Block, Parameters, read_line
 from placement.path.ngc_flow import run_blocks
 from placement.path.ngc_offsets import BY_NUMBER, NAMES, Offsets
@@ -181,10 +181,7 @@ def read_program(file: Path, machine: Machine | None = None) -> Program:
     for number, line in enumerate(text.splitlines(), start=1):
         if len(line) > MAX_LINE_CHARS:
             raise GcodeError(file, number, "", f"the line is longer than {MAX_LINE_CHARS} characters")
-        try:
-            blocks.append(read_line(line))
-        except _ExpressionError as error:
-            raise GcodeError(file, number, error.text, error.problem) from None
+        blocks.append(read_line(line))
     machine = machine or Machine()
     state = _State(machine, offsets=Offsets(np.array(machine.work_offset_m, dtype=float) if machine.given
                                             else np.full(3, np.nan)))
@@ -597,6 +594,9 @@ def _dialect_notes(file: Path, state: _State) -> list[str]:
     if "M99" in dialect:
         notes.append(f"M99 ({_lines(dialect['M99'])}) ends the main program, as M2 (LinuxCNC's reading; Fanuc-style "
                      "controls run the program again from its start: the path is one pass)")
+    if "G0 at start" in dialect:
+        notes.append(f"{_lines(dialect['G0 at start'])} give an end point before any motion word: read as G0, the "
+                     "motion mode grbl, Fanuc, Haas and Mach3 controls start in (LinuxCNC starts in none and refuses it)")
     if "initial feed" in dialect:
         feed = state.machine.initial_feed_m_s
         assert feed is not None
@@ -721,8 +721,9 @@ def _motion(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, 
             previous: int | None) -> None:
     """The line's move: G0, G1, G2, G3 (in machine coordinates with G53) or a drilling cycle."""
     move_word = next((written[a] for a in "XYZ" if a in written), codes.get("motion", ("", ""))[1])
-    if state.motion is None:
-        raise fail(move_word, "an end point but no motion mode (G0, G1, G2, G3, or a drilling cycle) is active")
+    if state.motion is None:  # grbl, Fanuc, Haas and Mach3 controls start in G0 (LinuxCNC in none: it refuses this)
+        state.motion = state.plain_motion = 0
+        state.dialect.setdefault("G0 at start", []).append(line)
     if state.compensation is not None and (codes.get("non-modal", (0, ""))[0] == 530 or state.motion // 10 in CYCLES):
         raise fail(move_word, "G53 moves and drilling cycles cannot run under cutter radius compensation: G40 first")
     if codes.get("non-modal", (0, ""))[0] == 530:

@@ -67,6 +67,7 @@ FUNCTIONS: dict[str, Callable[[float], float]] = {
 DOMAINS = {"acos": (-1.0, 1.0), "asin": (-1.0, 1.0), "ln": (0.0, math.inf), "sqrt": (0.0, math.inf)}
 BINARY_RANK = {"**": 6, "*": 5, "/": 5, "mod": 5, "+": 4, "-": 4, "eq": 3, "ne": 3, "gt": 3, "ge": 3, "lt": 3,
                "le": 3, "and": 2, "or": 2, "xor": 2}
+PROGRAM_NAME = re.compile(r"[a-z][a-z0-9_.\-]*")  # a program's name in letters after O, as some controls write it
 POLAR = "@^"  # LinuxCNC's polar words: @ radius, ^ angle (degrees), in place of X and Y
 OPERATOR_ORDER = sorted(BINARY_RANK, key=len, reverse=True)  # "**" before "*", "mod" before ...
 
@@ -157,10 +158,20 @@ class Block:
     assignments: tuple[Assignment, ...] = ()
     oword: OWord | None = None
     tape_mark: bool = False
+    error: _ExpressionError | None = None  # a line that cannot be read: refused when it runs (not after M2, M30)
     system: str = ""  # a grbl system command ("$H", "$J=G91X10F100"), in upper case without spaces
 
 
 def read_line(line: str) -> Block:
+    """Read one line of a program; a line that cannot be read is a block holding its error, raised only if it runs
+    (as LinuxCNC reads a line when it runs it: text after M2 or M30 is not read)."""
+    try:
+        return _read_line(line)
+    except _ExpressionError as error:
+        return Block(error=error)
+
+
+def _read_line(line: str) -> Block:
     """Read one line of a program.
 
     Raises:
@@ -171,6 +182,8 @@ def read_line(line: str) -> Block:
         compact = compact[1:]
     if compact == "%":
         return Block(tape_mark=True)
+    if re.fullmatch(r":\d+", compact):
+        return Block()  # ISO's program number (:1001), as Fanuc controls read it
     if compact.startswith("$"):
         return Block(system=compact)
     reader = _Reader(compact)
@@ -256,11 +269,16 @@ class _Reader:
             name, self.at = self.low[self.at:end + 1], end + 1
         else:
             match = re.compile(r"\d+").match(self.low, self.at)
+            if match is None and PROGRAM_NAME.fullmatch(self.low, self.at):
+                self.at = len(self.low)
+                return None  # a program named in letters (OCIRCLE, as plasma and other controls write it): ignored
             if match is None:
                 raise self.fail(start, "an O-word needs a number or a <name>")
             name, self.at = str(int(match.group())), match.end()
         keyword = next((k for k in O_KEYWORDS if self.low.startswith(k, self.at)), None)
         if keyword is None and not name.startswith("<"):
+            if re.compile(r"[a-z_\-]+").fullmatch(self.low, self.at):
+                self.at = len(self.low)  # a program name ending in letters (O7997A): ignored
             return None  # a program number (Fanuc's O0001), read and ignored
         if keyword is None:
             raise self.fail(start, f"an O-word needs one of {', '.join(sorted(O_KEYWORDS))}")

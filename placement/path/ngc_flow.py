@@ -6,7 +6,8 @@ arguments (``#1``-``#30`` and the named parameters not starting with ``_`` are i
 restored on return); ``return [v]`` and ``endsub [v]`` leave it (setting ``#<_value>``);
 ``if``/``elseif``/``else``/``endif``, ``while``/``endwhile``, ``do``/``while``,
 ``repeat [n]``/``endrepeat``, ``break`` and ``continue`` (each O-word naming its construct's
-number or name). ``M2``, ``M30`` or a second ``%`` line ends the program. At most
+number or name). ``M2``, ``M30``, ``M99`` (in the main program) or a second ``%`` line ends the program;
+a line that cannot be read is refused when it runs, so text after the program's end is not read. At most
 ``MAX_EXECUTED_BLOCKS`` lines are run, so a program that never ends is refused rather than
 hanging. Subroutines in other files (LinuxCNC's search path) are not read.
 """
@@ -61,6 +62,8 @@ def run_blocks(blocks: list[Block], parameters: Parameters,
             raise _FlowError(index, "", f"more than {MAX_EXECUTED_BLOCKS:,} lines run: the program does not end "
                                        "(an endless loop?)")
         block = blocks[index]
+        if block.error is not None:
+            raise _FlowError(index, block.error.text, block.error.problem)
         try:
             if block.tape_mark:
                 marks += 1

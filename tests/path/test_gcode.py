@@ -313,7 +313,6 @@ def test_the_pocket_example_runs_end_to_end(capsys):
     ("G0 X0 Y0 Z0\nG1 X10 F100 (open comment\n", 2, "", ["not closed"]),
     ("G0 X0 Y0 Z0\nG1 X10 I5 F100\n", 2, "I5", ["belong to arcs"]),
     ("G0 X0 Y0 Z0\nG4\n", 2, "G4", ["duration P"]),
-    ("G21\nX10 Y0 Z0\n", 2, "X10", ["no motion mode"]),
     ("G0 X0 Y0 Z0\nG2 X10 Y0 F100\n", 2, "X10", ["needs its centre"]),
     ("G0 X0 Y0\nG91 Z-1\n", 2, "Z-1", ["incremental"]),
 ])

@@ -299,3 +299,36 @@ def test_the_command_line_prints_each_kind_of_dialect_word_once_as_a_warning(tmp
     assert len(told) == 3 and "Traceback" not in "".join(lines)
     assert "$H (line 1)" in told[0] and "M88, through-spindle coolant on (Haas) (lines 3, 5)" in told[1]
     assert "M99 (line 10)" in told[2]
+
+
+# What posts write around the moves
+
+def test_an_end_point_before_any_motion_word_is_a_rapid_as_grbl_and_fanuc_start_in_g0(tmp_path):
+    # A Fusion 360 post's tool change: "T12 M6" then "Z10" before any G0 (grbl, Fanuc and Haas start in G0).
+    code = "G90 G94\nG17\nG21\nG28 G91 Z0\nG90\nT12 M6\nZ10\nG54\nG0 X0 Y0\nZ5\nG1 Z-1 F200\nX10\n"
+    path, told = program(tmp_path, code, "rapids: {mode: timed, feed_m_s: 0.5}\n")
+    assert path.segments[0].rapid and np.allclose(path.segments[0].start_m * 1e3, [0, 0, 10])  # (from where Z10 went)
+    assert len(told) == 1 and "line 7 give an end point before any motion word: read as G0" in told[0]
+
+
+def test_text_after_the_programs_end_is_not_read(tmp_path):
+    # A post's summary after M30 (as the posts of rotary jobs in Universal G-code Sender's test files write it).
+    path, _ = program(tmp_path, CUT + "M30\n\n( Output Ends Here )\nPost Process Timed at; 32 Min, 50.0 sec\n")
+    plain, _ = program(tmp_path, CUT, name="plain")
+    assert ends_mm(path) == ends_mm(plain)
+    error = refused(tmp_path, CUT + "Post Process Timed at; 32 Min, 50.0 sec\nM30\n")
+    assert error.line == 7
+
+
+@pytest.mark.parametrize("name", ["OCIRCLE(Circle)", "O7997A(NestedShtCutoff)", ":1001", "O0001 (PART)"])
+def test_a_program_named_in_letters_or_by_isos_colon_is_read(tmp_path, name):
+    path, told = program(tmp_path, f"%\n{name}\n" + CUT + "M30\n%\n")
+    plain, _ = program(tmp_path, CUT, name="plain")
+    assert ends_mm(path) == ends_mm(plain) and told == []
+
+
+def test_a_fanuc_macro_after_a_program_named_in_letters_is_refused_by_its_name(tmp_path):
+    # A plasma control's macro program: the first line that cannot be read is the macro's IF, named as such.
+    code = "%\nOCIRCLE(Circle)\n#139=0(0=pierce inner)\n#140=.6250(Diameter)\nIF[#139EQ1]GOTO20\nN10(pierce inner)\n"
+    error = refused(tmp_path, code)
+    assert error.line == 5 and "Fanuc Macro B 'IF ... GOTO' is not read" in str(error)
