@@ -43,7 +43,7 @@ from placement.path.exceptions import GcodeDialectWarning, GcodeError, PathFileE
 from placement.path.ngc_expressions import Block, Parameters, read_line
 from placement.path.ngc_flow import run_blocks
 from placement.path.ngc_offsets import BY_NUMBER, NAMES, Offsets
-from placement.path.ngc_words import CONTROLLER_M, EXTRA_AXES, check_unused, sorted_words
+from placement.path.ngc_words import CONTROLLER_G, CONTROLLER_M, EXTRA_AXES, check_unused, sorted_words
 from placement.path.segments import Segment
 
 MM_M = 1e-3
@@ -255,6 +255,8 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
                                 "O<name> endsub or O<name> return")
     for code in sorted(set(m_codes) & set(CONTROLLER_M)):
         state.dialect.setdefault(f"M{code}", []).append(line)
+    if "controller mode" in codes:
+        _controller_mode(fail, codes["controller mode"], values, line, state)
     if "feed mode" in codes:
         state.feed_mode = codes["feed mode"][0]
     if "units" in codes:  # before F and the axes: their numbers are in the line's units
@@ -443,6 +445,19 @@ def _note(state: _State, key: str, text: str) -> None:
     state.notes.setdefault(key, text)
 
 
+def _controller_mode(fail: Callable[[str, str], GcodeError], code_word: tuple[int, str], values: dict[str, float],
+                     line: int, state: _State) -> None:
+    """Fanuc's and Haas's smoothing and look-ahead modes (G5 P, G5.1 Q, G8 P, G103, G187): the path is the one
+    programmed, with a note; G5, G5.1 and G8 as LinuxCNC reads them (splines, a lathe's radius mode) are refused."""
+    code, word = code_word
+    name, _, needs = CONTROLLER_G[code]
+    if (needs and needs not in values) or (code in (50, 51) and any(letter in values for letter in "XYZIJ")):
+        raise fail(word, {50: "a cubic spline (G5) is not read: output it as G1, G2 or G3 moves",
+                          51: "a quadratic spline (G5.1) is not read: output it as G1, G2 or G3 moves",
+                          80: "lathe words (radius mode, G8) are not read: the path is a mill's X, Y, Z"}[code])
+    state.dialect.setdefault(name, []).append(line)
+
+
 def _select_system(fail: Callable[[str, str], GcodeError], code_word: tuple[int, str], state: _State) -> None:
     """G54-G59.3: the program's coordinates are in that system from here (its offset must be known, or the program
     must not have moved yet: then the system is the path frame)."""
@@ -534,7 +549,7 @@ def _z_home(fail: Callable[[str, str], GcodeError], word: str, line: int, state:
     _add(state, end, None, line, word)
 
 
-GRBL_SKIPPED = re.compile(r"\$(|\$|#|G|I|N|X|N\d+=.*|\d+=.*|I=.*)")  # reports, settings, startup lines, unlock
+GRBL_SKIPPED = re.compile(r"\$(|\$|#|G|I|N|X|N\d+=.*|\d+=.*|I=.*)|\?")  # reports, settings, startup lines, unlock
 GRBL_HOMING = re.compile(r"\$H([XYZABCUVW]*)")
 
 
@@ -581,11 +596,17 @@ def _dialect_notes(file: Path, state: _State) -> list[str]:
         skipped = [*dialect.get("$", []), *dialect.get("$H", [])]
         homing = (f"; $H ({_lines(dialect['$H'])}) sends the machine home, so the position is unknown after it until "
                   "the program gives one" if "$H" in dialect else "")
-        notes.append(f"grbl system commands ({_lines(skipped)}) are the sender's and grbl's, not moves: skipped{homing}")
+        notes.append(f"grbl system commands and status queries ({_lines(skipped)}) are the sender's and grbl's, not "
+                     f"moves: skipped{homing}")
     codes = sorted(int(key[1:]) for key in dialect if key[1:].isdigit() and int(key[1:]) in CONTROLLER_M)
     if codes:
         listed = "; ".join(f"M{code}, {CONTROLLER_M[code]} ({_lines(dialect[f'M{code}'])})" for code in codes)
         notes.append(f"other controllers' M codes that do not move the tool are ignored: {listed}")
+    modes = [(name, meaning) for name, meaning, _ in CONTROLLER_G.values() if name in dialect]
+    if modes:
+        listed = "; ".join(f"{name}, {meaning} ({_lines(dialect[name])})" for name, meaning in modes)
+        notes.append(f"other controllers' smoothing and look-ahead modes leave the programmed path as it is, and their "
+                     f"effect on the feed is not modelled: {listed}")
     if "M25" in dialect:
         where = ("to the Z of shape.machine.g28_mm, the machine's home" if state.machine.g28_m is not None else
                  "to the machine's home, which the path file does not give (shape.machine.g28_mm): the retract is left "

@@ -16,11 +16,11 @@ from zero; ``EXISTS[#<name>]`` is 1 if the named parameter is defined.
 Expressions are compiled once per line into closures of a :class:`Parameters` store and evaluated
 each time the line is executed (a line in a loop is parsed once).
 
-A line starting with ``$`` is a grbl system command (``$H``, ``$X``, ``$$``, ``$J=...``), kept whole for the
-reader to judge. Fanuc Macro B, which looks like RS-274/NGC but is not, is refused by its own name:
-``IF [...] THEN``/``GOTO``, ``WHILE [...] DO n``/``END n``, ``GOTO n``, ``DPRNT``/``BPRNT``/``POPEN``/``PCLOS``,
-expressions without brackets (``#1=#2+1``), the vacant ``#0`` and Fanuc's system variables (``#5001``, the current
-X; ``#4001``, the active G codes ...) read before they are set.
+A line starting with ``$`` is a grbl system command (``$H``, ``$X``, ``$$``, ``$J=...``), and ``?`` grbl's status
+query: each is kept whole for the reader to judge. Fanuc Macro B, which looks like RS-274/NGC but is not, is
+refused by its own name: ``IF [...] THEN``/``GOTO``, ``WHILE [...] DO n``/``END n``, ``GOTO n``,
+``DPRNT``/``BPRNT``/``POPEN``/``PCLOS``, expressions without brackets (``#1=#2+1``), the vacant ``#0`` and
+Fanuc's system variables (``#5001``, the current X; ``#4001``, the active G codes ...) read before they are set.
 """
 
 from __future__ import annotations
@@ -184,7 +184,7 @@ def _read_line(line: str) -> Block:
         return Block(tape_mark=True)
     if re.fullmatch(r":\d+", compact):
         return Block()  # ISO's program number (:1001), as Fanuc controls read it
-    if compact.startswith("$"):
+    if compact.startswith("$") or compact == "?":  # grbl's system commands, and its status query
         return Block(system=compact)
     reader = _Reader(compact)
     return reader.block()

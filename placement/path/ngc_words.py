@@ -20,10 +20,17 @@ G_GROUPS = {
     **dict.fromkeys((*range(540, 600, 10), 591, 592, 593), "coordinate system"), 200: "units", 210: "units", 900: "distance",
     910: "distance", 901: "arc distance", 911: "arc distance", **dict.fromkeys((930, 940, 950), "feed mode"),
     **dict.fromkeys((400, 410, 411, 420, 421), "cutter compensation"), 430: "tool length offset",
-    490: "tool length offset", 980: "retract mode", 990: "retract mode", **dict.fromkeys((610, 611, 640), "path control")}
+    490: "tool length offset", 980: "retract mode", 990: "retract mode", **dict.fromkeys((610, 611, 640), "path control"),
+    **dict.fromkeys((50, 51, 80, 1030, 1870), "controller mode")}
+CONTROLLER_G = {  # other controllers' smoothing and look-ahead modes: the path is the programmed one (a note)
+    50: ("G5", "high-precision contour control (Fanuc, with P)", "P"),
+    51: ("G5.1", "AI contour control (Fanuc, with Q)", "Q"),
+    80: ("G8", "look-ahead (Fanuc, with P)", "P"),
+    1030: ("G103", "look-ahead limit (Haas)", ""),
+    1870: ("G187", "smoothness and corner tolerance (Haas)", "")}
 READ_G = ("not in the G-code dialect read: G0-G4, G10 L1/L2/L10/L11/L20, G17-G21, G28, G28.1, G30, G30.1, G40-G42, "
           "G41.1, G42.1, G43, G49, G53-G59, G59.1-G59.3, G61, G61.1, G64, G73, G80-G83, G85, G89, G90, G91, G90.1, "
-          "G91.1, G92-G92.3, G93-G95, G98, G99 (docs/paths.md)")
+          "G91.1, G92-G92.3, G93-G95, G98, G99; and other controllers' G5 P, G5.1 Q, G8 P, G103, G187 (docs/paths.md)")
 ACCEPTED_M = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 30, 48, 49, 60}  # RS-274/NGC's own: read without a note
 CONTROLLER_M = {  # other controllers' M codes that do not move the tool: ignored, with a note (GcodeDialectWarning)
     10: "clamp or rotary brake on", 11: "clamp or rotary brake off", 12: "5th-axis brake on (Haas)",
@@ -50,7 +57,7 @@ UNSUPPORTED_G = {
              "coordinates (G43 or G49)",
     **dict.fromkeys((382, 383, 384, 385), "probing moves until a sensor trips, which a program does not hold: give "
                     "the moves as G0/G1"),
-    **dict.fromkeys((70, 80, 700, 710, 711, 720, 721), "lathe words (diameter mode, turning cycles) are not read: "
+    **dict.fromkeys((70, 700, 710, 711, 720, 721), "lathe words (diameter mode, turning cycles) are not read: "
                     "the path is a mill's X, Y, Z"),
     960: "constant surface speed (G96) is not read: the feeds are per minute (G94), inverse time (G93) or per "
          "revolution at S (G95)"}
@@ -74,6 +81,7 @@ def sorted_words(fail: Callable[[str, str], GcodeError], words: list[tuple[str, 
     m_codes: dict[int, str] = {}
     values: dict[str, float] = {}
     written: dict[str, str] = {}
+    haas_smoothing = any(letter.upper() == "G" and round(value * 10) == 1870 for letter, value, _ in words)
     for letter, value, word in words:
         letter = letter.upper()
         if letter == "G":
@@ -89,7 +97,7 @@ def sorted_words(fail: Callable[[str, str], GcodeError], words: list[tuple[str, 
             if code % 10 or code // 10 not in (*ACCEPTED_M, *CONTROLLER_M, *DIALECT_M):
                 raise fail(word, UNSUPPORTED_M.get(code // 10, READ_M) if not code % 10 else READ_M)
             m_codes[code // 10] = word
-        elif letter in ALLOWED_LETTERS or letter in EXTRA_AXES:
+        elif letter in ALLOWED_LETTERS or letter in EXTRA_AXES or (letter == "E" and haas_smoothing):
             if letter in values:
                 raise fail(word, f"{letter} is given twice on the line")
             values[letter], written[letter] = value, word
@@ -106,8 +114,10 @@ def check_unused(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[
     cycle = motion is not None and motion // 10 in CYCLES
     non_modal = codes.get("non-modal", (None, ""))[0]
     blending = codes.get("path control", (0, ""))[0] == 640
-    users = {"P": non_modal in (40, 100) or cycle or blending or motion in (20, 30) or 19 in m_codes,
-             "Q": cycle or blending or 19 in m_codes, "L": cycle or non_modal == 100,
+    mode = codes.get("controller mode", (None, ""))[0]
+    users = {"P": non_modal in (40, 100) or cycle or blending or motion in (20, 30) or 19 in m_codes
+             or mode in (50, 80, 1030, 1870),
+             "Q": cycle or blending or 19 in m_codes or mode == 51, "L": cycle or non_modal == 100,
              "H": "tool length offset" in codes,
              "D": codes.get("cutter compensation", (400, ""))[0] != 400}
     for letter, used in users.items():

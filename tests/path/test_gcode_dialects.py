@@ -60,6 +60,7 @@ $N
 $N0=G54
 $110=5000.000
 $
+?
 """ + CUT + "M2\n"
 
 
@@ -68,7 +69,8 @@ def test_grbl_system_commands_are_skipped_with_one_warning_naming_their_lines(tm
     plain, quiet = program(tmp_path, CUT + "M2\n", name="plain")
     assert ends_mm(path) == ends_mm(plain) and not quiet
     assert len(told) == 1
-    assert "grbl system commands (lines 1, 2, 3, 4, 5, 6, 7, 8 and 2 more)" in told[0] and "skipped" in told[0]
+    assert "grbl system commands and status queries (lines 1, 2, 3, 4, 5, 6, 7, 8 and 3 more)" in told[0]
+    assert "skipped" in told[0]
     assert "$H (line 2) sends the machine home" in told[0]
 
 
@@ -332,3 +334,27 @@ def test_a_fanuc_macro_after_a_program_named_in_letters_is_refused_by_its_name(t
     code = "%\nOCIRCLE(Circle)\n#139=0(0=pierce inner)\n#140=.6250(Diameter)\nIF[#139EQ1]GOTO20\nN10(pierce inner)\n"
     error = refused(tmp_path, code)
     assert error.line == 5 and "Fanuc Macro B 'IF ... GOTO' is not read" in str(error)
+
+
+def test_haas_and_fanuc_smoothing_modes_leave_the_path_as_programmed_with_one_warning(tmp_path):
+    # Fusion 360's Haas and Fanuc posts: G187 P2 E0.05 (smoothness, corner tolerance), G103 P1, G05.1 Q1, G08 P1.
+    code = "G21 G90\nG187 P2 E0.05\nG103 P1\nG05.1 Q1\nG08 P1\n" + CUT + "G187 P1\nG05.1 Q0\nG08 P0\nG103\nM30\n"
+    path, told = program(tmp_path, code)
+    plain, _ = program(tmp_path, CUT, name="plain")
+    assert ends_mm(path) == ends_mm(plain) and len(told) == 1
+    for expected in ["G187, smoothness and corner tolerance (Haas) (lines 2, 12)", "G103, look-ahead limit (Haas) "
+                     "(lines 3, 15)", "G5.1, AI contour control (Fanuc, with Q) (lines 4, 13)", "not modelled"]:
+        assert expected in told[0]
+
+
+@pytest.mark.parametrize("line, word, words", [
+    ("G5.1 X10 Y10 I2 J2", "G5.1", ["quadratic spline (G5.1) is not read"]),
+    ("G5 X10 Y10 I2 J2 P1 Q1", "G5", ["cubic spline (G5) is not read"]),
+    ("G8", "G8", ["radius mode, G8"]),
+    ("G1 X10 E5", "E5", ["unknown word"]),
+])
+def test_linuxcnc_splines_and_other_words_of_those_numbers_are_refused(tmp_path, line, word, words):
+    error = refused(tmp_path, CUT + line + "\n")
+    assert error.line == 7 and error.word == word
+    for expected in words:
+        assert expected in str(error)
