@@ -52,6 +52,7 @@ MAX_PROGRAM_BYTES = 50_000_000
 MAX_LINE_CHARS = 1000
 STOPS_M = {0, 1, 60}  # program pauses: the tool stops there
 MAX_LISTED_LINES = 8  # a warning names at most this many lines of each kind
+LONG_DWELL_S = 100.0  # a dwell this long with a whole-number P is warned of: Fanuc and Haas read P2000 as 2 s
 
 
 @dataclass(frozen=True)
@@ -274,6 +275,8 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
         if "P" not in values or values["P"] < 0:
             raise fail(non_modal[1], "a dwell needs its duration P ≥ 0 (seconds)")
         state.dwells.append(Dwell(len(state.moves), values["P"], line))
+        if values["P"] >= LONG_DWELL_S and re.fullmatch(r"P\d+", written["P"]):  # P2000: 2000 s, or Fanuc's 2 s?
+            state.dialect.setdefault("long dwell", []).append(line)
     state.tool_selected = round(values["T"]) if "T" in values else state.tool_selected
     if 6 in m_codes:
         if state.compensation is not None:
@@ -615,6 +618,11 @@ def _dialect_notes(file: Path, state: _State) -> list[str]:
     if "M99" in dialect:
         notes.append(f"M99 ({_lines(dialect['M99'])}) ends the main program, as M2 (LinuxCNC's reading; Fanuc-style "
                      "controls run the program again from its start: the path is one pass)")
+    if "long dwell" in dialect:
+        notes.append(f"the dwells of {_lines(dialect['long dwell'])} (G4 P with a whole number of at least "
+                     f"{LONG_DWELL_S:g}) last P seconds, as LinuxCNC and grbl read P; Fanuc, Haas and some Mach3 "
+                     "controls read a P without a decimal point in milliseconds: if the program is theirs, write "
+                     "P in seconds (P2000 -> P2.)")
     if "G0 at start" in dialect:
         notes.append(f"{_lines(dialect['G0 at start'])} give an end point before any motion word: read as G0, the "
                      "motion mode grbl, Fanuc, Haas and Mach3 controls start in (LinuxCNC starts in none and refuses it)")

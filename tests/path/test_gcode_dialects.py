@@ -358,3 +358,10 @@ def test_linuxcnc_splines_and_other_words_of_those_numbers_are_refused(tmp_path,
     assert error.line == 7 and error.word == word
     for expected in words:
         assert expected in str(error)
+
+
+def test_a_long_dwell_of_a_whole_number_is_read_in_seconds_with_a_warning(tmp_path):
+    # A UCCNC or Fanuc-style post's spindle wait, G04 P4000: LinuxCNC and grbl read 4000 s, Fanuc 4 s.
+    path, told = program(tmp_path, CUT + "G04 P4000\nG4 P2.5\nG4 P150.\n")
+    assert [hold.duration_s for hold in path.holds] == [4000.0, 2.5, 150.0]
+    assert len(told) == 1 and "the dwells of line 7 (G4 P with a whole number of at least 100)" in told[0]
