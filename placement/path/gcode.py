@@ -52,7 +52,7 @@ MAX_PROGRAM_BYTES = 50_000_000
 MAX_LINE_CHARS = 1000
 STOPS_M = {0, 1, 60}  # program pauses: the tool stops there
 MAX_LISTED_LINES = 8  # a warning names at most this many lines of each kind
-LONG_DWELL_S = 100.0  # a dwell this long with a whole-number P is warned of: Fanuc and Haas read P2000 as 2 s
+LONG_DWELL_S = 10.0  # a dwell this long with a whole-number P is warned of: Fanuc and Haas read P2000 as 2 s
 
 
 @dataclass(frozen=True)
@@ -254,6 +254,9 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
     if 99 in m_codes and depth:
         raise fail(m_codes[99], "M99 inside an O-word subroutine (LinuxCNC refuses it): end the subroutine with "
                                 "O<name> endsub or O<name> return")
+    if 73 in m_codes and depth:
+        raise fail(m_codes[73], "M73 inside an O-word subroutine restores the modal state when it returns (LinuxCNC's "
+                                "M73), which is not read: set the modes again after the call")
     for code in sorted(set(m_codes) & set(CONTROLLER_M)):
         state.dialect.setdefault(f"M{code}", []).append(line)
     if "controller mode" in codes:

@@ -36,8 +36,10 @@ CONTROLLER_M = {  # other controllers' M codes that do not move the tool: ignore
     10: "clamp or rotary brake on", 11: "clamp or rotary brake off", 12: "5th-axis brake on (Haas)",
     13: "5th-axis brake off (Haas), or spindle and coolant on", 19: "spindle orientation",
     31: "chip conveyor forward (Haas)", 33: "chip conveyor stop (Haas)", 34: "coolant spigot down (Haas)",
-    35: "coolant spigot up (Haas)", 41: "spindle low gear", 42: "spindle high gear", 83: "air jet on (Haas)",
-    84: "air jet off (Haas)", 88: "through-spindle coolant on (Haas)", 89: "through-spindle coolant off (Haas)"}
+    35: "coolant spigot up (Haas)", 41: "spindle low gear", 42: "spindle high gear",
+    73: "tool air blast on (Haas; in the main program, where LinuxCNC's M73 changes nothing)",
+    74: "tool air blast off (Haas)", 83: "air jet on (Haas)", 84: "air jet off (Haas)",
+    88: "through-spindle coolant on (Haas)", 89: "through-spindle coolant off (Haas)"}
 DIALECT_M = {25, 99}  # read as their controllers do (gcode._execute): Centroid's Z home, the main program's end
 UNSUPPORTED_M = {
     97: "Haas local subprograms (M97 P) are not read: expand them in the CAM post, or use O-word subroutines (O100 "
@@ -45,8 +47,8 @@ UNSUPPORTED_M = {
     98: "Fanuc subprogram calls (M98 P) are not read: expand them in the CAM post, or use O-word subroutines (O100 "
         "sub ... O100 endsub, O100 call)"}
 READ_M = ("not in the supported M-code dialect (M0, M1, M2, M3-M9, M30, M48, M49, M60; and other controllers' M10-M13, "
-          "M19, M25, M31, M33-M35, M41, M42, M83, M84, M88, M89, M99; docs/paths.md): an M code not known may move the "
-          "tool")
+          "M19, M25, M31, M33-M35, M41, M42, M73, M74, M83, M84, M88, M89, M99; docs/paths.md): an M code not known "
+          "may move the tool")
 UNSUPPORTED_G = {
     **dict.fromkeys((740, 760, 840, 860, 870, 880), "tapping and boring cycles (G74, G76, G84, G86-G88) need the "
                     "spindle's motion: output them as G0/G1 moves; the drilling cycles G73, G81-G83, G85, G89 are read"),

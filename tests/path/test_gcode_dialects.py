@@ -150,6 +150,8 @@ def test_m99_ends_the_main_program_and_is_refused_in_a_subroutine(tmp_path):
     assert ends_mm(path)[-1] == [[10, 0, -1], [10, 10, -1]]
     error = refused(tmp_path, "O100 sub\nG1 X1\nM99\nO100 endsub\n" + CUT + "O100 call\n")
     assert error.line == 3 and error.word == "M99" and "inside an O-word subroutine" in str(error)
+    error = refused(tmp_path, "O100 sub\nM73\nG91\nO100 endsub\n" + CUT + "O100 call\n")  # LinuxCNC's M73
+    assert error.line == 2 and error.word == "M73" and "restores the modal state" in str(error)
 
 
 # M codes that do not move the tool
@@ -157,13 +159,13 @@ def test_m99_ends_the_main_program_and_is_refused_in_a_subroutine(tmp_path):
 def test_m_codes_that_do_not_move_the_tool_are_ignored_with_one_warning(tmp_path):
     # Fusion 360's Haas post: through-spindle coolant, spindle orientation, brakes, chip conveyor.
     haas = ("%\nO01001 (PART)\nG90 G94 G17 G40 G49 G80\nG21\nT1 M6\nS5000 M3\nG54\nM88\nM31\nG0 X0 Y0 Z5\nM10\n"
-            "G1 Z-1 F300\nG1 X10\nG1 Y10\nM11\nG0 Z5\nM89\nM9\nM19 R90\nM33\nM30\n%\n")
+            "G1 Z-1 F300\nG1 X10\nG1 Y10\nM11\nG0 Z5\nM89\nM9\nM19 R90\nM33\nM73\nM74\nM30\n%\n")
     path, told = program(tmp_path, haas)
     plain, _ = program(tmp_path, CUT, name="plain")
     assert ends_mm(path) == ends_mm(plain) and len(told) == 1
     for expected in ["M88, through-spindle coolant on (Haas) (line 8)", "M89, through-spindle coolant off (Haas) "
                      "(line 17)", "M10, clamp or rotary brake on (line 11)", "M19, spindle orientation (line 19)",
-                     "M31, chip conveyor forward (Haas) (line 9)", "do not move the tool"]:
+                     "M31, chip conveyor forward (Haas) (line 9)", "M73, tool air blast on (Haas", "do not move the tool"]:
         assert expected in told[0]
 
 
@@ -173,7 +175,7 @@ def test_rs274ngcs_own_m_codes_give_no_warning(tmp_path):
 
 
 @pytest.mark.parametrize("word, words", [
-    ("M100", ["may move the tool"]), ("M73", ["may move the tool"]), ("M21", ["may move the tool"]),
+    ("M100", ["may move the tool"]), ("M72", ["may move the tool"]), ("M21", ["may move the tool"]),
     ("M98 P100", ["Fanuc subprogram calls (M98 P)"]), ("M97 P100", ["Haas local subprograms (M97 P)"]),
 ])
 def test_unknown_m_codes_are_refused_naming_the_word_and_the_line(tmp_path, word, words):
@@ -362,6 +364,6 @@ def test_linuxcnc_splines_and_other_words_of_those_numbers_are_refused(tmp_path,
 
 def test_a_long_dwell_of_a_whole_number_is_read_in_seconds_with_a_warning(tmp_path):
     # A UCCNC or Fanuc-style post's spindle wait, G04 P4000: LinuxCNC and grbl read 4000 s, Fanuc 4 s.
-    path, told = program(tmp_path, CUT + "G04 P4000\nG4 P2.5\nG4 P150.\n")
-    assert [hold.duration_s for hold in path.holds] == [4000.0, 2.5, 150.0]
-    assert len(told) == 1 and "the dwells of line 7 (G4 P with a whole number of at least 100)" in told[0]
+    path, told = program(tmp_path, CUT + "G04 P4000\nG4 P2.5\nG4 P150.\nG4 P2\n")
+    assert [hold.duration_s for hold in path.holds] == [4000.0, 2.5, 150.0, 2.0]
+    assert len(told) == 1 and "the dwells of line 7 (G4 P with a whole number of at least 10)" in told[0]
