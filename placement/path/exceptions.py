@@ -68,12 +68,13 @@ class _CycleError(_ReaderError):
 
 class _ExpressionError(_ReaderError):
     """Inside the reader (which names the line in a GcodeError): a line that cannot be read or evaluated; ``text``
-    is the part at fault as written ("" for the line)."""
+    is the part at fault as written ("" for the line), ``index`` the line (from 0) once it is known."""
 
     def __init__(self, text: str, problem: str) -> None:
         super().__init__(problem)
         self.text = text
         self.problem = problem
+        self.index = 0
 
 
 class _FlowError(_ReaderError):

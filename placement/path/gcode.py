@@ -15,14 +15,9 @@ what it does to the energy and the time.
 Where the tool starts: an axis the program never gives stays at the path frame's origin (a 2-D
 program runs in the X_p Y_p plane). An axis given somewhere in the program is unknown until it
 is given (or after a return to a reference point the path file does not give): a move from an
-unknown position is left out (a feed move with a note). The work coordinate systems' offsets
-(G10 L2, G10 L20, G54-G59.3) and G92's shift the program's coordinates into the path frame
-(:mod:`placement.path.ngc_offsets`).
-
-Other controllers' words (grbl's ``$`` lines, Centroid's M25, Haas's M88, the main program's M99,
-feed moves before any F at the path file's initial feed) are read as their controller does, each
-kind with one :class:`~placement.path.exceptions.GcodeDialectWarning` naming its lines; Fanuc
-Macro B is refused by its own name.
+unknown position is left out (a feed move with a note). Work offsets (G10, G54-G59.3) and G92's
+shift the program's coordinates into the path frame (:mod:`placement.path.ngc_offsets`). Other
+controllers' words are read as their controller does, with warnings (:mod:`placement.path.ngc_dialects`).
 """
 
 from __future__ import annotations
@@ -36,14 +31,15 @@ from pathlib import Path
 
 import numpy as np
 
-from placement.path.arcs import SAME_POINT_M, arc_segment
+from placement.path.arcs import SAME_POINT_M, arc_segment, shifted
 from placement.path.canned import CYCLES, CycleState, expand_cycle
 from placement.path.compensation import Compensation, begin, circular, end_compensation, straight, tool_diameter_m
-from placement.path.exceptions import GcodeDialectWarning, GcodeError, PathFileError, _CycleError, _FlowError
+from placement.path.exceptions import GcodeDialectWarning, GcodeError, PathFileError, _CycleError, _ExpressionError, _FlowError
+from placement.path.ngc_dialects import LONG_DWELL_S, controller_mode, dialect_notes, grbl_command
 from placement.path.ngc_expressions import Block, Parameters, read_line
 from placement.path.ngc_flow import run_blocks
-from placement.path.ngc_offsets import BY_NUMBER, NAMES, Offsets
-from placement.path.ngc_words import CONTROLLER_G, CONTROLLER_M, EXTRA_AXES, check_unused, sorted_words
+from placement.path.ngc_offsets import Offsets, g10, g92, select_system
+from placement.path.ngc_words import CONTROLLER_M, EXTRA_AXES, check_unused, extra_axes, polar_words, sorted_words
 from placement.path.segments import Segment
 
 MM_M = 1e-3
@@ -51,8 +47,6 @@ INCH_M = 0.0254
 MAX_PROGRAM_BYTES = 50_000_000
 MAX_LINE_CHARS = 1000
 STOPS_M = {0, 1, 60}  # program pauses: the tool stops there
-MAX_LISTED_LINES = 8  # a warning names at most this many lines of each kind
-LONG_DWELL_S = 10.0  # a dwell this long with a whole-number P is warned of: Fanuc and Haas read P2000 as 2 s
 
 
 @dataclass(frozen=True)
@@ -198,21 +192,12 @@ def read_program(file: Path, machine: Machine | None = None) -> Program:
 
     try:
         run_blocks(blocks, Parameters(), execute, system)
-    except _FlowError as error:
+    except (_FlowError, _ExpressionError) as error:  # (a line that cannot be run, or read)
         raise GcodeError(file, error.index + 1, error.text, error.problem) from None
     program = _program(file, state)
-    for text in _dialect_notes(file, state):
-        warnings.warn(text, GcodeDialectWarning, stacklevel=2)
+    for text in dialect_notes(state.dialect, state.machine.g28_m is not None, state.machine.initial_feed_m_s):
+        warnings.warn(f"{file}: {text}", GcodeDialectWarning, stacklevel=2)
     return program
-
-
-def _reference_point(state: _State, code: int) -> np.ndarray | None:
-    """Where G28 (280) or G30 (300) goes, in the path frame: the point G28.1/G30.1 stored, else the path file's
-    machine position (NaN along an axis whose origin is not known on the machine); None: not given."""
-    if code in state.stored:
-        return state.stored[code]
-    point = state.machine.g28_m if code == 280 else state.machine.g30_m
-    return None if point is None else point - state.offsets.origin()
 
 
 def _program(file: Path, state: _State) -> Program:
@@ -260,7 +245,7 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
     for code in sorted(set(m_codes) & set(CONTROLLER_M)):
         state.dialect.setdefault(f"M{code}", []).append(line)
     if "controller mode" in codes:
-        _controller_mode(fail, codes["controller mode"], values, line, state)
+        state.dialect.setdefault(controller_mode(fail, codes["controller mode"], values), []).append(line)
     if "feed mode" in codes:
         state.feed_mode = codes["feed mode"][0]
     if "units" in codes:  # before F and the axes: their numbers are in the line's units
@@ -292,7 +277,8 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
     if "cutter compensation" in codes:
         _compensation_mode(fail, codes["cutter compensation"], values, written, state)
     if "coordinate system" in codes:
-        _select_system(fail, codes["coordinate system"], state)
+        select_system(fail, codes["coordinate system"], state.offsets, state.compensation is not None)
+        state.offset_m = state.offsets.total_m()
     if "path control" in codes:
         code = codes["path control"][0]
         state.exact_path, state.exact_stop = code == 610, code == 611
@@ -305,11 +291,14 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
     if non_modal is not None and non_modal[0] == 100:  # G10's extra axis words are offsets of axes the path has not
         for letter in EXTRA_AXES:
             values.pop(letter, None), written.pop(letter, None)
-    _extra_axes(fail, values, written, line, state)
+    for letter, word, held in extra_axes(fail, values, written, state.extra_axes, state.incremental):
+        _note(state, letter, f"{word} (line {line}): the axis {letter} holds {held:g}; the path has X, Y, Z only, so "
+                             "it is ignored while it holds that value")
     motion = codes["motion"][0] if "motion" in codes else state.motion
     check_unused(fail, codes, values, written, motion, m_codes)
     if ("@" in values or "^" in values) and not (motion is not None and motion // 10 in CYCLES):
-        _polar(fail, values, written, state)
+        here = [None if p is None else p - o for p, o in zip(state.position_m[:2], state.offset_m[:2])]
+        polar_words(fail, values, written, here, state.length_m, state.incremental)
     axes = [values.get(letter) for letter in "XYZ"]
     if non_modal is not None and non_modal[0] in (921, 922, 923):  # before the line's move, which they leave alone
         state.offsets.clear_g92(non_modal[0])
@@ -319,9 +308,15 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
     if non_modal is not None and non_modal[0] in (280, 300):
         _reference(fail, non_modal, axes, written, line, state)
     elif non_modal is not None and non_modal[0] == 920:  # its axis words are the offset's, not a move
-        _offset(fail, non_modal, axes, state)
+        g92(fail, non_modal[1], axes, state.length_m, state.position_m, state.given, state.offsets)
+        state.offset_m = state.offsets.total_m()
     elif non_modal is not None and non_modal[0] == 100:  # its axis words are the offsets', not a move
-        _set_offsets(fail, non_modal[1], values, written, line, state)
+        known = g10(fail, non_modal[1], values, written, state.length_m, state.position_m,
+                    state.compensation is not None, line, state.offsets)
+        for axis, value in known.items():
+            state.position_m[axis] = value
+            state.given.add(axis)
+        state.offset_m = state.offsets.total_m()
     elif non_modal is not None and non_modal[0] in (281, 301):
         if any(value is None for value in state.position_m) and state.given:
             raise fail(non_modal[1], "the position to store is not known yet")
@@ -405,141 +400,9 @@ def _compensated(fail: Callable[[str, str], GcodeError], values: dict[str, float
     state.offsets.bind({k for k in range(3) if target[k] is not None})
 
 
-def _polar(fail: Callable[[str, str], GcodeError], values: dict[str, float], written: dict[str, str],
-           state: _State) -> None:
-    """Polar words in place of X and Y, as LinuxCNC reads them: ``@`` the radius and ``^`` the angle (degrees) of
-    the end point about the program's origin in the XY plane; in G91 both add to the current point's."""
-    word = written.get("@", written.get("^", ""))
-    if "X" in values or "Y" in values:
-        raise fail(word, "polar words (@, ^) replace X and Y: give one or the other")
-    x, y = state.position_m[0], state.position_m[1]
-    if x is None or y is None:
-        raise fail(word, "polar words need the current X and Y: move to a point first")
-    x, y = x - state.offset_m[0], y - state.offset_m[1]  # about the program's origin
-    radius, angle = float(np.hypot(x, y)) / state.length_m, float(np.degrees(np.arctan2(y, x)))
-    if state.incremental:
-        if radius == 0:
-            raise fail(word, "incremental polar motion is indeterminate at the origin")
-        radius, angle = radius + values.get("@", 0.0), angle + values.get("^", 0.0)
-    else:
-        radius, angle = values.get("@", radius), values.get("^", angle)
-    end = np.array([np.cos(np.radians(angle)), np.sin(np.radians(angle))]) * radius
-    if state.incremental:
-        end -= np.array([x, y]) / state.length_m
-    values["X"], values["Y"] = float(end[0]), float(end[1])
-    written["X"] = written["Y"] = word
-
-
-def _extra_axes(fail: Callable[[str, str], GcodeError], values: dict[str, float], written: dict[str, str],
-                line: int, state: _State) -> None:
-    """Rotary and extra axes (A, B, C, U, V, W), taken off the line's words: the path has X, Y, Z only, so an axis
-    that holds one value throughout (a 3-axis job on a 4-axis post) is ignored with a note, and one that moves is
-    refused where it first moves."""
-    for letter in [letter for letter in EXTRA_AXES if letter in values]:
-        value, word = values.pop(letter), written.pop(letter)
-        held = state.extra_axes.setdefault(letter, 0.0 if state.incremental else value)
-        if (value != 0.0) if state.incremental else (value != held):
-            raise fail(word, f"the extra axis {letter} moves here (it held {held:g} before): the path has X, Y, Z "
-                             f"only, so rotary and extra axes (A, B, C, U, V, W) are read only while they hold one "
-                             "value")
-        _note(state, letter, f"{word} (line {line}): the axis {letter} holds {held:g}; the path has X, Y, Z only, so "
-                             "it is ignored while it holds that value")
-
-
 def _note(state: _State, key: str, text: str) -> None:
     """A note printed once per kind."""
     state.notes.setdefault(key, text)
-
-
-def _controller_mode(fail: Callable[[str, str], GcodeError], code_word: tuple[int, str], values: dict[str, float],
-                     line: int, state: _State) -> None:
-    """Fanuc's and Haas's smoothing and look-ahead modes (G5 P, G5.1 Q, G8 P, G103, G187): the path is the one
-    programmed, with a note; G5, G5.1 and G8 as LinuxCNC reads them (splines, a lathe's radius mode) are refused."""
-    code, word = code_word
-    name, _, needs = CONTROLLER_G[code]
-    if (needs and needs not in values) or (code in (50, 51) and any(letter in values for letter in "XYZIJ")):
-        raise fail(word, {50: "a cubic spline (G5) is not read: output it as G1, G2 or G3 moves",
-                          51: "a quadratic spline (G5.1) is not read: output it as G1, G2 or G3 moves",
-                          80: "lathe words (radius mode, G8) are not read: the path is a mill's X, Y, Z"}[code])
-    state.dialect.setdefault(name, []).append(line)
-
-
-def _select_system(fail: Callable[[str, str], GcodeError], code_word: tuple[int, str], state: _State) -> None:
-    """G54-G59.3: the program's coordinates are in that system from here (its offset must be known, or the program
-    must not have moved yet: then the system is the path frame)."""
-    system, word = code_word
-    offsets = state.offsets
-    if system == offsets.active:
-        return
-    if state.compensation is not None:
-        raise fail(word, "the work coordinate system changes while cutter radius compensation is on: G40 first")
-    unknown = offsets.select(system)
-    if unknown:
-        axes = ", ".join("XYZ"[k] for k in unknown)
-        number = {code: number for number, code in BY_NUMBER.items()}[system]
-        if system in offsets.machine_m:
-            raise fail(word, f"the program changes work coordinate system to {NAMES[system]}, whose offset G10 sets in "
-                             f"machine coordinates ({axes}), but where the path frame's origin ({NAMES[offsets.active]}'s) "
-                             "is on the machine is not known: give it in the path file (shape.machine.work_offset_mm), "
-                             "or set that system's offset too (G10 L2) before the first move")
-        raise fail(word, f"the program changes work coordinate system to {NAMES[system]}, whose offset ({axes}) is not in "
-                         f"the program: set it before (G10 L2 P{number} or G10 L20 P{number}), or write the program in one "
-                         "system, the path frame")
-    state.offset_m = offsets.total_m()
-
-
-def _set_offsets(fail: Callable[[str, str], GcodeError], word: str, values: dict[str, float], written: dict[str, str],
-                 line: int, state: _State) -> None:
-    """G10, as LinuxCNC reads it: L2 sets a work coordinate system's offset (machine coordinates), L20 sets it so
-    that the current point reads the given coordinates; L1, L10, L11 write the tool table, whose lengths do not move
-    the tool tip's path (R, the radius, is refused: Fanuc and Haas read it as a length or wear)."""
-    if "L" not in values or values["L"] != round(values["L"]):
-        raise fail(word, "G10 needs L: L2 or L20 (a work coordinate system's offset), L1, L10 or L11 (a tool's)")
-    form = round(values["L"])
-    if form in (1, 10, 11):
-        if "R" in values:
-            raise fail(written["R"], f"G10 L{form}'s R is a tool's radius in LinuxCNC but a length or a wear on Fanuc "
-                                     "and Haas controls: give each tool's diameter in the path file "
-                                     "(shape.tool_diameters_mm)")
-        return  # the program's coordinates are the tool tip's, whatever the tool's length
-    if form in (12, 13):
-        raise fail(written["L"], f"G10 L{form} sets a cutter radius or diameter offset (Fanuc, Haas), read differently "
-                                 "by each: give each tool's diameter in the path file (shape.tool_diameters_mm)")
-    if form not in (2, 20):
-        raise fail(written["L"], f"G10 L{form} is not read: G10 L2 and L20 (work offsets) and L1, L10, L11 (tool "
-                                 "lengths) are")
-    number = values.get("P")
-    if number is None or number != round(number) or not 0 <= number <= 9:
-        extra = (" (Fanuc's and Haas's G10 L20 P sets an additional work offset, G54.1 P or G154 P, which is not "
-                 "read)" if form == 20 and number is not None and number > 9 else "")
-        raise fail(written.get("P", word), f"G10 L{form} needs P, the coordinate system: 0 the active one, 1-9 "
-                                           f"G54-G59.3{extra}")
-    if values.get("R", 0.0) != 0.0:
-        raise fail(written["R"], "a rotated coordinate system (G10 L2 or L20 with R) is not read")
-    offsets = state.offsets
-    system = offsets.active if number == 0 else BY_NUMBER[round(number)]
-    if state.compensation is not None and system == offsets.active:
-        raise fail(word, "the work coordinate system's offset changes while cutter radius compensation is on: G40 "
-                         "first")
-    given = {k: values[letter] * state.length_m for k, letter in enumerate("XYZ") if letter in values}
-    if form == 2:
-        lost = offsets.set_machine(system, given)
-        if lost:
-            axes = ", ".join("XYZ"[k] for k in lost)
-            raise fail(word, f"G10 L2 moves {NAMES[system]}, the system the program runs in, after it has moved ({axes}):"
-                             " where its origin was on the machine is not known, so neither is the shift; give it in the"
-                             " path file (shape.machine.work_offset_mm)")
-    else:
-        unknown, known = offsets.set_current(system, given, state.position_m, line)
-        if unknown:
-            axes = ", ".join("XYZ"[k] for k in unknown)
-            raise fail(word, f"G10 L20 sets the offset from the current position, which is not known here ({axes}): "
-                             "move to a point first")
-        for axis, value in known.items():
-            state.position_m[axis] = value
-            state.given.add(axis)
-        offsets.bind(set(known))
-    state.offset_m = offsets.total_m()
 
 
 def _z_home(fail: Callable[[str, str], GcodeError], word: str, line: int, state: _State) -> None:
@@ -555,87 +418,13 @@ def _z_home(fail: Callable[[str, str], GcodeError], word: str, line: int, state:
     _add(state, end, None, line, word)
 
 
-GRBL_SKIPPED = re.compile(r"\$(|\$|#|G|I|N|X|N\d+=.*|\d+=.*|I=.*)|\?")  # reports, settings, startup lines, unlock
-GRBL_HOMING = re.compile(r"\$H([XYZABCUVW]*)")
-
-
 def _system_command(fail: Callable[[str], GcodeError], line: int, text: str, state: _State) -> None:
-    """A grbl system command: the reports, settings and unlock are the sender's and skipped; homing ($H) leaves the
-    position unknown; a jog, check mode, sleep and a reset of the settings are refused by name."""
-    refused = {"$J=": "a grbl jog ('$J=') is an operator's positioning move, which grbl accepts only while idle, not "
-                      "among a job's moves: remove it, or write the move as G0 or G1",
-               "$C": "grbl's check mode ('$C') runs the lines after it without moving the machine: remove it",
-               "$SLP": "grbl's sleep ('$SLP') disables the machine until it is reset: remove it",
-               "$RST=": "'$RST=' restores grbl's defaults, which may erase its work offsets (G54-G59, G28, G30) and so "
-                        "move the program: remove it"}
-    for start, problem in refused.items():
-        if text == start or (start.endswith("=") and text.startswith(start)):
-            raise fail(problem)
-    homing = GRBL_HOMING.fullmatch(text)
-    if homing is not None:
-        if state.compensation is not None:
-            raise fail("grbl's homing ($H) cannot run under cutter radius compensation: G40 first")
-        for k, letter in enumerate("XYZ"):
-            if not homing.group(1) or letter in homing.group(1):
-                state.position_m[k] = None
-        state.tool_start_m = None
-        state.dialect.setdefault("$H", []).append(line)
-    elif GRBL_SKIPPED.fullmatch(text):
-        state.dialect.setdefault("$", []).append(line)
-    else:
-        raise fail("an unknown grbl system command: those read are $H (homing), $X, $$, $#, $G, $I, $N and settings "
-                   "($100=...); a jog ($J=) is refused")
-
-
-def _lines(lines: list[int]) -> str:
-    """'line 4' or 'lines 4, 9, 12', at most MAX_LISTED_LINES of them."""
-    unique = sorted(set(lines))
-    listed = ", ".join(str(n) for n in unique[:MAX_LISTED_LINES])
-    more = f" and {len(unique) - MAX_LISTED_LINES} more" if len(unique) > MAX_LISTED_LINES else ""
-    return f"line{'s' if len(unique) > 1 else ''} {listed}{more}"
-
-
-def _dialect_notes(file: Path, state: _State) -> list[str]:
-    """One warning per kind of controller word read, naming its lines."""
-    dialect, notes = state.dialect, []
-    if "$" in dialect or "$H" in dialect:
-        skipped = [*dialect.get("$", []), *dialect.get("$H", [])]
-        homing = (f"; $H ({_lines(dialect['$H'])}) sends the machine home, so the position is unknown after it until "
-                  "the program gives one" if "$H" in dialect else "")
-        notes.append(f"grbl system commands and status queries ({_lines(skipped)}) are the sender's and grbl's, not "
-                     f"moves: skipped{homing}")
-    codes = sorted(int(key[1:]) for key in dialect if key[1:].isdigit() and int(key[1:]) in CONTROLLER_M)
-    if codes:
-        listed = "; ".join(f"M{code}, {CONTROLLER_M[code]} ({_lines(dialect[f'M{code}'])})" for code in codes)
-        notes.append(f"other controllers' M codes that do not move the tool are ignored: {listed}")
-    modes = [(name, meaning) for name, meaning, _ in CONTROLLER_G.values() if name in dialect]
-    if modes:
-        listed = "; ".join(f"{name}, {meaning} ({_lines(dialect[name])})" for name, meaning in modes)
-        notes.append(f"other controllers' smoothing and look-ahead modes leave the programmed path as it is, and their "
-                     f"effect on the feed is not modelled: {listed}")
-    if "M25" in dialect:
-        where = ("to the Z of shape.machine.g28_mm, the machine's home" if state.machine.g28_m is not None else
-                 "to the machine's home, which the path file does not give (shape.machine.g28_mm): the retract is left "
-                 "out and Z is unknown after it until the program gives it")
-        notes.append(f"M25 ({_lines(dialect['M25'])}) is Centroid's Z home: Z alone moves at rapid {where}")
-    if "M99" in dialect:
-        notes.append(f"M99 ({_lines(dialect['M99'])}) ends the main program, as M2 (LinuxCNC's reading; Fanuc-style "
-                     "controls run the program again from its start: the path is one pass)")
-    if "long dwell" in dialect:
-        notes.append(f"the dwells of {_lines(dialect['long dwell'])} (G4 P with a whole number of at least "
-                     f"{LONG_DWELL_S:g}) last P seconds, as LinuxCNC and grbl read P; Fanuc, Haas and some Mach3 "
-                     "controls read a P without a decimal point in milliseconds: if the program is theirs, write "
-                     "P in seconds (P2000 -> P2.)")
-    if "G0 at start" in dialect:
-        notes.append(f"{_lines(dialect['G0 at start'])} give an end point before any motion word: read as G0, the "
-                     "motion mode grbl, Fanuc, Haas and Mach3 controls start in (LinuxCNC starts in none and refuses it)")
-    if "initial feed" in dialect:
-        feed = state.machine.initial_feed_m_s
-        assert feed is not None
-        notes.append(f"the feed moves of {_lines(dialect['initial feed'])} come before the program's first F: they run "
-                     f"at the controller's modal feed the path file gives (shape.initial_feed_m_s: {feed:g} m/s = "
-                     f"{feed / MM_M * 60:g} mm/min)")
-    return [f"{file}: {note}" for note in notes]
+    """A grbl system command (:func:`~placement.path.ngc_dialects.grbl_command`): homing leaves the position unknown."""
+    homed = grbl_command(fail, text, state.compensation is not None)
+    for k in homed:
+        state.position_m[k] = None
+    state.tool_start_m = None if homed else state.tool_start_m
+    state.dialect.setdefault("$H" if homed else "$", []).append(line)
 
 
 def _target(axes: list[float | None], state: _State, fail: Callable[[str, str], GcodeError], word: str,
@@ -659,21 +448,6 @@ def _target(axes: list[float | None], state: _State, fail: Callable[[str, str], 
         else:
             target.append(value * state.length_m + state.offset_m[k])
     return target
-
-
-def _offset(fail: Callable[[str, str], GcodeError], non_modal: tuple[int, str], axes: list[float | None],
-            state: _State) -> None:
-    """G92: the current point gets the given coordinates (the program's origin moves; G92.1-G92.3 are
-    :meth:`~placement.path.ngc_offsets.Offsets.clear_g92`'s)."""
-    word = non_modal[1]
-    if all(value is None for value in axes):
-        raise fail(word, "G92 needs the coordinates the current point gets (X, Y or Z)")
-    for k, value in enumerate(axes):
-        if value is not None and state.position_m[k] is None and k in state.given:
-            raise fail(word, f"G92 from an unknown position ({'XYZ'[k]} not known here): move to a point first")
-    state.offsets.set_g92({k: value * state.length_m for k, value in enumerate(axes) if value is not None},
-                          state.position_m)
-    state.offset_m = state.offsets.total_m()
 
 
 def _add(state: _State, end: list[float | None], feed: float | None, line: int, word: str,
@@ -711,7 +485,8 @@ def _reference(fail: Callable[[str, str], GcodeError], non_modal: tuple[int, str
     move_word = next((written[a] for a in "XYZ" if a in written), word)
     if any(value is not None for value in axes):
         _add(state, _target(axes, state, fail, move_word), None, line, move_word)
-    reference = _reference_point(state, code)
+    machine_point = state.machine.g28_m if code == 280 else state.machine.g30_m  # NaN: its origin is not known
+    reference = state.stored.get(code, None if machine_point is None else machine_point - state.offsets.origin())
     moved = [k for k in range(3) if axes[k] is not None] or [0, 1, 2]
     end = list(state.position_m)
     for k in moved:
@@ -721,10 +496,9 @@ def _reference(fail: Callable[[str, str], GcodeError], non_modal: tuple[int, str
                                        f"which the path file does not give (shape.machine.g{code // 10}_mm): the "
                                        "rapids to and from it are left out")
     elif any(end[k] is None for k in moved):
-        _note(state, f"G{code // 10}", f"G{code // 10} (line {line}) moves to the machine's reference position, "
-                                       "whose place in the path frame is not known (G10 L20 at line "
-                                       f"{state.offsets.set_where_unknown} set the program's origin where the machine "
-                                       "happened to be): the rapids to and from it are left out")
+        _note(state, f"G{code // 10}", f"G{code // 10} (line {line}) goes to the machine's reference position, not "
+                                       f"known in the path frame (G10 L20 at line {state.offsets.set_where_unknown} set "
+                                       "the origin where the machine happened to be): the rapids are left out")
     _add(state, end, None, line, word)
 
 
@@ -789,7 +563,7 @@ def _motion(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, 
         return
     start = np.array([v if v is not None else 0.0 for v in state.position_m]) - state.offset_m
     finish = np.array([v if v is not None else 0.0 for v in target]) - state.offset_m
-    segment = _shifted(arc_segment(lambda problem, letter=None: fail(written.get(letter or "", move_word), problem),
+    segment = shifted(arc_segment(lambda problem, letter=None: fail(written.get(letter or "", move_word), problem),
                                    start, finish, values, state.plane, state.motion == 30, state.length_m,
                                    state.absolute_centres), state.offset_m)
     _add(state, target, _feed(fail, state, move_word, segment.length_m, values), line, move_word,
@@ -821,11 +595,3 @@ def _cycle(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, s
             assert step.target_m is not None
             _add(state, list(np.asarray(step.target_m) + state.offset_m), feed if step.kind == "feed" else None, line,
                  word, exact=True)
-
-
-def _shifted(segment: Segment, offset_m: np.ndarray) -> Segment:
-    """A segment computed in the program's coordinates, moved into the path frame by the G92 offset."""
-    if not offset_m.any():
-        return segment
-    return dataclasses.replace(segment, start_m=segment.start_m + offset_m, end_m=segment.end_m + offset_m,
-                               center_m=None if segment.center_m is None else segment.center_m + offset_m)

@@ -51,6 +51,7 @@ def run_blocks(blocks: list[Block], parameters: Parameters,
     Raises:
         _FlowError: Unmatched or misplaced O-words, a call of an unknown subroutine, too many lines run, or a
             line that cannot be evaluated (its ``_ExpressionError``, with the line's index).
+        _ExpressionError: A line that cannot be read, when it runs (its ``index`` set).
     """
     flow = _Flow(blocks)
     main = _Frame(len(blocks), {}, {})
@@ -62,8 +63,9 @@ def run_blocks(blocks: list[Block], parameters: Parameters,
             raise _FlowError(index, "", f"more than {MAX_EXECUTED_BLOCKS:,} lines run: the program does not end "
                                        "(an endless loop?)")
         block = blocks[index]
-        if block.error is not None:
-            raise _FlowError(index, block.error.text, block.error.problem)
+        if block.error is not None:  # a line that cannot be read, reached
+            block.error.index = index
+            raise block.error
         try:
             if block.tape_mark:
                 marks += 1

@@ -23,9 +23,12 @@ from then on the path frame's origin along it is fixed.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+
+from placement.path.exceptions import GcodeError
 
 SYSTEMS = {540: 1, 550: 2, 560: 3, 570: 4, 580: 5, 590: 6, 591: 7, 592: 8, 593: 9}  # G code (tenths) -> G10's P
 BY_NUMBER = {number: code for code, number in SYSTEMS.items()}
@@ -164,3 +167,91 @@ class Offsets:
         self.g92_m = np.zeros(3)
         if code == 921:
             self.saved_g92_m = np.zeros(3)
+
+
+def select_system(fail: Callable[[str, str], GcodeError], code_word: tuple[int, str], offsets: Offsets,
+                  compensating: bool) -> None:
+    """G54-G59.3: the program's coordinates are in that system from here; refused when its offset from the path
+    frame is not known along an axis that has had a position, or under cutter radius compensation."""
+    system, word = code_word
+    if system == offsets.active:
+        return
+    if compensating:
+        raise fail(word, "the work coordinate system changes while cutter radius compensation is on: G40 first")
+    unknown = offsets.select(system)
+    if not unknown:
+        return
+    axes = ", ".join("XYZ"[k] for k in unknown)
+    if system in offsets.machine_m:
+        raise fail(word, f"the program changes work coordinate system to {NAMES[system]}, whose offset G10 sets in "
+                         f"machine coordinates ({axes}), but where the path frame's origin ({NAMES[offsets.active]}'s) "
+                         "is on the machine is not known: give it in the path file (shape.machine.work_offset_mm), "
+                         "or set that system's offset too (G10 L2) before the first move")
+    raise fail(word, f"the program changes work coordinate system to {NAMES[system]}, whose offset ({axes}) is not in "
+                     f"the program: set it before (G10 L2 P{SYSTEMS[system]} or G10 L20 P{SYSTEMS[system]}), or write "
+                     "the program in one system, the path frame")
+
+
+def g10(fail: Callable[[str, str], GcodeError], word: str, values: dict[str, float], written: dict[str, str],
+        length_m: float, position_m: list[float | None], compensating: bool, line: int, offsets: Offsets
+        ) -> dict[int, float]:
+    """G10, as LinuxCNC reads it: L2 sets a work coordinate system's offset (machine coordinates), L20 sets it so
+    that the current point reads the given coordinates; L1, L10, L11 write the tool table, whose lengths do not move
+    the tool tip's path (their R, a radius in LinuxCNC but a length or wear on Fanuc and Haas, is refused).
+
+    Returns:
+        The positions (path frame) of the axes G10 L20 makes known: the current point, not known yet, becomes the
+        given point of the active system.
+    """
+    if "L" not in values or values["L"] != round(values["L"]):
+        raise fail(word, "G10 needs L: L2 or L20 (a work coordinate system's offset), L1, L10 or L11 (a tool's)")
+    form = round(values["L"])
+    if form in (1, 10, 11) and "R" in values:
+        raise fail(written["R"], f"G10 L{form}'s R is a tool's radius in LinuxCNC but a length or a wear on Fanuc "
+                                 "and Haas controls: give each tool's diameter in the path file (shape.tool_diameters_mm)")
+    if form in (1, 10, 11):
+        return {}  # the program's coordinates are the tool tip's, whatever the tool's length
+    if form in (12, 13):
+        raise fail(written["L"], f"G10 L{form} sets a cutter radius or diameter offset (Fanuc, Haas), read differently "
+                                 "by each: give each tool's diameter in the path file (shape.tool_diameters_mm)")
+    if form not in (2, 20):
+        raise fail(written["L"], f"G10 L{form} is not read: G10 L2 and L20 (work offsets) and L1, L10, L11 (tool "
+                                 "lengths) are")
+    number = values.get("P")
+    if number is None or number != round(number) or not 0 <= number <= 9:
+        extra = (" (Fanuc's and Haas's G10 L20 P sets an additional work offset, G54.1 P or G154 P, which is not "
+                 "read)" if form == 20 and number is not None and number > 9 else "")
+        raise fail(written.get("P", word), f"G10 L{form} needs P, the coordinate system: 0 the active one, 1-9 "
+                                           f"G54-G59.3{extra}")
+    if values.get("R", 0.0) != 0.0:
+        raise fail(written["R"], "a rotated coordinate system (G10 L2 or L20 with R) is not read")
+    system = offsets.active if number == 0 else BY_NUMBER[round(number)]
+    if compensating and system == offsets.active:
+        raise fail(word, "the work coordinate system's offset changes while cutter radius compensation is on: G40 "
+                         "first")
+    given = {k: values[letter] * length_m for k, letter in enumerate("XYZ") if letter in values}
+    if form == 2:
+        lost = offsets.set_machine(system, given)
+        if lost:
+            raise fail(word, f"G10 L2 moves {NAMES[system]}, the system the program runs in, after it has moved "
+                             f"({', '.join('XYZ'[k] for k in lost)}): where its origin was on the machine is not known, "
+                             "so neither is the shift; give it in the path file (shape.machine.work_offset_mm)")
+        return {}
+    unknown, known = offsets.set_current(system, given, position_m, line)
+    if unknown:
+        raise fail(word, "G10 L20 sets the offset from the current position, which is not known here "
+                         f"({', '.join('XYZ'[k] for k in unknown)}): move to a point first")
+    offsets.bind(set(known))
+    return known
+
+
+def g92(fail: Callable[[str, str], GcodeError], word: str, axes: list[float | None], length_m: float,
+        position_m: list[float | None], given: set[int], offsets: Offsets) -> None:
+    """G92: the current point gets the given coordinates (the program's origin moves; G92.1-G92.3 are
+    :meth:`Offsets.clear_g92`'s); refused without an axis word or from a position not known."""
+    if all(value is None for value in axes):
+        raise fail(word, "G92 needs the coordinates the current point gets (X, Y or Z)")
+    for k, value in enumerate(axes):
+        if value is not None and position_m[k] is None and k in given:
+            raise fail(word, f"G92 from an unknown position ({'XYZ'[k]} not known here): move to a point first")
+    offsets.set_g92({k: value * length_m for k, value in enumerate(axes) if value is not None}, position_m)

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+import numpy as np
+
 from placement.path.canned import CYCLES
 from placement.path.exceptions import GcodeError
 
@@ -64,7 +66,7 @@ UNSUPPORTED_G = {
     960: "constant surface speed (G96) is not read: the feeds are per minute (G94), inverse time (G93) or per "
          "revolution at S (G95)"}
 ALLOWED_LETTERS = set("GMXYZIJKRFSTPQLHDN@^")
-EXTRA_AXES = "ABCUVW"  # rotary and extra axes: read only while they hold one value (gcode._extra_axes)
+EXTRA_AXES = "ABCUVW"  # rotary and extra axes: read only while they hold one value (extra_axes)
 
 
 def code_of(fail: Callable[[str, str], GcodeError], value: float, word: str) -> int:
@@ -129,3 +131,45 @@ def check_unused(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[
                                          "L": "L belongs to G10 and canned cycles",
                                          "H": "H belongs to G43 (tool length offset)",
                                          "D": "D belongs to cutter radius compensation (G41, G42, G41.1, G42.1)"}[letter])
+
+
+def polar_words(fail: Callable[[str, str], GcodeError], values: dict[str, float], written: dict[str, str],
+                here: list[float | None], length_m: float, incremental: bool) -> None:
+    """Polar words in place of X and Y, as LinuxCNC reads them: ``@`` the radius and ``^`` the angle (degrees) of
+    the end point about the program's origin in the XY plane; in G91 both add to the current point's (``here``, X
+    and Y in metres about the program's origin). Sets X and Y in ``values``."""
+    word = written.get("@", written.get("^", ""))
+    if "X" in values or "Y" in values:
+        raise fail(word, "polar words (@, ^) replace X and Y: give one or the other")
+    x, y = here
+    if x is None or y is None:
+        raise fail(word, "polar words need the current X and Y: move to a point first")
+    radius, angle = float(np.hypot(x, y)) / length_m, float(np.degrees(np.arctan2(y, x)))
+    if incremental:
+        if radius == 0:
+            raise fail(word, "incremental polar motion is indeterminate at the origin")
+        radius, angle = radius + values.get("@", 0.0), angle + values.get("^", 0.0)
+    else:
+        radius, angle = values.get("@", radius), values.get("^", angle)
+    end = np.array([np.cos(np.radians(angle)), np.sin(np.radians(angle))]) * radius
+    if incremental:
+        end -= np.array([x, y]) / length_m
+    values["X"], values["Y"] = float(end[0]), float(end[1])
+    written["X"] = written["Y"] = word
+
+
+def extra_axes(fail: Callable[[str, str], GcodeError], values: dict[str, float], written: dict[str, str],
+               held: dict[str, float], incremental: bool) -> list[tuple[str, str, float]]:
+    """Rotary and extra axes (A, B, C, U, V, W), taken off the line's words: the path has X, Y, Z only, so an axis
+    that holds one value throughout (a 3-axis job on a 4-axis post) is ignored (the (letter, word, value held) of
+    each, for a note), and one that moves is refused where it first moves. ``held`` keeps each axis's value."""
+    ignored = []
+    for letter in [letter for letter in EXTRA_AXES if letter in values]:
+        value, word = values.pop(letter), written.pop(letter)
+        kept = held.setdefault(letter, 0.0 if incremental else value)
+        if (value != 0.0) if incremental else (value != kept):
+            raise fail(word, f"the extra axis {letter} moves here (it held {kept:g} before): the path has X, Y, Z "
+                             f"only, so rotary and extra axes (A, B, C, U, V, W) are read only while they hold one "
+                             "value")
+        ignored.append((letter, word, kept))
+    return ignored
