@@ -23,7 +23,6 @@ controllers' words are read as their controller does, with warnings (:mod:`place
 from __future__ import annotations
 
 import dataclasses
-import re
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -35,11 +34,11 @@ from placement.path.arcs import SAME_POINT_M, arc_segment, shifted
 from placement.path.canned import CYCLES, CycleState, expand_cycle
 from placement.path.compensation import Compensation, begin, circular, end_compensation, straight, tool_diameter_m
 from placement.path.exceptions import GcodeDialectWarning, GcodeError, PathFileError, _CycleError, _ExpressionError, _FlowError
-from placement.path.ngc_dialects import LONG_DWELL_S, controller_mode, dialect_notes, grbl_command
+from placement.path.ngc_dialects import dialect_notes, dialect_words, grbl_command
 from placement.path.ngc_expressions import Block, Parameters, read_line
 from placement.path.ngc_flow import run_blocks
 from placement.path.ngc_offsets import Offsets, g10, g92, select_system
-from placement.path.ngc_words import CONTROLLER_M, EXTRA_AXES, check_unused, extra_axes, polar_words, sorted_words
+from placement.path.ngc_words import EXTRA_AXES, check_unused, extra_axes, polar_words, sorted_words
 from placement.path.segments import Segment
 
 MM_M = 1e-3
@@ -236,20 +235,12 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
     the main program)."""
     state.line = line
     codes, m_codes, values, written = sorted_words(fail, words)
-    if 99 in m_codes and depth:
-        raise fail(m_codes[99], "M99 inside an O-word subroutine (LinuxCNC refuses it): end the subroutine with "
-                                "O<name> endsub or O<name> return")
-    if 73 in m_codes and depth:
-        raise fail(m_codes[73], "M73 inside an O-word subroutine restores the modal state when it returns (LinuxCNC's "
-                                "M73), which is not read: set the modes again after the call")
-    for code in sorted(set(m_codes) & set(CONTROLLER_M)):
-        state.dialect.setdefault(f"M{code}", []).append(line)
-    if "controller mode" in codes:
-        state.dialect.setdefault(controller_mode(fail, codes["controller mode"], values), []).append(line)
+    for kind in dialect_words(fail, codes, m_codes, values, written, depth):
+        state.dialect.setdefault(kind, []).append(line)
     if "feed mode" in codes:
         state.feed_mode = codes["feed mode"][0]
-    if "units" in codes:  # before F and the axes: their numbers are in the line's units
-        state.length_m, state.units_given = INCH_M if codes["units"][0] == 200 else MM_M, True
+    if "units" in codes:  # before F and the axes: their numbers are in the line's units (G70, G71: Mach3's)
+        state.length_m, state.units_given = INCH_M if codes["units"][0] in (200, 700) else MM_M, True
     if "F" in values:
         if not values["F"] > 0:
             raise fail(written["F"], "the feed rate must be > 0")
@@ -263,8 +254,6 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
         if "P" not in values or values["P"] < 0:
             raise fail(non_modal[1], "a dwell needs its duration P ≥ 0 (seconds)")
         state.dwells.append(Dwell(len(state.moves), values["P"], line))
-        if values["P"] >= LONG_DWELL_S and re.fullmatch(r"P\d+", written["P"]):  # P2000: 2000 s, or Fanuc's 2 s?
-            state.dialect.setdefault("long dwell", []).append(line)
     state.tool_selected = round(values["T"]) if "T" in values else state.tool_selected
     if 6 in m_codes:
         if state.compensation is not None:
@@ -344,8 +333,6 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
     if any(code in m_codes for code in STOPS_M) and state.moves:
         state.moves[-1] = dataclasses.replace(state.moves[-1], segment=dataclasses.replace(
             state.moves[-1].segment, exact_stop=True))
-    if 99 in m_codes:
-        state.dialect.setdefault("M99", []).append(line)
     return not (2 in m_codes or 30 in m_codes or 99 in m_codes)
 
 

@@ -57,6 +57,30 @@ def grbl_command(fail: Callable[[str], GcodeError], text: str, compensating: boo
                "($100=...); a jog ($J=) is refused")
 
 
+def dialect_words(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, str]], m_codes: dict[int, str],
+                  values: dict[str, float], written: dict[str, str], depth: int) -> list[str]:
+    """A line's words read as another controller reads them: the kinds to note (``M88``, ``G187``, ``G71``, ``M99``,
+    ``long dwell``); refuses M99 and LinuxCNC's M73 in a subroutine, G70 and G71 as lathe cycles."""
+    if 99 in m_codes and depth:
+        raise fail(m_codes[99], "M99 inside an O-word subroutine (LinuxCNC refuses it): end the subroutine with "
+                                "O<name> endsub or O<name> return")
+    if 73 in m_codes and depth:
+        raise fail(m_codes[73], "M73 inside an O-word subroutine restores the modal state when it returns (LinuxCNC's "
+                                "M73), which is not read: set the modes again after the call")
+    kinds = [f"M{code}" for code in sorted(set(m_codes) & {*CONTROLLER_M, 99})]
+    if "controller mode" in codes:
+        kinds.append(controller_mode(fail, codes["controller mode"], values))
+    units = codes.get("units", (0, ""))
+    if units[0] in (700, 710) and ("P" in values or "Q" in values):
+        raise fail(units[1], "lathe words (turning cycles G70, G71) are not read: the path is a mill's X, Y, Z")
+    if units[0] in (700, 710):
+        kinds.append(f"G{units[0] // 10}")
+    dwell = codes.get("non-modal", (0, ""))[0] == 40 and "P" in values
+    if dwell and values["P"] >= LONG_DWELL_S and re.fullmatch(r"P\d+", written["P"]):  # 2000 s, or Fanuc's 2 s?
+        kinds.append("long dwell")
+    return kinds
+
+
 def controller_mode(fail: Callable[[str, str], GcodeError], code_word: tuple[int, str], values: dict[str, float]) -> str:
     """A smoothing or look-ahead mode (G5 P, G5.1 Q, G8 P, G103, G187): its name, for the note; G5, G5.1 and G8 as
     LinuxCNC reads them (splines, a lathe's radius mode) are refused."""
@@ -100,6 +124,10 @@ def dialect_notes(dialect: dict[str, list[int]], home_given: bool, initial_feed_
         listed = "; ".join(f"{name}, {meaning} ({lines_text(dialect[name])})" for name, meaning in modes)
         notes.append(f"other controllers' smoothing and look-ahead modes leave the programmed path as it is, and their "
                      f"effect on the feed is not modelled: {listed}")
+    units = [f"G{code} ({lines_text(dialect[f'G{code}'])})" for code in (70, 71) if f"G{code}" in dialect]
+    if units:
+        notes.append(f"{' and '.join(units)} are read as Mach3's (and older controls') units, G70 inches and G71 "
+                     "millimetres, as G20 and G21 (LinuxCNC reads G70 and G71 as lathe cycles)")
     if "M25" in dialect:
         where = ("to the Z of shape.machine.g28_mm, the machine's home" if home_given else
                  "to the machine's home, which the path file does not give (shape.machine.g28_mm): the retract is left "

@@ -19,7 +19,8 @@ G_GROUPS = {
     **dict.fromkeys((0, 10, 20, 30, 730, 810, 820, 830, 850, 890), "motion"), 800: "canned cycle",
     **dict.fromkeys((40, 100, 280, 281, 300, 301, 530, 920, 921, 922, 923), "non-modal"),
     **dict.fromkeys((170, 180, 190), "plane"),
-    **dict.fromkeys((*range(540, 600, 10), 591, 592, 593), "coordinate system"), 200: "units", 210: "units", 900: "distance",
+    **dict.fromkeys((*range(540, 600, 10), 591, 592, 593), "coordinate system"), 200: "units", 210: "units",
+    700: "units", 710: "units", 900: "distance",
     910: "distance", 901: "arc distance", 911: "arc distance", **dict.fromkeys((930, 940, 950), "feed mode"),
     **dict.fromkeys((400, 410, 411, 420, 421), "cutter compensation"), 430: "tool length offset",
     490: "tool length offset", 980: "retract mode", 990: "retract mode", **dict.fromkeys((610, 611, 640), "path control"),
@@ -32,7 +33,8 @@ CONTROLLER_G = {  # other controllers' smoothing and look-ahead modes: the path 
     1870: ("G187", "smoothness and corner tolerance (Haas)", "")}
 READ_G = ("not in the G-code dialect read: G0-G4, G10 L1/L2/L10/L11/L20, G17-G21, G28, G28.1, G30, G30.1, G40-G42, "
           "G41.1, G42.1, G43, G49, G53-G59, G59.1-G59.3, G61, G61.1, G64, G73, G80-G83, G85, G89, G90, G91, G90.1, "
-          "G91.1, G92-G92.3, G93-G95, G98, G99; and other controllers' G5 P, G5.1 Q, G8 P, G103, G187 (docs/paths.md)")
+          "G91.1, G92-G92.3, G93-G95, G98, G99; and other controllers' G5 P, G5.1 Q, G8 P, G70, G71, G103, G187 "
+          "(docs/paths.md)")
 ACCEPTED_M = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 30, 48, 49, 60}  # RS-274/NGC's own: read without a note
 CONTROLLER_M = {  # other controllers' M codes that do not move the tool: ignored, with a note (GcodeDialectWarning)
     10: "clamp or rotary brake on", 11: "clamp or rotary brake off", 12: "5th-axis brake on (Haas)",
@@ -47,7 +49,9 @@ UNSUPPORTED_M = {
     97: "Haas local subprograms (M97 P) are not read: expand them in the CAM post, or use O-word subroutines (O100 "
         "sub ... O100 endsub, O100 call)",
     98: "Fanuc subprogram calls (M98 P) are not read: expand them in the CAM post, or use O-word subroutines (O100 "
-        "sub ... O100 endsub, O100 call)"}
+        "sub ... O100 endsub, O100 call)",
+    **dict.fromkeys((82, 104, 106, 107, 109, 140, 190), "a 3D printer's M code (Marlin, RepRapFirmware: temperatures, "
+                    "fans, the extruder): the program is a print, not a tool path")}
 READ_M = ("not in the supported M-code dialect (M0, M1, M2, M3-M9, M30, M48, M49, M60; and other controllers' M10-M13, "
           "M19, M25, M31, M33-M35, M41, M42, M73, M74, M83, M84, M88, M89, M99; docs/paths.md): an M code not known "
           "may move the tool")
@@ -61,7 +65,7 @@ UNSUPPORTED_G = {
              "coordinates (G43 or G49)",
     **dict.fromkeys((382, 383, 384, 385), "probing moves until a sensor trips, which a program does not hold: give "
                     "the moves as G0/G1"),
-    **dict.fromkeys((70, 700, 710, 711, 720, 721), "lathe words (diameter mode, turning cycles) are not read: "
+    **dict.fromkeys((70, 711, 720, 721), "lathe words (diameter mode, turning cycles) are not read: "
                     "the path is a mill's X, Y, Z"),
     960: "constant surface speed (G96) is not read: the feeds are per minute (G94), inverse time (G93) or per "
          "revolution at S (G95)"}
@@ -107,7 +111,8 @@ def sorted_words(fail: Callable[[str, str], GcodeError], words: list[tuple[str, 
             values[letter], written[letter] = value, word
         else:
             raise fail(word, "unknown word: the letters read are G, M, X, Y, Z, I, J, K, R, F, S, T, P, Q, L, H, D, "
-                             "N, O and the polar @, ^")
+                             "N, O and the polar @, ^" + ("; E is a 3D printer's extruder (Marlin, RepRapFirmware): the "
+                                                         "program is a print, not a tool path" if letter == "E" else ""))
     return codes, m_codes, values, written
 
 

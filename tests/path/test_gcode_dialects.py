@@ -367,3 +367,45 @@ def test_a_long_dwell_of_a_whole_number_is_read_in_seconds_with_a_warning(tmp_pa
     path, told = program(tmp_path, CUT + "G04 P4000\nG4 P2.5\nG4 P150.\nG4 P2\n")
     assert [hold.duration_s for hold in path.holds] == [4000.0, 2.5, 150.0, 2.0]
     assert len(told) == 1 and "the dwells of line 7 (G4 P with a whole number of at least 10)" in told[0]
+
+
+VECTRIC_MACH3 = """( VCarve Pro, Mach2/3 post )
+( File created: Monday, 1 January 2024 - 10:00 AM)
+( Material Size)
+( X= 100.000, Y= 100.000, Z= 10.000)
+G00G21G17G90G40G49G80
+G71G91.1
+T1M06
+G00G43Z20.000H1
+S18000M03
+G94
+G00X0.000Y0.000Z5.000
+G1Z-1.000F300.0
+G1X10.000
+G1Y10.000
+G00Z20.000
+G00X0.000Y0.000
+M09
+M30
+"""
+
+
+def test_vectrics_mach3_post_is_read_g71_as_millimetres_with_a_warning(tmp_path):
+    path, told = program(tmp_path, VECTRIC_MACH3)
+    plain, _ = program(tmp_path, CUT, name="plain")
+    assert ends_mm(path) == ends_mm(plain) and len(told) == 1
+    assert "G71 (line 6) are read as Mach3's (and older controls') units" in told[0]
+    inches, _ = program(tmp_path, "G70 G90\nG0 X0 Y0 Z0\nG1 X1 F10\n", name="inches")
+    assert ends_mm(inches) == [[[0, 0, 0], [25.4, 0, 0]]]
+
+
+@pytest.mark.parametrize("line, word, words", [
+    ("G71 P10 Q20 D1", "G71", ["turning cycles G70, G71"]),
+    ("M104 S200", "M104", ["3D printer's M code"]),
+    ("G1 X20 E1.5", "E1.5", ["unknown word", "3D printer's extruder"]),
+])
+def test_lathe_cycles_and_3d_printers_words_are_refused_by_name(tmp_path, line, word, words):
+    error = refused(tmp_path, CUT + line + "\n")
+    assert error.line == 7 and error.word == word
+    for expected in words:
+        assert expected in str(error)
