@@ -279,7 +279,8 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
         state.cycle.retract_to_r = codes["retract mode"][0] == 990
     if non_modal is not None and non_modal[0] == 100:  # G10's extra axis words are offsets of axes the path has not
         for letter in EXTRA_AXES:
-            values.pop(letter, None), written.pop(letter, None)
+            values.pop(letter, None)
+            written.pop(letter, None)
     for letter, word, held in extra_axes(fail, values, written, state.extra_axes, state.incremental):
         _note(state, letter, f"{word} (line {line}): the axis {letter} holds {held:g}; the path has X, Y, Z only, so "
                              "it is ignored while it holds that value")
