@@ -126,8 +126,9 @@ def dialect_notes(dialect: dict[str, list[int]], home_given: bool, initial_feed_
                      f"effect on the feed is not modelled: {listed}")
     units = [f"G{code} ({lines_text(dialect[f'G{code}'])})" for code in (70, 71) if f"G{code}" in dialect]
     if units:
-        notes.append(f"{' and '.join(units)} are read as Mach3's (and older controls') units, G70 inches and G71 "
-                     "millimetres, as G20 and G21 (LinuxCNC reads G70 and G71 as lathe cycles)")
+        notes.append(f"{' and '.join(units)} {'are' if len(units) > 1 else 'is'} read as Mach3's (and older "
+                     "controls') units, G70 inches and G71 millimetres, as G20 and G21 (LinuxCNC reads G70 and G71 as "
+                     "lathe cycles)")
     if "M25" in dialect:
         where = ("to the Z of shape.machine.g28_mm, the machine's home" if home_given else
                  "to the machine's home, which the path file does not give (shape.machine.g28_mm): the retract is left "
@@ -142,7 +143,8 @@ def dialect_notes(dialect: dict[str, list[int]], home_given: bool, initial_feed_
                      "controls read a P without a decimal point in milliseconds: if the program is theirs, write "
                      "P in seconds (P2000 -> P2.)")
     if "G0 at start" in dialect:
-        notes.append(f"{lines_text(dialect['G0 at start'])} give an end point before any motion word: read as G0, the "
+        verb = "give" if len(set(dialect["G0 at start"])) > 1 else "gives"
+        notes.append(f"{lines_text(dialect['G0 at start'])} {verb} an end point before any motion word: read as G0, the "
                      "motion mode grbl, Fanuc, Haas and Mach3 controls start in (LinuxCNC starts in none and refuses it)")
     if "initial feed" in dialect:
         assert initial_feed_m_s is not None

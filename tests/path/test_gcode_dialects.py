@@ -312,7 +312,7 @@ def test_an_end_point_before_any_motion_word_is_a_rapid_as_grbl_and_fanuc_start_
     code = "G90 G94\nG17\nG21\nG28 G91 Z0\nG90\nT12 M6\nZ10\nG54\nG0 X0 Y0\nZ5\nG1 Z-1 F200\nX10\n"
     path, told = program(tmp_path, code, "rapids: {mode: timed, feed_m_s: 0.5}\n")
     assert path.segments[0].rapid and np.allclose(path.segments[0].start_m * 1e3, [0, 0, 10])  # (from where Z10 went)
-    assert len(told) == 1 and "line 7 give an end point before any motion word: read as G0" in told[0]
+    assert len(told) == 1 and "line 7 gives an end point before any motion word: read as G0" in told[0]
 
 
 def test_text_after_the_programs_end_is_not_read(tmp_path):
@@ -394,7 +394,7 @@ def test_vectrics_mach3_post_is_read_g71_as_millimetres_with_a_warning(tmp_path)
     path, told = program(tmp_path, VECTRIC_MACH3)
     plain, _ = program(tmp_path, CUT, name="plain")
     assert ends_mm(path) == ends_mm(plain) and len(told) == 1
-    assert "G71 (line 6) are read as Mach3's (and older controls') units" in told[0]
+    assert "G71 (line 6) is read as Mach3's (and older controls') units" in told[0]
     inches, _ = program(tmp_path, "G70 G90\nG0 X0 Y0 Z0\nG1 X1 F10\n", name="inches")
     assert ends_mm(inches) == [[[0, 0, 0], [25.4, 0, 0]]]
 
