@@ -33,7 +33,8 @@ Every warning placement gives for a user-facing reason derives from :class:`Plac
 ``UserWarning``), so ``warnings.filterwarnings("ignore", category=PlacementWarning)`` silences them
 all; each is defined beside the code that gives it (``EstimatesWarning`` and ``StaleSidecarWarning``
 in :mod:`placement.workshop.gepetto`, ``OrientationIgnoredWarning`` in :mod:`placement.placing.transform`,
-``MasslessWarning`` in :mod:`placement.robot.plausibility`).
+``MasslessWarning`` in :mod:`placement.robot.plausibility`, ``GcodeDialectWarning`` in
+:mod:`placement.path.exceptions`).
 """
 
 from __future__ import annotations

@@ -170,7 +170,8 @@ def test_every_warning_of_the_package_is_a_placement_warning():
     found = defined_warnings(package_modules())
     assert {"placement.exceptions.PlacementWarning", "placement.workshop.gepetto.EstimatesWarning",
             "placement.workshop.gepetto.StaleSidecarWarning",
-            "placement.placing.transform.OrientationIgnoredWarning"} <= set(found)
+            "placement.placing.transform.OrientationIgnoredWarning",
+            "placement.path.exceptions.GcodeDialectWarning"} <= set(found)
     assert PlacementWarning.__bases__ == (UserWarning,)
     assert [name for name, cls in found.items() if not issubclass(cls, PlacementWarning)] == []
 
@@ -197,10 +198,12 @@ def test_the_category_finder_sees_a_call_without_category(tmp_path):
 
 def test_the_command_line_shows_every_placement_warning_on_one_line():
     from placement.cli import _format_warning
+    from placement.path.exceptions import GcodeDialectWarning
     from placement.placing.transform import OrientationIgnoredWarning
     from placement.workshop.gepetto import EstimatesWarning, StaleSidecarWarning
 
-    for category in (PlacementWarning, EstimatesWarning, StaleSidecarWarning, OrientationIgnoredWarning):
+    for category in (PlacementWarning, EstimatesWarning, StaleSidecarWarning, OrientationIgnoredWarning,
+                     GcodeDialectWarning):
         assert _format_warning(category("what was estimated"), category, "robot.yaml", 0) == "warning: what was estimated\n"
     assert _format_warning(UserWarning("other"), UserWarning, "x.py", 3).startswith("x.py:3: UserWarning: other")
 

@@ -6,6 +6,7 @@ normal n, clockwise (G2) or anticlockwise (G3) seen from its positive end.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 
 import numpy as np
@@ -88,3 +89,11 @@ def arc_segment(fail: Callable[..., GcodeError], start: np.ndarray, end: np.ndar
     turn += (turns - 1) * (2 * np.pi if anticlockwise else -2 * np.pi)
     center_m = axes @ np.array([center[0], center[1], s[2]])
     return Segment(start, end, center_m, radius, start_angle, turn, plane=axes, rise_m=float(e[2] - s[2]))
+
+
+def shifted(segment: Segment, offset_m: np.ndarray) -> Segment:
+    """A segment computed in the program's coordinates, moved into the path frame by the offsets (G92, G54-G59.3)."""
+    if not offset_m.any():
+        return segment
+    return dataclasses.replace(segment, start_m=segment.start_m + offset_m, end_m=segment.end_m + offset_m,
+                               center_m=None if segment.center_m is None else segment.center_m + offset_m)

@@ -1,11 +1,12 @@
-"""Errors of path files, the G-code programs and the pose lists they name; and the G-code reader's own, private,
-which it turns into located :class:`GcodeError` before they leave it."""
+"""Errors of path files, the G-code programs and the pose lists they name; the G-code reader's own, private,
+which it turns into located :class:`GcodeError` before they leave it; and the warning it gives for a controller's
+words it reads by that controller's manual."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from placement.exceptions import InputFileError
+from placement.exceptions import InputFileError, PlacementWarning
 
 
 class PathFileError(InputFileError):
@@ -25,6 +26,11 @@ class GcodeError(PathFileError):
         self.line = line
         self.word = word
         Exception.__init__(self, f"{self.path}, line {line}{f', word {word!r}' if word else ''}: {problem}")
+
+
+class GcodeDialectWarning(PlacementWarning):
+    """A G-code program holds a controller's own words (grbl's ``$`` lines, Haas's M88, Centroid's M25, ...) that the
+    reader skips or reads as that controller does: one warning per kind, naming the words and their lines."""
 
 
 class PoseFileError(PathFileError):
@@ -62,12 +68,13 @@ class _CycleError(_ReaderError):
 
 class _ExpressionError(_ReaderError):
     """Inside the reader (which names the line in a GcodeError): a line that cannot be read or evaluated; ``text``
-    is the part at fault as written ("" for the line)."""
+    is the part at fault as written ("" for the line), ``index`` the line (from 0) once it is known."""
 
     def __init__(self, text: str, problem: str) -> None:
         super().__init__(problem)
         self.text = text
         self.problem = problem
+        self.index = 0
 
 
 class _FlowError(_ReaderError):

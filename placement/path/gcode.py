@@ -15,26 +15,30 @@ what it does to the energy and the time.
 Where the tool starts: an axis the program never gives stays at the path frame's origin (a 2-D
 program runs in the X_p Y_p plane). An axis given somewhere in the program is unknown until it
 is given (or after a return to a reference point the path file does not give): a move from an
-unknown position is left out (a feed move with a note). G92 offsets shift the program's
-coordinates into the path frame.
+unknown position is left out (a feed move with a note). Work offsets (G10, G54-G59.3) and G92's
+shift the program's coordinates into the path frame (:mod:`placement.path.ngc_offsets`). Other
+controllers' words are read as their controller does, with warnings (:mod:`placement.path.ngc_dialects`).
 """
 
 from __future__ import annotations
 
 import dataclasses
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from placement.path.arcs import SAME_POINT_M, arc_segment
+from placement.path.arcs import SAME_POINT_M, arc_segment, shifted
 from placement.path.canned import CYCLES, CycleState, expand_cycle
 from placement.path.compensation import Compensation, begin, circular, end_compensation, straight, tool_diameter_m
-from placement.path.exceptions import GcodeError, PathFileError, _CycleError, _ExpressionError, _FlowError
+from placement.path.exceptions import GcodeDialectWarning, GcodeError, PathFileError, _CycleError, _ExpressionError, _FlowError
+from placement.path.ngc_dialects import dialect_notes, dialect_words, grbl_command
 from placement.path.ngc_expressions import Block, Parameters, read_line
 from placement.path.ngc_flow import run_blocks
-from placement.path.ngc_words import EXTRA_AXES, check_unused, sorted_words
+from placement.path.ngc_offsets import Offsets, g10, g92, select_system
+from placement.path.ngc_words import EXTRA_AXES, check_unused, extra_axes, polar_words, sorted_words
 from placement.path.segments import Segment
 
 MM_M = 1e-3
@@ -53,6 +57,8 @@ class Machine:
         g28_m, g30_m: (3,) the reference positions G28 and G30 move to (None: not given).
         given: Whether the path file gave these (G53 needs it; without, G53 moves are left out).
         tool_diameters_m: Each tool's diameter by its number (what G41 and G42 offset the path by).
+        initial_feed_m_s: The controller's modal feed when the program starts, which feed moves before the
+            program's first F run at (None: such a move is refused).
     """
 
     work_offset_m: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))
@@ -60,6 +66,7 @@ class Machine:
     g30_m: np.ndarray | None = None
     given: bool = False
     tool_diameters_m: dict[int, float] = dataclasses.field(default_factory=dict)
+    initial_feed_m_s: float | None = None
 
 
 @dataclass(frozen=True)
@@ -118,7 +125,6 @@ class _State:
     plane: int = 17
     motion: int | None = None  # in tenths
     plain_motion: int | None = None  # the last G0-G3: the motion after G80, as on Fanuc-style controls
-    coordinate_system: int | None = None  # G54-G59, once given
     feed_mode: int = 940
     feed: float | None = None  # F as given, in ...
     feed_unit_m: float = MM_M  # ... the length unit of its line
@@ -126,15 +132,17 @@ class _State:
     exact_path: bool = False  # G61
     exact_stop: bool = False  # G61.1
     cycle: CycleState = dataclasses.field(default_factory=CycleState)
-    references: dict[int, np.ndarray | None] = dataclasses.field(default_factory=dict)  # 280, 300 -> path frame
-    offset_m: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))  # G92: path frame - program's
-    saved_offset_m: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))  # what G92.3 restores
+    stored: dict[int, np.ndarray] = dataclasses.field(default_factory=dict)  # 280, 300 -> G28.1, G30.1's (path frame)
+    offsets: Offsets = dataclasses.field(default_factory=lambda: Offsets(np.full(3, np.nan)))  # G10, G54-G59.3, G92
+    offset_m: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))  # path frame - program's (offsets')
     extra_axes: dict[str, float] = dataclasses.field(default_factory=dict)  # A, B, C, U, V, W: the one value held
     position_m: list[float | None] = dataclasses.field(default_factory=lambda: [None, None, None])
     given: set[int] = dataclasses.field(default_factory=set)  # the axes given a value so far
     moves: list[_Move] = dataclasses.field(default_factory=list)
     dwells: list[Dwell] = dataclasses.field(default_factory=list)
     notes: dict[str, str] = dataclasses.field(default_factory=dict)
+    dialect: dict[str, list[int]] = dataclasses.field(default_factory=dict)  # a controller's words read: their lines
+    line: int = 0  # the line being run
     tool_selected: int | None = None  # T
     tool_loaded: int | None = None  # M6
     compensation: Compensation | None = None  # G41, G42 under way
@@ -167,30 +175,28 @@ def read_program(file: Path, machine: Machine | None = None) -> Program:
     for number, line in enumerate(text.splitlines(), start=1):
         if len(line) > MAX_LINE_CHARS:
             raise GcodeError(file, number, "", f"the line is longer than {MAX_LINE_CHARS} characters")
-        try:
-            blocks.append(read_line(line))
-        except _ExpressionError as error:
-            raise GcodeError(file, number, error.text, error.problem) from None
+        blocks.append(read_line(line))
     machine = machine or Machine()
-    state = _State(machine, references={280: _path_point(machine, machine.g28_m), 300: _path_point(machine,
-                                                                                                    machine.g30_m)})
+    state = _State(machine, offsets=Offsets(np.array(machine.work_offset_m, dtype=float) if machine.given
+                                            else np.full(3, np.nan)))
 
-    def execute(index: int, words: list[tuple[str, float, str]]) -> bool:
+    def execute(index: int, words: list[tuple[str, float, str]], depth: int) -> bool:
         def fail(word: str, problem: str) -> GcodeError:
             return GcodeError(file, index + 1, word, problem)
 
-        return _execute(fail, index + 1, words, state)
+        return _execute(fail, index + 1, words, state, depth)
+
+    def system(index: int, text: str) -> None:
+        _system_command(lambda problem: GcodeError(file, index + 1, text, problem), index + 1, text, state)
 
     try:
-        run_blocks(blocks, Parameters(), execute)
-    except _FlowError as error:
+        run_blocks(blocks, Parameters(), execute, system)
+    except (_FlowError, _ExpressionError) as error:  # (a line that cannot be run, or read)
         raise GcodeError(file, error.index + 1, error.text, error.problem) from None
-    return _program(file, state)
-
-
-def _path_point(machine: Machine, point: np.ndarray | None) -> np.ndarray | None:
-    """A machine position in the path frame."""
-    return None if point is None else point - machine.work_offset_m
+    program = _program(file, state)
+    for text in dialect_notes(state.dialect, state.machine.g28_m is not None, state.machine.initial_feed_m_s):
+        warnings.warn(f"{file}: {text}", GcodeDialectWarning, stacklevel=2)
+    return program
 
 
 def _program(file: Path, state: _State) -> Program:
@@ -224,13 +230,17 @@ def _program(file: Path, state: _State) -> Program:
 
 
 def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tuple[str, float, str]],
-             state: _State) -> bool:
-    """Apply one line's words to the state, in RS-274/NGC's order; False at the program's end (M2, M30)."""
+             state: _State, depth: int = 0) -> bool:
+    """Apply one line's words to the state, in RS-274/NGC's order; False at the program's end (M2, M30, M99 in
+    the main program)."""
+    state.line = line
     codes, m_codes, values, written = sorted_words(fail, words)
+    for kind in dialect_words(fail, codes, m_codes, values, written, depth):
+        state.dialect.setdefault(kind, []).append(line)
     if "feed mode" in codes:
         state.feed_mode = codes["feed mode"][0]
-    if "units" in codes:  # before F and the axes: their numbers are in the line's units
-        state.length_m, state.units_given = INCH_M if codes["units"][0] == 200 else MM_M, True
+    if "units" in codes:  # before F and the axes: their numbers are in the line's units (G70, G71: Mach3's)
+        state.length_m, state.units_given = INCH_M if codes["units"][0] in (200, 700) else MM_M, True
     if "F" in values:
         if not values["F"] > 0:
             raise fail(written["F"], "the feed rate must be > 0")
@@ -256,12 +266,8 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
     if "cutter compensation" in codes:
         _compensation_mode(fail, codes["cutter compensation"], values, written, state)
     if "coordinate system" in codes:
-        system, word = codes["coordinate system"]
-        if state.coordinate_system not in (None, system) or (state.coordinate_system is None and system != 540
-                                                            and state.given):
-            raise fail(word, "the program changes work coordinate system: their offsets are not in the program; "
-                             "write it in one system, the path frame")
-        state.coordinate_system = system
+        select_system(fail, codes["coordinate system"], state.offsets, state.compensation is not None)
+        state.offset_m = state.offsets.total_m()
     if "path control" in codes:
         code = codes["path control"][0]
         state.exact_path, state.exact_stop = code == 610, code == 611
@@ -271,24 +277,40 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
         state.absolute_centres = codes["arc distance"][0] == 901
     if "retract mode" in codes:
         state.cycle.retract_to_r = codes["retract mode"][0] == 990
-    _extra_axes(fail, values, written, line, state)
+    if non_modal is not None and non_modal[0] == 100:  # G10's extra axis words are offsets of axes the path has not
+        for letter in EXTRA_AXES:
+            values.pop(letter, None)
+            written.pop(letter, None)
+    for letter, word, held in extra_axes(fail, values, written, state.extra_axes, state.incremental):
+        _note(state, letter, f"{word} (line {line}): the axis {letter} holds {held:g}; the path has X, Y, Z only, so "
+                             "it is ignored while it holds that value")
     motion = codes["motion"][0] if "motion" in codes else state.motion
-    check_unused(fail, codes, values, written, motion)
+    check_unused(fail, codes, values, written, motion, m_codes)
     if ("@" in values or "^" in values) and not (motion is not None and motion // 10 in CYCLES):
-        _polar(fail, values, written, state)
+        here = [None if p is None else p - o for p, o in zip(state.position_m[:2], state.offset_m[:2])]
+        polar_words(fail, values, written, here, state.length_m, state.incremental)
     axes = [values.get(letter) for letter in "XYZ"]
     if non_modal is not None and non_modal[0] in (921, 922, 923):  # before the line's move, which they leave alone
-        _offset(fail, non_modal, axes, state)
+        state.offsets.clear_g92(non_modal[0])
+        state.offset_m = state.offsets.total_m()
     if non_modal is not None and non_modal[0] in (280, 300) and state.compensation is not None:
         raise fail(non_modal[1], "G28 and G30 cannot run under cutter radius compensation: G40 first")
     if non_modal is not None and non_modal[0] in (280, 300):
         _reference(fail, non_modal, axes, written, line, state)
     elif non_modal is not None and non_modal[0] == 920:  # its axis words are the offset's, not a move
-        _offset(fail, non_modal, axes, state)
+        g92(fail, non_modal[1], axes, state.length_m, state.position_m, state.given, state.offsets)
+        state.offset_m = state.offsets.total_m()
+    elif non_modal is not None and non_modal[0] == 100:  # its axis words are the offsets', not a move
+        known = g10(fail, non_modal[1], values, written, state.length_m, state.position_m,
+                    state.compensation is not None, line, state.offsets)
+        for axis, value in known.items():
+            state.position_m[axis] = value
+            state.given.add(axis)
+        state.offset_m = state.offsets.total_m()
     elif non_modal is not None and non_modal[0] in (281, 301):
         if any(value is None for value in state.position_m) and state.given:
             raise fail(non_modal[1], "the position to store is not known yet")
-        state.references[non_modal[0] - 1] = np.array([p if p is not None else 0.0 for p in state.position_m])
+        state.stored[non_modal[0] - 1] = np.array([p if p is not None else 0.0 for p in state.position_m])
     else:
         if "canned cycle" in codes:
             state.motion = state.plain_motion
@@ -300,16 +322,19 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
                 state.plain_motion = state.motion
         else:
             previous = state.motion
-        arc_words = [letter for letter in "IJKR" if letter in values]
+        arc_words = [letter for letter in "IJKR" if letter in values and not (letter == "R" and 19 in m_codes)]
         if arc_words and state.motion not in (20, 30) and (state.motion is None or state.motion // 10 not in CYCLES):
-            raise fail(written[arc_words[0]], "I, J, K and R belong to arcs (G2, G3), R also to drilling cycles")
+            raise fail(written[arc_words[0]], "I, J, K and R belong to arcs (G2, G3), R also to drilling cycles and "
+                                              "M19")
         if any(value is not None for value in axes) or "@" in values or "^" in values or (
                 state.motion in (20, 30) and any(letter in values for letter in "IJK")):  # (a full circle)
             _motion(fail, codes, axes, values, written, line, state, previous)
+    if 25 in m_codes:
+        _z_home(fail, m_codes[25], line, state)
     if any(code in m_codes for code in STOPS_M) and state.moves:
         state.moves[-1] = dataclasses.replace(state.moves[-1], segment=dataclasses.replace(
             state.moves[-1].segment, exact_stop=True))
-    return not (2 in m_codes or 30 in m_codes)
+    return not (2 in m_codes or 30 in m_codes or 99 in m_codes)
 
 
 def _compensation_mode(fail: Callable[[str, str], GcodeError], code_word: tuple[int, str],
@@ -360,52 +385,34 @@ def _compensated(fail: Callable[[str, str], GcodeError], values: dict[str, float
     else:
         circular(comp, state.moves, local_end, centre, turns if state.motion == 30 else -turns, blame, add)
     state.position_m = [None if value is None else float(e) for value, e in zip(target, end)]
-
-
-def _polar(fail: Callable[[str, str], GcodeError], values: dict[str, float], written: dict[str, str],
-           state: _State) -> None:
-    """Polar words in place of X and Y, as LinuxCNC reads them: ``@`` the radius and ``^`` the angle (degrees) of
-    the end point about the program's origin in the XY plane; in G91 both add to the current point's."""
-    word = written.get("@", written.get("^", ""))
-    if "X" in values or "Y" in values:
-        raise fail(word, "polar words (@, ^) replace X and Y: give one or the other")
-    x, y = state.position_m[0], state.position_m[1]
-    if x is None or y is None:
-        raise fail(word, "polar words need the current X and Y: move to a point first")
-    x, y = x - state.offset_m[0], y - state.offset_m[1]  # about the program's origin
-    radius, angle = float(np.hypot(x, y)) / state.length_m, float(np.degrees(np.arctan2(y, x)))
-    if state.incremental:
-        if radius == 0:
-            raise fail(word, "incremental polar motion is indeterminate at the origin")
-        radius, angle = radius + values.get("@", 0.0), angle + values.get("^", 0.0)
-    else:
-        radius, angle = values.get("@", radius), values.get("^", angle)
-    end = np.array([np.cos(np.radians(angle)), np.sin(np.radians(angle))]) * radius
-    if state.incremental:
-        end -= np.array([x, y]) / state.length_m
-    values["X"], values["Y"] = float(end[0]), float(end[1])
-    written["X"] = written["Y"] = word
-
-
-def _extra_axes(fail: Callable[[str, str], GcodeError], values: dict[str, float], written: dict[str, str],
-                line: int, state: _State) -> None:
-    """Rotary and extra axes (A, B, C, U, V, W), taken off the line's words: the path has X, Y, Z only, so an axis
-    that holds one value throughout (a 3-axis job on a 4-axis post) is ignored with a note, and one that moves is
-    refused where it first moves."""
-    for letter in [letter for letter in EXTRA_AXES if letter in values]:
-        value, word = values.pop(letter), written.pop(letter)
-        held = state.extra_axes.setdefault(letter, 0.0 if state.incremental else value)
-        if (value != 0.0) if state.incremental else (value != held):
-            raise fail(word, f"the extra axis {letter} moves here (it held {held:g} before): the path has X, Y, Z "
-                             f"only, so rotary and extra axes (A, B, C, U, V, W) are read only while they hold one "
-                             "value")
-        _note(state, letter, f"{word} (line {line}): the axis {letter} holds {held:g}; the path has X, Y, Z only, so "
-                             "it is ignored while it holds that value")
+    state.offsets.bind({k for k in range(3) if target[k] is not None})
 
 
 def _note(state: _State, key: str, text: str) -> None:
     """A note printed once per kind."""
     state.notes.setdefault(key, text)
+
+
+def _z_home(fail: Callable[[str, str], GcodeError], word: str, line: int, state: _State) -> None:
+    """M25, as Centroid's controls read it: Z alone to the machine's home at rapid (the home the path file gives as
+    the G28 reference, shape.machine.g28_mm); without it Z is unknown after it, like a retract that ends the cut."""
+    if state.compensation is not None:
+        raise fail(word, "M25 (Z home) cannot run under cutter radius compensation: G40 first")
+    state.dialect.setdefault("M25", []).append(line)
+    home = state.machine.g28_m
+    z = None if home is None else float(home[2] - state.offsets.origin()[2])
+    end = list(state.position_m)
+    end[2] = None if z is None or np.isnan(z) else z
+    _add(state, end, None, line, word)
+
+
+def _system_command(fail: Callable[[str], GcodeError], line: int, text: str, state: _State) -> None:
+    """A grbl system command (:func:`~placement.path.ngc_dialects.grbl_command`): homing leaves the position unknown."""
+    homed = grbl_command(fail, text, state.compensation is not None)
+    for k in homed:
+        state.position_m[k] = None
+    state.tool_start_m = None if homed else state.tool_start_m
+    state.dialect.setdefault("$H" if homed else "$", []).append(line)
 
 
 def _target(axes: list[float | None], state: _State, fail: Callable[[str, str], GcodeError], word: str,
@@ -416,7 +423,7 @@ def _target(axes: list[float | None], state: _State, fail: Callable[[str, str], 
         if value is None:
             target.append(state.position_m[k])
         elif machine_coordinates:
-            target.append(value * state.length_m - state.machine.work_offset_m[k])
+            target.append(value * state.length_m - float(state.offsets.origin()[k]))
         elif state.incremental:
             start = state.position_m[k]
             if start is None and value == 0:  # "G28 G91 Z0": no move along an unknown axis
@@ -431,30 +438,6 @@ def _target(axes: list[float | None], state: _State, fail: Callable[[str, str], 
     return target
 
 
-def _offset(fail: Callable[[str, str], GcodeError], non_modal: tuple[int, str], axes: list[float | None],
-            state: _State) -> None:
-    """G92: the current point gets the given coordinates (the program's origin moves); G92.1, G92.2: no offset
-    (G92.1 forgets it, G92.2 keeps it for G92.3); G92.3: the offset kept restored."""
-    code, word = non_modal
-    if code == 920:
-        if all(value is None for value in axes):
-            raise fail(word, "G92 needs the coordinates the current point gets (X, Y or Z)")
-        for k, value in enumerate(axes):
-            if value is None:
-                continue
-            here = state.position_m[k]
-            if here is None and k in state.given:
-                raise fail(word, f"G92 from an unknown position ({'XYZ'[k]} not known here): move to a point first")
-            state.offset_m[k] = (here or 0.0) - value * state.length_m
-        state.saved_offset_m = state.offset_m.copy()
-    elif code == 923:
-        state.offset_m = state.saved_offset_m.copy()
-    else:
-        state.offset_m = np.zeros(3)
-        if code == 921:
-            state.saved_offset_m = np.zeros(3)
-
-
 def _add(state: _State, end: list[float | None], feed: float | None, line: int, word: str,
          segment: Callable[[np.ndarray, np.ndarray], Segment | None] | None = None, exact: bool = False) -> None:
     """Record a move to ``end`` (a line, or ``segment(start, end)``) and move there; None in ``end`` leaves the
@@ -465,6 +448,7 @@ def _add(state: _State, end: list[float | None], feed: float | None, line: int, 
     unknown = frozenset(k for k in range(3) if start[k] is None)
     state.position_m = list(end)
     state.given |= {k for k in range(3) if end[k] is not None}
+    state.offsets.bind({k for k in range(3) if end[k] is not None})
     if any(end[k] is None and start[k] is not None for k in range(3)):
         return  # to an unknown place (a reference position not given)
     # An axis unknown at both ends is at the origin if the program never gives it (else the move is left out).
@@ -489,15 +473,20 @@ def _reference(fail: Callable[[str, str], GcodeError], non_modal: tuple[int, str
     move_word = next((written[a] for a in "XYZ" if a in written), word)
     if any(value is not None for value in axes):
         _add(state, _target(axes, state, fail, move_word), None, line, move_word)
-    reference = state.references[code]
+    machine_point = state.machine.g28_m if code == 280 else state.machine.g30_m  # NaN: its origin is not known
+    reference = state.stored.get(code, None if machine_point is None else machine_point - state.offsets.origin())
     moved = [k for k in range(3) if axes[k] is not None] or [0, 1, 2]
     end = list(state.position_m)
     for k in moved:
-        end[k] = None if reference is None else float(reference[k])
+        end[k] = None if reference is None or np.isnan(reference[k]) else float(reference[k])
     if reference is None:
         _note(state, f"G{code // 10}", f"G{code // 10} (line {line}) moves to the machine's reference position, "
                                        f"which the path file does not give (shape.machine.g{code // 10}_mm): the "
                                        "rapids to and from it are left out")
+    elif any(end[k] is None for k in moved):
+        _note(state, f"G{code // 10}", f"G{code // 10} (line {line}) goes to the machine's reference position, not "
+                                       f"known in the path frame (G10 L20 at line {state.offsets.set_where_unknown} set "
+                                       "the origin where the machine happened to be): the rapids are left out")
     _add(state, end, None, line, word)
 
 
@@ -508,8 +497,12 @@ def _feed(fail: Callable[[str, str], GcodeError], state: _State, word: str, leng
         if "F" not in values:
             raise fail(word, "in inverse time mode (G93) every feed move gives its F (1/minutes)")
         return length_m * values["F"] / 60.0
+    if state.feed is None and state.feed_mode == 940 and state.machine.initial_feed_m_s is not None:
+        state.dialect.setdefault("initial feed", []).append(state.line)
+        return state.machine.initial_feed_m_s
     if state.feed is None:
-        raise fail(word, f"a feed move (G{(state.motion or 0) // 10}) before any feed rate: give F first")
+        raise fail(word, f"a feed move (G{(state.motion or 0) // 10}) before any feed rate: give F first, or the "
+                         "controller's modal feed in the path file (shape.initial_feed_m_s, docs/paths.md)")
     if state.feed_mode == 950:
         if not state.spindle_rpm:
             raise fail(word, "feed per revolution (G95) needs the spindle speed S > 0")
@@ -522,17 +515,20 @@ def _motion(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, 
             previous: int | None) -> None:
     """The line's move: G0, G1, G2, G3 (in machine coordinates with G53) or a drilling cycle."""
     move_word = next((written[a] for a in "XYZ" if a in written), codes.get("motion", ("", ""))[1])
-    if state.motion is None:
-        raise fail(move_word, "an end point but no motion mode (G0, G1, G2, G3, or a drilling cycle) is active")
+    if state.motion is None:  # grbl, Fanuc, Haas and Mach3 controls start in G0 (LinuxCNC in none: it refuses this)
+        state.motion = state.plain_motion = 0
+        state.dialect.setdefault("G0 at start", []).append(line)
     if state.compensation is not None and (codes.get("non-modal", (0, ""))[0] == 530 or state.motion // 10 in CYCLES):
         raise fail(move_word, "G53 moves and drilling cycles cannot run under cutter radius compensation: G40 first")
     if codes.get("non-modal", (0, ""))[0] == 530:
         if state.motion not in (0, 10) or state.incremental:
             raise fail(codes["non-modal"][1], "G53 moves in machine coordinates with G0 or G1, in G90")
-        if not state.machine.given:
+        origin = state.offsets.origin()
+        if any(np.isnan(origin[k]) for k in range(3) if axes[k] is not None):
+            cause = ("the path file does not give (shape.machine.work_offset_mm)" if not state.offsets.set_where_unknown
+                     else f"G10 L20 at line {state.offsets.set_where_unknown} set where the machine happened to be")
             _note(state, "G53", f"G53 (line {line}) moves in machine coordinates, whose offset from the program's "
-                                "origin the path file does not give (shape.machine.work_offset_mm): those moves "
-                                "are left out")
+                                f"origin {cause}: those moves are left out")
             _add(state, [None if a is not None else p for a, p in zip(axes, state.position_m)], None, line, move_word)
             return
         target = _target(axes, state, fail, move_word, machine_coordinates=True)
@@ -555,7 +551,7 @@ def _motion(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, 
         return
     start = np.array([v if v is not None else 0.0 for v in state.position_m]) - state.offset_m
     finish = np.array([v if v is not None else 0.0 for v in target]) - state.offset_m
-    segment = _shifted(arc_segment(lambda problem, letter=None: fail(written.get(letter or "", move_word), problem),
+    segment = shifted(arc_segment(lambda problem, letter=None: fail(written.get(letter or "", move_word), problem),
                                    start, finish, values, state.plane, state.motion == 30, state.length_m,
                                    state.absolute_centres), state.offset_m)
     _add(state, target, _feed(fail, state, move_word, segment.length_m, values), line, move_word,
@@ -587,11 +583,3 @@ def _cycle(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, s
             assert step.target_m is not None
             _add(state, list(np.asarray(step.target_m) + state.offset_m), feed if step.kind == "feed" else None, line,
                  word, exact=True)
-
-
-def _shifted(segment: Segment, offset_m: np.ndarray) -> Segment:
-    """A segment computed in the program's coordinates, moved into the path frame by the G92 offset."""
-    if not offset_m.any():
-        return segment
-    return dataclasses.replace(segment, start_m=segment.start_m + offset_m, end_m=segment.end_m + offset_m,
-                               center_m=None if segment.center_m is None else segment.center_m + offset_m)

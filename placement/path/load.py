@@ -105,18 +105,19 @@ def _kept(program: Program, rapids: bool) -> tuple[tuple[Segment, ...], tuple[Ho
 
 
 def _machine(shape: Gcode) -> Machine:
-    """The machine positions and tool diameters a path file gives a program, in metres."""
+    """The machine positions, tool diameters and initial feed a path file gives a program, in metres (and m/s)."""
     given = shape.machine
     tools = {tool: diameter * MM_M for tool, diameter in (shape.tool_diameters_mm or {}).items()}
     if given is None:
-        return Machine(tool_diameters_m=tools)
+        return Machine(tool_diameters_m=tools, initial_feed_m_s=shape.initial_feed_m_s)
 
     def point(value: tuple[float, float, float] | None) -> np.ndarray | None:
         return None if value is None else np.array(value, dtype=float) * MM_M
 
     offset = point(given.work_offset_mm)
     assert offset is not None
-    return Machine(offset, point(given.g28_mm), point(given.g30_mm), given=True, tool_diameters_m=tools)
+    return Machine(offset, point(given.g28_mm), point(given.g30_mm), given=True, tool_diameters_m=tools,
+                   initial_feed_m_s=shape.initial_feed_m_s)
 
 
 def _check_fields(path: FilePath, spec: PathFile) -> None:

@@ -15,6 +15,12 @@ from zero; ``EXISTS[#<name>]`` is 1 if the named parameter is defined.
 
 Expressions are compiled once per line into closures of a :class:`Parameters` store and evaluated
 each time the line is executed (a line in a loop is parsed once).
+
+A line starting with ``$`` is a grbl system command (``$H``, ``$X``, ``$$``, ``$J=...``), and ``?`` grbl's status
+query: each is kept whole for the reader to judge. Fanuc Macro B, which looks like RS-274/NGC but is not, is
+refused by its own name: ``IF [...] THEN``/``GOTO``, ``WHILE [...] DO n``/``END n``, ``GOTO n``,
+``DPRNT``/``BPRNT``/``POPEN``/``PCLOS``, expressions without brackets (``#1=#2+1``), the vacant ``#0`` and
+Fanuc's system variables (``#5001``, the current X; ``#4001``, the active G codes ...) read before they are set.
 """
 
 from __future__ import annotations
@@ -28,6 +34,26 @@ from placement.path.exceptions import _ExpressionError
 
 EQUAL_TOLERANCE = 1e-4  # EQ and NE compare within this, as LinuxCNC's TOLERANCE_EQUAL
 MAX_NUMBERED_PARAMETER = 5602  # LinuxCNC's numbered parameters are #1 to #5602
+FANUC_SYSTEM_VARIABLES = (  # (first, last, meaning) of Fanuc Macro B's system variables a program reads
+    (2001, 2400, "a tool offset"), (3000, 3000, "the alarm"), (3001, 3002, "a clock"),
+    (3003, 3007, "a machine setting or mode"), (3011, 3012, "the date or time"), (3901, 3902, "the parts count"),
+    (4001, 4130, "the modal state (the active G codes, D, F, H, M, S, T)"),
+    (4201, 4330, "the modal state (the active G codes, D, F, H, M, S, T)"), (5001, 5008, "the current position"),
+    (5021, 5028, "the machine position"), (5041, 5048, "the work position"), (5081, 5088, "the tool length offset"),
+    (5101, 5108, "the servo deviation"))
+FLOW = "expand the macro in the CAM post or use LinuxCNC O-word control flow"
+FANUC_MACRO = (  # (start of a line, its construct's name, what to do instead) for Fanuc Macro B's words
+    (re.compile(r"if\[.*\]then"), "'IF ... THEN'", f"{FLOW} (o100 if [...] ... o100 endif)"),
+    (re.compile(r"if\[.*\]goto"), "'IF ... GOTO'", f"{FLOW} (o100 if [...], o100 while [...]: it has no jumps)"),
+    (re.compile(r"if\["), "'IF'", f"{FLOW} (o100 if [...] ... o100 endif)"),
+    (re.compile(r"while\["), "'WHILE ... DO'", f"{FLOW} (o100 while [...] ... o100 endwhile)"),
+    (re.compile(r"end\d"), "'END' (closing a WHILE ... DO)", f"{FLOW} (o100 while [...] ... o100 endwhile)"),
+    (re.compile(r"goto[\d#\[]"), "'GOTO'", f"{FLOW} (o100 if [...], o100 while [...]: it has no jumps)"),
+    (re.compile(r"(dprnt|bprnt)\["), "'DPRNT'/'BPRNT' (output to a port)",
+     "remove it (it writes to a port and does not move the tool)"),
+    (re.compile(r"(popen|pclos)"), "'POPEN'/'PCLOS' (a port for DPRNT)",
+     "remove it (it opens or closes a port and does not move the tool)"),
+    (re.compile(r"setvn"), "'SETVN' (variable names)", "use named parameters (#<name>)"))
 SUBROUTINE_PARAMETERS = 30  # a call's arguments are #1 to #30, local to the subroutine
 NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)")
 O_KEYWORDS = ("endsub", "sub", "call", "elseif", "else", "endif", "if", "endwhile", "while", "do", "endrepeat",
@@ -41,6 +67,7 @@ FUNCTIONS: dict[str, Callable[[float], float]] = {
 DOMAINS = {"acos": (-1.0, 1.0), "asin": (-1.0, 1.0), "ln": (0.0, math.inf), "sqrt": (0.0, math.inf)}
 BINARY_RANK = {"**": 6, "*": 5, "/": 5, "mod": 5, "+": 4, "-": 4, "eq": 3, "ne": 3, "gt": 3, "ge": 3, "lt": 3,
                "le": 3, "and": 2, "or": 2, "xor": 2}
+PROGRAM_NAME = re.compile(r"[a-z][a-z0-9_.\-]*")  # a program's name in letters after O, as some controls write it
 POLAR = "@^"  # LinuxCNC's polar words: @ radius, ^ angle (degrees), in place of X and Y
 OPERATOR_ORDER = sorted(BINARY_RANK, key=len, reverse=True)  # "**" before "*", "mod" before ...
 
@@ -56,14 +83,24 @@ class Parameters:
 
     def number(self, index: float, text: str) -> int:
         """A numbered parameter's index, checked."""
+        if index == 0:
+            raise _ExpressionError(text, "#0 is Fanuc Macro B's vacant (null) value, which RS-274/NGC does not have "
+                                         f"(its parameters are #1 to #{MAX_NUMBERED_PARAMETER})")
         if index != int(index) or not 1 <= index <= MAX_NUMBERED_PARAMETER:
             raise _ExpressionError(text, f"parameter number {index:g} is not a whole number from 1 to "
                                         f"{MAX_NUMBERED_PARAMETER}")
         return int(index)
 
     def get(self, index: float, text: str) -> float:
-        """The value of ``#index``."""
-        return self.numbered.get(self.number(index, text), 0.0)
+        """The value of ``#index`` (0 until set; Fanuc Macro B's system variables are refused until set)."""
+        number = self.number(index, text)
+        if number not in self.numbered:
+            meaning = next((m for first, last, m in FANUC_SYSTEM_VARIABLES if first <= number <= last), None)
+            if meaning is not None:
+                raise _ExpressionError(text, f"#{number} is read before it is set: on Fanuc controls it is a Fanuc "
+                                             f"Macro B system variable ({meaning}), which RS-274/NGC does not have; "
+                                             "expand the macro in the CAM post")
+        return self.numbered.get(number, 0.0)
 
     def named(self, name: str, text: str) -> float:
         """The value of ``#<name>``; an undefined name is an error, as in LinuxCNC."""
@@ -121,9 +158,20 @@ class Block:
     assignments: tuple[Assignment, ...] = ()
     oword: OWord | None = None
     tape_mark: bool = False
+    error: _ExpressionError | None = None  # a line that cannot be read: refused when it runs (not after M2, M30)
+    system: str = ""  # a grbl system command ("$H", "$J=G91X10F100"), in upper case without spaces
 
 
 def read_line(line: str) -> Block:
+    """Read one line of a program; a line that cannot be read is a block holding its error, raised only if it runs
+    (as LinuxCNC reads a line when it runs it: text after M2 or M30 is not read)."""
+    try:
+        return _read_line(line)
+    except _ExpressionError as error:
+        return Block(error=error)
+
+
+def _read_line(line: str) -> Block:
     """Read one line of a program.
 
     Raises:
@@ -134,6 +182,10 @@ def read_line(line: str) -> Block:
         compact = compact[1:]
     if compact == "%":
         return Block(tape_mark=True)
+    if re.fullmatch(r":\d+", compact):
+        return Block()  # ISO's program number (:1001), as Fanuc controls read it
+    if compact.startswith("$") or compact == "?":  # grbl's system commands, and its status query
+        return Block(system=compact)
     reader = _Reader(compact)
     return reader.block()
 
@@ -179,6 +231,10 @@ class _Reader:
         if self.peek() == "n":
             match = NUMBER.match(self.low, self.at + 1)
             self.at = match.end() if match else self.at + 1
+        rest = self.low[self.at:]
+        for pattern, construct, instead in FANUC_MACRO:
+            if pattern.match(rest):
+                raise _ExpressionError("", f"Fanuc Macro B {construct} is not read: {instead}")
         if self.peek() == "o":
             oword = self.oword()
         while self.at < len(self.low):
@@ -189,8 +245,12 @@ class _Reader:
                 self.at += 1
                 value = self.value()
                 if self.peek() and not (self.peek().isalpha() or self.peek() in "#" + POLAR):
+                    operator = self.peek() in "+-*/"
                     while self.at < len(self.low) and not (self.low[self.at].isalpha() or self.low[self.at] in POLAR):
                         self.at += 1
+                    if operator:
+                        raise self.fail(start, "an expression without brackets (Fanuc Macro B writes X#1+2): "
+                                               "RS-274/NGC needs them, X[#1+2]")
                     raise self.fail(start, "expected a number after the letter (e.g. X12.5, G1), a parameter (#1, "
                                            "#<name>) or an expression in [ ]")
                 words.append(Word(char, value, self.text[start:self.at]))
@@ -209,11 +269,16 @@ class _Reader:
             name, self.at = self.low[self.at:end + 1], end + 1
         else:
             match = re.compile(r"\d+").match(self.low, self.at)
+            if match is None and PROGRAM_NAME.fullmatch(self.low, self.at):
+                self.at = len(self.low)
+                return None  # a program named in letters (OCIRCLE, as plasma and other controls write it): ignored
             if match is None:
                 raise self.fail(start, "an O-word needs a number or a <name>")
             name, self.at = str(int(match.group())), match.end()
         keyword = next((k for k in O_KEYWORDS if self.low.startswith(k, self.at)), None)
         if keyword is None and not name.startswith("<"):
+            if re.compile(r"[a-z_\-]+").fullmatch(self.low, self.at):
+                self.at = len(self.low)  # a program name ending in letters (O7997A): ignored
             return None  # a program number (Fanuc's O0001), read and ignored
         if keyword is None:
             raise self.fail(start, f"an O-word needs one of {', '.join(sorted(O_KEYWORDS))}")
@@ -237,6 +302,11 @@ class _Reader:
             raise self.fail(start, "a parameter outside a word must be set: #1=..., #<name>=...")
         self.at += 1
         value = self.value()
+        if self.peek() and self.peek() in "+-*/":
+            while self.at < len(self.low) and not self.low[self.at].isalpha() and self.low[self.at] != "#":
+                self.at += 1
+            raise self.fail(start, "a Fanuc Macro B expression without brackets (#1=#2+1): RS-274/NGC needs them, "
+                                   "#1=[#2+1]")
         return Assignment(index, name, value, self.text[start:self.at])
 
     def name(self) -> str:

@@ -6,7 +6,8 @@ arguments (``#1``-``#30`` and the named parameters not starting with ``_`` are i
 restored on return); ``return [v]`` and ``endsub [v]`` leave it (setting ``#<_value>``);
 ``if``/``elseif``/``else``/``endif``, ``while``/``endwhile``, ``do``/``while``,
 ``repeat [n]``/``endrepeat``, ``break`` and ``continue`` (each O-word naming its construct's
-number or name). ``M2``, ``M30`` or a second ``%`` line ends the program. At most
+number or name). ``M2``, ``M30``, ``M99`` (in the main program) or a second ``%`` line ends the program;
+a line that cannot be read is refused when it runs, so text after the program's end is not read. At most
 ``MAX_EXECUTED_BLOCKS`` lines are run, so a program that never ends is refused rather than
 hanging. Subroutines in other files (LinuxCNC's search path) are not read.
 """
@@ -35,18 +36,22 @@ class _Frame:
 
 
 def run_blocks(blocks: list[Block], parameters: Parameters,
-               execute: Callable[[int, list[tuple[str, float, str]]], bool]) -> None:
+               execute: Callable[[int, list[tuple[str, float, str]], int], bool],
+               system: Callable[[int, str], None]) -> None:
     """Run a program's lines in order of control flow.
 
     Args:
         blocks: The lines, read (:func:`placement.path.ngc_expressions.read_line`).
         parameters: The parameter store, changed as the lines set parameters.
-        execute: Called with each line's index and its words (letter, value, text as written) after its
-            parameter settings; returns False to end the program (M2, M30).
+        execute: Called with each line's index, its words (letter, value, text as written) after its parameter
+            settings, and the depth of subroutine calls it runs in (0: the main program); returns False to end the
+            program (M2, M30, M99 in the main program).
+        system: Called with the index and text of each grbl system command (``$H``, ...) in its turn.
 
     Raises:
         _FlowError: Unmatched or misplaced O-words, a call of an unknown subroutine, too many lines run, or a
             line that cannot be evaluated (its ``_ExpressionError``, with the line's index).
+        _ExpressionError: A line that cannot be read, when it runs (its ``index`` set).
     """
     flow = _Flow(blocks)
     main = _Frame(len(blocks), {}, {})
@@ -58,6 +63,9 @@ def run_blocks(blocks: list[Block], parameters: Parameters,
             raise _FlowError(index, "", f"more than {MAX_EXECUTED_BLOCKS:,} lines run: the program does not end "
                                        "(an endless loop?)")
         block = blocks[index]
+        if block.error is not None:  # a line that cannot be read, reached
+            block.error.index = index
+            raise block.error
         try:
             if block.tape_mark:
                 marks += 1
@@ -67,6 +75,10 @@ def run_blocks(blocks: list[Block], parameters: Parameters,
                 continue
             if block.oword is not None:
                 index = flow.step(index, block.oword, parameters, frames)
+                continue
+            if block.system:
+                system(index, block.system)
+                index += 1
                 continue
             words = [(word.letter, word.value(parameters), word.text) for word in block.words]
             values = [(a, a.value(parameters)) for a in block.assignments]
@@ -82,7 +94,7 @@ def run_blocks(blocks: list[Block], parameters: Parameters,
                 except _ExpressionError as error:
                     raise _FlowError(index, error.text, error.problem) from None
                 parameters.numbered[number] = value
-        if words and not execute(index, words):
+        if words and not execute(index, words, len(frames) - 1):
             return
         index += 1
     if len(frames) > 1:

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+import numpy as np
+
 from placement.path.canned import CYCLES
 from placement.path.exceptions import GcodeError
 
@@ -15,33 +17,60 @@ from placement.path.exceptions import GcodeError
 # safety line "G0 G90 G40 G21 G17 G94 G80" is read.
 G_GROUPS = {
     **dict.fromkeys((0, 10, 20, 30, 730, 810, 820, 830, 850, 890), "motion"), 800: "canned cycle",
-    **dict.fromkeys((40, 280, 281, 300, 301, 530, 920, 921, 922, 923), "non-modal"), **dict.fromkeys((170, 180, 190), "plane"),
-    **dict.fromkeys(range(540, 600, 10), "coordinate system"), 200: "units", 210: "units", 900: "distance",
+    **dict.fromkeys((40, 100, 280, 281, 300, 301, 530, 920, 921, 922, 923), "non-modal"),
+    **dict.fromkeys((170, 180, 190), "plane"),
+    **dict.fromkeys((*range(540, 600, 10), 591, 592, 593), "coordinate system"), 200: "units", 210: "units",
+    700: "units", 710: "units", 900: "distance",
     910: "distance", 901: "arc distance", 911: "arc distance", **dict.fromkeys((930, 940, 950), "feed mode"),
     **dict.fromkeys((400, 410, 411, 420, 421), "cutter compensation"), 430: "tool length offset",
-    490: "tool length offset", 980: "retract mode", 990: "retract mode", **dict.fromkeys((610, 611, 640), "path control")}
-READ_G = ("not in the G-code dialect read: G0-G4, G17-G21, G28, G28.1, G30, G30.1, G40-G42, G41.1, G42.1, G43, G49, "
-          "G53-G59, G61, G61.1, G64, G73, G80-G83, G85, G89, G90, G91, G90.1, G91.1, G92-G92.3, G93-G95, G98, G99 "
+    490: "tool length offset", 980: "retract mode", 990: "retract mode", **dict.fromkeys((610, 611, 640), "path control"),
+    **dict.fromkeys((50, 51, 80, 1030, 1870), "controller mode")}
+CONTROLLER_G = {  # other controllers' smoothing and look-ahead modes: the path is the programmed one (a note)
+    50: ("G5", "high-precision contour control (Fanuc, with P)", "P"),
+    51: ("G5.1", "AI contour control (Fanuc, with Q)", "Q"),
+    80: ("G8", "look-ahead (Fanuc, with P)", "P"),
+    1030: ("G103", "look-ahead limit (Haas)", ""),
+    1870: ("G187", "smoothness and corner tolerance (Haas)", "")}
+READ_G = ("not in the G-code dialect read: G0-G4, G10 L1/L2/L10/L11/L20, G17-G21, G28, G28.1, G30, G30.1, G40-G42, "
+          "G41.1, G42.1, G43, G49, G53-G59, G59.1-G59.3, G61, G61.1, G64, G73, G80-G83, G85, G89, G90, G91, G90.1, "
+          "G91.1, G92-G92.3, G93-G95, G98, G99; and other controllers' G5 P, G5.1 Q, G8 P, G70, G71, G103, G187 "
           "(docs/paths.md)")
-ACCEPTED_M = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 30, 60}
+ACCEPTED_M = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 30, 48, 49, 60}  # RS-274/NGC's own: read without a note
+CONTROLLER_M = {  # other controllers' M codes that do not move the tool: ignored, with a note (GcodeDialectWarning)
+    10: "clamp or rotary brake on", 11: "clamp or rotary brake off", 12: "5th-axis brake on (Haas)",
+    13: "5th-axis brake off (Haas), or spindle and coolant on", 19: "spindle orientation",
+    31: "chip conveyor forward (Haas)", 33: "chip conveyor stop (Haas)", 34: "coolant spigot down (Haas)",
+    35: "coolant spigot up (Haas)", 41: "spindle low gear", 42: "spindle high gear",
+    73: "tool air blast on (Haas; in the main program, where LinuxCNC's M73 changes nothing)",
+    74: "tool air blast off (Haas)", 83: "air jet on (Haas)", 84: "air jet off (Haas)",
+    88: "through-spindle coolant on (Haas)", 89: "through-spindle coolant off (Haas)"}
+DIALECT_M = {25, 99}  # read as their controllers do (gcode._execute): Centroid's Z home, the main program's end
+UNSUPPORTED_M = {
+    97: "Haas local subprograms (M97 P) are not read: expand them in the CAM post, or use O-word subroutines (O100 "
+        "sub ... O100 endsub, O100 call)",
+    98: "Fanuc subprogram calls (M98 P) are not read: expand them in the CAM post, or use O-word subroutines (O100 "
+        "sub ... O100 endsub, O100 call)",
+    **dict.fromkeys((82, 104, 106, 107, 109, 140, 190), "a 3D printer's M code (Marlin, RepRapFirmware: temperatures, "
+                    "fans, the extruder): the program is a print, not a tool path")}
+READ_M = ("not in the supported M-code dialect (M0, M1, M2, M3-M9, M30, M48, M49, M60; and other controllers' M10-M13, "
+          "M19, M25, M31, M33-M35, M41, M42, M73, M74, M83, M84, M88, M89, M99; docs/paths.md): an M code not known "
+          "may move the tool")
 UNSUPPORTED_G = {
-    100: "G10 sets a coordinate system's offset or a tool's data, which the path frame does not hold: write the "
-         "program in one work coordinate system, the path frame (its origin is the one the placement moves)",
     **dict.fromkeys((740, 760, 840, 860, 870, 880), "tapping and boring cycles (G74, G76, G84, G86-G88) need the "
                     "spindle's motion: output them as G0/G1 moves; the drilling cycles G73, G81-G83, G85, G89 are read"),
-    **dict.fromkeys((591, 592, 593), "a second work coordinate system's offset is not in the program: write it in "
-                    "one system, the path frame"),
+    **dict.fromkeys((650, 660, 661, 670), "a Fanuc Macro B macro call (G65, G66, G67) is not read: expand the macro in "
+                    "the CAM post, or use O-word subroutines (O100 sub ... O100 endsub, O100 call)"),
     330: "spindle-synchronised motion (threading) is not read", 331: "spindle-synchronised motion is not read",
     430 + 1: "G43.1 (a tool length offset given in the program) changes where the tool tip is: give the tip's "
              "coordinates (G43 or G49)",
     **dict.fromkeys((382, 383, 384, 385), "probing moves until a sensor trips, which a program does not hold: give "
                     "the moves as G0/G1"),
-    **dict.fromkeys((70, 80, 700, 710, 711, 720, 721), "lathe words (diameter mode, turning cycles) are not read: "
+    **dict.fromkeys((70, 711, 720, 721), "lathe words (diameter mode, turning cycles) are not read: "
                     "the path is a mill's X, Y, Z"),
     960: "constant surface speed (G96) is not read: the feeds are per minute (G94), inverse time (G93) or per "
          "revolution at S (G95)"}
 ALLOWED_LETTERS = set("GMXYZIJKRFSTPQLHDN@^")
-EXTRA_AXES = "ABCUVW"  # rotary and extra axes: read only while they hold one value (gcode._extra_axes)
+EXTRA_AXES = "ABCUVW"  # rotary and extra axes: read only while they hold one value (extra_axes)
 
 
 def code_of(fail: Callable[[str, str], GcodeError], value: float, word: str) -> int:
@@ -60,6 +89,7 @@ def sorted_words(fail: Callable[[str, str], GcodeError], words: list[tuple[str, 
     m_codes: dict[int, str] = {}
     values: dict[str, float] = {}
     written: dict[str, str] = {}
+    haas_smoothing = any(letter.upper() == "G" and round(value * 10) == 1870 for letter, value, _ in words)
     for letter, value, word in words:
         letter = letter.upper()
         if letter == "G":
@@ -72,34 +102,79 @@ def sorted_words(fail: Callable[[str, str], GcodeError], words: list[tuple[str, 
             codes[group] = (code, word)
         elif letter == "M":
             code = code_of(fail, value, word)
-            if code % 10 or code // 10 not in ACCEPTED_M:
-                raise fail(word, "not in the supported M-code dialect (M0, M1, M2, M3-M9, M30, M60; docs/paths.md)"
-                           + ("; Fanuc subprograms (M98/M99) are not read: use O-word subroutines (O100 sub ... "
-                              "O100 endsub, O100 call)" if code in (980, 990) else ""))
+            if code % 10 or code // 10 not in (*ACCEPTED_M, *CONTROLLER_M, *DIALECT_M):
+                raise fail(word, UNSUPPORTED_M.get(code // 10, READ_M) if not code % 10 else READ_M)
             m_codes[code // 10] = word
-        elif letter in ALLOWED_LETTERS or letter in EXTRA_AXES:
+        elif letter in ALLOWED_LETTERS or letter in EXTRA_AXES or (letter == "E" and haas_smoothing):
             if letter in values:
                 raise fail(word, f"{letter} is given twice on the line")
             values[letter], written[letter] = value, word
         else:
             raise fail(word, "unknown word: the letters read are G, M, X, Y, Z, I, J, K, R, F, S, T, P, Q, L, H, D, "
-                             "N, O and the polar @, ^")
+                             "N, O and the polar @, ^" + ("; E is a 3D printer's extruder (Marlin, RepRapFirmware): the "
+                                                         "program is a print, not a tool path" if letter == "E" else ""))
     return codes, m_codes, values, written
 
 
 def check_unused(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, str]],
-                 values: dict[str, float], written: dict[str, str], motion: int | None) -> None:
+                 values: dict[str, float], written: dict[str, str], motion: int | None, m_codes: dict[int, str]) -> None:
     """P, Q, L, D and H only where a word uses them."""
     motion = codes["motion"][0] if "motion" in codes else motion
     cycle = motion is not None and motion // 10 in CYCLES
     non_modal = codes.get("non-modal", (None, ""))[0]
-    users = {"P": non_modal == 40 or cycle or codes.get("path control", (0, ""))[0] == 640 or motion in (20, 30),
-             "Q": cycle or codes.get("path control", (0, ""))[0] == 640, "L": cycle,
+    blending = codes.get("path control", (0, ""))[0] == 640
+    mode = codes.get("controller mode", (None, ""))[0]
+    users = {"P": non_modal in (40, 100) or cycle or blending or motion in (20, 30) or 19 in m_codes
+             or mode in (50, 80, 1030, 1870),
+             "Q": cycle or blending or 19 in m_codes or mode == 51, "L": cycle or non_modal == 100,
              "H": "tool length offset" in codes,
              "D": codes.get("cutter compensation", (400, ""))[0] != 400}
     for letter, used in users.items():
         if letter in values and not used:
-            raise fail(written[letter], {"P": "P belongs to G4 (dwell), G64, G82, G89 and G2/G3 (turns)",
-                                         "Q": "Q belongs to G73, G83 (peck) and G64", "L": "L belongs to canned cycles",
+            raise fail(written[letter], {"P": "P belongs to G4 (dwell), G10, G64, G82, G89, G2/G3 (turns) and M19",
+                                         "Q": "Q belongs to G73, G83 (peck), G64 and M19",
+                                         "L": "L belongs to G10 and canned cycles",
                                          "H": "H belongs to G43 (tool length offset)",
                                          "D": "D belongs to cutter radius compensation (G41, G42, G41.1, G42.1)"}[letter])
+
+
+def polar_words(fail: Callable[[str, str], GcodeError], values: dict[str, float], written: dict[str, str],
+                here: list[float | None], length_m: float, incremental: bool) -> None:
+    """Polar words in place of X and Y, as LinuxCNC reads them: ``@`` the radius and ``^`` the angle (degrees) of
+    the end point about the program's origin in the XY plane; in G91 both add to the current point's (``here``, X
+    and Y in metres about the program's origin). Sets X and Y in ``values``."""
+    word = written.get("@", written.get("^", ""))
+    if "X" in values or "Y" in values:
+        raise fail(word, "polar words (@, ^) replace X and Y: give one or the other")
+    x, y = here
+    if x is None or y is None:
+        raise fail(word, "polar words need the current X and Y: move to a point first")
+    radius, angle = float(np.hypot(x, y)) / length_m, float(np.degrees(np.arctan2(y, x)))
+    if incremental:
+        if radius == 0:
+            raise fail(word, "incremental polar motion is indeterminate at the origin")
+        radius, angle = radius + values.get("@", 0.0), angle + values.get("^", 0.0)
+    else:
+        radius, angle = values.get("@", radius), values.get("^", angle)
+    end = np.array([np.cos(np.radians(angle)), np.sin(np.radians(angle))]) * radius
+    if incremental:
+        end -= np.array([x, y]) / length_m
+    values["X"], values["Y"] = float(end[0]), float(end[1])
+    written["X"] = written["Y"] = word
+
+
+def extra_axes(fail: Callable[[str, str], GcodeError], values: dict[str, float], written: dict[str, str],
+               held: dict[str, float], incremental: bool) -> list[tuple[str, str, float]]:
+    """Rotary and extra axes (A, B, C, U, V, W), taken off the line's words: the path has X, Y, Z only, so an axis
+    that holds one value throughout (a 3-axis job on a 4-axis post) is ignored (the (letter, word, value held) of
+    each, for a note), and one that moves is refused where it first moves. ``held`` keeps each axis's value."""
+    ignored = []
+    for letter in [letter for letter in EXTRA_AXES if letter in values]:
+        value, word = values.pop(letter), written.pop(letter)
+        kept = held.setdefault(letter, 0.0 if incremental else value)
+        if (value != 0.0) if incremental else (value != kept):
+            raise fail(word, f"the extra axis {letter} moves here (it held {kept:g} before): the path has X, Y, Z "
+                             f"only, so rotary and extra axes (A, B, C, U, V, W) are read only while they hold one "
+                             "value")
+        ignored.append((letter, word, kept))
+    return ignored

@@ -10,7 +10,8 @@ forces carry their unit in their field name. The shapes (docs/paths.md has the w
     gcode: a G-code program (:mod:`placement.path.gcode`), which sets its own units (G20/G21) and the
         feed of each move (F): ``units`` and ``feed_m_s`` are refused. ``rapids`` says whether its
         G0 moves are skipped (left out, leaving gaps) or timed at a rapid feed; ``machine`` gives the
-        machine positions G28, G30 and G53 moves need (left out, with a note, without them).
+        machine positions G28, G30 and G53 moves need (left out, with a note, without them);
+        ``initial_feed_m_s`` the controller's modal feed for feed moves before the program's first F.
     poses: a pose list (:mod:`placement.path.poses`) in the file's units: without times, a polyline
         run at ``feed_m_s`` whose tool orientation turns uniformly along each segment; with times
         (a t column), a C² interpolation through the poses at their times, with no ``feed_m_s``
@@ -149,13 +150,21 @@ class MachinePositions(Strict):
 
 class Gcode(Strict):
     """A G-code program, its file named relative to the path file (:mod:`placement.path.gcode`); ``machine`` gives
-    what G28, G30 and G53 moves need, ``tool_diameters_mm`` each tool's diameter by its number (T, D), which
-    cutter radius compensation (G41, G42) offsets the path by."""
+    what G28, G30, G53 and M25 moves need, ``tool_diameters_mm`` each tool's diameter by its number (T, D), which
+    cutter radius compensation (G41, G42) offsets the path by, ``initial_feed_m_s`` the controller's modal feed when
+    the program starts, which feed moves before the program's first F run at (without it they are refused)."""
 
     type: Literal["gcode"]
     file: Text
     machine: MachinePositions | None = None
     tool_diameters_mm: dict[int, Number] | None = None
+    initial_feed_m_s: Positive | None = None
+
+    @field_validator("initial_feed_m_s")
+    @classmethod
+    def _plausible_initial_feed(cls, feed: float | None) -> float | None:
+        """At most MAX_FEED_M_S, as the path's feed_m_s."""
+        return _plausible(feed)
 
 
 class Poses(Strict):
@@ -257,9 +266,14 @@ class PathFile(Strict):
     @classmethod
     def _plausible_feed(cls, feed: float | None) -> float | None:
         """At most MAX_FEED_M_S, the bound of the command line's --feeds: beyond it, a feed in other units."""
-        if feed is not None and feed > MAX_FEED_M_S:
-            raise ValueError(f"must be at most {MAX_FEED_M_S:g} m/s, got {feed:g}: a value in mm/min? "
-                             f"{feed:g} mm/min = {feed * MM_PER_MIN:.4g} m/s")
-        return feed
+        return _plausible(feed)
+
+
+def _plausible(feed: float | None) -> float | None:
+    """A feed (m/s) of at most MAX_FEED_M_S: beyond it, a value in mm/min is likely, and it is refused saying so."""
+    if feed is not None and feed > MAX_FEED_M_S:
+        raise ValueError(f"must be at most {MAX_FEED_M_S:g} m/s, got {feed:g}: a value in mm/min? "
+                         f"{feed:g} mm/min = {feed * MM_PER_MIN:.4g} m/s")
+    return feed
 
 

@@ -9,16 +9,20 @@ decimals, so every length is compared to rs274's printed precision: within 0.000
 (plus 1e-9 mm) of the printed value; feeds likewise (rs274 prints G93's inverse time as the
 feed in units/min it means; in G95 the feed is F·S), and dwells to 0.00005 s. Moves of no
 length (rs274 prints them, the reader drops them) are left out of both. rs274 prints the moves in
-program coordinates and the G92 offset apart (SET_G92_OFFSET, in its line's units): the offset is
-added, giving the path frame's coordinates the reader reports; rotary axes are not compared (the
-reader ignores them while they hold one value).
+program coordinates, and the active work coordinate system's offset (SET_G5X_OFFSET) and the G92
+offset (SET_G92_OFFSET) apart, each in its line's units: both are added, giving machine coordinates,
+less the work offset in force at the program's first move (the reader's path frame is the system the
+program first moves in, its origin where that system's origin is then: G10 L2 before any move
+moves it); rotary axes are not compared (the reader ignores them while they hold one value).
 
 rs274 starts at the machine's zero with the reference positions #5161-#5183 at zero and no work
 offset; the reader is given the same machine (``Machine`` with zero offset and references) and the
 same tool diameters (rs274 reads them from a tool table, ``-t``), which cutter radius compensation
 (G41, G42, G41.1, G42.1) offsets the path by. Each program starts with a rapid to the origin, so the
-reader's first point is known. Programs rs274 refuses for a corner the tool cannot reach, the reader
-refuses at the same line.
+reader's first point is known; but those in ``FIRST_RAPID_FROM_ANYWHERE`` set work offsets before
+it, and their first rapid starts, for the reader, where the machine happens to be (rs274's machine
+zero): the reader leaves it out, and so it is left out of rs274's moves. Programs rs274 refuses for
+a corner the tool cannot reach, the reader refuses at the same line.
 
 Without rs274 the test skips, except where ``CI`` is set: there it fails (.ci/run installs it).
 """
@@ -27,11 +31,12 @@ import os
 import re
 import shutil
 import subprocess
+import warnings
 
 import numpy as np
 import pytest
 
-from placement.path.exceptions import GcodeError
+from placement.path.exceptions import GcodeDialectWarning, GcodeError
 from placement.path.gcode import INCH_M, MM_M, Machine, read_program
 
 RS274 = shutil.which("rs274")
@@ -249,6 +254,60 @@ G91 G1 Y5 A0 B0
 G90 G0 Z5 A0
 M2
 """,
+    "work_offsets_g10_l2_l20_g54_to_g59_3": """G21 G90 G17 G0 X0 Y0 Z0
+G1 X5 Y5 F300
+G10 L2 P2 X10 Y20 Z5
+G10 L2 P3 X-15 Y7.5 Z-2
+G55 G1 X1 Y1
+G2 X5 Y1 I2 J0
+G56 G0 X0 Y0 Z1
+G1 Z-1
+G10 L20 P1 X3 Y3 (G54 from the current point, while in G56)
+G54 G1 X4 Y4
+G91 G10 L2 P2 X1 (G91 does not change G10 L2)
+G90 G55 G1 X0 Y0 Z0
+G10 L20 P0 X2 Y2 (P0: the active system)
+G1 X3 Y3
+G92 X1 Y1
+G10 L20 P0 X0 Y0 (the G92 offset counted)
+G1 X2 Z1
+G92.1
+G1 X4
+G10 L2 P6 X1 Y2 Z3
+G59 G1 X0 Y0 Z0
+G10 L2 P0 Z10 (the active system moves after the program has moved)
+G1 X1 Y1 Z0
+G20 G10 L2 P4 X1 Y1 Z0 (inches)
+G21 G57 G1 X0 Y0
+G10 L2 P7 X5 Y-5 Z0
+G59.1 G1 X1
+G54 G81 X1 Y1 Z-2 R1
+G80
+G55 G1 X0 Y0
+G90.1 G3 X4 Y0 I2 J0
+G91.1
+G28
+G53 G0 X1 Y2 Z3
+G54 G0 X0 Y0 Z0
+M2
+""",
+    "work_offsets_set_before_the_first_move_two_fixtures_m99": """G10 L2 P1 X-100 Y-50 Z-20
+G10 L2 P2 X-40 Y-50 Z-20
+G17 G21 G90 G54 G0 X0 Y0 Z5
+G1 Z-1 F200
+G1 X10
+G2 X20 Y0 I5 J0
+G0 Z5
+G55 G0 X0 Y0
+G1 Z-1
+G1 X10
+G3 X20 Y0 I5 J0
+G0 Z5
+G28 Z0
+G53 G0 X-60 Y-40
+M99 (the main program's end, as M2)
+G1 X100 Y100
+""",
     "polar_words": """G21 G90 G0 X0 Y0 Z0
 G0 X10 Y0 Z2
 G81 R1 Z-2 F90
@@ -391,6 +450,7 @@ G40 G1 X0.3 Z0
 M2
 """,
 }
+FIRST_RAPID_FROM_ANYWHERE = {"work_offsets_set_before_the_first_move_two_fixtures_m99"}
 
 
 def canonical(text):
@@ -399,6 +459,8 @@ def canonical(text):
     events, position, plane, unit = [], np.zeros(3), "XY", 1.0  # mm per program unit
     feed, per_revolution, spindle = 0.0, False, 0.0
     offset = np.zeros(3)  # G92's (mm): rs274 prints the moves in program coordinates, the offset in its line's units
+    work = np.zeros(3)  # the active work coordinate system's offset (mm), likewise
+    origin = None  # the work offset at the first move: the path frame's origin
     for line in text.splitlines():
         if line.strip() in ("", "executing"):
             continue
@@ -413,6 +475,8 @@ def canonical(text):
             plane = arguments.rsplit("_", 1)[1]
         elif name == "SET_G92_OFFSET":
             offset = np.array(numbers[:3]) * unit
+        elif name == "SET_G5X_OFFSET":
+            work = np.array(numbers[1:4]) * unit
         elif name == "SET_FEED_RATE":  # units/min (rs274 turns G93's inverse time into it), or units/rev
             feed = numbers[0]
         elif name == "SET_FEED_MODE":
@@ -422,18 +486,20 @@ def canonical(text):
         elif name == "DWELL":
             events.append(("dwell", numbers[0], None, None, None, None, PRINTED))
         elif name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED", "ARC_FEED"):
+            origin = work if origin is None else origin
+            shift = offset + work - origin  # program coordinates to the path frame's
             rate = None if name == "STRAIGHT_TRAVERSE" else (
                 feed * spindle * unit, PRINTED * spindle * unit + 1e-9) if per_revolution else (
                 feed * unit, tolerance)
             if name == "ARC_FEED":
                 first, second, normal = PLANE_AXES[plane]
                 end = position.copy()
-                shift = offset[[first, second, normal]]
+                shift = shift[[first, second, normal]]
                 end[first], end[second], end[normal] = np.array(numbers[:2] + numbers[5:6]) * unit + shift
                 events.append(("arc", end, np.array(numbers[2:4]) * unit + shift[:2], (first, second, normal),
                                int(numbers[4]), rate, tolerance))
             else:
-                end = np.array(numbers[:3]) * unit + offset
+                end = np.array(numbers[:3]) * unit + shift
                 if np.abs(end - position).max() > 1e-12:
                     events.append(("rapid" if name == "STRAIGHT_TRAVERSE" else "line", end, None, None, None, rate,
                                    tolerance))
@@ -483,7 +549,13 @@ def test_the_reader_moves_as_linuxcnc_does(tmp_path, rs274_present, name):
     text = PROGRAMS[name]
     program_file, printed = run_rs274(tmp_path, name, text)
     expected = canonical(printed)
-    program = read_program(program_file, MACHINE)
+    if name in FIRST_RAPID_FROM_ANYWHERE:
+        assert expected[0][0] == "rapid", printed
+        expected = expected[1:]
+    with warnings.catch_warnings(record=True) as told:  # M99 at the main program's end, read as M2 (as rs274 does)
+        warnings.simplefilter("always", GcodeDialectWarning)
+        program = read_program(program_file, MACHINE)
+    assert [str(w.message) for w in told if "M99" in text and "M99 (line" in str(w.message)] or "M99" not in text
     got = ours(program)
     assert [e[0] for e in got] == [e[0] for e in expected], printed
     for before, after in zip(program.segments, program.segments[1:]):  # each move starts where the last ended

@@ -1,0 +1,154 @@
+"""Other controllers' words that the G-code reader reads as their controller does, and the warnings naming them.
+
+grbl's system commands (``$H``, ``$X``, ``$$``, ...) and status query (``?``) are the sender's and grbl's, not
+moves; homing sends the machine to its home, which the program does not know. A jog (``$J=``), check mode
+(``$C``), sleep (``$SLP``) and a reset of the settings (``$RST=``) are refused by name. Fanuc's and Haas's
+smoothing and look-ahead modes (``G05 P``, ``G05.1 Q``, ``G08 P``, ``G103``, ``G187``) leave the programmed path.
+Each kind read gets one :class:`~placement.path.exceptions.GcodeDialectWarning` naming its lines
+(:func:`dialect_notes`); docs/paths.md lists them all.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable
+
+from placement.path.exceptions import GcodeError
+from placement.path.ngc_words import CONTROLLER_G, CONTROLLER_M
+
+MM_PER_MIN_M_S = 60e3  # mm/min in one m/s
+MAX_LISTED_LINES = 8  # a warning names at most this many lines of each kind
+LONG_DWELL_S = 10.0  # a dwell this long with a whole-number P is warned of: Fanuc and Haas read P2000 as 2 s
+GRBL_SKIPPED = re.compile(r"\$(|\$|#|G|I|N|X|N\d+=.*|\d+=.*|I=.*)|\?")  # reports, settings, startup lines, unlock
+GRBL_HOMING = re.compile(r"\$H([XYZABCUVW]*)")
+GRBL_REFUSED = {
+    "$J=": "a grbl jog ('$J=') is an operator's positioning move, which grbl accepts only while idle, not among a "
+           "job's moves: remove it, or write the move as G0 or G1",
+    "$C": "grbl's check mode ('$C') runs the lines after it without moving the machine: remove it",
+    "$SLP": "grbl's sleep ('$SLP') disables the machine until it is reset: remove it",
+    "$RST=": "'$RST=' restores grbl's defaults, which may erase its work offsets (G54-G59, G28, G30) and so move the "
+             "program: remove it"}
+SPLINES = {50: "a cubic spline (G5) is not read: output it as G1, G2 or G3 moves",
+           51: "a quadratic spline (G5.1) is not read: output it as G1, G2 or G3 moves",
+           80: "lathe words (radius mode, G8) are not read: the path is a mill's X, Y, Z"}
+
+
+def grbl_command(fail: Callable[[str], GcodeError], text: str, compensating: bool) -> list[int]:
+    """A grbl system command (upper case, no spaces).
+
+    Returns:
+        The axes it homes (0, 1, 2; $H: all), whose position is unknown after it; [] for a command skipped.
+
+    Raises:
+        GcodeError: A jog, check mode, sleep, a reset of the settings or an unknown command; homing under cutter
+            radius compensation.
+    """
+    for start, problem in GRBL_REFUSED.items():
+        if text == start or (start.endswith("=") and text.startswith(start)):
+            raise fail(problem)
+    homing = GRBL_HOMING.fullmatch(text)
+    if homing is not None:
+        if compensating:
+            raise fail("grbl's homing ($H) cannot run under cutter radius compensation: G40 first")
+        return [k for k, letter in enumerate("XYZ") if not homing.group(1) or letter in homing.group(1)]
+    if GRBL_SKIPPED.fullmatch(text):
+        return []
+    raise fail("an unknown grbl system command: those read are $H (homing), $X, $$, $#, $G, $I, $N and settings "
+               "($100=...); a jog ($J=) is refused")
+
+
+def dialect_words(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, str]], m_codes: dict[int, str],
+                  values: dict[str, float], written: dict[str, str], depth: int) -> list[str]:
+    """A line's words read as another controller reads them: the kinds to note (``M88``, ``G187``, ``G71``, ``M99``,
+    ``long dwell``); refuses M99 and LinuxCNC's M73 in a subroutine, G70 and G71 as lathe cycles."""
+    if 99 in m_codes and depth:
+        raise fail(m_codes[99], "M99 inside an O-word subroutine (LinuxCNC refuses it): end the subroutine with "
+                                "O<name> endsub or O<name> return")
+    if 73 in m_codes and depth:
+        raise fail(m_codes[73], "M73 inside an O-word subroutine restores the modal state when it returns (LinuxCNC's "
+                                "M73), which is not read: set the modes again after the call")
+    kinds = [f"M{code}" for code in sorted(set(m_codes) & {*CONTROLLER_M, 99})]
+    if "controller mode" in codes:
+        kinds.append(controller_mode(fail, codes["controller mode"], values))
+    units = codes.get("units", (0, ""))
+    if units[0] in (700, 710) and ("P" in values or "Q" in values):
+        raise fail(units[1], "lathe words (turning cycles G70, G71) are not read: the path is a mill's X, Y, Z")
+    if units[0] in (700, 710):
+        kinds.append(f"G{units[0] // 10}")
+    dwell = codes.get("non-modal", (0, ""))[0] == 40 and "P" in values
+    if dwell and values["P"] >= LONG_DWELL_S and re.fullmatch(r"P\d+", written["P"]):  # 2000 s, or Fanuc's 2 s?
+        kinds.append("long dwell")
+    return kinds
+
+
+def controller_mode(fail: Callable[[str, str], GcodeError], code_word: tuple[int, str], values: dict[str, float]) -> str:
+    """A smoothing or look-ahead mode (G5 P, G5.1 Q, G8 P, G103, G187): its name, for the note; G5, G5.1 and G8 as
+    LinuxCNC reads them (splines, a lathe's radius mode) are refused."""
+    code, word = code_word
+    name, _, needs = CONTROLLER_G[code]
+    if (needs and needs not in values) or (code in (50, 51) and any(letter in values for letter in "XYZIJ")):
+        raise fail(word, SPLINES[code])
+    return name
+
+
+def lines_text(lines: list[int]) -> str:
+    """'line 4' or 'lines 4, 9, 12', at most MAX_LISTED_LINES of them."""
+    unique = sorted(set(lines))
+    listed = ", ".join(str(n) for n in unique[:MAX_LISTED_LINES])
+    more = f" and {len(unique) - MAX_LISTED_LINES} more" if len(unique) > MAX_LISTED_LINES else ""
+    return f"line{'s' if len(unique) > 1 else ''} {listed}{more}"
+
+
+def dialect_notes(dialect: dict[str, list[int]], home_given: bool, initial_feed_m_s: float | None) -> list[str]:
+    """One note per kind of controller word read, naming its lines.
+
+    Args:
+        dialect: The lines of each kind ("$", "$H", "M88", "G187", "M25", "M99", "long dwell", "G0 at start",
+            "initial feed").
+        home_given: Whether the path file gives the machine's home (shape.machine.g28_mm), where M25 goes.
+        initial_feed_m_s: The path file's initial feed.
+    """
+    notes = []
+    if "$" in dialect or "$H" in dialect:
+        skipped = [*dialect.get("$", []), *dialect.get("$H", [])]
+        homing = (f"; $H ({lines_text(dialect['$H'])}) sends the machine home, so the position is unknown after it "
+                  "until the program gives one" if "$H" in dialect else "")
+        notes.append(f"grbl system commands and status queries ({lines_text(skipped)}) are the sender's and grbl's, "
+                     f"not moves: skipped{homing}")
+    codes = sorted(int(key[1:]) for key in dialect if key[1:].isdigit() and int(key[1:]) in CONTROLLER_M)
+    if codes:
+        listed = "; ".join(f"M{code}, {CONTROLLER_M[code]} ({lines_text(dialect[f'M{code}'])})" for code in codes)
+        notes.append(f"other controllers' M codes that do not move the tool are ignored: {listed}")
+    modes = [(name, meaning) for name, meaning, _ in CONTROLLER_G.values() if name in dialect]
+    if modes:
+        listed = "; ".join(f"{name}, {meaning} ({lines_text(dialect[name])})" for name, meaning in modes)
+        notes.append(f"other controllers' smoothing and look-ahead modes leave the programmed path as it is, and their "
+                     f"effect on the feed is not modelled: {listed}")
+    units = [f"G{code} ({lines_text(dialect[f'G{code}'])})" for code in (70, 71) if f"G{code}" in dialect]
+    if units:
+        notes.append(f"{' and '.join(units)} {'are' if len(units) > 1 else 'is'} read as Mach3's (and older "
+                     "controls') units, G70 inches and G71 millimetres, as G20 and G21 (LinuxCNC reads G70 and G71 as "
+                     "lathe cycles)")
+    if "M25" in dialect:
+        where = ("to the Z of shape.machine.g28_mm, the machine's home" if home_given else
+                 "to the machine's home, which the path file does not give (shape.machine.g28_mm): the retract is left "
+                 "out and Z is unknown after it until the program gives it")
+        notes.append(f"M25 ({lines_text(dialect['M25'])}) is Centroid's Z home: Z alone moves at rapid {where}")
+    if "M99" in dialect:
+        notes.append(f"M99 ({lines_text(dialect['M99'])}) ends the main program, as M2 (LinuxCNC's reading; "
+                     "Fanuc-style controls run the program again from its start: the path is one pass)")
+    if "long dwell" in dialect:
+        notes.append(f"the dwells of {lines_text(dialect['long dwell'])} (G4 P with a whole number of at least "
+                     f"{LONG_DWELL_S:g}) last P seconds, as LinuxCNC and grbl read P; Fanuc, Haas and some Mach3 "
+                     "controls read a P without a decimal point in milliseconds: if the program is theirs, write "
+                     "P in seconds (P2000 -> P2.)")
+    if "G0 at start" in dialect:
+        verb = "give" if len(set(dialect["G0 at start"])) > 1 else "gives"
+        notes.append(f"{lines_text(dialect['G0 at start'])} {verb} an end point before any motion word: read as G0, the "
+                     "motion mode grbl, Fanuc, Haas and Mach3 controls start in (LinuxCNC starts in none and refuses it)")
+    if "initial feed" in dialect:
+        assert initial_feed_m_s is not None
+        notes.append(f"the feed moves of {lines_text(dialect['initial feed'])} come before the program's first F: they "
+                     f"run at the controller's modal feed the path file gives (shape.initial_feed_m_s: "
+                     f"{initial_feed_m_s:g} m/s = {initial_feed_m_s * MM_PER_MIN_M_S:g} mm/min)")
+    return notes
