@@ -30,6 +30,7 @@ from placement.robot.equip import equip
 from placement.robot.formats import DescriptionOptions, is_description
 from placement.robot.model import Robot
 from placement.robot.urdf import ERD_PREFIX
+from placement.robot.xacro import is_xacro
 from placement.timing.rules import override_timing, timing_for
 from placement.workshop.catalog import ERD_FORM, builtin_robots_dir, sidecar_path
 from placement.workshop.estimates import (
@@ -380,6 +381,9 @@ def load_robot_argument(robot: str, args: argparse.Namespace, cell: str | None =
             raise UsageError(f"--tool and --write-sidecar apply to robots given as a description file (URDF, xacro) or "
                              f"{ERD_FORM}NAME; the sidecar of '{robot[:80]}' names its tool in end_effector.frame")
         loaded = load_robot(robot, allow_massless=allow_massless, options=options)
+    if options.xacro_args and not is_xacro(Path(loaded.urdf_source)):
+        raise UsageError(f"--robot-arg applies to robots described in xacro; the description of '{robot[:80]}' is "
+                         f"{Path(loaded.urdf_source).name}")
     if solver_name(loaded) == "numeric":
         compile_noticed(touch_kernels, "the generic kinematics", "some 10 to 20 s")
     elif solver_name(loaded) == "closed_form":
@@ -404,7 +408,11 @@ def description_options(args: argparse.Namespace) -> DescriptionOptions:
         if not separator or not name.strip():
             raise UsageError(f"--robot-arg: expected NAME:=VALUE (a xacro argument, e.g. ur_type:=ur5e), got '{item[:60]}'")
         arguments[name.strip()] = value.strip()
-    return DescriptionOptions(tuple(Path(folder) for folder in getattr(args, "package_path", [])), arguments)
+    folders = tuple(Path(folder) for folder in getattr(args, "package_path", []))
+    missing = [str(folder) for folder in folders if not folder.is_dir()]
+    if missing:
+        raise UsageError(f"--package-path: no such folder: {', '.join(missing)[:200]}")
+    return DescriptionOptions(folders, arguments)
 
 
 def compile_noticed(work: Callable[[], None], what: str, expected: str, patience_s: float = 2.0) -> float | None:

@@ -57,11 +57,15 @@ def expand_xacro(path: Path, arguments: Mapping[str, str], package_paths: Sequen
     try:
         text = xacrodoc.XacroDoc.from_file(str(path), subargs=dict(arguments), walk_up=True).to_urdf_string()
     except Exception as error:  # xacro's own errors (XacroException, package look-ups) and XML errors
-        said = " ".join(str(error).split())[:200] or type(error).__name__
+        said = " ".join(str(error).split())[:400] or type(error).__name__
         missing = re.match(r"Undefined substitution argument (\S+)", said)
         if missing:
             said = f"its argument '{missing.group(1)}' is not given{said[missing.end():]}"
-        hint = " (give it with --robot-arg NAME:=VALUE, or in the sidecar's xacro_args)" if "argument" in said else ""
+            hint = " (give it with --robot-arg NAME:=VALUE, or in the sidecar's xacro_args)"
+        else:  # an argument left at its default often names a file that does not exist (ur_type: ur5x)
+            given = ", ".join(f"{name}:={value}" for name, value in arguments.items()) or "none"
+            hint = (f" (arguments given: {given}; an argument left out takes the file's default: give it with "
+                    "--robot-arg NAME:=VALUE, or in the sidecar's xacro_args)")
         raise RobotFileError(declaring, field, f"xacro cannot expand {path}: {said}{hint}") from None
     digest = hashlib.sha256(text.encode()).hexdigest()[:16]
     stem = path.name.removesuffix(path.suffix).removesuffix(".urdf")

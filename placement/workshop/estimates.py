@@ -77,9 +77,10 @@ def erd_name(text: str) -> str | None:
 def estimate_warning(robot: Robot) -> str:
     """The one warning an ``erd:`` robot deserves: its drives and workspace are estimates."""
     count = sum(text.startswith("EST") for text in robot.sources.values())
+    locked = f"; joints held fixed: {', '.join(robot.locked_joints)}" if robot.locked_joints else ""
     return (f"{robot.name}: the drives (gear {GEAR_RATIO:g}:1, motor constants scaled from the URDF's effort and "
-            f"velocity limits), the workspace box and the reference posture are estimates ({count} EST sources); "
-            "absolute energies are only as good as they are (write a sidecar: docs/adding_a_robot.md)")
+            f"velocity limits), the workspace box and the reference posture are estimates ({count} EST sources)"
+            f"{locked}; absolute energies are only as good as they are (write a sidecar: docs/adding_a_robot.md)")
 
 
 def load_erd_robot(name: str, tool: str | None, *, allow_massless: bool = False) -> Robot:

@@ -144,3 +144,15 @@ def test_tool_on_a_sidecar_and_a_bad_robot_arg_exit_2_with_one_line(capsys):
     assert main(["--robot", "ur5", "--robot-arg", "reach", "--path", str(CIRCLE)]) == 2
     err = capsys.readouterr().err
     assert err.startswith("error: --robot-arg: expected NAME:=VALUE") and len(err.strip().splitlines()) == 1
+
+
+def test_robot_args_on_a_robot_not_in_xacro_and_a_missing_package_folder_are_refused(capsys, tmp_path):
+    assert main(["--robot", "orthoglide", "--robot-arg", "a:=b", "--path", str(CIRCLE), "--at", "x=0"]) == 2
+    assert "--robot-arg applies to robots described in xacro" in capsys.readouterr().err
+    assert main(["--robot", "orthoglide", "--package-path", str(tmp_path / "none"), "--path", str(CIRCLE)]) == 2
+    assert f"--package-path: no such folder: {tmp_path / 'none'}" in capsys.readouterr().err
+
+
+def test_the_estimates_warning_names_the_joints_held_fixed(capsys):
+    assert main(["--robot", "erd:panda", "--tool", "panda_hand", "--path", str(CIRCLE), "--at", "x=400,y=0,z=300"]) in (0, 2)
+    assert "joints held fixed: panda_joint3" in capsys.readouterr().err
