@@ -4,8 +4,10 @@ Every sample of every placement is solved together, by the compiled kernels of
 :mod:`~placement.kinematics.kernels`:
 
 1. **Assembly.** Each placement's first sample is reached from the reference configuration by
-   continuation (small steps of the end effector), so that every placement starts on the
-   reference configuration's assembly mode and branch.
+   continuation (small steps of the end effector: CONTINUATION_STEP_M, shorter for a robot that
+   would turn a joint by more than CONTINUATION_JOINT_STEP over one at its reference configuration,
+   see :func:`continuation_step`), so that every placement starts on the reference configuration's
+   assembly mode and branch.
 2. **Coarse march.** Samples about 2 cm apart along the path follow one another, each
    seeded by the first-order prediction ``q + D·Δx`` (``D = G·M⁺``) of the previous one. Both
    ends of a jump (a step of at least JUMP_M and JUMP_RATIO times its neighbours, such as the gap
@@ -42,7 +44,9 @@ SOLVE_TOLERANCE = 1e-11  # residual norm (m and rad) at which Newton stops
 MAX_ITERATIONS = 30
 MAX_STEP = 0.2  # largest joint step of one Newton iteration (m or rad)
 DAMPING = 1e-14  # Levenberg term of the normal equations (keeps rank-deficient samples finite)
-CONTINUATION_STEP_M = 0.05  # assembly: end-effector step from the reference configuration (predicted)
+CONTINUATION_STEP_M = 0.05  # assembly: end-effector step from the reference configuration (predicted) ...
+CONTINUATION_JOINT_STEP = 1.0  # ... or shorter, where at the reference a step would turn a joint farther (rad or m)
+SHORTEST_CONTINUATION_STEP_M = CONTINUATION_STEP_M / 64  # ... down to this
 CONTINUATION_TOLERANCE = 1e-5  # assembly: residual norm enough on the way (m and rad)
 COARSE_STEP_M = 0.02  # coarse march: task displacement between marched samples (rotation counts 0.1 m/rad)
 ROTATION_LENGTH_M = 0.1  # metres per radian when measuring task displacements
@@ -76,6 +80,8 @@ class BatchedKinematics:
         self.dim = robot.task_dimension
         self.tree = tree_arrays(robot.model, frame_ids, closures=closures, end_effector=len(frame_ids) - 1,
                                 task_dimension=self.dim, actuated=robot.actuated_v_indices)
+        self.settings = SETTINGS.copy()
+        self.settings[4] = continuation_step(self.tree, robot.reference_q)
 
     def solve_paths(self, targets: Targets, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Configurations of every sample of placements of ``n`` samples each, which converged and which
@@ -89,7 +95,7 @@ class BatchedKinematics:
         return kernels.solve_paths(self.tree, self.robot.reference_q.astype(float),
                                    np.ascontiguousarray(targets.position_m, dtype=float),
                                    np.ascontiguousarray(rotation, dtype=float), pose, n, coarse.astype(np.int64),
-                                   bisection_schedule(coarse, n, jumps), arc, SETTINGS)
+                                   bisection_schedule(coarse, n, jumps), arc, self.settings)
 
     def rates(self, q: np.ndarray, task: TaskTrajectory) -> tuple[JointTrajectory, np.ndarray]:
         """Joint motion at solved configurations, and which samples are regular (not singular)."""
@@ -98,6 +104,26 @@ class BatchedKinematics:
                                                          np.ascontiguousarray(task.acceleration(), dtype=float),
                                                          DAMPING)
         return JointTrajectory(q, v, a, basis, task_map), condition < SINGULAR_CONDITION
+
+
+def continuation_step(tree: kernels.TreeArrays, reference_q: np.ndarray) -> float:
+    """The assembly's continuation step for one robot (m): CONTINUATION_STEP_M, or the step that turns a joint by
+    CONTINUATION_JOINT_STEP at the reference configuration where CONTINUATION_STEP_M would turn it farther (a
+    mechanism small beside CONTINUATION_STEP_M, or one whose reference is near a singularity), but no shorter than
+    SHORTEST_CONTINUATION_STEP_M.
+
+    The joint motion per metre of task motion is the largest row norm of D = G·M⁺ (rotation columns per
+    ROTATION_LENGTH_M), as the branch test measures it; a first-order prediction that turns joints by radians lands
+    Newton on another branch, or a turn away.
+    """
+    q = np.ascontiguousarray(reference_q, dtype=float)[None]
+    still = np.zeros((1, tree.task_dimension))
+    _, _, basis, task_map, _ = kernels.rates(tree, q, still, still, DAMPING)
+    weights = np.where(np.arange(tree.task_dimension) < 3, 1.0, 1.0 / ROTATION_LENGTH_M)
+    largest = float(np.linalg.norm(basis[0] @ np.linalg.pinv(task_map[0]) * weights, axis=1).max(initial=0.0))
+    if not np.isfinite(largest) or largest * CONTINUATION_STEP_M <= CONTINUATION_JOINT_STEP:
+        return CONTINUATION_STEP_M
+    return max(CONTINUATION_JOINT_STEP / largest, SHORTEST_CONTINUATION_STEP_M)
 
 
 def _displacement(start: Targets, stop: Targets) -> np.ndarray:

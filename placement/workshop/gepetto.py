@@ -36,12 +36,24 @@ under the sidecar's ``sources``:
 
 ``placement assemble FOLDER --write`` closes the loops and writes everything, with the closed
 ``reference_configuration``, the joints it locks (freedoms no actuator drives, such as two coaxial
-pins a weld closure leaves spinning), an estimated workspace (a box around the end effector of
-half-side 20 % of its distance from the base, along the directions it moves in, ±1 mm across
-them, shrunk to the part the solver reaches from the closed pose) and, for a planar mechanism,
-its plane, to ``placement.yaml`` beside ``robot.yaml``: an
+pins a weld closure leaves spinning), an estimated workspace and, for a planar mechanism, its
+plane, to ``placement.yaml`` beside ``robot.yaml``: an
 ordinary sidecar, loaded instead of ``robot.yaml`` from then on (for the folder or its
 ``robot.yaml``), where the estimates can be replaced. Deleting it goes back to ``robot.yaml``.
+
+The estimated workspace is a box the path search can trust, found from what the actuators reach
+(:mod:`placement.workshop.reach`): the actuators' ranges are sampled on a grid (at most 2 500
+nodes) flooded from the closed pose by continuation, the passive joints solved at each node,
+stopping at singularities (condition number 1e3 of the closure or task Jacobian, or a sign change
+of the task map's determinant) and where the passive joints would jump to another branch; the
+box, along the directions the end effector moves in, is the largest inside the positions reached
+(the images of the grid's simplices), and the numeric solver must reach every point of a grid
+over it from the closed pose, with the actuators in range (else the box is chosen again without
+the points it missed). Across those directions it is ±1 mm around the end effector. A mechanism
+with more actuators than such directions, or moving in a plane so tilted that as many of the base's
+axes do not span it, gets the former estimate instead: a box around the end effector of half-side
+20 % of its distance from the base, shrunk to the part the solver reaches (the source under
+``sources`` says which, and why).
 """
 
 from __future__ import annotations
@@ -68,6 +80,7 @@ from placement.robot.formats import SIDECAR_NAME, URDF_NAME, YAML_NAME, is_gepet
 from placement.robot.model import Robot
 from placement.robot.sidecar import Plane, Sidecar
 from placement.schema import Strict, read_yaml
+from placement.workshop.reach import ReachedBox, reached_box
 
 MOTOR_SPEED_RAD_S = 314.16  # rated speed of the estimated motors (3000 rpm)
 PEAK_CURRENT_A = 10.0
@@ -378,13 +391,16 @@ def _workspace(robot: Robot, sources: dict[str, str]) -> dict[str, Any]:
     """The estimated ``workspace``, and ``placement`` for a mechanism moving in a plane: ``free: [x, y, phi]``
     in a horizontal plane, else the plane (its normal is the direction the end effector cannot move in).
 
-    The box is first the one around the end effector at ``robot.reference_q`` (its loops closed), of
-    half-side ``WORKSPACE_FRACTION`` of its distance from the base along the directions it moves in;
-    then, along those directions, it shrinks to the bounding box of the points of a
-    ``REACH_GRID``-per-side grid over it (in the plane, for a planar mechanism) that the generic
-    solver reaches from the reference configuration without leaving its branch or meeting a singularity:
-    a CAD export with its arms stretched has its end effector at the edge of its reach, and half of
-    the box around it would lie beyond.
+    Along the directions the end effector moves in at ``robot.reference_q`` (its loops closed), the box
+    is the largest inside what the actuators reach within their ranges, checked by the numeric
+    solver (:func:`placement.workshop.reach.reached_box`), when there are as many actuators as such
+    directions and these lie along the base's axes; across them, ``FLAT_HALF_SIDE_M`` either side of
+    the end effector. Otherwise (a redundant mechanism, or one moving in a plane at about 45° to the
+    base's axes) the box is
+    the former estimate: a box around the end effector of half-side ``WORKSPACE_FRACTION`` of its
+    distance from the base along those directions, shrunk to the bounding box of the points of a
+    ``REACH_GRID``-per-side grid over it (in the plane, for a planar mechanism) that the numeric
+    solver reaches from the reference configuration (:func:`_reachable_box`); the source says why.
     """
 
     model, data, q = robot.model, robot.model.createData(), robot.reference_q
@@ -395,12 +411,25 @@ def _workspace(robot: Robot, sources: dict[str, str]) -> dict[str, Any]:
     weight = (directions**2).sum(axis=1)
     moving = weight >= 0.5 * weight.max(initial=0.0) if weight.max(initial=0.0) > 0 else np.zeros(3, bool)
     center = data.oMf[robot.end_effector_frame_id].translation.copy()
-    half = max(WORKSPACE_FRACTION * float(np.linalg.norm(center)), 0.01)
-    low, high = _reachable_box(robot, center, np.where(moving, half, 0.0), u[:, 2] if directions.shape[1] == 2 else None)
+    normal = u[:, 2] if directions.shape[1] == 2 else None
+    if directions.shape[1] != len(robot.actuators):
+        reached: ReachedBox | str = (f"the rule from the actuators' reach takes as many actuators ({len(robot.actuators)}) "
+                                     f"as directions the end effector moves in ({directions.shape[1]})")
+    elif int(moving.sum()) != directions.shape[1]:
+        reached = "the directions the end effector moves in lie across more of the base's axes than they number"
+    else:
+        reached = reached_box(robot, directions, np.flatnonzero(moving), center, normal)
+    if isinstance(reached, ReachedBox):
+        low, high = reached.low_m, reached.high_m
+        sources["workspace"] = f"EST: {reached.text}; {FLAT_HALF_SIDE_M * 1e3:g} mm across them"
+    else:
+        half = max(WORKSPACE_FRACTION * float(np.linalg.norm(center)), 0.01)
+        low, high = _reachable_box(robot, center, np.where(moving, half, 0.0), normal)
+        sources["workspace"] = (f"EST: the part the solver reaches (a {REACH_GRID}-per-side grid) of a box around the end "
+                                f"effector at reference_configuration, half-side {half:.4g} m (20 % of its distance from "
+                                f"the base) along the directions it moves in, {FLAT_HALF_SIDE_M * 1e3:g} mm across them, "
+                                f"as {reached}")
     low, high = np.where(moving, low, center - FLAT_HALF_SIDE_M), np.where(moving, high, center + FLAT_HALF_SIDE_M)
-    sources["workspace"] = (f"EST: the part the solver reaches (a {REACH_GRID}-per-side grid) of a box around the end "
-                            f"effector at reference_configuration, half-side {half:.4g} m (20 % of its distance from the "
-                            f"base) along the directions it moves in, {FLAT_HALF_SIDE_M * 1e3:g} mm across them")
     result: dict[str, Any] = {"workspace": {"type": "box", "min_m": _micrometres(low), "max_m": _micrometres(high),
                                             "points_m": {"reference": _micrometres(center)}}}
     if moving.tolist() == [True, True, False]:
@@ -408,9 +437,9 @@ def _workspace(robot: Robot, sources: dict[str, str]) -> dict[str, Any]:
         fix = f"; give --fix z={center[2] * 1e3:.6g} (mm)" if abs(center[2]) > 1e-9 else ""
         sources["placement"] = f"DERIVED: the end effector moves in the plane z = {center[2]:.6g} m: paths lie in it{fix}"
     elif directions.shape[1] == 2:
-        normal, point = _plane_normal(u[:, 2]), _micrometres(center)
-        result["placement"] = {"plane": {"normal": normal, "point_m": point}}
-        sources["placement"] = (f"DERIVED: the end effector moves in the plane of normal {normal} through {point} m "
+        signed, point = _plane_normal(u[:, 2]), _micrometres(center)
+        result["placement"] = {"plane": {"normal": signed, "point_m": point}}
+        sources["placement"] = (f"DERIVED: the end effector moves in the plane of normal {signed} through {point} m "
                                 "(its position at reference_configuration): paths lie in it")
     return result
 

@@ -2,11 +2,16 @@
 
 from __future__ import annotations
 
+import re
+import shutil
+import warnings
+
 import numpy as np
 import pinocchio as pin
 import pytest
 
 from placement import load_robot
+from placement.__main__ import main
 from placement.kinematics import SOLVERS, TaskTrajectory, solver_for
 from placement.kinematics.base import task_error
 from placement.kinematics.batched import SOLVE_TOLERANCE
@@ -15,6 +20,8 @@ from placement.path import load_path
 from placement.placing.transform import placed_task
 from placement.robot.closures import closure_residuals
 from placement.search.space import default_space
+from placement.workshop.gepetto import EstimatesWarning
+from tests.support.paths import DATA
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 ROBOTS = ["orthoglide", "fivebar", "ur5", "panda"]
@@ -156,3 +163,38 @@ def test_a_compile_is_announced_with_its_length_only_when_it_makes_the_command_w
     assert err.count("compiled the kernels in 0 s") == 1
     assert compile_noticed(lambda: time.sleep(0.2), "the kernels", "a while", patience_s=600.0) is None
     assert capsys.readouterr().err == ""
+
+
+def _fivebar_scaled(folder, scale: float):
+    """The test five-bar exported in Gepetto's format (tests/data/gepetto_fivebar), every length times ``scale``,
+    its loop closed by ``assemble --write``."""
+    copy = folder / f"fivebar_{scale}"
+    shutil.copytree(DATA / "gepetto_fivebar", copy)
+    urdf = copy / "robot.urdf"
+    urdf.write_text(re.sub(r'xyz="([^"]*)"', lambda m: 'xyz="' + " ".join(repr(float(v) * scale) for v in m[1].split())
+                           + '"', urdf.read_text()))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EstimatesWarning)
+        assert main(["assemble", str(copy), "--write"]) == 0
+    return load_robot(copy)
+
+
+def test_the_continuation_step_shrinks_with_the_mechanism(tmp_path):
+    """Five-bars ten and twenty times smaller than the test one (arms of 2 and 1 cm) would turn their joints by
+    radians over a continuation step of 5 cm: their assembly's steps shrink in proportion (a radian of joint motion
+    each at the reference configuration), so that both reach the same scaled targets with the same joint angles,
+    and as many as the full-size five-bar reaches with its 5 cm steps (with 5 cm steps they reached 616 and 614
+    of the 692, four of them a turn away from each other)."""
+    x, y = np.meshgrid(np.linspace(-0.4, 0.4, 41), np.linspace(-0.1, 0.45, 29))
+    targets = np.stack([x.ravel(), y.ravel(), np.zeros(x.size)], axis=1)
+    still = np.zeros_like(targets)
+    solved = []
+    for scale in (1.0, 0.1, 0.05):
+        robot = _fivebar_scaled(tmp_path, scale)
+        joints, reachable, _ = SOLVERS.get("numeric")(robot).solve(TaskTrajectory(targets * scale, still, still),
+                                                                      len(targets))
+        solved.append((reachable, joints.q[:, [a.q_index for a in robot.actuators]]))
+    (full, _), (tenth, tenth_q), (twentieth, twentieth_q) = solved
+    assert min(tenth.sum(), twentieth.sum()) >= full.sum() > 600 and (tenth != twentieth).sum() <= 2
+    both = tenth & twentieth
+    np.testing.assert_allclose(tenth_q[both], twentieth_q[both], atol=1e-6)

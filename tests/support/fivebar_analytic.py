@@ -124,3 +124,46 @@ def lumped_torques(position_m: ArrayLike, velocity_m_s: ArrayLike, acceleration_
     com_x, com_y = 0.5 * L1 * np.cos(q), 0.5 * L1 * np.sin(q)
     gravity_moment = prox_mass_kg * (com_x * g[1] - com_y * g[0])
     return prox_inertia_A_kg_m2 * qdd - gravity_moment + transmitted
+
+
+def reached_on_branch(px: ArrayLike, py: ArrayLike, actuator_range_rad: float,
+                      reference: tuple[float, float] = REFERENCE_TIP) -> np.ndarray:
+    """Whether the tip reaches (px, py) from the reference tip without leaving its branch or meeting a singularity.
+
+    On the branch of :func:`joint_angles` (arm 1's elbow out to the left, arm 2's to the right), a tip
+    position is reached when both arms reach it short of a serial singularity (L2 - L1 < |P - A_i| <
+    L1 + L2: an arm neither folded nor stretched), when the triangle B1 B2 P turns the same way as at
+    the reference tip (the same assembly mode, the distal links not aligned: no parallel singularity),
+    and when each actuated angle lies within ``actuator_range_rad`` of its value at the reference.
+
+    Args:
+        px, py: Tip coordinates in the base frame (m), arrays of one shape.
+        actuator_range_rad: Each actuator's range either side of its reference angle (below pi, so that the
+            angles' differences are unambiguous).
+        reference: The reference tip position (m).
+
+    Returns:
+        A boolean array of the shape of ``px``.
+    """
+    px, py = np.asarray(px, dtype=float), np.asarray(py, dtype=float)
+
+    def arm(x: np.ndarray, y: np.ndarray, base: tuple[float, float], elbow: float) -> tuple[np.ndarray, ...]:
+        distance = np.hypot(x - base[0], y - base[1])
+        with np.errstate(invalid="ignore"):
+            beta = np.arccos((L1**2 + distance**2 - L2**2) / (2 * L1 * distance))
+        angle = np.arctan2(y - base[1], x - base[0]) + elbow * beta
+        return angle, base[0] + L1 * np.cos(angle), base[1] + L1 * np.sin(angle), distance
+
+    def turn(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        a1, bx1, by1, d1 = arm(x, y, A1, +1.0)
+        a2, bx2, by2, d2 = arm(x, y, A2, -1.0)
+        return a1, a2, (bx2 - bx1) * (y - by1) - (by2 - by1) * (x - bx1), d1, d2
+
+    ref_a1, ref_a2, ref_turn, _, _ = turn(np.array(reference[0]), np.array(reference[1]))
+    a1, a2, side, d1, d2 = turn(px, py)
+    within = np.ones(px.shape, bool)
+    for distance in (d1, d2):
+        within &= (distance > L2 - L1) & (distance < L1 + L2)
+    for angle, start in ((a1, ref_a1), (a2, ref_a2)):
+        within &= np.abs(np.angle(np.exp(1j * (angle - start)))) <= actuator_range_rad
+    return within & (np.sign(side) == np.sign(ref_turn)) & (side != 0)
