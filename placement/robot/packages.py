@@ -102,7 +102,7 @@ def resolve_uri(uri: str, description: Path, folders: Sequence[Path], field: str
         path = package / unquote(parsed.path).lstrip("/")
     elif parsed.scheme == "file":
         path = Path(unquote(parsed.path))
-    elif parsed.scheme in ("", ) or len(parsed.scheme) == 1:  # a path (a Windows drive letter is not a scheme)
+    elif len(parsed.scheme) <= 1:  # a path (a Windows drive letter is not a scheme)
         path = description.parent / uri
     else:
         raise RobotFileError(description, field, f"'{uri[:120]}': expected package://, file:// or a file path")
