@@ -366,24 +366,28 @@ def load_robot_argument(robot: str, args: argparse.Namespace, cell: str | None =
         PlacementError: The robot cannot be loaded (the message says why).
     """
     tool, allow_massless = getattr(args, "tool", None), getattr(args, "allow_massless", False)
+    write_sidecar = getattr(args, "write_sidecar", None)
     options = description_options(args)
     name, path = erd_name(robot), Path(robot)
-    if name is not None or is_description(path):
-        loaded = (load_erd_robot(name, tool, allow_massless=allow_massless) if name is not None else
-                  load_description_robot(path, tool, allow_massless=allow_massless, options=options))
-        print(f"warning: {estimate_warning(loaded)}", file=sys.stderr)
-        if getattr(args, "write_sidecar", None):
-            written = write_estimated_sidecar(Path(args.write_sidecar), loaded)
-            print(f"wrote the estimated sidecar {written.sidecar_path}: replace its estimates (EST under sources) with "
-                  f"the robot's own values and load it with --robot {written.sidecar_path}", file=sys.stderr)
+    estimated = name is not None or is_description(path)
+    if not estimated and (tool is not None or write_sidecar):
+        raise UsageError(f"--tool and --write-sidecar apply to robots given as a description file (URDF, xacro) or "
+                         f"{ERD_FORM}NAME; the sidecar of '{robot[:80]}' names its tool in end_effector.frame")
+    if name is not None:
+        loaded = load_erd_robot(name, tool, allow_massless=allow_massless)
+    elif estimated:
+        loaded = load_description_robot(path, tool, allow_massless=allow_massless, options=options)
     else:
-        if tool is not None or getattr(args, "write_sidecar", None):
-            raise UsageError(f"--tool and --write-sidecar apply to robots given as a description file (URDF, xacro) or "
-                             f"{ERD_FORM}NAME; the sidecar of '{robot[:80]}' names its tool in end_effector.frame")
         loaded = load_robot(robot, allow_massless=allow_massless, options=options)
     if options.xacro_args and not is_xacro(Path(loaded.urdf_source)):
         raise UsageError(f"--robot-arg applies to robots described in xacro; the description of '{robot[:80]}' is "
                          f"{Path(loaded.urdf_source).name}")
+    if estimated:
+        print(f"warning: {estimate_warning(loaded)}", file=sys.stderr)
+    if write_sidecar:
+        written = write_estimated_sidecar(Path(write_sidecar), loaded)
+        print(f"wrote the estimated sidecar {written.sidecar_path}: replace its estimates (EST under sources) with "
+              f"the robot's own values and load it with --robot {written.sidecar_path}", file=sys.stderr)
     if solver_name(loaded) == "numeric":
         compile_noticed(touch_kernels, "the generic kinematics", "some 10 to 20 s")
     elif solver_name(loaded) == "closed_form":
