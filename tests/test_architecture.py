@@ -1,6 +1,6 @@
 """The package's layout holds: every package in one layer of the import-linter contract (pyproject.toml, checked
 by ``lint-imports``), no import cycle, a short top level, files one can hold in one's head, and only
-the robot package and the workshop read a robot's sidecar (every other module asks the robot: ``Robot.workspace``,
+the robot package reads a robot's sidecar (every other module asks the robot: ``Robot.workspace``,
 ``Robot.plane``, ``Robot.named_drives``, ..., so the sidecar's schema can change behind it).
 
 Imports are read from the source with ``ast``, two ways. As Python runs them when a module is
@@ -125,10 +125,10 @@ def sidecar_reads(file: Path, root: Path = ROOT) -> list[str]:
             if isinstance(node, ast.Attribute) and node.attr == "sidecar"]
 
 
-def test_only_the_robot_package_and_the_workshop_read_the_sidecar():
-    owners = (PACKAGE / "robot", PACKAGE / "workshop")  # the workshop writes sidecars: assemble, estimates, calibration
+def test_only_the_robot_package_reads_the_sidecar():
+    owner = PACKAGE / "robot"
     files = [file for folder in ("placement", "examples", "benchmarks") for file in sorted((ROOT / folder).rglob("*.py"))
-             if not any(owner in file.parents for owner in owners)]
+             if owner not in file.parents]
     assert len(files) > 50
     reads = [read for file in files for read in sidecar_reads(file)]
     assert not reads, "read it through a property of placement.robot.model.Robot:\n" + "\n".join(reads)

@@ -7,7 +7,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from types import ModuleType
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pinocchio as pin
@@ -164,6 +164,19 @@ class Robot:
         """The URDF as the sidecar names it: a path relative to the sidecar, or 'example-robot-data:NAME'
         (``urdf_path`` is the file itself)."""
         return self.sidecar.urdf
+
+    @property
+    def reference_configuration(self) -> dict[str, float]:
+        """The joints the sidecar sets at the reference configuration, in its order, and their values (m or rad)."""
+        return dict(self.sidecar.reference_configuration)
+
+    def edited_sidecar(self, **fields: Any) -> Sidecar:
+        """The robot's sidecar with these fields replaced, to build the robot anew (its assembly, say)."""
+        return self.sidecar.model_copy(update=fields)
+
+    def sidecar_document(self) -> dict[str, Any]:
+        """The robot's sidecar as a YAML document: the fields that differ from their defaults (SI units)."""
+        return self.sidecar.model_dump(mode="json", exclude_defaults=True, serialize_as_any=True)
 
     @property
     def locked_joints(self) -> dict[str, float]:

@@ -297,8 +297,7 @@ def locked_robot(robot: Robot, reference: dict[str, float], locks: dict[str, flo
     Raises:
         RobotFileError: Pinocchio cannot hold these joints (see :func:`placement.robot.build.reduced_model`).
     """
-    sidecar = robot.sidecar.model_copy(update={"locked_joints": {**robot.sidecar.locked_joints, **locks},
-                                               "reference_configuration": reference})
+    sidecar = robot.edited_sidecar(locked_joints={**robot.locked_joints, **locks}, reference_configuration=reference)
     return robot_from_sidecar(robot.sidecar_path, sidecar, check_closures=False)
 
 
@@ -315,7 +314,7 @@ def reference_values(robot: Robot, assembly: Assembly) -> dict[str, float]:
     whether ``--near`` set it or the solver moved it; values below ``ZERO_SNAP`` become 0.0.
     """
     actuated = {a.joint for a in robot.actuators}
-    names = list(robot.sidecar.reference_configuration)
+    names = list(robot.reference_configuration)
     for name in movable_joints(robot):
         index = joint_q_index(robot, name)
         changed = index is not None and assembly.q[index] != robot.reference_q[index]

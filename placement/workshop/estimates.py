@@ -475,9 +475,9 @@ def write_estimated_sidecar(path: Path, robot: Robot) -> Robot:
         AssemblyError: The file would not load (nothing is written).
     """
     path = path.resolve()
-    document = robot.sidecar.model_dump(mode="json", exclude_defaults=True, serialize_as_any=True)
-    if not document["urdf"].startswith(ERD_PREFIX):
-        document["urdf"] = os.path.relpath(robot.sidecar.urdf, path.parent)
+    document = robot.sidecar_document()
+    if not robot.urdf_source.startswith(ERD_PREFIX):
+        document["urdf"] = os.path.relpath(robot.urdf_source, path.parent)
     if robot.package_paths:
         document["package_paths"] = [os.path.relpath(folder, path.parent) for folder in robot.package_paths]
     header = (f"# Written by 'placement --write-sidecar' from {robot.sidecar_path}: the drives, the workspace and the\n"
