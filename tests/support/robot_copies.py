@@ -104,21 +104,26 @@ def assembled_gepetto_fivebar(folder: Path) -> Path:
 
 # --- a two-link planar arm ------------------------------------------------------------------------------------------
 
-ARM_URDF = """<?xml version="1.0"?>
-<robot name="arm2">
-  <link name="base"/>
+ARM_LINKS = """\
   <link name="upper"><inertial><origin xyz="0.15 0 0"/><mass value="1.0"/>
     <inertia ixx="1e-4" iyy="0.0075" izz="0.0075" ixy="0" ixz="0" iyz="0"/></inertial></link>
   <link name="fore"><inertial><origin xyz="0.125 0 0"/><mass value="0.6"/>
     <inertia ixx="6e-5" iyy="0.003125" izz="0.003125" ixy="0" ixz="0" iyz="0"/></inertial></link>
   <link name="tip"/>
-  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/><axis xyz="0 -1 0"/>
-    <limit lower="-3.1416" upper="3.1416" effort="20" velocity="10"/></joint>
+"""  # the upper arm, the forearm and the tip, which the shoulder and elbow joints below move
+ARM_ELBOW = """\
   <joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="0.3 0 0"/><axis xyz="0 -1 0"/>
     <limit lower="-3.1416" upper="3.1416" effort="20" velocity="10"/></joint>
   <joint name="tip_joint" type="fixed"><parent link="fore"/><child link="tip"/><origin xyz="0.25 0 0"/></joint>
 </robot>
 """
+ARM_URDF = """<?xml version="1.0"?>
+<robot name="arm2">
+  <link name="base"/>
+""" + ARM_LINKS + """\
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/><axis xyz="0 -1 0"/>
+    <limit lower="-3.1416" upper="3.1416" effort="20" velocity="10"/></joint>
+""" + ARM_ELBOW
 ARM_SIDECAR = {
     "name": "arm2", "description": "Two-link planar arm in the vertical x-z plane", "urdf": "arm.urdf",
     "gravity_m_s2": [0, 0, -9.81], "end_effector": {"frame": "tip", "task": "position"},
@@ -256,20 +261,12 @@ UNIVERSAL_URDF = """<?xml version="1.0"?>
 <robot name="universal_arm">
   <link name="base"/>
   <link name="gimbal"/>
-  <link name="upper"><inertial><origin xyz="0.15 0 0"/><mass value="1.0"/>
-    <inertia ixx="1e-4" iyy="0.0075" izz="0.0075" ixy="0" ixz="0" iyz="0"/></inertial></link>
-  <link name="fore"><inertial><origin xyz="0.125 0 0"/><mass value="0.6"/>
-    <inertia ixx="6e-5" iyy="0.003125" izz="0.003125" ixy="0" ixz="0" iyz="0"/></inertial></link>
-  <link name="tip"/>
+""" + ARM_LINKS + """\
   <joint name="yaw" type="revolute"><parent link="base"/><child link="gimbal"/><origin xyz="0 0 0.3"/><axis xyz="0 0 1"/>
     <limit lower="-3.1416" upper="3.1416" effort="20" velocity="10"/></joint>
   <joint name="shoulder" type="revolute"><parent link="gimbal"/><child link="upper"/><origin xyz="{offset} 0 0"/>
     <axis xyz="0 -1 0"/><limit lower="-3.1416" upper="3.1416" effort="20" velocity="10"/></joint>
-  <joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="0.3 0 0"/><axis xyz="0 -1 0"/>
-    <limit lower="-3.1416" upper="3.1416" effort="20" velocity="10"/></joint>
-  <joint name="tip_joint" type="fixed"><parent link="fore"/><child link="tip"/><origin xyz="0.25 0 0"/></joint>
-</robot>
-"""
+""" + ARM_ELBOW
 
 
 def universal_shoulder_arm(folder: Path, gimbal_offset_m: float = 0.0, massless: tuple[str, ...] = ()) -> Path:
