@@ -39,6 +39,7 @@ in :mod:`placement.workshop.gepetto`, ``OrientationIgnoredWarning`` in :mod:`pla
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -129,3 +130,9 @@ class MissingExtraError(PlacementError, ImportError):
         self.feature, self.extra, self.missing = feature, extra, missing
         super().__init__(f"{feature} needs the '{extra}' extra: pip install '{distribution}[{extra}]' ({reason})",
                          name=missing)
+
+
+def listed(items: Sequence[object], most: int) -> str:
+    """How a message lists names, folders or lines: up to ``most`` of them, comma-separated, then "and N more"."""
+    shown = ", ".join(str(item) for item in items[:most])
+    return shown + (f" and {len(items) - most} more" if len(items) > most else "")

@@ -13,6 +13,7 @@ from __future__ import annotations
 import re
 from collections.abc import Callable
 
+from placement.exceptions import listed
 from placement.path.exceptions import GcodeError
 from placement.path.ngc_words import CONTROLLER_G, CONTROLLER_M
 
@@ -94,9 +95,7 @@ def controller_mode(fail: Callable[[str, str], GcodeError], code_word: tuple[int
 def lines_text(lines: list[int]) -> str:
     """'line 4' or 'lines 4, 9, 12', at most MAX_LISTED_LINES of them."""
     unique = sorted(set(lines))
-    listed = ", ".join(str(n) for n in unique[:MAX_LISTED_LINES])
-    more = f" and {len(unique) - MAX_LISTED_LINES} more" if len(unique) > MAX_LISTED_LINES else ""
-    return f"line{'s' if len(unique) > 1 else ''} {listed}{more}"
+    return f"line{'s' if len(unique) > 1 else ''} {listed(unique, MAX_LISTED_LINES)}"
 
 
 def dialect_notes(dialect: dict[str, list[int]], home_given: bool, initial_feed_m_s: float | None) -> list[str]:

@@ -29,6 +29,7 @@ from xml.etree import ElementTree
 
 import pinocchio as pin
 
+from placement.exceptions import listed
 from placement.robot.exceptions import RobotFileError
 from placement.robot.model import Robot
 
@@ -96,9 +97,10 @@ def resolve_uri(uri: str, description: Path, folders: Sequence[Path], field: str
     if parsed.scheme == "package":
         package = find_package(parsed.netloc, folders)
         if package is None:
-            raise RobotFileError(description, field, f"package '{parsed.netloc}' of '{uri[:120]}' not found in "
-                                 f"{_listed(folders)}; give the folder that holds it with --package-path DIR (the "
-                                 "sidecar's package_paths), or set ROS_PACKAGE_PATH")
+            looked = listed(folders, 6) or "(no folder)"
+            raise RobotFileError(description, field, f"package '{parsed.netloc}' of '{uri[:120]}' not found in {looked}; "
+                                 "give the folder that holds it with --package-path DIR (the sidecar's package_paths), "
+                                 "or set ROS_PACKAGE_PATH")
         path = package / unquote(parsed.path).lstrip("/")
     elif parsed.scheme == "file":
         path = Path(unquote(parsed.path))
@@ -142,8 +144,3 @@ def description_geometry(robot: Robot, kind: pin.GeometryType) -> pin.GeometryMo
         return pin.buildGeomFromUrdfString(robot.model, text, kind)
     except ValueError as error:  # a mesh Pinocchio cannot read
         raise RobotFileError(robot.urdf_path, "", f"cannot build the geometry: {str(error)[:200]}") from None
-
-
-def _listed(folders: Sequence[Path], most: int = 6) -> str:
-    shown = ", ".join(str(folder) for folder in folders[:most])
-    return shown + (f" and {len(folders) - most} more" if len(folders) > most else "") if folders else "(no folder)"

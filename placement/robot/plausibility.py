@@ -35,7 +35,7 @@ from collections.abc import Sequence
 import numpy as np
 import pinocchio as pin
 
-from placement.exceptions import PlacementWarning
+from placement.exceptions import PlacementWarning, listed
 from placement.robot.exceptions import RobotFileError
 from placement.robot.formats import is_gepetto
 from placement.robot.model import Robot
@@ -196,5 +196,4 @@ def _refuse_absurd_masses(robot: Robot, urdf: UrdfContents) -> None:
 
 def _names(names: Sequence[str]) -> str:
     """Up to NAMED names, then how many more."""
-    shown = ", ".join(names[:NAMED])
-    return shown + (f" and {len(names) - NAMED} more" if len(names) > NAMED else "")
+    return listed(names, NAMED)
