@@ -36,6 +36,7 @@ number the URDF does not give is an estimate, labelled ``EST`` in the sidecar's 
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from dataclasses import dataclass
 from pathlib import Path
@@ -45,9 +46,10 @@ import pinocchio as pin
 import yaml
 from pydantic import ValidationError
 
-from placement.robot.build import reduced_model
+from placement.robot.build import PRISMATIC_JOINTS, reduced_model
 from placement.robot.exceptions import ExampleRobotError
 from placement.robot.formats import DescriptionOptions
+from placement.robot.mjcf import MjcfJoint, is_mjcf, mjcf_model, read_mjcf
 from placement.robot.model import Robot
 from placement.robot.sidecar import Sidecar
 from placement.robot.tool import find_frame
@@ -67,6 +69,8 @@ GOOD_LIMIT_MARGIN = 0.1  # a good reference posture keeps every joint this share
 TILT_RAD = 0.35
 DAMPING, MAX_STEP_RAD = 1e-6, 0.3  # of the least-squares steps towards a reference posture
 DOWN = np.array([0.0, 0.0, -1.0])
+JOINT_SPEED_RAD_S = np.pi  # a joint speed where an MJCF gives none: 180 deg/s, a UR's rated speed
+JOINT_SPEED_M_S = 0.5  # a prismatic joint's where an MJCF gives none
 
 
 def erd_name(text: str) -> str | None:
@@ -78,8 +82,10 @@ def estimate_warning(robot: Robot) -> str:
     """The one warning an ``erd:`` robot deserves: its drives and workspace are estimates."""
     count = sum(text.startswith("EST") for text in robot.sources.values())
     locked = f"; joints held fixed: {', '.join(robot.locked_joints)}" if robot.locked_joints else ""
-    return (f"{robot.name}: the drives (gear {GEAR_RATIO:g}:1, motor constants scaled from the URDF's effort and "
-            f"velocity limits), the workspace box and the reference posture are estimates ({count} EST sources)"
+    limits = ("MJCF's actuator force ranges and a joint speed of 180 deg/s" if is_mjcf(robot.urdf_path)
+              else "URDF's effort and velocity limits")
+    return (f"{robot.name}: the drives (gear {GEAR_RATIO:g}:1, motor constants scaled from the {limits}), the "
+            f"workspace box and the reference posture are estimates ({count} EST sources)"
             f"{locked}; absolute energies are only as good as they are (write a sidecar: docs/adding_a_robot.md)")
 
 
@@ -125,16 +131,25 @@ def load_description_robot(path: Path, tool: str | None, *, allow_massless: bool
 
 
 def description_sidecar(path: Path, tool: str | None, options: DescriptionOptions = DescriptionOptions()) -> Sidecar:
-    """The estimated sidecar of the robot described by the URDF or xacro file ``path``, ``tool`` following the path;
-    its ``urdf`` is ``path`` (absolute), a xacro's arguments its ``xacro_args``."""
+    """The estimated sidecar of the robot described by the URDF, xacro or MJCF file ``path``, ``tool`` following the
+    path; its ``urdf`` is ``path`` (absolute), a xacro's arguments its ``xacro_args``."""
     path = path.resolve()
-    urdf = expand_xacro(path, options.xacro_args, options.package_paths, path, "") if is_xacro(path) else path
-    model = pinocchio_model(urdf)
-    q0 = np.clip(pin.neutral(model), model.lowerPositionLimit, model.upperPositionLimit)
-    arm = _Arm.of(str(path), model, q0, tool, posture="the description's neutral posture, clipped into its limits")
+    posture = "the description's neutral posture, clipped into its limits"
+    if is_mjcf(path):
+        model = mjcf_model(path)
+        arm = _Arm.of(str(path), model, _neutral(model), tool, posture, given=read_mjcf(path, model).joints)
+    else:
+        urdf = expand_xacro(path, options.xacro_args, options.package_paths, path, "") if is_xacro(path) else path
+        model = pinocchio_model(urdf)
+        arm = _Arm.of(str(path), model, _neutral(model), tool, posture)
     name = path.name.removesuffix(path.suffix).removesuffix(".urdf")
     sidecar = _estimated_sidecar(arm, name, str(path), f"{path.name}, tool {tool}: drives and workspace estimated")
     return sidecar.model_copy(update={"xacro_args": dict(options.xacro_args)}) if is_xacro(path) else sidecar
+
+
+def _neutral(model: pin.Model) -> np.ndarray:
+    """The model's neutral configuration clipped into its joints' limits."""
+    return np.clip(pin.neutral(model), model.lowerPositionLimit, model.upperPositionLimit)
 
 
 def _estimated_sidecar(arm: _Arm, name: str, urdf: str, description: str) -> Sidecar:
@@ -183,6 +198,8 @@ class _Arm:
     locked: dict[str, float]
     unlimited: list[int]  # chain joints without position limits in the URDF (continuous ones)
     posture: str = "example-robot-data's q0"  # where q0 comes from, for the sources
+    given: dict[str, MjcfJoint] | None = None  # an MJCF's joints: effort bounds' origin, armature, friction
+    speeds: dict[int, float] = dataclasses.field(default_factory=dict)  # joint speeds estimated (none given)
 
     @classmethod
     def read(cls, name: str, tool: str | None) -> _Arm:
@@ -198,8 +215,9 @@ class _Arm:
 
     @classmethod
     def of(cls, label: str, model: pin.Model, q0: np.ndarray, tool: str | None,
-           posture: str = "example-robot-data's q0") -> _Arm:
-        """The arm of ``model`` whose chain ends at ``tool``, from the posture ``q0`` (rules: module docstring)."""
+           posture: str = "example-robot-data's q0", given: dict[str, MjcfJoint] | None = None) -> _Arm:
+        """The arm of ``model`` whose chain ends at ``tool``, from the posture ``q0`` (rules: module docstring); an
+        MJCF's joint data ``given``, its joints' speeds estimated."""
         frame_id = _tool_frame(model, label, tool)
         chain = [int(j) for j in model.supports[model.frames[frame_id].parentJoint][1:]]
         odd = [model.names[j] for j in chain if model.joints[j].nq != 1 or model.joints[j].nv != 1]
@@ -219,7 +237,13 @@ class _Arm:
         active = [j for k, j in enumerate(chain) if not (len(chain) == 7 and k == 2)]
         locked = {model.names[j]: float(_clip(model, j, q0[model.joints[j].idx_q]))
                   for j in range(1, model.njoints) if j not in active}
-        return cls(label, str(tool), model, frame_id, q0, chain, active, locked, unlimited, posture)
+        speeds = {}
+        if given is not None:  # an MJCF gives no speed limits
+            for j in active:
+                prismatic = model.joints[j].shortname() in PRISMATIC_JOINTS
+                speeds[j] = JOINT_SPEED_M_S if prismatic else JOINT_SPEED_RAD_S
+                model.velocityLimit[model.joints[j].idx_v] = speeds[j]
+        return cls(label, str(tool), model, frame_id, q0, chain, active, locked, unlimited, posture, given, speeds)
 
     @property
     def pose(self) -> bool:
@@ -254,12 +278,18 @@ class _Arm:
         if joint in self.unlimited:
             centre = float(q_ref[self.q_index(joint)])
             entry.update(position_min=centre - np.pi, position_max=centre + np.pi)
+        if joint in self.speeds:
+            entry["velocity_max"] = self.speeds[joint]
         return entry
 
     def drive(self, joint: int) -> dict:
         """The estimated drive of one joint (rules: module docstring)."""
         joint_name, v = self.model.names[joint], self.model.joints[joint].idx_v
         effort, speed = float(self.model.effortLimit[v]), float(self.model.velocityLimit[v])
+        if self.given is not None and not 0 < effort < np.inf:
+            raise ExampleRobotError(f"{self.label}: nothing in the MJCF bounds the effort of joint '{joint_name}', so "
+                                    "its drive cannot be estimated: give its actuator a forcerange (or the joint an "
+                                    "actuatorfrcrange, N or N m), or write a sidecar (docs/adding_a_robot.md)")
         if not (0 < effort < np.inf and 0 < speed < np.inf):
             raise ExampleRobotError(f"{self.label}: joint '{joint_name}' has no effort or velocity limit in its "
                                     f"URDF (got {effort:g}, {speed:g}), so its drive cannot be estimated; write a sidecar")
@@ -269,10 +299,16 @@ class _Arm:
                         else {"type": "gear", "ratio": GEAR_RATIO, "efficiency": 1.0})
         torque = effort / k
         root = np.sqrt(torque)
+        given = self.given.get(joint_name) if self.given is not None else None
+        armature = given.armature if given is not None else 0.0
         motor = {"torque_constant_Nm_per_A": 0.1 * root, "back_emf_constant_V_s_per_rad": 0.1 * root / 3,
                  "resistance_ohm": 0.5 / root, "inductance_H": 5e-4 / root, "phases": 3,
-                 "rotor_inertia_kg_m2": torque / 20_000.0, "max_torque_Nm": torque, "max_speed_rad_s": speed * k}
-        return {"transmission": transmission, "motor": motor}
+                 "rotor_inertia_kg_m2": armature / k**2 if armature > 0 else torque / 20_000.0,
+                 "max_torque_Nm": torque, "max_speed_rad_s": speed * k}
+        drive: dict[str, object] = {"transmission": transmission, "motor": motor}
+        if given is not None and (given.frictionloss > 0 or given.damping > 0):
+            drive["friction"] = {"coulomb": given.frictionloss, "viscous": given.damping}
+        return drive
 
     def sources(self, drives: dict) -> dict[str, str]:
         """An EST (or DERIVED) entry for every estimate."""
@@ -297,11 +333,38 @@ class _Arm:
             entries["end_effector.tool_rpy_in_path_rad"] = "DERIVED: tool z along -Z_p, yaw of the reference posture"
         for drive, spec in drives.items():
             kind = "gear ratio" if spec["transmission"]["type"] == "gear" else "screw lead"
-            entries[f"drives.{drive}.transmission"] = f"EST: a typical {kind} (the URDF gives none)"
+            entries[f"drives.{drive}.transmission"] = f"EST: a typical {kind} (the {self.kind} gives none)"
             entries[f"drives.{drive}.motor"] = ("EST: 3-phase servo scaled by peak torque tau: K_t = 0.1 sqrt(tau), "
                                                "K_e = K_t/3, R = 0.5/sqrt(tau), L = 0.5e-3/sqrt(tau), J = tau/20000; "
                                                "max_torque and max_speed DERIVED from the URDF's effort and velocity "
                                                "limits through the transmission")
+        if self.given is not None:
+            for i, joint in enumerate(self.active):
+                entries.update(self._mjcf_sources(joint, drives[self.drive_name(joint)]))
+                entries[f"actuators.{i}.velocity_max"] = "EST: the MJCF gives no speed limits; a typical joint speed"
+        return entries
+
+    @property
+    def kind(self) -> str:
+        """The kind of description, in the sources: URDF or MJCF."""
+        return "URDF" if self.given is None else "MJCF"
+
+    def _mjcf_sources(self, joint: int, drive: dict) -> dict[str, str]:
+        """The sources of an MJCF joint's drive: the effort bound, armature and friction it gives, the speed
+        estimated."""
+        assert self.given is not None  # an MJCF's arm
+        name, given = self.drive_name(joint), self.given[self.model.names[joint]]
+        speed = self.speeds[joint]
+        unit = "m/s" if self.model.joints[joint].shortname() in PRISMATIC_JOINTS else "rad/s"
+        rotor = (f"J DERIVED from the MJCF's armature {given.armature:g} divided by the transmission's speed ratio "
+                 "squared" if given.armature > 0 else "J = tau/20000")
+        entries = {f"drives.{name}.motor": (
+            f"EST: 3-phase servo scaled by peak torque tau: K_t = 0.1 sqrt(tau), K_e = K_t/3, R = 0.5/sqrt(tau), "
+            f"L = 0.5e-3/sqrt(tau), {rotor}; max_torque DERIVED from the MJCF ({given.effort_from}) through the "
+            f"transmission; max_speed EST from a joint speed of {speed:g} {unit} (the MJCF gives none)")}
+        if "friction" in drive:
+            entries[f"drives.{name}.friction"] = (f"DERIVED: the MJCF's joint frictionloss {given.frictionloss:g} "
+                                                  f"(Coulomb) and damping {given.damping:g} (viscous)")
         return entries
 
     def reduced(self) -> pin.Model:
@@ -452,7 +515,8 @@ def _clip(model: pin.Model, joint: int, value: float) -> float:
 def _tool_frame(model: pin.Model, label: str, tool: str | None) -> int:
     """The id of the tool frame (a link, else a joint), or an error listing the candidates."""
     parents = {frame.parentFrame for frame in model.frames}
-    leaves = [f.name for i, f in enumerate(model.frames) if f.type == pin.FrameType.BODY and i not in parents]
+    leaves = [f.name for i, f in enumerate(model.frames) if f.type in (pin.FrameType.BODY, pin.FrameType.OP_FRAME)
+              and i not in parents]  # an MJCF's sites are frames too
     if tool is None:
         raise ExampleRobotError(f"{label} needs --tool FRAME, the frame that follows the path; candidates "
                                 f"(the leaves of its tree): {', '.join(leaves)}")
