@@ -48,6 +48,7 @@ SUFFIXES = (".xml", ".mjcf")
 ACTUATOR_TAGS = ("general", "motor", "position", "velocity", "intvelocity", "damper", "cylinder", "muscle",
                  "adhesion")
 UNBIASED = ("motor",)  # shortcuts whose force is gain times control
+WORLD_BODY = "worldbody"  # the body without a joint that holds a worldbody's several bodies for Pinocchio
 MERGED = ("worldbody", "asset", "actuator", "equality", "contact", "tendon", "sensor", "keyframe")
 EQUALITY_KINDS = {"connect": "point", "weld": "weld"}
 
@@ -93,6 +94,7 @@ class MjcfContents(UrdfContents):
 
     joints: dict[str, MjcfJoint] = field(default_factory=dict)
     closures: tuple[MjcfClosure, ...] = ()
+    actuated: tuple[str, ...] = ()  # the joints its actuators drive, in the order of their first actuator
 
 
 def mjcf_model(path: Path) -> pin.Model:
@@ -139,8 +141,11 @@ def read_mjcf(path: Path, model: pin.Model | None = None) -> MjcfContents:
         if frame.type == pin.FrameType.BODY and frame.parentJoint > 0 and frame.parentJoint not in weighed:
             weighed.add(frame.parentJoint)
             masses[frame.name] = float(model.inertias[frame.parentJoint].mass)
+    actuators = root.find("actuator")
+    actuated = [str(element.get("joint")) for element in (actuators if actuators is not None else ())
+                if element.tag in ACTUATOR_TAGS and element.get("joint")]
     return MjcfContents({"link": bodies, "joint": joint_names}, masses, _joints(path, root),
-                        tuple(closure for closure, _ in _equalities(path, root)))
+                        tuple(closure for closure, _ in _equalities(path, root)), tuple(dict.fromkeys(actuated)))
 
 
 def mjcf_geometry(model: pin.Model, path: Path, kind: pin.GeometryType) -> pin.GeometryModel:
@@ -195,11 +200,20 @@ def _include(path: Path, element: ElementTree.Element, folder: Path, depth: int)
 
 
 def _self_contained(path: Path, root: ElementTree.Element) -> Path:
-    """``path`` itself, or for a file with ``<include>`` elements (a Menagerie ``scene.xml``), the file they make
-    together (``root``, read by :func:`_root`), its asset folders made absolute, written once to the cache folder of
-    expanded descriptions: Pinocchio's parser does not follow includes."""
-    if not _has_include(path):
+    """The file Pinocchio reads for ``path``: itself, or the file its ``<include>`` elements make together (a
+    Menagerie ``scene.xml``; ``root`` read by :func:`_root`), its asset folders made absolute, and its worldbody's
+    bodies in one body without a joint (``WORLD_BODY``) when it has several: Pinocchio 4.1's parser follows no
+    include and reads only the first body of the worldbody. That file is written once to the cache folder of
+    expanded descriptions."""
+    worldbody = root.find("worldbody")
+    bodies = worldbody.findall("body") if worldbody is not None else []
+    if not _has_include(path) and len(bodies) < 2:
         return path
+    if worldbody is not None and len(bodies) > 1:
+        held = ElementTree.SubElement(worldbody, "body", name=WORLD_BODY)
+        for body in bodies:
+            worldbody.remove(body)
+            held.append(body)
     folder = path.resolve().parent
     compilers = root.findall("compiler") or [ElementTree.SubElement(root, "compiler")]
     for compiler in compilers:

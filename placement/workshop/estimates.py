@@ -53,10 +53,11 @@ from placement.robot.mjcf import MjcfJoint, is_mjcf, mjcf_model, read_mjcf
 from placement.robot.model import Robot
 from placement.robot.sidecar import Sidecar
 from placement.robot.tool import find_frame
-from placement.robot.urdf import ERD_PREFIX, erd_urdf_path, pinocchio_model, urdf_limits_missing
+from placement.robot.urdf import ERD_PREFIX, closing_pairs, erd_urdf_path, pinocchio_model, urdf_limits_missing
 from placement.robot.xacro import expand_xacro, is_xacro
 from placement.workshop.catalog import ERD_FORM, erd_names
 from placement.workshop.load import robot_from_sidecar, write_if_it_loads
+from placement.workshop.loops import JOINT_SPEED_M_S, JOINT_SPEED_RAD_S, PASSIVE, LoopDescription, loop_sidecar
 
 GEAR_RATIO = 100.0
 SCREW_LEAD_M = 0.01
@@ -69,8 +70,6 @@ GOOD_LIMIT_MARGIN = 0.1  # a good reference posture keeps every joint this share
 TILT_RAD = 0.35
 DAMPING, MAX_STEP_RAD = 1e-6, 0.3  # of the least-squares steps towards a reference posture
 DOWN = np.array([0.0, 0.0, -1.0])
-JOINT_SPEED_RAD_S = np.pi  # a joint speed where an MJCF gives none: 180 deg/s, a UR's rated speed
-JOINT_SPEED_M_S = 0.5  # a prismatic joint's where an MJCF gives none
 
 
 def erd_name(text: str) -> str | None:
@@ -82,9 +81,12 @@ def estimate_warning(robot: Robot) -> str:
     """The one warning an ``erd:`` robot deserves: its drives and workspace are estimates."""
     count = sum(text.startswith("EST") for text in robot.sources.values())
     locked = f"; joints held fixed: {', '.join(robot.locked_joints)}" if robot.locked_joints else ""
-    limits = ("MJCF's actuator force ranges and a joint speed of 180 deg/s" if is_mjcf(robot.urdf_path)
+    kind = "MJCF" if is_mjcf(robot.urdf_path) else "URDF"
+    limits = ("MJCF's actuator force ranges and a joint speed of 180 deg/s" if kind == "MJCF"
               else "URDF's effort and velocity limits")
-    return (f"{robot.name}: the drives (gear {GEAR_RATIO:g}:1, motor constants scaled from the {limits}), the "
+    drives = (f"3000 rpm motors geared down to the joints' speeds, sized from the {limits}" if robot.closures
+              else f"gear {GEAR_RATIO:g}:1, motor constants scaled from the {limits}")
+    return (f"{robot.name}: the drives ({drives}), the "
             f"workspace box and the reference posture are estimates ({count} EST sources)"
             f"{locked}; absolute energies are only as good as they are (write a sidecar: docs/adding_a_robot.md)")
 
@@ -137,14 +139,36 @@ def description_sidecar(path: Path, tool: str | None, options: DescriptionOption
     posture = "the description's neutral posture, clipped into its limits"
     if is_mjcf(path):
         model = mjcf_model(path)
-        arm = _Arm.of(str(path), model, _neutral(model), tool, posture, given=read_mjcf(path, model).joints)
+        contents = read_mjcf(path, model)
+        if contents.closures:
+            closures = [{"name": c.name, "type": c.kind, "frames": list(c.frames)} for c in contents.closures]
+            return loop_sidecar(path, tool, LoopDescription("MJCF", model, closures, list(contents.actuated),
+                                                            "DERIVED: the joints the MJCF's actuators drive",
+                                                            contents.joints))
+        arm = _Arm.of(str(path), model, _neutral(model), tool, posture, given=contents.joints)
     else:
         urdf = expand_xacro(path, options.xacro_args, options.package_paths, path, "") if is_xacro(path) else path
         model = pinocchio_model(urdf)
+        pairs = closing_pairs(urdf)
+        if pairs and not is_xacro(path):
+            closures = [{"name": name, "type": "point", "frames": [first, second]} for name, first, second in pairs]
+            actuated, why = _onshape_actuated(model)
+            return loop_sidecar(path, tool, LoopDescription("URDF", model, closures, actuated, why))
         arm = _Arm.of(str(path), model, _neutral(model), tool, posture)
     name = path.name.removesuffix(path.suffix).removesuffix(".urdf")
     sidecar = _estimated_sidecar(arm, name, str(path), f"{path.name}, tool {tool}: drives and workspace estimated")
     return sidecar.model_copy(update={"xacro_args": dict(options.xacro_args)}) if is_xacro(path) else sidecar
+
+
+def _onshape_actuated(model: pin.Model) -> tuple[list[str], str]:
+    """The actuated joints of a URDF exported by onshape-to-robot, which does not say them, and the rule that chose
+    them (:mod:`placement.workshop.loops`)."""
+    movable = [j for j in range(1, model.njoints) if model.joints[j].nv == 1 and PASSIVE not in model.names[j].lower()]
+    on_base = [model.names[j] for j in movable if model.parents[j] == 0]
+    if on_base:
+        return on_base, "EST: the joints on the base link (the URDF does not say which joints are actuated)"
+    return [model.names[j] for j in movable], (f"EST: the joints not named *{PASSIVE}* (the URDF does not say which "
+                                               "joints are actuated)")
 
 
 def _neutral(model: pin.Model) -> np.ndarray:

@@ -14,7 +14,8 @@ from placement.cli import main
 from placement.robot.exceptions import RobotFileError
 from placement.robot.mjcf import mjcf_model, read_mjcf
 from placement.robot.urdf import pinocchio_model
-from placement.workshop.estimates import JOINT_SPEED_RAD_S, description_sidecar, load_description_robot
+from placement.workshop.estimates import description_sidecar, load_description_robot
+from placement.workshop.loops import JOINT_SPEED_RAD_S
 from tests.support.paths import CIRCLE
 
 # A three-joint arm: angles in degrees (MJCF's default), default classes under a body's childclass, three kinds of
