@@ -113,6 +113,9 @@ def mjcf_model(path: Path) -> pin.Model:
         given = joints.get(model.names[j])
         model.effortLimit[v : v + model.joints[j].nv] = given.effort if given and given.effort is not None else 0.0
     model.velocityLimit[:] = 0.0
+    if hasattr(model, "lowerVelocityLimit"):  # Pinocchio 4 keeps a bound per side, this one as a magnitude as well
+        model.lowerVelocityLimit[:] = 0.0
+        model.lowerEffortLimit[:] = -model.effortLimit
     model.armature[:] = 0.0
     model.damping[:] = 0.0
     model.friction[:] = 0.0

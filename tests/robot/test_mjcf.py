@@ -11,6 +11,7 @@ import pytest
 import yaml
 
 from placement.cli import main
+from placement.robot.build import reduced_model
 from placement.robot.exceptions import RobotFileError
 from placement.robot.mjcf import mjcf_model, read_mjcf
 from placement.robot.urdf import pinocchio_model
@@ -236,3 +237,10 @@ def test_a_file_that_is_not_an_mjcf_says_so(tmp_path):
     other.write_text("<robot name='x'/>")
     with pytest.raises(RobotFileError, match="not an MJCF file: the root element is <robot>, expected <mujoco>"):
         mjcf_model(other)
+
+
+def test_an_mjcf_joint_can_be_held_as_a_seven_joint_arm_holds_its_third(arm):
+    """Pinocchio 4 keeps a lower speed bound too, +inf from its MJCF parser: held joints need it consistent."""
+    model = mjcf_model(arm)
+    held = reduced_model(model, [model.getJointId("joint1")], pin.neutral(model))
+    assert held.nq == 2 and np.allclose(held.effortLimit, [100.0, 30.0])
