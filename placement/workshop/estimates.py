@@ -57,7 +57,14 @@ from placement.robot.urdf import ERD_PREFIX, closing_pairs, erd_urdf_path, pinoc
 from placement.robot.xacro import expand_xacro, is_xacro
 from placement.workshop.catalog import ERD_FORM, erd_names
 from placement.workshop.load import robot_from_sidecar, write_if_it_loads
-from placement.workshop.loops import JOINT_SPEED_M_S, JOINT_SPEED_RAD_S, PASSIVE, LoopDescription, loop_sidecar
+from placement.workshop.loops import (
+    JOINT_SPEED_M_S,
+    JOINT_SPEED_RAD_S,
+    PASSIVE,
+    LoopDescription,
+    description_name,
+    loop_sidecar,
+)
 
 GEAR_RATIO = 100.0
 SCREW_LEAD_M = 0.01
@@ -155,8 +162,8 @@ def description_sidecar(path: Path, tool: str | None, options: DescriptionOption
             actuated, why = _onshape_actuated(model)
             return loop_sidecar(path, tool, LoopDescription("URDF", model, closures, actuated, why))
         arm = _Arm.of(str(path), model, _neutral(model), tool, posture)
-    name = path.name.removesuffix(path.suffix).removesuffix(".urdf")
-    sidecar = _estimated_sidecar(arm, name, str(path), f"{path.name}, tool {tool}: drives and workspace estimated")
+    sidecar = _estimated_sidecar(arm, description_name(path), str(path),
+                                 f"{path.name}, tool {tool}: drives and workspace estimated")
     return sidecar.model_copy(update={"xacro_args": dict(options.xacro_args)}) if is_xacro(path) else sidecar
 
 

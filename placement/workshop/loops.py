@@ -86,7 +86,7 @@ def loop_sidecar(path: Path, tool: str | None, description: LoopDescription) -> 
                "gravity_m_s2": "EST: the description's -z is down",
                "end_effector": "EST: --tool, a position task"}
     document: dict[str, Any] = {
-        "name": path.name.removesuffix(path.suffix)[:80], "urdf": str(path),
+        "name": description_name(path), "urdf": str(path),
         "description": f"{path.name}, tool {tool}: closed loops, drives and workspace estimated",
         "gravity_m_s2": list(GRAVITY_M_S2), "end_effector": {"frame": tool, "task": "position"},
         "closures": description.closures, "actuators": [], "drives": {}, "sources": sources}
@@ -109,6 +109,13 @@ def loop_sidecar(path: Path, tool: str | None, description: LoopDescription) -> 
     robot = robot_from_sidecar(path, _validated(path, document))
     document.update(estimated_workspace(robot, sources))
     return _validated(path, document)
+
+
+def description_name(path: Path) -> str:
+    """A robot's name from its description file: the file's stem, or its folder's name for a file called ``robot``
+    (as onshape-to-robot and Gepetto write them)."""
+    stem = path.name.removesuffix(path.suffix).removesuffix(".urdf")
+    return (path.resolve().parent.name if stem == "robot" else stem)[:80] or "robot"
 
 
 def _actuator(path: Path, description: LoopDescription, i: int, joint: str, document: dict[str, Any]) -> None:
