@@ -68,6 +68,7 @@ class MjcfJoint:
         armature: Its reflected rotor inertia (kg or kg·m²).
         damping: Its viscous friction (N·s/m or N·m·s/rad).
         frictionloss: Its Coulomb friction (N or N·m).
+        ref: Its value at qpos0, where the bodies stand as the file places them (rad or m; ``ref``).
     """
 
     effort: float | None
@@ -75,6 +76,7 @@ class MjcfJoint:
     armature: float
     damping: float
     frictionloss: float
+    ref: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -119,8 +121,23 @@ def mjcf_model(path: Path) -> pin.Model:
     model.armature[:] = 0.0
     model.damping[:] = 0.0
     model.friction[:] = 0.0
-    _add_closure_frames(path, root, model)
+    for j in range(1, model.njoints):  # Pinocchio 4.1 reads a joint's range less its ref, against its own kinematics
+        given = joints.get(model.names[j])
+        if given is not None and given.ref != 0.0 and model.joints[j].nq == 1:
+            model.lowerPositionLimit[model.joints[j].idx_q] += given.ref
+            model.upperPositionLimit[model.joints[j].idx_q] += given.ref
+    _add_closure_frames(path, root, model, qpos0(model, joints))
     return model
+
+
+def qpos0(model: pin.Model, joints: Mapping[str, MjcfJoint]) -> np.ndarray:
+    """The model's configuration at MuJoCo's qpos0: every one-coordinate joint at its ``ref`` (rad or m)."""
+    q = pin.neutral(model)
+    for j in range(1, model.njoints):
+        given = joints.get(model.names[j])
+        if given is not None and model.joints[j].nq == 1:
+            q[model.joints[j].idx_q] = given.ref
+    return q
 
 
 def read_mjcf(path: Path, model: pin.Model | None = None) -> MjcfContents:
@@ -315,6 +332,7 @@ def _joints(path: Path, root: ElementTree.Element) -> dict[str, MjcfJoint]:
     """Every named joint's effort bound, armature, damping and friction loss (module docstring)."""
     defaults = _Defaults(root)
     compiler = root.find("compiler")
+    degrees = (compiler.get("angle", "degree") if compiler is not None else "degree") == "degree"
     autolimits = (compiler.get("autolimits", "true") if compiler is not None else "true") == "true"
     actuated: dict[str, list[tuple[float | None, str]]] = {}
     actuators = root.find("actuator")
@@ -344,9 +362,11 @@ def _joints(path: Path, root: ElementTree.Element) -> dict[str, MjcfJoint]:
         total = None if not bounds or any(b is None for b, _ in bounds) else sum(b for b, _ in bounds if b is not None)
         effort, said = (own, f"joint '{joint_name}': actuatorfrcrange {own:g}") if own is not None and (
             total is None or own <= total) else (total, "; ".join(text for _, text in bounds))
-        joints[joint_name] = MjcfJoint(effort, said if effort is not None else "", *(
-            _numbers(path, f"joint '{joint_name}' {key}", values.get(key, "0"))[0] for key in ("armature", "damping",
-                                                                                          "frictionloss")))
+        armature, damping, frictionloss, ref = (_numbers(path, f"joint '{joint_name}' {key}", values.get(key, "0"))[0]
+                                                for key in ("armature", "damping", "frictionloss", "ref"))
+        if degrees and values.get("type", "hinge") == "hinge":
+            ref = float(np.radians(ref))
+        joints[joint_name] = MjcfJoint(effort, said if effort is not None else "", armature, damping, frictionloss, ref)
     return joints
 
 
@@ -394,10 +414,10 @@ def _equalities(path: Path, root: ElementTree.Element) -> Iterator[tuple[MjcfClo
             yield MjcfClosure(name, EQUALITY_KINDS[element.tag], (str(frames[0]), str(frames[1]))), element
 
 
-def _add_closure_frames(path: Path, root: ElementTree.Element, model: pin.Model) -> None:
-    """Add to ``model`` the two frames of every loop between bodies, coinciding at qpos0 (module docstring)."""
+def _add_closure_frames(path: Path, root: ElementTree.Element, model: pin.Model, q0: np.ndarray) -> None:
+    """Add to ``model`` the two frames of every loop between bodies, coinciding at qpos0 ``q0`` (module docstring)."""
     data = model.createData()
-    pin.framesForwardKinematics(model, data, pin.neutral(model))
+    pin.framesForwardKinematics(model, data, q0)
     for closure, element in _equalities(path, root):
         field_ = f"equality {element.tag} '{closure.name}'"
         if element.get("site1") and element.get("site2"):

@@ -49,7 +49,7 @@ from pydantic import ValidationError
 from placement.robot.build import PRISMATIC_JOINTS, reduced_model
 from placement.robot.exceptions import ExampleRobotError
 from placement.robot.formats import DescriptionOptions
-from placement.robot.mjcf import MjcfJoint, is_mjcf, mjcf_model, read_mjcf
+from placement.robot.mjcf import MjcfJoint, is_mjcf, mjcf_model, qpos0, read_mjcf
 from placement.robot.model import Robot
 from placement.robot.sidecar import Sidecar
 from placement.robot.tool import find_frame
@@ -149,10 +149,12 @@ def description_sidecar(path: Path, tool: str | None, options: DescriptionOption
         contents = read_mjcf(path, model)
         if contents.closures:
             closures = [{"name": c.name, "type": c.kind, "frames": list(c.frames)} for c in contents.closures]
+            start = {name: joint.ref for name, joint in contents.joints.items() if joint.ref != 0.0}
             return loop_sidecar(path, tool, LoopDescription("MJCF", model, closures, list(contents.actuated),
                                                             "DERIVED: the joints the MJCF's actuators drive",
-                                                            contents.joints))
-        arm = _Arm.of(str(path), model, _neutral(model), tool, posture, given=contents.joints)
+                                                            contents.joints, start))
+        q0 = np.clip(qpos0(model, contents.joints), model.lowerPositionLimit, model.upperPositionLimit)
+        arm = _Arm.of(str(path), model, q0, tool, "the MJCF's qpos0, clipped into its limits", given=contents.joints)
     else:
         urdf = expand_xacro(path, options.xacro_args, options.package_paths, path, "") if is_xacro(path) else path
         model = pinocchio_model(urdf)

@@ -21,7 +21,7 @@ actuators reach (:func:`placement.workshop.gepetto.estimated_workspace`).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -56,6 +56,7 @@ class LoopDescription:
         actuated: The actuated joints, in order.
         actuated_from: Where ``actuated`` comes from, a sources entry ("DERIVED: ..." or "EST: ...").
         joints: An MJCF's joints' armature and friction, by name (None for a URDF).
+        start: The joints not at 0 in the posture the file places its bodies in (an MJCF's qpos0), m or rad.
     """
 
     kind: str
@@ -64,6 +65,7 @@ class LoopDescription:
     actuated: list[str]
     actuated_from: str
     joints: dict[str, MjcfJoint] | None = None
+    start: dict[str, float] = field(default_factory=dict)
 
 
 def loop_sidecar(path: Path, tool: str | None, description: LoopDescription) -> Sidecar:
@@ -89,18 +91,21 @@ def loop_sidecar(path: Path, tool: str | None, description: LoopDescription) -> 
         "name": description_name(path), "urdf": str(path),
         "description": f"{path.name}, tool {tool}: closed loops, drives and workspace estimated",
         "gravity_m_s2": list(GRAVITY_M_S2), "end_effector": {"frame": tool, "task": "position"},
-        "closures": description.closures, "actuators": [], "drives": {}, "sources": sources}
+        "closures": description.closures, "actuators": [], "drives": {}, "sources": sources,
+        "reference_configuration": dict(description.start)}
     for i, joint in enumerate(description.actuated):
         _actuator(path, description, i, joint, document)
     robot = robot_from_sidecar(path, _validated(path, document), check_closures=False)
     data = robot.model.createData()
     if np.abs(closure_residuals(robot, data, robot.reference_q)).max(initial=0.0) < CLOSED_TOLERANCE:
-        q, reference = robot.reference_q, {}
-        sources["reference_configuration"] = "DERIVED: the description's zero posture, where its loops close"
+        q, reference = robot.reference_q, dict(description.start)
+        sources["reference_configuration"] = ("DERIVED: the posture the description places its bodies in, where its "
+                                              "loops close")
     else:
         assembly = assemble(robot)
         q, reference = assembly.q, reference_values(robot, assembly)
-        sources["reference_configuration"] = "DERIVED: the loops closed by placement's solver from the zero posture"
+        sources["reference_configuration"] = ("DERIVED: the loops closed by placement's solver from the posture the "
+                                              "description places its bodies in")
     locks = internal_freedoms(robot, q)
     document["reference_configuration"] = {name: value for name, value in reference.items() if name not in locks}
     if locks:

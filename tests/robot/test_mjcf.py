@@ -13,7 +13,7 @@ import yaml
 from placement.cli import main
 from placement.robot.build import reduced_model
 from placement.robot.exceptions import RobotFileError
-from placement.robot.mjcf import mjcf_model, read_mjcf
+from placement.robot.mjcf import mjcf_model, qpos0, read_mjcf
 from placement.robot.urdf import pinocchio_model
 from placement.workshop.estimates import description_sidecar, load_description_robot
 from placement.workshop.loops import JOINT_SPEED_RAD_S
@@ -244,3 +244,19 @@ def test_an_mjcf_joint_can_be_held_as_a_seven_joint_arm_holds_its_third(arm):
     model = mjcf_model(arm)
     held = reduced_model(model, [model.getJointId("joint1")], pin.neutral(model))
     assert held.nq == 2 and np.allclose(held.effortLimit, [100.0, 30.0])
+
+
+def test_a_joint_reference_shifts_neither_its_range_nor_where_the_tool_is_against_mujoco(tmp_path):
+    """A joint's ref (MuJoCo's qpos0) places the bodies; its range stays in qpos units, as MuJoCo reads it."""
+    shifted = tmp_path / "ref.xml"
+    shifted.write_text(ARM.replace('<joint name="joint2"/>', '<joint name="joint2" ref="30" range="-20 100"/>'))
+    model, simulated = mjcf_model(shifted), mujoco.MjModel.from_xml_path(str(shifted))
+    assert np.allclose(model.lowerPositionLimit, simulated.jnt_range[:, 0])
+    assert np.allclose(model.upperPositionLimit, simulated.jnt_range[:, 1])
+    assert np.allclose(qpos0(model, read_mjcf(shifted).joints), simulated.qpos0)
+    state, data = mujoco.MjData(simulated), model.createData()
+    for q in (simulated.qpos0, np.array([0.2, -0.1, 0.4])):
+        state.qpos[:] = q
+        mujoco.mj_forward(simulated, state)
+        pin.framesForwardKinematics(model, data, q)
+        assert np.allclose(state.site_xpos[0], data.oMf[model.getFrameId("tip")].translation, atol=1e-12)
