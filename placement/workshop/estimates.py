@@ -48,7 +48,7 @@ from pydantic import ValidationError
 
 from placement.robot.build import PRISMATIC_JOINTS, reduced_model
 from placement.robot.exceptions import ExampleRobotError
-from placement.robot.formats import DescriptionOptions
+from placement.robot.formats import YAML_NAME, DescriptionOptions, is_gepetto
 from placement.robot.mjcf import MjcfJoint, is_mjcf, mjcf_model, qpos0, read_mjcf
 from placement.robot.model import Robot
 from placement.robot.sidecar import Sidecar
@@ -159,6 +159,11 @@ def description_sidecar(path: Path, tool: str | None, options: DescriptionOption
         urdf = expand_xacro(path, options.xacro_args, options.package_paths, path, "") if is_xacro(path) else path
         model = pinocchio_model(urdf)
         pairs = closing_pairs(urdf)
+        if not pairs and is_gepetto(path.parent / YAML_NAME):
+            raise ExampleRobotError(f"{path} is the tree of the Gepetto {YAML_NAME} beside it, which says where its "
+                                    f"loops close: 'python -m placement assemble {path.parent} --write' closes them "
+                                    f"and writes its sidecar; then give the folder, --robot {path.parent}, without "
+                                    "--tool")
         if pairs and not is_xacro(path):
             closures = [{"name": name, "type": "point", "frames": [first, second]} for name, first, second in pairs]
             actuated, why = _onshape_actuated(model)

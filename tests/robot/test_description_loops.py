@@ -184,3 +184,11 @@ def test_a_closing_frame_without_its_pair_is_refused_naming_it(onshape):
     onshape.write_text(onshape.read_text().replace('"closing_tip_2"', '"closing_other_2"'))
     with pytest.raises(RobotFileError, match="'closing_tip_1' has no 'closing_tip_2' to coincide with"):
         description_sidecar(onshape, "effector")
+
+
+def test_the_urdf_of_a_gepetto_folder_given_alone_says_to_assemble_the_folder(tmp_path, capsys):
+    folder = tmp_path / "gepetto_fivebar"
+    shutil.copytree(DATA / "gepetto_fivebar", folder)
+    assert main(["--robot", str(folder / "robot.urdf"), "--tool", "effector", "--path", str(CIRCLE)]) == 2
+    err = capsys.readouterr().err
+    assert f"'python -m placement assemble {folder} --write' closes them" in err and len(err.strip().splitlines()) == 1
