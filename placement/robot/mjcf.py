@@ -18,9 +18,15 @@ this module reads from the XML, default classes and ``childclass`` resolved as M
   bodies (``body1``/``body2``) or two sites (``site1``/``site2``) becomes a closure between two frames, added to
   the model and named ``NAME_1`` and ``NAME_2``, NAME the constraint's name (``connect0``, ``weld1``, ... by
   kind and order when it has none). Between bodies, the frame on ``body1`` stands at ``anchor`` (in ``body1``'s
-  frame) and the one on ``body2`` where that point is at ``qpos0`` (every joint at 0), as MuJoCo defines the
-  constraint: the loop is closed there. A weld's ``relpose``, a ``torquescale`` and equalities of other kinds
-  (``joint``, ``tendon``, ``flex``) are not read.
+  frame) and the one on ``body2`` where that point is at ``qpos0`` (every joint at its ``ref``, 0 by default),
+  as MuJoCo defines the constraint: the loop is closed there. A weld's ``relpose``, a ``torquescale`` and
+  equalities of other kinds (``joint``, ``tendon``, ``flex``) are not read.
+
+Where Pinocchio 4.1's parser departs from MuJoCo, the model is put right: it follows no ``<include>`` and reads
+only the first body of the worldbody (so Pinocchio reads a copy with the includes in and the worldbody's bodies
+held in one jointless body), it subtracts a joint's ``ref`` from its range though not from its kinematics (added
+back), and it leaves the lower speed bound infinite (set with the upper one). The model is checked against
+MuJoCo's own in ``tests/robot/test_mjcf.py``.
 
 A sidecar's ``links`` (inertials replacing the description's) do not apply to an MJCF: its ``<inertial>``
 elements are where they go.
