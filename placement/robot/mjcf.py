@@ -17,10 +17,10 @@ this module reads from the XML, default classes and ``childclass`` resolved as M
 - **Loops**: each active ``<equality><connect>`` (a point closure) and ``<weld>`` (a weld closure) between two
   bodies (``body1``/``body2``) or two sites (``site1``/``site2``) becomes a closure between two frames, added to
   the model and named ``NAME_1`` and ``NAME_2``, NAME the constraint's name (``connect0``, ``weld1``, ... by
-  kind and order when it has none). Between bodies, the frame on ``body1`` stands at ``anchor`` (in ``body1``'s
-  frame) and the one on ``body2`` where that point is at ``qpos0`` (every joint at its ``ref``, 0 by default),
-  as MuJoCo defines the constraint: the loop is closed there. A weld's ``relpose``, a ``torquescale`` and
-  equalities of other kinds (``joint``, ``tendon``, ``flex``) are not read.
+  kind and order when it has none). Between bodies, both frames stand at ``anchor`` (in ``body1``'s frame for a
+  connect, ``body2``'s for a weld, as MuJoCo reads it), oriented as that body, where it is at ``qpos0`` (every
+  joint at its ``ref``, 0 by default), as MuJoCo defines the constraint: the loop is closed there. A weld's
+  ``relpose``, a ``torquescale`` and equalities of other kinds (``joint``, ``tendon``, ``flex``) are not read.
 
 Where Pinocchio 4.1's parser departs from MuJoCo, the model is put right: it follows no ``<include>`` and reads
 only the first body of the worldbody (so Pinocchio reads a copy with the includes in and the worldbody's bodies
@@ -439,13 +439,11 @@ def _add_closure_frames(path: Path, root: ElementTree.Element, model: pin.Model,
                                      f"{bodies}")
             ids.append(0 if body == "world" else model.getFrameId(body, pin.FrameType.BODY))
         anchor = np.array(_numbers(path, f"{field_} anchor", element.get("anchor", "0 0 0"), 3))
-        first = model.frames[ids[0]]
-        on_first = first.placement * pin.SE3(np.eye(3), anchor)
-        world = data.oMf[ids[0]] * pin.SE3(np.eye(3), anchor)
-        second = model.frames[ids[1]]
-        on_second = data.oMi[second.parentJoint].actInv(world)
-        for suffix, frame_id, frame, placement in (("_1", ids[0], first, on_first), ("_2", ids[1], second, on_second)):
-            name = closure.name + suffix
+        anchored = ids[1] if element.tag == "weld" else ids[0]  # a weld's anchor is in body2's frame, a connect's body1's
+        world = data.oMf[anchored] * pin.SE3(np.eye(3), anchor)
+        for suffix, frame_id in (("_1", ids[0]), ("_2", ids[1])):
+            frame, name = model.frames[frame_id], closure.name + suffix
+            placement = data.oMi[frame.parentJoint].actInv(world)
             if model.existFrame(name):
                 raise RobotFileError(path, field_, f"its frame '{name}' would take the name of a frame of the model: "
                                      "rename the constraint")

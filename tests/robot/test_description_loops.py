@@ -65,6 +65,42 @@ def fivebar_mjcf():
 """
 
 
+def weld_fivebar_mjcf():
+    """The five-bar cut at the second elbow instead of the tip: the second distal rod hangs from the first at the tip
+    (joint tip_pin), a stub of 1e-9 kg turns on its far end (joint free2) and is welded to the second proximal rod's
+    end (a weld without a name: weld0)."""
+    (t1, f1), (t2, _) = _closed_angles(BASES[0], 1), _closed_angles(BASES[1], -1)
+    elbow = BASES[1] + PROXIMAL_M * np.array([np.cos(t2), np.sin(t2)])
+    back = float(np.arctan2(*(elbow - TIP)[::-1]) - t1 - f1)
+    proximal = ROD.format(c=0.1, m=0.5, ixx=2.5e-05, iyy=0.00167917)
+    distal = ROD.format(c=0.125, m=0.4, ixx=2e-05, iyy=0.00209333)
+    stub = ROD.format(c=0, m=1e-9, ixx=1e-12, iyy=1e-12)
+    return f"""<mujoco model="weld_fivebar">
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="part_2" pos="-0.1 0 0" euler="0 0 {t1!r}">
+      <joint name="mot1" axis="0 0 1"/>{proximal}
+      <body name="part_3" pos="0.2 0 0" euler="0 0 {f1!r}">
+        <joint name="free1" axis="0 0 1"/>{distal}
+        <site name="effector" pos="0.25 0 0"/>
+        <body name="far_rod" pos="0.25 0 0" euler="0 0 {back!r}">
+          <joint name="tip_pin" axis="0 0 1"/>{distal}
+          <body name="stub" pos="0.25 0 0">
+            <joint name="free2" axis="0 0 1"/>{stub}
+          </body>
+        </body>
+      </body>
+    </body>
+    <body name="part_2_2" pos="0.1 0 0" euler="0 0 {t2!r}">
+      <joint name="mot2" axis="0 0 1"/>{proximal}
+    </body>
+  </worldbody>
+  <equality><weld body1="stub" body2="part_2_2" anchor="0.2 0 0"/></equality>
+  <actuator><motor joint="mot1" ctrlrange="-10 10"/><motor joint="mot2" ctrlrange="-10 10"/></actuator>
+</mujoco>
+"""
+
+
 @pytest.fixture
 def mjcf(tmp_path):
     path = tmp_path / "fivebar.xml"
@@ -132,6 +168,28 @@ def test_the_mjcf_fivebar_with_the_gepetto_drives_takes_the_gepetto_fivebar_ener
     assert expected > 0
     # the Gepetto export's frame links weigh 1e-9 kg each
     assert _energy_at(by_mjcf, at, tmp_path / "mjcf.json") == pytest.approx(expected, rel=1e-6)
+
+
+def test_a_weld_cut_closes_where_mujoco_says_and_takes_the_gepetto_fivebar_energy(gepetto, tmp_path):
+    weld = tmp_path / "weld.xml"
+    weld.write_text(weld_fivebar_mjcf())
+    robot = load_description_robot(weld, "effector")
+    assert [(c.name, c.kind) for c in robot.closures] == [("weld0", "weld")]
+    simulated = mujoco.MjModel.from_xml_path(str(weld))
+    state = mujoco.MjData(simulated)
+    order = [simulated.jnt_qposadr[mujoco.mj_name2id(simulated, mujoco.mjtObj.mjOBJ_JOINT, robot.model.names[j])]
+             for j in range(1, robot.model.njoints)]
+    state.qpos[order] = assemble(robot, near={"mot1": 0.3, "mot2": -0.2}).q
+    mujoco.mj_forward(simulated, state)
+    assert state.nefc >= 6 and np.abs(state.efc_pos[:6]).max() < 1e-10  # MuJoCo's own violation of the weld
+    document = yaml.safe_load(gepetto.read_text())
+    document.update(urdf=str(weld), reference_configuration={})
+    document["closures"] = [{"name": "weld0", "type": "weld", "frames": ["weld0_1", "weld0_2"]}]
+    document["actuators"] = [{**actuator, "velocity_max": 10.0} for actuator in document["actuators"]]
+    by_weld = tmp_path / "weld.yaml"
+    by_weld.write_text(yaml.safe_dump(document))
+    expected = _energy_at(gepetto, _at(gepetto), tmp_path / "gepetto.json")
+    assert _energy_at(by_weld, _at(gepetto), tmp_path / "weld.json") == pytest.approx(expected, rel=1e-6)
 
 
 def test_the_direct_route_estimates_a_closed_loop_sidecar_and_places_a_circle(mjcf, tmp_path, capsys):
