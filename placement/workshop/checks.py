@@ -355,7 +355,8 @@ def limit_warnings(robot: Robot) -> list[str]:
         if joint_id == 0 or joint.nq != 1 or not urdf_limits_missing(robot.model, joint_id):
             continue
         actuator = sidecar_limits.get(name)
-        warnings.append(f"joint '{name}' has no limits in the URDF" + (
+        kind = "MJCF (no range)" if is_mjcf(robot.urdf_path) else "URDF"
+        warnings.append(f"joint '{name}' has no limits in the {kind}" + (
             f"; the sidecar's [{actuator.position_min:g}, {actuator.position_max:g}] are used" if actuator
             else " (a passive joint: nothing checks its range)"))
     return warnings
