@@ -93,7 +93,7 @@ def job_options(*, several_paths: bool = False) -> argparse.ArgumentParser:
     """
     options = parent()
     options.add_argument("--robot", required=True, help="built-in robot name, a robot sidecar YAML, a robot "
-                         "description (URDF, xacro) with --tool, or erd:NAME (an example-robot-data arm, with --tool)")
+                         "description (URDF, xacro, MJCF .xml) with --tool, or erd:NAME (an example-robot-data arm, with --tool)")
     _add_description(options)
     _add_cell(options)
     if several_paths:
@@ -135,9 +135,9 @@ def massless_option() -> argparse.ArgumentParser:
 
 def _add_description(options: argparse.ArgumentParser) -> None:
     options.add_argument("--tool", metavar="FRAME",
-                         help="with --robot FILE (a URDF or xacro description) or erd:NAME (any serial arm of "
-                              "example-robot-data): the link or joint that follows the path, e.g. tool0; drives, "
-                              "workspace and posture are estimated")
+                         help="with --robot FILE (a URDF, xacro or MJCF description) or erd:NAME (any serial arm of "
+                              "example-robot-data): the link or joint (an MJCF's body or site) that follows the path, "
+                              "e.g. tool0; drives, workspace and posture are estimated")
     options.add_argument("--robot-arg", action="append", default=[], metavar="NAME:=VALUE",
                          help="an argument of a xacro description (repeatable), e.g. ur_type:=ur5e")
     options.add_argument("--package-path", action="append", default=[], metavar="DIR",
@@ -347,7 +347,7 @@ def run_options(*, workers: str | None = None) -> argparse.ArgumentParser:
 
 
 def load_robot_argument(robot: str, args: argparse.Namespace, cell: str | None = None) -> Robot:
-    """The robot a command line names: built-in, installed, a sidecar file, a description file (URDF, xacro) or
+    """The robot a command line names: built-in, installed, a sidecar file, a description file (URDF, xacro, MJCF) or
     erd:NAME with --tool; in the cell of the file ``cell``, if given; with --allow-massless, even if moving links lack
     inertia (:mod:`placement.robot.plausibility`); its sidecar written where --write-sidecar says.
 
@@ -371,7 +371,7 @@ def load_robot_argument(robot: str, args: argparse.Namespace, cell: str | None =
     name, path = erd_name(robot), Path(robot)
     estimated = name is not None or is_description(path)
     if not estimated and (tool is not None or write_sidecar):
-        raise UsageError(f"--tool and --write-sidecar apply to robots given as a description file (URDF, xacro) or "
+        raise UsageError(f"--tool and --write-sidecar apply to robots given as a description file (URDF, xacro, MJCF) or "
                          f"{ERD_FORM}NAME; the sidecar of '{robot[:80]}' names its tool in end_effector.frame")
     if name is not None:
         loaded = load_erd_robot(name, tool, allow_massless=allow_massless)

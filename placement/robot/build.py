@@ -20,12 +20,13 @@ from pydantic import BaseModel
 from placement.robot.closures import closure_jacobian, closure_residuals
 from placement.robot.exceptions import RobotFileError
 from placement.robot.formats import SIDECAR_NAME, DescriptionOptions, is_gepetto
+from placement.robot.mjcf import is_mjcf, mjcf_model, read_mjcf
 from placement.robot.model import Actuator, Closure, Robot
 from placement.robot.plausibility import check_plausible
 from placement.robot.plugins import load_plugin, make_closed_form
 from placement.robot.sidecar import Sidecar
 from placement.robot.tool import add_tool_frame, find_frame
-from placement.robot.urdf import pinocchio_model, read_urdf, resolve_urdf, urdf_limits_missing
+from placement.robot.urdf import UrdfContents, pinocchio_model, read_urdf, resolve_urdf, urdf_limits_missing
 from placement.robot.xacro import expand_xacro, is_xacro
 
 CLOSURE_TOLERANCE_M = 1e-6
@@ -55,11 +56,8 @@ def build_robot(path: Path, sidecar: Sidecar, *, check_closures: bool = True, al
     urdf_path = resolve_urdf(path, sidecar.urdf)
     if is_xacro(urdf_path):
         urdf_path = expand_xacro(urdf_path, {**sidecar.xacro_args, **options.xacro_args}, package_paths, path, "urdf")
-    urdf = read_urdf(urdf_path, sidecar.links)
-    for name in sidecar.links:
-        if name not in urdf.names["link"]:
-            raise RobotFileError(path, f"links.{name}", f"no link '{name}' in {urdf_path.name}")
-    model = _lock_joints(pinocchio_model(urdf_path, sidecar.links), path, sidecar.locked_joints)
+    full, urdf = _description(path, sidecar, urdf_path)
+    model = _lock_joints(full, path, sidecar.locked_joints)
     plugin = load_plugin(path, sidecar.kinematics_plugin)
     model.gravity = pin.Motion(np.array(sidecar.gravity_m_s2), np.zeros(3))
     robot = Robot(
@@ -68,7 +66,7 @@ def build_robot(path: Path, sidecar: Sidecar, *, check_closures: bool = True, al
         urdf_path=urdf_path,
         model=model,
         closures=tuple(_closure(model, path, i, c.name, c.type, c.frames) for i, c in enumerate(sidecar.closures)),
-        actuators=tuple(_actuator(model, path, sidecar, i) for i in range(len(sidecar.actuators))),
+        actuators=tuple(_actuator(model, path, sidecar, i, is_mjcf(urdf_path)) for i in range(len(sidecar.actuators))),
         end_effector_frame_id=add_tool_frame(model, sidecar.end_effector, _frame_id(
             model, path, "end_effector.frame", sidecar.end_effector.frame)),
         task=sidecar.end_effector.task,
@@ -86,6 +84,23 @@ def build_robot(path: Path, sidecar: Sidecar, *, check_closures: bool = True, al
         _check_mobility(robot)
         robot.massless_links = check_plausible(robot, urdf, allow_massless=allow_massless)
     return robot
+
+
+def _description(path: Path, sidecar: Sidecar, description: Path) -> tuple[pin.Model, UrdfContents]:
+    """The model of the description file (a URDF, or an MJCF by its suffix) and what loading reads of it, with the
+    sidecar's ``links`` (a URDF's only: an MJCF's inertias are its ``<inertial>`` elements)."""
+    if is_mjcf(description):
+        if sidecar.links:
+            name = next(iter(sidecar.links))
+            raise RobotFileError(path, f"links.{name}", f"{description.name} is an MJCF: give body '{name}' its "
+                                 "<inertial> there (mass, pos, fullinertia); the sidecar's links replace a URDF's")
+        model = mjcf_model(description)
+        return model, read_mjcf(description, model)
+    urdf = read_urdf(description, sidecar.links)
+    for name in sidecar.links:
+        if name not in urdf.names["link"]:
+            raise RobotFileError(path, f"links.{name}", f"no link '{name}' in {description.name}")
+    return pinocchio_model(description, sidecar.links), urdf
 
 
 def _lock_joints(model: pin.Model, path: Path, locked: dict[str, float]) -> pin.Model:
@@ -150,7 +165,7 @@ def _closure(model: pin.Model, path: Path, i: int, name: str, kind: str, frames:
     return Closure(name=name, kind=kind, frame_ids=(first, second))
 
 
-def _actuator(model: pin.Model, path: Path, sidecar: Sidecar, i: int) -> Actuator:
+def _actuator(model: pin.Model, path: Path, sidecar: Sidecar, i: int, mjcf: bool) -> Actuator:
     spec = sidecar.actuators[i]
     joint_id = _joint_id(model, path, f"actuators.{i}.joint", spec.joint, sidecar.locked_joints)
     q_index, v_index = model.joints[joint_id].idx_q, model.joints[joint_id].idx_v
@@ -166,8 +181,9 @@ def _actuator(model: pin.Model, path: Path, sidecar: Sidecar, i: int) -> Actuato
         raise RobotFileError(path, f"actuators.{i}.position_min", f"must be below position_max ({lower} >= {upper})")
     if not velocity > 0:
         unit = "m/s" if model.joints[joint_id].shortname() in PRISMATIC_JOINTS else "rad/s"
-        raise RobotFileError(path, f"actuators.{i}.velocity_max", f"joint '{spec.joint}' has velocity limit {velocity:g} "
-                             f"in the URDF (urdf.joint.{spec.joint}.limit.velocity): set actuators.{i}.velocity_max in "
+        given = ("the MJCF gives no speed limits" if mjcf else f"joint '{spec.joint}' has velocity limit {velocity:g} "
+                 f"in the URDF (urdf.joint.{spec.joint}.limit.velocity)")
+        raise RobotFileError(path, f"actuators.{i}.velocity_max", f"{given}: set actuators.{i}.velocity_max in "
                              f"the sidecar ({unit}), expected > 0")
     drive = sidecar.drives[spec.drive] if spec.drive else None
     return Actuator(joint=spec.joint, q_index=q_index, v_index=v_index, position_min=float(lower),

@@ -1,4 +1,4 @@
-"""Which robot file a path holds: a sidecar, a description (URDF, xacro), or a Gepetto ``robot.yaml``.
+"""Which robot file a path holds: a sidecar, a description (URDF, xacro, MJCF), or a Gepetto ``robot.yaml``.
 
 A Gepetto folder holds ``robot.yaml`` (the loops, the motors, the end effector) and ``robot.urdf``;
 ``placement assemble FOLDER --write`` writes the sidecar ``placement.yaml`` beside them
@@ -19,11 +19,12 @@ YAML_NAME = "robot.yaml"
 URDF_NAME = "robot.urdf"
 SIDECAR_NAME = "placement.yaml"
 GEPETTO_KEYS = ("closed_loop", "type", "name_mot", "joint_name", "joint_type")
-DESCRIPTION_SUFFIXES = (".urdf", ".xacro")  # a robot description (``.urdf.xacro`` ends in .xacro)
+DESCRIPTION_SUFFIXES = (".urdf", ".xacro", ".xml", ".mjcf")  # URDF, xacro (``.urdf.xacro`` too), MuJoCo's MJCF
 
 
 def is_description(path: Path) -> bool:
-    """Whether ``path`` names a robot description (a URDF or xacro file, by its suffix) rather than a sidecar."""
+    """Whether ``path`` names a robot description (a URDF, xacro or MJCF file, by its suffix) rather than a
+    sidecar."""
     return path.suffix.lower() in DESCRIPTION_SUFFIXES
 
 

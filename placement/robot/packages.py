@@ -31,6 +31,7 @@ import pinocchio as pin
 
 from placement.exceptions import listed
 from placement.robot.exceptions import RobotFileError
+from placement.robot.mjcf import is_mjcf, mjcf_geometry
 from placement.robot.model import Robot
 
 PACKAGE_VARIABLES = ("ROS_PACKAGE_PATH", "AMENT_PREFIX_PATH")
@@ -133,11 +134,13 @@ def resolved_description(description: Path, folders: Sequence[Path]) -> str:
 
 def description_geometry(robot: Robot, kind: pin.GeometryType) -> pin.GeometryModel:
     """Pinocchio's geometry model of the URDF's collision or visual elements on the robot's (reduced) model, every
-    mesh found as this module says.
+    mesh found as this module says (an MJCF's: :func:`placement.robot.mjcf.mjcf_geometry`).
 
     Raises:
         RobotFileError: A mesh is not found, or cannot be read (the message names the link and the folders).
     """
+    if is_mjcf(robot.urdf_path):
+        return mjcf_geometry(robot.model, robot.urdf_path, kind)
     folders = search_folders(robot.urdf_path, robot.package_paths)
     text = resolved_description(robot.urdf_path, folders)
     try:

@@ -38,6 +38,7 @@ import pinocchio as pin
 from placement.exceptions import PlacementWarning, listed
 from placement.robot.exceptions import RobotFileError
 from placement.robot.formats import is_gepetto
+from placement.robot.mjcf import is_mjcf
 from placement.robot.model import Robot
 from placement.robot.urdf import UrdfContents
 
@@ -153,7 +154,9 @@ def _lacking_text(robot: Robot, lacking: Sequence[str]) -> str:
     kinds = ([f"{_names(massless)} without mass (no <inertial>, or below {MASSLESS_KG:g} kg)"] if massless else []) + (
         [f"{_names(flat)} with a rotational inertia that is not positive definite"] if flat else [])
     first = lacking[0]
-    where = (f"an <inertial> for each in {robot.urdf_path.name} (or, once 'placement assemble "
+    where = (f"an <inertial> for each body in {robot.urdf_path.name} (mass, pos, and diaginertia or fullinertia)"
+             if is_mjcf(robot.urdf_path) else
+             f"an <inertial> for each in {robot.urdf_path.name} (or, once 'placement assemble "
              f"{robot.sidecar_path.parent} --write' has written its sidecar, their values under the sidecar's links)"
              if is_gepetto(robot.sidecar_path) else
              f"each link's mass_kg, com_m (m) and inertia_kg_m2 (about the centre of mass, link axes) under the "

@@ -171,7 +171,7 @@ class Sidecar(Strict):
 
     name: Text
     description: Text = ""
-    urdf: str = Field(description="URDF or xacro path relative to this file, or 'example-robot-data:NAME'")
+    urdf: str = Field(description="URDF, xacro or MJCF (.xml) path relative to this file, or 'example-robot-data:NAME'")
     xacro_args: dict[str, Text] = Field({}, description="a xacro file's arguments (ur_type: ur5e)")
     package_paths: list[str] = Field([], description="folders (relative to this file) where the URDF's "
                                      "package:// meshes and a xacro's $(find PKG) are looked for first")

@@ -71,8 +71,8 @@ def add_tool_frame(model: pin.Model, end_effector: EndEffector, frame_id: int) -
 
 def find_frame(model: pin.Model, name: str) -> int | None:
     """The id of the frame called ``name``: a link first, then a fixed joint, then a joint (a URDF may give a
-    link and a joint one name); None if there is none."""
-    for kind in (pin.FrameType.BODY, pin.FrameType.FIXED_JOINT, pin.FrameType.JOINT):
+    link and a joint one name), then another frame (an MJCF's site); None if there is none."""
+    for kind in (pin.FrameType.BODY, pin.FrameType.FIXED_JOINT, pin.FrameType.JOINT, pin.FrameType.OP_FRAME):
         if model.existFrame(name, kind):
             return int(model.getFrameId(name, kind))
     return None

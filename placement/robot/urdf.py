@@ -11,6 +11,7 @@ a second of imports to every command.
 from __future__ import annotations
 
 import os
+import re
 import tempfile
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -27,6 +28,7 @@ if TYPE_CHECKING:
     from placement.robot.sidecar import LinkInertial
 
 ERD_PREFIX = "example-robot-data:"
+CLOSING = re.compile(r"closing_(.+)_([12])")  # onshape-to-robot's loop frames: closing_NAME_1 and closing_NAME_2
 NO_LIMIT = 1e10  # a position limit this large (m or rad) is Pinocchio's stand-in for none
 
 
@@ -258,3 +260,28 @@ def urdf_limits_missing(model: pin.Model, joint_id: int) -> bool:
     index = model.joints[joint_id].idx_q
     low, high = float(model.lowerPositionLimit[index]), float(model.upperPositionLimit[index])
     return (low == 0.0 and high == 0.0) or not max(abs(low), abs(high)) < NO_LIMIT
+
+
+def closing_pairs(path: Path) -> list[tuple[str, str, str]]:
+    """The loops of a URDF exported by onshape-to-robot: its links ``closing_NAME_1`` and ``closing_NAME_2``, two frames
+    on the two parts a loop's last mate joins, which must coincide (a point closure).
+
+    Returns:
+        (NAME, first frame, second frame) for each pair, in the order of their first link.
+
+    Raises:
+        RobotFileError: A ``closing_NAME_1`` without its ``closing_NAME_2``, or the other way round.
+    """
+    root = ElementTree.parse(path).getroot()
+    names = [str(link.get("name")) for link in root.findall("link")]
+    found: dict[str, dict[str, str]] = {}
+    for name in names:
+        match = CLOSING.fullmatch(name)
+        if match:
+            found.setdefault(match.group(1), {})[match.group(2)] = name
+    for loop, ends in found.items():
+        if len(ends) != 2:
+            have, lacking = next(iter(ends.values())), f"closing_{loop}_{'2' if '1' in ends else '1'}"
+            raise RobotFileError(path, f"urdf.link.{have}", f"onshape-to-robot closes a loop with two frames: "
+                                 f"'{have}' has no '{lacking}' to coincide with")
+    return [(loop, ends["1"], ends["2"]) for loop, ends in found.items()]

@@ -23,6 +23,7 @@ from placement.kinematics import joint_trajectory
 from placement.kinematics.exceptions import UnreachableError
 from placement.kinematics.trajectories import JointTrajectory, TaskTrajectory
 from placement.robot.closures import LWA, closure_residuals
+from placement.robot.mjcf import is_mjcf, read_mjcf
 from placement.robot.model import Robot
 from placement.robot.plausibility import massless_note
 from placement.robot.urdf import urdf_limits_missing
@@ -299,7 +300,10 @@ def current_warnings(robot: Robot) -> list[str]:
 
 
 def link_masses(robot: Robot) -> dict[str, float]:
-    """Mass of every URDF link that declares an inertial, or that the sidecar's ``links`` gives one, kg, by link name."""
+    """Mass of every URDF link that declares an inertial, or that the sidecar's ``links`` gives one, kg, by link name;
+    of an MJCF, of every body that carries a joint (with the bodies welded to it)."""
+    if is_mjcf(robot.urdf_path):
+        return read_mjcf(robot.urdf_path).masses
     masses = {}
     for link in ElementTree.parse(robot.urdf_path).getroot().iter("link"):
         mass = link.find("inertial/mass")
@@ -351,7 +355,8 @@ def limit_warnings(robot: Robot) -> list[str]:
         if joint_id == 0 or joint.nq != 1 or not urdf_limits_missing(robot.model, joint_id):
             continue
         actuator = sidecar_limits.get(name)
-        warnings.append(f"joint '{name}' has no limits in the URDF" + (
+        kind = "MJCF (no range)" if is_mjcf(robot.urdf_path) else "URDF"
+        warnings.append(f"joint '{name}' has no limits in the {kind}" + (
             f"; the sidecar's [{actuator.position_min:g}, {actuator.position_max:g}] are used" if actuator
             else " (a passive joint: nothing checks its range)"))
     return warnings

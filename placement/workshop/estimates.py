@@ -36,6 +36,7 @@ number the URDF does not give is an estimate, labelled ``EST`` in the sidecar's 
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from dataclasses import dataclass
 from pathlib import Path
@@ -45,16 +46,25 @@ import pinocchio as pin
 import yaml
 from pydantic import ValidationError
 
-from placement.robot.build import reduced_model
+from placement.robot.build import PRISMATIC_JOINTS, reduced_model
 from placement.robot.exceptions import ExampleRobotError
-from placement.robot.formats import DescriptionOptions
+from placement.robot.formats import YAML_NAME, DescriptionOptions, is_gepetto
+from placement.robot.mjcf import MjcfJoint, is_mjcf, mjcf_model, qpos0, read_mjcf
 from placement.robot.model import Robot
 from placement.robot.sidecar import Sidecar
 from placement.robot.tool import find_frame
-from placement.robot.urdf import ERD_PREFIX, erd_urdf_path, pinocchio_model, urdf_limits_missing
+from placement.robot.urdf import ERD_PREFIX, closing_pairs, erd_urdf_path, pinocchio_model, urdf_limits_missing
 from placement.robot.xacro import expand_xacro, is_xacro
 from placement.workshop.catalog import ERD_FORM, erd_names
 from placement.workshop.load import robot_from_sidecar, write_if_it_loads
+from placement.workshop.loops import (
+    JOINT_SPEED_M_S,
+    JOINT_SPEED_RAD_S,
+    PASSIVE,
+    LoopDescription,
+    description_name,
+    loop_sidecar,
+)
 
 GEAR_RATIO = 100.0
 SCREW_LEAD_M = 0.01
@@ -78,8 +88,13 @@ def estimate_warning(robot: Robot) -> str:
     """The one warning an ``erd:`` robot deserves: its drives and workspace are estimates."""
     count = sum(text.startswith("EST") for text in robot.sources.values())
     locked = f"; joints held fixed: {', '.join(robot.locked_joints)}" if robot.locked_joints else ""
-    return (f"{robot.name}: the drives (gear {GEAR_RATIO:g}:1, motor constants scaled from the URDF's effort and "
-            f"velocity limits), the workspace box and the reference posture are estimates ({count} EST sources)"
+    kind = "MJCF" if is_mjcf(robot.urdf_path) else "URDF"
+    limits = ("MJCF's actuator force ranges and a joint speed of 180 deg/s" if kind == "MJCF"
+              else "URDF's effort and velocity limits")
+    drives = (f"3000 rpm motors geared down to the joints' speeds, sized from the {limits}" if robot.closures
+              else f"gear {GEAR_RATIO:g}:1, motor constants scaled from the {limits}")
+    return (f"{robot.name}: the drives ({drives}), the "
+            f"workspace box and the reference posture are estimates ({count} EST sources)"
             f"{locked}; absolute energies are only as good as they are (write a sidecar: docs/adding_a_robot.md)")
 
 
@@ -125,16 +140,54 @@ def load_description_robot(path: Path, tool: str | None, *, allow_massless: bool
 
 
 def description_sidecar(path: Path, tool: str | None, options: DescriptionOptions = DescriptionOptions()) -> Sidecar:
-    """The estimated sidecar of the robot described by the URDF or xacro file ``path``, ``tool`` following the path;
-    its ``urdf`` is ``path`` (absolute), a xacro's arguments its ``xacro_args``."""
+    """The estimated sidecar of the robot described by the URDF, xacro or MJCF file ``path``, ``tool`` following the
+    path; its ``urdf`` is ``path`` (absolute), a xacro's arguments its ``xacro_args``."""
     path = path.resolve()
-    urdf = expand_xacro(path, options.xacro_args, options.package_paths, path, "") if is_xacro(path) else path
-    model = pinocchio_model(urdf)
-    q0 = np.clip(pin.neutral(model), model.lowerPositionLimit, model.upperPositionLimit)
-    arm = _Arm.of(str(path), model, q0, tool, posture="the description's neutral posture, clipped into its limits")
-    name = path.name.removesuffix(path.suffix).removesuffix(".urdf")
-    sidecar = _estimated_sidecar(arm, name, str(path), f"{path.name}, tool {tool}: drives and workspace estimated")
+    posture = "the description's neutral posture, clipped into its limits"
+    if is_mjcf(path):
+        model = mjcf_model(path)
+        contents = read_mjcf(path, model)
+        if contents.closures:
+            closures = [{"name": c.name, "type": c.kind, "frames": list(c.frames)} for c in contents.closures]
+            start = {name: joint.ref for name, joint in contents.joints.items() if joint.ref != 0.0}
+            return loop_sidecar(path, tool, LoopDescription("MJCF", model, closures, list(contents.actuated),
+                                                            "DERIVED: the joints the MJCF's actuators drive",
+                                                            contents.joints, start))
+        q0 = np.clip(qpos0(model, contents.joints), model.lowerPositionLimit, model.upperPositionLimit)
+        arm = _Arm.of(str(path), model, q0, tool, "the MJCF's qpos0, clipped into its limits", given=contents.joints)
+    else:
+        urdf = expand_xacro(path, options.xacro_args, options.package_paths, path, "") if is_xacro(path) else path
+        model = pinocchio_model(urdf)
+        pairs = closing_pairs(urdf)
+        if not pairs and is_gepetto(path.parent / YAML_NAME):
+            raise ExampleRobotError(f"{path} is the tree of the Gepetto {YAML_NAME} beside it, which says where its "
+                                    f"loops close: 'python -m placement assemble {path.parent} --write' closes them "
+                                    f"and writes its sidecar; then give the folder, --robot {path.parent}, without "
+                                    "--tool")
+        if pairs and not is_xacro(path):
+            closures = [{"name": name, "type": "point", "frames": [first, second]} for name, first, second in pairs]
+            actuated, why = _onshape_actuated(model)
+            return loop_sidecar(path, tool, LoopDescription("URDF", model, closures, actuated, why))
+        arm = _Arm.of(str(path), model, _neutral(model), tool, posture)
+    sidecar = _estimated_sidecar(arm, description_name(path), str(path),
+                                 f"{path.name}, tool {tool}: drives and workspace estimated")
     return sidecar.model_copy(update={"xacro_args": dict(options.xacro_args)}) if is_xacro(path) else sidecar
+
+
+def _onshape_actuated(model: pin.Model) -> tuple[list[str], str]:
+    """The actuated joints of a URDF exported by onshape-to-robot, which does not say them, and the rule that chose
+    them (:mod:`placement.workshop.loops`)."""
+    movable = [j for j in range(1, model.njoints) if model.joints[j].nv == 1 and PASSIVE not in model.names[j].lower()]
+    on_base = [model.names[j] for j in movable if model.parents[j] == 0]
+    if on_base:
+        return on_base, "EST: the joints on the base link (the URDF does not say which joints are actuated)"
+    return [model.names[j] for j in movable], (f"EST: the joints not named *{PASSIVE}* (the URDF does not say which "
+                                               "joints are actuated)")
+
+
+def _neutral(model: pin.Model) -> np.ndarray:
+    """The model's neutral configuration clipped into its joints' limits."""
+    return np.clip(pin.neutral(model), model.lowerPositionLimit, model.upperPositionLimit)
 
 
 def _estimated_sidecar(arm: _Arm, name: str, urdf: str, description: str) -> Sidecar:
@@ -183,6 +236,8 @@ class _Arm:
     locked: dict[str, float]
     unlimited: list[int]  # chain joints without position limits in the URDF (continuous ones)
     posture: str = "example-robot-data's q0"  # where q0 comes from, for the sources
+    given: dict[str, MjcfJoint] | None = None  # an MJCF's joints: effort bounds' origin, armature, friction
+    speeds: dict[int, float] = dataclasses.field(default_factory=dict)  # joint speeds estimated (none given)
 
     @classmethod
     def read(cls, name: str, tool: str | None) -> _Arm:
@@ -198,8 +253,9 @@ class _Arm:
 
     @classmethod
     def of(cls, label: str, model: pin.Model, q0: np.ndarray, tool: str | None,
-           posture: str = "example-robot-data's q0") -> _Arm:
-        """The arm of ``model`` whose chain ends at ``tool``, from the posture ``q0`` (rules: module docstring)."""
+           posture: str = "example-robot-data's q0", given: dict[str, MjcfJoint] | None = None) -> _Arm:
+        """The arm of ``model`` whose chain ends at ``tool``, from the posture ``q0`` (rules: module docstring); an
+        MJCF's joint data ``given``, its joints' speeds estimated."""
         frame_id = _tool_frame(model, label, tool)
         chain = [int(j) for j in model.supports[model.frames[frame_id].parentJoint][1:]]
         odd = [model.names[j] for j in chain if model.joints[j].nq != 1 or model.joints[j].nv != 1]
@@ -219,7 +275,13 @@ class _Arm:
         active = [j for k, j in enumerate(chain) if not (len(chain) == 7 and k == 2)]
         locked = {model.names[j]: float(_clip(model, j, q0[model.joints[j].idx_q]))
                   for j in range(1, model.njoints) if j not in active}
-        return cls(label, str(tool), model, frame_id, q0, chain, active, locked, unlimited, posture)
+        speeds = {}
+        if given is not None:  # an MJCF gives no speed limits
+            for j in active:
+                prismatic = model.joints[j].shortname() in PRISMATIC_JOINTS
+                speeds[j] = JOINT_SPEED_M_S if prismatic else JOINT_SPEED_RAD_S
+                model.velocityLimit[model.joints[j].idx_v] = speeds[j]
+        return cls(label, str(tool), model, frame_id, q0, chain, active, locked, unlimited, posture, given, speeds)
 
     @property
     def pose(self) -> bool:
@@ -254,12 +316,18 @@ class _Arm:
         if joint in self.unlimited:
             centre = float(q_ref[self.q_index(joint)])
             entry.update(position_min=centre - np.pi, position_max=centre + np.pi)
+        if joint in self.speeds:
+            entry["velocity_max"] = self.speeds[joint]
         return entry
 
     def drive(self, joint: int) -> dict:
         """The estimated drive of one joint (rules: module docstring)."""
         joint_name, v = self.model.names[joint], self.model.joints[joint].idx_v
         effort, speed = float(self.model.effortLimit[v]), float(self.model.velocityLimit[v])
+        if self.given is not None and not 0 < effort < np.inf:
+            raise ExampleRobotError(f"{self.label}: nothing in the MJCF bounds the effort of joint '{joint_name}', so "
+                                    "its drive cannot be estimated: give its actuator a forcerange (or the joint an "
+                                    "actuatorfrcrange, N or N m), or write a sidecar (docs/adding_a_robot.md)")
         if not (0 < effort < np.inf and 0 < speed < np.inf):
             raise ExampleRobotError(f"{self.label}: joint '{joint_name}' has no effort or velocity limit in its "
                                     f"URDF (got {effort:g}, {speed:g}), so its drive cannot be estimated; write a sidecar")
@@ -269,10 +337,16 @@ class _Arm:
                         else {"type": "gear", "ratio": GEAR_RATIO, "efficiency": 1.0})
         torque = effort / k
         root = np.sqrt(torque)
+        given = self.given.get(joint_name) if self.given is not None else None
+        armature = given.armature if given is not None else 0.0
         motor = {"torque_constant_Nm_per_A": 0.1 * root, "back_emf_constant_V_s_per_rad": 0.1 * root / 3,
                  "resistance_ohm": 0.5 / root, "inductance_H": 5e-4 / root, "phases": 3,
-                 "rotor_inertia_kg_m2": torque / 20_000.0, "max_torque_Nm": torque, "max_speed_rad_s": speed * k}
-        return {"transmission": transmission, "motor": motor}
+                 "rotor_inertia_kg_m2": armature / k**2 if armature > 0 else torque / 20_000.0,
+                 "max_torque_Nm": torque, "max_speed_rad_s": speed * k}
+        drive: dict[str, object] = {"transmission": transmission, "motor": motor}
+        if given is not None and (given.frictionloss > 0 or given.damping > 0):
+            drive["friction"] = {"coulomb": given.frictionloss, "viscous": given.damping}
+        return drive
 
     def sources(self, drives: dict) -> dict[str, str]:
         """An EST (or DERIVED) entry for every estimate."""
@@ -297,11 +371,38 @@ class _Arm:
             entries["end_effector.tool_rpy_in_path_rad"] = "DERIVED: tool z along -Z_p, yaw of the reference posture"
         for drive, spec in drives.items():
             kind = "gear ratio" if spec["transmission"]["type"] == "gear" else "screw lead"
-            entries[f"drives.{drive}.transmission"] = f"EST: a typical {kind} (the URDF gives none)"
+            entries[f"drives.{drive}.transmission"] = f"EST: a typical {kind} (the {self.kind} gives none)"
             entries[f"drives.{drive}.motor"] = ("EST: 3-phase servo scaled by peak torque tau: K_t = 0.1 sqrt(tau), "
                                                "K_e = K_t/3, R = 0.5/sqrt(tau), L = 0.5e-3/sqrt(tau), J = tau/20000; "
                                                "max_torque and max_speed DERIVED from the URDF's effort and velocity "
                                                "limits through the transmission")
+        if self.given is not None:
+            for i, joint in enumerate(self.active):
+                entries.update(self._mjcf_sources(joint, drives[self.drive_name(joint)]))
+                entries[f"actuators.{i}.velocity_max"] = "EST: the MJCF gives no speed limits; a typical joint speed"
+        return entries
+
+    @property
+    def kind(self) -> str:
+        """The kind of description, in the sources: URDF or MJCF."""
+        return "URDF" if self.given is None else "MJCF"
+
+    def _mjcf_sources(self, joint: int, drive: dict) -> dict[str, str]:
+        """The sources of an MJCF joint's drive: the effort bound, armature and friction it gives, the speed
+        estimated."""
+        assert self.given is not None  # an MJCF's arm
+        name, given = self.drive_name(joint), self.given[self.model.names[joint]]
+        speed = self.speeds[joint]
+        unit = "m/s" if self.model.joints[joint].shortname() in PRISMATIC_JOINTS else "rad/s"
+        rotor = (f"J DERIVED from the MJCF's armature {given.armature:g} divided by the transmission's speed ratio "
+                 "squared" if given.armature > 0 else "J = tau/20000")
+        entries = {f"drives.{name}.motor": (
+            f"EST: 3-phase servo scaled by peak torque tau: K_t = 0.1 sqrt(tau), K_e = K_t/3, R = 0.5/sqrt(tau), "
+            f"L = 0.5e-3/sqrt(tau), {rotor}; max_torque DERIVED from the MJCF ({given.effort_from}) through the "
+            f"transmission; max_speed EST from a joint speed of {speed:g} {unit} (the MJCF gives none)")}
+        if "friction" in drive:
+            entries[f"drives.{name}.friction"] = (f"DERIVED: the MJCF's joint frictionloss {given.frictionloss:g} "
+                                                  f"(Coulomb) and damping {given.damping:g} (viscous)")
         return entries
 
     def reduced(self) -> pin.Model:
@@ -452,7 +553,8 @@ def _clip(model: pin.Model, joint: int, value: float) -> float:
 def _tool_frame(model: pin.Model, label: str, tool: str | None) -> int:
     """The id of the tool frame (a link, else a joint), or an error listing the candidates."""
     parents = {frame.parentFrame for frame in model.frames}
-    leaves = [f.name for i, f in enumerate(model.frames) if f.type == pin.FrameType.BODY and i not in parents]
+    leaves = [f.name for i, f in enumerate(model.frames) if f.type in (pin.FrameType.BODY, pin.FrameType.OP_FRAME)
+              and i not in parents]  # an MJCF's sites are frames too
     if tool is None:
         raise ExampleRobotError(f"{label} needs --tool FRAME, the frame that follows the path; candidates "
                                 f"(the leaves of its tree): {', '.join(leaves)}")

@@ -306,8 +306,9 @@ def _actuator(path: Path, urdf: _Urdf, i: int, joint: str, document: dict[str, A
     return [*estimates, f"drives.{joint}: {text}"]
 
 
-def estimated_drive(effort: float, velocity: float, prismatic: bool) -> tuple[dict[str, Any], str]:
-    """A drive for a joint of URDF limits ``effort`` (N or N m) and ``velocity`` (m/s or rad/s).
+def estimated_drive(effort: float, velocity: float, prismatic: bool, origin: str = "the URDF's") -> tuple[dict[str, Any], str]:
+    """A drive for a joint of URDF limits ``effort`` (N or N m) and ``velocity`` (m/s or rad/s); ``origin`` says
+    where they come from in the line returned.
 
     Returns:
         The sidecar's drive mapping (see the module's docstring for the rule) and one line saying it.
@@ -330,7 +331,7 @@ def estimated_drive(effort: float, velocity: float, prismatic: bool) -> tuple[di
              "max_torque_Nm": _rounded(torque), "max_speed_rad_s": MOTOR_SPEED_RAD_S}
     text = (f"{said}, 3-phase motor of {motor['max_torque_Nm']:g} N m peak at {MOTOR_SPEED_RAD_S:g} rad/s, "
             f"K_t {k_t:g} N m/A, R {motor['resistance_ohm']:g} ohm, L {motor['inductance_H']:g} H, rotor "
-            f"{motor['rotor_inertia_kg_m2']:g} kg m^2 (from the URDF's {limits})")
+            f"{motor['rotor_inertia_kg_m2']:g} kg m^2 (from {origin} {limits})")
     return {"transmission": transmission, "motor": motor}, text
 
 
@@ -376,7 +377,7 @@ def sidecar_text(path: Path, robot: Robot, reference: dict[str, float], locks: d
     if locks:
         document["locked_joints"] = {**document.get("locked_joints", {}), **locks}
         document["sources"].update({f"locked_joints.{name}": f"EST: {reason}" for name in locks})
-    document.update(_workspace(robot, document["sources"]))
+    document.update(estimated_workspace(robot, document["sources"]))
     order = ("name", "description", "urdf", "gravity_m_s2", "end_effector", "reference_configuration", "locked_joints",
              "closures", "actuators", "drives", "workspace", "placement", "sources")
     fields = {key: document[key] for key in order if key in document and key != "sources"}
@@ -387,7 +388,7 @@ def sidecar_text(path: Path, robot: Robot, reference: dict[str, float], locks: d
     return header + body + yaml.safe_dump({"sources": document["sources"]}, sort_keys=False, width=10_000)
 
 
-def _workspace(robot: Robot, sources: dict[str, str]) -> dict[str, Any]:
+def estimated_workspace(robot: Robot, sources: dict[str, str]) -> dict[str, Any]:
     """The estimated ``workspace``, and ``placement`` for a mechanism moving in a plane: ``free: [x, y, phi]``
     in a horizontal plane, else the plane (its normal is the direction the end effector cannot move in).
 

@@ -140,7 +140,7 @@ def test_the_command_line_places_a_path_on_a_urdf_file_and_writes_a_sidecar_that
 
 def test_tool_on_a_sidecar_and_a_bad_robot_arg_exit_2_with_one_line(capsys):
     assert main(["--robot", "ur5", "--tool", "tool0", "--path", str(CIRCLE)]) == 2
-    assert "description file (URDF, xacro)" in capsys.readouterr().err
+    assert "description file (URDF, xacro, MJCF)" in capsys.readouterr().err
     assert main(["--robot", "ur5", "--robot-arg", "reach", "--path", str(CIRCLE)]) == 2
     err = capsys.readouterr().err
     assert err.startswith("error: --robot-arg: expected NAME:=VALUE") and len(err.strip().splitlines()) == 1

@@ -16,7 +16,7 @@ import yaml
 from placement import load_robot
 from placement.__main__ import main
 from placement.workshop.catalog import sidecar_path
-from placement.workshop.gepetto import EstimatesWarning, _workspace
+from placement.workshop.gepetto import EstimatesWarning, estimated_workspace
 from tests.support.delta_analytic import williams_inverse_kinematics
 from tests.support.fivebar_analytic import reached_on_branch
 from tests.support.paths import DATA
@@ -93,7 +93,7 @@ def test_the_delta_box_lies_in_williams_reach():
     Williams' closed form reaches with the knees out and the arms in range, larger than the IRB 340's stated
     working box (the sidecar's, 0.8 x 0.8 x 0.25 m)."""
     robot = load_robot("delta")
-    document = _workspace(robot, {})
+    document = estimated_workspace(robot, {})
     low, high = np.array(document["workspace"]["min_m"]), np.array(document["workspace"]["max_m"])
     points = np.stack(np.meshgrid(*(np.linspace(a, b, 15) for a, b in zip(low, high)), indexing="ij"), -1).reshape(-1, 3)
     still = np.zeros_like(points)
