@@ -38,6 +38,7 @@ from placement.path.toolpath import ToolPath
 from placement.placing.transform import placed_task
 from placement.registry import restore_runtime_members, runtime_members
 from placement.robot.model import Robot
+from placement.stiffness import has_springs
 from placement.timing.optimal import time_optimal
 from placement.timing.rules import check_timing
 
@@ -272,7 +273,9 @@ class Evaluator:
             acceleration=batch.acceleration[0], effort=batch.effort[0], configuration=batch.joints.q, motor=motor,
             power_W=sample_power(self.robot, motor, samples.t_s, samples.piece), timing=self.path.timing.mode,
             duration_s=float(np.ptp(samples.t_s) if batch.time_law is None else batch.time_law.duration_s[0]),
-            hold_effort=_hold_effort(self.robot, batch.joints), required_margin=self.settings.margin)
+            hold_effort=_hold_effort(self.robot, batch.joints), required_margin=self.settings.margin,
+            deflection=batch.deflection.summary(0, samples.position_m) if reachable.all() and has_springs(self.robot)
+            else None)
 
 
 def batch_margins(batch: EvaluatedBatch) -> tuple[np.ndarray, tuple[str, ...], np.ndarray]:
