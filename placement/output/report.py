@@ -362,7 +362,8 @@ def write_trace(path: str | Path, robot: Robot, detail: PlacementDetail) -> None
     tool_force_x, tool_force_y, tool_force_z (the process force on the tool from the workpiece, base
     frame, N), then for each actuator, named by its joint: q_JOINT, qd_JOINT, qdd_JOINT, force_JOINT
     (N or N·m at the joint), motor_speed_JOINT (rad/s), motor_torque_JOINT (N·m), current_JOINT (A),
-    power_JOINT (W, electric). The names are a calibration log's
+    power_JOINT (W, electric); where the robot gives its stiffness, deflection_x, deflection_y, deflection_z (the
+    tool point's deflection under the process force, base frame, m). The names are a calibration log's
     (:func:`placement.workshop.calibration.read_log`): the trace calibrates the drives it was made with,
     its rates and process force included. Two rows of one time are the motion either side of a step
     in its acceleration (a segment's end, a switch of the optimal timing law).
@@ -377,6 +378,9 @@ def write_trace(path: str | Path, robot: Robot, detail: PlacementDetail) -> None
     force = transform_path_to_base(detail.samples, detail.placement, robot.plane)[1]
     table = np.column_stack([detail.samples.t_s, detail.tool_position_m, speed, force]
                             + [values[:, i] for i in range(len(names)) for values in per_actuator])
+    if detail.deflection is not None:
+        columns += ["deflection_x", "deflection_y", "deflection_z"]
+        table = np.column_stack([table, detail.deflection.translation_m])
     buffer = io.StringIO()
     writer = csv.writer(buffer)
     writer.writerow(columns)

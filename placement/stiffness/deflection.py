@@ -26,6 +26,7 @@ class DeflectionSummary:
         sample: The sample of the largest.
         arc_length_m: How far along the path that sample lies (m).
         direction: (3,) the largest translation's unit direction in the base frame (zeros without load).
+        translation_m: (N, 3) the tool point's translation at every sample, base frame (m).
         largest_rotation_rad: The largest rotation of the end-effector frame (rad), for a pose task; else None.
     """
 
@@ -34,6 +35,7 @@ class DeflectionSummary:
     sample: int
     arc_length_m: float
     direction: np.ndarray
+    translation_m: np.ndarray
     largest_rotation_rad: float | None = None
 
 
@@ -74,7 +76,8 @@ class Deflection:
         direction = self.translation_m[placement, sample] / largest if largest > 0 else np.zeros(3)
         rotation = None if self.rotation_rad is None else float(np.linalg.norm(self.rotation_rad[placement], axis=1).max())
         return DeflectionSummary(largest_m=largest, rms_m=float(self.rms_m[placement]), sample=sample, arc_length_m=arc,
-                                 direction=direction, largest_rotation_rad=rotation)
+                                 direction=direction, translation_m=self.translation_m[placement],
+                                 largest_rotation_rad=rotation)
 
 
 def path_deflection(springs: JointSprings, joints: JointTrajectory, force_N: np.ndarray) -> Deflection:

@@ -95,10 +95,13 @@ def test_the_sidecar_wants_a_source_for_each_stiffness_and_springs_on_passive_jo
 
 
 def test_the_command_line_reports_deflection_and_names_a_binding_bound(tmp_path, capsys):
-    out = tmp_path / "r.json"
+    out, trace = tmp_path / "r.json", tmp_path / "trace.csv"
     assert main(["--robot", "orthoglide", "--path", "examples/rect.yaml", "--json", str(out), "--quiet",
-                 "--max-deflection-um", "3.0"]) == 0
+                 "--max-deflection-um", "3.0", "--trace", str(trace)]) == 0
     document = json.loads(out.read_text())
+    table = np.genfromtxt(trace, delimiter=",", names=True)
+    along = np.linalg.norm([table["deflection_x"], table["deflection_y"], table["deflection_z"]], axis=0)
+    np.testing.assert_allclose(along.max() * 1e6, document["best"]["deflection"]["largest_um"], rtol=1e-8)
     for which in ("best", "worst"):
         bend = document[which]["deflection"]
         assert bend["largest_um"] <= 3.0 + 1e-9 and 0 < bend["rms_um"] <= bend["largest_um"]
