@@ -32,6 +32,15 @@ def tool_pose(robot: Robot, data: pin.Data, q: np.ndarray) -> pin.SE3:
 def settle(robot: Robot, q0: np.ndarray, stiffness_by_v: dict[int, float], load: np.ndarray) -> np.ndarray:
     """The tool's displacement (d,) at the equilibrium under ``load`` (d,), from the unloaded configuration q₀
     (closures closed), springs ``stiffness_by_v`` {velocity index: N/m or N·m/rad}."""
+    data = robot.model.createData()
+    q = equilibrium(robot, q0, stiffness_by_v, load)
+    start, end = tool_pose(robot, data, q0), tool_pose(robot, data, q)
+    moved = end.translation - start.translation
+    return moved if len(load) == 3 else np.concatenate([moved, pin.log3(end.rotation @ start.rotation.T)])
+
+
+def equilibrium(robot: Robot, q0: np.ndarray, stiffness_by_v: dict[int, float], load: np.ndarray) -> np.ndarray:
+    """The equilibrium configuration under ``load`` (see :func:`settle`)."""
     model, data = robot.model, robot.model.createData()
     stiffness = np.zeros((model.nv, model.nv))
     for v, k in stiffness_by_v.items():
@@ -52,9 +61,7 @@ def settle(robot: Robot, q0: np.ndarray, stiffness_by_v: dict[int, float], load:
         q = pin.integrate(model, q, step)
         if np.abs(step).max() < TOLERANCE:
             break
-    start, end = tool_pose(robot, data, q0), tool_pose(robot, data, q)
-    moved = end.translation - start.translation
-    return moved if dimension == 3 else np.concatenate([moved, pin.log3(end.rotation @ start.rotation.T)])
+    return q
 
 
 def _residual_rate(robot: Robot, q: np.ndarray, load: np.ndarray, stiffness: np.ndarray, q0: np.ndarray,
