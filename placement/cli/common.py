@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import os
 import signal
 import sys
@@ -195,6 +196,10 @@ def margin_option() -> argparse.ArgumentParser:
                          help="keep this share of every limit's range, speed, torque or workspace side free at every "
                               "sample, and a collision's clearance this many mm per 100 mm beyond the cell's margin "
                               "(default 0: the limits themselves)")
+    options.add_argument("--max-deflection-um", type=positive_number, metavar="UM",
+                         help="the largest deflection of the tool under the path's process forces a placement may "
+                              "have (µm; the robot's sidecar gives its joints' stiffness), overriding the path file's "
+                              "max_deflection_um")
     return options
 
 
@@ -264,7 +269,9 @@ def configured_path(args: argparse.Namespace, file: str) -> ToolPath:
     mode, reason = timing_for(objective_names(args), args.timing, path)
     if reason is not None:
         print(f"note: {reason}: {file} is timed by it, for every objective")
-    return override_timing(path, mode, args.max_acceleration, args.max_jerk)
+    path = override_timing(path, mode, args.max_acceleration, args.max_jerk)
+    bound_um = getattr(args, "max_deflection_um", None)
+    return path if bound_um is None else dataclasses.replace(path, max_deflection_m=bound_um * 1e-6)
 
 
 def objective_names(args: argparse.Namespace) -> list[str]:

@@ -14,7 +14,9 @@ from placement.energy.trace import MotorTrace
 from placement.kinematics.trajectories import JointTrajectory
 from placement.path.samples import PathSamples
 from placement.path.time_law import TimeLaw
+from placement.placing.transform import placement_pose
 from placement.robot.model import Robot
+from placement.stiffness import Deflection, joint_springs, path_deflection
 
 
 @dataclass(frozen=True)
@@ -49,6 +51,8 @@ class EvaluatedBatch:
         distinct_samples: The samples that do not repeat the one before (under the optimal timing law, a sample
             inside a run is evaluated twice, zero time apart, at the same position and velocity), or None: every
             sample. A limit on position or velocity checks these alone (:meth:`distinct`).
+        max_deflection_m: The largest deflection of the tool under the process load a feasible placement may have
+            (m; the path file's ``max_deflection_um`` or ``--max-deflection-um``), or None: no such limit.
     """
 
     robot: Robot
@@ -69,6 +73,7 @@ class EvaluatedBatch:
     time_law: TimeLaw | None = None
     path_law: TimeLaw | None = None
     distinct_samples: np.ndarray | None = None
+    max_deflection_m: float | None = None
 
     def __len__(self) -> int:
         return len(self.placements)
@@ -83,6 +88,17 @@ class EvaluatedBatch:
         """Electric energy of each placement under the regeneration policy (computed once)."""
         return electric_energy(self.robot, self.motor, self.t_s, self.samples.piece, self.regeneration,
                                self.drive_power)
+
+    @cached_property
+    def deflection(self) -> Deflection:
+        """The tool's deflection under the process force at every sample (:mod:`placement.stiffness`; computed once).
+
+        Raises:
+            RobotFileError: An actuator gives no stiffness.
+        """
+        rotation = placement_pose(self.placements, self.robot.plane)[0]  # path frame in the base frame, (K, 3, 3)
+        force = np.matmul(self.samples.force_on_tool_N, rotation.transpose(0, 2, 1))
+        return path_deflection(joint_springs(self.robot), self.joints, force)
 
     @cached_property
     def drive_power(self) -> DrivePower:

@@ -38,6 +38,7 @@ from placement.path.toolpath import ToolPath
 from placement.placing.transform import placed_task
 from placement.registry import restore_runtime_members, runtime_members
 from placement.robot.model import Robot
+from placement.stiffness import has_springs
 from placement.timing.optimal import time_optimal
 from placement.timing.rules import check_timing
 
@@ -193,7 +194,8 @@ class Evaluator:
                               exact=exact, required_margin=self.settings.margin,
                               feasibility_only=self.settings.feasibility_only and not exact,
                               time_law=None if timing is None else timing.samples_law,
-                              path_law=None if timing is None else timing.law, distinct_samples=self.distinct)
+                              path_law=None if timing is None else timing.law, distinct_samples=self.distinct,
+                              max_deflection_m=self.path.max_deflection_m)
 
     def _time_optimally(self, joints: JointTrajectory, force: np.ndarray, reachable: np.ndarray,
                         given: TimeLaw | None) -> OptimalMotion:
@@ -271,7 +273,9 @@ class Evaluator:
             acceleration=batch.acceleration[0], effort=batch.effort[0], configuration=batch.joints.q, motor=motor,
             power_W=sample_power(self.robot, motor, samples.t_s, samples.piece), timing=self.path.timing.mode,
             duration_s=float(np.ptp(samples.t_s) if batch.time_law is None else batch.time_law.duration_s[0]),
-            hold_effort=_hold_effort(self.robot, batch.joints), required_margin=self.settings.margin)
+            hold_effort=_hold_effort(self.robot, batch.joints), required_margin=self.settings.margin,
+            deflection=batch.deflection.summary(0, samples.position_m) if reachable.all() and has_springs(self.robot)
+            else None)
 
 
 def batch_margins(batch: EvaluatedBatch) -> tuple[np.ndarray, tuple[str, ...], np.ndarray]:

@@ -10,6 +10,7 @@ from placement.contract.limit import Margin
 from placement.energy.integration import Energy
 from placement.energy.trace import MotorTrace
 from placement.path.samples import PathSamples
+from placement.stiffness import DeflectionSummary
 
 
 @dataclass(frozen=True)
@@ -92,6 +93,8 @@ class PlacementDetail:
         hold_effort: (n_act,) actuator efforts holding the path's end pose still, the tool out of the
             cut: gravity alone (N or N·m), for a rest between passes (:mod:`placement.energy.duty`).
         required_margin: The margin a feasible placement keeps from every limit (a share).
+        deflection: The tool's deflection under the process forces along the path, where the robot gives every
+            actuator's stiffness and reaches every sample; else None.
     """
 
     placement: np.ndarray
@@ -114,6 +117,7 @@ class PlacementDetail:
     duration_s: float
     hold_effort: np.ndarray
     required_margin: float = 0.0
+    deflection: DeflectionSummary | None = None
 
     def __repr__(self) -> str:
         """A short summary: the placement (mm, deg), the objective and whether every limit holds."""

@@ -4,6 +4,6 @@ Importing this package registers them in :data:`placement.contract.limit.LIMITS`
 look-up.
 """
 
-from placement.limits import collision, joints, motors, thermal, timing, workspace
+from placement.limits import collision, joints, motors, stiffness, thermal, timing, workspace
 
-__all__ = ["collision", "joints", "motors", "thermal", "timing", "workspace"]
+__all__ = ["collision", "joints", "motors", "stiffness", "thermal", "timing", "workspace"]

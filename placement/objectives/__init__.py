@@ -8,7 +8,8 @@ from placement.objectives.energy import ElectricEnergy, MechanicalEnergy
 from placement.objectives.kinetostatics import Dexterity, Transmission
 from placement.objectives.motors import PeakTorque, RmsCurrent
 from placement.objectives.shaking import ShakingForce, ShakingMoment
+from placement.objectives.stiffness import LargestDeflection, RmsDeflection
 from placement.objectives.timing import CycleTime
 
-__all__ = ["CycleTime", "Dexterity", "ElectricEnergy", "MechanicalEnergy", "PeakTorque", "RmsCurrent", "ShakingForce",
-           "ShakingMoment", "Transmission"]
+__all__ = ["CycleTime", "Dexterity", "ElectricEnergy", "LargestDeflection", "MechanicalEnergy", "PeakTorque", "RmsCurrent",
+           "RmsDeflection", "ShakingForce", "ShakingMoment", "Transmission"]

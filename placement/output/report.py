@@ -132,6 +132,8 @@ def format_detail(title: str, robot: Robot, detail: PlacementDetail, recheck_val
     if detail.timing == "optimal" and detail.objective != "cycle_time":
         lines.append(f"  cycle time {detail.duration_s:.4f} s (optimal timing)" if np.isfinite(detail.duration_s)
                      else "  cycle time: no timing keeps every limit (optimal timing)")
+    if detail.deflection is not None:
+        lines.append(_deflection_line(detail))
     width = max(14, max(len(a.joint) for a in robot.actuators) + 2)
     if not detail.feasible:
         lines[-1] += ("  INFEASIBLE: a limit is exceeded" if not detail.required_margin else
@@ -154,6 +156,28 @@ def format_detail(title: str, robot: Robot, detail: PlacementDetail, recheck_val
                      f"({margin.value:.4g} {margin.unit} against {margin.limit:.4g} {margin.unit}, "
                      f"t = {detail.samples.t_s[margin.sample]:.4f} s{_closest_text(robot, detail, margin)})")
     return "\n".join(lines)
+
+
+def _deflection_line(detail: PlacementDetail) -> str:
+    """The tool's deflection under the process forces: largest (where, which way) and RMS."""
+    bend = detail.deflection
+    assert bend is not None
+    rotation = "" if bend.largest_rotation_rad is None else f", rotation up to {bend.largest_rotation_rad * 1e6:.4g} µrad"
+    return (f"  tool deflection under the process forces: largest {bend.largest_m * 1e6:.4g} µm at "
+            f"{bend.arc_length_m * 1e3:.1f} mm along the path (t = {detail.samples.t_s[bend.sample]:.4f} s) along "
+            f"({', '.join(f'{c:.3f}' for c in bend.direction)}) in the base frame, RMS {bend.rms_m * 1e6:.4g} µm"
+            f"{rotation}")
+
+
+def _deflection_json(detail: PlacementDetail) -> dict[str, Any] | None:
+    """The tool's deflection under the process forces (µm; where along the path, the base frame's direction)."""
+    bend = detail.deflection
+    if bend is None:
+        return None
+    return {"largest_um": bend.largest_m * 1e6, "rms_um": bend.rms_m * 1e6,
+            "where": {"sample": bend.sample, "arc_length_m": bend.arc_length_m,
+                      "t_s": float(detail.samples.t_s[bend.sample])},
+            "direction": bend.direction.tolist(), "largest_rotation_rad": bend.largest_rotation_rad}
 
 
 def _closest_text(robot: Robot, detail: PlacementDetail, margin: Margin) -> str:
@@ -265,6 +289,9 @@ def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None =
         "cycle_time_s": detail.duration_s if detail.reachable and np.isfinite(detail.duration_s) else None,
         "margins": [_margin_json(robot, detail, m) for m in detail.margins] if detail.reachable else [],
     }
+    deflection = _deflection_json(detail)
+    if deflection is not None:
+        out["deflection"] = deflection
     duty = placement_duty(robot, detail, rest_s)
     if duty is not None:
         out["duty"] = duty_json(robot, duty)
@@ -335,7 +362,8 @@ def write_trace(path: str | Path, robot: Robot, detail: PlacementDetail) -> None
     tool_force_x, tool_force_y, tool_force_z (the process force on the tool from the workpiece, base
     frame, N), then for each actuator, named by its joint: q_JOINT, qd_JOINT, qdd_JOINT, force_JOINT
     (N or N·m at the joint), motor_speed_JOINT (rad/s), motor_torque_JOINT (N·m), current_JOINT (A),
-    power_JOINT (W, electric). The names are a calibration log's
+    power_JOINT (W, electric); where the robot gives its stiffness, deflection_x, deflection_y, deflection_z (the
+    tool point's deflection under the process force, base frame, m). The names are a calibration log's
     (:func:`placement.workshop.calibration.read_log`): the trace calibrates the drives it was made with,
     its rates and process force included. Two rows of one time are the motion either side of a step
     in its acceleration (a segment's end, a switch of the optimal timing law).
@@ -350,6 +378,9 @@ def write_trace(path: str | Path, robot: Robot, detail: PlacementDetail) -> None
     force = transform_path_to_base(detail.samples, detail.placement, robot.plane)[1]
     table = np.column_stack([detail.samples.t_s, detail.tool_position_m, speed, force]
                             + [values[:, i] for i in range(len(names)) for values in per_actuator])
+    if detail.deflection is not None:
+        columns += ["deflection_x", "deflection_y", "deflection_z"]
+        table = np.column_stack([table, detail.deflection.translation_m])
     buffer = io.StringIO()
     writer = csv.writer(buffer)
     writer.writerow(columns)

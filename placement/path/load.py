@@ -88,7 +88,8 @@ def load_path(path: str | FilePath | dict[str, Any], folder: str | FilePath = ".
                     forces=spec.process_forces_N.resolve(), timing=spec.timing,
                     time_step_s=(spec.time_step_s if spec.time_step_s is not None
                                  else default_time_step_s(feed, sum(s.length_m for s in segments))),
-                    rapid_feed_m_s=rapid_feed, timed=timed, notes=notes, holds=holds)
+                    rapid_feed_m_s=rapid_feed, timed=timed, notes=notes, holds=holds,
+                    max_deflection_m=None if spec.max_deflection_um is None else spec.max_deflection_um * 1e-6)
 
 
 def _kept(program: Program, rapids: bool) -> tuple[tuple[Segment, ...], tuple[Hold, ...]]:

@@ -261,6 +261,8 @@ class PathFile(Strict):
     process_forces_N: ForceKinds = ForceKinds()
     timing: Timing = Timing()
     time_step_s: Positive | None = None
+    max_deflection_um: Positive | None = Field(None, description="the largest deflection of the tool under the "
+                                               "process forces a placement may have (µm), if any")
 
     @field_validator("feed_m_s")
     @classmethod

@@ -37,6 +37,8 @@ class ToolPath:
         holds: Where the tool rests for a while (G-code dwells), in order; the segment before each ends
             in an exact stop. The paper and realistic timing laws sample each as a piece of its own, the
             optimal law as a run of two samples at rest, timed by its duration.
+        max_deflection_m: The largest deflection of the tool under the process forces a feasible placement may
+            have (m; :mod:`placement.stiffness`), or None: none is required.
     """
 
     name: str
@@ -49,6 +51,7 @@ class ToolPath:
     timed: TimedPoses | None = None
     notes: tuple[str, ...] = ()
     holds: tuple[Hold, ...] = ()
+    max_deflection_m: float | None = None
 
     @property
     def length_m(self) -> float:

@@ -24,6 +24,7 @@ from placement.robot.mjcf import is_mjcf, mjcf_model, read_mjcf
 from placement.robot.model import Actuator, Closure, Robot
 from placement.robot.plausibility import check_plausible
 from placement.robot.plugins import load_plugin, make_closed_form
+from placement.robot.sidecar import Actuator as ActuatorSpec
 from placement.robot.sidecar import Sidecar
 from placement.robot.tool import add_tool_frame, find_frame
 from placement.robot.urdf import UrdfContents, pinocchio_model, read_urdf, resolve_urdf, urdf_limits_missing
@@ -78,6 +79,7 @@ def build_robot(path: Path, sidecar: Sidecar, *, check_closures: bool = True, al
     )
     for actuator in robot.actuators:
         model.armature[actuator.v_index] += actuator.reflected_inertia
+    _check_joint_springs(path, sidecar, model)
     _check_sources(path, sidecar, urdf.names)
     if check_closures:
         _check_closed_at_reference(robot)
@@ -191,7 +193,18 @@ def _actuator(model: pin.Model, path: Path, sidecar: Sidecar, i: int, mjcf: bool
                     drive_name=spec.drive if drive else None,
                     acceleration_max=spec.acceleration_max,
                     reflected_inertia=drive.reflected_inertia if drive else 0.0,
-                    prismatic=model.joints[joint_id].shortname() in PRISMATIC_JOINTS)
+                    prismatic=model.joints[joint_id].shortname() in PRISMATIC_JOINTS,
+                    own_stiffness=spec.stiffness)
+
+
+def _check_joint_springs(path: Path, sidecar: Sidecar, model: pin.Model) -> None:
+    """Each spring of ``joint_springs`` names a passive joint of the model (an actuator's is its ``stiffness``)."""
+    actuated = {spec.joint: i for i, spec in enumerate(sidecar.actuators)}
+    for name in sidecar.joint_springs:
+        _joint_id(model, path, f"joint_springs.{name}", name, sidecar.locked_joints)
+        if name in actuated:
+            raise RobotFileError(path, f"joint_springs.{name}", f"joint '{name}' is actuated: give its stiffness as "
+                                 f"actuators.{actuated[name]}.stiffness")
 
 
 def _reference_q(model: pin.Model, path: Path, values: dict[str, float], locked: dict[str, float]) -> np.ndarray:
@@ -206,6 +219,8 @@ def _check_sources(path: Path, sidecar: Sidecar, names: dict[str, set[str]]) -> 
     """Every key under ``sources`` must name a sidecar field or a URDF link or joint (``names`` by kind)."""
     for key in sidecar.sources:
         parts = key.split(".")
+        if len(parts) == 2 and parts[0] == "actuators" and parts[1] in ActuatorSpec.model_fields:
+            continue  # one source for that field of every actuator
         if parts[0] == "urdf":
             if len(parts) < 3 or parts[1] not in names or parts[2] not in names[parts[1]]:
                 raise RobotFileError(path, f"sources.{key}", "expected 'urdf.link.NAME...' or 'urdf.joint.NAME...' "

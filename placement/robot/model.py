@@ -35,6 +35,16 @@ class Actuator:
     prismatic: bool  # True: m, m/s, N; False (revolute): rad, rad/s, N·m
     acceleration_max: float | None = None  # m/s² or rad/s², where the sidecar gives one
     drive_name: str | None = None  # the drive's name in the sidecar (a key of Robot.named_drives)
+    own_stiffness: float | None = None  # N/m or N·m/rad: the sidecar's actuators.N.stiffness, if given
+
+    @property
+    def stiffness(self) -> float | None:
+        """The actuated joint's stiffness at the joint (N/m or N·m/rad): its own (``own_stiffness``) and its drive's
+        motor-side one reflected by the speed ratio squared, in series; the one given alone; None when neither is."""
+        motor_side = self.drive.motor_side_stiffness_Nm_per_rad if self.drive is not None else None
+        reflected = None if motor_side is None or self.drive is None else motor_side * self.drive.transmission.speed_ratio**2
+        springs = [k for k in (self.own_stiffness, reflected) if k is not None]
+        return 1.0 / sum(1.0 / k for k in springs) if springs else None
 
 
 @dataclass(frozen=True)
@@ -237,6 +247,11 @@ class Robot:
         """The inertials the sidecar gives URDF links (its ``links``: mass, centre of mass, inertia), replacing the
         URDF's, by link name; the model carries them."""
         return dict(self.sidecar.links)
+
+    @property
+    def joint_springs(self) -> dict[str, float]:
+        """Springs on passive joints (the sidecar's ``joint_springs``), by joint name: N/m or N·m/rad."""
+        return dict(self.sidecar.joint_springs)
 
     @property
     def collision_ignore_pairs(self) -> tuple[tuple[str, str], ...]:

@@ -40,6 +40,9 @@ class Drive(Strict):
     transmission_inertia_kg_m2: NonNegative = Field(
         0.0, description="inertia on the motor shaft besides the rotor (screw, coupling, gearbox input)")
     friction: Friction = Friction()
+    motor_side_stiffness_Nm_per_rad: Positive | None = Field(
+        None, description="torsional stiffness on the motor shaft (coupling, motor-side gear stage), reflected to the "
+        "joint as k·speed_ratio²; in series with the actuator's own stiffness")
 
     @property
     def reflected_inertia(self) -> float:
@@ -56,6 +59,8 @@ class Actuator(Strict):
     position_max: Number | None = None
     velocity_max: Positive | None = None
     acceleration_max: Positive | None = Field(None, description="joint acceleration bound (m/s² or rad/s²), if any")
+    stiffness: Positive | None = Field(None, description="the actuated joint's stiffness at the joint: N/m (prismatic) "
+                                       "or N·m/rad (revolute); in series with its drive's motor-side stiffness")
 
 
 class Closure(Strict):
@@ -191,6 +196,8 @@ class Sidecar(Strict):
     collision: Collision = Collision()
     links: dict[str, LinkInertial] = Field({}, description="inertials replacing the URDF's, by link name (a URDF "
                                            "without them, say)")
+    joint_springs: dict[str, Positive] = Field({}, description="springs on passive joints (virtual joints of a "
+                                               "compliant link, say), by joint name: N/m or N·m/rad")
     sources: dict[str, str] = {}
 
 
@@ -212,6 +219,7 @@ def _check_references(path: Path, sidecar: Sidecar) -> None:
             raise RobotFileError(path, f"actuators.{i}.drive", f"unknown drive '{actuator.drive}', expected one of "
                                  f"{sorted(sidecar.drives) or 'the names under drives (none given)'}")
     _check_tool_sources(path, sidecar)
+    _check_stiffness_sources(path, sidecar)
     for name in sidecar.links:
         if not {f"links.{name}", "links"} & set(sidecar.sources):
             raise RobotFileError(path, f"links.{name}", f"a link's inertial needs its source: add the entry links.{name}: "
@@ -223,6 +231,21 @@ def _check_references(path: Path, sidecar: Sidecar) -> None:
         if status not in SOURCE_STATUSES:
             raise RobotFileError(path, f"sources.{key}", f"must start with one of {', '.join(SOURCE_STATUSES)} "
                                  f"followed by ':', got '{text}'")
+
+
+def _check_stiffness_sources(path: Path, sidecar: Sidecar) -> None:
+    """A stiffness is a measured or estimated number: each needs its ``sources`` entry (the field's own, or
+    ``actuators.stiffness`` for every actuator's, ``joint_springs`` for every spring)."""
+    keys = set(sidecar.sources)
+    fields = [(f"actuators.{i}.stiffness", "actuators.stiffness") for i, a in enumerate(sidecar.actuators)
+              if a.stiffness is not None]
+    fields += [(f"drives.{name}.motor_side_stiffness_Nm_per_rad", f"drives.{name}") for name, drive in sidecar.drives.items()
+               if drive.motor_side_stiffness_Nm_per_rad is not None]
+    fields += [(f"joint_springs.{name}", "joint_springs") for name in sidecar.joint_springs]
+    for field, shared in fields:
+        if not {field, shared} & keys:
+            raise RobotFileError(path, field, f"a stiffness needs its source: add the entry {field} (or {shared}): "
+                                 f"\"STATUS: note\" under sources, STATUS one of {', '.join(SOURCE_STATUSES)}")
 
 
 def _check_tool_sources(path: Path, sidecar: Sidecar) -> None:

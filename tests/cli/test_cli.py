@@ -106,7 +106,8 @@ def test_main_job_reports_best_worst_and_gain_and_writes_json_and_trace(tmp_path
     assert rows[0][:8] == ["t", "x", "y", "z", "speed", "tool_force_x", "tool_force_y", "tool_force_z"]
     assert rows[0][8:16] == ["q_slider_x", "qd_slider_x", "qdd_slider_x", "force_slider_x", "motor_speed_slider_x",
                              "motor_torque_slider_x", "current_slider_x", "power_slider_x"]  # a calibration log's names
-    assert len(rows[0]) == 8 + 3 * 8 and len(rows) > 40
+    assert len(rows[0]) == 8 + 3 * 8 + 3 and len(rows) > 40  # and the deflection (the Orthoglide gives its stiffness)
+    assert rows[0][-3:] == ["deflection_x", "deflection_y", "deflection_z"]
     # The trace is the best placement's: its tool points are the path placed there.
     from placement.placing.transform import transform_path_to_base
 

@@ -190,8 +190,8 @@ def test_a_broken_installed_entry_spoils_only_its_own_name(tmp_path):
                             cwd=tmp_path, timeout=300, check=False)
     assert result.returncode == 0, result.stderr[-2000:]
     names, errors = json.loads(result.stdout.strip().splitlines()[-1])
-    assert set(names) == {"cycle_time", "dexterity", "energy", "mechanical_energy", "peak_torque", "rms_current",
-                          "shaking_force", "shaking_moment", "transmission"}
+    assert set(names) == {"cycle_time", "deflection", "deflection_rms", "dexterity", "energy", "mechanical_energy",
+                          "peak_torque", "rms_current", "shaking_force", "shaking_moment", "transmission"}
     assert [kind for kind, _ in errors] == ["PluginError", "PluginError"]
     assert "'aaa_broken' installed as 'no_such_module:thing' failed to load: ModuleNotFoundError" in errors[0][1]
     assert "must be an instance of Objective" in errors[1][1]
