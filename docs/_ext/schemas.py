@@ -83,7 +83,7 @@ def objects(schema: dict[str, Any], title: str) -> list[tuple[str, dict[str, Any
                 visit_nested(f"{name}.{field}", sub)
         for key in ("anyOf", "oneOf"):
             for option in node.get(key, []):
-                visit(name, option)
+                visit(option.get("title", name), option)
 
     def visit_nested(name: str, node: dict[str, Any]) -> None:
         if node.get("type") == "object" and "properties" in node:
@@ -123,14 +123,25 @@ def field_table(node: dict[str, Any]) -> nodes.table:
 
 
 def row(cells: list[str], literal: tuple[int, ...]) -> nodes.row:
+    """A table row: the cells at ``literal`` as code, the others as text whose ``double-backquoted`` words are code."""
     line = nodes.row()
     for index, text in enumerate(cells):
         entry = nodes.entry()
-        paragraph = nodes.paragraph()
-        paragraph += nodes.literal(text=text) if index in literal and text else nodes.Text(text)
-        entry += paragraph
+        entry += inline(text, code=index in literal and bool(text))
         line += entry
     return line
+
+
+def inline(text: str, code: bool = False) -> nodes.paragraph:
+    """A paragraph of ``text``: all code, or text with its ``double-backquoted`` parts as code."""
+    paragraph = nodes.paragraph()
+    if code:
+        paragraph += nodes.literal(text=text)
+        return paragraph
+    for index, part in enumerate(text.split("``")):
+        if part:
+            paragraph += nodes.literal(text=part) if index % 2 else nodes.Text(part)
+    return paragraph
 
 
 class SchemaFields(Directive):
@@ -155,7 +166,7 @@ class SchemaFields(Directive):
             section = nodes.rubric(text=name)
             out.append(section)
             if node.get("description"):
-                out.append(nodes.paragraph(text=" ".join(node["description"].split())))
+                out.append(inline(" ".join(node["description"].split())))
             out.append(field_table(node))
         return out
 
