@@ -40,6 +40,7 @@ extensions = [
 exclude_patterns = ["_build", "Thumbs.db", ".DS_Store", "**/README.md", "gallery/*.ipynb", "gallery/*.py",
                     "gallery/*.zip", "gallery/*.md5", "gallery/*.json"]
 root_doc = "index"
+smartquotes = False  # "--tool" in help texts stays two hyphens
 suppress_warnings = ["misc.highlighting_failure"]  # docs/paths.md shows JSON with "..." for the rest
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 
