@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import importlib
 import json
+import re
 import shutil
 from pathlib import Path
 from typing import Any
@@ -102,8 +103,9 @@ def objects(schema: dict[str, Any], title: str) -> list[tuple[str, dict[str, Any
     return found
 
 
-def field_table(node: dict[str, Any]) -> nodes.table:
-    """A table of an object's fields: name (required ones marked), type, default, meaning."""
+def field_table(node: dict[str, Any], anchors: dict[str, str]) -> nodes.table:
+    """A table of an object's fields: name (required ones marked), type (linked to the tables of the object types
+    it names, ``anchors``: name → id), default, meaning."""
     required = set(node.get("required", []))
     table = nodes.table(classes=["schema-fields"])
     group = nodes.tgroup(cols=4)
@@ -117,9 +119,24 @@ def field_table(node: dict[str, Any]) -> nodes.table:
     head += row(["field", "type", "default", "meaning"], literal=())
     for field, sub in node["properties"].items():
         default = json.dumps(sub["default"]) if "default" in sub else ("required" if field in required else "")
-        body += row([field, type_words(sub), default, sub.get("description", sub.get("title", "")).strip()],
-                    literal=(0, 2) if "default" in sub else (0,))
+        line = row([field, type_words(sub), default, sub.get("description", sub.get("title", "")).strip()],
+                   literal=(0, 2) if "default" in sub else (0,))
+        line[1][0] = linked(type_words(sub), anchors)
+        body += line
     return table
+
+
+def linked(words: str, anchors: dict[str, str]) -> nodes.paragraph:
+    """A type phrase with each object type it names linked to that type's table."""
+    paragraph = nodes.paragraph()
+    for token in re.split(r"([A-Za-z_][A-Za-z0-9_]*)", words):
+        if token in anchors:
+            reference = nodes.reference(refid=anchors[token], internal=True)
+            reference += nodes.Text(token)
+            paragraph += reference
+        elif token:
+            paragraph += nodes.Text(token)
+    return paragraph
 
 
 def row(cells: list[str], literal: tuple[int, ...]) -> nodes.row:
@@ -162,12 +179,17 @@ class SchemaFields(Directive):
             schema = model_schema(target)
             title = target.rsplit(".", 1)[-1]
         out: list[nodes.Node] = []
-        for name, node in objects(schema, title):
+        found = objects(schema, title)
+        prefix = nodes.make_id(title)
+        anchors = {name: f"{prefix}-{nodes.make_id(name)}" for name, _ in found if "." not in name and "[" not in name}
+        for name, node in found:
             section = nodes.rubric(text=name)
+            if name in anchors:
+                section["ids"].append(anchors[name])
             out.append(section)
             if node.get("description"):
                 out.append(inline(" ".join(node["description"].split())))
-            out.append(field_table(node))
+            out.append(field_table(node, anchors))
         return out
 
 
