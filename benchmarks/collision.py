@@ -72,4 +72,7 @@ def pinocchio_loop(robot: Robot, scene: CollisionScene, q: np.ndarray) -> None:
 
 
 if __name__ == "__main__":
-    main()
+    from results import recorded  # this run's section of benchmarks/RESULTS.md
+
+    with recorded("collision"):
+        main()

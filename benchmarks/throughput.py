@@ -141,5 +141,8 @@ def main() -> None:
 
 
 if __name__ == "__main__":
+    from results import recorded  # this run's section of benchmarks/RESULTS.md
+
     keep_freed_memory()  # as the command line does: the batches\' freed memory kept for the next ones
-    main()
+    with recorded("throughput"):
+        main()

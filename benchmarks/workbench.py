@@ -121,4 +121,7 @@ def browser(png: str) -> None:
 
 
 if __name__ == "__main__":
-    main()
+    from results import recorded  # this run's section of benchmarks/RESULTS.md
+
+    with recorded("workbench"):
+        main()

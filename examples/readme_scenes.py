@@ -1,8 +1,8 @@
-"""Regenerate the README's 3-D scene figures from the README's own commands.
+"""Regenerate the documentation's 3-D scene figures from the documentation's own commands.
 
-Each figure is the ``--html`` page of a command the README prints (checked: the command must appear in README.md
-word for word), rendered by headless Chromium (software WebGL) into docs/figures/. A search takes a few minutes on a
-two-core machine; the three together about ten.
+Each figure is the ``--html`` page of a command the documentation prints (checked: the command must appear in
+README.md or a page of docs/ word for word), rendered by headless Chromium (software WebGL) into docs/figures/.
+A search takes a few minutes on a two-core machine; the three together about ten.
 
     python examples/readme_scenes.py            # every figure
     python examples/readme_scenes.py rectangles # those whose name contains the word
@@ -24,7 +24,7 @@ from placement.output.scene import find_browser, screenshot
 ROOT = Path(__file__).resolve().parent.parent
 FIGURES = ROOT / "docs" / "figures"
 SIZE = (1000, 700)  # px
-SCENES = {  # figure -> the README's command, its --html file replaced by the figure's page
+SCENES = {  # figure -> the documentation's command, its --html file replaced by the figure's page
     "scene_rectangles.png":
         "python -m placement --robot orthoglide --path examples/paper_rectangles/*.yaml --html rectangles.html",
     "scene_pocket_cell.png":
@@ -48,9 +48,10 @@ def arguments(command: str, page: Path) -> list[str]:
 
 def render(figure: str, command: str) -> None:
     """Run the command, render its page into docs/figures/``figure``."""
-    readme = " ".join((ROOT / "README.md").read_text().replace("\\\n", " ").split())
-    if command not in readme:
-        raise SystemExit(f"{figure}: the command is no longer in README.md: {command}")
+    pages = [ROOT / "README.md", *sorted(p for p in (ROOT / "docs").rglob("*.md") if "_build" not in p.parts)]
+    text = " ".join(" ".join(page.read_text().replace("\\\n", " ").split()) for page in pages)
+    if command not in text:
+        raise SystemExit(f"{figure}: the command is no longer in README.md or a page of docs/: {command}")
     with tempfile.TemporaryDirectory() as folder:
         page = Path(folder) / "scene.html"
         start = time.perf_counter()

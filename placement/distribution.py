@@ -1,6 +1,6 @@
 """The installed distribution: its version, and the extras that bring the optional features.
 
-``pip install placement`` installs the core: what the main command, maps, feed studies, studies,
+``pip install path-placement`` installs the core: what the main command, maps, feed studies, studies,
 ``check``, ``assemble``, ``calibrate`` (without ``--png``) and ``export`` need. The rest comes as
 extras (pyproject.toml's ``[project.optional-dependencies]``), each a :class:`Feature` here:
 
@@ -27,7 +27,7 @@ from pathlib import Path
 
 from placement.exceptions import MissingExtraError
 
-NAME = "placement"  # the distribution's name, as pip knows it
+NAME = "path-placement"  # the distribution's name, as pip knows it (the import name is placement)
 UNKNOWN_VERSION = "0+unknown"  # neither installed nor in its source tree
 
 

@@ -94,7 +94,7 @@ print(json.dumps({
         extra, is_import_error, message = answers[part]
         assert extra == feature.extra and is_import_error, part
         assert message.startswith(f"{feature.words} needs the '{feature.extra}' extra: "
-                                  f"pip install 'placement[{feature.extra}]'"), message
+                                  f"pip install '{distribution.NAME}[{feature.extra}]'"), message
 
 
 @pytest.mark.parametrize(("missing", "arguments", "feature"), [
@@ -118,7 +118,7 @@ def test_the_command_line_names_the_missing_extra_before_any_work(missing, argum
     assert main([*command, "--robot", "orthoglide", "--path", str(EXAMPLE), *options]) == 2
     captured = capsys.readouterr()
     assert captured.err.startswith(f"error: {feature.words} needs the '{feature.extra}' extra: "
-                                   f"pip install 'placement[{feature.extra}]' ("), captured.err
+                                   f"pip install '{distribution.NAME}[{feature.extra}]' ("), captured.err
     assert "best placement" not in captured.out and list(tmp_path.iterdir()) == []  # nothing searched or written
 
 
@@ -134,7 +134,7 @@ def test_a_missing_extra_error_travels_whole():
 def test_require_imports_what_is_there_and_names_what_is_not(monkeypatch):
     distribution.require(Feature("nothing", "none", ("json", "csv")))
     monkeypatch.setitem(sys.modules, "csv", None)
-    with pytest.raises(MissingExtraError, match=r"^nothing needs the 'none' extra: pip install 'placement\[none\]' "
+    with pytest.raises(MissingExtraError, match=r"^nothing needs the 'none' extra: pip install 'path-placement\[none\]' "
                                                 r"\(import of csv halted"):
         distribution.require(Feature("nothing", "none", ("json", "csv")))
 
@@ -145,7 +145,7 @@ def project() -> dict:
 
 def closure(requirements: list[str]) -> set[str]:
     """The distributions the requirements install, with theirs, as this environment has them (normalised names);
-    placement's own extras (``placement[viz]``) as pyproject.toml gives them, not as it was last installed."""
+    placement's own extras (``path-placement[viz]``) as pyproject.toml gives them, not as it was last installed."""
     seen: set[tuple[str, frozenset[str]]] = set()
     todo = [Requirement(text) for text in requirements]
     while todo:
@@ -154,7 +154,7 @@ def closure(requirements: list[str]) -> set[str]:
         if key in seen:
             continue
         seen.add(key)
-        if key[0] == "placement":
+        if key[0] == canonicalize_name(distribution.NAME):
             todo += [Requirement(text) for extra in requirement.extras for text in project()["optional-dependencies"][extra]]
             continue
         for text in metadata.requires(requirement.name) or []:
@@ -188,7 +188,7 @@ def test_each_feature_extra_brings_the_modules_it_imports_and_the_core_none_of_t
 def test_the_version_is_the_distributions_and_the_source_trees_without_it(monkeypatch, capsys):
     import placement
 
-    assert placement.__version__ == metadata.version("placement") == project()["version"]
+    assert placement.__version__ == metadata.version(distribution.NAME) == project()["version"]
     assert main(["--version"]) == 0
     assert capsys.readouterr().out == f"placement {placement.__version__}\n"
 

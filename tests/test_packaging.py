@@ -20,7 +20,7 @@ def test_the_wheel_holds_every_module_and_robot_and_runs_from_elsewhere(tmp_path
         shutil.copy(ROOT / part, source / part)
     subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation", "-q", "-w",
                     str(tmp_path), str(source)], check=True, capture_output=True, timeout=300)
-    wheel = next(tmp_path.glob("placement-*.whl"))
+    wheel = next(tmp_path.glob("path_placement-*.whl"))
     names = set(zipfile.ZipFile(wheel).namelist())
     modules = {p.relative_to(ROOT).as_posix() for p in (ROOT / "placement").rglob("*.py")}
     robots = {"placement/robots/" + p.relative_to(ROOT / "robots").as_posix() for p in (ROOT / "robots").rglob("*")

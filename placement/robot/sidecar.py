@@ -3,7 +3,7 @@
 A sidecar names the URDF and adds the loop closures, the actuated joints and their drives, the
 end-effector frame, gravity, the nominal workspace and the source of every number. Field names
 carry their units; joint-space quantities are in the joint's SI unit (m, m/s, N for prismatic
-joints; rad, rad/s, N·m for revolute joints). The full schema with examples is in the README.
+joints; rad, rad/s, N·m for revolute joints). The full schema with examples: docs/reference/sidecar.md.
 """
 
 from __future__ import annotations

@@ -1,0 +1,54 @@
+"""The ``--json`` output is what docs/schemas/result.schema.json says, field by field (the site's reference page is
+drawn from that schema): real output of each kind of run validates, with no field the schema does not name."""
+
+import json
+
+import jsonschema
+import pytest
+
+from placement.__main__ import main
+from tests.support.paths import CIRCLE, EXAMPLE, EXAMPLES, ROOT
+
+SCHEMA = json.loads((ROOT / "docs" / "schemas" / "result.schema.json").read_text(encoding="utf-8"))
+VALIDATOR = jsonschema.Draft202012Validator(SCHEMA)
+QUICK = ["--generations", "8", "--population", "16", "--quiet"]
+
+RUNS = {  # each kind of document: a search with its duty cycle and boxes, --at (a planar robot, a cell), a front
+    "search": ["--robot", "orthoglide", "--path", str(EXAMPLE), "--rest", "0.5", *QUICK],
+    "at on a planar robot": ["--robot", "fivebar", "--path", str(CIRCLE), "--at", "x=0,y=0"],
+    "at in a cell": ["--robot", "orthoglide", "--path", str(EXAMPLES / "pocket.yaml"), "--cell",
+                     str(EXAMPLES / "cell_orthoglide.yaml"), "--at", "x=0,y=0,z=-40"],
+    "front": ["--robot", "orthoglide", "--path", str(EXAMPLE), "--objectives", "energy,transmission", *QUICK],
+    "two paths": ["--robot", "orthoglide", "--path", str(EXAMPLE), str(CIRCLE), "--minimize", *QUICK],
+}
+
+
+def test_the_schema_is_valid_json_schema():
+    jsonschema.Draft202012Validator.check_schema(SCHEMA)
+
+
+@pytest.mark.parametrize("run", RUNS)
+def test_real_json_output_validates_against_the_schema(run, tmp_path, capsys):
+    out = tmp_path / "result.json"
+    assert main([*RUNS[run], "--json", str(out)]) in (0, 2)  # 2: an --at placement that breaks a limit, written too
+    capsys.readouterr()
+    document = json.loads(out.read_text(encoding="utf-8"))
+    errors = [f"{'/'.join(map(str, error.absolute_path))}: {error.message[:300]}" for error in VALIDATOR.iter_errors(document)]
+    assert errors == []
+    answers = document.get("paths", [document])
+    keys = {key for answer in answers for key in answer}
+    expected = {"search": {"best", "worst", "gain"}, "at on a planar robot": {"at"}, "at in a cell": {"at"},
+                "front": {"members", "knee", "drawn"}, "two paths": {"best"}}[run]
+    assert expected <= keys  # the run gave the document kind it stands for
+    if run == "search":
+        assert {"duty", "tolerance", "recheck_tightest"} <= set(document["best"])
+    if run == "at in a cell":
+        assert any("nearest_points_m" in margin for margin in document["at"]["margins"])
+
+
+def test_a_field_the_schema_does_not_name_or_a_missing_one_is_refused():
+    document = {"robot": "r", "path": "p", "objective": "energy", "regeneration": "clip", "timing": "paper",
+                "samples": 3, "margin": 0.0}
+    assert VALIDATOR.is_valid(document)
+    assert not VALIDATOR.is_valid({**document, "energy": 1.0})
+    assert not VALIDATOR.is_valid({key: value for key, value in document.items() if key != "timing"})
