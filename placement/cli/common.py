@@ -16,6 +16,7 @@ import numpy as np
 
 from placement.cell.cell_file import load_cell
 from placement.cli.exceptions import UsageError
+from placement.cli.redundancy import add_redundancy_options, apply_redundancy_options
 from placement.contract.objective import OBJECTIVES
 from placement.distribution import Feature, require
 from placement.energy.regeneration import REGENERATION
@@ -96,6 +97,7 @@ def job_options(*, several_paths: bool = False) -> argparse.ArgumentParser:
                          "description (URDF, xacro) with --tool, or erd:NAME (an example-robot-data arm, with --tool)")
     _add_description(options)
     _add_cell(options)
+    add_redundancy_options(options)
     if several_paths:
         options.add_argument("--path", required=True, nargs="+", help="path file(s) (YAML), e.g. examples/rect.yaml")
     else:
@@ -379,6 +381,7 @@ def load_robot_argument(robot: str, args: argparse.Namespace, cell: str | None =
         loaded = load_description_robot(path, tool, allow_massless=allow_massless, options=options)
     else:
         loaded = load_robot(robot, allow_massless=allow_massless, options=options)
+    loaded = apply_redundancy_options(loaded, args, options)
     if options.xacro_args and not is_xacro(Path(loaded.urdf_source)):
         raise UsageError(f"--robot-arg applies to robots described in xacro; the description of '{robot[:80]}' is "
                          f"{Path(loaded.urdf_source).name}")

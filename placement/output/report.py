@@ -24,6 +24,7 @@ from placement.evaluation.results import PlacementDetail
 from placement.files import staged
 from placement.limits.collision import closest_points
 from placement.path.toolpath import ToolPath
+from placement.placing.profiles import KNOT_SEPARATOR, profile_names
 from placement.placing.transform import ANGLES, VARIABLES, describe_plane, transform_path_to_base
 from placement.robot.model import Robot
 from placement.search.optimize import Optimum, PlacementResult
@@ -32,11 +33,12 @@ from placement.search.tolerance import ToleranceBox
 from placement.workshop.calibration import TOOL_FORCE_COLUMNS
 
 
-def format_placement(placement: np.ndarray) -> str:
-    """'x = ... mm, ..., psi = ... deg' for a placement vector (m, rad), to REPORTED_DECIMALS (a search's optima lie
-    on that grid: :func:`placement.search.reporting.as_printed`)."""
-    return ", ".join(f"{name} = {np.degrees(value):.{REPORTED_DECIMALS}f} deg" if name in ANGLES
-                     else f"{name} = {value * 1e3:.{REPORTED_DECIMALS}f} mm" for name, value in zip(VARIABLES, placement))
+def format_placement(placement: np.ndarray, names: tuple[str, ...] = VARIABLES) -> str:
+    """'x = ... mm, ..., psi = ... deg' for a placement vector (m, rad) of variables ``names`` (a redundant robot's
+    knots after the six, in deg), to REPORTED_DECIMALS (a search's optima lie on that grid:
+    :func:`placement.search.reporting.as_printed`)."""
+    return ", ".join(f"{name} = {np.degrees(value):.{REPORTED_DECIMALS}f} deg" if name in ANGLES or KNOT_SEPARATOR in name
+                     else f"{name} = {value * 1e3:.{REPORTED_DECIMALS}f} mm" for name, value in zip(names, placement))
 
 
 def results_lines(document: dict[str, Any]) -> list[str]:
@@ -50,7 +52,7 @@ def results_lines(document: dict[str, Any]) -> list[str]:
         objective, value = entry["objective"], entry["objective"]["value"]
         shown = "none (unreachable)" if value is None else quantity(value, objective["unit"])
         lines.append(f"{title}: {objective['title']} {shown}")
-        lines.append("  " + format_placement(np.array([entry["placement"][name] for name in VARIABLES])))
+        lines.append("  " + format_placement(np.array(list(entry["placement"].values())), tuple(entry["placement"])))
         if entry["margins"]:
             tight = min(entry["margins"], key=lambda margin: margin["margin"])
             lines.append(f"  tightest: {tight['kind']} ({tight['where']}), margin {tight['margin'] * 100:.1f} %")
@@ -114,7 +116,8 @@ def format_detail(title: str, robot: Robot, detail: PlacementDetail, recheck_val
                   rest_s: float = 0.0) -> str:
     """Text block for one placement: where, objective, energy per actuator and its parts, duty cycle (with ``rest_s``
     s between passes, where the drives give a continuous torque), tightest limits."""
-    lines = [title, f"  {format_placement(detail.placement)}"]
+    lines = [title, f"  {format_placement(detail.placement, VARIABLES + profile_names(robot))}"]
+    lines += [f"  {line}" for line in profile_lines(robot, detail)]
     if not detail.reachable:
         first = detail.unreachable_samples[0]
         lines.append(f"  unreachable: {len(detail.unreachable_samples)} of {len(detail.samples)} samples have no "
@@ -252,7 +255,8 @@ def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None =
     names = [a.joint for a in robot.actuators]
     objective = OBJECTIVES.get(detail.objective)
     out: dict[str, Any] = {
-        "placement": {name: float(value) for name, value in zip(VARIABLES, detail.placement, strict=True)},
+        "placement": {name: float(value) for name, value in
+                      zip(VARIABLES + profile_names(robot), detail.placement, strict=True)},
         "objective": {"name": detail.objective, "title": objective.title, "unit": objective.unit,
                       "value": float(detail.value) if detail.reachable else None},
         "feasible": detail.feasible,
@@ -265,6 +269,8 @@ def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None =
         "cycle_time_s": detail.duration_s if detail.reachable and np.isfinite(detail.duration_s) else None,
         "margins": [_margin_json(robot, detail, m) for m in detail.margins] if detail.reachable else [],
     }
+    if robot.redundant_joints:
+        out["profiles"] = profiles_json(robot, detail)
     duty = placement_duty(robot, detail, rest_s)
     if duty is not None:
         out["duty"] = duty_json(robot, duty)
@@ -284,6 +290,30 @@ def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None =
         if optimum.guide_value is not None:
             out["guide"] = {"value": _finite(optimum.guide_value), "gap": _finite(optimum.guide_gap or 0.0)}
     return out
+
+
+def profiles_json(robot: Robot, detail: PlacementDetail) -> dict[str, Any]:
+    """Each redundant joint's profile along the path (rad): its knots and the share of arc length each stands at,
+    and its value at every sample (``t_s``), as the exact chain moved it."""
+    knots = robot.profile_knots
+    shares = np.linspace(0.0, 1.0, knots) if knots > 1 else np.zeros(1)
+    given = detail.placement[6:].reshape(-1, knots) if len(detail.placement) > 6 else None
+    out: dict[str, Any] = {}
+    for r, (joint, q) in enumerate(zip(robot.redundant_joints, robot.redundant_q_indices, strict=True)):
+        out[joint] = {"knots_rad": None if given is None else given[r].tolist(), "knot_shares": shares.tolist(),
+                      "t_s": detail.samples.t_s.tolist(), "position_rad": detail.configuration[:, q].tolist()}
+    return out
+
+
+def profile_lines(robot: Robot, detail: PlacementDetail) -> list[str]:
+    """A line per redundant joint: its range along the path and its knots (deg)."""
+    lines = []
+    for joint, q in zip(robot.redundant_joints, robot.redundant_q_indices, strict=True):
+        values = np.degrees(detail.configuration[:, q])
+        lines.append(f"{joint} along the path: {values[0]:.2f} deg at the start, {values.min():.2f} to "
+                     f"{values.max():.2f} deg, {values[-1]:.2f} deg at the end ({robot.profile_knots} knot(s) over the "
+                     "arc length)")
+    return lines
 
 
 def _margin_json(robot: Robot, detail: PlacementDetail, margin: Margin) -> dict[str, Any]:

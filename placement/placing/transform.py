@@ -14,6 +14,7 @@ and psi stay 0, keeping the path in the plane: bTp = bT_pl·(the placement's tra
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 
 import numpy as np
@@ -21,6 +22,7 @@ import numpy as np
 from placement.exceptions import PlacementWarning
 from placement.kinematics.trajectories import TaskTrajectory
 from placement.path.samples import PathSamples
+from placement.placing.profiles import joint_profiles, knots_of
 from placement.robot.model import Robot
 from placement.robot.sidecar import Plane
 
@@ -86,16 +88,28 @@ def placed_task(robot: Robot, samples: PathSamples, placements: np.ndarray) -> t
     the identity otherwise) and R_ee the robot's ``tool_rpy_in_path_rad``, which maps the tool
     frame to the end-effector frame. The angular velocity and acceleration in the base frame are
     R_place times the path frame's. The load is the process force on the tool from the workpiece,
-    with a zero moment for a pose task.
+    with a zero moment for a pose task. A robot's redundant joints follow the profiles whose knots end the
+    placement vectors (:mod:`placement.placing.profiles`).
 
     Args:
         robot: The robot.
         samples: The path sampled in its own frame (N samples).
-        placements: (K, 6) placement vectors.
+        placements: (K, 6) placement vectors, or (K, 6 + R·knots) with the redundant joints' knots.
 
     Returns:
         The task (K·N samples, placement-major) and the load, (K·N, 3 or 6).
     """
+    task, force = _placed_tool(robot, samples, placements)
+    knots = knots_of(robot, np.atleast_2d(placements))
+    if knots is None:
+        return task, force
+    position, velocity, acceleration = joint_profiles(knots, samples)
+    return dataclasses.replace(task, joint_position=position, joint_velocity=velocity,
+                               joint_acceleration=acceleration), force
+
+
+def _placed_tool(robot: Robot, samples: PathSamples, placements: np.ndarray) -> tuple[TaskTrajectory, np.ndarray]:
+    """:func:`placed_task` without the redundant joints."""
     plane = robot.plane
     task, force = transform_path_to_base(samples, placements, plane)
     if robot.task == "position":

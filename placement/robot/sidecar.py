@@ -166,6 +166,21 @@ class LinkInertial(Strict):
     inertia_kg_m2: InertiaTensor
 
 
+MAX_KNOTS = 12  # knots of a redundant coordinate's profile, at most (each is a dimension of the search)
+
+
+class Redundancy(Strict):
+    """Redundant coordinates the search resolves for the whole path (see :mod:`placement.placing.profiles`).
+
+    Each joint takes a profile along the path's arc length: ``knots`` values at equal shares of it (one: a
+    constant), joined by a natural cubic spline; the knots are placement variables named ``JOINT@K``. The
+    other joints follow by inverse kinematics.
+    """
+
+    joints: Annotated[list[Text], Field(min_length=1)]
+    knots: Annotated[int, Field(ge=1, le=MAX_KNOTS)] = 3
+
+
 class Sidecar(Strict):
     """The whole sidecar file."""
 
@@ -179,6 +194,8 @@ class Sidecar(Strict):
     end_effector: EndEffector
     reference_configuration: dict[str, Number] = {}
     locked_joints: dict[str, Number] = Field({}, description="joints held fixed at these values (m, rad)")
+    redundancy: Redundancy | None = Field(None, description="actuated joints beyond the task's freedoms, each "
+                                          "profiled along the path by the search")
     closures: list[Closure] = []
     actuators: Annotated[list[Actuator], Field(min_length=1)]
     drives: dict[str, Drive] = {}
