@@ -24,7 +24,7 @@ from placement.evaluation.results import PlacementDetail
 from placement.files import staged
 from placement.limits.collision import closest_points
 from placement.path.toolpath import ToolPath
-from placement.placing.profiles import KNOT_SEPARATOR, profile_names
+from placement.placing.profiles import KNOT_SEPARATOR, is_closed, knot_shares, profile_names
 from placement.placing.transform import ANGLES, VARIABLES, describe_plane, transform_path_to_base
 from placement.robot.model import Robot
 from placement.search.optimize import Optimum, PlacementResult
@@ -196,8 +196,8 @@ def _recheck_line(optimum: Optimum) -> str:
 
 def format_tolerance(box: ToleranceBox, subject: str) -> str:
     """One line: the tolerance box's half-widths (mm, degrees) and how it was checked."""
-    widths = ", ".join(f"{name} ± {np.degrees(width):.2f} deg" if name in ANGLES else f"{name} ± {width * 1e3:.2f} mm"
-                       for name, width in zip(box.free, box.half_width, strict=True))
+    widths = ", ".join(f"{name} ± {np.degrees(width):.2f} deg" if name in ANGLES or KNOT_SEPARATOR in name
+                       else f"{name} ± {width * 1e3:.2f} mm" for name, width in zip(box.free, box.half_width, strict=True))
     return (f"  tolerance (every limit holds and the {subject} stays within {box.within * 100:g} % of this placement's "
             f"throughout the box): {widths} (checked at {box.corners_checked} corners and {box.inside_checked} points "
             f"inside, "
@@ -296,7 +296,7 @@ def profiles_json(robot: Robot, detail: PlacementDetail) -> dict[str, Any]:
     """Each redundant joint's profile along the path (rad): its knots and the share of arc length each stands at,
     and its value at every sample (``t_s``), as the exact chain moved it."""
     knots = robot.profile_knots
-    shares = np.linspace(0.0, 1.0, knots) if knots > 1 else np.zeros(1)
+    shares = knot_shares(knots, is_closed(detail.samples))
     given = detail.placement[6:].reshape(-1, knots) if len(detail.placement) > 6 else None
     out: dict[str, Any] = {}
     for r, (joint, q) in enumerate(zip(robot.redundant_joints, robot.redundant_q_indices, strict=True)):

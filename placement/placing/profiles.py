@@ -7,6 +7,11 @@ knots are placement variables named ``JOINT@K`` (K from 0, at share K/(knots −
 appended to the six of :mod:`placement.placing.transform`, so a placement vector is
 [x, y, z, φ, θ, ψ, knots of the first redundant joint, knots of the second, ...] (m, rad).
 
+A closed path (its tool ends where and as it starts) is worked cycle after cycle, so its profiles
+close too: the knots stand at shares K/knots and a periodic cubic spline joins them, back to the first
+knot's value at the end. Without this, a search would end the pass with the arm lower than it began
+and count the potential energy released as saved, which the next pass pays back.
+
 Along the path, the share of arc length σ(t) = s(t)/L runs from 0 to 1 with σ̇ = (v·t̂)/L and
 σ̈ = (a·t̂)/L (t̂ the unit feed direction), s the time integral of v·t̂ (trapezoids); a joint's value
 is q(σ), its rate q'(σ)·σ̇, its acceleration q''(σ)·σ̇² + q'(σ)·σ̈: the spline is C², so the joint
@@ -62,12 +67,34 @@ def path_share(samples: PathSamples) -> tuple[np.ndarray, np.ndarray, np.ndarray
     return arc / length, speed / length, tangential / length
 
 
+CLOSED_TOLERANCE = 1e-9  # m and rad: a path whose tool ends this near its start pose is closed
+
+
+def is_closed(samples: PathSamples) -> bool:
+    """Whether the tool ends where and as it starts (to CLOSED_TOLERANCE): a closed path, worked cycle after cycle."""
+    if np.abs(samples.position_m[-1] - samples.position_m[0]).max() > CLOSED_TOLERANCE:
+        return False
+    return samples.rotation is None or np.abs(samples.rotation[-1] - samples.rotation[0]).max() <= CLOSED_TOLERANCE
+
+
+def knot_shares(knots: int, closed: bool) -> np.ndarray:
+    """The share of arc length each knot stands at: K/(knots − 1), or K/knots on a closed path (0 for one knot)."""
+    if knots == 1:
+        return np.zeros(1)
+    return np.arange(knots) / (knots if closed else knots - 1)
+
+
 @functools.lru_cache(maxsize=8)
-def _spline_basis(knots: int) -> tuple[CubicSpline, ...]:
-    """The natural cubic spline through ``knots`` unit values at equal shares, and its first two derivatives."""
+def _spline_basis(knots: int, closed: bool) -> tuple[CubicSpline, ...]:
+    """The cubic spline through ``knots`` unit values at :func:`knot_shares`, natural, or periodic on a closed path,
+    and its first two derivatives."""
     if knots == 1:
         raise ValueError("a single knot is a constant")
-    spline = CubicSpline(np.linspace(0.0, 1.0, knots), np.eye(knots), bc_type="natural")
+    if closed:
+        values = np.vstack([np.eye(knots), np.eye(knots)[:1]])
+        spline = CubicSpline(np.linspace(0.0, 1.0, knots + 1), values, bc_type="periodic")
+    else:
+        spline = CubicSpline(knot_shares(knots, False), np.eye(knots), bc_type="natural")
     return spline, spline.derivative(1), spline.derivative(2)
 
 
@@ -87,7 +114,7 @@ def joint_profiles(knots: np.ndarray, samples: PathSamples) -> tuple[np.ndarray,
         position = np.broadcast_to(knots[:, None, :, 0], (k, len(sigma), r))
         still = np.zeros_like(position)
         return position.reshape(-1, r), still.reshape(-1, r), still.reshape(-1, r)
-    value, slope, bend = (basis(sigma) for basis in _spline_basis(n))  # (N, n) each
+    value, slope, bend = (basis(sigma) for basis in _spline_basis(n, is_closed(samples)))  # (N, n) each
     position = np.einsum("sn,krn->ksr", value, knots)
     first, second = np.einsum("sn,krn->ksr", slope, knots), np.einsum("sn,krn->ksr", bend, knots)
     velocity = first * rate[None, :, None]
