@@ -26,7 +26,7 @@ from placement.robot.sidecar import Redundancy
 from placement.workshop.load import edit_redundancy, robot_from_sidecar
 from tests.support.paths import EXAMPLES
 
-CIRCLE, RECT = EXAMPLES / "circle.yaml", EXAMPLES / "rect.yaml"
+CIRCLE, RECT, CONTOUR = EXAMPLES / "circle.yaml", EXAMPLES / "rect.yaml", EXAMPLES / "contour.yaml"
 BENT = np.array([0.40, 0.0, 0.30, 0.2, 0.1, -0.1, -0.3, 0.4, 0.1])  # a placement with joint 3 swinging along the path
 
 
@@ -134,7 +134,7 @@ def test_a_redundant_joint_must_be_actuated(panda):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("path", [CIRCLE, RECT])
+@pytest.mark.parametrize("path", [CIRCLE, CONTOUR])  # a closed path (periodic profile) and an open one
 def test_the_unlocked_optimum_is_at_least_as_good_as_the_locked_one(panda, locked, path):
     """The whole-path resolution finds an energy at most the six-axis arm's (1e-6 relative), and its reported motion
     keeps every limit on the 4x denser re-check."""
