@@ -61,7 +61,7 @@ from placement.output.report import (
 )
 from placement.path.samples import PathSamples
 from placement.path.toolpath import ToolPath
-from placement.placing.profiles import profile_defaults, profile_names
+from placement.placing.profiles import redundant_defaults, redundant_variables
 from placement.placing.transform import VARIABLES
 from placement.placing.values import parse_free, parse_values, unsuffixed_lengths
 from placement.robot.model import Robot
@@ -194,13 +194,13 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
     if "plane" in document:
         print(plane_line(document["plane"]))
     if args.at is not None or args.at_json is not None:
-        knots = profile_names(robot)
+        knots = redundant_variables(robot)
         given = (parse_values(args.at, "--at", knots) if args.at is not None
                  else at_json(args.at_json, args.which or "best", knots))
         if not given:
             raise UsageError("--at: give at least one value, e.g. --at x=0,phi=30")
         option = "--at" if args.at is not None else f"--at-json {args.at_json}"
-        values = {**profile_defaults(robot), **given}  # a knot not given: the reference configuration's value
+        values = {**redundant_defaults(robot), **given}  # a knot not given: the reference configuration's value
         detail = Evaluator(robot, path, evaluation).detail(np.array([values.get(name, 0.0) for name in VARIABLES + knots]))
         print("\n" + format_detail(f"placement given by {option}", robot, detail, rest_s=args.rest))
         document["at"] = detail_json(robot, detail, rest_s=args.rest)
@@ -214,8 +214,10 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
                        else f"the placement given by {option} comes within the {args.margin:g} % margin of the "
                             f"{worst.kind} ({worst.where}: {worst.margin * 100:.2f} %)")
         return document, {"at": detail} if detail.reachable else {}, problem
-    knots = profile_names(robot)
+    knots = redundant_variables(robot)
     free, bounds = parse_free(args.free, "--free", knots) if args.free is not None else (None, {})
+    if free is not None and set(free) <= set(knots):  # only redundant variables: bounds on top of the defaults
+        free = None
     space = default_space(robot, free=free, fixed=parse_values(args.fix or "", "--fix", knots), bounds=bounds,
                           half_turn=path.half_turn_symmetric())
     misfit = misfit_line(robot, samples, space)
@@ -369,7 +371,7 @@ def run(args: argparse.Namespace) -> int:
                          "--minimize or --maximize")
     for option, text in (("--at", args.at), ("--fix", args.fix)):
         if text is not None:
-            parse_values(text, option, profile_names(robot))  # its errors first
+            parse_values(text, option, redundant_variables(robot))  # its errors first
             warn(length_warnings(robot, option, unsuffixed_lengths(text)), args.strict)
     check_front_options(args)
     check_outputs(("--json", args.json), ("--trace", args.trace), ("--html", args.html),

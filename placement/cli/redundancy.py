@@ -1,4 +1,5 @@
-"""--lock JOINT=VALUE and --knots N: hold joints of any robot, and set the knots of a redundant robot's profiles."""
+"""--lock JOINT=VALUE and --knots N: hold joints of any robot, and set the knots of a redundant robot's profiles; a
+robot whose placement variables --free, --fix or --at name ``spin`` gets its tool's spin as one."""
 
 from __future__ import annotations
 
@@ -7,6 +8,7 @@ import argparse
 import numpy as np
 
 from placement.cli.exceptions import UsageError
+from placement.placing.profiles import SPIN
 from placement.robot.formats import DescriptionOptions
 from placement.robot.model import Robot
 from placement.robot.sidecar import MAX_KNOTS
@@ -35,7 +37,8 @@ def apply_redundancy_options(robot: Robot, args: argparse.Namespace, options: De
             redundant joints.
     """
     texts, knots = getattr(args, "lock", None) or [], getattr(args, "knots", None)
-    if not texts and knots is None:
+    spin = not robot.tool_spin and _names_spin(args)
+    if not texts and knots is None and not spin:
         return robot
     if knots is not None and not 1 <= knots <= MAX_KNOTS:
         raise UsageError(f"--knots: expected a whole number from 1 to {MAX_KNOTS}, got {knots}")
@@ -43,8 +46,14 @@ def apply_redundancy_options(robot: Robot, args: argparse.Namespace, options: De
     if knots is not None and not [name for name in robot.redundant_joints if name not in locks]:
         raise UsageError(f"--knots: robot '{robot.name}' has no redundant joint left to profile (its sidecar's "
                          "redundancy.joints, less the --lock ones)")
-    return edit_redundancy(robot, locks, knots, allow_massless=bool(getattr(args, "allow_massless", False)),
+    return edit_redundancy(robot, locks, knots, spin=spin, allow_massless=bool(getattr(args, "allow_massless", False)),
                            options=options)
+
+
+def _names_spin(args: argparse.Namespace) -> bool:
+    """Whether --free, --fix or --at names the variable ``spin``."""
+    texts = [getattr(args, option, None) or "" for option in ("free", "fix", "at")]
+    return any(item.partition("=")[0].strip() == SPIN for text in texts for item in text.split(","))
 
 
 def _lock(robot: Robot, text: str) -> tuple[str, float]:

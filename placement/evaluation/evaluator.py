@@ -35,7 +35,7 @@ from placement.kinematics.base import solver_for
 from placement.kinematics.trajectories import JointTrajectory
 from placement.path.time_law import TimeLaw
 from placement.path.toolpath import ToolPath
-from placement.placing.profiles import profile_names
+from placement.placing.profiles import redundant_variables
 from placement.placing.transform import placed_task
 from placement.registry import restore_runtime_members, runtime_members
 from placement.robot.model import Robot
@@ -213,9 +213,9 @@ class Evaluator:
         """Objective and tightest margins of (K, 6) placements, or (K, 6 + R·knots) with a redundant robot's knots
         (:mod:`placement.placing.profiles`)."""
         placements = np.atleast_2d(np.asarray(placements, dtype=float))
-        widths = sorted({6, 6 + len(profile_names(self.robot))})
+        widths = sorted({6, 6 + len(redundant_variables(self.robot))})
         if placements.ndim != 2 or placements.shape[1] not in widths or not np.isfinite(placements).all():
-            names = ", ".join(("x", "y", "z", "phi", "theta", "psi", *profile_names(self.robot)))
+            names = ", ".join(("x", "y", "z", "phi", "theta", "psi", *redundant_variables(self.robot)))
             raise SettingsError(f"placements must be finite (K, {' or '.join(map(str, widths))}) arrays [{names}], got "
                                 f"shape {placements.shape}{'' if np.isfinite(placements).all() else ' with NaN or inf'}")
         if (self.executor is not None or self.workers > 1) and len(placements) >= 2:

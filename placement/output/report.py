@@ -24,8 +24,9 @@ from placement.evaluation.results import PlacementDetail
 from placement.files import staged
 from placement.limits.collision import closest_points
 from placement.path.toolpath import ToolPath
-from placement.placing.profiles import KNOT_SEPARATOR, is_closed, knot_shares, profile_names
-from placement.placing.transform import ANGLES, VARIABLES, describe_plane, transform_path_to_base
+from placement.placing.profiles import is_closed, knot_shares, redundant_variables
+from placement.placing.transform import VARIABLES, describe_plane, transform_path_to_base
+from placement.placing.values import angle_variable
 from placement.robot.model import Robot
 from placement.search.optimize import Optimum, PlacementResult
 from placement.search.reporting import REPORTED_DECIMALS
@@ -37,7 +38,7 @@ def format_placement(placement: np.ndarray, names: tuple[str, ...] = VARIABLES) 
     """'x = ... mm, ..., psi = ... deg' for a placement vector (m, rad) of variables ``names`` (a redundant robot's
     knots after the six, in deg), to REPORTED_DECIMALS (a search's optima lie on that grid:
     :func:`placement.search.reporting.as_printed`)."""
-    return ", ".join(f"{name} = {np.degrees(value):.{REPORTED_DECIMALS}f} deg" if name in ANGLES or KNOT_SEPARATOR in name
+    return ", ".join(f"{name} = {np.degrees(value):.{REPORTED_DECIMALS}f} deg" if angle_variable(name)
                      else f"{name} = {value * 1e3:.{REPORTED_DECIMALS}f} mm" for name, value in zip(names, placement))
 
 
@@ -116,7 +117,7 @@ def format_detail(title: str, robot: Robot, detail: PlacementDetail, recheck_val
                   rest_s: float = 0.0) -> str:
     """Text block for one placement: where, objective, energy per actuator and its parts, duty cycle (with ``rest_s``
     s between passes, where the drives give a continuous torque), tightest limits."""
-    lines = [title, f"  {format_placement(detail.placement, VARIABLES + profile_names(robot))}"]
+    lines = [title, f"  {format_placement(detail.placement, VARIABLES + redundant_variables(robot))}"]
     lines += [f"  {line}" for line in profile_lines(robot, detail)]
     if not detail.reachable:
         first = detail.unreachable_samples[0]
@@ -196,7 +197,7 @@ def _recheck_line(optimum: Optimum) -> str:
 
 def format_tolerance(box: ToleranceBox, subject: str) -> str:
     """One line: the tolerance box's half-widths (mm, degrees) and how it was checked."""
-    widths = ", ".join(f"{name} ± {np.degrees(width):.2f} deg" if name in ANGLES or KNOT_SEPARATOR in name
+    widths = ", ".join(f"{name} ± {np.degrees(width):.2f} deg" if angle_variable(name)
                        else f"{name} ± {width * 1e3:.2f} mm" for name, width in zip(box.free, box.half_width, strict=True))
     return (f"  tolerance (every limit holds and the {subject} stays within {box.within * 100:g} % of this placement's "
             f"throughout the box): {widths} (checked at {box.corners_checked} corners and {box.inside_checked} points "
@@ -256,7 +257,7 @@ def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None =
     objective = OBJECTIVES.get(detail.objective)
     out: dict[str, Any] = {
         "placement": {name: float(value) for name, value in
-                      zip(VARIABLES + profile_names(robot), detail.placement, strict=True)},
+                      zip(VARIABLES + redundant_variables(robot), detail.placement, strict=True)},
         "objective": {"name": detail.objective, "title": objective.title, "unit": objective.unit,
                       "value": float(detail.value) if detail.reachable else None},
         "feasible": detail.feasible,
@@ -297,7 +298,8 @@ def profiles_json(robot: Robot, detail: PlacementDetail) -> dict[str, Any]:
     and its value at every sample (``t_s``), as the exact chain moved it."""
     knots = robot.profile_knots
     shares = knot_shares(knots, is_closed(detail.samples))
-    given = detail.placement[6:].reshape(-1, knots) if len(detail.placement) > 6 else None
+    start = 6 + robot.tool_spin
+    given = detail.placement[start:].reshape(-1, knots) if len(detail.placement) > start else None
     out: dict[str, Any] = {}
     for r, (joint, q) in enumerate(zip(robot.redundant_joints, robot.redundant_q_indices, strict=True)):
         out[joint] = {"knots_rad": None if given is None else given[r].tolist(), "knot_shares": shares.tolist(),

@@ -7,6 +7,11 @@ knots are placement variables named ``JOINT@K`` (K from 0, at share K/(knots −
 appended to the six of :mod:`placement.placing.transform`, so a placement vector is
 [x, y, z, φ, θ, ψ, knots of the first redundant joint, knots of the second, ...] (m, rad).
 
+A robot may also leave the spin of its tool about the tool's own axis (z) to the search (the sidecar's
+``redundancy.spin``): a constant angle, the placement variable ``spin`` (rad; deg on the command line),
+which comes right after the six, before the knots. For a tool along the last joint's axis the spin
+costs nothing (that joint absorbs it); for a spindle mounted across the flange it moves the arm.
+
 A closed path (its tool ends where and as it starts) is worked cycle after cycle, so its profiles
 close too: the knots stand at shares K/knots and a periodic cubic spline joins them, back to the first
 knot's value at the end. Without this, a search would end the pass with the arm lower than it began
@@ -30,27 +35,36 @@ from placement.path.samples import PathSamples
 from placement.robot.model import Robot
 
 KNOT_SEPARATOR = "@"
+SPIN = "spin"
 
 
-def profile_names(robot: Robot) -> tuple[str, ...]:
+def knot_names(robot: Robot) -> tuple[str, ...]:
     """The placement variables of the robot's redundant joints' knots, ``JOINT@K``, joint after joint."""
     return tuple(f"{joint}{KNOT_SEPARATOR}{k}" for joint in robot.redundant_joints for k in range(robot.profile_knots))
 
 
-def profile_bounds(robot: Robot) -> dict[str, tuple[float, float]]:
-    """Each knot's bounds: its joint's range (m or rad), by variable name."""
-    model, bounds = robot.model, {}
-    for name in profile_names(robot):
+def redundant_variables(robot: Robot) -> tuple[str, ...]:
+    """The placement variables after the six: the tool's spin (if the robot leaves it free), then the knots."""
+    return ((SPIN,) if robot.tool_spin else ()) + knot_names(robot)
+
+
+def redundant_bounds(robot: Robot) -> dict[str, tuple[float, float]]:
+    """Each redundant variable's bounds, by name: the spin's whole turn, a knot's joint range (m or rad)."""
+    model = robot.model
+    bounds = {SPIN: (-np.pi, np.pi)} if robot.tool_spin else {}
+    for name in knot_names(robot):
         joint = name.rsplit(KNOT_SEPARATOR, 1)[0]
         q = model.joints[model.getJointId(joint)].idx_q
         bounds[name] = (float(model.lowerPositionLimit[q]), float(model.upperPositionLimit[q]))
     return bounds
 
 
-def profile_defaults(robot: Robot) -> dict[str, float]:
-    """Each knot's value when none is given: its joint's value at the reference configuration (m or rad)."""
-    return {name: float(robot.reference_q[q]) for name, q in
-            zip(profile_names(robot), np.repeat(robot.redundant_q_indices, robot.profile_knots), strict=True)}
+def redundant_defaults(robot: Robot) -> dict[str, float]:
+    """Each redundant variable's value when none is given: no spin, a knot its joint's value at the reference
+    configuration (m or rad)."""
+    knots = {name: float(robot.reference_q[q]) for name, q in
+             zip(knot_names(robot), np.repeat(robot.redundant_q_indices, robot.profile_knots), strict=True)}
+    return {SPIN: 0.0, **knots} if robot.tool_spin else knots
 
 
 def path_share(samples: PathSamples) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -123,8 +137,17 @@ def joint_profiles(knots: np.ndarray, samples: PathSamples) -> tuple[np.ndarray,
 
 
 def knots_of(robot: Robot, placements: np.ndarray) -> np.ndarray | None:
-    """(K, R, n) the knots in placement vectors (K, 6 + R·n), or None for a robot without redundant joints or
-    placements of the six variables only (the redundant joints then stay at the reference configuration)."""
+    """(K, R, n) the knots in placement vectors (K, 6 [+ 1] + R·n), or None for a robot without redundant joints
+    or placements of the six variables only (the redundant joints then stay at the reference configuration)."""
     if not robot.redundant_joints or placements.shape[1] == 6:
         return None
-    return placements[:, 6:].reshape(len(placements), len(robot.redundant_joints), robot.profile_knots)
+    start = 6 + robot.tool_spin
+    return placements[:, start:].reshape(len(placements), len(robot.redundant_joints), robot.profile_knots)
+
+
+def spin_of(robot: Robot, placements: np.ndarray) -> np.ndarray | None:
+    """(K,) the tool's spin in placement vectors (rad), or None: a robot that keeps its tool's spin, or placements of
+    the six variables only (no spin)."""
+    if not robot.tool_spin or placements.shape[1] == 6:
+        return None
+    return placements[:, 6]

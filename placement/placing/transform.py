@@ -22,7 +22,7 @@ import numpy as np
 from placement.exceptions import PlacementWarning
 from placement.kinematics.trajectories import TaskTrajectory
 from placement.path.samples import PathSamples
-from placement.placing.profiles import joint_profiles, knots_of
+from placement.placing.profiles import joint_profiles, knots_of, spin_of
 from placement.robot.model import Robot
 from placement.robot.sidecar import Plane
 
@@ -119,6 +119,10 @@ def _placed_tool(robot: Robot, samples: PathSamples, placements: np.ndarray) -> 
         return task, force
     rpy = robot.tool_rpy_in_path_rad
     end_effector = rotation_zyx(np.array(rpy[2]), np.array(rpy[1]), np.array(rpy[0]))
+    spin = spin_of(robot, np.atleast_2d(placements))
+    if spin is not None:  # the tool turned about its own axis (z of the tool frame), then the end effector in it
+        still = np.zeros_like(spin)
+        end_effector = rotation_zyx(spin, still, still) @ end_effector  # (K, 3, 3)
     path_rotation = placement_pose(placements, plane)[0]  # (K, 3, 3)
     if samples.rotation is None:
         rotation = np.repeat(path_rotation @ end_effector, len(samples), axis=0)
@@ -126,7 +130,8 @@ def _placed_tool(robot: Robot, samples: PathSamples, placements: np.ndarray) -> 
         angular_velocity, angular_acceleration = still, still
     else:
         assert samples.angular_velocity_rad_s is not None and samples.angular_acceleration_rad_s2 is not None
-        rotation = (path_rotation[:, None] @ samples.rotation[None] @ end_effector).reshape(-1, 3, 3)
+        turn = end_effector[:, None] if end_effector.ndim == 3 else end_effector
+        rotation = (path_rotation[:, None] @ samples.rotation[None] @ turn).reshape(-1, 3, 3)
         angular_velocity = _turned(path_rotation, samples.angular_velocity_rad_s)
         angular_acceleration = _turned(path_rotation, samples.angular_acceleration_rad_s2)
     pose = TaskTrajectory(task.position_m, task.velocity_m_s, task.acceleration_m_s2, rotation, angular_velocity,

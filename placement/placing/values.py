@@ -2,7 +2,8 @@
 
 The command line's ``--at``, ``--fix`` and ``--free`` and the workbench's fields read this syntax
 (``x=10,phi=30``, ``y=-40:40``), and return SI values (m, rad). A redundant robot's knots
-(``panda_joint3@1``, :mod:`placement.placing.profiles`) are angles, named through ``extra``.
+(``panda_joint3@1``, :mod:`placement.placing.profiles`) and the tool's ``spin`` are angles, named through
+``extra``.
 """
 
 from __future__ import annotations
@@ -10,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from placement.exceptions import SettingsError
-from placement.placing.profiles import KNOT_SEPARATOR
+from placement.placing.profiles import KNOT_SEPARATOR, SPIN
 from placement.placing.transform import ANGLES, VARIABLES
 
 
@@ -54,7 +55,7 @@ def unsuffixed_lengths(text: str) -> dict[str, float]:
     :func:`parse_values` has accepted ``text``."""
     items = (item.partition("=") for item in filter(None, (part.strip() for part in text.split(","))))
     return {name.strip(): float(raw) for name, _, raw in items
-            if not _is_angle(name.strip()) and _quantity(raw, name.strip()) is not None and not raw.strip().endswith("m")}
+            if not angle_variable(name.strip()) and _quantity(raw, name.strip()) is not None and not raw.strip().endswith("m")}
 
 
 def parse_free(text: str, option: str,
@@ -84,7 +85,7 @@ def parse_free(text: str, option: str,
 
 def _bounds(name: str, spec: str, item: str, option: str) -> tuple[float, float]:
     """'-40:40' -> (lower, upper) of ``name`` in SI, lower < upper."""
-    unit, example = ("deg", f"{name}=-90:90") if _is_angle(name) else ("mm", f"{name}=-40:40")
+    unit, example = ("deg", f"{name}=-90:90") if angle_variable(name) else ("mm", f"{name}=-40:40")
     parts = spec.split(":")
     numbers = [value for value in (_quantity(part, name) for part in parts) if value is not None and np.isfinite(value)]
     if len(parts) != 2 or len(numbers) != 2:
@@ -99,7 +100,7 @@ def _bounds(name: str, spec: str, item: str, option: str) -> tuple[float, float]
 
 def _quantity(raw: str, name: str) -> float | None:
     """A value of variable ``name`` in SI: mm and deg unless suffixed m / rad; None if not a number."""
-    angle = _is_angle(name)
+    angle = angle_variable(name)
     units = {"rad": 1.0, "deg": np.pi / 180} if angle else {"mm": 1e-3, "m": 1.0}
     text = raw.strip()
     unit = next((u for u in sorted(units, key=len, reverse=True) if text.endswith(u)), None)
@@ -110,6 +111,7 @@ def _quantity(raw: str, name: str) -> float | None:
         return None
 
 
-def _is_angle(name: str) -> bool:
-    """Whether a placement variable is an angle: phi, theta, psi, or a knot of a redundant (revolute) joint."""
-    return name in ANGLES or KNOT_SEPARATOR in name
+def angle_variable(name: str) -> bool:
+    """Whether a placement variable is an angle: phi, theta, psi, the tool's spin, or a knot of a redundant (revolute)
+    joint."""
+    return name in ANGLES or name == SPIN or KNOT_SEPARATOR in name

@@ -272,6 +272,8 @@ def _check_redundancy(robot: Robot) -> int:
         if next(actuator.prismatic for actuator in robot.actuators if actuator.joint == name):
             raise RobotFileError(robot.sidecar_path, f"redundancy.joints.{i}", f"'{name}' is prismatic: only revolute "
                                  "joints are profiled yet (their knots are angles)")
+    if robot.tool_spin and robot.task != "pose":
+        raise RobotFileError(robot.sidecar_path, "redundancy.spin", "the tool's spin is a variable of pose tasks only")
     if names and robot.closures:
         raise RobotFileError(robot.sidecar_path, "redundancy", "redundant joints are resolved on serial robots only "
                              "(this one has closures): lock them under locked_joints")

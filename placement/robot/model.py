@@ -191,10 +191,16 @@ class Robot:
         return () if redundancy is None else tuple(redundancy.joints)
 
     @property
+    def tool_spin(self) -> bool:
+        """Whether the tool's spin about its own axis is left to the search (the sidecar's ``redundancy.spin``)."""
+        redundancy = self.sidecar.redundancy
+        return redundancy is not None and redundancy.spin
+
+    @property
     def profile_knots(self) -> int:
         """Knots of each redundant joint's profile along the path (1: a constant); 0 without redundant joints."""
         redundancy = self.sidecar.redundancy
-        return 0 if redundancy is None else redundancy.knots
+        return 0 if redundancy is None or not redundancy.joints else redundancy.knots
 
     @property
     def redundant_q_indices(self) -> np.ndarray:

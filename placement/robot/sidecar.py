@@ -173,12 +173,20 @@ class Redundancy(Strict):
     """Redundant coordinates the search resolves for the whole path (see :mod:`placement.placing.profiles`).
 
     Each joint takes a profile along the path's arc length: ``knots`` values at equal shares of it (one: a
-    constant), joined by a natural cubic spline; the knots are placement variables named ``JOINT@K``. The
-    other joints follow by inverse kinematics.
+    constant), joined by a cubic spline; the knots are placement variables named ``JOINT@K``. The
+    other joints follow by inverse kinematics. ``spin``: the tool's rotation about its own axis is a
+    placement variable too (``spin``), for a tool that is symmetric about its axis (a spindle).
     """
 
-    joints: Annotated[list[Text], Field(min_length=1)]
+    joints: list[Text] = []
     knots: Annotated[int, Field(ge=1, le=MAX_KNOTS)] = 3
+    spin: bool = False
+
+    @model_validator(mode="after")
+    def _something(self) -> Redundancy:
+        if not self.joints and not self.spin:
+            raise ValueError("expected joints (redundant joints to profile) or spin: true")
+        return self
 
 
 class Sidecar(Strict):

@@ -9,7 +9,7 @@ import numpy as np
 
 from placement.cell.cell_file import Region
 from placement.exceptions import InfeasibleError, SettingsError
-from placement.placing.profiles import profile_bounds, profile_defaults, profile_names
+from placement.placing.profiles import SPIN, redundant_bounds, redundant_defaults, redundant_variables
 from placement.placing.transform import ANGLES, VARIABLES, plane_frame
 from placement.robot.model import Robot
 from placement.robot.sidecar import PLANE_VARIABLES, Plane, Workspace
@@ -98,7 +98,7 @@ def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict
             (:meth:`ToolPath.half_turn_symmetric`): phi then only needs ±90°.
     """
     defaults, plane = robot.placement_defaults, robot.plane
-    knots = profile_names(robot)
+    knots = redundant_variables(robot)
     names = VARIABLES + knots
     if free is None:  # the default free set, less what the caller fixes
         default_free = defaults.free if defaults and defaults.free else PLANE_VARIABLES if plane else ("x", "y", "z", "phi")
@@ -111,7 +111,7 @@ def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict
     if clash:
         raise SettingsError(f"{clash} cannot be both free and fixed")
     limits: dict[str, tuple[float, float]] = {name: bound for name, bound in (defaults.bounds if defaults else {}).items()}
-    limits.update(profile_bounds(robot))
+    limits.update(redundant_bounds(robot))
     limits.update(bounds or {})
     if plane is not None:
         _check_in_plane(robot.name, plane, free, fixed or {})
@@ -131,7 +131,7 @@ def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict
     missing = [name for name in free if name not in limits]
     if missing:
         raise SettingsError(_missing_bounds(robot.name, missing))
-    values = {**profile_defaults(robot), **(fixed or {})}
+    values = {**redundant_defaults(robot), **(fixed or {})}
     fixed_vector = np.array([float(values.get(name, 0.0)) for name in names])
     chosen = tuple(n for n in names if n in free)
     return PlacementSpace(free=chosen,
@@ -145,7 +145,7 @@ def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict
 def _period(name: str, bound: tuple[float, float], half_turn: bool) -> float:
     """The period of an angle whose range is exactly its whole turn, or, for phi on a path unchanged by a half
     turn, half of it (0 otherwise: the variable is bounded)."""
-    if name not in ANGLES:
+    if name not in (*ANGLES, SPIN):
         return 0.0
     width = bound[1] - bound[0]
     if np.isclose(width, 2 * np.pi, rtol=0, atol=1e-9):

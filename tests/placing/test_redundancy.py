@@ -17,7 +17,7 @@ from placement.energy.trace import motor_trace
 from placement.evaluation.evaluator import Evaluator, denser
 from placement.kinematics.base import task_error
 from placement.path import load_path
-from placement.placing.profiles import joint_profiles, knot_shares, path_share, profile_names
+from placement.placing.profiles import joint_profiles, knot_shares, path_share, redundant_variables
 from placement.placing.transform import placed_task
 from placement.robot.exceptions import RobotFileError
 from placement.search.optimize import SearchSettings, optimize_placement
@@ -42,7 +42,7 @@ def locked(panda):
 
 def test_the_panda_has_seven_axes_and_three_knots_of_joint_3(panda, locked):
     assert len(panda.actuators) == 7 and panda.redundant_joints == ("panda_joint3",)
-    assert profile_names(panda) == ("panda_joint3@0", "panda_joint3@1", "panda_joint3@2")
+    assert redundant_variables(panda) == ("panda_joint3@0", "panda_joint3@1", "panda_joint3@2")
     assert len(locked.actuators) == 6 and locked.redundant_joints == () and "panda_joint3" in locked.locked_joints
 
 
@@ -121,7 +121,7 @@ def test_joint_3_held_at_zero_moves_the_others_as_the_six_axis_arm(panda, locked
 
 def test_knots_are_searched_within_the_joint_range(panda):
     space = default_space(panda)
-    assert space.free[-3:] == profile_names(panda)
+    assert space.free[-3:] == redundant_variables(panda)
     np.testing.assert_allclose(space.lower[-3:], -2.8973, atol=1e-4)
     assert space.full(np.zeros(len(space.free))).shape == (1, 9)
 
