@@ -118,8 +118,9 @@ def robot_from_sidecar(path: Path, sidecar: Sidecar, *, check_closures: bool = T
 def edit_redundancy(robot: Robot, locks: dict[str, float], knots: int | None = None, *, spin: bool = False,
                     allow_massless: bool = False, options: DescriptionOptions = DescriptionOptions()) -> Robot:
     """``robot`` with more joints held fixed (``--lock JOINT=VALUE``) and its redundant joints' profiles given
-    ``knots`` knots (``--knots``), its tool's spin a placement variable with ``spin``. A locked joint leaves the model, the actuators, the reference configuration and
-    the redundant joints, exactly as if the sidecar had listed it under ``locked_joints``.
+    ``knots`` knots (``--knots``), its tool's spin a placement variable with ``spin``. A locked joint leaves the
+    model, the actuators, the reference configuration and the redundant joints, exactly as if the sidecar had
+    listed it under ``locked_joints``.
 
     Args:
         robot: A robot loaded from its sidecar (without a cell).

@@ -20,9 +20,9 @@ from placement.path import load_path
 from placement.placing.profiles import joint_profiles, knot_shares, path_share, redundant_variables
 from placement.placing.transform import placed_task
 from placement.robot.exceptions import RobotFileError
+from placement.robot.sidecar import Redundancy
 from placement.search.optimize import SearchSettings, optimize_placement
 from placement.search.space import default_space
-from placement.robot.sidecar import Redundancy
 from placement.workshop.load import edit_redundancy, robot_from_sidecar
 from tests.support.paths import EXAMPLES
 

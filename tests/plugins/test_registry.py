@@ -9,7 +9,6 @@ import yaml
 
 from placement import Evaluator, EvaluatorSettings, load_path, load_robot, robot_names
 from placement.__main__ import main
-from placement.placing.transform import VARIABLES
 from placement.robot.exceptions import RobotFileError
 from placement.search import optimize
 from placement.workshop.catalog import builtin_robots_dir
