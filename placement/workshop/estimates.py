@@ -80,6 +80,9 @@ def estimate_warning(robot: Robot) -> str:
     """The one warning an ``erd:`` robot deserves: its drives and workspace are estimates."""
     count = sum(text.startswith("EST") for text in robot.sources.values())
     locked = f"; joints held fixed: {', '.join(robot.locked_joints)}" if robot.locked_joints else ""
+    if robot.redundant_joints:
+        locked += (f"; redundant joints profiled along the path by the search: {', '.join(robot.redundant_joints)} "
+                   "(--lock JOINT=VALUE holds one)")
     return (f"{robot.name}: the drives (gear {GEAR_RATIO:g}:1, motor constants scaled from the URDF's effort and "
             f"velocity limits), the workspace box and the reference posture are estimates ({count} EST sources)"
             f"{locked}; absolute energies are only as good as they are (write a sidecar: docs/adding_a_robot.md)")
