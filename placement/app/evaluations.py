@@ -113,9 +113,12 @@ class Bench:
             self.live_evaluator, self.exact_evaluator = live, exact
 
     def clamp(self, placement: np.ndarray) -> np.ndarray:
-        """The placement with its free variables within their bounds and the others at their fixed values."""
+        """The placement with its free variables within their bounds and the others at their fixed values; a
+        placement of the six variables only takes a redundant robot's knots and spin from the space's fixed values
+        (the page edits the six)."""
         out = np.array(self.space.fixed, dtype=float)
         values = np.asarray(placement, dtype=float)
+        values = np.concatenate([values, out[len(values):]])
         out[self.space.indices] = np.clip(values[self.space.indices], self.space.lower, self.space.upper)
         return out
 

@@ -17,6 +17,7 @@ import numpy as np
 
 from placement.cell.cell_file import load_cell
 from placement.cli.exceptions import UsageError
+from placement.cli.redundancy import add_redundancy_options, apply_redundancy_options
 from placement.contract.objective import OBJECTIVES
 from placement.distribution import Feature, require
 from placement.energy.regeneration import REGENERATION
@@ -97,6 +98,7 @@ def job_options(*, several_paths: bool = False) -> argparse.ArgumentParser:
                          "description (URDF, xacro, MJCF .xml) with --tool, or erd:NAME (an example-robot-data arm, with --tool)")
     _add_description(options)
     _add_cell(options)
+    add_redundancy_options(options)
     if several_paths:
         options.add_argument("--path", required=True, nargs="+", help="path file(s) (YAML), e.g. examples/rect.yaml")
     else:
@@ -208,7 +210,9 @@ def placement_options() -> argparse.ArgumentParser:
     options = parent()
     options.add_argument("--free", metavar="y=-40:40,x,phi",
                          help="free placement variables, each optionally with bounds name=MIN:MAX (mm, deg) "
-                              "overriding the robot's (default: the robot's, e.g. x,y,z,phi for the Orthoglide)")
+                              "overriding the robot's (default: the robot's, e.g. x,y,z,phi for the Orthoglide); also "
+                              "spin (the tool about its axis) and a redundant joint's knots JOINT@K, which alone "
+                              "are freed on top of the robot's (e.g. --free spin=-180:180)")
     options.add_argument("--fix", metavar="z=0,theta=0", help="values of fixed variables (mm, deg; default 0)")
     return options
 
@@ -386,6 +390,7 @@ def load_robot_argument(robot: str, args: argparse.Namespace, cell: str | None =
         loaded = load_description_robot(path, tool, allow_massless=allow_massless, options=options)
     else:
         loaded = load_robot(robot, allow_massless=allow_massless, options=options)
+    loaded = apply_redundancy_options(loaded, args, options)
     if options.xacro_args and not is_xacro(Path(loaded.urdf_source)):
         raise UsageError(f"--robot-arg applies to robots described in xacro; the description of '{robot[:80]}' is "
                          f"{Path(loaded.urdf_source).name}")

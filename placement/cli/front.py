@@ -16,7 +16,7 @@ from placement.evaluation.parallel import Cluster
 from placement.evaluation.results import PlacementDetail
 from placement.output.report import detail_json
 from placement.path.toolpath import ToolPath
-from placement.placing.transform import ANGLES, VARIABLES
+from placement.placing.values import angle_variable
 from placement.robot.model import Robot
 from placement.search.optimize import SearchSettings
 from placement.search.pareto import ParetoFront, pareto_front
@@ -99,12 +99,13 @@ def format_front(front: ParetoFront) -> str:
     objectives = [OBJECTIVES.get(name) for name in front.objectives]
     free = front.space.free
     header = "  #  " + "".join(f"{name:>16s}" for name in front.objectives) + "".join(
-        f"{name + (' deg' if name in ANGLES else ' mm'):>12s}" for name in free) + "   margin"
+        f"{name + (' deg' if angle_variable(name) else ' mm'):>12s}" for name in free) + "   margin"
     lines = [f"Pareto front: {len(front.members)} placements, none better than another on every objective "
              f"({front.evaluations:,} placements evaluated)", header]
     for index, member in enumerate(front.members):
-        shown = [np.degrees(member.placement[VARIABLES.index(n)]) if n in ANGLES
-                 else member.placement[VARIABLES.index(n)] * 1e3 for n in free]
+        names = front.space.names
+        shown = [np.degrees(member.placement[names.index(n)]) if angle_variable(n)
+                 else member.placement[names.index(n)] * 1e3 for n in free]
         mark = "  knee" if index == front.knee else ""
         lines.append(f"  {index:<3d}" + "".join(f"{v:>16.4f}" for v in member.values)
                      + "".join(f"{v:>12.2f}" for v in shown) + f"   {member.margin * 100:5.1f} %{mark}")
@@ -121,7 +122,7 @@ def format_front(front: ParetoFront) -> str:
 
 def front_json(front: ParetoFront) -> dict:
     """JSON-ready front (SI units)."""
-    return {"members": [{"placement": dict(zip(VARIABLES, map(float, m.placement))),
+    return {"members": [{"placement": dict(zip(front.space.names, map(float, m.placement), strict=True)),
                          "values": dict(zip(front.objectives, map(float, m.values))),
                          "recheck_values": dict(zip(front.objectives, map(float, m.recheck_values))),
                          "margin": m.margin} for m in front.members],

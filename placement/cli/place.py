@@ -61,6 +61,7 @@ from placement.output.report import (
 )
 from placement.path.samples import PathSamples
 from placement.path.toolpath import ToolPath
+from placement.placing.profiles import redundant_defaults, redundant_variables
 from placement.placing.transform import VARIABLES
 from placement.placing.values import parse_free, parse_values, unsuffixed_lengths
 from placement.robot.model import Robot
@@ -124,7 +125,7 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def at_json(file: str, which: str) -> dict[str, float]:
+def at_json(file: str, which: str, extra: tuple[str, ...] = ()) -> dict[str, float]:
     """The placement (SI) of a result written by --json: its ``which`` entry ("best", "worst" or "at"), or, for a
     document of several paths, the first path's."""
     try:
@@ -135,10 +136,10 @@ def at_json(file: str, which: str) -> dict[str, float]:
         document = document["paths"][0]
     entry = document.get(which) if isinstance(document, dict) else None
     placement = entry.get("placement") if isinstance(entry, dict) else None
-    if not isinstance(placement, dict) or set(placement) - set(VARIABLES) or not all(
+    if not isinstance(placement, dict) or set(placement) - set(VARIABLES + extra) or not all(
             isinstance(v, int | float) and not isinstance(v, bool) and np.isfinite(v) for v in placement.values()):
         raise UsageError(f"--at-json: {file} has no '{which}.placement' with finite numbers for "
-                         f"{', '.join(VARIABLES)} (write it with --json)")
+                         f"{', '.join(VARIABLES + extra)} (write it with --json)")
     return {name: float(value) for name, value in placement.items()}
 
 
@@ -193,11 +194,14 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
     if "plane" in document:
         print(plane_line(document["plane"]))
     if args.at is not None or args.at_json is not None:
-        given = parse_values(args.at, "--at") if args.at is not None else at_json(args.at_json, args.which or "best")
+        knots = redundant_variables(robot)
+        given = (parse_values(args.at, "--at", knots) if args.at is not None
+                 else at_json(args.at_json, args.which or "best", knots))
         if not given:
             raise UsageError("--at: give at least one value, e.g. --at x=0,phi=30")
         option = "--at" if args.at is not None else f"--at-json {args.at_json}"
-        detail = Evaluator(robot, path, evaluation).detail(np.array([given.get(name, 0.0) for name in VARIABLES]))
+        values = {**redundant_defaults(robot), **given}  # a knot not given: the reference configuration's value
+        detail = Evaluator(robot, path, evaluation).detail(np.array([values.get(name, 0.0) for name in VARIABLES + knots]))
         print("\n" + format_detail(f"placement given by {option}", robot, detail, rest_s=args.rest))
         document["at"] = detail_json(robot, detail, rest_s=args.rest)
         problem = None
@@ -210,8 +214,11 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
                        else f"the placement given by {option} comes within the {args.margin:g} % margin of the "
                             f"{worst.kind} ({worst.where}: {worst.margin * 100:.2f} %)")
         return document, {"at": detail} if detail.reachable else {}, problem
-    free, bounds = parse_free(args.free, "--free") if args.free is not None else (None, {})
-    space = default_space(robot, free=free, fixed=parse_values(args.fix or "", "--fix"), bounds=bounds,
+    knots = redundant_variables(robot)
+    free, bounds = parse_free(args.free, "--free", knots) if args.free is not None else (None, {})
+    if free is not None and set(free) <= set(knots):  # only redundant variables: bounds on top of the defaults
+        free = None
+    space = default_space(robot, free=free, fixed=parse_values(args.fix or "", "--fix", knots), bounds=bounds,
                           half_turn=path.half_turn_symmetric())
     misfit = misfit_line(robot, samples, space)
     if misfit is not None:
@@ -364,7 +371,7 @@ def run(args: argparse.Namespace) -> int:
                          "--minimize or --maximize")
     for option, text in (("--at", args.at), ("--fix", args.fix)):
         if text is not None:
-            parse_values(text, option)  # its errors first
+            parse_values(text, option, redundant_variables(robot))  # its errors first
             warn(length_warnings(robot, option, unsuffixed_lengths(text)), args.strict)
     check_front_options(args)
     check_outputs(("--json", args.json), ("--trace", args.trace), ("--html", args.html),

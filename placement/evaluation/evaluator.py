@@ -35,6 +35,7 @@ from placement.kinematics.base import solver_for
 from placement.kinematics.trajectories import JointTrajectory
 from placement.path.time_law import TimeLaw
 from placement.path.toolpath import ToolPath
+from placement.placing.profiles import redundant_variables
 from placement.placing.transform import placed_task
 from placement.registry import restore_runtime_members, runtime_members
 from placement.robot.model import Robot
@@ -128,6 +129,10 @@ class Evaluator:
         self.objectives: tuple[Objective, ...] = tuple(OBJECTIVES.get(name) for name in self.objective_names)
         self.objective = self.objectives[0]
         check_timing(self.objective_names, path)
+        if path.timing.mode == "optimal" and robot.profile_knots > 1:
+            raise SettingsError(f"robot '{robot.name}' profiles {', '.join(robot.redundant_joints)} along the path, which "
+                                "the optimal timing law does not support yet: use another timing, a constant profile "
+                                "(--knots 1) or --lock the joint(s)")
         step = settings.time_step_s
         self.geometry = path.geometry(step, settings.refine) if path.timing.mode == "optimal" else None
         self.samples = path.sample(step) if self.geometry is None else self.geometry.evaluated_samples
@@ -207,11 +212,14 @@ class Evaluator:
         return optimal_motion(self.robot, self.geometry, joints, dynamics, law)
 
     def evaluate(self, placements: np.ndarray) -> Evaluation:
-        """Objective and tightest margins of (K, 6) placements."""
+        """Objective and tightest margins of (K, 6) placements, or (K, 6 + R·knots) with a redundant robot's knots
+        (:mod:`placement.placing.profiles`)."""
         placements = np.atleast_2d(np.asarray(placements, dtype=float))
-        if placements.ndim != 2 or placements.shape[1] != 6 or not np.isfinite(placements).all():
-            raise SettingsError(f"placements must be finite (K, 6) arrays [x, y, z, phi, theta, psi], got shape "
-                                f"{placements.shape}{'' if np.isfinite(placements).all() else ' with NaN or inf'}")
+        widths = sorted({6, 6 + len(redundant_variables(self.robot))})
+        if placements.ndim != 2 or placements.shape[1] not in widths or not np.isfinite(placements).all():
+            names = ", ".join(("x", "y", "z", "phi", "theta", "psi", *redundant_variables(self.robot)))
+            raise SettingsError(f"placements must be finite (K, {' or '.join(map(str, widths))}) arrays [{names}], got "
+                                f"shape {placements.shape}{'' if np.isfinite(placements).all() else ' with NaN or inf'}")
         if (self.executor is not None or self.workers > 1) and len(placements) >= 2:
             return self._evaluate_in_workers(placements)
         return self._in_batches(placements, self._evaluate_batch)

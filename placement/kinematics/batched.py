@@ -60,14 +60,17 @@ SETTINGS = np.array([SOLVE_TOLERANCE, MAX_ITERATIONS, MAX_STEP, DAMPING, CONTINU
 
 @dataclass(frozen=True)
 class Targets:
-    """End-effector targets of a batch: positions (B, 3) and, for a pose task, rotations (B, 3, 3)."""
+    """End-effector targets of a batch: positions (B, 3) and, for a pose task, rotations (B, 3, 3); and the
+    redundant joints' values (B, R) (m or rad; R = 0 for a robot without)."""
 
     position_m: np.ndarray
     rotation: np.ndarray | None
+    joints: np.ndarray | None = None
 
     def rows(self, index: np.ndarray) -> Targets:
         """The targets of some samples."""
-        return Targets(self.position_m[index], None if self.rotation is None else self.rotation[index])
+        return Targets(self.position_m[index], None if self.rotation is None else self.rotation[index],
+                       None if self.joints is None else self.joints[index])
 
 
 class BatchedKinematics:
@@ -79,7 +82,8 @@ class BatchedKinematics:
         closures = [(2 * i, 2 * i + 1, c.dimension) for i, c in enumerate(robot.closures)]
         self.dim = robot.task_dimension
         self.tree = tree_arrays(robot.model, frame_ids, closures=closures, end_effector=len(frame_ids) - 1,
-                                task_dimension=self.dim, actuated=robot.actuated_v_indices)
+                                task_dimension=self.dim, actuated=robot.actuated_v_indices,
+                                task_joints=robot.redundant_q_indices)
         self.settings = SETTINGS.copy()
         self.settings[4] = continuation_step(self.tree, robot.reference_q)
 
@@ -92,18 +96,34 @@ class BatchedKinematics:
         jumps = jump_steps(steps)
         coarse = coarse_samples(steps, jumps) if n > 1 else np.zeros(1, dtype=np.int64)
         arc = np.concatenate([[0.0], np.cumsum(steps)])
+        joints = self.joint_targets(targets.joints, len(targets.position_m))
         return kernels.solve_paths(self.tree, self.robot.reference_q.astype(float),
                                    np.ascontiguousarray(targets.position_m, dtype=float),
-                                   np.ascontiguousarray(rotation, dtype=float), pose, n, coarse.astype(np.int64),
+                                   np.ascontiguousarray(rotation, dtype=float), joints, pose, n, coarse.astype(np.int64),
                                    bisection_schedule(coarse, n, jumps), arc, self.settings)
 
+    def joint_targets(self, values: np.ndarray | None, rows: int) -> np.ndarray:
+        """(rows, R) the redundant joints' values: ``values``, or their reference values where None."""
+        if values is None:
+            values = np.broadcast_to(self.robot.reference_q[self.tree.task_joints], (rows, len(self.tree.task_joints)))
+        return np.ascontiguousarray(values, dtype=float)
+
     def rates(self, q: np.ndarray, task: TaskTrajectory) -> tuple[JointTrajectory, np.ndarray]:
-        """Joint motion at solved configurations, and which samples are regular (not singular)."""
+        """Joint motion at solved configurations, and which samples are regular (not singular).
+
+        The redundant joints' rates are rows of the task; the task map returned keeps the end effector's rows
+        (J_task·G), as the dynamics needs it.
+        """
+        twist, acceleration = task.twist(), task.acceleration()
+        redundant = len(self.tree.task_joints)
+        if redundant:
+            still = np.zeros((len(q), redundant))
+            twist = np.hstack([twist, still if task.joint_velocity is None else task.joint_velocity])
+            acceleration = np.hstack([acceleration, still if task.joint_acceleration is None else task.joint_acceleration])
         v, a, basis, task_map, condition = kernels.rates(self.tree, np.ascontiguousarray(q, dtype=float),
-                                                         np.ascontiguousarray(task.twist(), dtype=float),
-                                                         np.ascontiguousarray(task.acceleration(), dtype=float),
-                                                         DAMPING)
-        return JointTrajectory(q, v, a, basis, task_map), condition < SINGULAR_CONDITION
+                                                         np.ascontiguousarray(twist, dtype=float),
+                                                         np.ascontiguousarray(acceleration, dtype=float), DAMPING)
+        return JointTrajectory(q, v, a, basis, task_map[:, :self.dim]), condition < SINGULAR_CONDITION
 
 
 def continuation_step(tree: kernels.TreeArrays, reference_q: np.ndarray) -> float:
@@ -205,7 +225,7 @@ class BatchedSolver(KinematicsSolver):
         """Joint motion of the placements in rows ``start:stop``, which samples converged, left the branch
         and are regular."""
         rows = task_rows(task, start, stop)
-        q, ok, flipped = self.kinematics.solve_paths(Targets(rows.position_m, rows.rotation), n)
+        q, ok, flipped = self.kinematics.solve_paths(Targets(rows.position_m, rows.rotation, rows.joint_position), n)
         joints, regular = self.kinematics.rates(q, rows)
         return joints, ok, flipped, regular
 

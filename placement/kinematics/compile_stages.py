@@ -77,13 +77,14 @@ def compile_leaves(sample: Sample) -> None:
     the rates make)."""
     tree, buffers, vector, matrix = sample.tree, sample.buffers, np.zeros(3), np.eye(3)
     _compile(kernels._solve_square, matrix, matrix, 0)
-    _compile(kernels.residual, tree, buffers, vector, matrix, False, vector)
+    _compile(kernels.residual, tree, buffers, sample.q, vector, matrix, np.zeros(0), False, vector)
     _compile(kernels._exp3, vector, 0.0, matrix)
     _compile(kernels._displacement, vector, matrix, vector, matrix, False, vector, matrix)
     _compile(kernels._predict, vector, matrix, vector, vector)
     _compile(kernels._cubic, matrix, 0, np.zeros(5, dtype=np.int64), vector)
     _compile(kernels._left_branch, vector, vector, 0.0, 0.0)
     _compile(kernels._max_abs, vector)
+    _compile(kernels._joint_displacement, tree, np.zeros(0), np.zeros(0), vector)
     _compile(kernels._buffers, tree, 0)
 
 
@@ -102,7 +103,7 @@ def compile_newton(sample: Sample) -> None:
     """The helper's second stage: Newton on one configuration (the square solve and the residual found in the
     cache, compiled by the command's first stage)."""
     tree, buffers = sample.tree, sample.buffers
-    _compile(kernels._newton_one, tree, buffers, sample.q, sample.positions[0], sample.rotations[0], False,
+    _compile(kernels._newton_one, tree, buffers, sample.q, sample.positions[0], sample.rotations[0], np.zeros(0), False,
              np.zeros(SETTINGS_LENGTH), 0.0, buffers.drift, np.empty((1, 1)))
 
 
@@ -121,7 +122,7 @@ def compile_tangent(sample: Sample) -> None:
 
 def compile_paths(sample: Sample) -> None:
     """The command's last stage (after the helper's Newton): the path solve."""
-    _compile(kernels.solve_paths, sample.tree, sample.q, sample.positions, sample.rotations, False, 2,
+    _compile(kernels.solve_paths, sample.tree, sample.q, sample.positions, sample.rotations, np.zeros((2, 0)), False, 2,
              np.zeros(2, dtype=np.int64), np.zeros((0, 5), dtype=np.int64), np.zeros(2), np.zeros(SETTINGS_LENGTH))
 
 

@@ -215,6 +215,12 @@ def _serial(robot: Robot, task: TaskTrajectory) -> tuple[JointTrajectory, np.nda
 class SequentialSolver(KinematicsSolver):
     """Gauss–Newton for any robot, sample after sample; each placement walks from the reference configuration."""
 
+    @classmethod
+    def unsuitable(cls, robot: Robot) -> str | None:
+        if robot.redundant_joints:
+            return f"it does not profile redundant joints ({', '.join(robot.redundant_joints)}); use 'numeric'"
+        return None
+
     def solve(self, task: TaskTrajectory, placements: int = 1) -> tuple[JointTrajectory, np.ndarray, str]:
         solve_one = _serial if self.robot.is_serial else _numeric
         n = len(task) // placements

@@ -81,9 +81,10 @@ class TreeArrays(NamedTuple):
     closure_second: np.ndarray  # (nc,) int64 frame index of its second frame
     closure_dimension: np.ndarray  # (nc,) int64: 3 (point) or 6 (weld)
     end_effector: int  # frame index of the end effector
-    task_dimension: int  # 3 (position) or 6 (pose)
+    task_dimension: int  # the task's rows: 3 (position) or 6 (pose), then one per prescribed joint
     actuated: np.ndarray  # (n_act,) int64 velocity indices of the actuated joints
     passive: np.ndarray  # (n_passive,) int64 velocity indices of the other joints
+    task_joints: np.ndarray  # (n_p,) int64 q indices of the joints whose values the task prescribes (a profile)
 
 
 class _Buffers(NamedTuple):
@@ -362,8 +363,9 @@ def _relative_rotation(first, second, out):
 
 
 @_uncounted
-def residual(tree, buffers, target_position, target_rotation, pose, out):
-    """Closure gaps, then end-effector error (m, rad), into ``out``; returns its norm."""
+def residual(tree, buffers, q, target_position, target_rotation, target_joints, pose, out):
+    """Closure gaps, then end-effector error (m, rad), then the prescribed joints' errors, into ``out``; returns
+    its norm."""
     row = 0
     frame_rotation, frame_origin = buffers.frame_rotation, buffers.frame_origin
     for c in range(len(tree.closure_first)):
@@ -380,6 +382,9 @@ def residual(tree, buffers, target_position, target_rotation, pose, out):
     if pose:
         _relative_rotation(frame_rotation[e], target_rotation, buffers.turn)
         log3(buffers.turn, out[row + 3:])
+    row += tree.task_dimension - len(tree.task_joints)
+    for i in range(len(tree.task_joints)):
+        out[row + i] = q[tree.task_joints[i]] - target_joints[i]
     total = 0.0
     for k in range(len(out)):
         total += out[k] * out[k]
@@ -413,7 +418,8 @@ def _add_frame_jacobian(tree, f, buffers, sign, out):
 
 @_uncounted
 def jacobians(tree, buffers):
-    """Closure rows, then task rows, of the stacked Jacobian in ``buffers.jacobian``."""
+    """Closure rows, then task rows (the end effector's, then a unit row per prescribed joint), of the stacked
+    Jacobian in ``buffers.jacobian``."""
     jacobian = buffers.jacobian
     jacobian[:, :] = 0.0
     row = 0
@@ -422,7 +428,10 @@ def jacobians(tree, buffers):
         _add_frame_jacobian(tree, tree.closure_first[c], buffers, 1.0, jacobian[row:row + dimension])
         _add_frame_jacobian(tree, tree.closure_second[c], buffers, -1.0, jacobian[row:row + dimension])
         row += dimension
-    _add_frame_jacobian(tree, tree.end_effector, buffers, 1.0, jacobian[row:])
+    frame = tree.task_dimension - len(tree.task_joints)
+    _add_frame_jacobian(tree, tree.end_effector, buffers, 1.0, jacobian[row:row + frame])
+    for i in range(len(tree.task_joints)):
+        jacobian[row + frame + i, tree.task_joints[i]] = 1.0
 
 
 @_uncounted
@@ -493,7 +502,7 @@ def drifts(tree, v, buffers):
         _add_frame_drift(tree, tree.closure_first[c], v, buffers, 1.0, drift[row:row + dimension])
         _add_frame_drift(tree, tree.closure_second[c], v, buffers, -1.0, drift[row:row + dimension])
         row += dimension
-    _add_frame_drift(tree, tree.end_effector, v, buffers, 1.0, drift[row:])
+    _add_frame_drift(tree, tree.end_effector, v, buffers, 1.0, drift[row:row + tree.task_dimension - len(tree.task_joints)])
 
 
 # ---------------------------------------------------------------- the solver's quantities of one sample
@@ -567,7 +576,8 @@ def _task_map_into(buffers, rows, g, out):
 
 
 @_uncounted
-def _newton_one(tree, buffers, x, target_position, target_rotation, pose, settings, tolerance, error, step):
+def _newton_one(tree, buffers, x, target_position, target_rotation, target_joints, pose, settings, tolerance, error,
+                step):
     """Newton in place on one configuration ``x``; returns whether the residual norm fell below ``tolerance``.
 
     A full step shorter than ``settings[8]`` whose linear model leaves less than a tenth of ``tolerance``
@@ -578,7 +588,7 @@ def _newton_one(tree, buffers, x, target_position, target_rotation, pose, settin
     square = len(error) == nv
     for _ in range(int(settings[1]) + 1):
         forward(tree, x, buffers)
-        norm = residual(tree, buffers, target_position, target_rotation, pose, error)
+        norm = residual(tree, buffers, x, target_position, target_rotation, target_joints, pose, error)
         if norm < tolerance:
             return True
         if not np.isfinite(norm):
@@ -843,6 +853,14 @@ def _max_abs(vector):
 
 
 @_internal
+def _joint_displacement(tree, before, after, out):
+    """The prescribed joints' change from ``before`` to ``after`` into the task displacement's last rows."""
+    row = tree.task_dimension - len(tree.task_joints)
+    for i in range(len(tree.task_joints)):
+        out[row + i] = after[i] - before[i]
+
+
+@_internal
 def _predict(q, tangent, motion, change):
     """The first-order prediction ``q + D·Δx`` of a configuration, D·Δx into ``change``."""
     _apply_into(tangent, motion, change)
@@ -872,7 +890,7 @@ def _cubic(q, base, row, out):
 
 
 @njit(cache=True, nogil=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]
-def solve_paths(tree, reference_q, positions, rotations, pose, n, coarse, schedule, arc, settings):
+def solve_paths(tree, reference_q, positions, rotations, joint_targets, pose, n, coarse, schedule, arc, settings):
     """Every sample of every placement's path, placement after placement (see :mod:`placement.kinematics.batched`).
 
     Branch test (``_left_branch``): a coarse sample's Newton correction is compared with its first-order
@@ -886,6 +904,7 @@ def solve_paths(tree, reference_q, positions, rotations, pose, n, coarse, schedu
         tree: The tree description.
         reference_q: (nq,) the reference configuration, on the assembly mode to keep.
         positions, rotations: (P·n, 3) and (P·n, 3, 3) end-effector targets, placement after placement.
+        joint_targets: (P·n, n_p) the prescribed joints' values (``tree.task_joints``), m or rad.
         pose: Whether rotations are prescribed.
         n: Samples per placement.
         coarse: Indices of the coarse samples, marched one after the other (0 first, n - 1 last).
@@ -918,19 +937,21 @@ def solve_paths(tree, reference_q, positions, rotations, pose, n, coarse, schedu
     for p in range(total // n):  # each placement's path
         base = p * n
         ok[base] = _assemble(tree, buffers, reference_q, reference_position, reference_rotation, positions[base],
-                             rotations[base], pose, settings, q[base], error, step, g, identity, motion, scratch)
+                             rotations[base], joint_targets[base], pose, settings, q[base], error, step, g, identity,
+                             motion, scratch)
         for c in range(len(coarse) - 1):
             before, now = base + coarse[c], base + coarse[c + 1]
             if ok[before]:
                 _displacement(positions[before], rotations[before], positions[now], rotations[now], pose, motion, scratch)
+                _joint_displacement(tree, joint_targets[before], joint_targets[now], motion)
                 seed = _predict(q[before], _tangent_one(tree, buffers, q[before], settings[3], g, identity), motion,
                                 prediction)
             else:  # after a failure, start again from the last solved configuration
                 prediction[:] = 0.0
                 seed = q[before].copy()
             solved = seed.copy()
-            ok[now] = _newton_one(tree, buffers, solved, positions[now], rotations[now], pose, settings, settings[0],
-                                  error, step)
+            ok[now] = _newton_one(tree, buffers, solved, positions[now], rotations[now], joint_targets[now], pose,
+                                  settings, settings[0], error, step)
             _copy(solved if ok[now] else q[before], q[now])
             flipped[now] = ok[before] and _left_branch(solved, seed, _max_abs(prediction), settings[7])
         seed = np.empty(nv)
@@ -939,8 +960,8 @@ def solve_paths(tree, reference_q, positions, rotations, pose, n, coarse, schedu
             _cubic(q, base, schedule[r], seed)
             solved = q[middle]
             _copy(seed, solved)
-            ok[middle] = _newton_one(tree, buffers, solved, positions[middle], rotations[middle], pose, settings,
-                                     settings[0], error, step)
+            ok[middle] = _newton_one(tree, buffers, solved, positions[middle], rotations[middle], joint_targets[middle],
+                                     pose, settings, settings[0], error, step)
             if ok[middle] and _left_branch(solved, seed, 0.0, settings[7]):  # moved beyond the tolerance: how far may it?
                 stretch = arc[schedule[r, 4]] - arc[schedule[r, 1]]
                 local = _branch_scale(tree, buffers, solved, settings, g, identity) * stretch
@@ -952,7 +973,7 @@ def solve_paths(tree, reference_q, positions, rotations, pose, n, coarse, schedu
 
 @_inlined
 def _assemble(tree, buffers, reference_q, reference_position, reference_rotation, target_position, target_rotation,
-              pose, settings, out, error, step, g, identity, motion, scratch):
+              target_joints, pose, settings, out, error, step, g, identity, motion, scratch):
     """The first configuration of a path, by predicted continuation from the reference configuration in
     steps of at most ``settings[4]`` (m, rotation counted at ``settings[6]`` m/rad); returns success."""
     turn = np.empty(3)
@@ -965,6 +986,11 @@ def _assemble(tree, buffers, reference_q, reference_position, reference_rotation
         _relative_rotation(reference_rotation.T.copy(), target_rotation.T.copy(), scratch)  # R_refᵀ·R_target
         log3(scratch, turn)
         distance = max(distance, settings[6] * np.sqrt(turn[0] * turn[0] + turn[1] * turn[1] + turn[2] * turn[2]))
+    n_p = len(tree.task_joints)
+    previous_joints, goal_joints = np.empty(n_p), np.empty(n_p)
+    for i in range(n_p):
+        previous_joints[i] = reference_q[tree.task_joints[i]]
+        distance = max(distance, settings[6] * abs(target_joints[i] - previous_joints[i]))
     steps = max(1, int(np.ceil(distance / settings[4])))
     x = reference_q.copy()
     success = True
@@ -978,13 +1004,18 @@ def _assemble(tree, buffers, reference_q, reference_position, reference_rotation
         if pose:
             _exp3(turn, fraction, scratch)
             goal_rotation = _product(reference_rotation, scratch)
+        for i in range(n_p):
+            goal_joints[i] = reference_q[tree.task_joints[i]] + fraction * (target_joints[i] - reference_q[tree.task_joints[i]])
         _displacement(previous_position, previous_rotation, goal_position, goal_rotation, pose, motion, scratch)
+        _joint_displacement(tree, previous_joints, goal_joints, motion)
         seed = _predict(x, _tangent_one(tree, buffers, x, settings[3], g, identity), motion, change)
         tolerance = settings[0] if s == steps else settings[5]
-        if _newton_one(tree, buffers, seed, goal_position, goal_rotation, pose, settings, tolerance, error, step):
+        if _newton_one(tree, buffers, seed, goal_position, goal_rotation, goal_joints, pose, settings, tolerance, error,
+                       step):
             x = seed
         else:
             success = False
         previous_position, previous_rotation = goal_position, goal_rotation
+        _copy(goal_joints, previous_joints)
     _copy(x, out)
     return success

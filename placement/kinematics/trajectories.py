@@ -25,6 +25,9 @@ class TaskTrajectory:
         rotation: (N, 3, 3) frame orientations (pose tasks only).
         angular_velocity_rad_s: (N, 3) in the base frame (pose tasks only).
         angular_acceleration_rad_s2: (N, 3) in the base frame (pose tasks only).
+        joint_position: (N, R) the redundant joints' values the task prescribes (m or rad; a robot with
+            redundant joints, see ``Robot.redundant_joints``), or None: they stay at the reference configuration.
+        joint_velocity, joint_acceleration: (N, R) their rates.
     """
 
     position_m: np.ndarray
@@ -33,6 +36,9 @@ class TaskTrajectory:
     rotation: np.ndarray | None = None
     angular_velocity_rad_s: np.ndarray | None = None
     angular_acceleration_rad_s2: np.ndarray | None = None
+    joint_position: np.ndarray | None = None
+    joint_velocity: np.ndarray | None = None
+    joint_acceleration: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.position_m)
@@ -88,4 +94,5 @@ def task_rows(task: TaskTrajectory, start: int, stop: int) -> TaskTrajectory:
         return None if value is None else value[start:stop]
 
     return TaskTrajectory(task.position_m[start:stop], task.velocity_m_s[start:stop], task.acceleration_m_s2[start:stop],
-                          rows(task.rotation), rows(task.angular_velocity_rad_s), rows(task.angular_acceleration_rad_s2))
+                          rows(task.rotation), rows(task.angular_velocity_rad_s), rows(task.angular_acceleration_rad_s2),
+                          rows(task.joint_position), rows(task.joint_velocity), rows(task.joint_acceleration))

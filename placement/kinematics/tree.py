@@ -66,7 +66,8 @@ def joint_constants(model: pin.Model, axis: np.ndarray) -> np.ndarray:
 
 
 def tree_arrays(model: pin.Model, frame_ids: Sequence[int], *, closures: Sequence[tuple[int, int, int]] = (),
-                end_effector: int = 0, task_dimension: int = 3, actuated: Sequence[int] | np.ndarray = ()) -> TreeArrays:
+                end_effector: int = 0, task_dimension: int = 3, actuated: Sequence[int] | np.ndarray = (),
+                task_joints: Sequence[int] | np.ndarray = ()) -> TreeArrays:
     """The flat description of ``model`` with the solver frames ``frame_ids`` (Pinocchio frame ids).
 
     Args:
@@ -75,8 +76,10 @@ def tree_arrays(model: pin.Model, frame_ids: Sequence[int], *, closures: Sequenc
         closures: (index of the first frame, index of the second, 3 or 6) per closure, indices into
             ``frame_ids``.
         end_effector: Index into ``frame_ids`` of the end effector.
-        task_dimension: 3 (position task) or 6 (pose task).
+        task_dimension: 3 (position task) or 6 (pose task), without the prescribed joints.
         actuated: Velocity indices of the actuated joints.
+        task_joints: Configuration indices of joints whose values the task prescribes along the path (a redundant
+            joint's profile): each adds a task row after the end effector's.
 
     Raises:
         ValueError: The model has another kind of joint.
@@ -102,8 +105,9 @@ def tree_arrays(model: pin.Model, frame_ids: Sequence[int], *, closures: Sequenc
         closure_first=np.array([c[0] for c in closures], dtype=np.int64),
         closure_second=np.array([c[1] for c in closures], dtype=np.int64),
         closure_dimension=np.array([c[2] for c in closures], dtype=np.int64),
-        end_effector=int(end_effector), task_dimension=int(task_dimension),
+        end_effector=int(end_effector), task_dimension=int(task_dimension) + len(task_joints),
         actuated=act, passive=np.setdiff1d(np.arange(model.nv), act).astype(np.int64),
+        task_joints=np.asarray(task_joints, dtype=np.int64),
     )
 
 

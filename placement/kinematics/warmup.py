@@ -95,7 +95,7 @@ def _await(helper: subprocess.Popen | None, stage: str) -> None:
 def _run_entry_points(sample: Sample) -> None:
     """Run the path solve, the rates and the rotation vectors on the sample, as the solver calls them (compiled by
     now, or loaded from the cache)."""
-    q, _, _ = kernels.solve_paths(sample.tree, sample.q, sample.positions, sample.rotations, False, 2,
+    q, _, _ = kernels.solve_paths(sample.tree, sample.q, sample.positions, sample.rotations, np.zeros((2, 0)), False, 2,
                                   np.array([0, 1], dtype=np.int64), np.zeros((0, 5), dtype=np.int64),
                                   np.array([0.0, np.sqrt(2.0)]), SETTINGS)
     kernels.rates(sample.tree, q, np.zeros((2, 3)), np.zeros((2, 3)), DAMPING)

@@ -24,7 +24,9 @@ from placement.evaluation.results import PlacementDetail
 from placement.files import staged
 from placement.limits.collision import closest_points
 from placement.path.toolpath import ToolPath
-from placement.placing.transform import ANGLES, VARIABLES, describe_plane, transform_path_to_base
+from placement.placing.profiles import is_closed, knot_shares, redundant_variables
+from placement.placing.transform import VARIABLES, describe_plane, transform_path_to_base
+from placement.placing.values import angle_variable
 from placement.robot.model import Robot
 from placement.search.optimize import Optimum, PlacementResult
 from placement.search.reporting import REPORTED_DECIMALS
@@ -32,11 +34,12 @@ from placement.search.tolerance import ToleranceBox
 from placement.workshop.calibration import TOOL_FORCE_COLUMNS
 
 
-def format_placement(placement: np.ndarray) -> str:
-    """'x = ... mm, ..., psi = ... deg' for a placement vector (m, rad), to REPORTED_DECIMALS (a search's optima lie
-    on that grid: :func:`placement.search.reporting.as_printed`)."""
-    return ", ".join(f"{name} = {np.degrees(value):.{REPORTED_DECIMALS}f} deg" if name in ANGLES
-                     else f"{name} = {value * 1e3:.{REPORTED_DECIMALS}f} mm" for name, value in zip(VARIABLES, placement))
+def format_placement(placement: np.ndarray, names: tuple[str, ...] = VARIABLES) -> str:
+    """'x = ... mm, ..., psi = ... deg' for a placement vector (m, rad) of variables ``names`` (a redundant robot's
+    knots after the six, in deg), to REPORTED_DECIMALS (a search's optima lie on that grid:
+    :func:`placement.search.reporting.as_printed`)."""
+    return ", ".join(f"{name} = {np.degrees(value):.{REPORTED_DECIMALS}f} deg" if angle_variable(name)
+                     else f"{name} = {value * 1e3:.{REPORTED_DECIMALS}f} mm" for name, value in zip(names, placement))
 
 
 def results_lines(document: dict[str, Any]) -> list[str]:
@@ -50,7 +53,7 @@ def results_lines(document: dict[str, Any]) -> list[str]:
         objective, value = entry["objective"], entry["objective"]["value"]
         shown = "none (unreachable)" if value is None else quantity(value, objective["unit"])
         lines.append(f"{title}: {objective['title']} {shown}")
-        lines.append("  " + format_placement(np.array([entry["placement"][name] for name in VARIABLES])))
+        lines.append("  " + format_placement(np.array(list(entry["placement"].values())), tuple(entry["placement"])))
         if entry["margins"]:
             tight = min(entry["margins"], key=lambda margin: margin["margin"])
             lines.append(f"  tightest: {tight['kind']} ({tight['where']}), margin {tight['margin'] * 100:.1f} %")
@@ -114,7 +117,8 @@ def format_detail(title: str, robot: Robot, detail: PlacementDetail, recheck_val
                   rest_s: float = 0.0) -> str:
     """Text block for one placement: where, objective, energy per actuator and its parts, duty cycle (with ``rest_s``
     s between passes, where the drives give a continuous torque), tightest limits."""
-    lines = [title, f"  {format_placement(detail.placement)}"]
+    lines = [title, f"  {format_placement(detail.placement, VARIABLES + redundant_variables(robot))}"]
+    lines += [f"  {line}" for line in profile_lines(robot, detail)]
     if not detail.reachable:
         first = detail.unreachable_samples[0]
         lines.append(f"  unreachable: {len(detail.unreachable_samples)} of {len(detail.samples)} samples have no "
@@ -217,8 +221,8 @@ def _recheck_line(optimum: Optimum) -> str:
 
 def format_tolerance(box: ToleranceBox, subject: str) -> str:
     """One line: the tolerance box's half-widths (mm, degrees) and how it was checked."""
-    widths = ", ".join(f"{name} ± {np.degrees(width):.2f} deg" if name in ANGLES else f"{name} ± {width * 1e3:.2f} mm"
-                       for name, width in zip(box.free, box.half_width, strict=True))
+    widths = ", ".join(f"{name} ± {np.degrees(width):.2f} deg" if angle_variable(name)
+                       else f"{name} ± {width * 1e3:.2f} mm" for name, width in zip(box.free, box.half_width, strict=True))
     return (f"  tolerance (every limit holds and the {subject} stays within {box.within * 100:g} % of this placement's "
             f"throughout the box): {widths} (checked at {box.corners_checked} corners and {box.inside_checked} points "
             f"inside, "
@@ -276,7 +280,8 @@ def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None =
     names = [a.joint for a in robot.actuators]
     objective = OBJECTIVES.get(detail.objective)
     out: dict[str, Any] = {
-        "placement": {name: float(value) for name, value in zip(VARIABLES, detail.placement, strict=True)},
+        "placement": {name: float(value) for name, value in
+                      zip(VARIABLES + redundant_variables(robot), detail.placement, strict=True)},
         "objective": {"name": detail.objective, "title": objective.title, "unit": objective.unit,
                       "value": float(detail.value) if detail.reachable else None},
         "feasible": detail.feasible,
@@ -292,6 +297,8 @@ def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None =
     deflection = _deflection_json(detail)
     if deflection is not None:
         out["deflection"] = deflection
+    if robot.redundant_joints:
+        out["profiles"] = profiles_json(robot, detail)
     duty = placement_duty(robot, detail, rest_s)
     if duty is not None:
         out["duty"] = duty_json(robot, duty)
@@ -311,6 +318,31 @@ def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None =
         if optimum.guide_value is not None:
             out["guide"] = {"value": _finite(optimum.guide_value), "gap": _finite(optimum.guide_gap or 0.0)}
     return out
+
+
+def profiles_json(robot: Robot, detail: PlacementDetail) -> dict[str, Any]:
+    """Each redundant joint's profile along the path (rad): its knots and the share of arc length each stands at,
+    and its value at every sample (``t_s``), as the exact chain moved it."""
+    knots = robot.profile_knots
+    shares = knot_shares(knots, is_closed(detail.samples))
+    start = 6 + robot.tool_spin
+    given = detail.placement[start:].reshape(-1, knots) if len(detail.placement) > start else None
+    out: dict[str, Any] = {}
+    for r, (joint, q) in enumerate(zip(robot.redundant_joints, robot.redundant_q_indices, strict=True)):
+        out[joint] = {"knots_rad": None if given is None else given[r].tolist(), "knot_shares": shares.tolist(),
+                      "t_s": detail.samples.t_s.tolist(), "position_rad": detail.configuration[:, q].tolist()}
+    return out
+
+
+def profile_lines(robot: Robot, detail: PlacementDetail) -> list[str]:
+    """A line per redundant joint: its range along the path and its knots (deg)."""
+    lines = []
+    for joint, q in zip(robot.redundant_joints, robot.redundant_q_indices, strict=True):
+        values = np.degrees(detail.configuration[:, q])
+        lines.append(f"{joint} along the path: {values[0]:.2f} deg at the start, {values.min():.2f} to "
+                     f"{values.max():.2f} deg, {values[-1]:.2f} deg at the end ({robot.profile_knots} knot(s) over the "
+                     "arc length)")
+    return lines
 
 
 def _margin_json(robot: Robot, detail: PlacementDetail, margin: Margin) -> dict[str, Any]:

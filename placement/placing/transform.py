@@ -14,6 +14,7 @@ and psi stay 0, keeping the path in the plane: bTp = bT_pl·(the placement's tra
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 
 import numpy as np
@@ -21,6 +22,7 @@ import numpy as np
 from placement.exceptions import PlacementWarning
 from placement.kinematics.trajectories import TaskTrajectory
 from placement.path.samples import PathSamples
+from placement.placing.profiles import joint_profiles, knots_of, spin_of
 from placement.robot.model import Robot
 from placement.robot.sidecar import Plane
 
@@ -86,16 +88,28 @@ def placed_task(robot: Robot, samples: PathSamples, placements: np.ndarray) -> t
     the identity otherwise) and R_ee the robot's ``tool_rpy_in_path_rad``, which maps the tool
     frame to the end-effector frame. The angular velocity and acceleration in the base frame are
     R_place times the path frame's. The load is the process force on the tool from the workpiece,
-    with a zero moment for a pose task.
+    with a zero moment for a pose task. A robot's redundant joints follow the profiles whose knots end the
+    placement vectors (:mod:`placement.placing.profiles`).
 
     Args:
         robot: The robot.
         samples: The path sampled in its own frame (N samples).
-        placements: (K, 6) placement vectors.
+        placements: (K, 6) placement vectors, or (K, 6 + R·knots) with the redundant joints' knots.
 
     Returns:
         The task (K·N samples, placement-major) and the load, (K·N, 3 or 6).
     """
+    task, force = _placed_tool(robot, samples, placements)
+    knots = knots_of(robot, np.atleast_2d(placements))
+    if knots is None:
+        return task, force
+    position, velocity, acceleration = joint_profiles(knots, samples)
+    return dataclasses.replace(task, joint_position=position, joint_velocity=velocity,
+                               joint_acceleration=acceleration), force
+
+
+def _placed_tool(robot: Robot, samples: PathSamples, placements: np.ndarray) -> tuple[TaskTrajectory, np.ndarray]:
+    """:func:`placed_task` without the redundant joints."""
     plane = robot.plane
     task, force = transform_path_to_base(samples, placements, plane)
     if robot.task == "position":
@@ -105,6 +119,10 @@ def placed_task(robot: Robot, samples: PathSamples, placements: np.ndarray) -> t
         return task, force
     rpy = robot.tool_rpy_in_path_rad
     end_effector = rotation_zyx(np.array(rpy[2]), np.array(rpy[1]), np.array(rpy[0]))
+    spin = spin_of(robot, np.atleast_2d(placements))
+    if spin is not None:  # the tool turned about its own axis (z of the tool frame), then the end effector in it
+        still = np.zeros_like(spin)
+        end_effector = rotation_zyx(spin, still, still) @ end_effector  # (K, 3, 3)
     path_rotation = placement_pose(placements, plane)[0]  # (K, 3, 3)
     if samples.rotation is None:
         rotation = np.repeat(path_rotation @ end_effector, len(samples), axis=0)
@@ -112,7 +130,8 @@ def placed_task(robot: Robot, samples: PathSamples, placements: np.ndarray) -> t
         angular_velocity, angular_acceleration = still, still
     else:
         assert samples.angular_velocity_rad_s is not None and samples.angular_acceleration_rad_s2 is not None
-        rotation = (path_rotation[:, None] @ samples.rotation[None] @ end_effector).reshape(-1, 3, 3)
+        turn = end_effector[:, None] if end_effector.ndim == 3 else end_effector
+        rotation = (path_rotation[:, None] @ samples.rotation[None] @ turn).reshape(-1, 3, 3)
         angular_velocity = _turned(path_rotation, samples.angular_velocity_rad_s)
         angular_acceleration = _turned(path_rotation, samples.angular_acceleration_rad_s2)
     pose = TaskTrajectory(task.position_m, task.velocity_m_s, task.acceleration_m_s2, rotation, angular_velocity,

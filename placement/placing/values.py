@@ -1,7 +1,9 @@
 """Placement values as people type them: lengths in mm and angles in degrees, unless a value ends in m or rad.
 
 The command line's ``--at``, ``--fix`` and ``--free`` and the workbench's fields read this syntax
-(``x=10,phi=30``, ``y=-40:40``), and return SI values (m, rad).
+(``x=10,phi=30``, ``y=-40:40``), and return SI values (m, rad). A redundant robot's knots
+(``panda_joint3@1``, :mod:`placement.placing.profiles`) and the tool's ``spin`` are angles, named through
+``extra``.
 """
 
 from __future__ import annotations
@@ -9,30 +11,33 @@ from __future__ import annotations
 import numpy as np
 
 from placement.exceptions import SettingsError
+from placement.placing.profiles import KNOT_SEPARATOR, SPIN
 from placement.placing.transform import ANGLES, VARIABLES
 
 
-def parse_names(text: str, option: str) -> tuple[str, ...]:
-    """'x,y,phi' -> placement variable names, each once, at least one."""
+def parse_names(text: str, option: str, extra: tuple[str, ...] = ()) -> tuple[str, ...]:
+    """'x,y,phi' -> placement variable names (of VARIABLES and ``extra``), each once, at least one."""
+    known = VARIABLES + extra
     names = tuple(name.strip() for name in text.split(",") if name.strip())
-    unknown = [name[:20] for name in names if name not in VARIABLES]
+    unknown = [name[:40] for name in names if name not in known]
     if not names or unknown:
         raise SettingsError(f"{option}: {f'unknown placement variable(s) {unknown}; ' if unknown else ''}expected names "
-                         f"from {', '.join(VARIABLES)}, got '{text[:40]}'")
+                         f"from {', '.join(known)}, got '{text[:40]}'")
     twice = sorted({name for name in names if names.count(name) > 1})
     if twice:
         raise SettingsError(f"{option}: {', '.join(twice)} is given twice")
     return names
 
 
-def parse_values(text: str, option: str) -> dict[str, float]:
-    """'x=10,phi=30' -> SI values; lengths in mm and angles in deg unless suffixed m / rad."""
+def parse_values(text: str, option: str, extra: tuple[str, ...] = ()) -> dict[str, float]:
+    """'x=10,phi=30' -> SI values; lengths in mm and angles in deg unless suffixed m / rad; names from VARIABLES
+    and ``extra`` (a redundant robot's knots, angles)."""
     values: dict[str, float] = {}
     for item in filter(None, (part.strip() for part in text.split(","))):
         name, _, raw = item.partition("=")
         name = name.strip()
-        if name not in VARIABLES or not raw:
-            raise SettingsError(f"{option}: expected name=value with names from {', '.join(VARIABLES)}, "
+        if name not in VARIABLES + extra or not raw:
+            raise SettingsError(f"{option}: expected name=value with names from {', '.join(VARIABLES + extra)}, "
                              f"got '{item[:40]}'")
         if name in values:
             raise SettingsError(f"{option}: {name} is given twice")
@@ -50,10 +55,11 @@ def unsuffixed_lengths(text: str) -> dict[str, float]:
     :func:`parse_values` has accepted ``text``."""
     items = (item.partition("=") for item in filter(None, (part.strip() for part in text.split(","))))
     return {name.strip(): float(raw) for name, _, raw in items
-            if name.strip() not in ANGLES and _quantity(raw, name.strip()) is not None and not raw.strip().endswith("m")}
+            if not angle_variable(name.strip()) and _quantity(raw, name.strip()) is not None and not raw.strip().endswith("m")}
 
 
-def parse_free(text: str, option: str) -> tuple[tuple[str, ...], dict[str, tuple[float, float]]]:
+def parse_free(text: str, option: str,
+               extra: tuple[str, ...] = ()) -> tuple[tuple[str, ...], dict[str, tuple[float, float]]]:
     """'y=-40:40,x,phi=-90:90' -> the free variables and the bounds given (SI).
 
     Bounds are in mm and deg unless a number ends in m or rad, as for --fix; a variable without
@@ -68,7 +74,7 @@ def parse_free(text: str, option: str) -> tuple[tuple[str, ...], dict[str, tuple
     items = [item.strip() for item in text.split(",") if item.strip()]
     if any(not item.partition("=")[0].strip() for item in items):
         raise SettingsError(f"{option}: expected name or name=MIN:MAX for each variable, got '{text[:40]}'")
-    names = parse_names(",".join(item.partition("=")[0] for item in items), option)
+    names = parse_names(",".join(item.partition("=")[0] for item in items), option, extra)
     bounds = {}
     for item in items:
         name, equals, spec = (part.strip() for part in item.partition("="))
@@ -79,7 +85,7 @@ def parse_free(text: str, option: str) -> tuple[tuple[str, ...], dict[str, tuple
 
 def _bounds(name: str, spec: str, item: str, option: str) -> tuple[float, float]:
     """'-40:40' -> (lower, upper) of ``name`` in SI, lower < upper."""
-    unit, example = ("deg", f"{name}=-90:90") if name in ANGLES else ("mm", f"{name}=-40:40")
+    unit, example = ("deg", f"{name}=-90:90") if angle_variable(name) else ("mm", f"{name}=-40:40")
     parts = spec.split(":")
     numbers = [value for value in (_quantity(part, name) for part in parts) if value is not None and np.isfinite(value)]
     if len(parts) != 2 or len(numbers) != 2:
@@ -94,7 +100,7 @@ def _bounds(name: str, spec: str, item: str, option: str) -> tuple[float, float]
 
 def _quantity(raw: str, name: str) -> float | None:
     """A value of variable ``name`` in SI: mm and deg unless suffixed m / rad; None if not a number."""
-    angle = name in ANGLES
+    angle = angle_variable(name)
     units = {"rad": 1.0, "deg": np.pi / 180} if angle else {"mm": 1e-3, "m": 1.0}
     text = raw.strip()
     unit = next((u for u in sorted(units, key=len, reverse=True) if text.endswith(u)), None)
@@ -103,3 +109,9 @@ def _quantity(raw: str, name: str) -> float | None:
         return float(number) * units[unit or ("deg" if angle else "mm")]
     except ValueError:
         return None
+
+
+def angle_variable(name: str) -> bool:
+    """Whether a placement variable is an angle: phi, theta, psi, the tool's spin, or a knot of a redundant (revolute)
+    joint."""
+    return name in ANGLES or name == SPIN or KNOT_SEPARATOR in name

@@ -273,6 +273,7 @@ def _check_mobility(robot: Robot) -> None:
                              f"and the {len(robot.actuators)} actuated joint(s) must determine all "
                              f"{len(passive)} passive ones")
     needed, planar = _task_freedoms(robot)
+    needed += _check_redundancy(robot)
     if not robot.closures and len(robot.actuators) < needed:
         hint = ("use a position task or unlock joints" if robot.task == "pose" else
                 "unlock joints" if planar else "unlock joints, or declare the plane of a planar arm (placement.plane)")
@@ -283,9 +284,31 @@ def _check_mobility(robot: Robot) -> None:
         raise RobotFileError(robot.sidecar_path, "locked_joints",
                              f"the robot has {len(robot.actuators)} degrees of freedom for a {planar}{robot.task} task "
                              f"of {needed}: lock {len(robot.actuators) - needed} joint(s) so that the path determines "
-                             "the motion")
+                             "the motion, or name them under redundancy.joints so that the search profiles them")
     if planar and not robot.closures:
         _check_moves_in_plane(robot)
+
+
+def _check_redundancy(robot: Robot) -> int:
+    """The redundant joints (``redundancy.joints``), which the task's rows prescribe too: how many, each an
+    actuated joint of a robot without closures, named once."""
+    names = robot.redundant_joints
+    actuated = {actuator.joint for actuator in robot.actuators}
+    for i, name in enumerate(names):
+        if name not in actuated:
+            raise RobotFileError(robot.sidecar_path, f"redundancy.joints.{i}", f"'{name}' is not an actuated joint: "
+                                 f"expected one of {', '.join(sorted(actuated))}")
+        if names.count(name) > 1:
+            raise RobotFileError(robot.sidecar_path, f"redundancy.joints.{i}", f"'{name}' is named twice")
+        if next(actuator.prismatic for actuator in robot.actuators if actuator.joint == name):
+            raise RobotFileError(robot.sidecar_path, f"redundancy.joints.{i}", f"'{name}' is prismatic: only revolute "
+                                 "joints are profiled yet (their knots are angles)")
+    if robot.tool_spin and robot.task != "pose":
+        raise RobotFileError(robot.sidecar_path, "redundancy.spin", "the tool's spin is a variable of pose tasks only")
+    if names and robot.closures:
+        raise RobotFileError(robot.sidecar_path, "redundancy", "redundant joints are resolved on serial robots only "
+                             "(this one has closures): lock them under locked_joints")
+    return len(names)
 
 
 def _task_freedoms(robot: Robot) -> tuple[int, str]:

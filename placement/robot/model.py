@@ -194,6 +194,31 @@ class Robot:
         return self.sidecar.locked_joints
 
     @property
+    def redundant_joints(self) -> tuple[str, ...]:
+        """The actuated joints beyond the task's freedoms, each profiled along the path by the search (the
+        sidecar's ``redundancy``), in its order; empty for a robot the path determines."""
+        redundancy = self.sidecar.redundancy
+        return () if redundancy is None else tuple(redundancy.joints)
+
+    @property
+    def tool_spin(self) -> bool:
+        """Whether the tool's spin about its own axis is left to the search (the sidecar's ``redundancy.spin``)."""
+        redundancy = self.sidecar.redundancy
+        return redundancy is not None and redundancy.spin
+
+    @property
+    def profile_knots(self) -> int:
+        """Knots of each redundant joint's profile along the path (1: a constant); 0 without redundant joints."""
+        redundancy = self.sidecar.redundancy
+        return 0 if redundancy is None or not redundancy.joints else redundancy.knots
+
+    @property
+    def redundant_q_indices(self) -> np.ndarray:
+        """Configuration indices of the redundant joints, in their order."""
+        return np.array([self.model.joints[self.model.getJointId(name)].idx_q for name in self.redundant_joints],
+                        dtype=np.int64)
+
+    @property
     def mount_frame(self) -> str:
         """The frame the sidecar names as the end effector (``end_effector.frame``): tool tips and tool bodies
         that name no frame mount on it, and a closed-form plug-in solves for it. The path follows

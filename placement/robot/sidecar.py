@@ -171,6 +171,29 @@ class LinkInertial(Strict):
     inertia_kg_m2: InertiaTensor
 
 
+MAX_KNOTS = 12  # knots of a redundant coordinate's profile, at most (each is a dimension of the search)
+
+
+class Redundancy(Strict):
+    """Redundant coordinates the search resolves for the whole path (see :mod:`placement.placing.profiles`).
+
+    Each joint takes a profile along the path's arc length: ``knots`` values at equal shares of it (one: a
+    constant), joined by a cubic spline; the knots are placement variables named ``JOINT@K``. The
+    other joints follow by inverse kinematics. ``spin``: the tool's rotation about its own axis is a
+    placement variable too (``spin``), for a tool that is symmetric about its axis (a spindle).
+    """
+
+    joints: list[Text] = []
+    knots: Annotated[int, Field(ge=1, le=MAX_KNOTS)] = 3
+    spin: bool = False
+
+    @model_validator(mode="after")
+    def _something(self) -> Redundancy:
+        if not self.joints and not self.spin:
+            raise ValueError("expected joints (redundant joints to profile) or spin: true")
+        return self
+
+
 class Sidecar(Strict):
     """The whole sidecar file."""
 
@@ -184,6 +207,8 @@ class Sidecar(Strict):
     end_effector: EndEffector
     reference_configuration: dict[str, Number] = {}
     locked_joints: dict[str, Number] = Field({}, description="joints held fixed at these values (m, rad)")
+    redundancy: Redundancy | None = Field(None, description="actuated joints beyond the task's freedoms, each "
+                                          "profiled along the path by the search")
     closures: list[Closure] = []
     actuators: Annotated[list[Actuator], Field(min_length=1)]
     drives: dict[str, Drive] = {}

@@ -34,9 +34,15 @@ BOUND_ROUND_OFF = 1e-12  # m or rad: a printed placement may pass a search bound
 def as_printed(placement: np.ndarray) -> np.ndarray:
     """A placement vector (m, rad) rounded as the report prints it, REPORTED_DECIMALS of a mm and of a degree, and
     read back as the command line reads it (so the printed numbers, entered again, are this very placement)."""
-    return np.array([float(f"{np.degrees(value):.{REPORTED_DECIMALS}f}") * (np.pi / 180) if name in ANGLES
+    return np.array([float(f"{np.degrees(value):.{REPORTED_DECIMALS}f}") * (np.pi / 180) if angle
                      else float(f"{value * 1e3:.{REPORTED_DECIMALS}f}") * 1e-3
-                     for name, value in zip(VARIABLES, placement, strict=True)])
+                     for angle, value in zip(_angles(len(placement)), placement, strict=True)])
+
+
+def _angles(width: int) -> list[bool]:
+    """Which entries of a placement vector of ``width`` are angles: phi, theta, psi and the knots of the redundant
+    joints' profiles (revolute joints, :mod:`placement.placing.profiles`), which follow the six."""
+    return [k >= len(VARIABLES) or VARIABLES[k] in ANGLES for k in range(width)]
 
 
 def reported_point(candidates: list[np.ndarray], fine: Evaluator, dense: Evaluator, space: PlacementSpace,
@@ -92,10 +98,10 @@ def reported_point(candidates: list[np.ndarray], fine: Evaluator, dense: Evaluat
 
 
 def _grid_corners(placement: np.ndarray, free: np.ndarray) -> np.ndarray:
-    """(2^n_free, 6) the corners of the printed grid's cell (:func:`as_printed`) around ``placement`` (m, rad), the
+    """(2^n_free, width) the corners of the printed grid's cell (:func:`as_printed`) around ``placement`` (m, rad), the
     free variables rounded down or up, the others as they are."""
-    step = np.array([np.radians(10.0 ** -REPORTED_DECIMALS) if name in ANGLES else 10.0 ** -REPORTED_DECIMALS * 1e-3
-                     for name in VARIABLES])
+    step = np.array([np.radians(10.0 ** -REPORTED_DECIMALS) if angle else 10.0 ** -REPORTED_DECIMALS * 1e-3
+                     for angle in _angles(len(placement))])
     low = np.floor(placement / step) * step
     corners = np.tile(placement, (2 ** len(free), 1))
     for bit, index in enumerate(free):

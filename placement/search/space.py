@@ -9,6 +9,7 @@ import numpy as np
 
 from placement.cell.cell_file import Region
 from placement.exceptions import InfeasibleError, SettingsError
+from placement.placing.profiles import SPIN, redundant_bounds, redundant_defaults, redundant_variables
 from placement.placing.transform import ANGLES, VARIABLES, plane_frame
 from placement.robot.model import Robot
 from placement.robot.sidecar import PLANE_VARIABLES, Plane, Workspace
@@ -19,12 +20,14 @@ class PlacementSpace:
     """Which placement variables are free, their bounds, and the values of the fixed ones.
 
     Attributes:
-        free: Names of the free variables, in VARIABLES order.
+        free: Names of the free variables, in ``names`` order.
         lower, upper: Bounds of the free variables (m, rad).
-        fixed: Full 6-vector whose fixed entries are used (m, rad).
+        fixed: Full placement vector whose fixed entries are used (m, rad).
         periods: Per free variable, the period of the objective along it (rad), or 0: an angle whose range
             is its whole turn (or half of it, by the path's half-turn symmetry) has no edge, and the search
             wraps it (:meth:`wrap`) rather than bounding it there.
+        names: Every variable of a placement vector, in its order: VARIABLES, then a redundant robot's knots
+            (:mod:`placement.placing.profiles`).
     """
 
     free: tuple[str, ...]
@@ -32,11 +35,12 @@ class PlacementSpace:
     upper: np.ndarray
     fixed: np.ndarray
     periods: np.ndarray | None = None
+    names: tuple[str, ...] = VARIABLES
 
     def __post_init__(self) -> None:
-        unknown = set(self.free) - set(VARIABLES)
+        unknown = set(self.free) - set(self.names)
         if unknown:
-            raise SettingsError(f"unknown placement variable(s) {sorted(unknown)}; expected some of {VARIABLES}")
+            raise SettingsError(f"unknown placement variable(s) {sorted(unknown)}; expected some of {self.names}")
         if len(self.lower) != len(self.free) or np.any(np.asarray(self.lower) > np.asarray(self.upper)):
             raise SettingsError("placement bounds must give lower <= upper for every free variable")
 
@@ -65,11 +69,11 @@ class PlacementSpace:
 
     @property
     def indices(self) -> np.ndarray:
-        """Positions of the free variables in the 6-vector."""
-        return np.array([VARIABLES.index(name) for name in self.free], dtype=int)
+        """Positions of the free variables in the placement vector."""
+        return np.array([self.names.index(name) for name in self.free], dtype=int)
 
     def full(self, free_values: np.ndarray) -> np.ndarray:
-        """(K, 6) placements from (K, n_free) or (n_free,) free values."""
+        """(K, len(names)) placements from (K, n_free) or (n_free,) free values."""
         values = np.atleast_2d(free_values)
         out = np.tile(self.fixed, (len(values), 1))
         out[:, self.indices] = values
@@ -80,7 +84,9 @@ def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict
                   bounds: dict[str, tuple[float, float]] | None = None, half_turn: bool = False) -> PlacementSpace:
     """The placement space of a robot: by default the sidecar's ``placement`` section, else x, y, z
     within the workspace box and phi in ±180° (the tool axis staying along Z_b); a robot in a cell
-    with a workpiece region keeps x, y, z within the region too.
+    with a workpiece region keeps x, y, z within the region too. A robot with redundant joints adds
+    their profiles' knots (:mod:`placement.placing.profiles`), free by default within the joints'
+    ranges, and at the reference configuration's values when fixed without a value.
 
     Args:
         robot: The robot.
@@ -92,17 +98,20 @@ def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict
             (:meth:`ToolPath.half_turn_symmetric`): phi then only needs ±90°.
     """
     defaults, plane = robot.placement_defaults, robot.plane
+    knots = redundant_variables(robot)
+    names = VARIABLES + knots
     if free is None:  # the default free set, less what the caller fixes
         default_free = defaults.free if defaults and defaults.free else PLANE_VARIABLES if plane else ("x", "y", "z", "phi")
-        free = tuple(n for n in default_free if n not in (fixed or {}))
+        free = tuple(n for n in (*default_free, *knots) if n not in (fixed or {}))
     free = tuple(free)
-    unknown = sorted(set(free) - set(VARIABLES))
+    unknown = sorted(set(free) - set(names))
     if unknown:
-        raise SettingsError(f"unknown placement variable(s) {unknown}; expected some of {', '.join(VARIABLES)}")
+        raise SettingsError(f"unknown placement variable(s) {unknown}; expected some of {', '.join(names)}")
     clash = sorted(set(free) & set(fixed or {}))
     if clash:
         raise SettingsError(f"{clash} cannot be both free and fixed")
     limits: dict[str, tuple[float, float]] = {name: bound for name, bound in (defaults.bounds if defaults else {}).items()}
+    limits.update(redundant_bounds(robot))
     limits.update(bounds or {})
     if plane is not None:
         _check_in_plane(robot.name, plane, free, fixed or {})
@@ -122,19 +131,21 @@ def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict
     missing = [name for name in free if name not in limits]
     if missing:
         raise SettingsError(_missing_bounds(robot.name, missing))
-    fixed_vector = np.array([float((fixed or {}).get(name, 0.0)) for name in VARIABLES])
-    names = tuple(n for n in VARIABLES if n in free)
-    return PlacementSpace(free=names,
-                          lower=np.array([limits[n][0] for n in names], dtype=float),
-                          upper=np.array([limits[n][1] for n in names], dtype=float),
+    values = {**redundant_defaults(robot), **(fixed or {})}
+    fixed_vector = np.array([float(values.get(name, 0.0)) for name in names])
+    chosen = tuple(n for n in names if n in free)
+    return PlacementSpace(free=chosen,
+                          lower=np.array([limits[n][0] for n in chosen], dtype=float),
+                          upper=np.array([limits[n][1] for n in chosen], dtype=float),
                           fixed=fixed_vector,
-                          periods=np.array([_period(n, limits[n], half_turn) for n in names], dtype=float))
+                          periods=np.array([_period(n, limits[n], half_turn) for n in chosen], dtype=float),
+                          names=names)
 
 
 def _period(name: str, bound: tuple[float, float], half_turn: bool) -> float:
     """The period of an angle whose range is exactly its whole turn, or, for phi on a path unchanged by a half
     turn, half of it (0 otherwise: the variable is bounded)."""
-    if name not in ANGLES:
+    if name not in (*ANGLES, SPIN):
         return 0.0
     width = bound[1] - bound[0]
     if np.isclose(width, 2 * np.pi, rtol=0, atol=1e-9):

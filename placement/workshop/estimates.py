@@ -6,10 +6,11 @@ number the URDF does not give is an estimate, labelled ``EST`` in the sidecar's 
 
 - **Joints.** The joints from the base to the tool frame move; every other movable joint (a
   gripper's fingers) is locked at example-robot-data's reference posture ``q0``, clipped into its
-  limits. Of a 7-joint chain, the third joint is locked too, as the built-in ``panda`` locks
-  ``panda_joint3`` (on the usual shoulder-elbow-wrist arms, the upper arm's redundant rotation),
-  so that the path determines the motion. Chains of 3, 6 or 7 joints are taken: six moving
-  joints follow a pose task, three a position task; others need a sidecar.
+  limits. Of a 7-joint chain, the third joint is redundant, as the built-in ``panda``'s
+  ``panda_joint3`` (on the usual shoulder-elbow-wrist arms, the upper arm's redundant rotation): it
+  follows a profile along the path with ``REDUNDANT_KNOTS`` knots that the search chooses
+  (:mod:`placement.placing.profiles`; ``--lock`` holds it instead). Chains of 3, 6 or 7 joints are
+  taken: six or seven moving joints follow a pose task, three a position task; others need a sidecar.
 - **Drives** (one per joint): a gear of ratio ``GEAR_RATIO`` = 100 (revolute joint) or a ball
   screw of lead ``SCREW_LEAD_M`` = 10 mm (prismatic joint), efficiency 1, speed ratio k; a motor
   whose peak torque is the URDF's effort limit / k and top speed the URDF's velocity limit · k,
@@ -75,6 +76,7 @@ REFERENCE_SEEDS = 32
 GOOD_CONDITION, MAX_CONDITION = 20.0, 100.0
 GOOD_LIMIT_MARGIN = 0.1  # a good reference posture keeps every joint this share of its range from its limits
 TILT_RAD = 0.35
+REDUNDANT_KNOTS = 3  # knots of a seven-axis arm's redundant (third) joint's profile
 DAMPING, MAX_STEP_RAD = 1e-6, 0.3  # of the least-squares steps towards a reference posture
 DOWN = np.array([0.0, 0.0, -1.0])
 
@@ -88,6 +90,9 @@ def estimate_warning(robot: Robot) -> str:
     """The one warning an ``erd:`` robot deserves: its drives and workspace are estimates."""
     count = sum(text.startswith("EST") for text in robot.sources.values())
     locked = f"; joints held fixed: {', '.join(robot.locked_joints)}" if robot.locked_joints else ""
+    if robot.redundant_joints:
+        locked += (f"; redundant joints profiled along the path by the search: {', '.join(robot.redundant_joints)} "
+                   "(--lock JOINT=VALUE holds one)")
     kind = "MJCF" if is_mjcf(robot.urdf_path) else "URDF"
     limits = ("MJCF's actuator force ranges and a joint speed of 180 deg/s" if kind == "MJCF"
               else "URDF's effort and velocity limits")
@@ -205,6 +210,8 @@ def _estimated_sidecar(arm: _Arm, name: str, urdf: str, description: str) -> Sid
         "end_effector": end_effector,
         "reference_configuration": {arm.model.names[j]: float(q_ref[arm.q_index(j)]) for j in arm.active},
         "locked_joints": arm.locked,
+        **({"redundancy": {"joints": [arm.model.names[arm.chain[2]]], "knots": REDUNDANT_KNOTS}}
+           if len(arm.active) == 7 else {}),
         "actuators": [arm.actuator(j, q_ref) for j in arm.active],
         "drives": drives,
         "workspace": {"type": "box", "min_m": box_low.tolist(), "max_m": box_high.tolist(),
@@ -269,10 +276,10 @@ class _Arm:
             model.lowerPositionLimit[index], model.upperPositionLimit[index] = -np.inf, np.inf
         if len(chain) not in (3, 6, 7):
             raise ExampleRobotError(f"{label}: {len(chain)} joint(s) from the base to '{tool}'; a path needs "
-                                    "3 (a position task), 6 (a pose task) or 7 (the third locked): choose another "
+                                    "3 (a position task), 6 (a pose task) or 7 (the third redundant): choose another "
                                     "--tool, or write a sidecar that locks the joints the path should not move "
                                     "(docs/adding_a_robot.md)")
-        active = [j for k, j in enumerate(chain) if not (len(chain) == 7 and k == 2)]
+        active = list(chain)
         locked = {model.names[j]: float(_clip(model, j, q0[model.joints[j].idx_q]))
                   for j in range(1, model.njoints) if j not in active}
         speeds = {}
@@ -359,9 +366,10 @@ class _Arm:
             "placement": f"EST: the workpiece may be tilted by up to {np.degrees(TILT_RAD):.0f} degrees",
         }
         if self.locked:
-            entries["locked_joints"] = (f"EST: joints off the base-to-tool chain held at {self.posture}"
-                                        + ("; the chain's third joint locked, as the built-in panda's joint 3"
-                                           if len(self.chain) == 7 else ""))
+            entries["locked_joints"] = f"EST: joints off the base-to-tool chain held at {self.posture}"
+        if len(self.active) == 7:
+            entries["redundancy"] = (f"EST: the chain's third joint profiled along the path with {REDUNDANT_KNOTS} "
+                                     "knots, as the built-in panda's joint 3")
         for i, joint in enumerate(self.active):
             if joint in self.unlimited:
                 for field in ("position_min", "position_max"):

@@ -21,7 +21,7 @@ from placement.robot.exceptions import AssemblyError
 from placement.robot.formats import DescriptionOptions, is_gepetto
 from placement.robot.model import Robot
 from placement.robot.plausibility import MasslessWarning
-from placement.robot.sidecar import Sidecar, read_sidecar
+from placement.robot.sidecar import Redundancy, Sidecar, read_sidecar
 from placement.robot.tool import mount_tool
 from placement.workshop.catalog import sidecar_path
 from placement.workshop.gepetto import read_gepetto
@@ -113,3 +113,39 @@ def robot_from_sidecar(path: Path, sidecar: Sidecar, *, check_closures: bool = T
     robot = build_robot(path, sidecar, check_closures=check_closures, allow_massless=allow_massless, options=options)
     check_kinematics(robot, plugin=check_closures)
     return robot if sidecar.tool is None else mount_tool(robot, sidecar.tool)
+
+
+def edit_redundancy(robot: Robot, locks: dict[str, float], knots: int | None = None, *, spin: bool = False,
+                    allow_massless: bool = False, options: DescriptionOptions = DescriptionOptions()) -> Robot:
+    """``robot`` with more joints held fixed (``--lock JOINT=VALUE``) and its redundant joints' profiles given
+    ``knots`` knots (``--knots``), its tool's spin a placement variable with ``spin``. A locked joint leaves the
+    model, the actuators, the reference configuration and the redundant joints, exactly as if the sidecar had
+    listed it under ``locked_joints``.
+
+    Args:
+        robot: A robot loaded from its sidecar (without a cell).
+        locks: {joint: value (m or rad)}: movable joints of ``robot``.
+        knots: Knots of each redundant joint's profile (default: the sidecar's).
+        spin: Make the tool's spin about its axis a placement variable (else as the sidecar says).
+        allow_massless: As for :func:`load_robot`.
+        options: As for :func:`load_robot`.
+
+    Raises:
+        RobotFileError: A value outside the joint's limits, or a robot the path no longer determines (the message
+            names the sidecar's field).
+    """
+    sidecar = robot.edited_sidecar()
+    redundant = [name for name in robot.redundant_joints if name not in locks]
+    spin = spin or robot.tool_spin
+    update = {"joints": redundant, "spin": spin, **({} if knots is None else {"knots": knots})}
+    redundancy = None if not (redundant or spin) else (sidecar.redundancy or Redundancy(spin=True)).model_copy(
+        update=update)
+    sources = {key: text for key, text in sidecar.sources.items()
+               if redundancy is not None or key.split(".")[0] != "redundancy"}
+    edited = robot.edited_sidecar(
+        locked_joints={**robot.locked_joints, **locks},
+        actuators=[actuator for actuator in sidecar.actuators if actuator.joint not in locks],
+        reference_configuration={name: value for name, value in robot.reference_configuration.items()
+                                 if name not in locks},
+        redundancy=redundancy, sources=sources)
+    return robot_from_sidecar(robot.sidecar_path, edited, allow_massless=allow_massless, options=options)

@@ -9,7 +9,6 @@ import yaml
 
 from placement import Evaluator, EvaluatorSettings, load_path, load_robot, robot_names
 from placement.__main__ import main
-from placement.placing.transform import VARIABLES
 from placement.robot.exceptions import RobotFileError
 from placement.search import optimize
 from placement.workshop.catalog import builtin_robots_dir
@@ -37,7 +36,7 @@ def test_every_robot_places_a_path_end_to_end(name, tmp_path, capsys, monkeypatc
     document = json.loads(out.read_text())
     assert document["best"]["feasible"] and document["worst"]["feasible"]
     # The JSON's placements, evaluated again through the Python API, give the JSON's energies.
-    placements = [[document[key]["placement"][v] for v in VARIABLES] for key in ("best", "worst")]
+    placements = [list(document[key]["placement"].values()) for key in ("best", "worst")]  # the knots too
     again = Evaluator(load_robot(name), load_path(CIRCLE), EvaluatorSettings(time_step_s=0.05, workers=1)).evaluate(placements)
     assert again.feasible.all()
     np.testing.assert_allclose(again.value, [document["best"]["energy_J"], document["worst"]["energy_J"]], rtol=1e-9)
@@ -100,13 +99,12 @@ def test_a_redundant_arm_must_lock_joints(tmp_path):
     shutil.copytree(builtin_robots_dir() / "panda", folder)
     sidecar = folder / "panda.yaml"
     data = yaml.safe_load(sidecar.read_text())
-    del data["locked_joints"]["panda_joint3"]
-    data["reference_configuration"]["panda_joint3"] = 0.0
-    data["actuators"].insert(2, {"joint": "panda_joint3", "drive": "large"})
+    del data["redundancy"], data["sources"]["redundancy"]  # seven axes, none profiled
     sidecar.write_text(yaml.safe_dump(data))
     with pytest.raises(RobotFileError) as error:
         load_robot(sidecar)
     assert error.value.field == "locked_joints" and "7 degrees of freedom" in str(error.value)
+    assert "redundancy.joints" in str(error.value)
 
 
 def test_a_locked_joint_cannot_also_be_an_actuator(ur5_copy):

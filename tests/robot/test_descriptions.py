@@ -153,6 +153,11 @@ def test_robot_args_on_a_robot_not_in_xacro_and_a_missing_package_folder_are_ref
     assert f"--package-path: no such folder: {tmp_path / 'none'}" in capsys.readouterr().err
 
 
-def test_the_estimates_warning_names_the_joints_held_fixed(capsys):
+def test_the_estimates_warning_names_the_joints_held_fixed_and_the_redundant_ones(capsys):
     assert main(["--robot", "erd:panda", "--tool", "panda_hand", "--path", str(CIRCLE), "--at", "x=400,y=0,z=300"]) in (0, 2)
-    assert "joints held fixed: panda_joint3" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "joints held fixed: panda_finger_joint1, panda_finger_joint2" in err
+    assert "redundant joints profiled along the path by the search: panda_joint3" in err
+    assert main(["--robot", "erd:panda", "--tool", "panda_hand", "--path", str(CIRCLE), "--at", "x=400,y=0,z=300",
+                 "--lock", "panda_joint3=0"]) in (0, 2)
+    assert "joints held fixed: panda_finger_joint1, panda_finger_joint2, panda_joint3;" in capsys.readouterr().err

@@ -61,10 +61,10 @@ def test_reference_posture_points_the_tool_down_away_from_singularities(erd_ur5)
     assert np.all(data.oMf[erd_ur5.end_effector_frame_id].translation <= np.array(high))
 
 
-def test_panda_locks_its_fingers_and_third_joint():
+def test_panda_locks_its_fingers_and_profiles_its_third_joint():
     panda = load_erd_robot("panda", "panda_hand_tcp")
-    assert set(panda.locked_joints) == {"panda_finger_joint1", "panda_finger_joint2", "panda_joint3"}
-    assert len(panda.actuators) == 6
+    assert set(panda.locked_joints) == {"panda_finger_joint1", "panda_finger_joint2"}
+    assert len(panda.actuators) == 7 and panda.redundant_joints == ("panda_joint3",)
 
 
 def test_check_passes_on_erd_ur10(capsys):
