@@ -81,8 +81,10 @@ def guide_value(guide: Evaluator, placement: np.ndarray) -> float:
 
 def merge_lines(path: ToolPath, max_length_m: float, tolerance_m: float) -> ToolPath:
     """The path with stretches of consecutive straight segments merged into chords (module docstring): from each
-    segment on, the longest chord at most ``max_length_m`` long whose skipped points are within ``tolerance_m`` of
-    it (found by doubling then halving the number of segments merged); holds stay after the same points."""
+    segment on, the longest chord at most ``max_length_m`` long, and at least ``tolerance_m``, whose skipped points
+    are within ``tolerance_m`` of it (found by doubling then halving the number of segments merged): a stretch that
+    comes back near its start (a small hole's contour) is never one chord, which would have no direction (and a
+    zero-length chord no samples); holds stay after the same points."""
     segments = path.segments
     count = len(segments)
     starts, ends = (np.array([getattr(s, name) for s in segments]) for name in ("start_m", "end_m"))
@@ -97,6 +99,8 @@ def merge_lines(path: ToolPath, max_length_m: float, tolerance_m: float) -> Tool
 
     def close(first: int, last: int) -> bool:  # the chord over segments first..last stays near their points
         chord = ends[last] - starts[first]
+        if float(chord @ chord) < tolerance_m**2:  # a loop back to (near) its start: no chord has its direction
+            return False
         points = ends[first:last] - starts[first]
         share = np.clip(points @ chord / max(float(chord @ chord), 1e-300), 0.0, 1.0)
         return bool(np.linalg.norm(points - share[:, None] * chord, axis=1).max(initial=0.0) <= tolerance_m)

@@ -49,6 +49,21 @@ def test_chords_stay_within_their_bound_of_the_points_they_skip(tmp_path):
     np.testing.assert_array_equal(merged.segments[hold.after - 1].end_m, path.segments[999].end_m)
 
 
+def test_a_loop_back_to_its_start_is_never_one_chord(tmp_path):
+    """A small hole's contour (a 0.5 mm circle of 40 sides) under a chord bound larger than the hole: merged into one
+    chord, it would be a chord of no length, without direction, whose samples are NaN (the coarse guide of a CamBam
+    program with 1 mm holes made every placement unevaluable)."""
+    path = contour(tmp_path, 40)
+    path = dataclasses.replace(path, segments=tuple(dataclasses.replace(s, start_m=s.start_m / 80, end_m=s.end_m / 80)
+                                                    for s in path.segments))
+    tolerance = 1.2e-3  # every point of the hole is within it of the start
+    merged = guide.merge_lines(path, 0.01, tolerance)
+    assert len(merged.segments) > 1 and min(chord.length_m for chord in merged.segments) > 0
+    vertices = np.array([segment.start_m for segment in path.segments])
+    assert distance_to_chords(vertices, merged.segments).max() <= tolerance * (1 + 1e-12)
+    assert np.isfinite(merged.sample(1e-4).position_m).all()
+
+
 def models(path):
     return guide.search_models(path, *search_sampling(path, EvaluatorSettings(), SearchSettings()))
 
