@@ -462,7 +462,8 @@ def _add(state: _State, end: list[float | None], feed: float | None, line: int, 
         made = segment(begin, finish)
     if made is None:
         return
-    made = dataclasses.replace(made, exact_path=state.exact_path or exact, exact_stop=state.exact_stop)
+    if state.exact_path or exact or state.exact_stop:  # (a segment is made without either)
+        made = dataclasses.replace(made, exact_path=state.exact_path or exact, exact_stop=state.exact_stop)
     state.moves.append(_Move(made, feed, line, word, unknown))
 
 

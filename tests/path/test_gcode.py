@@ -593,3 +593,24 @@ def test_a_byte_order_mark_is_not_read_as_a_character_of_the_program(tmp_path):
     (tmp_path / "bom.yaml").write_text("shape: {type: gcode, file: bom.nc}\n")
     with_mark, without = load_path(tmp_path / "bom.yaml"), program(tmp_path, code)
     assert [s.end_m.tolist() for s in with_mark.segments] == [s.end_m.tolist() for s in without.segments]
+
+
+@pytest.mark.parametrize("line", [
+    "G01 X-0.1100 Y-0.0300 F10    ", "N40 G1 X.5 Y-.25 Z+1. F300", "g0x1y2", "N10", "", "X1", "N7G2X1Y0I.5J0",
+    "G00 X0.0000  Y0.0000  \r", "M06 T01", "n20 g91 g1 x-1.5e", "G1 X1 N5", "\tG0\tZ5", "O100", "G1 X[1+2]",
+])
+def test_a_line_of_letters_and_numbers_is_read_at_once_as_the_full_reader_reads_it(line):
+    """The reader's shortcut for lines of plain words (most of a CAM post's) gives the words the full reader gives,
+    or leaves the line to it."""
+    from placement.path import ngc_expressions as ngc
+
+    quick = ngc.read_line(line)
+    try:
+        full = ngc._Reader(ngc._strip(line)).block()
+    except ngc._ExpressionError as error:  # the full reader refuses it: so does the line read at once
+        assert quick.error is not None and str(quick.error) == str(error)
+        return
+    parameters = ngc.Parameters()
+    assert [(w.letter, w.text, w.value(parameters)) for w in quick.words] == [
+        (w.letter, w.text, w.value(parameters)) for w in full.words]
+    assert (quick.assignments, quick.oword is None) == (full.assignments, full.oword is None)
