@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from placement.path.arcs import SAME_POINT_M, arc_segment, shifted
-from placement.path.canned import CYCLES, PLANE_AXES, CycleState, expand_cycle
+from placement.path.canned import CYCLES, CycleState, expand_cycle, first_hole
 from placement.path.compensation import Compensation, begin, circular, end_compensation, straight, tool_diameter_m
 from placement.path.exceptions import GcodeDialectWarning, GcodeError, PathFileError, _CycleError, _ExpressionError, _FlowError
 from placement.path.ngc_dialects import dialect_notes, dialect_words, grbl_command
@@ -559,35 +559,6 @@ def _motion(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, 
          lambda begin, end: segment)
 
 
-def _approach_first_hole(fail: Callable[[str, str], GcodeError], word: str, values: dict[str, float], line: int,
-                         state: _State) -> None:
-    """The rapids that bring a cycle from where the machine happens to be (an axis of its plane not given yet) over
-    its first hole, as LinuxCNC's preliminary motion does: up to R if the tool is below it, then over the hole.
-
-    Known only from the hole on, they are left out as any rapid from an unknown position (FreeCAD's posts start a
-    job's first cycle right after ``G0 Z5``). This needs the hole's position on the line, in G90 without polar words,
-    the drilling axis' level known and R given.
-
-    Raises:
-        GcodeError: Otherwise, naming the axes not known.
-    """
-    first, second, drill = PLANE_AXES[state.plane]
-    missing = [k for k in range(3) if state.position_m[k] is None]
-    hole_given = all("XYZ"[k] in values for k in missing if k != drill)
-    if drill in missing or not hole_given or state.incremental or "@" in values or "^" in values or "R" not in values:
-        names = ", ".join("XYZ"[k] for k in missing)
-        raise fail(word, f"a drilling cycle from an unknown position ({names} not given yet): move to a point with "
-                         "G0 first")
-    target = list(state.position_m)
-    for k in (first, second):
-        if "XYZ"[k] in values:
-            target[k] = values["XYZ"[k]] * state.length_m + state.offset_m[k]
-    level = state.position_m[drill]
-    assert level is not None
-    target[drill] = max(level, values["R"] * state.length_m + state.offset_m[drill])
-    _add(state, target, None, line, word)
-
-
 def _cycle(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, str]], values: dict[str, float],
            written: dict[str, str], line: int, state: _State, previous: int | None, move_word: str) -> None:
     """A drilling cycle's moves (:mod:`placement.path.canned`), in exact path mode as LinuxCNC runs them."""
@@ -595,8 +566,13 @@ def _cycle(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, s
     assert state.motion is not None
     if state.feed_mode == 930:
         raise fail(word, "drilling cycles cannot run in inverse time mode (G93)")
-    if any(value is None for value in state.position_m):
-        _approach_first_hole(fail, word, values, line, state)
+    if any(value is None for value in state.position_m):  # the rapids over the first hole, from an unknown point
+        try:
+            over_hole = first_hole(state.plane, state.incremental, state.length_m, state.position_m, state.offset_m,
+                                   values)
+        except _CycleError as error:
+            raise fail(word, error.problem) from None
+        _add(state, list(over_hole), None, line, word)
     position = [float(v - o) for v, o in zip(state.position_m, state.offset_m) if v is not None]  # program's
     try:
         steps = expand_cycle(state.motion // 10, state.plane, state.incremental, state.length_m,
