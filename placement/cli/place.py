@@ -267,7 +267,13 @@ def misfit_line(robot: Robot, samples: PathSamples, space: PlacementSpace) -> st
         turns = (float(space.lower[k]), float(space.upper[k]))
     else:
         turns = (float(space.fixed[3]), float(space.fixed[3]))
-    return workspace_misfit(workspace.min_m, workspace.max_m, samples.position_m, turns)
+    origin = [space.fixed[:3].copy(), space.fixed[:3].copy()]  # where the search may put the path's origin
+    for k, name in enumerate(space.free):
+        if name in ("x", "y", "z"):
+            axis = "xyz".index(name)
+            origin[0][axis], origin[1][axis] = space.lower[k], space.upper[k]
+    return workspace_misfit(workspace.min_m, workspace.max_m, samples.position_m, turns,
+                            (origin[0].tolist(), origin[1].tolist()))
 
 
 def duration_line(seconds: float) -> str:

@@ -54,7 +54,8 @@ LIMITS.add("reachability", Reachability())
 
 
 def workspace_misfit(min_m: Sequence[float], max_m: Sequence[float], points_m: np.ndarray,
-                     phi_range_rad: tuple[float, float]) -> str | None:
+                     phi_range_rad: tuple[float, float],
+                     origin_bounds_m: tuple[Sequence[float], Sequence[float]] | None = None) -> str | None:
     """Why a path cannot lie inside the workspace box at any placement turned by phi about Z_p alone (no tilt), or
     None when it may fit (a necessary condition, not a sufficient one).
 
@@ -62,10 +63,13 @@ def workspace_misfit(min_m: Sequence[float], max_m: Sequence[float], points_m: n
         min_m, max_m: The box's corners in the base frame (m).
         points_m: (N, 3) the path's points in its own frame (m).
         phi_range_rad: The turns about Z_p the search may take.
+        origin_bounds_m: Where the search may put the path frame's origin (lower and upper x, y, z in the base
+            frame, m), or None for anywhere.
 
     Returns:
         The path's extent and the box's, in mm, when no turn in the range makes the path's bounding box fit
-        (to within 1 % of the path's diameter, more than the step of the turns tried can miss), else None.
+        (to within 1 % of the path's diameter, more than the step of the turns tried can miss), or when it fits
+        only with the origin outside its bounds (a program whose origin lies far from its part); else None.
     """
     side = np.asarray(max_m, dtype=float) - np.asarray(min_m, dtype=float)
     points = np.asarray(points_m, dtype=float)
@@ -77,9 +81,33 @@ def workspace_misfit(min_m: Sequence[float], max_m: Sequence[float], points_m: n
     spans = np.stack([np.ptp(cos * points[:, 0] - sin * points[:, 1], axis=1),
                       np.ptp(sin * points[:, 0] + cos * points[:, 1], axis=1)], axis=1)
     fits = np.all(spans <= side[:2] + slack, axis=1) & (extent[2] <= side[2] + slack)
-    if fits.any():
+    if fits.any() and origin_bounds_m is None:
         return None
+    if fits.any():
+        assert origin_bounds_m is not None
+        return _origin_misfit(np.asarray(min_m, dtype=float), np.asarray(max_m, dtype=float), points,
+                              turns[fits], origin_bounds_m, slack)
     return (f"it does not fit in the workspace at any placement: the path spans {extent[0] * 1e3:.1f} x "
             f"{extent[1] * 1e3:.1f} x {extent[2] * 1e3:.1f} mm and no turn about Z_p brings it within the workspace "
             f"box, {side[0] * 1e3:.1f} x {side[1] * 1e3:.1f} x {side[2] * 1e3:.1f} mm; scale the path down (in the "
             "CAM system) or choose a robot with a larger workspace")
+
+
+def _origin_misfit(low: np.ndarray, high: np.ndarray, points: np.ndarray, turns: np.ndarray,
+                   origin_bounds_m: tuple[Sequence[float], Sequence[float]], slack: float) -> str | None:
+    """Why no turn of ``turns`` (each of which fits the path's extent) brings the path within the box [low, high] with
+    its origin within its bounds, or None when one may (the origin's range along each axis that keeps the path's
+    bounding box inside meets the bounds)."""
+    lower, upper = (np.asarray(bound, dtype=float) for bound in origin_bounds_m)
+    cos, sin = np.cos(turns)[:, None], np.sin(turns)[:, None]
+    turned = np.stack([cos * points[:, 0] - sin * points[:, 1], sin * points[:, 0] + cos * points[:, 1],
+                       np.broadcast_to(points[:, 2], (len(turns), len(points)))], axis=2)  # (T, N, 3)
+    first, last = np.maximum(lower, low - turned.min(axis=1)), np.minimum(upper, high - turned.max(axis=1))
+    if np.all(first <= last + slack, axis=1).any():
+        return None
+    near, far = points.min(axis=0) * 1e3, points.max(axis=0) * 1e3
+    bounds = ", ".join(f"{name} {a * 1e3:.1f} to {b * 1e3:.1f} mm" for name, a, b in zip("xyz", lower, upper))
+    return ("it does not fit in the workspace at any placement the search may take: the path lies from "
+            f"({near[0]:.1f}, {near[1]:.1f}, {near[2]:.1f}) to ({far[0]:.1f}, {far[1]:.1f}, {far[2]:.1f}) mm in its own "
+            f"frame, and the placement's bounds keep its origin within {bounds}; put the program's origin "
+            "on the part (in the CAM system), or widen the bounds (--free x=MIN:MAX,...)")

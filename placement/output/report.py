@@ -208,7 +208,7 @@ def _recheck_line(optimum: Optimum) -> str:
     note = f"\n  note: {optimum.note}" if optimum.note else ""
     if optimum.guide_value is not None and optimum.guide_gap is not None:
         unit = OBJECTIVES.get(optimum.detail.objective).unit
-        note += (f"\n  search guided by a cheaper model of the long path (its straight segments merged into chords, "
+        note += (f"\n  search guided by a cheaper model of the long path (its lines and flat arcs merged into chords, "
                  f"or sampled more coarsely): {quantity(optimum.guide_value, unit)} here against the exact "
                  f"{quantity(optimum.detail.value, unit)} (gap {optimum.guide_gap * 100:+.3f} %)")
     if optimum.holds:

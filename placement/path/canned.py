@@ -57,6 +57,42 @@ class Step:
     dwell_s: float = 0.0
 
 
+def first_hole(plane: int, incremental: bool, unit_m: float, position_m: list[float | None], offset_m: np.ndarray,
+               values: dict[str, float]) -> list[float]:
+    """Where LinuxCNC's preliminary rapids bring a cycle that starts where the machine happens to be (an axis of its
+    plane not given yet): up to R if the tool is below it, then over the first hole (path frame, m).
+
+    Known only from the hole on, those rapids are left out as any rapid from an unknown position (FreeCAD's posts
+    start a job's first cycle right after ``G0 Z5``).
+
+    Args:
+        plane: 17, 18 or 19.
+        incremental: G91 (else G90).
+        unit_m: Metres per program length unit.
+        position_m: The tool's position (path frame, m; None where not known).
+        offset_m: The program's origin in the path frame (m).
+        values: The line's words by letter (program units).
+
+    Raises:
+        _CycleError: The hole or the drilling axis' level is not known: in G91 or with polar words, without the
+            hole's position on the line, or without R.
+    """
+    first, second, drill = PLANE_AXES[plane]
+    missing = [k for k in range(3) if position_m[k] is None]
+    level = position_m[drill]
+    hole_given = all("XYZ"[k] in values for k in missing if k != drill)
+    if level is None or not hole_given or incremental or "@" in values or "^" in values or "R" not in values:
+        names = ", ".join("XYZ"[k] for k in missing)
+        raise _CycleError("", f"a drilling cycle from an unknown position ({names} not given yet): move to a point "
+                              "with G0 first")
+    target = [float(v) if v is not None else 0.0 for v in position_m]
+    for k in (first, second):
+        if "XYZ"[k] in values:
+            target[k] = values["XYZ"[k]] * unit_m + float(offset_m[k])
+    target[drill] = max(level, values["R"] * unit_m + float(offset_m[drill]))
+    return target
+
+
 def expand_cycle(code: int, plane: int, incremental: bool, unit_m: float, inch: bool, position_m: list[float],
                  values: dict[str, float], continuing: bool, state: CycleState) -> list[Step]:
     """The moves of one canned-cycle line.

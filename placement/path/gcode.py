@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from placement.path.arcs import SAME_POINT_M, arc_segment, shifted
-from placement.path.canned import CYCLES, CycleState, expand_cycle
+from placement.path.canned import CYCLES, CycleState, expand_cycle, first_hole
 from placement.path.compensation import Compensation, begin, circular, end_compensation, straight, tool_diameter_m
 from placement.path.exceptions import GcodeDialectWarning, GcodeError, PathFileError, _CycleError, _ExpressionError, _FlowError
 from placement.path.ngc_dialects import dialect_notes, dialect_words, grbl_command
@@ -168,7 +168,7 @@ def read_program(file: Path, machine: Machine | None = None) -> Program:
     if file.stat().st_size > MAX_PROGRAM_BYTES:
         raise PathFileError(file, "", f"the program is larger than {MAX_PROGRAM_BYTES // 1_000_000} MB")
     try:
-        text = file.read_text(encoding="utf-8")
+        text = file.read_text(encoding="utf-8-sig")  # a byte order mark (Windows editors') is no character of it
     except UnicodeDecodeError:
         raise PathFileError(file, "", "not a text file in UTF-8 (or ASCII)") from None
     blocks: list[Block] = []
@@ -462,7 +462,8 @@ def _add(state: _State, end: list[float | None], feed: float | None, line: int, 
         made = segment(begin, finish)
     if made is None:
         return
-    made = dataclasses.replace(made, exact_path=state.exact_path or exact, exact_stop=state.exact_stop)
+    if state.exact_path or exact or state.exact_stop:  # (a segment is made without either)
+        made = dataclasses.replace(made, exact_path=state.exact_path or exact, exact_stop=state.exact_stop)
     state.moves.append(_Move(made, feed, line, word, unknown))
 
 
@@ -565,10 +566,13 @@ def _cycle(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, s
     assert state.motion is not None
     if state.feed_mode == 930:
         raise fail(word, "drilling cycles cannot run in inverse time mode (G93)")
-    if any(value is None for value in state.position_m):
-        missing = ", ".join("XYZ"[k] for k in range(3) if state.position_m[k] is None)
-        raise fail(word, f"a drilling cycle from an unknown position ({missing} not given yet): move to a point with "
-                         "G0 first")
+    if any(value is None for value in state.position_m):  # the rapids over the first hole, from an unknown point
+        try:
+            over_hole = first_hole(state.plane, state.incremental, state.length_m, state.position_m, state.offset_m,
+                                   values)
+        except _CycleError as error:
+            raise fail(word, error.problem) from None
+        _add(state, list(over_hole), None, line, word)
     position = [float(v - o) for v, o in zip(state.position_m, state.offset_m) if v is not None]  # program's
     try:
         steps = expand_cycle(state.motion // 10, state.plane, state.incremental, state.length_m,

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import itertools
 from pathlib import Path as FilePath
 from typing import Any
 
@@ -96,9 +97,10 @@ def _kept(program: Program, rapids: bool) -> tuple[tuple[Segment, ...], tuple[Ho
     """A program's segments (its rapids only if timed) and its dwells as holds, each after the segment it follows
     among those kept; the segment before a hold ends in an exact stop (the tool rests during the dwell)."""
     kept = [segment for segment in program.segments if not segment.rapid or rapids]
+    before = list(itertools.accumulate((not s.rapid or rapids for s in program.segments), initial=0))  # kept ones
     holds = []
     for dwell in program.dwells:
-        after = sum(1 for segment in program.segments[:dwell.after] if not segment.rapid or rapids)
+        after = before[dwell.after]
         holds.append(Hold(after, dwell.duration_s))
         if after:
             kept[after - 1] = dataclasses.replace(kept[after - 1], exact_stop=True)

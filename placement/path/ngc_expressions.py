@@ -67,6 +67,9 @@ FUNCTIONS: dict[str, Callable[[float], float]] = {
 DOMAINS = {"acos": (-1.0, 1.0), "asin": (-1.0, 1.0), "ln": (0.0, math.inf), "sqrt": (0.0, math.inf)}
 BINARY_RANK = {"**": 6, "*": 5, "/": 5, "mod": 5, "+": 4, "-": 4, "eq": 3, "ne": 3, "gt": 3, "ge": 3, "lt": 3,
                "le": 3, "and": 2, "or": 2, "xor": 2}
+PLAIN_LINE = re.compile(r"(?:N[+-]?(?:\d+\.?\d*|\.\d+))?(?:[A-Z][+-]?(?:\d+\.?\d*|\.\d+))*")  # letters and numbers
+PLAIN_WORD = re.compile(r"[A-Z][+-]?(?:\d+\.?\d*|\.\d+)")
+SPACES = str.maketrans("", "", " \t\r")
 PROGRAM_NAME = re.compile(r"[a-z][a-z0-9_.\-]*")  # a program's name in letters after O, as some controls write it
 POLAR = "@^"  # LinuxCNC's polar words: @ radius, ^ angle (degrees), in place of X and Y
 OPERATOR_ORDER = sorted(BINARY_RANK, key=len, reverse=True)  # "**" before "*", "mod" before ...
@@ -186,12 +189,30 @@ def _read_line(line: str) -> Block:
         return Block()  # ISO's program number (:1001), as Fanuc controls read it
     if compact.startswith("$") or compact == "?":  # grbl's system commands, and its status query
         return Block(system=compact)
+    if not compact.startswith("O") and PLAIN_LINE.fullmatch(compact):  # most lines a CAM post writes: read at once
+        return Block(tuple(_plain_word(match.group()) for match in PLAIN_WORD.finditer(compact, _line_number(compact))))
     reader = _Reader(compact)
     return reader.block()
 
 
+def _line_number(compact: str) -> int:
+    """Where a plain line's words begin, after its N number if any."""
+    match = NUMBER.match(compact, 1) if compact.startswith("N") else None
+    return match.end() if match else 0
+
+
+def _plain_word(text: str) -> Word:
+    """A word of a letter and a number, as :class:`_Reader` reads it."""
+    number = float(text[1:])
+    return Word(text[0].lower(), lambda p: number, text)
+
+
 def _strip(line: str) -> str:
     """The line without comments, spaces and tabs, in upper case."""
+    if "(" not in line and ";" not in line:  # no comment: at once
+        compact = line.translate(SPACES)
+        if compact.isascii() and compact.isprintable():
+            return compact.upper()
     code, depth = [], 0
     for char in line:
         if char == "(":

@@ -43,18 +43,22 @@ CONTROLLER_M = {  # other controllers' M codes that do not move the tool: ignore
     35: "coolant spigot up (Haas)", 41: "spindle low gear", 42: "spindle high gear",
     73: "tool air blast on (Haas; in the main program, where LinuxCNC's M73 changes nothing)",
     74: "tool air blast off (Haas)", 83: "air jet on (Haas)", 84: "air jet off (Haas)",
-    88: "through-spindle coolant on (Haas)", 89: "through-spindle coolant off (Haas)"}
+    88: "through-spindle coolant on (Haas)", 89: "through-spindle coolant off (Haas)",
+    888: "front-end module (Rotrics DexArm, M888 P: P0 the pen, P1 the laser, ...; the program gives the module's tip)",
+    2000: "G0 moves in straight lines (Rotrics DexArm), as they are read"}
 DIALECT_M = {25, 99}  # read as their controllers do (gcode._execute): Centroid's Z home, the main program's end
 UNSUPPORTED_M = {
     97: "Haas local subprograms (M97 P) are not read: expand them in the CAM post, or use O-word subroutines (O100 "
         "sub ... O100 endsub, O100 call)",
     98: "Fanuc subprogram calls (M98 P) are not read: expand them in the CAM post, or use O-word subroutines (O100 "
         "sub ... O100 endsub, O100 call)",
+    2001: "Rotrics DexArm's M2001 makes G0 moves turn the joints at once, not straight lines, whose path is not read: "
+          "remove it (its default, M2000, moves straight)",
     **dict.fromkeys((82, 104, 106, 107, 109, 140, 190), "a 3D printer's M code (Marlin, RepRapFirmware: temperatures, "
                     "fans, the extruder): the program is a print, not a tool path")}
 READ_M = ("not in the supported M-code dialect (M0, M1, M2, M3-M9, M30, M48, M49, M60; and other controllers' M10-M13, "
-          "M19, M25, M31, M33-M35, M41, M42, M73, M74, M83, M84, M88, M89, M99; docs/paths.md): an M code not known "
-          "may move the tool")
+          "M19, M25, M31, M33-M35, M41, M42, M73, M74, M83, M84, M88, M89, M99, M888, M2000; docs/paths.md): an M code "
+          "not known may move the tool")
 UNSUPPORTED_G = {
     **dict.fromkeys((740, 760, 840, 860, 870, 880), "tapping and boring cycles (G74, G76, G84, G86-G88) need the "
                     "spindle's motion: output them as G0/G1 moves; the drilling cycles G73, G81-G83, G85, G89 are read"),
@@ -125,13 +129,13 @@ def check_unused(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[
     blending = codes.get("path control", (0, ""))[0] == 640
     mode = codes.get("controller mode", (None, ""))[0]
     users = {"P": non_modal in (40, 100) or cycle or blending or motion in (20, 30) or 19 in m_codes
-             or mode in (50, 80, 1030, 1870),
+             or 888 in m_codes or mode in (50, 80, 1030, 1870),
              "Q": cycle or blending or 19 in m_codes or mode == 51, "L": cycle or non_modal == 100,
              "H": "tool length offset" in codes,
              "D": codes.get("cutter compensation", (400, ""))[0] != 400}
     for letter, used in users.items():
         if letter in values and not used:
-            raise fail(written[letter], {"P": "P belongs to G4 (dwell), G10, G64, G82, G89, G2/G3 (turns) and M19",
+            raise fail(written[letter], {"P": "P belongs to G4 (dwell), G10, G64, G82, G89, G2/G3 (turns), M19 and M888",
                                          "Q": "Q belongs to G73, G83 (peck), G64 and M19",
                                          "L": "L belongs to G10 and canned cycles",
                                          "H": "H belongs to G43 (tool length offset)",

@@ -4,9 +4,10 @@ A path with many samples costs too much to evaluate the thousands of times a sea
 100,000 points under the paper's timing law has 200,000 samples, each segment being timed on its own with two
 samples at least whatever the time step, and a 4,700-line surface program 9,500 even at the global search's
 coarse step. A path with more than GUIDE_THRESHOLD samples at its own step, or COARSE_THRESHOLD at the coarse
-one, is searched on guides instead: the same path with each stretch of consecutive straight segments (same
-feed and kind of move, no orientation, stop or hold between them) merged into chords, each at most a given
-length and within a share of that length of every point it skips. The global search's guide has about
+one, is searched on guides instead: the same path with each stretch of consecutive lines and plane arcs of at
+most a half turn (same feed and kind of move, no orientation, stop or hold between them) merged into chords,
+each at most a given length and within a share of that length of every point of the path it skips, along its
+arcs too (a CAM program's small arcs between lines would otherwise keep most of its segments). The global search's guide has about
 GLOBAL_SEGMENTS chords, sampled at the coarse step, and the polish's about POLISH_SEGMENTS, sampled at a step of
 at least the path's duration over POLISH_SAMPLES. Under the realistic and optimal laws, which time runs rather
 than segments, the guides are the path itself, the polish's sampled at that coarser step.
@@ -80,14 +81,19 @@ def guide_value(guide: Evaluator, placement: np.ndarray) -> float:
 
 
 def merge_lines(path: ToolPath, max_length_m: float, tolerance_m: float) -> ToolPath:
-    """The path with stretches of consecutive straight segments merged into chords (module docstring): from each
-    segment on, the longest chord at most ``max_length_m`` long whose skipped points are within ``tolerance_m`` of
-    it (found by doubling then halving the number of segments merged); holds stay after the same points."""
+    """The path with stretches of consecutive lines and flat arcs merged into chords (module docstring): from each
+    segment on, the longest chord at most ``max_length_m`` long, and at least ``tolerance_m``, whose skipped points
+    are within ``tolerance_m`` of it, and the arcs between them too (found by doubling then halving the number of
+    segments merged; an arc strays from its own chord by its sagitta, and that chord from the long one by no more
+    than the farther of its ends, so the two added bound the arc's distance): a stretch that
+    comes back near its start (a small hole's contour) is never one chord, which would have no direction (and a
+    zero-length chord no samples); holds stay after the same points."""
     segments = path.segments
     count = len(segments)
     starts, ends = (np.array([getattr(s, name) for s in segments]) for name in ("start_m", "end_m"))
     along = np.concatenate([[0.0], np.cumsum([segment.length_m for segment in segments])])
     plain = np.array([_plain(segment) for segment in segments])
+    sagitta = np.array([0.0 if s.center_m is None else s.radius_m * (1 - np.cos(s.sweep_rad / 2)) for s in segments])
     kinds = [(segment.rapid, segment.feed_ratio) for segment in segments]
     joins = np.zeros(count + 1, dtype=bool)  # joins[k]: segment k may extend a chord ending with segment k - 1
     joins[1:count] = (plain[1:] & plain[:-1] & (ends[:-1] == starts[1:]).all(axis=1)
@@ -99,7 +105,8 @@ def merge_lines(path: ToolPath, max_length_m: float, tolerance_m: float) -> Tool
         chord = ends[last] - starts[first]
         points = ends[first:last] - starts[first]
         share = np.clip(points @ chord / max(float(chord @ chord), 1e-300), 0.0, 1.0)
-        return bool(np.linalg.norm(points - share[:, None] * chord, axis=1).max(initial=0.0) <= tolerance_m)
+        stray = np.linalg.norm(points - share[:, None] * chord, axis=1).max(initial=0.0)
+        return bool(stray + sagitta[first:last + 1].max() <= tolerance_m)
 
     merged, new_index, first = [], {0: 0}, 0
     while first < count:
@@ -112,7 +119,9 @@ def merge_lines(path: ToolPath, max_length_m: float, tolerance_m: float) -> Tool
         while bad - good > 1:
             middle = (good + bad) // 2
             good, bad = (middle, bad) if close(first, middle) else (good, middle)
-        merged.append(segments[first] if good == first else dataclasses.replace(segments[first], end_m=ends[good]))
+        while good > first and float(np.sum((ends[good] - starts[first])**2)) < tolerance_m**2:
+            good -= 1  # back from a loop's end (a small hole's contour) to a chord that has a direction
+        merged.append(segments[first] if good == first else _chord(segments[first], ends[good]))
         first = good + 1
         new_index[first] = len(merged)
     holds = tuple(dataclasses.replace(hold, after=new_index[hold.after]) for hold in path.holds)
@@ -120,6 +129,14 @@ def merge_lines(path: ToolPath, max_length_m: float, tolerance_m: float) -> Tool
 
 
 def _plain(segment: Segment) -> bool:
-    """Whether a segment may be merged: a straight one without orientation or a stop at its end."""
-    return (segment.center_m is None and segment.rotation is None and segment.turn_rad is None
+    """Whether a segment may be merged: a line, or a plane arc of at most a half turn (its sagitta bounds how far it
+    strays from its chord), without orientation or a stop at its end."""
+    flat = segment.center_m is None or (segment.rise_m == 0.0 and abs(segment.sweep_rad) <= np.pi)
+    return (flat and segment.rotation is None and segment.turn_rad is None
             and not segment.exact_stop and not segment.exact_path)
+
+
+def _chord(segment: Segment, end_m: np.ndarray) -> Segment:
+    """The line from ``segment``'s start to ``end_m``, with its feed and kind of move."""
+    return dataclasses.replace(segment, end_m=end_m, center_m=None, radius_m=0.0, start_angle_rad=0.0, sweep_rad=0.0,
+                               plane=None, rise_m=0.0)

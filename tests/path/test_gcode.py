@@ -556,3 +556,61 @@ G40 G0 X0 Y40
     assert sum(segment.length_m for segment in feeds) == pytest.approx(expected, abs=1e-12)
     assert sum(segment.center_m is not None for segment in feeds) == arcs
     assert all(segment.radius_m == pytest.approx(r, abs=1e-15) for segment in feeds if segment.center_m is not None)
+
+
+# A drilling cycle from where the machine happens to be, as FreeCAD's posts write a job's first one (G0 Z5, then G83)
+
+FIRST_CYCLE = "G21 G90 G17\nG0 Z5\nG98\nG83 X-2.8 Y-2.5 Z-4 F60 Q1.5 R3\nG83 X-9.8 Y-2.5 Z-4 F60 Q1.5 R3\nG80\nG0 Z5\nM2\n"
+
+
+@pytest.mark.parametrize("level, before", [("Z5", "G0 X-2.8 Y-2.5\n"), ("Z1", "G0 Z3\nG0 X-2.8 Y-2.5\n")])
+def test_a_first_cycle_from_an_unknown_point_is_the_cycle_after_a_rapid_over_its_hole(tmp_path, level, before):
+    """The moves known from the first hole on are those of the same program brought over the hole by rapids first
+    (up to R first when the tool starts below it, as LinuxCNC's preliminary motion does): only rapids from the unknown
+    point differ, and those are left out in both."""
+    unknown = program(tmp_path, FIRST_CYCLE.replace("Z5\nG98", f"{level}\nG98"), name="unknown")
+    known = program(tmp_path, FIRST_CYCLE.replace("Z5\nG98", f"{level}\n{before}G98"), name="known")
+    assert [(s.start_m.tolist(), s.end_m.tolist(), s.rapid) for s in unknown.segments] == [
+        (s.start_m.tolist(), s.end_m.tolist(), s.rapid) for s in known.segments]
+    assert sum(not s.rapid for s in unknown.segments) == 2 * 5  # two holes, R3 to Z-4 in pecks of 1.5 mm: 5 feeds each
+
+
+@pytest.mark.parametrize("code, words", [
+    ("G0 Z5\nG81 X1 Z-3 R1 F100\n", ["unknown position (X, Y not given yet)"]),  # the hole's Y is not known
+    ("G0 X1 Y1\nG81 X1 Y1 Z-3 R1 F100\n", ["unknown position (Z not given yet)"]),  # nor the level it starts at
+    ("G0 Z5\nG91 G81 X1 Y1 Z-3 R1 F100\n", ["unknown position (X, Y not given yet)"]),  # steps from an unknown point
+])
+def test_a_first_cycle_whose_hole_or_level_is_not_known_is_refused(tmp_path, code, words):
+    with pytest.raises(GcodeError) as error:
+        program(tmp_path, code)
+    assert error.value.line == 2 and all(word in str(error.value) for word in words)
+
+
+def test_a_byte_order_mark_is_not_read_as_a_character_of_the_program(tmp_path):
+    """Windows editors (Notepad) begin a UTF-8 file with U+FEFF; the program is the same without it."""
+    code = "G21 G90\nG0 X0 Y0 Z0\nG1 X10 F100\n"
+    (tmp_path / "bom.nc").write_text("\ufeff" + code, encoding="utf-8")
+    (tmp_path / "bom.yaml").write_text("shape: {type: gcode, file: bom.nc}\n")
+    with_mark, without = load_path(tmp_path / "bom.yaml"), program(tmp_path, code)
+    assert [s.end_m.tolist() for s in with_mark.segments] == [s.end_m.tolist() for s in without.segments]
+
+
+@pytest.mark.parametrize("line", [
+    "G01 X-0.1100 Y-0.0300 F10    ", "N40 G1 X.5 Y-.25 Z+1. F300", "g0x1y2", "N10", "", "X1", "N7G2X1Y0I.5J0",
+    "G00 X0.0000  Y0.0000  \r", "M06 T01", "n20 g91 g1 x-1.5e", "G1 X1 N5", "\tG0\tZ5", "O100", "G1 X[1+2]",
+])
+def test_a_line_of_letters_and_numbers_is_read_at_once_as_the_full_reader_reads_it(line):
+    """The reader's shortcut for lines of plain words (most of a CAM post's) gives the words the full reader gives,
+    or leaves the line to it."""
+    from placement.path import ngc_expressions as ngc
+
+    quick = ngc.read_line(line)
+    try:
+        full = ngc._Reader(ngc._strip(line)).block()
+    except ngc._ExpressionError as error:  # the full reader refuses it: so does the line read at once
+        assert quick.error is not None and str(quick.error) == str(error)
+        return
+    parameters = ngc.Parameters()
+    assert [(w.letter, w.text, w.value(parameters)) for w in quick.words] == [
+        (w.letter, w.text, w.value(parameters)) for w in full.words]
+    assert (quick.assignments, quick.oword is None) == (full.assignments, full.oword is None)

@@ -169,6 +169,23 @@ def test_m_codes_that_do_not_move_the_tool_are_ignored_with_one_warning(tmp_path
         assert expected in told[0]
 
 
+def test_a_rotrics_dexarm_drawing_is_read_its_module_and_straight_rapids_ignored_with_one_warning(tmp_path):
+    # Rotrics Studio's header for the DexArm (a Marlin-based arm): straight G0 moves, the pen module; then the drawing.
+    dexarm = (";--------- HEADER FROM ROTRIX STUDIO FOR DEXARM\n\nM2000;custom:line mode\nM888 P0;custom:header is "
+              "write&draw\n\n;--------- END OF DEXARM HEADER\n\n" + CUT)
+    path, told = program(tmp_path, dexarm)
+    plain, _ = program(tmp_path, CUT, name="plain")
+    assert ends_mm(path) == ends_mm(plain) and len(told) == 1
+    for expected in ["M888, front-end module (Rotrics DexArm", "(line 4)", "M2000, G0 moves in straight lines",
+                     "(line 3)"]:
+        assert expected in told[0]
+
+
+def test_rotrics_dexarms_jump_rapids_are_refused_by_name(tmp_path):
+    error = refused(tmp_path, "M2001\n" + CUT)
+    assert error.line == 1 and error.word == "M2001" and "turn the joints at once" in str(error)
+
+
 def test_rs274ngcs_own_m_codes_give_no_warning(tmp_path):
     _, told = program(tmp_path, "M6 T1\nM3 S1000\nM7\nM8\n" + CUT + "M9\nM5\nM48\nM49\nM30\n")
     assert told == []

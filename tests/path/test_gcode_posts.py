@@ -108,3 +108,25 @@ def test_a_program_that_never_gives_its_units_is_read_in_mm_and_says_so(tmp_path
     assert ends_mm(silent) == ends_mm(metric) == [[[0, 0, 0], [10, 0, 0]]]
     assert any("never gives its units" in note for note in silent.notes)
     assert not any("units" in note for note in metric.notes)
+
+
+@pytest.mark.parametrize("offset_mm, bound_mm, fits", [(0, 100, True), (300, 100, False), (300, 400, True),
+                                                       (-300, 100, False), (120, 100, True)])
+def test_the_fit_check_keeps_the_origin_within_the_placements_bounds(offset_mm, bound_mm, fits):
+    """A 50 mm square drawn ``offset_mm`` from its program's origin (as a DexArm drawing lies 200-340 mm ahead of the
+    arm's base), in a 200 mm box: it fits only if an origin within ±``bound_mm`` brings it in, at some turn."""
+    square = (np.array([[0, 0, 0], [50, 0, 0], [50, 50, 0], [0, 50, 0]]) + [offset_mm, 0, 0]) * 1e-3
+    box = ([-0.1, -0.1, -0.1], [0.1, 0.1, 0.1])
+    bounds = ([-bound_mm * 1e-3] * 3, [bound_mm * 1e-3] * 3)
+    problem = workspace_misfit(*box, square, (-np.pi, np.pi), bounds)
+    assert (problem is None) == fits
+    if not fits:
+        assert "at any placement the search may take" in problem and "--free" in problem
+    assert workspace_misfit(*box, square, (-np.pi, np.pi)) is None  # its extent alone fits
+
+
+def test_a_drawing_far_from_its_origin_is_answered_before_the_search(tmp_path, capsys):
+    (tmp_path / "far.gcode").write_text("G21 G90\nG0 X0 Y250 Z0\nG1 X50 F3000\nY300\nX0\nY250\n")
+    assert main(["--robot", "orthoglide", "--path", str(tmp_path / "far.gcode"), "--quiet"]) == 2
+    captured = capsys.readouterr()
+    assert "(0.0, 250.0, 0.0) to (50.0, 300.0, 0.0) mm" in captured.err and "search:" not in captured.out

@@ -4,6 +4,7 @@ import dataclasses
 
 import numpy as np
 import pytest
+from scipy.spatial import cKDTree
 
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings, denser
 from placement.path.load import load_path
@@ -47,6 +48,59 @@ def test_chords_stay_within_their_bound_of_the_points_they_skip(tmp_path):
     assert all(np.array_equal(a.end_m, b.start_m) for a, b in zip(merged.segments, merged.segments[1:]))
     (hold,) = merged.holds
     np.testing.assert_array_equal(merged.segments[hold.after - 1].end_m, path.segments[999].end_m)
+
+
+def test_a_loop_back_to_its_start_is_never_one_chord(tmp_path):
+    """A small hole's contour (a 0.5 mm circle of 40 sides) under a chord bound larger than the hole: merged into one
+    chord, it would be a chord of no length, without direction, whose samples are NaN (the coarse guide of a CamBam
+    program with 1 mm holes made every placement unevaluable)."""
+    path = contour(tmp_path, 40)
+    path = dataclasses.replace(path, segments=tuple(dataclasses.replace(s, start_m=s.start_m / 80, end_m=s.end_m / 80)
+                                                    for s in path.segments))
+    tolerance = 1.2e-3  # every point of the hole is within it of the start
+    merged = guide.merge_lines(path, 0.01, tolerance)
+    assert len(merged.segments) > 1 and min(chord.length_m for chord in merged.segments) > 0
+    vertices = np.array([segment.start_m for segment in path.segments])
+    assert distance_to_chords(vertices, merged.segments).max() <= tolerance * (1 + 1e-12)
+    assert np.isfinite(merged.sample(1e-4).position_m).all()
+
+
+def wave(tmp_path, radius_mm, count=40):
+    """A row of half circles of ``radius_mm`` (G2, G3 in turn) whose ends lie on the X axis, as a G-code program."""
+    arcs = "".join(f"G{2 + k % 2} X{2 * radius_mm * (k + 1):g} Y0 I{radius_mm:g} J0\n" for k in range(count))
+    (tmp_path / "wave.nc").write_text(f"G21 G90\nG0 X0 Y0 Z0\nG1 F600\n{arcs}")
+    (tmp_path / "wave.yaml").write_text("shape: {type: gcode, file: wave.nc}\n")
+    return load_path(tmp_path / "wave.yaml")
+
+
+def along(segments, count):
+    """(N, 3) points along each segment (arcs included), ``count`` per segment, ends included."""
+    return np.concatenate([s.point(np.linspace(0, s.length_m, count), np.ones(count), np.zeros(count))[0]
+                           for s in segments])
+
+
+def distance_to_path(guide_path, path):
+    """(N,) distance of points along every segment of ``path`` to the guide: to its chords, and to its arcs (kept as
+    they are) within their sampling's spacing (1e-6 m at most here)."""
+    points = along(path.segments, 50)
+    lines = [s for s in guide_path.segments if s.center_m is None]
+    arcs = [s for s in guide_path.segments if s.center_m is not None]
+    to_lines = distance_to_chords(points, lines) if lines else np.full(len(points), np.inf)
+    if not arcs:
+        return to_lines
+    to_arcs = cKDTree(along(arcs, 4000)).query(points)[0]
+    return np.minimum(to_lines, to_arcs)
+
+
+@pytest.mark.parametrize("tolerance_mm, merges", [(0.5, False), (1.5, True)])
+def test_arcs_are_merged_only_where_they_stay_within_the_bound(tmp_path, tolerance_mm, merges):
+    """Half circles of 1 mm whose ends all lie on one line: a chord through their ends skips points 1 mm away (their
+    sagittas), so under a 0.5 mm bound none is merged, and under 1.5 mm they are, every point of every arc within it."""
+    path = wave(tmp_path, 1.0)
+    merged = guide.merge_lines(path, 0.5, tolerance_mm * 1e-3)
+    assert (len(merged.segments) < len(path.segments) / 4) == merges
+    assert distance_to_path(merged, path).max() <= tolerance_mm * 1e-3 + 1e-6
+    assert np.isfinite(merged.sample(1e-3).position_m).all()
 
 
 def models(path):
