@@ -108,6 +108,7 @@ class Optimum:
         tolerance: The tolerance box around it, when the search was asked for one (``SearchSettings.box_within``).
         basins: The other distinct local optima the search found within ``SearchSettings.basin_share`` of it, as
             printed, best first (:mod:`placement.search.basins`).
+        basin_share: That share (0.05: basins at most 5 % worse are listed).
     """
 
     detail: PlacementDetail
@@ -119,6 +120,7 @@ class Optimum:
     guide_value: float | None = None
     tolerance: ToleranceBox | None = None
     basins: tuple[Basin, ...] = ()
+    basin_share: float = RUNNER_UP_SHARE
 
     @property
     def unresolved(self) -> tuple[Basin, ...]:
@@ -501,7 +503,8 @@ def search_evaluators(coarse: Evaluator, fine: Evaluator, space: PlacementSpace,
                                    recheck_margin=float(check.margins[0, tightest]),
                                    recheck_limit=check.limits[tightest],
                                    evaluations=outcome.evaluations + evaluator.evaluations - before, note=outcome.note,
-                                   guide_value=outcome.guide_value, tolerance=outcome.box, basins=outcome.basins)
+                                   guide_value=outcome.guide_value, tolerance=outcome.box, basins=outcome.basins,
+                                   basin_share=settings.basin_share)
     return PlacementResult(best=found["best"], worst=found["worst"], space=space, objective=evaluator.objective_name,
                            regeneration=evaluator.settings.regeneration, infeasible=infeasible)
 
