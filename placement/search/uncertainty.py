@@ -99,7 +99,7 @@ class Uncertainty:
 def uncertain_parameters(robot: Robot) -> tuple[Parameter, ...]:
     """The drives' constants that the energy depends on, with their ranges from their source status (module
     docstring); a constant at 0 has no relative range and is left out."""
-    sources = robot.sidecar.sources
+    sources = robot.sources
     found = []
     for name, drive in robot.named_drives.items():
         for group, field in FIELDS:
