@@ -19,7 +19,7 @@ from placement.evaluation.evaluator import Evaluator
 from placement.evaluation.results import Evaluation
 from placement.search.space import PlacementSpace
 
-POLISH_STARTS = 4  # starts of distinct basins polished locally (placement.search.basins)
+POLISH_STARTS = 3  # starts of distinct basins polished locally (placement.search.basins)
 INWARD_SHARES = np.array([0.0, 1e-6, 1e-5, 1e-4, 1e-3])  # a repair's pulls towards the box centre, tried in order
 GRADIENT_STEP = 1e-7  # forward-difference step of the polish, as a share of each variable's range
 CURVATURE_STEP = 1e-3  # central-difference step of the polish's curvatures, as a share of each variable's range
