@@ -1,9 +1,13 @@
 """Our search against plain peer optimisers at the same wall time, on the same exact model.
 
-Run: ``python benchmarks/peers.py [--robot orthoglide] [--path examples/rect.yaml] [--seeds 0 1 2 3 4]``
-(Optuna comes with the ``bench`` extra: ``pip install -e .[bench]``).
+Run: ``python benchmarks/peers.py [--problems groove ur5 pocket] [--seeds 0 1 ... 9] [--results benchmarks/RESULTS.md]``
+(Optuna comes with the ``bench`` extra: ``pip install -e .[bench]``). The problems: the paper's groove
+(Orthoglide, examples/rect.yaml), the UR5 on the same rectangle, and the G-code pocket in the Orthoglide's cell
+(examples/pocket.yaml, examples/cell_orthoglide.yaml), as the README runs them. The table goes to the console and
+to its own section of the results file (between its markers, with the date, the machine and the command), which
+it replaces there and nowhere else.
 
-For each seed, our search (least energy only, its default budget) runs first and its wall time is
+For each problem and seed, our search (least energy only, its default budget) runs first and its wall time is
 the budget of each peer: scipy's ``differential_evolution`` and Optuna's TPE and CMA-ES samplers.
 Every peer evaluates the same exact model as our polish and our reported values (the Evaluator at
 the path's own sampling), over the same box, and counts a placement feasible as our search does
@@ -20,6 +24,9 @@ for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", 
     os.environ[_variable] = "1"  # one core, before numpy loads
 
 import argparse  # noqa: E402
+import datetime  # noqa: E402
+import platform  # noqa: E402
+import sys  # noqa: E402
 import time  # noqa: E402
 import warnings  # noqa: E402
 from collections.abc import Callable  # noqa: E402
@@ -28,7 +35,7 @@ from pathlib import Path  # noqa: E402
 import numpy as np  # noqa: E402
 from scipy.optimize import NonlinearConstraint, differential_evolution  # noqa: E402
 
-from placement import load_robot  # noqa: E402
+from placement import equip, load_cell, load_robot  # noqa: E402
 from placement.cli.memory import keep_freed_memory  # noqa: E402
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings  # noqa: E402
 from placement.path.load import load_path  # noqa: E402
@@ -36,6 +43,10 @@ from placement.search.optimize import SearchSettings, optimize_placement  # noqa
 from placement.search.space import default_space  # noqa: E402
 
 ROOT = Path(__file__).parents[1]
+PROBLEMS = {"groove": ("orthoglide", "examples/rect.yaml", None),  # robot, path, cell (from the repository's root)
+            "ur5": ("ur5", "examples/rect.yaml", None),
+            "pocket": ("orthoglide", "examples/pocket.yaml", "examples/cell_orthoglide.yaml")}
+BEGIN, END = "<!-- benchmarks/peers.py: begin (written by the script) -->", "<!-- benchmarks/peers.py: end -->"
 
 
 class Budgeted:
@@ -175,22 +186,18 @@ def chain_against_loop(seconds: float) -> tuple[float, float, float]:
     return ours_rate, loop_rate, ours_rate / loop_rate
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--robot", default="orthoglide")
-    parser.add_argument("--path", default=str(ROOT / "examples" / "rect.yaml"))
-    parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2, 3, 4])
-    parser.add_argument("--peers", nargs="+", default=["de", "tpe", "cmaes"])
-    parser.add_argument("--chain-seconds", type=float, default=2.0)
-    args = parser.parse_args()
-    robot = load_robot(args.robot)
-    path = load_path(Path(args.path))
+def compare(problem: str, seeds: list[int], peers: list[str]) -> list[str]:
+    """One problem's table rows (Markdown): per seed, our time and best energy, each peer's, and whether ours is at or
+    below every peer's."""
+    robot_name, path_file, cell_file = PROBLEMS[problem]
+    robot = load_robot(robot_name)
+    if cell_file is not None:
+        robot = equip(robot, load_cell(ROOT / cell_file))
+    path = load_path(ROOT / path_file)
     space = default_space(robot, half_turn=path.half_turn_symmetric())
     settings = EvaluatorSettings(threads=1, workers=1)
-    print(f"{args.robot}, {Path(args.path).name}: least energy (J), best feasible at the path's own sampling, "
-          f"each peer given our search's wall time")
-    print(f"{'seed':>4} {'time s':>7} {'ours':>10} " + " ".join(f"{p:>10}" for p in args.peers) + "  ours <= all")
-    for seed in args.seeds:
+    rows = []
+    for seed in seeds:
         tic = time.perf_counter()
         result = optimize_placement(robot, path, space=space, evaluation=settings,
                                     settings=SearchSettings(seed=seed, worst=False))
@@ -198,20 +205,59 @@ def main() -> None:
         assert result.best is not None
         ours = result.best.detail.value
         found = {}
-        for peer in args.peers:
+        for peer in peers:
             with Evaluator(robot, path, settings) as evaluator:
-                if peer == "de":
-                    found[peer] = run_de(evaluator, space, seconds, seed)
-                else:
-                    found[peer] = run_optuna(evaluator, space, seconds, seed, peer)
+                found[peer] = (run_de(evaluator, space, seconds, seed) if peer == "de"
+                               else run_optuna(evaluator, space, seconds, seed, peer))
         gap = (ours - min(found.values())) / ours  # > 0: a peer found less energy than ours
         verdict = "yes" if gap <= 0 else f"NO, by {gap:.1e} (relative)"
-        print(f"{seed:>4} {seconds:>7.2f} {ours:>10.6f} " + " ".join(f"{found[p]:>10.6f}" for p in args.peers)
-              + f"  {verdict}", flush=True)
+        rows.append(f"| {problem} | {seed} | {seconds:.2f} | {ours:.6f} | "
+                    + " | ".join(f"{found[p]:.6f}" for p in peers) + f" | {verdict} |")
+        print(rows[-1], flush=True)
+    return rows
+
+
+def write_section(results: Path, lines: list[str]) -> None:
+    """Replace this script's section of ``results`` (between BEGIN and END) with ``lines``, or append it."""
+    text = results.read_text(encoding="utf-8") if results.exists() else "# Benchmark results\n"
+    section = "\n".join([BEGIN, *lines, END])
+    if BEGIN in text and END in text:
+        head, rest = text.split(BEGIN, 1)
+        text = head + section + rest.split(END, 1)[1]
+    else:
+        text = text.rstrip("\n") + "\n\n" + section + "\n"
+    results.write_text(text, encoding="utf-8")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--problems", nargs="+", choices=sorted(PROBLEMS), default=list(PROBLEMS))
+    parser.add_argument("--seeds", type=int, nargs="+", default=list(range(10)))
+    parser.add_argument("--peers", nargs="+", default=["de", "tpe", "cmaes"])
+    parser.add_argument("--chain-seconds", type=float, default=2.0)
+    parser.add_argument("--results", type=Path, default=ROOT / "benchmarks" / "RESULTS.md",
+                        help="the Markdown file whose peers section this run replaces ('-': none)")
+    args = parser.parse_args()
+    header = ("| problem | seed | time s | ours | " + " | ".join(args.peers) + " | ours <= all |\n"
+              + "|---" * (5 + len(args.peers)) + "|")
+    print("least energy (J), best feasible at the path's own sampling, each peer given our search's wall time")
+    print(header)
+    rows = [row for problem in args.problems for row in compare(problem, args.seeds, args.peers)]
+    lines = ["## Our search against plain peers at equal wall time (benchmarks/peers.py)", "",
+             f"{datetime.datetime.now(datetime.UTC):%Y-%m-%d %H:%M} UTC on {platform.node() or 'this machine'} "
+             f"({os.cpu_count()} cores, {platform.processor() or platform.machine()}, Python "
+             f"{platform.python_version()}); one core per search; command: `python benchmarks/peers.py "
+             f"{' '.join(sys.argv[1:])}`", "",
+             "Least energy (J) of the best feasible placement found, at the path's own sampling; each peer is given "
+             "our search's wall time for that seed.", "", header, *rows]
     if args.chain_seconds > 0:
         ours_rate, loop_rate, ratio = chain_against_loop(args.chain_seconds)
-        print(f"UR5 kinematics + RNEA, one core: our batched chain {ours_rate:,.0f} samples/s, a plain Pinocchio "
-              f"per-sample loop (Newton IK, rnea) {loop_rate:,.0f} samples/s: {ratio:.1f}x")
+        chain = (f"UR5 kinematics + RNEA, one core: our batched chain {ours_rate:,.0f} samples/s, a plain Pinocchio "
+                 f"per-sample loop (Newton IK, rnea) {loop_rate:,.0f} samples/s: {ratio:.1f}x")
+        print(chain)
+        lines += ["", chain]
+    if str(args.results) != "-":
+        write_section(args.results, lines)
 
 
 if __name__ == "__main__":

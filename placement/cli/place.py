@@ -8,6 +8,7 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import sys
 from pathlib import Path
@@ -52,9 +53,11 @@ from placement.output.report import (
     detail_json,
     format_detail,
     format_result,
+    format_uncertainty,
     job_document,
     results_lines,
     tolerance_json,
+    uncertainty_json,
     write_atomically,
     write_json,
     write_trace,
@@ -66,9 +69,10 @@ from placement.placing.transform import VARIABLES
 from placement.placing.values import parse_free, parse_values, unsuffixed_lengths
 from placement.robot.model import Robot
 from placement.robot.plausibility import massless_note
-from placement.search.optimize import SearchSettings, optimize_placement
+from placement.search.optimize import PlacementResult, SearchSettings, optimize_placement
 from placement.search.plausibility import feed_warnings, length_warnings
 from placement.search.space import PlacementSpace, default_space
+from placement.search.uncertainty import energy_uncertainty
 
 if TYPE_CHECKING:  # the scene's modules (meshcat, trimesh: the [viz] extra) load only for --html and --show
     from placement.output.scene import Scene  # the [viz] extra (matplotlib, meshcat): imported only here
@@ -113,6 +117,11 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--within", type=positive_number, default=1.0, metavar="PERCENT",
                         help="the tolerance box around each optimum keeps the objective within PERCENT of it "
                              "(default 1)")
+    parser.add_argument("--error-bars", action="store_true",
+                        help="vary the drives' constants over ranges from their source status (EST ±20 %%, "
+                             "CALIBRATED ±5 %%, published ±2 %%) and give the best and worst energies and the gain with "
+                             "intervals (first order, checked by sampling) and the share of draws in which another "
+                             "basin wins (energy objective; see docs/howto/certainty.md)")
     parser.add_argument("--json", metavar="FILE", help="write the results as JSON (SI units)")
     parser.add_argument("--trace", metavar="FILE",
                         help="write a per-sample CSV trace of the placement given by --at, else of the best one")
@@ -250,9 +259,24 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
             details[key] = optimum.detail
     if result.gain is not None:
         document["gain"] = result.gain
+    if args.error_bars:
+        document["uncertainty"] = error_bars(robot, path, evaluation, result)
     if result.infeasible:
         document["infeasible"] = result.infeasible
     return document, details, result.infeasible
+
+
+def error_bars(robot: Robot, path: ToolPath, evaluation: EvaluatorSettings, result: PlacementResult) -> dict | None:
+    """Print the error bars of a search's energies (--error-bars, :mod:`placement.search.uncertainty`) and return
+    them as JSON, or say why there are none (None)."""
+    if evaluation.objective != "energy" or result.best is None and result.worst is None:
+        print("\nerror bars: given for the energy objective's optima only")
+        return None
+    best, worst = (None if o is None else o.detail.placement for o in (result.best, result.worst))
+    others = np.array([b.placement for b in result.best.basins]) if result.best is not None else None
+    uncertainty = energy_uncertainty(robot, path, dataclasses.replace(evaluation, workers=1), best, worst, others)
+    print("\n" + format_uncertainty(uncertainty))
+    return uncertainty_json(uncertainty)
 
 
 def misfit_line(robot: Robot, samples: PathSamples, space: PlacementSpace) -> str | None:

@@ -31,6 +31,7 @@ from placement.robot.model import Robot
 from placement.search.optimize import Optimum, PlacementResult
 from placement.search.reporting import REPORTED_DECIMALS
 from placement.search.tolerance import ToleranceBox
+from placement.search.uncertainty import Interval, Uncertainty
 from placement.workshop.calibration import TOOL_FORCE_COLUMNS
 
 
@@ -219,6 +220,76 @@ def _recheck_line(optimum: Optimum) -> str:
             f"sample the path more finely (--time-step) if that matters{note}")
 
 
+def format_basins(optimum: Optimum) -> str:
+    """Lines: the other basins (distinct local optima) within the search's share of this optimum, as printed, and which
+    of them are within the 4x denser re-check's resolution of it; or that the search found none."""
+    words = wording(optimum.detail.objective)
+    share = f"{optimum.basin_share * 100:g} %"
+    if not optimum.basins:
+        return f"  other basins: none found within {share} of this {words.subject}"
+    close = optimum.unresolved
+    lines = [f"  other basins within {share} (distinct local optima, as printed):"]
+    for basin in optimum.basins:
+        change = (basin.value - optimum.detail.value) / (abs(optimum.detail.value) or 1.0)
+        fails = "" if basin.holds else ", fails a limit once printed or on the 4x denser re-check"
+        tie = ", within the 4x re-check's resolution of this one" if any(basin is c for c in close) else ""
+        lines.append(f"    {quantity(basin.value, words.unit)} ({change * 100:+.3f} %{fails}{tie}) at "
+                     f"{format_placement(basin.placement)}")
+    if close:
+        lines.append("    the path's sampling, not the placement, may decide between them: sample the path more finely "
+                     "(--time-step) to rank them")
+    return "\n".join(lines)
+
+
+def basins_json(optimum: Optimum) -> list[dict[str, Any]]:
+    """JSON-ready list of the other basins near an optimum (SI units): placement, objective value (and energy_J for
+    the energy) on the path's sampling and the 4x denser one, whether it holds, and whether it is within the
+    re-check's resolution of the optimum."""
+    close = optimum.unresolved
+    return [{"placement": {name: float(v) for name, v in zip(VARIABLES, basin.placement, strict=True)},
+             "value": _finite(basin.value), "recheck_value": _finite(basin.recheck_value),
+             **({"energy_J": _finite(basin.value)} if optimum.detail.objective == "energy" else {}),
+             "relative_difference": _finite((basin.value - optimum.detail.value) / (abs(optimum.detail.value) or 1.0)),
+             "holds": basin.holds, "within_recheck_resolution": any(basin is c for c in close)}
+            for basin in optimum.basins]
+
+
+def format_uncertainty(uncertainty: Uncertainty) -> str:
+    """The error bars, once and compactly: what was varied, each quantity's first-order interval and sampled range,
+    and how often another basin wins (:mod:`placement.search.uncertainty`)."""
+    statuses: dict[str, int] = {}
+    for parameter in uncertainty.parameters:
+        statuses[parameter.status] = statuses.get(parameter.status, 0) + 1
+    varied = ", ".join(f"{count} {status}" for status, count in statuses.items())
+
+    def shown(name: str, interval: Interval | None, unit: str, factor: float = 1.0, digits: int = 4) -> str | None:
+        if interval is None:
+            return None
+        v, lo, hi, slo, shi = (factor * x for x in (interval.value, interval.low, interval.high, interval.sampled_low,
+                                                    interval.sampled_high))
+        return f"{name} {v:.{digits}f} [{lo:.{digits}f}, {hi:.{digits}f}]{unit} (sampled {slo:.{digits}f} to {shi:.{digits}f})"
+
+    parts = [text for text in (shown("best", uncertainty.best, " J"), shown("worst", uncertainty.worst, " J"),
+                               shown("gain", uncertainty.gain, " %", 100.0, 1)) if text]
+    return (f"error bars ({len(uncertainty.parameters)} drive constants varied: {varied}; {uncertainty.method}, "
+            f"{uncertainty.samples} draws): " + "; ".join(parts)
+            + f"; another basin takes less energy than the best in {uncertainty.other_basin_wins * 100:.0f} % of draws")
+
+
+def uncertainty_json(uncertainty: Uncertainty) -> dict[str, Any]:
+    """JSON-ready error bars (SI; the gain a share): the parameters with ranges and status, each quantity's value,
+    first-order interval and sampled range, and the share of draws in which another basin wins."""
+    def interval(value: Interval | None) -> dict[str, float] | None:
+        return None if value is None else {"value": value.value, "low": value.low, "high": value.high,
+                                           "sampled_low": value.sampled_low, "sampled_high": value.sampled_high}
+
+    return {"method": uncertainty.method, "samples": uncertainty.samples,
+            "parameters": [{"key": p.key, "status": p.status, "value": p.value, "low": p.low, "high": p.high}
+                           for p in uncertainty.parameters],
+            "best_energy_J": interval(uncertainty.best), "worst_energy_J": interval(uncertainty.worst),
+            "gain": interval(uncertainty.gain), "other_basin_wins": uncertainty.other_basin_wins}
+
+
 def format_tolerance(box: ToleranceBox, subject: str) -> str:
     """One line: the tolerance box's half-widths (mm, degrees) and how it was checked."""
     widths = ", ".join(f"{name} ± {np.degrees(width):.2f} deg" if angle_variable(name)
@@ -248,7 +319,8 @@ def format_result(robot: Robot, result: PlacementResult, rest_s: float = 0.0,
         if optimum is not None:
             box = (boxes or {}).get(key)
             blocks.append(format_detail(title, robot, optimum.detail, optimum.recheck_value, rest_s) + "\n"
-                          + _recheck_line(optimum) + ("" if box is None else "\n" + format_tolerance(box, words.subject)))
+                          + _recheck_line(optimum) + "\n" + format_basins(optimum)
+                          + ("" if box is None else "\n" + format_tolerance(box, words.subject)))
     if result.best is not None and result.worst is not None and not (result.best.holds and result.worst.holds):
         blocks.append(f"gain: not given, the {'best' if not result.best.holds else 'worst'} placement fails its "
                       "4x denser re-check")
@@ -315,6 +387,8 @@ def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None =
             out["recheck_energy_J"] = recheck
         out["evaluations"] = optimum.evaluations
         out["note"] = optimum.note
+        out["basins"] = basins_json(optimum)
+        out["basin_share"] = optimum.basin_share
         if optimum.guide_value is not None:
             out["guide"] = {"value": _finite(optimum.guide_value), "gap": _finite(optimum.guide_gap or 0.0)}
     return out

@@ -2,8 +2,9 @@
 
 :class:`Problem` gives the objective and the limits' margins of points of the free variables,
 each point evaluated once. The polish (SLSQP, forward-difference gradients in one batch) starts
-from the global search's best candidates of a few distinct basins; it ends on the feasible side
-of the limits it reaches, and goes on across a periodic variable's edge where it ends on one.
+from the best points of a few distinct regions the global search visited (:mod:`placement.search.basins`);
+it ends on the feasible side of the limits it reaches, and goes on across a periodic variable's edge where it
+ends on one.
 """
 
 from __future__ import annotations
@@ -18,11 +19,15 @@ from placement.evaluation.evaluator import Evaluator
 from placement.evaluation.results import Evaluation
 from placement.search.space import PlacementSpace
 
-POLISH_STARTS = 3  # distinct candidates polished locally
+POLISH_STARTS = 3  # starts of distinct basins polished locally (placement.search.basins)
 INWARD_SHARES = np.array([0.0, 1e-6, 1e-5, 1e-4, 1e-3])  # a repair's pulls towards the box centre, tried in order
 GRADIENT_STEP = 1e-7  # forward-difference step of the polish, as a share of each variable's range
+CURVATURE_STEP = 1e-3  # central-difference step of the polish's curvatures, as a share of each variable's range
+CURVATURE_ROOT_RANGE = (1e-3, 1e6)  # the square roots of those curvatures are kept within this range
 BASIN_RADIUS = 0.02  # candidates within this share of the box of one another share a basin
-EDGE_SHARE = 1e-6  # a polish ending within this share of a period of a periodic variable's edge goes on across it
+EDGE_SHARE = 1e-6  # a polish ending within this share of a range of its trust box's edge goes on from there
+TRUST_SHARE = 0.1  # the polish's trust box reaches this share of each variable's range either way
+TRUST_ROUNDS = 5  # trust boxes, at most, one after the other
 STALL_ITERATIONS = 10  # the polish stops when this many iterations improve the objective by at most
 STALL_TOLERANCE = 1e-9  # this share of it (SLSQP otherwise dithers on a limit until its iteration cap)
 
@@ -67,6 +72,17 @@ class Problem:
                 signed = self.sign * value
                 self.best_feasible = signed if self.best_feasible is None else min(self.best_feasible, signed)
 
+    def feasible_seen(self) -> tuple[np.ndarray, np.ndarray]:
+        """(K, n_free) the feasible points evaluated so far (every limit kept, finite objective) and (K,) their signed
+        objective (lower is better)."""
+        n = len(self.space.free)
+        seen = [(key, value) for key, (value, margins) in self._cache.items()
+                if math.isfinite(value) and (margins >= 0).all()]
+        if not seen:
+            return np.zeros((0, n)), np.zeros(0)
+        points = np.array([np.frombuffer(key, dtype=float) for key, _ in seen]).reshape(-1, n)
+        return points, self.sign * np.array([value for _, value in seen])
+
     def objective(self, points: np.ndarray) -> np.ndarray:
         """Signed objective of (n_free, S) or (n_free,) points (scipy's layouts)."""
         value, _ = self.lookup(np.asarray(points).T)
@@ -79,17 +95,25 @@ class Problem:
 
 
 def polish_across(problem: Problem, start: np.ndarray, space: PlacementSpace) -> np.ndarray:
-    """The polish from ``start`` in the space's box; if it ends on a periodic variable's edge, on again from there
-    in a box that leaves that variable free for half a period either way (the objective wraps it: no bound cuts
-    through a basin at the range's edge). The result lies in the space's range."""
-    x = _polish(problem, start, list(zip(space.lower, space.upper)))
-    edge = EDGE_SHARE * np.where(space.period > 0, space.period, np.inf)
-    if not ((np.abs(x - space.lower) <= edge) | (np.abs(x - space.upper) <= edge)).any():
-        return x
-    half = space.period / 2
-    cyclic = half > 0
-    box = list(zip(np.where(cyclic, x - half, space.lower), np.where(cyclic, x + half, space.upper)))
-    return space.wrap(_polish(problem, x, box))
+    """The polish from ``start`` in a trust box of TRUST_SHARE of the space's range either way of it (within the
+    space's bounds, but across a periodic variable's edge: the objective wraps it, and no bound cuts through a basin
+    there, where the paper's groove has one), again from where it ends while that is on the trust box's edge, at
+    most TRUST_ROUNDS times: SLSQP's first steps, before it knows the curvature, otherwise leave the basin. The
+    result lies in the space's range."""
+    cyclic = space.period > 0
+    reach = TRUST_SHARE * np.where(cyclic, space.period, space.upper - space.lower)
+    x = np.asarray(start, dtype=float)
+    for _ in range(TRUST_ROUNDS):
+        low = np.where(cyclic, x - reach, np.maximum(space.lower, x - reach))
+        high = np.where(cyclic, x + reach, np.minimum(space.upper, x + reach))
+        polished = _polish(problem, x, list(zip(low, high)))
+        edge = EDGE_SHARE * np.where(cyclic, space.period, space.upper - space.lower)
+        on_trust_edge = ((np.abs(polished - low) <= edge) & (cyclic | (low > space.lower))) | (
+            (np.abs(polished - high) <= edge) & (cyclic | (high < space.upper)))
+        x = space.wrap(polished)
+        if not on_trust_edge.any():
+            break
+    return x
 
 
 def inward_until_feasible(problem: Problem, x: np.ndarray, space: PlacementSpace) -> np.ndarray | None:
@@ -101,42 +125,30 @@ def inward_until_feasible(problem: Problem, x: np.ndarray, space: PlacementSpace
     return candidates[np.argmax(feasible)] if feasible.any() else None
 
 
-def distinct_basins(candidates: np.ndarray, space: PlacementSpace) -> list[np.ndarray]:
-    """The best candidates of POLISH_STARTS distinct basins, best first: skipping any within BASIN_RADIUS of the box
-    of one already kept (across a periodic variable's wrap too)."""
-    kept: list[np.ndarray] = []
-    for candidate in candidates:
-        if not _near(candidate, kept, space):
-            kept.append(candidate)
-        if len(kept) == POLISH_STARTS:
-            break
-    return kept
-
-
-def _near(point: np.ndarray, others: list[np.ndarray], space: PlacementSpace) -> bool:
-    """Whether ``point`` lies within BASIN_RADIUS of the box of one of ``others`` (across a periodic variable's wrap too)."""
-    scale = np.where(space.upper > space.lower, space.upper - space.lower, 1.0)
-    return any(np.abs(space.difference(point, other) / scale).max() <= BASIN_RADIUS for other in others)
-
-
 def _polish(problem: Problem, start: np.ndarray, bounds: list) -> np.ndarray:
-    """SLSQP from ``start``; from a feasible start, returns a feasible point at least as good."""
-    scale = np.array([hi - lo if hi > lo else 1.0 for lo, hi in bounds])  # search in box units
+    """SLSQP from ``start``, in variables of unit curvature (:func:`_unit_curvature`); from a feasible start, returns a
+    feasible point at least as good."""
+    box = np.array([hi - lo if hi > lo else 1.0 for lo, hi in bounds])
+    scale = box / _unit_curvature(problem, start, box)  # a placement is u * scale
+    step = GRADIENT_STEP * box / scale  # in u: GRADIENT_STEP of each variable's range
 
     def differences(u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Forward-difference gradient of the objective and Jacobian of the margins, in one batch."""
-        points = (u + np.vstack([np.zeros(len(u)), GRADIENT_STEP * np.eye(len(u))])) * scale
+        points = (u + np.vstack([np.zeros(len(u)), np.diag(step)])) * scale
         value, margins = problem.lookup(points)
-        return (problem.sign * (value[1:] - value[0]) / GRADIENT_STEP,
-                (margins[1:] - margins[0]).T / GRADIENT_STEP)
+        return problem.sign * (value[1:] - value[0]) / step, (margins[1:] - margins[0]).T / step
 
+    iterates: list[np.ndarray] = []
     result = minimize(lambda u: problem.objective(u * scale)[0], start / scale, method="SLSQP",
-                      jac=lambda u: differences(u)[0], callback=_stall_detector(),
+                      jac=lambda u: differences(u)[0], callback=_stall_detector(iterates),
                       bounds=[(lo / s, hi / s) for (lo, hi), s in zip(bounds, scale)],
                       constraints=[{"type": "ineq", "fun": lambda u: problem.margins(u * scale),
                                     "jac": lambda u: differences(u)[1]}],
                       options={"maxiter": 100, "ftol": 1e-10})
-    polished = np.clip(result.x * scale, [b[0] for b in bounds], [b[1] for b in bounds])
+    lows, highs = [b[0] for b in bounds], [b[1] for b in bounds]
+    polished = np.clip(result.x * scale, lows, highs)
+    best_iterate = _best_feasible(problem, [np.clip(u * scale, lows, highs) for u in [result.x, *iterates]])
+    polished = polished if best_iterate is None else best_iterate
     if not (problem.lookup(start)[1] >= 0).all():  # an infeasible start: take what SLSQP reached
         return polished
     polished = _feasible_towards(problem, start, polished)
@@ -145,11 +157,27 @@ def _polish(problem: Problem, start: np.ndarray, bounds: list) -> np.ndarray:
     return polished if problem.sign * value[0] <= problem.sign * start_value[0] else start
 
 
-def _stall_detector() -> Callable[..., None]:
-    """An SLSQP callback that stops the polish once STALL_ITERATIONS iterations gained at most STALL_TOLERANCE."""
+def _unit_curvature(problem: Problem, x: np.ndarray, box: np.ndarray) -> np.ndarray:
+    """Per variable, the square root of the signed objective's second derivative at ``x`` in box units (central
+    differences of CURVATURE_STEP of the box, one batch), or 1 where it is not positive and finite (a limit or the
+    reach's edge nearby, or a saddle): the polish divides each variable by it, so that SLSQP's first guess of the
+    Hessian, the identity, fits (the groove's is otherwise conditioned 1:10,000, and SLSQP's first steps leave the
+    basin)."""
+    n = len(x)
+    steps = np.diag(CURVATURE_STEP * box)
+    value = problem.sign * problem.lookup(np.vstack([x, x + steps, x - steps]))[0]
+    second = (value[1:n + 1] + value[n + 1:] - 2 * value[0]) / CURVATURE_STEP**2
+    usable = np.isfinite(second) & (second > 0)
+    return np.clip(np.sqrt(np.where(usable, second, 1.0)), *CURVATURE_ROOT_RANGE)
+
+
+def _stall_detector(iterates: list[np.ndarray]) -> Callable[..., None]:
+    """An SLSQP callback that stops the polish once STALL_ITERATIONS iterations gained at most STALL_TOLERANCE, and
+    keeps every iterate in ``iterates`` (SLSQP's iterates may go uphill, and its result is the last one)."""
     history: list[float] = []
 
     def callback(intermediate_result: OptimizeResult) -> None:  # scipy passes the result by this name
+        iterates.append(np.array(intermediate_result.x, dtype=float))
         history.append(float(intermediate_result.fun))
         if len(history) > STALL_ITERATIONS:
             before = history[-STALL_ITERATIONS - 1]
@@ -157,6 +185,15 @@ def _stall_detector() -> Callable[..., None]:
                 raise StopIteration
 
     return callback
+
+
+def _best_feasible(problem: Problem, points: list[np.ndarray]) -> np.ndarray | None:
+    """The best of ``points`` that keeps every limit (all evaluated already: no new evaluation), or None."""
+    values, margins = problem.lookup(np.array(points))
+    usable = (margins >= 0).all(axis=1) & np.isfinite(values)
+    if not usable.any():
+        return None
+    return points[int(np.argmin(np.where(usable, problem.sign * values, np.inf)))]
 
 
 def _feasible_towards(problem: Problem, feasible: np.ndarray, target: np.ndarray) -> np.ndarray:

@@ -5,8 +5,10 @@ that the gain of placing well can be reported. Strategy, per direction: a global
 scipy's differential evolution over the free placement variables, with the limits as constraints
 (a feasible placement always beats an infeasible one, and infeasible ones are ranked by how far
 they break the limits, so they steer the search and never stop it), on the path sampled with
-about ``search_samples`` samples; then a local constrained polish (SLSQP) from the best few
-distinct candidates, on the path sampled at its own time step, which the reported values use.
+about ``search_samples`` samples; then a local constrained polish (SLSQP) from the best point of
+each of a few distinct regions the global search visited, on the path sampled at its own time step, which the
+reported values use; the distinct polished optima are the basins, and those close to the best are reported beside
+it (:mod:`placement.search.basins`).
 An angle whose range is its whole turn (or half of it, by the path's half-turn symmetry) is
 periodic: the objective wraps it, and the polish is free to cross the range's edge (no bound
 cuts through a basin there).
@@ -43,8 +45,9 @@ from placement.evaluation.parallel import process_pool
 from placement.evaluation.results import Evaluation, PlacementDetail
 from placement.path.toolpath import ToolPath
 from placement.robot.model import Robot
+from placement.search.basins import RUNNER_UP_SHARE, Basin, basin_starts, distinct, scaled_distance, unresolved
 from placement.search.coarse_guide import SearchModels, guide_value, search_models
-from placement.search.local import POLISH_STARTS, Problem, distinct_basins, inward_until_feasible, polish_across
+from placement.search.local import BASIN_RADIUS, POLISH_STARTS, Problem, inward_until_feasible, polish_across
 from placement.search.reporting import binding, reported_point
 from placement.search.space import PlacementSpace, default_space
 from placement.search.tolerance import ToleranceBox, tolerance_box
@@ -71,6 +74,8 @@ class SearchSettings:
         box_within: The share of the objective (0.01: 1 %) that the tolerance box around each optimum keeps
             (:mod:`placement.search.tolerance`, found on the polish's model right after its direction's search,
             in its process), or None for no box.
+        basin_share: The share of the objective within which other basins (distinct local optima) are reported
+            beside each optimum (0.05: those at most 5 % worse).
     """
 
     population: int = 48
@@ -81,6 +86,7 @@ class SearchSettings:
     best: bool = True
     worst: bool = True
     box_within: float | None = None
+    basin_share: float = RUNNER_UP_SHARE
 
 
 @dataclass(frozen=True)
@@ -100,6 +106,9 @@ class Optimum:
         guide_value: When guides steered the search (:mod:`placement.search.coarse_guide`), the objective at the
             same placement on the polish's guide, else None.
         tolerance: The tolerance box around it, when the search was asked for one (``SearchSettings.box_within``).
+        basins: The other distinct local optima the search found within ``SearchSettings.basin_share`` of it, as
+            printed, best first (:mod:`placement.search.basins`).
+        basin_share: That share (0.05: basins at most 5 % worse are listed).
     """
 
     detail: PlacementDetail
@@ -110,6 +119,14 @@ class Optimum:
     note: str | None = None
     guide_value: float | None = None
     tolerance: ToleranceBox | None = None
+    basins: tuple[Basin, ...] = ()
+    basin_share: float = RUNNER_UP_SHARE
+
+    @property
+    def unresolved(self) -> tuple[Basin, ...]:
+        """The other basins within the 4x denser re-check's resolution of this optimum: their objective differs from
+        this one's by less than either one changes on the denser sampling, so the sampling may decide the ranking."""
+        return tuple(b for b in self.basins if unresolved(self.detail.value, self.recheck_value, b))
 
     @property
     def holds(self) -> bool:
@@ -177,15 +194,44 @@ class PlacementResult:
 
 
 def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: float, settings: SearchSettings,
-            progress: Callable[[], None] | None) -> tuple[list[np.ndarray], Problem]:
-    """Global search on the coarse sampling, polish on the fine one.
+            progress: Callable[[], None] | None) -> tuple[list[np.ndarray], Problem, list[np.ndarray]]:
+    """Global search on the coarse sampling, polish on the fine one, from the best point of each of a few distinct
+    regions the global search visited (:mod:`placement.search.basins`).
 
     Returns:
-        The feasible candidates, best first: the polished points, then the global search's
-        feasible ones (empty if there is none); and the problem that explains why there is none:
-        the coarse one when the global search found nothing feasible, else the fine one.
+        The feasible candidates, best first: the polished points, then the global search's final population's
+        feasible ones (empty if there is none); the problem that explains why there is none: the coarse one
+        when the global search found nothing feasible, else the fine one; and the distinct polished optima (the
+        basins), best first.
     """
     problem = Problem(coarse, space, sign)
+    population = _global(problem, space, settings, progress)
+    values, margins = problem.lookup(population)
+    feasible = (margins >= 0).all(axis=1) & np.isfinite(values)
+    if not feasible.any():
+        return [], problem, []
+    ranked = population[feasible][np.argsort(sign * values[feasible])]
+    local = Problem(fine, space, sign)
+    fine_margins = local.lookup(ranked)[1]  # one batch
+    kept = ranked[(fine_margins >= 0).all(axis=1)]
+    starts = basin_starts(*problem.feasible_seen(), space, POLISH_STARTS)
+    starts = starts[(local.lookup(starts)[1] >= 0).all(axis=1)] if len(starts) else starts
+    if not len(starts):
+        starts = kept[:1]
+    if not len(starts):  # the finer sampling breaks a limit the coarse one missed: repair the closest
+        closest = ranked[np.argmin(np.clip(-fine_margins, 0.0, None).sum(axis=1))]
+        repaired = inward_until_feasible(local, polish_across(local, closest, space), space)
+        return ([] if repaired is None else [repaired]), local, ([] if repaired is None else [repaired])
+    polished = [polish_across(local, start, space) for start in starts]
+    signed = [sign * local.lookup(x)[0][0] for x in polished]
+    polished = [polished[k] for k in np.argsort(signed, kind="stable")]
+    basins = [polished[k] for k in distinct(polished, sorted(signed), space, BASIN_RADIUS)]
+    return polished + list(kept), local, basins
+
+
+def _global(problem: Problem, space: PlacementSpace, settings: SearchSettings,
+            progress: Callable[[], None] | None) -> np.ndarray:
+    """The global search (differential evolution, the limits as constraints): its final population (free values)."""
     bounds = list(zip(space.lower, space.upper))  # a periodic variable's edge is wrapped by the polish
     n_limits = problem.margins(space.lower[:, None]).shape[0]
     constraint = NonlinearConstraint(problem.margins, np.zeros(n_limits), np.full(n_limits, np.inf))
@@ -202,22 +248,7 @@ def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: flo
         problem.objective, bounds, constraints=constraint, vectorized=True, updating="deferred",
         popsize=_popsize(settings, len(bounds)), maxiter=settings.max_generations, tol=settings.tolerance,
         polish=False, init="sobol", rng=np.random.default_rng(settings.seed), callback=generation_done)
-    population = space.wrap(np.asarray(result.population))
-    values, margins = problem.lookup(population)
-    feasible = (margins >= 0).all(axis=1) & np.isfinite(values)
-    if not feasible.any():
-        return [], problem
-    ranked = population[feasible][np.argsort(sign * values[feasible])]
-    local = Problem(fine, space, sign)
-    fine_margins = local.lookup(ranked)[1]  # one batch
-    starts = ranked[(fine_margins >= 0).all(axis=1)]
-    if not len(starts):  # the finer sampling breaks a limit the coarse one missed: repair the closest
-        closest = ranked[np.argmin(np.clip(-fine_margins, 0.0, None).sum(axis=1))]
-        repaired = inward_until_feasible(local, polish_across(local, closest, space), space)
-        return ([] if repaired is None else [repaired]), local
-    polished = [polish_across(local, start, space) for start in distinct_basins(starts, space)]
-    polished.sort(key=lambda x: sign * local.lookup(x)[0][0])
-    return polished + list(starts), local
+    return space.wrap(np.asarray(result.population))
 
 
 def _popsize(settings: SearchSettings, free: int) -> int:
@@ -309,8 +340,8 @@ def estimate(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, settings
 class _Outcome:
     """One direction's search: its best point (None if no placement is feasible), the placements it evaluated,
     when none is feasible, why (the binding limit), why the point is not the search's own optimum, if not, its
-    4x denser re-check, when guides steered the search, the polish's guide's value there, and its tolerance box
-    if one was asked for."""
+    4x denser re-check, when guides steered the search, the polish's guide's value there, its tolerance box
+    if one was asked for, and the other basins within the search's share of it."""
 
     x: np.ndarray | None
     evaluations: int
@@ -319,6 +350,7 @@ class _Outcome:
     check: Evaluation | None = None
     guide_value: float | None = None
     box: ToleranceBox | None = None
+    basins: tuple[Basin, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -362,16 +394,39 @@ def _outcome(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: fl
     (``fine`` when None; else ``fine`` is a guide, see :mod:`placement.search.coarse_guide`)."""
     reported = fine if exact is None else exact
     before = coarse.evaluations + fine.evaluations + reported.evaluations * (exact is not None)
-    candidates, problem = _search(coarse, fine, space, sign, settings, progress)
+    candidates, problem, optima = _search(coarse, fine, space, sign, settings, progress)
     if not candidates:
         return _Outcome(None, coarse.evaluations + fine.evaluations - before, _binding_limit(problem, problem.evaluator))
     with denser(reported, RECHECK_DENSITY) as dense:
-        x, note, check = reported_point(candidates, reported, dense, space, sign, None if exact is None else fine)
+        guide_model = None if exact is None else fine
+        x, note, check = reported_point(candidates, reported, dense, space, sign, guide_model)
+        others = _other_basins(optima, x, problem, space, sign, settings.basin_share)
+        basins = tuple(_printed_basin(other, reported, dense, space, sign, guide_model) for other in others)
         guide = None if exact is None else guide_value(fine, space.full(x))
         evaluations = coarse.evaluations + fine.evaluations + reported.evaluations * (exact is not None)
         evaluations += dense.evaluations - before
     box = None if settings.box_within is None else _box_around(fine, space, x, sign, settings.box_within, exact is not None)
-    return _Outcome(x, evaluations, None, note, check, guide, box)
+    return _Outcome(x, evaluations, None, note, check, guide, box, basins)
+
+
+def _other_basins(optima: list[np.ndarray], x: np.ndarray, problem: Problem, space: PlacementSpace, sign: float,
+                  share: float) -> list[np.ndarray]:
+    """The polished optima of basins other than the reported point ``x``'s whose objective (on the polish's model)
+    is within ``share`` of the reported point's, best first."""
+    reference = problem.lookup(x)[0][0]
+    return [o for o in optima if scaled_distance(o, x, space) > BASIN_RADIUS
+            and sign * (problem.lookup(o)[0][0] - reference) <= share * abs(reference)]
+
+
+def _printed_basin(x: np.ndarray, reported: Evaluator, dense: Evaluator, space: PlacementSpace, sign: float,
+                   guide: Evaluator | None) -> Basin:
+    """A runner-up basin's optimum as the report prints it (:func:`reported_point`), with its objective on the
+    path's own sampling and the denser one."""
+    printed, note, check = reported_point([x], reported, dense, space, sign, guide)
+    placement = space.full(printed)[0]
+    value = float(reported.evaluate(placement[None]).value[0])
+    recheck = float(check.value[0]) if check is not None else float("nan")
+    return Basin(placement=placement, value=value, recheck_value=recheck, holds=note is None)
 
 
 def _box_around(fine: Evaluator, space: PlacementSpace, x: np.ndarray, sign: float, within: float,
@@ -448,7 +503,8 @@ def search_evaluators(coarse: Evaluator, fine: Evaluator, space: PlacementSpace,
                                    recheck_margin=float(check.margins[0, tightest]),
                                    recheck_limit=check.limits[tightest],
                                    evaluations=outcome.evaluations + evaluator.evaluations - before, note=outcome.note,
-                                   guide_value=outcome.guide_value, tolerance=outcome.box)
+                                   guide_value=outcome.guide_value, tolerance=outcome.box, basins=outcome.basins,
+                                   basin_share=settings.basin_share)
     return PlacementResult(best=found["best"], worst=found["worst"], space=space, objective=evaluator.objective_name,
                            regeneration=evaluator.settings.regeneration, infeasible=infeasible)
 

@@ -1,0 +1,87 @@
+"""Basins: the distinct local optima of a search, not a single point.
+
+A global search's final population has usually gathered in one basin; which one can depend on the seed
+(the paper's groove has two, the rectangle turned by about 0° and by about 90°, 0.02 % apart). So the
+polish starts from the best point of each region the global search has *visited*, not only from its
+final population: among every feasible placement it evaluated, a start is one that no better feasible
+placement lies within START_RADIUS of (a share of the box along each free variable, across a periodic
+variable's wrap too). The best :data:`placement.search.local.POLISH_STARTS` of those are polished; the polished optima closer than
+:data:`placement.search.local.BASIN_RADIUS` to a better one are the same basin, and the others are the
+search's basins, best first.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from placement.search.space import PlacementSpace
+
+START_RADIUS = 0.1  # a visited point is a start when no better feasible one lies within this share of the box
+START_POOL = 2_000  # best feasible visited points among which the starts are found (the distance matrix's side)
+RUNNER_UP_SHARE = 0.05  # basins within this share of the best's objective are reported beside it
+
+
+@dataclass(frozen=True)
+class Basin:
+    """A distinct local optimum of one direction's search, as the report prints it.
+
+    Attributes:
+        placement: (6,) the placement as printed (m, rad).
+        value: The objective there, at the path's own sampling.
+        recheck_value: The objective there on the 4x denser sampling (NaN when it fails that re-check).
+        holds: Whether every limit holds there, once printed, on the path's samples and the denser ones.
+    """
+
+    placement: np.ndarray
+    value: float
+    recheck_value: float
+    holds: bool
+
+
+def scaled_distance(a: np.ndarray, b: np.ndarray, space: PlacementSpace) -> np.ndarray:
+    """The largest distance along any free variable between points ``a`` (..., n) and ``b`` (..., n), as a share of
+    that variable's range (the shorter way round a periodic one)."""
+    scale = np.where(space.upper > space.lower, space.upper - space.lower, 1.0)
+    return np.abs(space.difference(a, b) / scale).max(axis=-1)
+
+
+def basin_starts(points: np.ndarray, signed: np.ndarray, space: PlacementSpace, count: int) -> np.ndarray:
+    """The best ``count`` visited points that no better one lies within START_RADIUS of (module docstring).
+
+    Args:
+        points: (K, n_free) feasible points the global search evaluated.
+        signed: (K,) their objective, signed so that lower is better.
+        space: The search space.
+        count: Starts wanted, at most.
+
+    Returns:
+        (m, n_free) the starts, best first (m ≤ count).
+    """
+    order = np.argsort(signed, kind="stable")[:START_POOL]
+    pool = points[order]
+    starts: list[int] = []
+    for k in range(len(pool)):  # best first: a point is a start unless a better one (earlier) is near
+        if k == 0 or scaled_distance(pool[k], pool[:k], space).min() > START_RADIUS:
+            starts.append(k)
+            if len(starts) == count:
+                break
+    return pool[starts]
+
+
+def distinct(optima: list[np.ndarray], signed: list[float], space: PlacementSpace,
+             radius: float) -> list[int]:
+    """Indices of the optima that are no closer than ``radius`` (share of the box) to a better one, best first."""
+    kept: list[int] = []
+    for k in np.argsort(signed, kind="stable"):
+        if all(scaled_distance(optima[k], optima[j], space) > radius for j in kept):
+            kept.append(int(k))
+    return kept
+
+
+def unresolved(best_value: float, best_recheck: float, basin: Basin) -> bool:
+    """Whether a runner-up basin is within the 4x re-check's resolution of the best: the two objectives differ by
+    less than either one's change on the denser sampling (the sampling, not the placement, may then decide)."""
+    resolution = max(abs(best_recheck - best_value), abs(basin.recheck_value - basin.value))
+    return bool(not np.isfinite(resolution) or abs(basin.value - best_value) <= resolution)
