@@ -22,6 +22,7 @@ import viser  # optional dependency: the [app] extra, checked by placement.app
 
 from placement.app.compare import ComparePanel, ExportPanel
 from placement.app.evaluations import Bench, Choices, Reading, shown_value, si_value
+from placement.app.guard import guarded_server
 from placement.app.searches import FrontPanel, MapPanel, OptimisePanel
 from placement.contract.objective import OBJECTIVES, quantity, wording
 from placement.energy.regeneration import REGENERATION
@@ -121,12 +122,14 @@ class Workbench:
         bench: The model.
         host: Address to listen on (127.0.0.1: this machine only).
         port: Port (0: the first free one from 8080).
+        origins: Origins besides this server's own whose pages may use it (``--allow-origin``), see
+            :mod:`placement.app.guard`.
     """
 
-    def __init__(self, bench: Bench, host: str = "127.0.0.1", port: int = 0) -> None:
+    def __init__(self, bench: Bench, host: str = "127.0.0.1", port: int = 0, origins: tuple[str, ...] = ()) -> None:
         self.bench, self.robot = bench, bench.robot
-        self.server = viser.ViserServer(host=host, port=port or 8080, verbose=False)
-        self.server.gui.configure_theme(control_width="large", show_logo=False)
+        self.server, self.gate = guarded_server(host, port or 8080, origins)
+        self.server.on_client_connect(lambda client: self.guard(lambda: self._tell_sharing(client)))
         self.placement = bench.start()
         self.reading: Reading | None = None
         self.exact_detail: PlacementDetail | None = None
@@ -141,9 +144,21 @@ class Workbench:
 
     @property
     def url(self) -> str:
-        """The page's address."""
+        """The page's address, with the session's token (the page is served to no other)."""
         host = self.server.get_host()
-        return f"http://{host if ':' not in host else f'[{host}]'}:{self.server.get_port()}/"
+        return f"http://{host if ':' not in host else f'[{host}]'}:{self.server.get_port()}/?token={self.gate.token}"
+
+    def _tell_sharing(self, client: Any) -> None:
+        """Every tab shows the one placement of this workbench: a tab opened beside another is told so, and so are
+        the others."""
+        clients = self.server.get_clients()
+        if len(clients) < 2:
+            return
+        for other in clients.values():
+            other.add_notification(
+                "Shared workbench", f"{len(clients)} tabs show this workbench: a value typed or a search started in "
+                "one shows in all of them (one placement per workbench; start another 'placement app' for another).",
+                auto_close_seconds=12.0, color="yellow")
 
     # --- the scene -------------------------------------------------------------------------------------
     def _draw_scene(self) -> None:
