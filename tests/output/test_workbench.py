@@ -195,3 +195,88 @@ def test_the_app_started_with_no_input_serves_until_terminated(tmp_path):
     finally:
         server.kill()
         server.communicate()
+
+
+@pytest.fixture(scope="module")
+def served():
+    """A workbench served on loopback (its gate's token known to the test, as the printed address gives it)."""
+    from placement.app.page import Workbench
+
+    workbench = Workbench(Bench(load_robot("orthoglide"), load_path(EXAMPLE)))
+    try:
+        yield workbench
+    finally:
+        workbench.close()
+
+
+def _status(port: int, host: str, origin: str | None = None, cookie: str | None = None, path: str = "/",
+            websocket: bool = False) -> int:
+    """The HTTP status a raw request (or websocket handshake) with these headers gets."""
+    import socket
+
+    lines = [f"GET {path} HTTP/1.1", f"Host: {host}"]
+    lines += [f"Origin: {origin}"] if origin else []
+    lines += [f"Cookie: {cookie}"] if cookie else []
+    if websocket:
+        lines += ["Upgrade: websocket", "Connection: Upgrade", "Sec-WebSocket-Version: 13",
+                  "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==", "Sec-WebSocket-Protocol: viser-v0"]
+    with socket.create_connection(("127.0.0.1", port), timeout=30) as connection:
+        connection.sendall(("\r\n".join(lines) + "\r\n\r\n").encode())
+        return int(connection.recv(256).split(b" ", 2)[1])
+
+
+def test_only_this_machines_page_with_the_token_is_served(served):
+    port, token = served.server.get_port(), served.gate.token
+    own, cookie = f"127.0.0.1:{port}", f"{served.gate.cookie}={token}"
+    assert _status(port, own, path=f"/?token={token}") == 200  # the printed address
+    assert _status(port, f"localhost:{port}", path=f"/?token={token}") == 200
+    assert _status(port, own) == 403  # no token
+    assert _status(port, own, path="/?token=guess") == 403
+    assert _status(port, f"evil.example:{port}", path=f"/?token={token}") == 403  # DNS rebinding
+    assert _status(port, own, origin="http://evil.example", path=f"/?token={token}") == 403
+    assert _status(port, own, origin=f"http://{own}", cookie=cookie, websocket=True) == 101  # the page's own socket
+    assert _status(port, own, origin="http://evil.example", cookie=cookie, websocket=True) == 403
+    assert _status(port, f"evil.example:{port}", origin=f"http://evil.example:{port}", cookie=cookie,
+                   websocket=True) == 403
+    assert _status(port, own, origin=f"http://{own}", websocket=True) == 403  # no cookie: another local page
+    assert any("Origin 'http://evil.example'" in why for why in served.gate.refused)
+
+
+def test_every_answer_forbids_framing_and_sniffing(served):
+    import urllib.request
+
+    with urllib.request.urlopen(served.url, timeout=30) as response:
+        headers = response.headers
+        assert headers["X-Frame-Options"] == "DENY" and "frame-ancestors 'none'" in headers["Content-Security-Policy"]
+        assert headers["X-Content-Type-Options"] == "nosniff" and headers["Referrer-Policy"] == "no-referrer"
+        assert "HttpOnly" in headers["Set-Cookie"] and "SameSite=Strict" in headers["Set-Cookie"]
+
+
+def test_a_share_request_is_refused_and_a_malformed_frame_logged_in_one_line(served, caplog):
+    import logging
+
+    import msgspec
+    import viser
+    from websockets.sync.client import connect
+
+    from placement.app.guard import GuardedServer
+
+    port, own = served.server.get_port(), f"127.0.0.1:{served.server.get_port()}"
+    before = GuardedServer.share_refusals
+    with caplog.at_level(logging.WARNING):
+        with connect(f"ws://{own}/", origin=f"http://{own}", subprotocols=[f"viser-v{viser.__version__}"],
+                     additional_headers={"Cookie": f"{served.gate.cookie}={served.gate.token}"}) as socket:
+            socket.send(msgspec.msgpack.encode({"type": "ShareUrlRequest"}))
+            for _ in range(100):
+                if GuardedServer.share_refusals > before:
+                    break
+                time.sleep(0.1)
+            socket.send(b"\xc1 not a message")
+            with pytest.raises(Exception):  # the server closes the connection
+                for _ in range(1000):
+                    socket.recv(timeout=30)
+    assert GuardedServer.share_refusals == before + 1
+    assert served.server._share_tunnel is None  # no tunnel was opened
+    assert any("share" in record.getMessage() for record in caplog.records)
+    failed = [record for record in caplog.records if "connection handler failed" in record.getMessage()]
+    assert failed and all("\n" not in record.getMessage() and record.exc_info is None for record in failed)
