@@ -40,6 +40,7 @@ PATH_COLOR, CUBE_COLOR = (0, 176, 80), (48, 48, 48)
 ROBOT_OPACITY = 0.6  # the path and the tool point stay in sight inside the moving platform
 CELL_OPACITY = {"tool": 1.0, "obstacle": 0.5, "keep_out": 0.15}
 TIMINGS = ("path file's", "paper", "realistic", "optimal")
+TYPING_PAUSE_S = 1.5  # a field's values are read this long after the last key, if Enter was not pressed
 
 
 def _wxyz(rotation: np.ndarray) -> np.ndarray:
@@ -136,6 +137,7 @@ class Workbench:
         self._syncing = False
         self._wanted: np.ndarray | None = None  # the latest placement asked for a live reading
         self._wake = threading.Condition()
+        self._typing: threading.Timer | None = None  # reads the fields once typing pauses
         self._closed = False
         self._draw_scene()
         self._build_gui()
@@ -240,17 +242,26 @@ class Workbench:
         gui.add_markdown(f"**{html.escape(robot.name)}**: {html.escape(path.name)}")
         lower, upper = self._bounds()
         self.fields: dict[str, Any] = {}
-        with gui.add_folder("Placement (mm, degrees)"):
+        self._written: dict[str, str] = {}  # each field's text as the page last wrote it
+        with gui.add_form("Placement (mm, degrees)") as form:
             for k, name in enumerate(VARIABLES):
                 unit = "deg" if name in ANGLES else "mm"
-                field = gui.add_number(f"{name} ({unit})", round(shown_value(name, self.placement[k]), 6),
-                                       min=round(shown_value(name, lower[k]), 6), max=round(shown_value(name, upper[k]), 6),
-                                       step=0.01, disabled=name not in self.bench.space.free)
-                field.on_update(lambda _, name=name: self.guard(lambda: self._field_changed()))
+                free = name in self.bench.space.free
+                bounds = (f"from {shown_value(name, lower[k]):.6g} to {shown_value(name, upper[k]):.6g} {unit}" if free
+                          else f"fixed at {shown_value(name, lower[k]):.6g} {unit}")
+                field = gui.add_text(f"{name} ({unit})", "", disabled=not free,
+                                     hint=f"{name}, {bounds}: type a number (1e3 is 1000) and press Enter")
+                field.on_update(lambda event: self._typed(event))
                 self.fields[name] = field
-            self.at_text = gui.add_text("--at", "", hint="a placement as --at takes it: x=0,y=0,z=-20,phi=30 (mm, deg)")
+            self.go_button = gui.add_button("Go to these values", hint="evaluate the values typed above (or press Enter)")
+        form.on_submit(lambda _: self.guard(self._fields_given))
+        self.go_button.on_click(lambda _: self.guard(self._fields_given))
+        with gui.add_form("--at", expand_by_default=False) as at_form:
+            self.at_text = gui.add_text("--at", "", hint="a placement as --at takes it: x=0,y=0,z=-20,phi=30 (mm, deg); "
+                                                         "values left out keep the current ones")
             self.at_button = gui.add_button("Evaluate")
-            self.at_button.on_click(lambda _: self.guard(self._at_given))
+        at_form.on_submit(lambda _: self.guard(self._at_given))
+        self.at_button.on_click(lambda _: self.guard(self._at_given))
         self.message = gui.add_html("")
         with gui.add_folder("Live (coarse sampling)"):
             self.live_html = gui.add_html("")
@@ -300,13 +311,15 @@ class Workbench:
                                    f"{html.escape(text)}</p>"
 
     # --- placements --------------------------------------------------------------------------------------
-    def set_placement(self, placement: np.ndarray, exact: bool, move_gizmo: bool = True) -> None:
-        """Go to a placement (clamped to the free variables' bounds): the fields, the gizmo, the readings."""
+    def set_placement(self, placement: np.ndarray, exact: bool, move_gizmo: bool = True,
+                      write_fields: bool = True) -> None:
+        """Go to a placement (clamped to the free variables' bounds): the fields (unless they hold what was just
+        typed), the gizmo, the readings."""
         self.placement = self.bench.clamp(placement)
         self._syncing = True
         try:
-            for k, name in enumerate(VARIABLES):
-                self.fields[name].value = round(shown_value(name, self.placement[k]), 6)
+            if write_fields:
+                self._write_fields(self.placement)
             if move_gizmo:
                 self.gizmo.position = tuple(self.placement[:3])
                 self.gizmo.wxyz = tuple(_wxyz(placement_pose(self.placement)[0][0]))
@@ -346,17 +359,61 @@ class Workbench:
     def _dragged_to(self, placement: np.ndarray) -> None:
         self._syncing = True
         try:
-            for k, name in enumerate(VARIABLES):
-                self.fields[name].value = round(shown_value(name, placement[k]), 6)
+            self._write_fields(placement)
         finally:
             self._syncing = False
         self._show_live(self.bench.live(placement))
 
-    def _field_changed(self) -> None:
-        if self._syncing:
+    def _write_fields(self, placement: np.ndarray) -> None:
+        """The fields show a placement (mm and degrees to 1e-6, as typed back they give it again)."""
+        for k, name in enumerate(VARIABLES):
+            text = format(round(shown_value(name, placement[k]), 6) + 0.0, ".12g")
+            self._written[name] = text
+            self.fields[name].value = text
+
+    def _typed(self, event: object) -> None:
+        """A key typed in a field: nothing is written back while typing; the values are read on Enter, on "Go to
+        these values", or once typing pauses for TYPING_PAUSE_S."""
+        if self._syncing or getattr(event, "client", None) is None:
             return
-        values = np.array([si_value(name, float(self.fields[name].value)) for name in VARIABLES])
-        self.set_placement(values, exact=True)
+        with self._wake:
+            if self._typing is not None:
+                self._typing.cancel()
+            self._typing = threading.Timer(TYPING_PAUSE_S, lambda: self.guard(self._fields_given))
+            self._typing.daemon = True
+            self._typing.start()
+
+    def _fields_given(self) -> None:
+        """Go to the values typed in the fields, read literally (1e3 is 1000); a value that is no number or lies
+        beyond its bound is named with the bound, its text kept, and nothing moves."""
+        with self._wake:
+            if self._typing is not None:
+                self._typing.cancel()
+                self._typing = None
+        values, problems = self.placement.copy(), []
+        lower, upper = self._bounds()
+        for k, name in enumerate(VARIABLES):
+            text = str(self.fields[name].value).strip()
+            if text == self._written.get(name) or name not in self.bench.space.free:
+                continue  # as the page wrote it: the exact current value, not its rounded text
+            unit = "deg" if name in ANGLES else "mm"
+            try:
+                shown = float(text)
+            except ValueError:
+                shown = float("nan")
+            if not np.isfinite(shown):
+                problems.append(f"{name}: {text!r} is not a number of {unit}")
+                continue
+            value = si_value(name, shown)
+            for bound, beyond, word in ((lower[k], value < lower[k] - 1e-12, "below its lower"),
+                                        (upper[k], value > upper[k] + 1e-12, "above its upper")):
+                if beyond:
+                    problems.append(f"{name} = {text} {unit} is {word} bound {shown_value(name, bound):.6g} {unit}")
+            values[k] = value
+        if problems:
+            raise SettingsError("; ".join(problems) + " (the text is kept; the placement did not move)")
+        if not np.array_equal(values, self.placement) or self.exact_detail is None:
+            self.set_placement(values, exact=True, write_fields=False)
 
     def _at_given(self) -> None:
         text = self.at_text.value.strip()
@@ -367,7 +424,7 @@ class Workbench:
                  and given[name] != self.bench.space.fixed[VARIABLES.index(name)]]
         if fixed:
             raise SettingsError(f"--at: {', '.join(fixed)} is fixed here (free: {', '.join(self.bench.space.free)})")
-        placement = np.array([given.get(name, 0.0) for name in VARIABLES])
+        placement = np.array([given.get(name, self.placement[k]) for k, name in enumerate(VARIABLES)])
         clamped = self.bench.clamp(placement)
         if not np.allclose(clamped, placement, atol=1e-12):
             outside = [name for k, name in enumerate(VARIABLES) if abs(clamped[k] - placement[k]) > 1e-12]

@@ -103,7 +103,7 @@ def test_the_gizmo_is_held_to_the_free_variables_and_read_in_the_placement_angle
         assert np.allclose(workbench.gizmo.position, AT[:3]) and np.allclose(
             workbench.gizmo.wxyz, _wxyz(rotation_zyx(np.radians(30), 0.0, 0.0)))  # the gizmo is put back
         assert workbench.exact_detail is not None and workbench.exact_detail.value == pytest.approx(bench_value(AT), abs=1e-9)
-        assert workbench.fields["phi"].value == pytest.approx(30.0)
+        assert float(workbench.fields["phi"].value) == pytest.approx(30.0)
         workbench.gizmo.position = (5.0, 0.0, 0.0)  # far beyond the workspace: held at its bound
         workbench._gizmo_event(SimpleNamespace(phase="update"))
         assert workbench.placement[0] == workbench.bench.space.upper[0]
@@ -280,3 +280,28 @@ def test_a_share_request_is_refused_and_a_malformed_frame_logged_in_one_line(ser
     assert any("share" in record.getMessage() for record in caplog.records)
     failed = [record for record in caplog.records if "connection handler failed" in record.getMessage()]
     assert failed and all("\n" not in record.getMessage() and record.exc_info is None for record in failed)
+
+
+def test_typed_values_are_read_literally_on_enter_and_a_bound_is_named_with_the_text_kept(served):
+    from types import SimpleNamespace
+
+    start = served.placement.copy()
+    x_upper = served.bench.space.upper[served.bench.space.free.index("x")] * 1e3
+    served.fields["x"].value = "1e3"  # 1000 mm: beyond the Orthoglide's x bound
+    with pytest.raises(PlacementError, match=f"x = 1e3 mm is above its upper bound {x_upper:.6g} mm"):
+        served._fields_given()
+    assert served.fields["x"].value == "1e3" and np.array_equal(served.placement, start)  # kept, not moved
+    served.fields["x"].value = "1.25e1"
+    served._fields_given()  # Enter
+    assert served.placement[0] == 0.0125 and served.fields["x"].value == "1.25e1"  # read as typed, not written back
+    assert served.exact_detail.value == pytest.approx(bench_value(served.placement), abs=1e-9)
+    served.fields["y"].value = "abc"
+    with pytest.raises(PlacementError, match="y: 'abc' is not a number of mm"):
+        served._fields_given()
+    served.set_placement(served.placement, exact=False)  # the page writes the fields back (a drag, Go to best)
+    served._typed(SimpleNamespace(client=object()))  # a key: read once typing pauses, never written back
+    assert served._typing is not None
+    served._fields_given()
+    served.at_text.value = "z=-20"  # --at: the values left out keep the current ones
+    served._at_given()
+    assert np.allclose(served.placement, [0.0125, start[1], -0.02, *start[3:]], atol=1e-15)
