@@ -36,8 +36,11 @@ from placement.robot.model import Robot
 from placement.robot.packages import description_geometry
 from placement.search.space import box_corners
 
-PATH_COLOR, CUBE_COLOR = (0, 176, 80), (48, 48, 48)
-ROBOT_OPACITY = 0.6  # the path and the tool point stay in sight inside the moving platform
+PATH_COLOR, CUBE_COLOR = (230, 0, 200), (48, 48, 48)  # the workpiece: a magenta that no robot, cell or limit uses
+FAILING_COLOR = (220, 0, 0)  # the workpiece where the placement is infeasible, and its failing sample
+ROBOT_OPACITY = 0.35  # the path and the tool point stay in sight inside the moving platform
+PALE = 235  # a mesh colour whose channels all exceed this is drawn ROBOT_TINT instead (white arms on a white page)
+ROBOT_TINT = (120, 140, 170)
 CELL_OPACITY = {"tool": 1.0, "obstacle": 0.5, "keep_out": 0.15}
 TIMINGS = ("path file's", "paper", "realistic", "optimal")
 TYPING_PAUSE_S = 1.5  # a field's values are read this long after the last key, if Enter was not pressed
@@ -78,6 +81,7 @@ class RobotDrawing:
         self.handles: list[tuple[int, Any]] = []
         for k, item in enumerate(self.visual.geometryObjects):
             geometry, color = item.geometry, tuple(int(255 * c) for c in item.meshColor[:3])
+            color = ROBOT_TINT if min(color) > PALE else color
             name, alpha = f"/robot/{k}", opacity.get(k, ROBOT_OPACITY * (float(item.meshColor[3]) or 1.0))
             kind = type(geometry).__name__
             if kind == "Box":
@@ -138,6 +142,7 @@ class Workbench:
         self._wanted: np.ndarray | None = None  # the latest placement asked for a live reading
         self._wake = threading.Condition()
         self._typing: threading.Timer | None = None  # reads the fields once typing pauses
+        self._moving = threading.RLock()  # one placement change at a time, each shown whole (never a stale one last)
         self._closed = False
         self._draw_scene()
         self._build_gui()
@@ -189,7 +194,11 @@ class Workbench:
             rotation_limits=tuple((lower[k], upper[k]) for k in (5, 4, 3)))
         local = self._path_in_frame()
         segments = np.stack([local[:-1], local[1:]], axis=1)
-        scene.add_line_segments("/plane/path/line", segments, PATH_COLOR, thickness=7, thickness_units="screen")
+        self._segments_shape = segments.shape
+        self.path_line = scene.add_line_segments("/plane/path/line", segments, PATH_COLOR, thickness=10,
+                                                 thickness_units="screen")
+        self.failing_mark = scene.add_icosphere("/failing_sample", radius=self._path_size() * 0.06, color=FAILING_COLOR,
+                                                visible=False)
         self._aim_camera()
         self.gizmo.on_update(self._gizmo_event)
 
@@ -214,6 +223,24 @@ class Workbench:
         camera.look_at = tuple(centre)
         camera.position = tuple(centre + direction * 2.0 * radius)
         camera.up = (0.0, 0.0, 1.0)
+
+    def _path_size(self) -> float:
+        """The path's largest extent (m)."""
+        local = self._path_in_frame()
+        return max(float(np.max(local.max(axis=0) - local.min(axis=0))), 1e-3)
+
+    def frame_workpiece(self) -> None:
+        """Every tab's camera looks at the placed path from close enough to see its shape."""
+        reading = self.reading
+        if reading is None:
+            return
+        points = reading.tool_position_m
+        centre = (points.min(axis=0) + points.max(axis=0)) / 2
+        direction = np.array([1.0, -1.2, 0.8]) / np.linalg.norm([1.0, -1.2, 0.8])
+        for client in self.server.get_clients().values():
+            client.camera.look_at = tuple(centre)
+            client.camera.position = tuple(centre + direction * 4.0 * self._path_size())
+            client.camera.up_direction = (0.0, 0.0, 1.0)
 
     def _bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """Each variable's bounds (fixed ones: their value), m and rad."""
@@ -240,9 +267,12 @@ class Workbench:
         gui: Any = self.server.gui  # handles whose values are set by the page too
         path, robot = self.bench.path, self.robot
         gui.add_markdown(f"**{html.escape(robot.name)}**: {html.escape(path.name)}")
+        self.frame_button = gui.add_button("Frame the workpiece", hint="look at the placed path from close by")
+        self.frame_button.on_click(lambda _: self.guard(self.frame_workpiece))
         lower, upper = self._bounds()
         self.fields: dict[str, Any] = {}
         self._written: dict[str, str] = {}  # each field's text as the page last wrote it
+        self._last_read: dict[str, str] = {}  # the fields' texts when they were last read
         with gui.add_form("Placement (mm, degrees)") as form:
             for k, name in enumerate(VARIABLES):
                 unit = "deg" if name in ANGLES else "mm"
@@ -256,7 +286,7 @@ class Workbench:
             self.go_button = gui.add_button("Go to these values", hint="evaluate the values typed above (or press Enter)")
         form.on_submit(lambda _: self.guard(self._fields_given))
         self.go_button.on_click(lambda _: self.guard(self._fields_given))
-        with gui.add_form("--at", expand_by_default=False) as at_form:
+        with gui.add_form(None) as at_form:
             self.at_text = gui.add_text("--at", "", hint="a placement as --at takes it: x=0,y=0,z=-20,phi=30 (mm, deg); "
                                                          "values left out keep the current ones")
             self.at_button = gui.add_button("Evaluate")
@@ -315,19 +345,20 @@ class Workbench:
                       write_fields: bool = True) -> None:
         """Go to a placement (clamped to the free variables' bounds): the fields (unless they hold what was just
         typed), the gizmo, the readings."""
-        self.placement = self.bench.clamp(placement)
-        self._syncing = True
-        try:
-            if write_fields:
-                self._write_fields(self.placement)
-            if move_gizmo:
-                self.gizmo.position = tuple(self.placement[:3])
-                self.gizmo.wxyz = tuple(_wxyz(placement_pose(self.placement)[0][0]))
-        finally:
-            self._syncing = False
-        self._show_live(self.bench.live(self.placement))
-        if exact:
-            self._show_exact(self.bench.exact(self.placement))
+        with self._moving:
+            self.placement = self.bench.clamp(placement)
+            self._syncing = True
+            try:
+                if write_fields:
+                    self._write_fields(self.placement)
+                if move_gizmo:
+                    self.gizmo.position = tuple(self.placement[:3])
+                    self.gizmo.wxyz = tuple(_wxyz(placement_pose(self.placement)[0][0]))
+            finally:
+                self._syncing = False
+            self._show_live(self.bench.live(self.placement))
+            if exact:
+                self._show_exact(self.bench.exact(self.placement))
 
     def _gizmo_moved(self) -> None:
         if self._syncing:
@@ -368,7 +399,7 @@ class Workbench:
         """The fields show a placement (mm and degrees to 1e-6, as typed back they give it again)."""
         for k, name in enumerate(VARIABLES):
             text = format(round(shown_value(name, placement[k]), 6) + 0.0, ".12g")
-            self._written[name] = text
+            self._written[name] = self._last_read[name] = text
             self.fields[name].value = text
 
     def _typed(self, event: object) -> None:
@@ -379,21 +410,30 @@ class Workbench:
         with self._wake:
             if self._typing is not None:
                 self._typing.cancel()
-            self._typing = threading.Timer(TYPING_PAUSE_S, lambda: self.guard(self._fields_given))
+            self._typing = threading.Timer(TYPING_PAUSE_S, self._typing_paused)
             self._typing.daemon = True
             self._typing.start()
+
+    def _typing_paused(self) -> None:
+        """Read the fields if they changed since they were last read (Enter may have read them already)."""
+        if self._field_texts() != self._last_read:
+            self.guard(self._fields_given)
+
+    def _field_texts(self) -> dict[str, str]:
+        return {name: str(field.value).strip() for name, field in self.fields.items()}
 
     def _fields_given(self) -> None:
         """Go to the values typed in the fields, read literally (1e3 is 1000); a value that is no number or lies
         beyond its bound is named with the bound, its text kept, and nothing moves."""
-        with self._wake:
-            if self._typing is not None:
-                self._typing.cancel()
-                self._typing = None
+        with self._moving:  # the fields read by the last change to run
+            self._go_to_fields()
+
+    def _go_to_fields(self) -> None:
         values, problems = self.placement.copy(), []
         lower, upper = self._bounds()
+        self._last_read = texts = self._field_texts()
         for k, name in enumerate(VARIABLES):
-            text = str(self.fields[name].value).strip()
+            text = texts[name]
             if text == self._written.get(name) or name not in self.bench.space.free:
                 continue  # as the page wrote it: the exact current value, not its rounded text
             unit = "deg" if name in ANGLES else "mm"
@@ -453,9 +493,22 @@ class Workbench:
                 lines.append(f'<div style="font:12px sans-serif">{html.escape(actuator.joint)} {energy:.3f} J'
                              f'<div style="background:#0070ff;height:8px;width:{width:.1f}%"></div></div>')
         self.live_html.content = "".join(lines)
+        self._mark_failing(reading)
         self.reading = reading  # after the text: a reading in place is a reading shown
         self.time.max = max(float(reading.t_s[-1]), 1e-3)
         self._show_time()
+
+    def _mark_failing(self, reading: Reading) -> None:
+        """The workpiece red where the placement is infeasible, with a ball on its failing sample (the first
+        unreachable one, or where the tightest limit is broken)."""
+        color = FAILING_COLOR if not reading.feasible else PATH_COLOR
+        self.path_line.colors = np.broadcast_to(np.array(color, dtype=np.uint8), self._segments_shape).copy()
+        sample = reading.first_unreachable[0] if not reading.reachable else reading.tightest_sample
+        if reading.feasible or sample < 0:
+            self.failing_mark.visible = False
+            return
+        self.failing_mark.position = tuple(reading.tool_position_m[sample])
+        self.failing_mark.visible = True
 
     def _show_exact(self, detail: PlacementDetail) -> None:
         self.exact_detail = detail

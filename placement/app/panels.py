@@ -35,6 +35,9 @@ class Host(Protocol):
     def set_placement(self, placement: np.ndarray, exact: bool, move_gizmo: bool = True) -> None:
         """Go to a placement (m, rad)."""
 
+    def frame_workpiece(self) -> None:
+        """Every tab's camera on the placed path."""
+
 
 class JobPanel(ABC):
     """A start button, Cancel, a progress bar and a state line (``id="KEY-state"``) around one job at a time.

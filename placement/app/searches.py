@@ -86,6 +86,7 @@ class OptimisePanel(JobPanel):
         if key not in self.optima:
             raise NotReadyError(f"no {key} placement yet: optimise first")
         self.host.set_placement(self.optima[key].placement, exact=True)
+        self.host.frame_workpiece()
 
 
 class MapPanel(JobPanel):

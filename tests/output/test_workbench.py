@@ -257,11 +257,12 @@ def test_a_share_request_is_refused_and_a_malformed_frame_logged_in_one_line(ser
 
     import msgspec
     import viser
+    from websockets.exceptions import ConnectionClosedError
     from websockets.sync.client import connect
 
     from placement.app.guard import GuardedServer
 
-    port, own = served.server.get_port(), f"127.0.0.1:{served.server.get_port()}"
+    own = f"127.0.0.1:{served.server.get_port()}"
     before = GuardedServer.share_refusals
     with caplog.at_level(logging.WARNING):
         with connect(f"ws://{own}/", origin=f"http://{own}", subprotocols=[f"viser-v{viser.__version__}"],
@@ -272,7 +273,7 @@ def test_a_share_request_is_refused_and_a_malformed_frame_logged_in_one_line(ser
                     break
                 time.sleep(0.1)
             socket.send(b"\xc1 not a message")
-            with pytest.raises(Exception):  # the server closes the connection
+            with pytest.raises(ConnectionClosedError):  # the server closes the connection
                 for _ in range(1000):
                     socket.recv(timeout=30)
     assert GuardedServer.share_refusals == before + 1
@@ -305,3 +306,19 @@ def test_typed_values_are_read_literally_on_enter_and_a_bound_is_named_with_the_
     served.at_text.value = "z=-20"  # --at: the values left out keep the current ones
     served._at_given()
     assert np.allclose(served.placement, [0.0125, start[1], -0.02, *start[3:]], atol=1e-15)
+
+
+def test_an_infeasible_placement_turns_the_workpiece_red_and_marks_its_failing_sample(served):
+    from placement.app.page import FAILING_COLOR, PATH_COLOR
+
+    served.set_placement(AT, exact=False)
+    assert served.reading.feasible and np.all(served.path_line.colors == PATH_COLOR)
+    assert not served.failing_mark.visible
+    far = served.bench.clamp(np.array([1.0, 1.0, 1.0, 0.0, 0.0, 0.0]))  # a corner of the bounds
+    served.set_placement(far, exact=False)
+    reading = served.reading
+    assert not reading.feasible and np.all(served.path_line.colors == FAILING_COLOR) and served.failing_mark.visible
+    sample = reading.first_unreachable[0] if not reading.reachable else reading.tightest_sample
+    assert np.allclose(served.failing_mark.position, reading.tool_position_m[sample])
+    served.set_placement(AT, exact=False)
+    assert np.all(served.path_line.colors == PATH_COLOR) and not served.failing_mark.visible
