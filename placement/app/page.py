@@ -44,6 +44,7 @@ ROBOT_TINT = (120, 140, 170)
 CELL_OPACITY = {"tool": 1.0, "obstacle": 0.5, "keep_out": 0.15}
 TIMINGS = ("path file's", "paper", "realistic", "optimal")
 TYPING_PAUSE_S = 1.5  # a field's values are read this long after the last key, if Enter was not pressed
+LATE_KEYS_S = 2.0  # keys that reach the page this long after their form was submitted are read as part of it
 
 
 def _wxyz(rotation: np.ndarray) -> np.ndarray:
@@ -142,6 +143,7 @@ class Workbench:
         self._wanted: np.ndarray | None = None  # the latest placement asked for a live reading
         self._wake = threading.Condition()
         self._typing: threading.Timer | None = None  # reads the fields once typing pauses
+        self._submitted_at: dict[str, float] = {}  # when each form was last submitted (monotonic s)
         self._moving = threading.RLock()  # one placement change at a time, each shown whole (never a stale one last)
         self._closed = False
         self._draw_scene()
@@ -284,14 +286,15 @@ class Workbench:
                 field.on_update(lambda event: self._typed(event))
                 self.fields[name] = field
             self.go_button = gui.add_button("Go to these values", hint="evaluate the values typed above (or press Enter)")
-        form.on_submit(lambda _: self.guard(self._fields_given))
-        self.go_button.on_click(lambda _: self.guard(self._fields_given))
+        form.on_submit(lambda _: self._submitted("fields", self._fields_given))
+        self.go_button.on_click(lambda _: self._submitted("fields", self._fields_given))
         with gui.add_form(None) as at_form:
             self.at_text = gui.add_text("--at", "", hint="a placement as --at takes it: x=0,y=0,z=-20,phi=30 (mm, deg); "
                                                          "values left out keep the current ones")
             self.at_button = gui.add_button("Evaluate")
-        at_form.on_submit(lambda _: self.guard(self._at_given))
-        self.at_button.on_click(lambda _: self.guard(self._at_given))
+        at_form.on_submit(lambda _: self._submitted("at", self._at_given))
+        self.at_button.on_click(lambda _: self._submitted("at", self._at_given))
+        self.at_text.on_update(lambda event: self._typed_after_submit("at", event, self._at_given))
         self.message = gui.add_html("")
         with gui.add_folder("Live (coarse sampling)"):
             self.live_html = gui.add_html("")
@@ -402,11 +405,23 @@ class Workbench:
             self._written[name] = self._last_read[name] = text
             self.fields[name].value = text
 
+    def _submitted(self, form: str, action: Callable[[], None]) -> None:
+        """Enter or a form's button: read its values now, and again as their last keys arrive (the browser may send
+        the submission before the last keys typed)."""
+        self._submitted_at[form] = time.monotonic()
+        self.guard(action)
+
+    def _typed_after_submit(self, form: str, event: object, action: Callable[[], None]) -> None:
+        """A key of a form just submitted (it came after the submission): read the form again."""
+        if getattr(event, "client", None) is not None and time.monotonic() - self._submitted_at.get(form, -1e9) < LATE_KEYS_S:
+            self.guard(action)
+
     def _typed(self, event: object) -> None:
         """A key typed in a field: nothing is written back while typing; the values are read on Enter, on "Go to
         these values", or once typing pauses for TYPING_PAUSE_S."""
         if self._syncing or getattr(event, "client", None) is None:
             return
+        self._typed_after_submit("fields", event, self._fields_given)
         with self._wake:
             if self._typing is not None:
                 self._typing.cancel()
@@ -454,6 +469,7 @@ class Workbench:
             raise SettingsError("; ".join(problems) + " (the text is kept; the placement did not move)")
         if not np.array_equal(values, self.placement) or self.exact_detail is None:
             self.set_placement(values, exact=True, write_fields=False)
+        self._written.update(texts)  # each text now gives the current placement: read again, it keeps it
 
     def _at_given(self) -> None:
         text = self.at_text.value.strip()

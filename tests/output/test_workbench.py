@@ -322,3 +322,13 @@ def test_an_infeasible_placement_turns_the_workpiece_red_and_marks_its_failing_s
     assert np.allclose(served.failing_mark.position, reading.tool_position_m[sample])
     served.set_placement(AT, exact=False)
     assert np.all(served.path_line.colors == PATH_COLOR) and not served.failing_mark.visible
+
+
+def test_a_value_typed_back_to_what_the_page_wrote_before_is_read(served):
+    served.set_placement(AT, exact=False)  # the page writes x = 12.5
+    served.fields["x"].value = "-30"
+    served._fields_given()
+    assert served.placement[0] == -0.03
+    served.fields["x"].value = "12.5"  # the text the page wrote before, typed again
+    served._fields_given()
+    assert served.placement[0] == 0.0125

@@ -358,3 +358,35 @@ def test_optimise_on_the_ur5_finds_the_command_lines_best(ur5, tmp_path):
     click(driver, "Optimise")
     wait_for(driver, lambda: text_of(driver, "best-value") is not None, "the search's best", timeout_s=900)
     assert abs(float(text_of(driver, "best-value")) - expected) <= 1e-9
+
+
+def workpiece_pixels(driver) -> tuple[int, int]:
+    """(red, magenta) pixels of a screenshot: the workpiece infeasible, and feasible."""
+    import io
+
+    import numpy as np
+    from PIL import Image
+
+    image = np.asarray(Image.open(io.BytesIO(driver.get_screenshot_as_png())).convert("RGB")).astype(int)
+    r, g, b = image[..., 0], image[..., 1], image[..., 2]
+    return int(((r > 170) & (g < 70) & (b < 70)).sum()), int(((r > 170) & (g < 70) & (b > 140)).sum())
+
+
+def test_an_infeasible_placement_turns_the_ur5s_workpiece_red(ur5):
+    import numpy as np
+
+    bench, driver = ur5
+    corners = [{"x": "600", "y": "400", "z": "450"}, {"x": "250", "y": "-200", "z": "50"}, {"x": "600", "y": "-200", "z": "50"}]
+    for corner in corners:
+        type_into(driver, "--at", at(corner))
+        wait_for(driver, lambda corner=corner: np.isclose(bench.placement[0], float(corner["x"]) / 1e3), "the corner")
+        if not bench.reading.feasible:
+            break
+    assert not bench.reading.feasible
+    click(driver, "Frame the workpiece")
+    wait_for(driver, lambda: workpiece_pixels(driver)[0] > 200, f"a red workpiece (red, magenta: {workpiece_pixels(driver)})")
+    type_into(driver, "--at", "x=400,y=100,z=250,phi=0,theta=0,psi=0")  # the middle of the bounds: feasible
+    wait_for(driver, lambda: bench.reading is not None and bench.reading.feasible, "a feasible placement")
+    click(driver, "Frame the workpiece")
+    wait_for(driver, lambda: workpiece_pixels(driver)[1] > 200 and workpiece_pixels(driver)[0] < 20,
+             f"the workpiece magenta again (red, magenta: {workpiece_pixels(driver)})")
