@@ -18,9 +18,9 @@ from typing import Any
 
 import numpy as np
 import pinocchio as pin
-import viser  # optional dependency: the [app] extra, checked by placement.app
 
 from placement.app.compare import ComparePanel, ExportPanel
+from placement.app.drawing import RobotDrawing, rotation_of, wxyz_of
 from placement.app.evaluations import Bench, Choices, Reading, shown_value, si_value
 from placement.app.guard import guarded_server
 from placement.app.searches import FrontPanel, MapPanel, OptimisePanel
@@ -28,97 +28,15 @@ from placement.contract.objective import OBJECTIVES, quantity, wording
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.results import PlacementDetail
 from placement.exceptions import PlacementError, SettingsError
-from placement.limits.collision import collision_scene
-from placement.output.palette import CELL_COLORS, rgb
 from placement.placing.transform import ANGLES, VARIABLES, placement_pose
 from placement.placing.values import parse_values
-from placement.robot.model import Robot
-from placement.robot.packages import description_geometry
 from placement.search.space import box_corners
 
 PATH_COLOR, CUBE_COLOR = (230, 0, 200), (48, 48, 48)  # the workpiece: a magenta that no robot, cell or limit uses
 FAILING_COLOR = (220, 0, 0)  # the workpiece where the placement is infeasible, and its failing sample
-ROBOT_OPACITY = 0.35  # the path and the tool point stay in sight inside the moving platform
-PALE = 235  # a mesh colour whose channels all exceed this is drawn ROBOT_TINT instead (white arms on a white page)
-ROBOT_TINT = (120, 140, 170)
-CELL_OPACITY = {"tool": 1.0, "obstacle": 0.5, "keep_out": 0.15}
 TIMINGS = ("path file's", "paper", "realistic", "optimal")
 TYPING_PAUSE_S = 1.5  # a field's values are read this long after the last key, if Enter was not pressed
 LATE_KEYS_S = 2.0  # keys that reach the page this long after their form was submitted are read as part of it
-
-
-def _wxyz(rotation: np.ndarray) -> np.ndarray:
-    """A rotation matrix as viser's quaternion (w, x, y, z)."""
-    quaternion = pin.Quaternion(np.asarray(rotation, dtype=float))
-    return np.array([quaternion.w, quaternion.x, quaternion.y, quaternion.z])
-
-
-def _rotation(wxyz: np.ndarray) -> np.ndarray:
-    w, x, y, z = (float(v) for v in wxyz)
-    return pin.Quaternion(w, x, y, z).normalized().toRotationMatrix()
-
-
-class RobotDrawing:
-    """The robot's URDF visuals (and its cell's shapes, as they are checked) as viser meshes, posed by q."""
-
-    def __init__(self, server: viser.ViserServer, robot: Robot) -> None:
-        import trimesh  # optional dependency: the [app] extra, checked by placement.app
-
-        self.robot = robot
-        self.model = robot.model
-        self.visual = description_geometry(robot, pin.GeometryType.VISUAL)
-        opacity: dict[int, float] = {}
-        scene: Any = server.scene  # viser's own annotations are narrower than what it takes
-        if robot.cell is not None or robot.tool is not None:
-            scene = collision_scene(robot)
-            for body in scene.bodies:
-                if body.kind == "link":
-                    continue
-                for index in body.objects:
-                    item = scene.geometry_model.geometryObjects[index].copy()
-                    item.meshColor = np.array([*rgb(CELL_COLORS[body.kind][0]), CELL_OPACITY[body.kind]])
-                    opacity[self.visual.addGeometryObject(item)] = CELL_OPACITY[body.kind]
-        self.data, self.geometry_data = self.model.createData(), self.visual.createData()
-        self.handles: list[tuple[int, Any]] = []
-        for k, item in enumerate(self.visual.geometryObjects):
-            geometry, color = item.geometry, tuple(int(255 * c) for c in item.meshColor[:3])
-            color = ROBOT_TINT if min(color) > PALE else color
-            name, alpha = f"/robot/{k}", opacity.get(k, ROBOT_OPACITY * (float(item.meshColor[3]) or 1.0))
-            kind = type(geometry).__name__
-            if kind == "Box":
-                handle = scene.add_box(name, color=color, dimensions=tuple(2 * np.asarray(geometry.halfSide)),
-                                              opacity=alpha)
-            elif kind == "Cylinder":
-                handle = scene.add_cylinder(name, radius=geometry.radius, height=2 * geometry.halfLength,
-                                                   color=color, opacity=alpha)
-            elif kind == "Sphere":
-                handle = scene.add_icosphere(name, radius=geometry.radius, color=color, opacity=alpha)
-            elif item.meshPath and not item.meshPath.startswith("BV"):
-                mesh: Any = trimesh.load(item.meshPath, force="mesh")
-                mesh.apply_scale(np.asarray(item.meshScale))
-                handle = scene.add_mesh_simple(name, np.asarray(mesh.vertices, dtype=np.float32),
-                                                      np.asarray(mesh.faces, dtype=np.uint32), color=color,
-                                                      opacity=alpha)
-            else:  # a convex hull or another shape of the collision scene: its vertices' hull
-                try:
-                    points = np.array([geometry.points(i) for i in range(geometry.num_points)])
-                    hull = trimesh.Trimesh(points).convex_hull
-                    handle = scene.add_mesh_simple(name, np.asarray(hull.vertices, dtype=np.float32),
-                                                          np.asarray(hull.faces, dtype=np.uint32), color=color,
-                                                          opacity=alpha)
-                except (AttributeError, RuntimeError, ValueError, IndexError):
-                    continue
-            self.handles.append((k, handle))
-        self.pose(robot.reference_q)
-
-    def pose(self, q: np.ndarray) -> None:
-        """Place every drawn body at the configuration q."""
-        pin.forwardKinematics(self.model, self.data, np.asarray(q, dtype=float))
-        pin.updateGeometryPlacements(self.model, self.data, self.visual, self.geometry_data)
-        for k, handle in self.handles:
-            placement = self.geometry_data.oMg[k]
-            handle.position = tuple(placement.translation)
-            handle.wxyz = tuple(_wxyz(placement.rotation))
 
 
 class Workbench:
@@ -185,7 +103,7 @@ class Workbench:
         if region is not None:
             self._wire_box("/cell/workpiece_region", np.array(region.min_m), np.array(region.max_m), (32, 128, 192))
         turn, origin = placement_pose(np.zeros(6), self.robot.plane)
-        self.plane_frame = scene.add_frame("/plane", show_axes=False, position=tuple(origin[0]), wxyz=_wxyz(turn[0]))
+        self.plane_frame = scene.add_frame("/plane", show_axes=False, position=tuple(origin[0]), wxyz=wxyz_of(turn[0]))
         free = set(self.bench.space.free)
         lower, upper = self._bounds()
         self.gizmo = scene.add_transform_controls(
@@ -356,7 +274,7 @@ class Workbench:
                     self._write_fields(self.placement)
                 if move_gizmo:
                     self.gizmo.position = tuple(self.placement[:3])
-                    self.gizmo.wxyz = tuple(_wxyz(placement_pose(self.placement)[0][0]))
+                    self.gizmo.wxyz = tuple(wxyz_of(placement_pose(self.placement)[0][0]))
             finally:
                 self._syncing = False
             self._show_live(self.bench.live(self.placement))
@@ -366,14 +284,14 @@ class Workbench:
     def _gizmo_moved(self) -> None:
         if self._syncing:
             return
-        rotation = _rotation(self.gizmo.wxyz)
+        rotation = rotation_of(self.gizmo.wxyz)
         psi, theta, phi = pin.rpy.matrixToRpy(rotation)  # R = Rz(phi) Ry(theta) Rx(psi)
         wanted = np.array([*self.gizmo.position, phi, theta, psi], dtype=float)
         self.placement = self.bench.clamp(wanted)
         if not np.allclose(self.placement, wanted, atol=1e-9):  # held within the free variables and their bounds
             self._syncing = True
             self.gizmo.position = tuple(self.placement[:3])
-            self.gizmo.wxyz = tuple(_wxyz(placement_pose(self.placement)[0][0]))
+            self.gizmo.wxyz = tuple(wxyz_of(placement_pose(self.placement)[0][0]))
             self._syncing = False
         with self._wake:
             self._wanted = self.placement.copy()

@@ -91,17 +91,18 @@ def test_the_app_serves_on_loopback_only_prints_its_address_and_stops(monkeypatc
 def test_the_gizmo_is_held_to_the_free_variables_and_read_in_the_placement_angles_and_unreachable_is_said():
     from types import SimpleNamespace
 
-    from placement.app.page import Workbench, _wxyz
+    from placement.app.drawing import wxyz_of
+    from placement.app.page import Workbench
     from placement.placing.transform import rotation_zyx
 
     workbench = Workbench(Bench(load_robot("orthoglide"), load_path(EXAMPLE)))
     try:
         workbench.gizmo.position = (0.0125, -0.007, -0.02)
-        workbench.gizmo.wxyz = tuple(_wxyz(rotation_zyx(np.radians(30), np.radians(10), 0.0)))  # theta is fixed at 0
+        workbench.gizmo.wxyz = tuple(wxyz_of(rotation_zyx(np.radians(30), np.radians(10), 0.0)))  # theta is fixed at 0
         workbench._gizmo_event(SimpleNamespace(phase="end"))  # let go
         assert np.allclose(workbench.placement, AT, atol=1e-12)
         assert np.allclose(workbench.gizmo.position, AT[:3]) and np.allclose(
-            workbench.gizmo.wxyz, _wxyz(rotation_zyx(np.radians(30), 0.0, 0.0)))  # the gizmo is put back
+            workbench.gizmo.wxyz, wxyz_of(rotation_zyx(np.radians(30), 0.0, 0.0)))  # the gizmo is put back
         assert workbench.exact_detail is not None and workbench.exact_detail.value == pytest.approx(bench_value(AT), abs=1e-9)
         assert float(workbench.fields["phi"].value) == pytest.approx(30.0)
         workbench.gizmo.position = (5.0, 0.0, 0.0)  # far beyond the workspace: held at its bound
