@@ -44,7 +44,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     parser.add_argument("--allow-origin", action="append", default=[], metavar="ORIGIN",
                         help="a further origin (scheme://host:port) whose pages may use the workbench, e.g. behind a "
                              "proxy; repeatable. By default only the workbench's own page on a loopback name "
-                             "(127.0.0.1, localhost, [::1]) with the printed ?token= may (docs/howto/workbench.md)")
+                             "(127.0.0.1, localhost, [::1]) with the printed ?token= may (docs/howto/use_the_workbench.md)")
 
 
 def start(args: argparse.Namespace):  # -> placement.app.page.Workbench (viser loads only here)
