@@ -220,7 +220,7 @@ def _recheck_line(optimum: Optimum) -> str:
             f"sample the path more finely (--time-step) if that matters{note}")
 
 
-def format_basins(optimum: Optimum) -> str:
+def format_basins(optimum: Optimum, names: tuple[str, ...] = VARIABLES) -> str:
     """Lines: the other basins (distinct local optima) within the search's share of this optimum, as printed, and which
     of them are within the 4x denser re-check's resolution of it; or that the search found none."""
     words = wording(optimum.detail.objective)
@@ -234,19 +234,19 @@ def format_basins(optimum: Optimum) -> str:
         fails = "" if basin.holds else ", fails a limit once printed or on the 4x denser re-check"
         tie = ", within the 4x re-check's resolution of this one" if any(basin is c for c in close) else ""
         lines.append(f"    {quantity(basin.value, words.unit)} ({change * 100:+.3f} %{fails}{tie}) at "
-                     f"{format_placement(basin.placement)}")
+                     f"{format_placement(basin.placement, names)}")
     if close:
         lines.append("    the path's sampling, not the placement, may decide between them: sample the path more finely "
                      "(--time-step) to rank them")
     return "\n".join(lines)
 
 
-def basins_json(optimum: Optimum) -> list[dict[str, Any]]:
+def basins_json(optimum: Optimum, names: tuple[str, ...] = VARIABLES) -> list[dict[str, Any]]:
     """JSON-ready list of the other basins near an optimum (SI units): placement, objective value (and energy_J for
     the energy) on the path's sampling and the 4x denser one, whether it holds, and whether it is within the
     re-check's resolution of the optimum."""
     close = optimum.unresolved
-    return [{"placement": {name: float(v) for name, v in zip(VARIABLES, basin.placement, strict=True)},
+    return [{"placement": {name: float(v) for name, v in zip(names, basin.placement, strict=True)},
              "value": _finite(basin.value), "recheck_value": _finite(basin.recheck_value),
              **({"energy_J": _finite(basin.value)} if optimum.detail.objective == "energy" else {}),
              "relative_difference": _finite((basin.value - optimum.detail.value) / (abs(optimum.detail.value) or 1.0)),
@@ -319,7 +319,7 @@ def format_result(robot: Robot, result: PlacementResult, rest_s: float = 0.0,
         if optimum is not None:
             box = (boxes or {}).get(key)
             blocks.append(format_detail(title, robot, optimum.detail, optimum.recheck_value, rest_s) + "\n"
-                          + _recheck_line(optimum) + "\n" + format_basins(optimum)
+                          + _recheck_line(optimum) + "\n" + format_basins(optimum, VARIABLES + redundant_variables(robot))
                           + ("" if box is None else "\n" + format_tolerance(box, words.subject)))
     if result.best is not None and result.worst is not None and not (result.best.holds and result.worst.holds):
         blocks.append(f"gain: not given, the {'best' if not result.best.holds else 'worst'} placement fails its "
@@ -387,7 +387,7 @@ def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None =
             out["recheck_energy_J"] = recheck
         out["evaluations"] = optimum.evaluations
         out["note"] = optimum.note
-        out["basins"] = basins_json(optimum)
+        out["basins"] = basins_json(optimum, VARIABLES + redundant_variables(robot))
         out["basin_share"] = optimum.basin_share
         if optimum.guide_value is not None:
             out["guide"] = {"value": _finite(optimum.guide_value), "gap": _finite(optimum.guide_gap or 0.0)}

@@ -20,6 +20,7 @@ RUNS = {  # each kind of document: a search with its duty cycle and boxes, --at 
                      str(EXAMPLES / "cell_orthoglide.yaml"), "--at", "x=0,y=0,z=-40"],
     "front": ["--robot", "orthoglide", "--path", str(EXAMPLE), "--objectives", "energy,transmission", *QUICK],
     "two paths": ["--robot", "orthoglide", "--path", str(EXAMPLE), str(CIRCLE), "--minimize", *QUICK],
+    "seven axes, error bars": ["--robot", "panda", "--path", str(CIRCLE), "--error-bars", *QUICK],
 }
 
 
@@ -38,10 +39,13 @@ def test_real_json_output_validates_against_the_schema(run, tmp_path, capsys):
     answers = document.get("paths", [document])
     keys = {key for answer in answers for key in answer}
     expected = {"search": {"best", "worst", "gain"}, "at on a planar robot": {"at"}, "at in a cell": {"at"},
-                "front": {"members", "knee", "drawn"}, "two paths": {"best"}}[run]
+                "front": {"members", "knee", "drawn"}, "two paths": {"best"},
+                "seven axes, error bars": {"best", "worst", "uncertainty"}}[run]
     assert expected <= keys  # the run gave the document kind it stands for
     if run == "search":
         assert {"duty", "tolerance", "recheck_tightest"} <= set(document["best"])
+    if run == "seven axes, error bars":
+        assert "profiles" in document["best"] and "basins" in document["best"]
     if run == "at in a cell":
         assert any("nearest_points_m" in margin for margin in document["at"]["margins"])
 
