@@ -34,7 +34,6 @@ elements are where they go.
 
 from __future__ import annotations
 
-import hashlib
 import os
 import tempfile
 from collections.abc import Iterator, Mapping
@@ -45,10 +44,9 @@ from xml.etree import ElementTree
 import numpy as np
 import pinocchio as pin
 
-from placement.files import staged
 from placement.robot.exceptions import RobotFileError
 from placement.robot.urdf import UrdfContents
-from placement.robot.xacro import cache_folder
+from placement.robot.xacro import cached_description
 
 SUFFIXES = (".xml", ".mjcf")
 ACTUATOR_TAGS = ("general", "motor", "position", "velocity", "intvelocity", "damper", "cylinder", "muscle",
@@ -246,12 +244,7 @@ def _self_contained(path: Path, root: ElementTree.Element) -> Path:
         for key in ("meshdir", "assetdir", "texturedir"):
             compiler.set(key, str(folder / compiler.get(key, "")))
     text = ElementTree.tostring(root, encoding="unicode")
-    expanded = cache_folder() / f"{path.stem}-{hashlib.sha256(text.encode()).hexdigest()[:16]}.xml"
-    if not expanded.is_file():
-        expanded.parent.mkdir(parents=True, exist_ok=True)
-        with staged(expanded, text):
-            pass
-    return expanded
+    return cached_description(path.stem, text, ".xml")
 
 
 def _has_include(path: Path) -> bool:

@@ -34,6 +34,17 @@ def cache_folder() -> Path:
     return Path(base) / "placement" / "xacro"
 
 
+def cached_description(stem: str, text: str, suffix: str) -> Path:
+    """The cache's file holding ``text`` (an expanded description), named by ``stem`` and the text's digest, written
+    once (atomically) and reused while the text is the same."""
+    expanded = cache_folder() / f"{stem}-{hashlib.sha256(text.encode()).hexdigest()[:16]}{suffix}"
+    if not expanded.is_file():
+        expanded.parent.mkdir(parents=True, exist_ok=True)
+        with staged(expanded, text):
+            pass
+    return expanded
+
+
 def expand_xacro(path: Path, arguments: Mapping[str, str], package_paths: Sequence[Path], declaring: Path,
                  field: str) -> Path:
     """The URDF file that the xacro file ``path`` expands to with ``arguments``.
@@ -67,11 +78,4 @@ def expand_xacro(path: Path, arguments: Mapping[str, str], package_paths: Sequen
             hint = (f" (arguments given: {given}; an argument left out takes the file's default: give it with "
                     "--robot-arg NAME:=VALUE, or in the sidecar's xacro_args)")
         raise RobotFileError(declaring, field, f"xacro cannot expand {path}: {said}{hint}") from None
-    digest = hashlib.sha256(text.encode()).hexdigest()[:16]
-    stem = path.name.removesuffix(path.suffix).removesuffix(".urdf")
-    expanded = cache_folder() / f"{stem}-{digest}.urdf"
-    if not expanded.is_file():
-        expanded.parent.mkdir(parents=True, exist_ok=True)
-        with staged(expanded, text):
-            pass
-    return expanded
+    return cached_description(path.name.removesuffix(path.suffix).removesuffix(".urdf"), text, ".urdf")
