@@ -45,14 +45,8 @@ def rating_status(robot: Robot) -> tuple[str, ...]:
     """Per actuator, the status of its continuous torque's source ("EST", "CATALOG", ...; "" when the sidecar gives
     none for it or its drive), read from the most specific of ``drives.NAME.motor.continuous_torque_Nm``,
     ``drives.NAME.motor`` and ``drives.NAME``."""
-    sources = robot.sources
-
-    def status(drive: str | None) -> str:
-        keys = (f"drives.{drive}.motor.continuous_torque_Nm", f"drives.{drive}.motor", f"drives.{drive}")
-        note = next((sources[key] for key in keys if key in sources), "")
-        return note.split(":", 1)[0].strip() if ":" in note else ""
-
-    return tuple(status(actuator.drive_name) for actuator in robot.actuators)
+    return tuple(robot.source_status(f"drives.{actuator.drive_name}.motor.continuous_torque_Nm")
+                 for actuator in robot.actuators)
 
 
 @dataclass(frozen=True)

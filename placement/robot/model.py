@@ -169,6 +169,17 @@ class Robot:
         PUBLISHED, EST, CALIBRATED)."""
         return self.sidecar.sources
 
+    def source_status(self, key: str) -> str:
+        """The status (EST, CATALOG, ...) of the most specific ``sources`` entry covering the sidecar field ``key``
+        (the key itself, else its nearest dotted prefix: ``drives.NAME.motor``, then ``drives.NAME``), or "" when none
+        does."""
+        parts = key.split(".")
+        for end in range(len(parts), 0, -1):
+            note = self.sources.get(".".join(parts[:end]))
+            if note is not None:
+                return note.split(":", 1)[0].strip() if ":" in note else ""
+        return ""
+
     @property
     def urdf_source(self) -> str:
         """The URDF as the sidecar names it: a path relative to the sidecar, or 'example-robot-data:NAME'

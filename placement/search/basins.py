@@ -28,7 +28,7 @@ class Basin:
     """A distinct local optimum of one direction's search, as the report prints it.
 
     Attributes:
-        placement: (6,) the placement as printed (m, rad).
+        placement: (n,) the placement as printed (m, rad): the six variables, then a redundant robot's (spin, knots).
         value: The objective there, at the path's own sampling.
         recheck_value: The objective there on the 4x denser sampling (NaN when it fails that re-check).
         holds: Whether every limit holds there, once printed, on the path's samples and the denser ones.

@@ -102,12 +102,12 @@ def polish_across(problem: Problem, start: np.ndarray, space: PlacementSpace) ->
     result lies in the space's range."""
     cyclic = space.period > 0
     reach = TRUST_SHARE * np.where(cyclic, space.period, space.upper - space.lower)
+    edge = EDGE_SHARE * np.where(cyclic, space.period, space.upper - space.lower)
     x = np.asarray(start, dtype=float)
     for _ in range(TRUST_ROUNDS):
         low = np.where(cyclic, x - reach, np.maximum(space.lower, x - reach))
         high = np.where(cyclic, x + reach, np.minimum(space.upper, x + reach))
         polished = _polish(problem, x, list(zip(low, high)))
-        edge = EDGE_SHARE * np.where(cyclic, space.period, space.upper - space.lower)
         on_trust_edge = ((np.abs(polished - low) <= edge) & (cyclic | (low > space.lower))) | (
             (np.abs(polished - high) <= edge) & (cyclic | (high < space.upper)))
         x = space.wrap(polished)

@@ -99,7 +99,6 @@ class Uncertainty:
 def uncertain_parameters(robot: Robot) -> tuple[Parameter, ...]:
     """The drives' constants that the energy depends on, with their ranges from their source status (module
     docstring); a constant at 0 has no relative range and is left out."""
-    sources = robot.sources
     found = []
     for name, drive in robot.named_drives.items():
         for group, field in FIELDS:
@@ -108,8 +107,7 @@ def uncertain_parameters(robot: Robot) -> tuple[Parameter, ...]:
             if not isinstance(value, int | float) or value == 0:
                 continue
             key = ".".join(part for part in ("drives", name, group, field) if part)
-            matches = [k for k in sources if key == k or key.startswith(k + ".")]
-            status = sources[max(matches, key=len)].split(":")[0].strip() if matches else "unstated"
+            status = robot.source_status(key) or "unstated"
             spread = SPREADS.get(status, EST_SPREAD)
             found.append(Parameter(name, group, field, float(value), float(value) * (1 - spread),
                                    min(float(value) * (1 + spread), UPPER.get(field, np.inf)), status))
