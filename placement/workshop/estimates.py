@@ -69,6 +69,8 @@ from placement.workshop.loops import (
 
 GEAR_RATIO = 100.0
 SCREW_LEAD_M = 0.01
+MOTOR_SCALING = ("3-phase servo scaled by peak torque tau: K_t = 0.1 sqrt(tau), K_e = K_t/3, R = 0.5/sqrt(tau), "
+                 "L = 0.5e-3/sqrt(tau)")  # the motor estimate, as the sources say it
 BOX_CENTRE_OF_REACH = (0.4, 0.0, 0.15)
 BOX_SIDE_OF_REACH = 0.25
 BOX_SHRINK, BOX_SHRINKS = 0.8, 5
@@ -380,10 +382,9 @@ class _Arm:
         for drive, spec in drives.items():
             kind = "gear ratio" if spec["transmission"]["type"] == "gear" else "screw lead"
             entries[f"drives.{drive}.transmission"] = f"EST: a typical {kind} (the {self.kind} gives none)"
-            entries[f"drives.{drive}.motor"] = ("EST: 3-phase servo scaled by peak torque tau: K_t = 0.1 sqrt(tau), "
-                                               "K_e = K_t/3, R = 0.5/sqrt(tau), L = 0.5e-3/sqrt(tau), J = tau/20000; "
-                                               "max_torque and max_speed DERIVED from the URDF's effort and velocity "
-                                               "limits through the transmission")
+            entries[f"drives.{drive}.motor"] = (f"EST: {MOTOR_SCALING}, J = tau/20000; max_torque and max_speed "
+                                               "DERIVED from the URDF's effort and velocity limits through the "
+                                               "transmission")
         if self.given is not None:
             for i, joint in enumerate(self.active):
                 entries.update(self._mjcf_sources(joint, drives[self.drive_name(joint)]))
@@ -405,8 +406,7 @@ class _Arm:
         rotor = (f"J DERIVED from the MJCF's armature {given.armature:g} divided by the transmission's speed ratio "
                  "squared" if given.armature > 0 else "J = tau/20000")
         entries = {f"drives.{name}.motor": (
-            f"EST: 3-phase servo scaled by peak torque tau: K_t = 0.1 sqrt(tau), K_e = K_t/3, R = 0.5/sqrt(tau), "
-            f"L = 0.5e-3/sqrt(tau), {rotor}; max_torque DERIVED from the MJCF ({given.effort_from}) through the "
+            f"EST: {MOTOR_SCALING}, {rotor}; max_torque DERIVED from the MJCF ({given.effort_from}) through the "
             f"transmission; max_speed EST from a joint speed of {speed:g} {unit} (the MJCF gives none)")}
         if "friction" in drive:
             entries[f"drives.{name}.friction"] = (f"DERIVED: the MJCF's joint frictionloss {given.frictionloss:g} "
