@@ -64,11 +64,15 @@ class NormalMeshGeometry(g.TriangularMeshGeometry):
 
 class OverlayMesh(g.Mesh):
     """A mesh drawn after everything else (three.js ``renderOrder``): with a material that skips the depth test,
-    it shows through the robot."""
+    it shows through the robot; of two overlays, the higher ``render_order`` is drawn over the other."""
+
+    def __init__(self, geometry: g.Geometry, material: g.Material, render_order: int = 10) -> None:
+        super().__init__(geometry, material)
+        self.render_order = render_order
 
     def lower(self) -> dict:
         data = super().lower()
-        data["object"]["renderOrder"] = 10
+        data["object"]["renderOrder"] = self.render_order
         return data
 
 

@@ -3,13 +3,18 @@
 A :class:`Scene` draws the robot from its URDF visuals (Pinocchio's meshcat visualiser, with every
 triangle of the mesh files: :mod:`placement.output.meshes`), with its tool body and its cell's
 obstacles and keep-out zones as they are checked for collisions, the workspace box as a wireframe
-with its named points, placed paths as coloured tubes drawn over everything else (the robot never
-hides them), a map as coloured points, and animates the robot along a path, interpolated at 30
-frames a second. Colours come from :mod:`placement.output.palette`. Its camera looks at the centre
-of the box that holds everything drawn (the robot at its reference configuration: every frame origin
-and the bounding box of every visual; the workspace and its points; paths and map points), and
-orbits about it, from as close as that box's corners all stay in meshcat's 75° view (a window wider
-than tall sees at least as much across). It records the scene and writes a self-contained HTML page
+with its named points (drawn over everything, labelled), the base frame's axes (labelled x, y, z),
+placed paths as coloured tubes drawn over everything else (the robot never hides them), a map as
+coloured points, and animates the robot along a path, interpolated at 30 frames a second. Colours
+come from :mod:`placement.output.palette`.
+
+The page has three views, a button each: the workpiece (the placed paths, or a map's points, with
+as much room around them again), the workspace (its box and the paths) and everything (the robot at
+its reference configuration: every frame origin and the bounding box of every visual; the workspace
+and its points; paths and map points). It opens on the first of them that has something in it. Each
+view's camera looks at the centre of its box and orbits about it, from as close as the box's corners
+all stay in meshcat's 75° view (a window wider than tall sees at least as much across). It records
+the scene and writes a self-contained HTML page
 that opens in a browser with no server and no network; :class:`PageServer` serves that page on this
 machine (loopback only, unless asked otherwise). Everything that comes from input files (path
 names, point names) is escaped in the page.
@@ -20,6 +25,7 @@ from __future__ import annotations
 import base64
 import html
 import http.server
+import json
 import shutil
 import subprocess
 import tempfile
@@ -66,7 +72,14 @@ CAMERA_DIRECTION = np.array([-0.45, -0.45, 0.35]) / np.linalg.norm([-0.45, -0.45
 CAMERA_FOV_DEG = 75.0  # meshcat's default camera: PerspectiveCamera(75, aspect, 0.01, 100), vertical
 CAMERA_MARGIN = 1.08  # every corner of the drawn box stays within 1/1.08 of the view's half-height and half-width
 CAMERA_NEAR_M = 0.01  # meshcat's near clipping distance
-PATH_RADIUS, EDGE_RADIUS = 0.0025, 0.001  # tube radii of paths and of box edges, fractions of the drawn box's diagonal
+PATH_RADIUS, EDGE_RADIUS = 0.0025, 0.0015  # tube radii of paths and of box edges, fractions of the drawn box's diagonal
+AXIS_RADIUS, AXIS_LENGTH = 0.002, 0.15  # the base frame's axes: radius and length, fractions of the drawn box's diagonal
+AXIS_COLORS = (0xE41A1C, 0x4DAF4A, 0x377EB8)  # x red, y green, z blue (the usual order), labelled on the page
+WORKPIECE_ROOM = 1.0  # the workpiece view's box: the workpiece's, widened by this share of its largest side each way
+WORKPIECE_MIN_M = 0.02  # ... and at least this wide (m), so that a point-like path is not looked at from 1 cm
+POINT_RADIUS = (0.03, 0.01)  # the named points' spheres: shares of the workspace's largest side, of the drawn diagonal
+MARKS_RENDER_ORDER = 5  # the axes and the named points show through the robot, the paths over them (10)
+VIEWS = ("workpiece", "workspace", "everything")  # the page's views, in the order of its buttons
 DASH_RADII = 6  # a dashed path's dashes and gaps, in path radii
 
 
@@ -117,6 +130,9 @@ class Scene:
         self.result_blocks = 0  # calls of add_results: the paths answered
         visual = description_geometry(robot, pin.GeometryType.VISUAL)
         self.drawn_points_m: list[np.ndarray] = [robot_points(robot, visual)]  # the camera frames the robot, not the cell
+        self.workpiece_points_m: list[np.ndarray] = []  # the placed paths and map points: the workpiece view
+        self.workspace_points_m: list[np.ndarray] = []  # the workspace box (and the paths): the workspace view
+        self.labels: list[tuple[str, np.ndarray, int]] = []  # (text, point m in the base frame, colour): on the page
         if robot.cell is not None or robot.tool is not None:
             self._add_cell_shapes(visual)
         self.visualizer = WholeMeshVisualizer(robot.model, pin.GeometryModel(), visual)
@@ -124,6 +140,7 @@ class Scene:
         self.visualizer.loadViewerModel(rootNodeName="robot")
         self.visualizer.display(robot.reference_q)
         self.viewer["/Grid"].set_property("visible", False)
+        self.viewer["/Axes"].set_property("visible", False)  # meshcat's 0.5 m axes: the base frame's, sized, drawn instead
         self.viewer["/Background"].set_property("top_color", [1.0, 1.0, 1.0])
         self.viewer["/Background"].set_property("bottom_color", [0.82, 0.84, 0.88])
         self.camera_m: tuple[np.ndarray, np.ndarray] = (np.zeros(3), CAMERA_DIRECTION)
@@ -168,24 +185,56 @@ class Scene:
         points = np.vstack(self.drawn_points_m)
         return points.min(axis=0), points.max(axis=0)
 
-    def fit_camera(self) -> None:
-        """Aim the camera at the centre of :meth:`extent`, as close as the box's 8 corners all stay in view.
+    def view_box(self, view: str) -> tuple[np.ndarray, np.ndarray] | None:
+        """The box a view frames (lowest and highest corners, m, base frame), None if it has nothing to show.
 
-        The view is taken square (meshcat's 75° vertical field both ways), the narrowest a window wider than tall
-        gives; each corner keeps 1/``CAMERA_MARGIN`` of the half-view and is beyond the near plane.
+        Args:
+            view: One of ``VIEWS``: the workpiece (paths or map points, widened by ``WORKPIECE_ROOM`` of their largest
+                side each way, at least ``WORKPIECE_MIN_M`` wide), the workspace (its box and the paths), everything.
         """
-        low, high = self.extent()
-        centre = (low + high) / 2
-        forward = -CAMERA_DIRECTION
-        right = np.cross(forward, [0.0, 0.0, 1.0])
-        right /= np.linalg.norm(right)
-        up = np.cross(right, forward)
-        offset = box_corners(low, high) - centre
-        depth = offset @ forward  # beyond the centre (> 0) or before it, along the view
-        half_view = np.tan(np.radians(CAMERA_FOV_DEG / 2)) / CAMERA_MARGIN
-        across = np.maximum(np.abs(offset @ right), np.abs(offset @ up))
-        distance = max(float(np.max(across / half_view - depth)), float(np.max(-depth)) + 2 * CAMERA_NEAR_M)
-        self.look_at(centre, CAMERA_DIRECTION * distance)
+        if view == "everything":
+            return self.extent()
+        parts = self.workpiece_points_m + (self.workspace_points_m if view == "workspace" else [])
+        if view not in VIEWS or not parts or (view == "workspace" and not self.workspace_points_m):
+            return None
+        points = np.vstack(parts)
+        low, high = points.min(axis=0), points.max(axis=0)
+        if view == "workpiece":
+            room = max(WORKPIECE_ROOM * float(np.max(high - low)), WORKPIECE_MIN_M / 2)
+            low, high = low - room, high + room
+        return low, high
+
+    def views_m(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        """The page's views that have something to show, in ``VIEWS`` order: each its camera's target and position
+        (m, base frame)."""
+        views = {}
+        for view in VIEWS:
+            box = self.view_box(view)
+            if box is not None:
+                views[view] = framing(*box, workpiece_direction(*box) if view == "workpiece" else CAMERA_DIRECTION)
+        return views
+
+    def fit_camera(self) -> None:
+        """Aim the camera as the page opens: the first of ``VIEWS`` that has something to show (:meth:`views_m`)."""
+        target, position = next(iter(self.views_m().values()))
+        self.look_at(target, position - target)
+
+    def add_label(self, text: str, point_m: np.ndarray, color: int) -> None:
+        """A text on the page beside a point of the scene (base frame, m), following it as the view turns."""
+        self.labels.append((text, np.asarray(point_m, dtype=float), color))
+
+    def _draw_axes(self) -> list[tuple[str, np.ndarray, int]]:
+        """The base frame's axes from its origin, sized to what is drawn and drawn over everything; their labels."""
+        length = AXIS_LENGTH * max(float(np.linalg.norm(np.subtract(*self.extent()))), CAMERA_NEAR_M)
+        radius = self._radius(AXIS_RADIUS)
+        labels = []
+        for axis, (name, color) in enumerate(zip("xyz", AXIS_COLORS)):
+            end = np.eye(3)[axis] * length
+            vertices, faces = tube(np.array([[np.zeros(3), end]]), radius)
+            self.viewer[f"axes/{name}"].set_object(
+                OverlayMesh(g.TriangularMeshGeometry(vertices, faces), overlay_material(color), MARKS_RENDER_ORDER))
+            labels.append((name, end, color))
+        return labels
 
     def look_at(self, target_m: np.ndarray, offset_m: np.ndarray) -> None:
         """Point the camera at ``target_m`` from ``target_m + offset_m`` (base frame, Z up; kept in ``camera_m``),
@@ -210,13 +259,16 @@ class Scene:
         if region is not None:
             self._wire_box("cell/workpiece_region", np.array(region.min_m), np.array(region.max_m), REGION_COLOR,
                            "workpiece region")
-        radius = 0.03 * float(np.max(high - low))
+        self.workspace_points_m.append(box_corners(low, high))
+        radius = max(POINT_RADIUS[0] * float(np.max(high - low)), self._radius(POINT_RADIUS[1]))
         for name, point in workspace.points_m.items():
-            color = POINT_COLORS.get(name, 0x7F7F7F)
-            self.viewer[f"workspace/{name}"].set_object(g.Sphere(radius), g.MeshLambertMaterial(color=color))
+            color, label = POINT_COLORS.get(name, 0x7F7F7F), name.replace("_plus", "+").replace("_minus", "-")
+            self.viewer[f"workspace/{name}"].set_object(OverlayMesh(g.Sphere(radius), overlay_material(color),
+                                                                                MARKS_RENDER_ORDER))
             self.viewer[f"workspace/{name}"].set_transform(pin.SE3(np.eye(3), np.array(point)).homogeneous)
             self.drawn_points_m.append(box_corners(np.array(point) - radius, np.array(point) + radius))
-            self._legend(name.replace("_plus", "+").replace("_minus", "-"), color)
+            self.add_label(label, np.array(point), color)
+            self._legend(label, color)
 
     def _wire_box(self, name: str, low: np.ndarray, high: np.ndarray, color: int, label: str) -> None:
         """An axis-aligned box of the base frame (m) as a wireframe of thin tubes, framed by the camera."""
@@ -241,6 +293,7 @@ class Scene:
         """
         positions = np.asarray(tool_position_m, dtype=float).reshape(-1, 3)
         self.drawn_points_m.append(positions)
+        self.workpiece_points_m.append(positions)
         radius = self._radius(PATH_RADIUS)
         steps = np.linalg.norm(np.diff(positions, axis=0), axis=1)
         drawn = np.setdiff1d(np.arange(len(steps)), jump_steps(steps)) if len(steps) else np.zeros(0, dtype=int)
@@ -262,6 +315,7 @@ class Scene:
                          size_m: float = 0.004) -> None:
         """Placement origins coloured by an objective's value (viridis: dark = low)."""
         self.drawn_points_m.append(np.asarray(points_m, dtype=float).reshape(-1, 3))
+        self.workpiece_points_m.append(self.drawn_points_m[-1])
         span = np.ptp(value) or 1.0
         colors = matplotlib.colormaps["viridis"]((value - value.min()) / span)[:, :3]
         self.viewer["value_map"].set_object(g.PointCloud(np.asarray(points_m, dtype=np.float32).T,
@@ -302,8 +356,9 @@ class Scene:
         self.result_blocks += 1
 
     def html(self, title: str = "placement") -> str:
-        """A self-contained page of the recorded scene (three.js viewer inlined, no network), the camera fitted and
-        orbiting about the centre of what is drawn."""
+        """A self-contained page of the recorded scene (three.js viewer inlined, no network), with the base frame's
+        axes, the labels, and a button for each of the views (:meth:`views_m`), opening on the first."""
+        labels = self.labels + self._draw_axes()
         self.fit_camera()
         commands = "".join(f'run("{base64.b64encode(c).decode()}");\n' for c in self.window.commands())
         legend = "".join(f'<div><span style="background:#{color:06x}"></span>{html.escape(name)}</div>'
@@ -314,9 +369,14 @@ class Scene:
             results = f'<details id="results"><summary>the answers for {self.result_blocks} paths</summary>{results}</details>'
         elif results:
             results = f'<div id="results">{results}</div>'
-        target = ", ".join(f"{v:.9g}" for v in three_frame(self.camera_m[0]))
+        legend += "<div>base frame: x red, y green, z blue</div>"
+        views = {name: {"target": three_frame(target), "position": three_frame(position)}
+                 for name, (target, position) in self.views_m().items()}
+        buttons = "".join(f'<button type="button" data-view="{name}" title="frame the {name}">{name}</button>'
+                          for name in views)
+        marks = [{"text": text, "at": three_frame(point), "color": f"#{color:06x}"} for text, point, color in labels]
         return _PAGE.format(title=html.escape(title), script=VIEWER_SCRIPT.read_text(), commands=commands,
-                            target=target, legend=legend,
+                            views=script_json(views), labels=script_json(marks), buttons=buttons, legend=legend,
                             results=results)
 
 
@@ -389,6 +449,49 @@ def screenshot(page: Path, image: Path, size: tuple[int, int] = (1000, 700), wai
                        capture_output=True, timeout=180, check=False)
     return Path(image).is_file()
 
+def workpiece_direction(low_m: np.ndarray, high_m: np.ndarray) -> np.ndarray:
+    """Where the workpiece view looks from (a unit vector from its box's centre, base frame): from beyond the
+    workpiece, away from the base frame's origin, at the default view's elevation, so that an arm reaching out to
+    the workpiece is behind it rather than in front of the camera; the default view's direction when the
+    workpiece is over the base (as on a parallel machine, whose base frame is in its workspace)."""
+    centre = (np.asarray(low_m, dtype=float) + np.asarray(high_m, dtype=float)) / 2
+    away = centre[:2]
+    if np.linalg.norm(away) <= float(np.max(np.subtract(high_m, low_m))) / 2:
+        return CAMERA_DIRECTION
+    horizontal = np.linalg.norm(CAMERA_DIRECTION[:2])
+    return np.array([*(horizontal * away / np.linalg.norm(away)), CAMERA_DIRECTION[2]])
+
+
+def framing(low_m: np.ndarray, high_m: np.ndarray,
+            direction: np.ndarray = CAMERA_DIRECTION) -> tuple[np.ndarray, np.ndarray]:
+    """A camera (target, position; m, base frame) on the centre of a box, as close as its 8 corners all stay in view.
+
+    The view is taken square (meshcat's 75° vertical field both ways), the narrowest a window wider than tall
+    gives; each corner keeps 1/``CAMERA_MARGIN`` of the half-view and is beyond the near plane.
+
+    Args:
+        low_m: The box's lowest corner (m).
+        high_m: Its highest corner (m).
+        direction: A unit vector from the box's centre towards the camera, not vertical.
+    """
+    low, high = np.asarray(low_m, dtype=float), np.asarray(high_m, dtype=float)
+    centre = (low + high) / 2
+    forward = -direction
+    right = np.cross(forward, [0.0, 0.0, 1.0])
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    offset = box_corners(low, high) - centre
+    depth = offset @ forward  # beyond the centre (> 0) or before it, along the view
+    half_view = np.tan(np.radians(CAMERA_FOV_DEG / 2)) / CAMERA_MARGIN
+    across = np.maximum(np.abs(offset @ right), np.abs(offset @ up))
+    distance = max(float(np.max(across / half_view - depth)), float(np.max(-depth)) + 2 * CAMERA_NEAR_M)
+    return centre, centre + direction * distance
+
+
+def script_json(value: object) -> str:
+    """``value`` as JSON to write inside a page's script: no ``<``, ``>`` or ``&`` that could end the script early."""
+    return json.dumps(value).replace("<", "\\u003c").replace(">", "\\u003e").replace("&", "\\u0026")
+
 
 def three_frame(point_m: np.ndarray) -> list[float]:
     """A point of the scene (base frame, Z up) in three.js' world frame, Y up: meshcat turns its scene by -90° about X
@@ -428,12 +531,19 @@ body {{ margin: 0; overflow: hidden; }}
 #legend {{ position: absolute; left: 10px; bottom: 10px; background: rgba(255,255,255,0.85); padding: 6px 10px;
           font: 13px sans-serif; border-radius: 4px; }}
 #legend span {{ display: inline-block; width: 12px; height: 12px; margin-right: 6px; vertical-align: middle; }}
+#views {{ position: absolute; right: 10px; bottom: 10px; font: 13px sans-serif; }}
+#views button {{ font: inherit; padding: 4px 10px; border: 1px solid #888; background: #fff; border-radius: 4px; }}
+#views button[aria-pressed="true"] {{ background: #333; color: #fff; }}
+#labels div {{ position: absolute; transform: translate(6px, -100%); font: bold 14px sans-serif; pointer-events: none;
+              text-shadow: 0 0 3px #fff, 0 0 3px #fff; }}
 #results {{ position: absolute; left: 10px; top: 10px; background: rgba(255,255,255,0.9); padding: 6px 10px;
            font: 14px sans-serif; border-radius: 4px; white-space: pre; max-height: 40vh; overflow-y: auto; }}
 </style></head>
 <body>
 <div id="meshcat-pane"></div>
 <div id="legend"><b>{title}</b>{legend}</div>
+<div id="views" role="group" aria-label="views">{buttons}</div>
+<div id="labels" aria-hidden="true"></div>
 {results}
 <script>{script}</script>
 <script>
@@ -444,8 +554,34 @@ function run(packed) {{
   viewer.handle_command_bytearray(bytes);
 }}
 {commands}
-viewer.controls.target.set({target});
-viewer.controls.update();
+var views = {views}, marks = {labels};
+function showView(name) {{
+  var view = views[name];
+  viewer.camera.position.fromArray(view.position);
+  viewer.controls.target.fromArray(view.target);
+  viewer.controls.update();
+  document.querySelectorAll("#views button").forEach(function (b) {{
+    b.setAttribute("aria-pressed", String(b.dataset.view === name)); }});
+}}
+document.querySelectorAll("#views button").forEach(function (b) {{
+  b.addEventListener("click", function () {{ showView(b.dataset.view); }}); }});
+showView(Object.keys(views)[0]);
+var pane = document.getElementById("labels");
+marks.forEach(function (mark) {{
+  var div = document.createElement("div");
+  div.textContent = mark.text; div.style.color = mark.color; mark.div = pane.appendChild(div);
+}});
+function placeLabels() {{
+  var at = new MeshCat.THREE.Vector3(), width = window.innerWidth, height = window.innerHeight;
+  marks.forEach(function (mark) {{
+    at.fromArray(mark.at).project(viewer.camera);
+    mark.div.style.display = at.z < 1 ? "" : "none";
+    mark.div.style.left = ((at.x + 1) / 2 * width).toFixed(1) + "px";
+    mark.div.style.top = ((1 - at.y) / 2 * height).toFixed(1) + "px";
+  }});
+  requestAnimationFrame(placeLabels);
+}}
+placeLabels();
 </script>
 </body>
 </html>

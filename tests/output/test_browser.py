@@ -90,8 +90,9 @@ def test_markup_from_input_files_is_inert_in_the_page(tmp_path):
 
     scene = Scene(load_robot("orthoglide"))
     scene.add_path("0_best", np.zeros((3, 3)), BEST_COLOR, "<img src=x onerror=alert(1)>")
+    scene.add_label("</script><img src=x onerror=alert(2)>", np.zeros(3), 0)  # a named point's name, on the page
     page = scene.html("<script>alert('path name')</script>")
-    assert "<script>alert(" not in page and "<img src=x" not in page
+    assert "<script>alert(" not in page and "<img src=x" not in page and "</script><img" not in page
     assert "&lt;script&gt;alert(&#x27;path name&#x27;)&lt;/script&gt;" in page
 
 

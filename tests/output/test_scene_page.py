@@ -13,6 +13,8 @@ import re
 import numpy as np
 import pinocchio as pin
 import pytest
+from PIL import Image
+from selenium.webdriver.common.by import By
 
 from placement import load_robot
 from placement.output.scene import Scene
@@ -83,7 +85,7 @@ def test_every_triangle_of_the_mesh_files_is_drawn(browser, tmp_path, name):
     assert browser.execute_script(DRAWN_TRIANGLES) == expected
 
 
-def test_the_camera_orbits_about_the_contents_centre_and_the_content_fills_the_view(browser, tmp_path):
+def test_everything_orbits_about_the_contents_centre_and_the_content_fills_the_view(browser, tmp_path):
     robot = load_robot("ur5")
     scene = Scene(robot)
     scene.add_workspace()
@@ -91,6 +93,7 @@ def test_the_camera_orbits_about_the_contents_centre_and_the_content_fills_the_v
     angle = np.linspace(0, 2 * np.pi, 100)
     scene.add_path("p", (low + high) / 2 + 0.1 * np.column_stack([np.cos(angle), np.sin(angle), 0 * angle]), 0x009E73)
     load(browser, scene, tmp_path)
+    browser.find_element(By.CSS_SELECTOR, '#views [data-view="everything"]').click()
     seen = browser.execute_script(CAMERA)
     centre, size = (np.array(seen["low"]) + np.array(seen["high"])) / 2, np.linalg.norm(np.subtract(seen["high"],
                                                                                                    seen["low"]))
@@ -101,6 +104,44 @@ def test_the_camera_orbits_about_the_contents_centre_and_the_content_fills_the_v
     corners = np.array(seen["corners"])[:, :2]
     assert np.all(np.abs(corners) <= 1.0)  # every corner of the content's box is in view
     assert max(np.abs(corners[:, 1]).max(), np.abs(corners[:, 0]).max() * seen["aspect"]) > 0.85  # and it fills it
+
+
+LABELS = """
+var found = {};
+document.querySelectorAll("#labels div").forEach(function (d) {
+  found[d.textContent] = [parseFloat(d.style.left), parseFloat(d.style.top), d.style.display];
+});
+["labels", "legend", "views"].forEach(function (id) {  // the screenshot shows the scene alone (no swatch, no text)
+  document.getElementById(id).style.display = "none"; });
+viewer.render();
+return found;
+"""
+
+
+@pytest.mark.parametrize("view", ["workspace", "everything"])
+def test_each_named_point_is_labelled_where_the_browser_draws_it(browser, tmp_path, view):
+    """The labels follow the points as the page projects them; the spheres are drawn by WebGL: they must coincide."""
+    from placement.output.palette import POINT_COLORS
+
+    scene = Scene(load_robot("orthoglide"))
+    scene.add_workspace()
+    load(browser, scene, tmp_path)
+    browser.find_element(By.CSS_SELECTOR, f'#views [data-view="{view}"]').click()
+    labels = browser.execute_script(LABELS)
+    assert {"O_b", "C", "Q+", "Q-", "x", "y", "z"} <= set(labels)
+    shot = tmp_path / "labels.png"
+    browser.save_screenshot(str(shot))
+    pixels = np.asarray(Image.open(shot).convert("RGB")).astype(int)
+    scale = pixels.shape[1] / browser.execute_script("return window.innerWidth")
+    for name in ("C", "Q+", "Q-"):  # O_b is behind the platform's centre, drawn over by the path-less scene's axes
+        color = POINT_COLORS[name.replace("+", "_plus").replace("-", "_minus")]
+        rgb = np.array([(color >> 16) & 255, (color >> 8) & 255, color & 255])
+        rows, cols = np.nonzero(np.abs(pixels - rgb).max(axis=-1) <= 12)
+        assert len(rows) > 30, f"{name} not drawn"
+        drawn = np.array([np.median(cols), np.median(rows)]) / scale
+        left, top, display = labels[name]
+        assert display == ""
+        assert np.linalg.norm(drawn - [left, top]) < 6, f"{name}: label at {left, top}, drawn at {drawn}"
 
 
 def lab(color: int) -> np.ndarray:

@@ -1,11 +1,12 @@
-"""The scene's camera sees the whole robot and every path, from a 6 cm robot to a 2 m tall chain."""
+"""The scene's views: everything sees the whole robot and every path, from a 6 cm robot to a 2 m tall chain; the page
+opens on the workpiece, which fills a good part of the view, seen from beyond it so that an arm is not in front."""
 
 import numpy as np
 import pinocchio as pin
 import pytest
 
 from placement import load_robot
-from placement.output.scene import CAMERA_FOV_DEG, Scene
+from placement.output.scene import CAMERA_FOV_DEG, WORKPIECE_MIN_M, Scene
 
 HALF_VIEW = np.tan(np.radians(CAMERA_FOV_DEG / 2))  # a square window: the narrowest view meshcat gives across
 NEAR_M = 0.01
@@ -74,19 +75,47 @@ def robot(request, tmp_path):
     return chain(tmp_path, 0.06 if request.param == "tiny" else 2.0)
 
 
-def test_camera_sees_every_corner_of_the_robot_and_paths(robot):
+def test_the_everything_view_sees_every_corner_of_the_robot_and_paths(robot):
     scene = Scene(robot)
     scene.add_workspace()
     size = float(np.ptp(drawn_box(robot, np.zeros((0, 3))), axis=0).max())
     path = circle_at(robot, 0.4 * size)  # a path reaching out beyond the robot
     scene.add_path("p", path, 0x00FF00)
     scene.html()
-    target, position = scene.camera_m
+    target, position = scene.views_m()["everything"]
     corners = drawn_box(robot, path)
     assert in_view(position, target, corners)
     assert not in_view(target + 0.3 * (position - target), target, corners)  # closer, the box overflows the view
     # not absurdly far: the box's largest side spans at least a fifth of the view
     assert np.ptp(corners, axis=0).max() > 0.2 * 2 * HALF_VIEW * np.linalg.norm(position - target)
+
+
+def test_the_page_opens_on_the_workpiece_which_fills_a_good_part_of_the_view(robot):
+    scene = Scene(robot)
+    scene.add_workspace()
+    size = float(np.ptp(drawn_box(robot, np.zeros((0, 3))), axis=0).max())
+    path = circle_at(robot, max(0.05 * size, WORKPIECE_MIN_M))  # a workpiece small beside the robot
+    scene.add_path("p", path, 0x00FF00)
+    scene.html()
+    target, position = scene.camera_m
+    assert list(scene.views_m()) == ["workpiece", *(["workspace"] if robot.workspace else []), "everything"]
+    assert np.allclose((target, position), scene.views_m()["workpiece"])
+    assert in_view(position, target, path)
+    spans = np.ptp(path, axis=0).max()  # the circle's diameter against the view's width at its distance
+    view_width = 2 * HALF_VIEW * np.linalg.norm(position - target)
+    assert spans > 0.15 * view_width  # in the everything view of the Orthoglide: 0.03
+
+
+def test_the_workpiece_is_seen_from_beyond_it_away_from_an_arms_base():
+    ur5 = load_robot("ur5")
+    scene = Scene(ur5)
+    centre = np.array([0.4, 0.3, 0.2])  # reached from the base at the origin
+    angle = np.linspace(0, 2 * np.pi, 40)
+    scene.add_path("p", centre + 0.03 * np.column_stack([np.cos(angle), np.sin(angle), 0 * angle]), 0x00FF00)
+    target, position = scene.views_m()["workpiece"]
+    outwards = (position - target)[:2] @ centre[:2] / np.linalg.norm(position - target) / np.linalg.norm(centre[:2])
+    assert outwards > 0.8  # the camera is on the far side of the workpiece, the arm behind it
+    assert position[2] > target[2]  # looking down on it
 
 
 def test_the_former_fixed_offset_misses_the_tall_chain(tmp_path):
