@@ -109,8 +109,9 @@ def loaded_deflection(springs: JointSprings, solver: KinematicsSolver, task: Tas
 
 def _actuators_only(springs: JointSprings) -> None:
     """The loaded correction covers springs on actuated joints alone."""
-    if len(springs.passive_stiffness):
-        raise SettingsError("the loaded correction covers springs on actuated joints only (joint_springs are declared)")
+    if len(springs.passive_stiffness) or springs.links is not None:
+        raise SettingsError("the loaded correction covers springs on actuated joints only (joint_springs or "
+                            "link_springs are declared)")
 
 
 def _square(robot: Robot) -> None:
