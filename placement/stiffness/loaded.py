@@ -35,6 +35,7 @@ from placement.stiffness.compliance import JointSprings
 STEP = 1e-6  # of the task's central differences: m along a translation, rad about an axis
 MAX_STEPS = 4  # Newton steps of the loaded equilibrium: two suffice at process loads, each adds digits quadratically
 CONVERGED = 1e-9  # the last step's largest move relative to the largest deflection, at which the equilibrium is found
+SOLVER_FLOOR = 1e-10  # m or rad: a move below it is the kinematics solvers' own residual (1e-11 to 1e-12), not a step
 
 
 def complementary_stiffness(solver: KinematicsSolver, task: TaskTrajectory, joints: JointTrajectory,
@@ -97,7 +98,7 @@ def loaded_deflection(springs: JointSprings, solver: KinematicsSolver, task: Tas
         move = -np.einsum("nta,na->nt", current.task_map, np.linalg.solve(tangent, residual[..., None])[..., 0])
         moved = _displaced(moved, move)
         displacement = _displacement(task, moved)
-        if np.abs(move).max() <= CONVERGED * np.abs(displacement).max():
+        if np.abs(move).max() <= CONVERGED * np.abs(displacement).max() + SOLVER_FLOOR:
             return displacement
         current, reachable, reason = solver.solve(moved)
         if not reachable.all():
