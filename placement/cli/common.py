@@ -202,6 +202,11 @@ def margin_option() -> argparse.ArgumentParser:
                          help="the largest deflection of the tool under the path's process forces a placement may "
                               "have (µm; the robot's sidecar gives its joints' stiffness), overriding the path file's "
                               "max_deflection_um")
+    options.add_argument("--loaded-stiffness", action="store_true",
+                         help="the tool's deflection at the nonlinear equilibrium under the finite process forces (the "
+                              "loaded, complementary stiffness correction) instead of the linear C·w, in the deflection "
+                              "objectives, limit and report, which gives the change it makes (the path file's "
+                              "loaded_stiffness)")
     return options
 
 
@@ -275,7 +280,9 @@ def configured_path(args: argparse.Namespace, file: str) -> ToolPath:
         print(f"note: {reason}: {file} is timed by it, for every objective")
     path = override_timing(path, mode, args.max_acceleration, args.max_jerk)
     bound_um = getattr(args, "max_deflection_um", None)
-    return path if bound_um is None else dataclasses.replace(path, max_deflection_m=bound_um * 1e-6)
+    if bound_um is not None:
+        path = dataclasses.replace(path, max_deflection_m=bound_um * 1e-6)
+    return dataclasses.replace(path, loaded_stiffness=True) if getattr(args, "loaded_stiffness", False) else path
 
 
 def objective_names(args: argparse.Namespace) -> list[str]:

@@ -11,10 +11,11 @@ import numpy as np
 from placement.dynamics.path_dynamics import sample_rows
 from placement.energy.integration import DrivePower, Energy, drive_power, electric_energy, interval_widths
 from placement.energy.trace import MotorTrace
+from placement.kinematics.base import KinematicsSolver
 from placement.kinematics.trajectories import JointTrajectory
 from placement.path.samples import PathSamples
 from placement.path.time_law import TimeLaw
-from placement.placing.transform import placement_pose
+from placement.placing.transform import placed_task, placement_pose
 from placement.robot.model import Robot
 from placement.stiffness import Deflection, joint_springs, path_deflection
 
@@ -53,6 +54,8 @@ class EvaluatedBatch:
             sample. A limit on position or velocity checks these alone (:meth:`distinct`).
         max_deflection_m: The largest deflection of the tool under the process load a feasible placement may have
             (m; the path file's ``max_deflection_um`` or ``--max-deflection-um``), or None: no such limit.
+        loaded_solver: With the loaded correction (the path file's ``loaded_stiffness`` or ``--loaded-stiffness``),
+            the kinematics solver that finds the loaded equilibrium (:mod:`placement.stiffness.loaded`); else None.
     """
 
     robot: Robot
@@ -74,6 +77,7 @@ class EvaluatedBatch:
     path_law: TimeLaw | None = None
     distinct_samples: np.ndarray | None = None
     max_deflection_m: float | None = None
+    loaded_solver: KinematicsSolver | None = None
 
     def __len__(self) -> int:
         return len(self.placements)
@@ -95,10 +99,14 @@ class EvaluatedBatch:
 
         Raises:
             RobotFileError: An actuator gives no stiffness.
+            SettingsError: The loaded correction does not cover the robot or finds no equilibrium.
         """
         rotation = placement_pose(self.placements, self.robot.plane)[0]  # path frame in the base frame, (K, 3, 3)
         force = np.matmul(self.samples.force_on_tool_N, rotation.transpose(0, 2, 1))
-        return path_deflection(joint_springs(self.robot), self.joints, force)
+        loaded = None
+        if self.loaded_solver is not None:
+            loaded = (self.loaded_solver, placed_task(self.robot, self.samples, self.placements)[0])
+        return path_deflection(joint_springs(self.robot), self.joints, force, loaded)
 
     @cached_property
     def drive_power(self) -> DrivePower:

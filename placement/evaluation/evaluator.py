@@ -200,7 +200,8 @@ class Evaluator:
                               feasibility_only=self.settings.feasibility_only and not exact,
                               time_law=None if timing is None else timing.samples_law,
                               path_law=None if timing is None else timing.law, distinct_samples=self.distinct,
-                              max_deflection_m=self.path.max_deflection_m)
+                              max_deflection_m=self.path.max_deflection_m,
+                              loaded_solver=self.solver if self.path.loaded_stiffness else None)
 
     def _time_optimally(self, joints: JointTrajectory, force: np.ndarray, reachable: np.ndarray,
                         given: TimeLaw | None) -> OptimalMotion:

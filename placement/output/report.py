@@ -168,21 +168,27 @@ def _deflection_line(detail: PlacementDetail) -> str:
     bend = detail.deflection
     assert bend is not None
     rotation = "" if bend.largest_rotation_rad is None else f", rotation up to {bend.largest_rotation_rad * 1e6:.4g} µrad"
+    loaded = "" if bend.loaded_correction is None else (
+        f"; at the loaded equilibrium, which changes it by at most {bend.loaded_correction:.2g} of the largest linear one")
     return (f"  tool deflection under the process forces: largest {bend.largest_m * 1e6:.4g} µm at "
             f"{bend.arc_length_m * 1e3:.1f} mm along the path (t = {detail.samples.t_s[bend.sample]:.4f} s) along "
             f"({', '.join(f'{c:.3f}' for c in bend.direction)}) in the base frame, RMS {bend.rms_m * 1e6:.4g} µm"
-            f"{rotation}")
+            f"{rotation}{loaded}")
 
 
 def _deflection_json(detail: PlacementDetail) -> dict[str, Any] | None:
-    """The tool's deflection under the process forces (µm; where along the path, the base frame's direction)."""
+    """The tool's deflection under the process forces (µm; where along the path, the base frame's direction; with the
+    loaded correction, the largest change it makes relative to the largest linear deflection)."""
     bend = detail.deflection
     if bend is None:
         return None
-    return {"largest_um": bend.largest_m * 1e6, "rms_um": bend.rms_m * 1e6,
-            "where": {"sample": bend.sample, "arc_length_m": bend.arc_length_m,
-                      "t_s": float(detail.samples.t_s[bend.sample])},
-            "direction": bend.direction.tolist(), "largest_rotation_rad": bend.largest_rotation_rad}
+    out = {"largest_um": bend.largest_m * 1e6, "rms_um": bend.rms_m * 1e6,
+           "where": {"sample": bend.sample, "arc_length_m": bend.arc_length_m,
+                     "t_s": float(detail.samples.t_s[bend.sample])},
+           "direction": bend.direction.tolist(), "largest_rotation_rad": bend.largest_rotation_rad}
+    if bend.loaded_correction is not None:
+        out["loaded_correction"] = bend.loaded_correction
+    return out
 
 
 def _closest_text(robot: Robot, detail: PlacementDetail, margin: Margin) -> str:

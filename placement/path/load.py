@@ -90,7 +90,8 @@ def load_path(path: str | FilePath | dict[str, Any], folder: str | FilePath = ".
                     time_step_s=(spec.time_step_s if spec.time_step_s is not None
                                  else default_time_step_s(feed, sum(s.length_m for s in segments))),
                     rapid_feed_m_s=rapid_feed, timed=timed, notes=notes, holds=holds,
-                    max_deflection_m=None if spec.max_deflection_um is None else spec.max_deflection_um * 1e-6)
+                    max_deflection_m=None if spec.max_deflection_um is None else spec.max_deflection_um * 1e-6,
+                    loaded_stiffness=spec.loaded_stiffness)
 
 
 def _kept(program: Program, rapids: bool) -> tuple[tuple[Segment, ...], tuple[Hold, ...]]:

@@ -263,6 +263,9 @@ class PathFile(Strict):
     time_step_s: Positive | None = None
     max_deflection_um: Positive | None = Field(None, description="the largest deflection of the tool under the "
                                                "process forces a placement may have (µm), if any")
+    loaded_stiffness: bool = Field(False, description="the deflection at the nonlinear equilibrium under the finite "
+                                   "process forces (the loaded, complementary correction), not the linear C·w; the "
+                                   "report gives the change it makes")
 
     @field_validator("feed_m_s")
     @classmethod

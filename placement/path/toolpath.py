@@ -39,6 +39,8 @@ class ToolPath:
             optimal law as a run of two samples at rest, timed by its duration.
         max_deflection_m: The largest deflection of the tool under the process forces a feasible placement may
             have (m; :mod:`placement.stiffness`), or None: none is required.
+        loaded_stiffness: The deflection is the nonlinear equilibrium under the finite process force (the loaded
+            correction, :mod:`placement.stiffness.loaded`), not the linear C·w.
     """
 
     name: str
@@ -52,6 +54,7 @@ class ToolPath:
     notes: tuple[str, ...] = ()
     holds: tuple[Hold, ...] = ()
     max_deflection_m: float | None = None
+    loaded_stiffness: bool = False
 
     @property
     def length_m(self) -> float:

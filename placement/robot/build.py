@@ -80,6 +80,7 @@ def build_robot(path: Path, sidecar: Sidecar, *, check_closures: bool = True, al
     for actuator in robot.actuators:
         model.armature[actuator.v_index] += actuator.reflected_inertia
     _check_joint_springs(path, sidecar, model)
+    _check_link_springs(path, robot)
     _check_sources(path, sidecar, urdf.names)
     if check_closures:
         _check_closed_at_reference(robot)
@@ -205,6 +206,22 @@ def _check_joint_springs(path: Path, sidecar: Sidecar, model: pin.Model) -> None
         if name in actuated:
             raise RobotFileError(path, f"joint_springs.{name}", f"joint '{name}' is actuated: give its stiffness as "
                                  f"actuators.{actuated[name]}.stiffness")
+
+
+def _check_link_springs(path: Path, robot: Robot) -> None:
+    """Each spring of ``link_springs`` names a link of the model outside every closed loop."""
+    model = robot.model
+    for name in robot.sidecar.link_springs:
+        field = f"link_springs.{name}"
+        if not model.existBodyName(name):
+            raise RobotFileError(path, field, f"no link '{name}' in the URDF")
+        joint = model.frames[model.getBodyId(name)].parentJoint
+        for closure in robot.closures:  # a loop wholly beyond the link moves with it; one it closes on is not covered
+            beyond = [joint in model.supports[model.frames[f].parentJoint] for f in closure.frame_ids]
+            if any(beyond) and not all(beyond):
+                raise RobotFileError(path, field, f"link '{name}' is in the closed loop {closure.name}: a link spring "
+                                     "is covered outside loops only; give the loop's compliance as joint_springs on "
+                                     "its passive joints")
 
 
 def _reference_q(model: pin.Model, path: Path, values: dict[str, float], locked: dict[str, float]) -> np.ndarray:

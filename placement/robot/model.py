@@ -17,7 +17,7 @@ from placement.robot.plugins import ClosedFormFunction, load_plugin, make_closed
 
 if TYPE_CHECKING:
     from placement.cell.cell_file import Cell, ToolBody
-    from placement.robot.sidecar import Drive, LinkInertial, PlacementDefaults, Plane, Sidecar, Workspace
+    from placement.robot.sidecar import Drive, LinkInertial, LinkSpring, PlacementDefaults, Plane, Sidecar, Workspace
 
 
 @dataclass(frozen=True)
@@ -288,6 +288,11 @@ class Robot:
     def joint_springs(self) -> dict[str, float]:
         """Springs on passive joints (the sidecar's ``joint_springs``), by joint name: N/m or N·m/rad."""
         return dict(self.sidecar.joint_springs)
+
+    @property
+    def link_springs(self) -> dict[str, LinkSpring]:
+        """Links' compliance as 6×6 springs (the sidecar's ``link_springs``), by link name."""
+        return dict(self.sidecar.link_springs)
 
     @property
     def collision_ignore_pairs(self) -> tuple[tuple[str, str], ...]:

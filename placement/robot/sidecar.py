@@ -11,6 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated, Literal
 
+import numpy as np
 from pydantic import BeforeValidator, Field, model_validator
 
 from placement.cell.cell_file import InertiaTensor, ToolBody, check_mesh_file
@@ -23,6 +24,32 @@ NonNegative = Annotated[Number, Field(ge=0.0)]
 Positive = Annotated[Number, Field(gt=0.0)]
 Vector3 = tuple[Number, Number, Number]
 SOURCE_STATUSES = ("PAPER", "DERIVED", "CATALOG", "PUBLISHED", "EST", "CALIBRATED")
+
+
+class LinkSpring(Strict):
+    """A link's compliance as a 6×6 spring (the virtual-joint method): the link, its frames and everything beyond it
+    yield by a small twist ε (translation, then rotation, in the link frame's axes) at the point ``origin_m`` of the
+    link frame, against the stiffness K·ε. A link inside a closed loop is not covered."""
+
+    stiffness: list[Positive] | list[list[Number]] = Field(
+        description="6 values (a diagonal) or a 6×6 symmetric positive definite matrix: N/m, N·m/rad and N/rad in its "
+        "coupling blocks, translation first, in the link frame's axes")
+    origin_m: Vector3 = Field((0.0, 0.0, 0.0), description="where the spring sits, in the link frame (m)")
+
+    @model_validator(mode="after")
+    def _positive_definite(self) -> LinkSpring:
+        matrix = self.matrix
+        if matrix.shape != (6, 6):
+            raise ValueError(f"stiffness must be 6 values or a 6×6 matrix, got shape {matrix.shape}")
+        if not np.allclose(matrix, matrix.T, rtol=1e-12, atol=0.0) or np.linalg.eigvalsh(matrix).min() <= 0:
+            raise ValueError("stiffness must be symmetric positive definite")
+        return self
+
+    @property
+    def matrix(self) -> np.ndarray:
+        """(6, 6) the stiffness matrix."""
+        values = np.array(self.stiffness, dtype=float)
+        return np.diag(values) if values.ndim == 1 else values
 
 
 class Friction(Strict):
@@ -223,6 +250,8 @@ class Sidecar(Strict):
                                            "without them, say)")
     joint_springs: dict[str, Positive] = Field({}, description="springs on passive joints (virtual joints of a "
                                                "compliant link, say), by joint name: N/m or N·m/rad")
+    link_springs: dict[str, LinkSpring] = Field({}, description="links' compliance as 6×6 springs (the virtual-joint "
+                                                "method), by link name; not in a closed loop")
     sources: dict[str, str] = {}
 
 
@@ -260,13 +289,14 @@ def _check_references(path: Path, sidecar: Sidecar) -> None:
 
 def _check_stiffness_sources(path: Path, sidecar: Sidecar) -> None:
     """A stiffness is a measured or estimated number: each needs its ``sources`` entry (the field's own, or
-    ``actuators.stiffness`` for every actuator's, ``joint_springs`` for every spring)."""
+    ``actuators.stiffness`` for every actuator's, ``joint_springs`` or ``link_springs`` for every spring)."""
     keys = set(sidecar.sources)
     fields = [(f"actuators.{i}.stiffness", "actuators.stiffness") for i, a in enumerate(sidecar.actuators)
               if a.stiffness is not None]
     fields += [(f"drives.{name}.motor_side_stiffness_Nm_per_rad", f"drives.{name}") for name, drive in sidecar.drives.items()
                if drive.motor_side_stiffness_Nm_per_rad is not None]
     fields += [(f"joint_springs.{name}", "joint_springs") for name in sidecar.joint_springs]
+    fields += [(f"link_springs.{name}", "link_springs") for name in sidecar.link_springs]
     for field, shared in fields:
         if not {field, shared} & keys:
             raise RobotFileError(path, field, f"a stiffness needs its source: add the entry {field} (or {shared}): "

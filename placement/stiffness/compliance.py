@@ -18,6 +18,12 @@ passive joints), so
 
 No inverse of T is taken, so a robot with more actuators than task freedoms works too. For a serial arm C = J·K⁻¹·Jᵀ;
 for the Orthoglide with rigid legs, T = J⁻¹ (J: tool to slider velocities) and C⁻¹ = k_a·JᵀJ.
+Links given as 6×6 springs (the sidecar's ``link_springs``, the virtual-joint method; outside closed loops) add
+their compliance in series: a spring at point s of a link, stiffness K_s in the link frame's axes, lets the link and
+everything beyond it yield by a small twist ε = K_s⁻¹·J_sᵀ·w, which moves the tool by J_s·ε (J_s: the rotation of
+the link frame, and the lever from s to the tool point), so C gains J_s·K_s⁻¹·J_sᵀ for each spring that carries the
+tool.
+
 The model is linear: it leaves out the change of J under load (the complementary stiffness, of relative size
 |w|·(a length)/k), link compliance beyond the declared springs, contact and backlash.
 """
@@ -27,10 +33,29 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import pinocchio as pin
 
 from placement.kinematics.trajectories import JointTrajectory
+from placement.kinematics.tree import frame_kinematics
 from placement.robot.exceptions import RobotFileError
 from placement.robot.model import Robot
+
+
+@dataclass(frozen=True)
+class LinkSprings:
+    """The 6×6 springs of links that carry the tool (module docstring).
+
+    Attributes:
+        model: The robot's kinematic model.
+        frame_ids: The tool's frame, then each sprung link's frame.
+        origin_m: (L, 3) each spring's point in its link frame.
+        compliance: (L, 6, 6) each spring's K_s⁻¹ in its link frame's axes, translation first.
+    """
+
+    model: pin.Model
+    frame_ids: tuple[int, ...]
+    origin_m: np.ndarray
+    compliance: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -41,11 +66,13 @@ class JointSprings:
         actuator_stiffness: (n_act,) each actuated joint's stiffness, in actuator order.
         passive_v_indices: (p,) velocity indices of the sprung passive joints.
         passive_stiffness: (p,) their springs.
+        links: The links' springs that carry the tool, or None.
     """
 
     actuator_stiffness: np.ndarray
     passive_v_indices: np.ndarray
     passive_stiffness: np.ndarray
+    links: LinkSprings | None = None
 
 
 def joint_springs(robot: Robot) -> JointSprings:
@@ -64,7 +91,21 @@ def joint_springs(robot: Robot) -> JointSprings:
     return JointSprings(actuator_stiffness=np.array([a.stiffness for a in robot.actuators], dtype=float),
                         passive_v_indices=np.array([robot.model.joints[robot.model.getJointId(name)].idx_v
                                                     for name in springs], dtype=int),
-                        passive_stiffness=np.array(list(springs.values()), dtype=float))
+                        passive_stiffness=np.array(list(springs.values()), dtype=float), links=_link_springs(robot))
+
+
+def _link_springs(robot: Robot) -> LinkSprings | None:
+    """The sidecar's link springs that carry the tool (a spring on a link the tool does not descend from moves it
+    not), or None."""
+    model = robot.model
+    tool_joint = model.frames[robot.end_effector_frame_id].parentJoint
+    carrying = {name: spring for name, spring in robot.link_springs.items()
+                if model.frames[model.getBodyId(name)].parentJoint in model.supports[tool_joint]}
+    if not carrying:
+        return None
+    return LinkSprings(model=model, frame_ids=(robot.end_effector_frame_id, *(model.getBodyId(n) for n in carrying)),
+                       origin_m=np.array([spring.origin_m for spring in carrying.values()], dtype=float),
+                       compliance=np.array([np.linalg.inv(spring.matrix) for spring in carrying.values()]))
 
 
 def has_springs(robot: Robot) -> bool:
@@ -73,12 +114,40 @@ def has_springs(robot: Robot) -> bool:
 
 
 def tool_compliance(springs: JointSprings, joints: JointTrajectory) -> np.ndarray:
-    """(M, d, d) the tool's compliance C = T·K_ρ⁻¹·Tᵀ at each of M samples (module docstring), d the task dimension:
-    m/N in the force block, then rad/(N·m) for a pose task."""
+    """(M, d, d) the tool's compliance C = T·K_ρ⁻¹·Tᵀ (plus the links' J_s·K_s⁻¹·J_sᵀ) at each of M samples (module
+    docstring), d the task dimension: m/N in the force block, then rad/(N·m) for a pose task."""
     task_map = joints.task_map
     if not len(springs.passive_stiffness):
-        return np.matmul(task_map / springs.actuator_stiffness, np.swapaxes(task_map, 1, 2))
-    return np.matmul(task_map, np.linalg.solve(_actuator_space_stiffness(springs, joints), np.swapaxes(task_map, 1, 2)))
+        joint_part = np.matmul(task_map / springs.actuator_stiffness, np.swapaxes(task_map, 1, 2))
+    else:
+        joint_part = np.matmul(task_map, np.linalg.solve(_actuator_space_stiffness(springs, joints),
+                                                         np.swapaxes(task_map, 1, 2)))
+    return joint_part if springs.links is None else joint_part + link_compliance(springs.links, joints)
+
+
+def link_compliance(links: LinkSprings, joints: JointTrajectory) -> np.ndarray:
+    """(M, d, d) Σ J_s·K_s⁻¹·J_sᵀ over the link springs at each sample (module docstring)."""
+    dimension = joints.task_map.shape[1]
+    rotation, origin, _, _ = frame_kinematics(links.model, links.frame_ids, joints.q, np.zeros_like(joints.v))
+    tool = origin[:, 0]
+    total = np.zeros((len(joints), dimension, dimension))
+    for index in range(len(links.origin_m)):
+        turn = rotation[:, index + 1]  # (M, 3, 3) the link frame's axes in the base frame
+        lever = tool - origin[:, index + 1] - turn @ links.origin_m[index]  # from the spring to the tool point
+        move = np.zeros((len(joints), 6, 6))  # the tool's twist per ε: translation, then rotation (base frame)
+        move[:, :3, :3] = turn
+        move[:, :3, 3:] = -_skew(lever) @ turn
+        move[:, 3:, 3:] = turn
+        move = move[:, :dimension]
+        total += move @ links.compliance[index] @ np.swapaxes(move, 1, 2)
+    return total
+
+
+def _skew(vector: np.ndarray) -> np.ndarray:
+    """(M, 3, 3) the cross-product matrices of (M, 3) vectors."""
+    out = np.zeros((len(vector), 3, 3))
+    out[:, [2, 0, 1], [1, 2, 0]] = vector
+    return out - np.swapaxes(out, 1, 2)
 
 
 def tool_deflection(springs: JointSprings, joints: JointTrajectory, load: np.ndarray) -> np.ndarray:
@@ -90,7 +159,9 @@ def tool_deflection(springs: JointSprings, joints: JointTrajectory, load: np.nda
         displacement = np.linalg.solve(_actuator_space_stiffness(springs, joints), generalized[..., None])[..., 0]
     else:
         displacement = generalized / springs.actuator_stiffness
-    return np.einsum("nta,na->nt", joints.task_map, displacement)
+    moved = np.einsum("nta,na->nt", joints.task_map, displacement)
+    return moved if springs.links is None else moved + np.einsum("ntu,nu->nt", link_compliance(springs.links, joints),
+                                                                 load)
 
 
 def _actuator_space_stiffness(springs: JointSprings, joints: JointTrajectory) -> np.ndarray:

@@ -21,6 +21,7 @@ RUNS = {  # each kind of document: a search with its duty cycle and boxes, --at 
     "front": ["--robot", "orthoglide", "--path", str(EXAMPLE), "--objectives", "energy,transmission", *QUICK],
     "two paths": ["--robot", "orthoglide", "--path", str(EXAMPLE), str(CIRCLE), "--minimize", *QUICK],
     "seven axes, error bars": ["--robot", "panda", "--path", str(CIRCLE), "--error-bars", *QUICK],
+    "at, loaded stiffness": ["--robot", "orthoglide", "--path", str(EXAMPLE), "--at", "x=0,y=0,z=0", "--loaded-stiffness"],
 }
 
 
@@ -40,12 +41,14 @@ def test_real_json_output_validates_against_the_schema(run, tmp_path, capsys):
     keys = {key for answer in answers for key in answer}
     expected = {"search": {"best", "worst", "gain"}, "at on a planar robot": {"at"}, "at in a cell": {"at"},
                 "front": {"members", "knee", "drawn"}, "two paths": {"best"},
-                "seven axes, error bars": {"best", "worst", "uncertainty"}}[run]
+                "seven axes, error bars": {"best", "worst", "uncertainty"}, "at, loaded stiffness": {"at"}}[run]
     assert expected <= keys  # the run gave the document kind it stands for
     if run == "search":
         assert {"duty", "tolerance", "recheck_tightest"} <= set(document["best"])
     if run == "seven axes, error bars":
         assert "profiles" in document["best"] and "basins" in document["best"]
+    if run == "at, loaded stiffness":
+        assert 0 < document["at"]["deflection"]["loaded_correction"] < 1e-4
     if run == "at in a cell":
         assert any("nearest_points_m" in margin for margin in document["at"]["margins"])
 
