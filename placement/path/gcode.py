@@ -525,6 +525,9 @@ def _motion(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, 
     if state.motion is None:  # grbl, Fanuc, Haas and Mach3 controls start in G0 (LinuxCNC in none: it refuses this)
         state.motion = state.plain_motion = 0
         state.dialect.setdefault("G0 at start", []).append(line)
+    if state.incremental and not state.given:  # a program that starts in G91: from where the tool stands, its origin
+        state.position_m = [float(o) if p is None else p for p, o in zip(state.position_m, state.offset_m)]
+        state.dialect.setdefault("G91 at start", []).append(line)
     if state.compensation is not None and (codes.get("non-modal", (0, ""))[0] == 530 or state.motion // 10 in CYCLES):
         raise fail(move_word, "G53 moves and drilling cycles cannot run under cutter radius compensation: G40 first")
     if codes.get("non-modal", (0, ""))[0] == 530:

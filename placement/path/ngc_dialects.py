@@ -204,7 +204,7 @@ def dialect_notes(dialect: dict[str, list[int]], home_given: bool, initial_feed_
 
     Args:
         dialect: The lines of each kind ("$", "$H", "M88", "G187", "M25", "M99", "long dwell", "G0 at start",
-            "initial feed").
+            "G91 at start", "initial feed", Marlin's "M104", "G28 homing", "G4 S", "G4 P", "E", ...).
         home_given: Whether the path file gives the machine's home (shape.machine.g28_mm), where M25 goes.
         initial_feed_m_s: The path file's initial feed.
     """
@@ -247,6 +247,10 @@ def dialect_notes(dialect: dict[str, list[int]], home_given: bool, initial_feed_
         verb = "give" if len(set(dialect["G0 at start"])) > 1 else "gives"
         notes.append(f"{lines_text(dialect['G0 at start'])} {verb} an end point before any motion word: read as G0, the "
                      "motion mode grbl, Fanuc, Haas and Mach3 controls start in (LinuxCNC starts in none and refuses it)")
+    if "G91 at start" in dialect:
+        notes.append(f"the program's first move ({lines_text(dialect['G91 at start'])}) is incremental (G91): it starts "
+                     "where the tool stands when the program starts, read as the program's origin (as LinuxCNC's "
+                     "interpreter starts at its origin)")
     if "initial feed" in dialect:
         assert initial_feed_m_s is not None
         notes.append(f"the feed moves of {lines_text(dialect['initial feed'])} come before the program's first F: they "

@@ -518,3 +518,11 @@ def test_a_comment_longer_than_a_line_may_be_is_read(tmp_path):
     assert ends_mm(path) == ends_mm(plain)
     error = refused(tmp_path, "G0 X" + "1" * 1200 + "\n")
     assert "longer than 1000 characters" in str(error)
+
+
+def test_a_program_that_starts_incrementally_starts_at_its_origin_with_a_warning(tmp_path):
+    # A thread mill's helix in G91 (cncjs's example), run from where the tool stands: its twin in absolute words.
+    path, told = program(tmp_path, "G21 G91\nG1 Z-1 F100\nG1 X10\nG3 X-10 Y10 I-10 J0\nG90 G0 Z5\n")
+    twin, _ = program(tmp_path, "G21 G90\nG0 X0 Y0 Z0\nG1 Z-1 F100\nG1 X10\nG3 X0 Y10 I-10 J0\nG0 Z5\n", name="twin")
+    assert ends_mm(path) == ends_mm(twin)
+    assert len(told) == 1 and "the program's first move (line 2) is incremental (G91)" in told[0]
