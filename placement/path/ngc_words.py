@@ -54,7 +54,8 @@ MARLIN_M = {  # Marlin's and RepRapFirmware's M codes that do not move the tool:
     117: "message on the display", 118: "message to the host", 140: "bed temperature",
     190: "wait for the bed temperature", 201: "the firmware's acceleration limits",
     203: "the firmware's feed limits", 204: "the firmware's accelerations", 205: "the firmware's jerk limits",
-    300: "a beep", 400: "wait for the moves to finish", 420: "bed levelling on or off"}
+    300: "a beep (Marlin), or the pen servo (MakerBot Unicorn: S30 down, S50 up)",
+    400: "wait for the moves to finish", 420: "bed levelling on or off"}
 USER_M = range(100, 200)  # user-defined M codes (LinuxCNC's M100-M199 with P, Q) that are not Marlin's: a note
 DIALECT_M = {25, 99}  # read as their controllers do (gcode._execute): Centroid's Z home, the main program's end
 UNSUPPORTED_M = {

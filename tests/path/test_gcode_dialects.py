@@ -526,3 +526,11 @@ def test_a_program_that_starts_incrementally_starts_at_its_origin_with_a_warning
     twin, _ = program(tmp_path, "G21 G90\nG0 X0 Y0 Z0\nG1 Z-1 F100\nG1 X10\nG3 X0 Y10 I-10 J0\nG0 Z5\n", name="twin")
     assert ends_mm(path) == ends_mm(twin)
     assert len(told) == 1 and "the program's first move (line 2) is incremental (G91)" in told[0]
+
+
+def test_g92_at_the_start_makes_the_current_point_known_as_a_pen_plotters_you_are_here(tmp_path):
+    # Inkscape's Unicorn plugin: "G92 X0.00 Y0.00 Z0.00 (you are here)", M300 pen servo, then G1 moves, Z at the end.
+    path, _ = program(tmp_path, "G21\nG90\nG92 X0 Y0 Z0 (you are here)\nM300 S30 (pen down)\nG4 P150\n"
+                                "G1 X-10 Y4 F3500\nG1 X-10 Y2\nG1 Z0 F150\n")
+    assert ends_mm(path) == [[[0, 0, 0], [-10, 4, 0]], [[-10, 4, 0], [-10, 2, 0]]]
+    assert [hold.duration_s for hold in path.holds] == [0.15]

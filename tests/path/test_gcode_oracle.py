@@ -178,6 +178,13 @@ G91 G20 G1 X0.1 F10
 G90
 M2
 """,
+    "g92_you_are_here_at_the_start": """G21 G90 (a pen plotter's start: the pen stands where the drawing begins)
+G92 X5 Y-3 Z2
+G1 X10 F3500
+G1 Y10 Z0
+G0 X5 Y-3 Z2
+M2
+""",
     "incremental_from_the_start": """G21 G91 G17 (a thread mill's helix, run from where the tool stands)
 G1 Z-3 F200
 G1 X2 Y-1 F100
