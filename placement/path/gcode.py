@@ -34,7 +34,7 @@ from placement.path.arcs import SAME_POINT_M, arc_segment, shifted
 from placement.path.canned import CYCLES, CycleState, expand_cycle, first_hole
 from placement.path.compensation import Compensation, begin, circular, end_compensation, straight, tool_diameter_m
 from placement.path.exceptions import GcodeDialectWarning, GcodeError, PathFileError, _CycleError, _ExpressionError, _FlowError
-from placement.path.ngc_dialects import dialect_notes, dialect_words, grbl_command
+from placement.path.ngc_dialects import Extruder, dialect_notes, dialect_words, grbl_command, marlin_program
 from placement.path.ngc_expressions import Block, Parameters, read_line
 from placement.path.ngc_flow import run_blocks
 from placement.path.ngc_offsets import Offsets, g10, g92, select_system
@@ -136,6 +136,7 @@ class _State:
     offsets: Offsets = dataclasses.field(default_factory=lambda: Offsets(np.full(3, np.nan)))  # G10, G54-G59.3, G92
     offset_m: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))  # path frame - program's (offsets')
     extra_axes: dict[str, float] = dataclasses.field(default_factory=dict)  # A, B, C, U, V, W: the one value held
+    extruder: Extruder = dataclasses.field(default_factory=Extruder)  # a 3D printer's E, which must stay put
     position_m: list[float | None] = dataclasses.field(default_factory=lambda: [None, None, None])
     given: set[int] = dataclasses.field(default_factory=set)  # the axes given a value so far
     moves: list[_Move] = dataclasses.field(default_factory=list)
@@ -173,7 +174,7 @@ def read_program(file: Path, machine: Machine | None = None) -> Program:
         raise PathFileError(file, "", "not a text file in UTF-8 (or ASCII)") from None
     blocks: list[Block] = []
     for number, line in enumerate(text.splitlines(), start=1):
-        if len(line) > MAX_LINE_CHARS:
+        if len(line) > MAX_LINE_CHARS and len(line.partition(";")[0]) > MAX_LINE_CHARS:  # (a long comment is read)
             raise GcodeError(file, number, "", f"the line is longer than {MAX_LINE_CHARS} characters")
         blocks.append(read_line(line))
     machine = machine or Machine()
@@ -193,6 +194,10 @@ def read_program(file: Path, machine: Machine | None = None) -> Program:
         run_blocks(blocks, Parameters(), execute, system)
     except (_FlowError, _ExpressionError) as error:  # (a line that cannot be run, or read)
         raise GcodeError(file, error.index + 1, error.text, error.problem) from None
+    if marlin_program(state.dialect):  # Marlin's G4 P is in milliseconds
+        in_ms = set(state.dialect.get("G4 P", []))
+        state.dwells = [dataclasses.replace(d, duration_s=d.duration_s * 1e-3) if d.line in in_ms else d
+                        for d in state.dwells]
     program = _program(file, state)
     for text in dialect_notes(state.dialect, state.machine.g28_m is not None, state.machine.initial_feed_m_s):
         warnings.warn(f"{file}: {text}", GcodeDialectWarning, stacklevel=2)
@@ -235,7 +240,7 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
     the main program)."""
     state.line = line
     codes, m_codes, values, written = sorted_words(fail, words)
-    for kind in dialect_words(fail, codes, m_codes, values, written, depth):
+    for kind in dialect_words(fail, codes, m_codes, values, written, depth, state.extruder):
         state.dialect.setdefault(kind, []).append(line)
     if "feed mode" in codes:
         state.feed_mode = codes["feed mode"][0]
@@ -407,12 +412,13 @@ def _z_home(fail: Callable[[str, str], GcodeError], word: str, line: int, state:
 
 
 def _system_command(fail: Callable[[str], GcodeError], line: int, text: str, state: _State) -> None:
-    """A grbl system command (:func:`~placement.path.ngc_dialects.grbl_command`): homing leaves the position unknown."""
+    """A grbl system command or Marlin's homing (:func:`~placement.path.ngc_dialects.grbl_command`): homing leaves the
+    position unknown."""
     homed = grbl_command(fail, text, state.compensation is not None)
     for k in homed:
         state.position_m[k] = None
     state.tool_start_m = None if homed else state.tool_start_m
-    state.dialect.setdefault("$H" if homed else "$", []).append(line)
+    state.dialect.setdefault("G28 homing" if text.startswith("G") else "$H" if homed else "$", []).append(line)
 
 
 def _target(axes: list[float | None], state: _State, fail: Callable[[str, str], GcodeError], word: str,
@@ -519,6 +525,9 @@ def _motion(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[int, 
     if state.motion is None:  # grbl, Fanuc, Haas and Mach3 controls start in G0 (LinuxCNC in none: it refuses this)
         state.motion = state.plain_motion = 0
         state.dialect.setdefault("G0 at start", []).append(line)
+    if state.incremental and not state.given:  # a program that starts in G91: from where the tool stands, its origin
+        state.position_m = [float(o) if p is None else p for p, o in zip(state.position_m, state.offset_m)]
+        state.dialect.setdefault("G91 at start", []).append(line)
     if state.compensation is not None and (codes.get("non-modal", (0, ""))[0] == 530 or state.motion // 10 in CYCLES):
         raise fail(move_word, "G53 moves and drilling cycles cannot run under cutter radius compensation: G40 first")
     if codes.get("non-modal", (0, ""))[0] == 530:

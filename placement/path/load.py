@@ -19,7 +19,7 @@ from placement.path.toolpath import MIN_LENGTH_M, ToolPath
 from placement.schema import read_yaml, validate_document
 
 DICT_NAME = "<dict>"  # a path given as a dict, in errors
-GCODE_SUFFIXES = (".ngc", ".nc", ".tap", ".gcode", ".gc", ".cnc")  # a G-code program given in place of a path file
+GCODE_SUFFIXES = (".ngc", ".nc", ".tap", ".gcode", ".gc", ".gco", ".g", ".cnc")  # a G-code program given in place of a path file
 
 
 def load_path(path: str | FilePath | dict[str, Any], folder: str | FilePath = ".") -> ToolPath:

@@ -16,8 +16,10 @@ from zero; ``EXISTS[#<name>]`` is 1 if the named parameter is defined.
 Expressions are compiled once per line into closures of a :class:`Parameters` store and evaluated
 each time the line is executed (a line in a loop is parsed once).
 
-A line starting with ``$`` is a grbl system command (``$H``, ``$X``, ``$$``, ``$J=...``), and ``?`` grbl's status
-query: each is kept whole for the reader to judge. Fanuc Macro B, which looks like RS-274/NGC but is not, is
+A line starting with ``$`` is a grbl system command (``$H``, ``$X``, ``$$``, ``$J=...``), ``?`` grbl's status
+query and ``G28 X Y`` (axis letters without numbers) Marlin's homing: each is kept whole for the reader to judge.
+Marlin's messages (``M117 Cutting...``, ``M118``) are read as their M word alone: the rest of the line is their text.
+Fanuc Macro B, which looks like RS-274/NGC but is not, is
 refused by its own name: ``IF [...] THEN``/``GOTO``, ``WHILE [...] DO n``/``END n``, ``GOTO n``,
 ``DPRNT``/``BPRNT``/``POPEN``/``PCLOS``, expressions without brackets (``#1=#2+1``), the vacant ``#0`` and
 Fanuc's system variables (``#5001``, the current X; ``#4001``, the active G codes ...) read before they are set.
@@ -71,6 +73,8 @@ PLAIN_LINE = re.compile(r"(?:N[+-]?(?:\d+\.?\d*|\.\d+))?(?:[A-Z][+-]?(?:\d+\.?\d
 PLAIN_WORD = re.compile(r"[A-Z][+-]?(?:\d+\.?\d*|\.\d+)")
 SPACES = str.maketrans("", "", " \t\r")
 PROGRAM_NAME = re.compile(r"[a-z][a-z0-9_.\-]*")  # a program's name in letters after O, as some controls write it
+MARLIN_HOMING = re.compile(r"(?:N\d+)?(G0*28([XYZ]+))")  # Marlin's G28 with axis letters, no numbers: homes those
+MARLIN_MESSAGE = re.compile(r"\s*/?\s*(?:N\s*\d+\s*)?M0*(11[78])(?![\d.])", re.IGNORECASE)  # M117, M118: text follows
 POLAR = "@^"  # LinuxCNC's polar words: @ radius, ^ angle (degrees), in place of X and Y
 OPERATOR_ORDER = sorted(BINARY_RANK, key=len, reverse=True)  # "**" before "*", "mod" before ...
 
@@ -180,6 +184,9 @@ def _read_line(line: str) -> Block:
     Raises:
         _ExpressionError: A malformed word, number, expression or comment.
     """
+    message = MARLIN_MESSAGE.match(line)
+    if message is not None:
+        return Block((Word("m", lambda p: float(message.group(1)), f"M{message.group(1)}"),))
     compact = _strip(line)
     if compact.startswith("/"):
         compact = compact[1:]
@@ -189,6 +196,9 @@ def _read_line(line: str) -> Block:
         return Block()  # ISO's program number (:1001), as Fanuc controls read it
     if compact.startswith("$") or compact == "?":  # grbl's system commands, and its status query
         return Block(system=compact)
+    homing = MARLIN_HOMING.fullmatch(compact)
+    if homing is not None:
+        return Block(system=homing.group(1))
     if not compact.startswith("O") and PLAIN_LINE.fullmatch(compact):  # most lines a CAM post writes: read at once
         return Block(tuple(_plain_word(match.group()) for match in PLAIN_WORD.finditer(compact, _line_number(compact))))
     reader = _Reader(compact)

@@ -248,10 +248,17 @@ def g10(fail: Callable[[str, str], GcodeError], word: str, values: dict[str, flo
 def g92(fail: Callable[[str, str], GcodeError], word: str, axes: list[float | None], length_m: float,
         position_m: list[float | None], given: set[int], offsets: Offsets) -> None:
     """G92: the current point gets the given coordinates (the program's origin moves; G92.1-G92.3 are
-    :meth:`Offsets.clear_g92`'s); refused without an axis word or from a position not known."""
+    :meth:`Offsets.clear_g92`'s); refused without an axis word or from a position not known. Along an axis the program
+    has not given yet ("G92 X0 Y0 Z0 (you are here)" at its start), the current point is the path frame's origin and
+    known from here on (``position_m`` and ``given`` are updated)."""
     if all(value is None for value in axes):
         raise fail(word, "G92 needs the coordinates the current point gets (X, Y or Z)")
     for k, value in enumerate(axes):
         if value is not None and position_m[k] is None and k in given:
             raise fail(word, f"G92 from an unknown position ({'XYZ'[k]} not known here): move to a point first")
     offsets.set_g92({k: value * length_m for k, value in enumerate(axes) if value is not None}, position_m)
+    here = {k for k, value in enumerate(axes) if value is not None and position_m[k] is None}
+    for k in here:
+        position_m[k] = 0.0  # (set_g92 took the unknown point as the path frame's origin)
+    given |= here
+    offsets.bind(here)

@@ -42,10 +42,21 @@ CONTROLLER_M = {  # other controllers' M codes that do not move the tool: ignore
     31: "chip conveyor forward (Haas)", 33: "chip conveyor stop (Haas)", 34: "coolant spigot down (Haas)",
     35: "coolant spigot up (Haas)", 41: "spindle low gear", 42: "spindle high gear",
     73: "tool air blast on (Haas; in the main program, where LinuxCNC's M73 changes nothing)",
-    74: "tool air blast off (Haas)", 83: "air jet on (Haas)", 84: "air jet off (Haas)",
+    74: "tool air blast off (Haas)", 83: "air jet on (Haas); relative extrusion (Marlin)",
+    84: "air jet off (Haas); motors off (Marlin)",
     88: "through-spindle coolant on (Haas)", 89: "through-spindle coolant off (Haas)",
     888: "front-end module (Rotrics DexArm, M888 P: P0 the pen, P1 the laser, ...; the program gives the module's tip)",
     2000: "G0 moves in straight lines (Rotrics DexArm), as they are read"}
+MARLIN_M = {  # Marlin's and RepRapFirmware's M codes that do not move the tool: their words are their parameters
+    17: "motors on", 18: "motors off", 82: "absolute extrusion", 104: "hotend temperature",
+    105: "temperature report", 106: "fan on (or a laser on the fan's output)", 107: "fan off",
+    109: "wait for the hotend temperature", 110: "line number", 114: "position report", 115: "firmware report",
+    117: "message on the display", 118: "message to the host", 140: "bed temperature",
+    190: "wait for the bed temperature", 201: "the firmware's acceleration limits",
+    203: "the firmware's feed limits", 204: "the firmware's accelerations", 205: "the firmware's jerk limits",
+    300: "a beep (Marlin), or the pen servo (MakerBot Unicorn: S30 down, S50 up)",
+    400: "wait for the moves to finish", 420: "bed levelling on or off"}
+USER_M = range(100, 200)  # user-defined M codes (LinuxCNC's M100-M199 with P, Q) that are not Marlin's: a note
 DIALECT_M = {25, 99}  # read as their controllers do (gcode._execute): Centroid's Z home, the main program's end
 UNSUPPORTED_M = {
     97: "Haas local subprograms (M97 P) are not read: expand them in the CAM post, or use O-word subroutines (O100 "
@@ -54,11 +65,13 @@ UNSUPPORTED_M = {
         "sub ... O100 endsub, O100 call)",
     2001: "Rotrics DexArm's M2001 makes G0 moves turn the joints at once, not straight lines, whose path is not read: "
           "remove it (its default, M2000, moves straight)",
-    **dict.fromkeys((82, 104, 106, 107, 109, 140, 190), "a 3D printer's M code (Marlin, RepRapFirmware: temperatures, "
-                    "fans, the extruder): the program is a print, not a tool path")}
+    220: "Marlin's feed override (M220 S) scales every feed: give the feeds in the program (F) instead",
+    221: "Marlin's flow override (M221) scales the extrusion of a print, which is not a tool path"}
 READ_M = ("not in the supported M-code dialect (M0, M1, M2, M3-M9, M30, M48, M49, M60; and other controllers' M10-M13, "
-          "M19, M25, M31, M33-M35, M41, M42, M73, M74, M83, M84, M88, M89, M99, M888, M2000; docs/paths.md): an M code "
-          "not known may move the tool")
+          "M19, M25, M31, M33-M35, M41, M42, M73, M74, M83, M84, M88, M89, M99, M100-M199, M888, M2000; Marlin's M17, "
+          "M18, M82, "
+          "M104-M107, M109, M110, M114, M115, M117, M118, M140, M190, M201, M203-M205, M300, M400, M420; docs/paths.md): "
+          "an M code not known may move the tool")
 UNSUPPORTED_G = {
     **dict.fromkeys((740, 760, 840, 860, 870, 880), "tapping and boring cycles (G74, G76, G84, G86-G88) need the "
                     "spindle's motion: output them as G0/G1 moves; the drilling cycles G73, G81-G83, G85, G89 are read"),
@@ -93,7 +106,6 @@ def sorted_words(fail: Callable[[str, str], GcodeError], words: list[tuple[str, 
     m_codes: dict[int, str] = {}
     values: dict[str, float] = {}
     written: dict[str, str] = {}
-    haas_smoothing = any(letter.upper() == "G" and round(value * 10) == 1870 for letter, value, _ in words)
     for letter, value, word in words:
         letter = letter.upper()
         if letter == "G":
@@ -106,17 +118,16 @@ def sorted_words(fail: Callable[[str, str], GcodeError], words: list[tuple[str, 
             codes[group] = (code, word)
         elif letter == "M":
             code = code_of(fail, value, word)
-            if code % 10 or code // 10 not in (*ACCEPTED_M, *CONTROLLER_M, *DIALECT_M):
+            if code % 10 or code // 10 not in (*ACCEPTED_M, *CONTROLLER_M, *MARLIN_M, *USER_M, *DIALECT_M):
                 raise fail(word, UNSUPPORTED_M.get(code // 10, READ_M) if not code % 10 else READ_M)
             m_codes[code // 10] = word
-        elif letter in ALLOWED_LETTERS or letter in EXTRA_AXES or (letter == "E" and haas_smoothing):
+        elif letter in ALLOWED_LETTERS or letter in EXTRA_AXES or letter == "E":  # E: Haas's G187 E, or an extruder
             if letter in values:
                 raise fail(word, f"{letter} is given twice on the line")
             values[letter], written[letter] = value, word
         else:
             raise fail(word, "unknown word: the letters read are G, M, X, Y, Z, I, J, K, R, F, S, T, P, Q, L, H, D, "
-                             "N, O and the polar @, ^" + ("; E is a 3D printer's extruder (Marlin, RepRapFirmware): the "
-                                                         "program is a print, not a tool path" if letter == "E" else ""))
+                             "N, O, the extra axes A, B, C, U, V, W, an extruder's E and the polar @, ^")
     return codes, m_codes, values, written
 
 

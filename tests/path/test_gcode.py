@@ -283,7 +283,7 @@ def test_the_pocket_example_runs_end_to_end(capsys):
     ("G0 X0 Y0 Z0\nG84 X1 Y1 Z-3 R1 F100\n", 2, "G84", ["tapping", "G73, G81-G83, G85, G89 are read"]),
     ("G0 X0 Y0 Z0 A0\nG1 X10 A5 F100\n", 2, "A5", ["the extra axis A moves", "rotary"]),
     ("G0 X0 Y0 Z0 B1\nG91 G1 X10 B0 F100\nB0.5\n", 3, "B0.5", ["the extra axis B moves"]),
-    ("G0 X0 Y0 Z0\nG1 X10 E5 F100\n", 2, "E5", ["unknown word"]),
+    ("G0 X0 Y0 Z0\nG1 X10 E5 F100\n", 2, "E5", ["the extruder (E) moves here", "3D print"]),
     ("G0 X0 Y0 Z0\nG1 X10\n", 2, "X10", ["before any feed rate"]),
     ("G0 X0 Y0 Z0\nG1 X1.2.3 F100\n", 2, "X1.2.3", ["expected a number"]),
     ("G0 X0 Y0 Z0\nG1 X#<nope> F100\n", 2, "#<NOPE>", ["read before it is set"]),

@@ -192,7 +192,7 @@ def test_rs274ngcs_own_m_codes_give_no_warning(tmp_path):
 
 
 @pytest.mark.parametrize("word, words", [
-    ("M100", ["may move the tool"]), ("M72", ["may move the tool"]), ("M21", ["may move the tool"]),
+    ("M600", ["may move the tool"]), ("M72", ["may move the tool"]), ("M21", ["may move the tool"]),
     ("M98 P100", ["Fanuc subprogram calls (M98 P)"]), ("M97 P100", ["Haas local subprograms (M97 P)"]),
 ])
 def test_unknown_m_codes_are_refused_naming_the_word_and_the_line(tmp_path, word, words):
@@ -370,7 +370,7 @@ def test_haas_and_fanuc_smoothing_modes_leave_the_path_as_programmed_with_one_wa
     ("G5.1 X10 Y10 I2 J2", "G5.1", ["quadratic spline (G5.1) is not read"]),
     ("G5 X10 Y10 I2 J2 P1 Q1", "G5", ["cubic spline (G5) is not read"]),
     ("G8", "G8", ["radius mode, G8"]),
-    ("G1 X10 E5", "E5", ["unknown word"]),
+    ("G1 X10 E5", "E5", ["the extruder (E) moves here"]),
 ])
 def test_linuxcnc_splines_and_other_words_of_those_numbers_are_refused(tmp_path, line, word, words):
     error = refused(tmp_path, CUT + line + "\n")
@@ -418,11 +418,119 @@ def test_vectrics_mach3_post_is_read_g71_as_millimetres_with_a_warning(tmp_path)
 
 @pytest.mark.parametrize("line, word, words", [
     ("G71 P10 Q20 D1", "G71", ["turning cycles G70, G71"]),
-    ("M104 S200", "M104", ["3D printer's M code"]),
-    ("G1 X20 E1.5", "E1.5", ["unknown word", "3D printer's extruder"]),
+    ("G1 X20 E1.5", "E1.5", ["the extruder (E) moves here", "3D print"]),
+    ("M104 S200 G1 X20", "M104", ["hotend temperature", "put it on a line of its own"]),
+    ("M220 S150", "M220", ["feed override"]),
 ])
 def test_lathe_cycles_and_3d_printers_words_are_refused_by_name(tmp_path, line, word, words):
     error = refused(tmp_path, CUT + line + "\n")
     assert error.line == 7 and error.word == word
     for expected in words:
         assert expected in str(error)
+
+
+# Marlin (RepRapFirmware, Klipper): pen plotters and lasers driven by a 3D printer's firmware
+
+MARLIN_PEN = """; a pen plotter's drawing as Inkscape's gcodetools writes it after a Marlin printer's start code
+M104 S0 ; hotend off
+M140 S0
+M109 R0
+M190 S0 ; wait for the bed
+M106 P0 S255 ; fan on
+M107
+M82
+G92 E0
+M204 P500.00 R1000.00 T500.00
+M205 X8.00 Y8.00 Z0.40 E5.00 ; jerk: settings, not a move
+M117 Deploy the pen (then wait)
+M118 E1 Drawing...
+G21 G90 E0
+G0 X0 Y0 Z5
+G4 S1
+G1 Z-1 F300
+G4 P500
+G1 X10
+G1 Y10
+G0 Z5
+M400
+M84
+M18
+M2
+"""
+
+
+def test_a_marlin_pen_drawing_is_read_its_firmwares_words_ignored_with_a_warning_per_kind(tmp_path):
+    path, told = program(tmp_path, MARLIN_PEN)
+    plain, _ = program(tmp_path, CUT + "M2\n", name="plain")
+    assert ends_mm(path) == ends_mm(plain)  # M205 X8 Y8 Z0.4 is no move, M117's text no words
+    # Marlin's G4 S is in seconds and its G4 P in milliseconds (Marlin's gcode docs, G4).
+    assert [hold.duration_s for hold in path.holds] == [1.0, 0.5]
+    firmware = next(text for text in told if text.startswith(str(tmp_path / "p.nc") + ": Marlin's"))
+    for expected in ["M104, hotend temperature (line 2)", "M109, wait for the hotend temperature (line 4)",
+                     "M117, message on the display (line 12)", "M205, the firmware's jerk limits (line 11)",
+                     "M400, wait for the moves to finish (line 22)", "the waits for a temperature are not timed"]:
+        assert expected in firmware
+    assert any("the extruder's E (lines 9, 14) stays where it is" in text for text in told)
+    assert any("G4 S (line 16) dwells S seconds" in text for text in told)
+    assert any("G4 P (line 18) dwells P milliseconds" in text for text in told)
+    assert any("M84, air jet off (Haas); motors off (Marlin) (line 23)" in text for text in told)
+
+
+def test_a_dwell_of_p_stays_in_seconds_without_marlins_words(tmp_path):
+    path, _ = program(tmp_path, CUT + "G4 P500\nM2\n")
+    assert [hold.duration_s for hold in path.holds] == [500.0]
+
+
+def test_marlins_homing_by_axis_letters_leaves_those_axes_unknown_as_grbls_does(tmp_path):
+    marlin, told = program(tmp_path, "G21 G90\nG0 X0 Y0 Z5\nG1 Z-1 F300\nG28 X Y\nG1 X10\nG0 Z5\nG0 X0 Y0\n"
+                                     "G1 Z-1\nG1 Y10\n")
+    grbl, _ = program(tmp_path, "G21 G90\nG0 X0 Y0 Z5\nG1 Z-1 F300\n$HXY\nG1 X10\nG0 Z5\nG0 X0 Y0\n"
+                                "G1 Z-1\nG1 Y10\n", name="grbl")
+    assert ends_mm(marlin) == ends_mm(grbl) == [[[0, 0, 5], [0, 0, -1]], [[0, 0, 5], [0, 0, -1]],
+                                                  [[0, 0, -1], [0, 10, -1]]]
+    assert any("G28 with axis letters and no numbers (line 4) is Marlin's homing" in text for text in told)
+
+
+@pytest.mark.parametrize("code, line, word", [
+    ("G92 E0\nG1 X10 E0.5\n", 8, "E0.5"),  # absolute extrusion (Marlin's default)
+    ("M83\nG1 X10 E0\nG1 X20 E0.2\n", 9, "E0.2"),  # relative: any E but 0 extrudes
+    ("G91\nG1 X10 E0\nG1 X10 E-1\n", 9, "E-1"),  # G91 makes E relative too (a retraction)
+    ("G92 E5\nM82\nG1 X10 E5\nG1 X20 E6\n", 10, "E6"),
+])
+def test_a_print_is_refused_where_its_extruder_first_moves(tmp_path, code, line, word):
+    error = refused(tmp_path, CUT + code)
+    assert (error.line, error.word) == (line, word)
+    assert "the extruder (E) moves here" in str(error) and "3D print" in str(error)
+
+
+def test_user_m_codes_are_read_as_not_moving_the_tool_with_a_warning(tmp_path):
+    # Mr Beam's compressor (M100 P100 ... M100 P0); LinuxCNC runs the file M100 given P and Q.
+    path, told = program(tmp_path, "M100 P100 Q2\n" + CUT + "M100 P0\nM2\n")
+    plain, _ = program(tmp_path, CUT + "M2\n", name="plain")
+    assert ends_mm(path) == ends_mm(plain)
+    assert len(told) == 1 and "user-defined M codes M100-M199 (lines 1, 8)" in told[0]
+
+
+def test_a_comment_longer_than_a_line_may_be_is_read(tmp_path):
+    # Mr Beam's programs carry the engraved picture as base64 in a comment of ~100,000 characters.
+    path, _ = program(tmp_path, "; Image: data:image/png;base64," + "A" * 5000 + "\n" + CUT)
+    plain, _ = program(tmp_path, CUT, name="plain")
+    assert ends_mm(path) == ends_mm(plain)
+    error = refused(tmp_path, "G0 X" + "1" * 1200 + "\n")
+    assert "longer than 1000 characters" in str(error)
+
+
+def test_a_program_that_starts_incrementally_starts_at_its_origin_with_a_warning(tmp_path):
+    # A thread mill's helix in G91 (cncjs's example), run from where the tool stands: its twin in absolute words.
+    path, told = program(tmp_path, "G21 G91\nG1 Z-1 F100\nG1 X10\nG3 X-10 Y10 I-10 J0\nG90 G0 Z5\n")
+    twin, _ = program(tmp_path, "G21 G90\nG0 X0 Y0 Z0\nG1 Z-1 F100\nG1 X10\nG3 X0 Y10 I-10 J0\nG0 Z5\n", name="twin")
+    assert ends_mm(path) == ends_mm(twin)
+    assert len(told) == 1 and "the program's first move (line 2) is incremental (G91)" in told[0]
+
+
+def test_g92_at_the_start_makes_the_current_point_known_as_a_pen_plotters_you_are_here(tmp_path):
+    # Inkscape's Unicorn plugin: "G92 X0.00 Y0.00 Z0.00 (you are here)", M300 pen servo, then G1 moves, Z at the end.
+    path, _ = program(tmp_path, "G21\nG90\nG92 X0 Y0 Z0 (you are here)\nM300 S30 (pen down)\nG4 P150\n"
+                                "G1 X-10 Y4 F3500\nG1 X-10 Y2\nG1 Z0 F150\n")
+    assert ends_mm(path) == [[[0, 0, 0], [-10, 4, 0]], [[-10, 4, 0], [-10, 2, 0]]]
+    assert [hold.duration_s for hold in path.holds] == [0.15]

@@ -178,6 +178,22 @@ G91 G20 G1 X0.1 F10
 G90
 M2
 """,
+    "g92_you_are_here_at_the_start": """G21 G90 (a pen plotter's start: the pen stands where the drawing begins)
+G92 X5 Y-3 Z2
+G1 X10 F3500
+G1 Y10 Z0
+G0 X5 Y-3 Z2
+M2
+""",
+    "incremental_from_the_start": """G21 G91 G17 (a thread mill's helix, run from where the tool stands)
+G1 Z-3 F200
+G1 X2 Y-1 F100
+G3 X1 Y1 Z0.5 R1.2
+G3 X-1 Y1 Z0.5 I-1 J0
+G1 X-2
+G90 G0 Z5
+M2
+""",
     "reference_returns_and_machine_moves": """G21 G90 G0 X0 Y0 Z0
 G1 X10 Y10 Z-1 F400
 G28 G91 Z0.
