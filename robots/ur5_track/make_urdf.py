@@ -2,7 +2,7 @@
 
 Run ``python make_urdf.py`` in this folder after changing a number below (or after example-robot-data
 changes its UR5); the test suite checks that the committed URDF is what this script writes. The
-numbers' sources are in ``README.md`` and under ``sources`` in ``ur5_track.yaml``.
+numbers' sources are under ``sources`` in ``ur5_track.yaml``.
 
 The UR5 is example-robot-data's ``ur5_robot.urdf`` unchanged (links, joints, inertials, limits, and
 its meshes, named ``package://example-robot-data/...``), but for its root: the fixed ``world_joint``
