@@ -21,6 +21,8 @@ RUNS = {  # each kind of document: a search with its duty cycle and boxes, --at 
     "front": ["--robot", "orthoglide", "--path", str(EXAMPLE), "--objectives", "energy,transmission", *QUICK],
     "two paths": ["--robot", "orthoglide", "--path", str(EXAMPLE), str(CIRCLE), "--minimize", *QUICK],
     "seven axes, error bars": ["--robot", "panda", "--path", str(CIRCLE), "--error-bars", *QUICK],
+    "a track's knots in m": ["--robot", "ur5_track", "--path", str(EXAMPLES / "long_seam.yaml"), "--at",
+                             "x=450,z=200,phi=90,track@0=-700,track@1=100,track@2=750"],
 }
 
 
@@ -40,12 +42,14 @@ def test_real_json_output_validates_against_the_schema(run, tmp_path, capsys):
     keys = {key for answer in answers for key in answer}
     expected = {"search": {"best", "worst", "gain"}, "at on a planar robot": {"at"}, "at in a cell": {"at"},
                 "front": {"members", "knee", "drawn"}, "two paths": {"best"},
-                "seven axes, error bars": {"best", "worst", "uncertainty"}}[run]
+                "seven axes, error bars": {"best", "worst", "uncertainty"}, "a track's knots in m": {"at"}}[run]
     assert expected <= keys  # the run gave the document kind it stands for
     if run == "search":
         assert {"duty", "tolerance", "recheck_tightest"} <= set(document["best"])
     if run == "seven axes, error bars":
         assert "profiles" in document["best"] and "basins" in document["best"]
+    if run == "a track's knots in m":
+        assert "knots_m" in document["at"]["profiles"]["track"]
     if run == "at in a cell":
         assert any("nearest_points_m" in margin for margin in document["at"]["margins"])
 
