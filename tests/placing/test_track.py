@@ -26,7 +26,7 @@ from placement.placing.profiles import length_variables, redundant_variables
 from placement.placing.transform import placed_task
 from placement.search.space import default_space
 from placement.workshop.catalog import builtin_robots_dir
-from placement.workshop.load import edit_redundancy
+from placement.workshop.load import edit_redundancy, robot_from_sidecar
 from tests.support.paths import CIRCLE, EXAMPLES
 
 SEAM = EXAMPLES / "long_seam.yaml"
@@ -52,7 +52,8 @@ def test_the_ur5s_drives_are_the_ur5s():
     ur5 = yaml.safe_load((builtin_robots_dir() / "ur5" / "ur5.yaml").read_text(encoding="utf-8"))
     assert {name: own["drives"][name] for name in ur5["drives"]} == ur5["drives"]
     assert own["actuators"][1:] == ur5["actuators"]
-    assert own["end_effector"] == ur5["end_effector"]
+    assert own["end_effector"] == ur5["end_effector"] and own["reference_configuration"] == {
+        "track": 0.0, **ur5["reference_configuration"]}
 
 
 def test_the_track_is_redundant_and_its_knots_are_lengths(track):
@@ -66,9 +67,11 @@ def test_the_track_is_redundant_and_its_knots_are_lengths(track):
 
 
 def test_the_track_held_at_zero_is_the_plain_ur5(track):
-    """--lock track=0 leaves the UR5 of robots/ur5 on a fixed base: the same efforts and energies, to 1e-12."""
+    """--lock track=0 leaves the UR5 of robots/ur5 (with the same torch) on a fixed base: the same efforts and
+    energies, to 1e-12."""
     locked = edit_redundancy(track, {"track": 0.0})
-    ur5 = load_robot("ur5")
+    plain = load_robot("ur5")
+    ur5 = robot_from_sidecar(plain.sidecar_path, plain.edited_sidecar(tool=track.sidecar.tool))
     placement = np.array([0.4, 0.05, 0.2, 0.3, 0.1, -0.05])
     path = load_path(CIRCLE)
     held, plain = Evaluator(locked, path).batch(placement[None]), Evaluator(ur5, path).batch(placement[None])
@@ -157,12 +160,13 @@ def test_the_knots_are_given_in_mm_and_written_in_m(tmp_path, capsys):
 @pytest.mark.slow
 def test_the_long_seam_needs_the_track(tmp_path, capsys):
     """On its track the UR5 welds the 1.5 m seam, the carriage moving along it; held at the rail's middle, no placement
-    reaches it."""
+    reaches it, even with the table brought to 250 mm and the part tilted by 20 degrees."""
     out = tmp_path / "seam.json"
     assert main(["--robot", "ur5_track", "--path", str(SEAM), "--minimize", "--json", str(out)]) == 0
     best = json.loads(out.read_text())["best"]
     assert best["feasible"] and best["recheck_holds"]
     assert np.ptp(best["profiles"]["track"]["position_m"]) > 1.0
     capsys.readouterr()
-    assert main(["--robot", "ur5_track", "--path", str(SEAM), "--minimize", "--lock", "track=0"]) == 2
+    assert main(["--robot", "ur5_track", "--path", str(SEAM), "--minimize", "--lock", "track=0", "--free",
+                 "x=250:700,y=-400:400,z,phi,theta=-20:20,psi=-20:20"]) == 2
     assert "leaves the robot's reach at every placement" in capsys.readouterr().err
