@@ -46,7 +46,7 @@ from placement.workshop.load import edit_redundancy
 EXAMPLES = Path(__file__).parent.parent / "examples"
 CASES = {  # robot: its redundant joint, the paths, the local rule's gains tried (rad/(W·s), or m/(W·s) for a track)
     "panda": ("panda_joint3", ("circle", "contour"), (0.0, 0.01, 0.03, 0.1, 0.3, 1.0)),
-    "ur5_track": ("track", ("long_seam",), (0.0, 0.001, 0.003, 0.01, 0.03, 0.1)),
+    "ur5_track": ("track", ("long_seam",), (0.0, 0.003, 0.01, 0.03, 0.1, 0.3, 1.0)),
 }
 VARIABLES = ("x", "y", "z", "phi", "theta", "psi")
 
@@ -77,13 +77,13 @@ def holding_power_W(robot: Robot, data: pin.Data, q: np.ndarray) -> float:
     return total
 
 
-def local_profile(robot: Robot, path_file: Path, placement: np.ndarray, start: float, gain: float) -> np.ndarray:
-    """The redundant joint along the path by gradient projection on the holding power, from its value ``start`` (m or
-    rad, per sample)."""
+def local_profile(robot: Robot, path_file: Path, placement: np.ndarray, start: np.ndarray, gain: float) -> np.ndarray:
+    """The redundant joint along the path by gradient projection on the holding power, from the first posture of the
+    placement vector ``start`` (m or rad, per sample)."""
     evaluator = Evaluator(robot, load_path(path_file))
     samples = evaluator.samples
-    first = evaluator.batch(np.append(placement, [start] * robot.profile_knots)[None])  # the starting posture
-    assert np.all(first.reachable[0]), "the local rule's start is out of reach"
+    first = evaluator.batch(start[None])  # the starting posture: its first sample's
+    assert np.all(first.reachable), "the local rule's start is out of reach"
     q = first.joints.q[0].copy()
     task, _ = placed_task(robot, samples, placement[None])
     model, data, frame = robot.model, robot.model.createData(), robot.end_effector_frame_id
@@ -163,10 +163,10 @@ def compare(robot: Robot, joint: str, path_file: Path, gains: tuple[float, ...],
         print(f"{name}: whole path, {knots} knot(s) {energy:9.4f} J  {seconds:6.1f} s  "
               f"({len(default_space(resolved).free)} variables; {joint} knots {shown} {unit})")
     anchor = wholes.get(robot.profile_knots)
-    if placement is not None:
-        at, start, where = placement[:6], 0.0, "the locked optimum"
-    elif anchor is not None:
-        at, start, where = anchor[:6], float(anchor[6]), "the whole-path optimum"
+    if placement is not None:  # from the locked posture
+        at, start, where = placement[:6], np.append(placement[:6], [0.0] * robot.profile_knots), "the locked optimum"
+    elif anchor is not None:  # from the whole-path optimum's first posture
+        at, start, where = anchor[:6], anchor, "the whole-path optimum"
     else:
         print(f"{name}: local             not run (no placement of the locked or the whole-path search)")
         return
