@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import importlib.util
 import json
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -24,6 +25,7 @@ from placement.evaluation.evaluator import Evaluator
 from placement.path import load_path
 from placement.placing.profiles import length_variables, redundant_variables
 from placement.placing.transform import placed_task
+from placement.robot.packages import description_geometry
 from placement.search.space import default_space
 from placement.workshop.catalog import builtin_robots_dir
 from placement.workshop.load import edit_redundancy, robot_from_sidecar
@@ -170,3 +172,10 @@ def test_the_long_seam_needs_the_track(tmp_path, capsys):
     assert main(["--robot", "ur5_track", "--path", str(SEAM), "--minimize", "--lock", "track=0", "--free",
                  "x=250:700,y=-400:400,z,phi,theta=-20:20,psi=-20:20"]) == 2
     assert "leaves the robot's reach at every placement" in capsys.readouterr().err
+
+
+def test_the_ur5s_meshes_are_found_in_example_robot_data(track):
+    """The URDF names the UR5's meshes package://example-robot-data/...: found without any --package-path."""
+    geometry = description_geometry(track, pin.GeometryType.VISUAL)
+    paths = {Path(item.meshPath).name for item in geometry.geometryObjects}
+    assert {"base.dae", "shoulder.dae", "wrist3.dae"} <= paths
