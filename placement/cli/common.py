@@ -216,8 +216,9 @@ def placement_options() -> argparse.ArgumentParser:
     options.add_argument("--free", metavar="y=-40:40,x,phi",
                          help="free placement variables, each optionally with bounds name=MIN:MAX (mm, deg) "
                               "overriding the robot's (default: the robot's, e.g. x,y,z,phi for the Orthoglide); also "
-                              "spin (the tool about its axis) and a redundant joint's knots JOINT@K, which alone "
-                              "are freed on top of the robot's (e.g. --free spin=-180:180)")
+                              "spin (the tool about its axis) and a redundant joint's knots JOINT@K (deg, or mm for "
+                              "a prismatic joint such as a track), which alone are freed on top of the robot's (e.g. "
+                              "--free spin=-180:180, --free track@0=-500:500)")
     options.add_argument("--fix", metavar="z=0,theta=0", help="values of fixed variables (mm, deg; default 0)")
     return options
 

@@ -99,12 +99,12 @@ def format_front(front: ParetoFront) -> str:
     objectives = [OBJECTIVES.get(name) for name in front.objectives]
     free = front.space.free
     header = "  #  " + "".join(f"{name:>16s}" for name in front.objectives) + "".join(
-        f"{name + (' deg' if angle_variable(name) else ' mm'):>12s}" for name in free) + "   margin"
+        f"{name + (' deg' if angle_variable(name, front.space.lengths) else ' mm'):>12s}" for name in free) + "   margin"
     lines = [f"Pareto front: {len(front.members)} placements, none better than another on every objective "
              f"({front.evaluations:,} placements evaluated)", header]
     for index, member in enumerate(front.members):
         names = front.space.names
-        shown = [np.degrees(member.placement[names.index(n)]) if angle_variable(n)
+        shown = [np.degrees(member.placement[names.index(n)]) if angle_variable(n, front.space.lengths)
                  else member.placement[names.index(n)] * 1e3 for n in free]
         mark = "  knee" if index == front.knee else ""
         lines.append(f"  {index:<3d}" + "".join(f"{v:>16.4f}" for v in member.values)

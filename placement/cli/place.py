@@ -64,7 +64,7 @@ from placement.output.report import (
 )
 from placement.path.samples import PathSamples
 from placement.path.toolpath import ToolPath
-from placement.placing.profiles import redundant_defaults, redundant_variables
+from placement.placing.profiles import length_variables, redundant_defaults, redundant_variables
 from placement.placing.transform import VARIABLES
 from placement.placing.values import parse_free, parse_values, unsuffixed_lengths
 from placement.robot.model import Robot
@@ -204,7 +204,7 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
         print(plane_line(document["plane"]))
     if args.at is not None or args.at_json is not None:
         knots = redundant_variables(robot)
-        given = (parse_values(args.at, "--at", knots) if args.at is not None
+        given = (parse_values(args.at, "--at", knots, length_variables(robot)) if args.at is not None
                  else at_json(args.at_json, args.which or "best", knots))
         if not given:
             raise UsageError("--at: give at least one value, e.g. --at x=0,phi=30")
@@ -224,10 +224,11 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
                             f"{worst.kind} ({worst.where}: {worst.margin * 100:.2f} %)")
         return document, {"at": detail} if detail.reachable else {}, problem
     knots = redundant_variables(robot)
-    free, bounds = parse_free(args.free, "--free", knots) if args.free is not None else (None, {})
+    lengths = length_variables(robot)
+    free, bounds = parse_free(args.free, "--free", knots, lengths) if args.free is not None else (None, {})
     if free is not None and set(free) <= set(knots):  # only redundant variables: bounds on top of the defaults
         free = None
-    space = default_space(robot, free=free, fixed=parse_values(args.fix or "", "--fix", knots), bounds=bounds,
+    space = default_space(robot, free=free, fixed=parse_values(args.fix or "", "--fix", knots, lengths), bounds=bounds,
                           half_turn=path.half_turn_symmetric())
     misfit = misfit_line(robot, samples, space)
     if misfit is not None:
@@ -401,8 +402,8 @@ def run(args: argparse.Namespace) -> int:
                          "--minimize or --maximize")
     for option, text in (("--at", args.at), ("--fix", args.fix)):
         if text is not None:
-            parse_values(text, option, redundant_variables(robot))  # its errors first
-            warn(length_warnings(robot, option, unsuffixed_lengths(text)), args.strict)
+            parse_values(text, option, redundant_variables(robot), length_variables(robot))  # its errors first
+            warn(length_warnings(robot, option, unsuffixed_lengths(text, length_variables(robot))), args.strict)
     check_front_options(args)
     check_outputs(("--json", args.json), ("--trace", args.trace), ("--html", args.html),
                   ("--png", args.png),

@@ -26,7 +26,8 @@ def add_redundancy_options(options: argparse.ArgumentParser) -> None:
     options.add_argument("--knots", type=int, default=None, metavar="N",
                          help=f"knots of each redundant joint's profile along the path (1 to {MAX_KNOTS}; 1: a "
                               "constant; default: the sidecar's redundancy.knots); the knots are placement variables "
-                              "JOINT@K, searched, given to --at and --fix in deg")
+                              "JOINT@K, searched, given to --at and --fix in deg (mm for a prismatic joint such as a "
+                              "track)")
 
 
 def apply_redundancy_options(robot: Robot, args: argparse.Namespace, options: DescriptionOptions) -> Robot:

@@ -2,7 +2,7 @@
 
 A transmission is a sidecar schema (a strict pydantic model whose ``type`` field names it) with a
 speed ratio: motor speed (rad/s) per unit joint speed (m/s or rad/s), and an efficiency. The
-built-ins are ``ball_screw`` and ``gear``; a package adds one under the entry-point group
+built-ins are ``ball_screw``, ``gear`` and ``rack_pinion``; a package adds one under the entry-point group
 ``placement.transmissions`` (the entry's object is the schema class).
 """
 
@@ -71,8 +71,24 @@ class Gear(Transmission):
         return f"gear {self.ratio:g}:1"
 
 
+class RackPinion(Transmission):
+    """Rack and pinion behind a gearbox (a linear track's drive): joint speed (m/s) = motor speed (rad/s) / ratio *
+    pinion_radius_m, the pinion's pitch radius (module x teeth / 2)."""
+
+    ratio: Positive
+    pinion_radius_m: Positive
+
+    @property
+    def speed_ratio(self) -> float:
+        return self.ratio / self.pinion_radius_m
+
+    def describe(self) -> str:
+        return f"rack and pinion {self.pinion_radius_m * 1e3:g} mm, gear {self.ratio:g}:1"
+
+
 TRANSMISSIONS.add("ball_screw", BallScrew)
 TRANSMISSIONS.add("gear", Gear)
+TRANSMISSIONS.add("rack_pinion", RackPinion)
 
 
 def parse_transmission(value: Any) -> Transmission:

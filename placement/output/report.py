@@ -9,6 +9,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+from collections.abc import Collection
 from pathlib import Path
 from typing import Any
 
@@ -24,7 +25,7 @@ from placement.evaluation.results import PlacementDetail
 from placement.files import staged
 from placement.limits.collision import closest_points
 from placement.path.toolpath import ToolPath
-from placement.placing.profiles import is_closed, knot_shares, redundant_variables
+from placement.placing.profiles import KNOT_SEPARATOR, is_closed, knot_shares, length_variables, redundant_variables
 from placement.placing.transform import VARIABLES, describe_plane, transform_path_to_base
 from placement.placing.values import angle_variable
 from placement.robot.model import Robot
@@ -35,12 +36,18 @@ from placement.search.uncertainty import Interval, Uncertainty
 from placement.workshop.calibration import TOOL_FORCE_COLUMNS
 
 
-def format_placement(placement: np.ndarray, names: tuple[str, ...] = VARIABLES) -> str:
+def format_placement(placement: np.ndarray, names: tuple[str, ...] = VARIABLES, lengths: Collection[str] = ()) -> str:
     """'x = ... mm, ..., psi = ... deg' for a placement vector (m, rad) of variables ``names`` (a redundant robot's
-    knots after the six, in deg), to REPORTED_DECIMALS (a search's optima lie on that grid:
-    :func:`placement.search.reporting.as_printed`)."""
-    return ", ".join(f"{name} = {np.degrees(value):.{REPORTED_DECIMALS}f} deg" if angle_variable(name)
+    variables after the six in deg, but ``lengths`` in mm: a prismatic joint's knots), to REPORTED_DECIMALS (a
+    search's optima lie on that grid: :func:`placement.search.reporting.as_printed`)."""
+    return ", ".join(f"{name} = {np.degrees(value):.{REPORTED_DECIMALS}f} deg" if angle_variable(name, lengths)
                      else f"{name} = {value * 1e3:.{REPORTED_DECIMALS}f} mm" for name, value in zip(names, placement))
+
+
+def _document_lengths(entry: dict[str, Any]) -> set[str]:
+    """The knots of a placement's JSON entry that are lengths: those of the profiles given in m."""
+    prismatic = {joint for joint, profile in entry.get("profiles", {}).items() if "position_m" in profile}
+    return {name for name in entry["placement"] if name.rsplit(KNOT_SEPARATOR, 1)[0] in prismatic}
 
 
 def results_lines(document: dict[str, Any]) -> list[str]:
@@ -54,7 +61,8 @@ def results_lines(document: dict[str, Any]) -> list[str]:
         objective, value = entry["objective"], entry["objective"]["value"]
         shown = "none (unreachable)" if value is None else quantity(value, objective["unit"])
         lines.append(f"{title}: {objective['title']} {shown}")
-        lines.append("  " + format_placement(np.array(list(entry["placement"].values())), tuple(entry["placement"])))
+        lines.append("  " + format_placement(np.array(list(entry["placement"].values())), tuple(entry["placement"]),
+                                             _document_lengths(entry)))
         if entry["margins"]:
             tight = min(entry["margins"], key=lambda margin: margin["margin"])
             lines.append(f"  tightest: {tight['kind']} ({tight['where']}), margin {tight['margin'] * 100:.1f} %")
@@ -118,7 +126,8 @@ def format_detail(title: str, robot: Robot, detail: PlacementDetail, recheck_val
                   rest_s: float = 0.0) -> str:
     """Text block for one placement: where, objective, energy per actuator and its parts, duty cycle (with ``rest_s``
     s between passes, where the drives give a continuous torque), tightest limits."""
-    lines = [title, f"  {format_placement(detail.placement, VARIABLES + redundant_variables(robot))}"]
+    names = VARIABLES + redundant_variables(robot)
+    lines = [title, f"  {format_placement(detail.placement, names, length_variables(robot))}"]
     lines += [f"  {line}" for line in profile_lines(robot, detail)]
     if not detail.reachable:
         first = detail.unreachable_samples[0]
@@ -226,9 +235,10 @@ def _recheck_line(optimum: Optimum) -> str:
             f"sample the path more finely (--time-step) if that matters{note}")
 
 
-def format_basins(optimum: Optimum, names: tuple[str, ...] = VARIABLES) -> str:
+def format_basins(optimum: Optimum, names: tuple[str, ...] = VARIABLES, lengths: Collection[str] = ()) -> str:
     """Lines: the other basins (distinct local optima) within the search's share of this optimum, as printed, and which
-    of them are within the 4x denser re-check's resolution of it; or that the search found none."""
+    of them are within the 4x denser re-check's resolution of it; or that the search found none (``lengths``: as for
+    :func:`format_placement`)."""
     words = wording(optimum.detail.objective)
     share = f"{optimum.basin_share * 100:g} %"
     if not optimum.basins:
@@ -240,7 +250,7 @@ def format_basins(optimum: Optimum, names: tuple[str, ...] = VARIABLES) -> str:
         fails = "" if basin.holds else ", fails a limit once printed or on the 4x denser re-check"
         tie = ", within the 4x re-check's resolution of this one" if any(basin is c for c in close) else ""
         lines.append(f"    {quantity(basin.value, words.unit)} ({change * 100:+.3f} %{fails}{tie}) at "
-                     f"{format_placement(basin.placement, names)}")
+                     f"{format_placement(basin.placement, names, lengths)}")
     if close:
         lines.append("    the path's sampling, not the placement, may decide between them: sample the path more finely "
                      "(--time-step) to rank them")
@@ -296,9 +306,10 @@ def uncertainty_json(uncertainty: Uncertainty) -> dict[str, Any]:
             "gain": interval(uncertainty.gain), "other_basin_wins": uncertainty.other_basin_wins}
 
 
-def format_tolerance(box: ToleranceBox, subject: str) -> str:
-    """One line: the tolerance box's half-widths (mm, degrees) and how it was checked."""
-    widths = ", ".join(f"{name} ± {np.degrees(width):.2f} deg" if angle_variable(name)
+def format_tolerance(box: ToleranceBox, subject: str, lengths: Collection[str] = ()) -> str:
+    """One line: the tolerance box's half-widths (mm, degrees; ``lengths``: as for :func:`format_placement`) and how it
+    was checked."""
+    widths = ", ".join(f"{name} ± {np.degrees(width):.2f} deg" if angle_variable(name, lengths)
                        else f"{name} ± {width * 1e3:.2f} mm" for name, width in zip(box.free, box.half_width, strict=True))
     return (f"  tolerance (every limit holds and the {subject} stays within {box.within * 100:g} % of this placement's "
             f"throughout the box): {widths} (checked at {box.corners_checked} corners and {box.inside_checked} points "
@@ -323,10 +334,11 @@ def format_result(robot: Robot, result: PlacementResult, rest_s: float = 0.0,
     for key, title, optimum in (("best", f"best placement ({words.best} {words.subject})", result.best),
                                 ("worst", f"worst placement ({words.worst} {words.subject})", result.worst)):
         if optimum is not None:
-            box = (boxes or {}).get(key)
+            box, lengths = (boxes or {}).get(key), length_variables(robot)
             blocks.append(format_detail(title, robot, optimum.detail, optimum.recheck_value, rest_s) + "\n"
-                          + _recheck_line(optimum) + "\n" + format_basins(optimum, VARIABLES + redundant_variables(robot))
-                          + ("" if box is None else "\n" + format_tolerance(box, words.subject)))
+                          + _recheck_line(optimum) + "\n"
+                          + format_basins(optimum, VARIABLES + redundant_variables(robot), lengths)
+                          + ("" if box is None else "\n" + format_tolerance(box, words.subject, lengths)))
     if result.best is not None and result.worst is not None and not (result.best.holds and result.worst.holds):
         blocks.append(f"gain: not given, the {'best' if not result.best.holds else 'worst'} placement fails its "
                       "4x denser re-check")
@@ -401,27 +413,35 @@ def detail_json(robot: Robot, detail: PlacementDetail, optimum: Optimum | None =
 
 
 def profiles_json(robot: Robot, detail: PlacementDetail) -> dict[str, Any]:
-    """Each redundant joint's profile along the path (rad): its knots and the share of arc length each stands at,
-    and its value at every sample (``t_s``), as the exact chain moved it."""
+    """Each redundant joint's profile along the path (rad, or m for a prismatic joint: ``knots_m``, ``position_m``): its
+    knots and the share of arc length each stands at, and its value at every sample (``t_s``), as the exact chain
+    moved it."""
     knots = robot.profile_knots
     shares = knot_shares(knots, is_closed(detail.samples))
     start = 6 + robot.tool_spin
     given = detail.placement[start:].reshape(-1, knots) if len(detail.placement) > start else None
     out: dict[str, Any] = {}
     for r, (joint, q) in enumerate(zip(robot.redundant_joints, robot.redundant_q_indices, strict=True)):
-        out[joint] = {"knots_rad": None if given is None else given[r].tolist(), "knot_shares": shares.tolist(),
-                      "t_s": detail.samples.t_s.tolist(), "position_rad": detail.configuration[:, q].tolist()}
+        unit = "m" if _prismatic(robot, joint) else "rad"
+        out[joint] = {f"knots_{unit}": None if given is None else given[r].tolist(), "knot_shares": shares.tolist(),
+                      "t_s": detail.samples.t_s.tolist(), f"position_{unit}": detail.configuration[:, q].tolist()}
     return out
 
 
+def _prismatic(robot: Robot, joint: str) -> bool:
+    """Whether an actuated joint is prismatic (its values lengths)."""
+    return next(actuator.prismatic for actuator in robot.actuators if actuator.joint == joint)
+
+
 def profile_lines(robot: Robot, detail: PlacementDetail) -> list[str]:
-    """A line per redundant joint: its range along the path and its knots (deg)."""
+    """A line per redundant joint: its range along the path and its knots (deg, or mm for a prismatic joint)."""
     lines = []
     for joint, q in zip(robot.redundant_joints, robot.redundant_q_indices, strict=True):
-        values = np.degrees(detail.configuration[:, q])
-        lines.append(f"{joint} along the path: {values[0]:.2f} deg at the start, {values.min():.2f} to "
-                     f"{values.max():.2f} deg, {values[-1]:.2f} deg at the end ({robot.profile_knots} knot(s) over the "
-                     "arc length)")
+        scale, unit = (1e3, "mm") if _prismatic(robot, joint) else (180 / np.pi, "deg")
+        values = detail.configuration[:, q] * scale
+        lines.append(f"{joint} along the path: {values[0]:.2f} {unit} at the start, {values.min():.2f} to "
+                     f"{values.max():.2f} {unit}, {values[-1]:.2f} {unit} at the end ({robot.profile_knots} knot(s) over "
+                     "the arc length)")
     return lines
 
 

@@ -1,11 +1,13 @@
 """Profiles of redundant coordinates along a path: their knots are placement variables.
 
-A robot with redundant joints (a seven-axis arm's elbow rotation, ``Robot.redundant_joints``) leaves
-them to the search: each follows a profile along the path, a natural cubic spline through ``knots``
-values at equal shares of the path's arc length (one knot: a constant, two: a straight line). The
+A robot with redundant joints (a seven-axis arm's elbow rotation, a track's position,
+``Robot.redundant_joints``) leaves them to the search: each follows a profile along the path, a natural
+cubic spline through ``knots`` values at equal shares of the path's arc length (one knot: a constant,
+two: a straight line). The
 knots are placement variables named ``JOINT@K`` (K from 0, at share K/(knots − 1) of the path),
 appended to the six of :mod:`placement.placing.transform`, so a placement vector is
-[x, y, z, φ, θ, ψ, knots of the first redundant joint, knots of the second, ...] (m, rad).
+[x, y, z, φ, θ, ψ, knots of the first redundant joint, knots of the second, ...] (m, rad): a revolute
+joint's knots are angles, a prismatic joint's lengths (:func:`length_variables`).
 
 A robot may also leave the spin of its tool about the tool's own axis (z) to the search (the sidecar's
 ``redundancy.spin``): a constant angle, the placement variable ``spin`` (rad; deg on the command line),
@@ -46,6 +48,13 @@ def knot_names(robot: Robot) -> tuple[str, ...]:
 def redundant_variables(robot: Robot) -> tuple[str, ...]:
     """The placement variables after the six: the tool's spin (if the robot leaves it free), then the knots."""
     return ((SPIN,) if robot.tool_spin else ()) + knot_names(robot)
+
+
+def length_variables(robot: Robot) -> frozenset[str]:
+    """The redundant variables that are lengths (m; mm on the command line): the knots of prismatic joints (a
+    track's position). Every other variable after the six is an angle (rad; deg on the command line)."""
+    prismatic = {actuator.joint for actuator in robot.actuators if actuator.prismatic}
+    return frozenset(name for name in knot_names(robot) if name.rsplit(KNOT_SEPARATOR, 1)[0] in prismatic)
 
 
 def redundant_bounds(robot: Robot) -> dict[str, tuple[float, float]]:

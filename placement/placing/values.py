@@ -2,11 +2,14 @@
 
 The command line's ``--at``, ``--fix`` and ``--free`` and the workbench's fields read this syntax
 (``x=10,phi=30``, ``y=-40:40``), and return SI values (m, rad). A redundant robot's knots
-(``panda_joint3@1``, :mod:`placement.placing.profiles`) and the tool's ``spin`` are angles, named through
-``extra``.
+(``panda_joint3@1``, ``track@0``, :mod:`placement.placing.profiles`) and the tool's ``spin`` are named through
+``extra``: angles, but for those named in ``lengths`` too (a prismatic joint's knots,
+:func:`placement.placing.profiles.length_variables`), which are lengths.
 """
 
 from __future__ import annotations
+
+from collections.abc import Collection
 
 import numpy as np
 
@@ -29,9 +32,10 @@ def parse_names(text: str, option: str, extra: tuple[str, ...] = ()) -> tuple[st
     return names
 
 
-def parse_values(text: str, option: str, extra: tuple[str, ...] = ()) -> dict[str, float]:
+def parse_values(text: str, option: str, extra: tuple[str, ...] = (),
+                 lengths: Collection[str] = ()) -> dict[str, float]:
     """'x=10,phi=30' -> SI values; lengths in mm and angles in deg unless suffixed m / rad; names from VARIABLES
-    and ``extra`` (a redundant robot's knots, angles)."""
+    and ``extra`` (a redundant robot's variables: angles, but for the lengths named in ``lengths``)."""
     values: dict[str, float] = {}
     for item in filter(None, (part.strip() for part in text.split(","))):
         name, _, raw = item.partition("=")
@@ -41,7 +45,7 @@ def parse_values(text: str, option: str, extra: tuple[str, ...] = ()) -> dict[st
                              f"got '{item[:40]}'")
         if name in values:
             raise SettingsError(f"{option}: {name} is given twice")
-        value = _quantity(raw, name)
+        value = _quantity(raw, name, lengths)
         if value is None:
             raise SettingsError(f"{option}: '{raw[:40]}' is not a number for {name}")
         if not np.isfinite(value):
@@ -50,20 +54,21 @@ def parse_values(text: str, option: str, extra: tuple[str, ...] = ()) -> dict[st
     return values
 
 
-def unsuffixed_lengths(text: str) -> dict[str, float]:
-    """The lengths of a 'x=10,phi=30' option given without a unit (read as mm), in mm, by name; call after
-    :func:`parse_values` has accepted ``text``."""
+def unsuffixed_lengths(text: str, lengths: Collection[str] = ()) -> dict[str, float]:
+    """The lengths of a 'x=10,phi=30' option given without a unit (read as mm), in mm, by name (``lengths``: the
+    redundant variables that are lengths); call after :func:`parse_values` has accepted ``text``."""
     items = (item.partition("=") for item in filter(None, (part.strip() for part in text.split(","))))
     return {name.strip(): float(raw) for name, _, raw in items
-            if not angle_variable(name.strip()) and _quantity(raw, name.strip()) is not None and not raw.strip().endswith("m")}
+            if not angle_variable(name.strip(), lengths) and _quantity(raw, name.strip(), lengths) is not None
+            and not raw.strip().endswith("m")}
 
 
-def parse_free(text: str, option: str,
-               extra: tuple[str, ...] = ()) -> tuple[tuple[str, ...], dict[str, tuple[float, float]]]:
+def parse_free(text: str, option: str, extra: tuple[str, ...] = (),
+               lengths: Collection[str] = ()) -> tuple[tuple[str, ...], dict[str, tuple[float, float]]]:
     """'y=-40:40,x,phi=-90:90' -> the free variables and the bounds given (SI).
 
     Bounds are in mm and deg unless a number ends in m or rad, as for --fix; a variable without
-    bounds keeps the sidecar's or the workspace's.
+    bounds keeps the sidecar's or the workspace's. ``extra`` and ``lengths``: as for :func:`parse_values`.
 
     Returns:
         The names, each once, and {name: (lower, upper)} (m, rad) for those given bounds.
@@ -79,15 +84,16 @@ def parse_free(text: str, option: str,
     for item in items:
         name, equals, spec = (part.strip() for part in item.partition("="))
         if equals:
-            bounds[name] = _bounds(name, spec, item, option)
+            bounds[name] = _bounds(name, spec, item, option, lengths)
     return names, bounds
 
 
-def _bounds(name: str, spec: str, item: str, option: str) -> tuple[float, float]:
+def _bounds(name: str, spec: str, item: str, option: str, lengths: Collection[str]) -> tuple[float, float]:
     """'-40:40' -> (lower, upper) of ``name`` in SI, lower < upper."""
-    unit, example = ("deg", f"{name}=-90:90") if angle_variable(name) else ("mm", f"{name}=-40:40")
+    unit, example = ("deg", f"{name}=-90:90") if angle_variable(name, lengths) else ("mm", f"{name}=-40:40")
     parts = spec.split(":")
-    numbers = [value for value in (_quantity(part, name) for part in parts) if value is not None and np.isfinite(value)]
+    numbers = [value for value in (_quantity(part, name, lengths) for part in parts)
+               if value is not None and np.isfinite(value)]
     if len(parts) != 2 or len(numbers) != 2:
         raise SettingsError(f"{option}: expected name or name=MIN:MAX with two finite numbers ({unit}), e.g. {example}, "
                          f"got '{item[:40]}'")
@@ -98,9 +104,9 @@ def _bounds(name: str, spec: str, item: str, option: str) -> tuple[float, float]
     return low, high
 
 
-def _quantity(raw: str, name: str) -> float | None:
+def _quantity(raw: str, name: str, lengths: Collection[str]) -> float | None:
     """A value of variable ``name`` in SI: mm and deg unless suffixed m / rad; None if not a number."""
-    angle = angle_variable(name)
+    angle = angle_variable(name, lengths)
     units = {"rad": 1.0, "deg": np.pi / 180} if angle else {"mm": 1e-3, "m": 1.0}
     text = raw.strip()
     unit = next((u for u in sorted(units, key=len, reverse=True) if text.endswith(u)), None)
@@ -111,7 +117,7 @@ def _quantity(raw: str, name: str) -> float | None:
         return None
 
 
-def angle_variable(name: str) -> bool:
-    """Whether a placement variable is an angle: phi, theta, psi, the tool's spin, or a knot of a redundant (revolute)
-    joint."""
-    return name in ANGLES or name == SPIN or KNOT_SEPARATOR in name
+def angle_variable(name: str, lengths: Collection[str] = ()) -> bool:
+    """Whether a placement variable is an angle: phi, theta, psi, the tool's spin, or a knot of a redundant joint but
+    those named in ``lengths`` (a prismatic joint's knots, :func:`placement.placing.profiles.length_variables`)."""
+    return name in ANGLES or name == SPIN or (KNOT_SEPARATOR in name and name not in lengths)

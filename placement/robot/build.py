@@ -317,9 +317,6 @@ def _check_redundancy(robot: Robot) -> int:
                                  f"expected one of {', '.join(sorted(actuated))}")
         if names.count(name) > 1:
             raise RobotFileError(robot.sidecar_path, f"redundancy.joints.{i}", f"'{name}' is named twice")
-        if next(actuator.prismatic for actuator in robot.actuators if actuator.joint == name):
-            raise RobotFileError(robot.sidecar_path, f"redundancy.joints.{i}", f"'{name}' is prismatic: only revolute "
-                                 "joints are profiled yet (their knots are angles)")
     if robot.tool_spin and robot.task != "pose":
         raise RobotFileError(robot.sidecar_path, "redundancy.spin", "the tool's spin is a variable of pose tasks only")
     if names and robot.closures:

@@ -10,7 +10,8 @@ NAME. It is looked for, in this order:
    resolves without any setting, even where the repository's folder is not called NAME);
 3. in ``ROS_PACKAGE_PATH`` (folders that hold packages, or are packages) and under
    ``AMENT_PREFIX_PATH``'s ``share`` folders (ROS 2 installs);
-4. for example-robot-data's robots, in its own folder.
+4. in example-robot-data's own folder, for its robots and descriptions made from them (the built-in
+   ``ur5_track`` names the UR5's meshes ``package://example-robot-data/...``).
 
 ``resolve-robotics-uri-py`` resolves such URIs too, but only where a package's folder bears its name
 and without saying where it looked; a cloned description (``Universal_Robots_ROS2_Description`` holds
@@ -33,6 +34,7 @@ from placement.exceptions import listed
 from placement.robot.exceptions import RobotFileError
 from placement.robot.mjcf import is_mjcf, mjcf_geometry
 from placement.robot.model import Robot
+from placement.robot.urdf import erd_package_folder
 
 PACKAGE_VARIABLES = ("ROS_PACKAGE_PATH", "AMENT_PREFIX_PATH")
 _NAME = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
@@ -60,6 +62,7 @@ def search_folders(description: Path, given: Sequence[Path] = ()) -> list[Path]:
         for entry in filter(None, os.environ.get(variable, "").split(os.pathsep)):
             folder = Path(entry).expanduser()
             folders.append(folder / "share" if variable == "AMENT_PREFIX_PATH" else folder)
+    folders.append(erd_package_folder())
     return list(dict.fromkeys(folder for folder in folders if folder.is_dir()))
 
 

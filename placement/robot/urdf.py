@@ -72,6 +72,16 @@ def erd_urdf_path(loader: Any) -> Path:
     return Path(os.path.join(loader.model_path or getModelPath(relative), relative)).resolve()
 
 
+def erd_package_folder() -> Path:
+    """example-robot-data's own package folder (its ``package.xml`` names it ``example-robot-data``), which its URDFs'
+    ``package://example-robot-data/...`` meshes are relative to; a description made from one of its robots (the
+    built-in ``ur5_track``) names its meshes so too."""
+    from example_robot_data.robots_loader import ROBOTS
+
+    urdf = erd_urdf_path(ROBOTS["ur5"])
+    return next((folder for folder in urdf.parents if (folder / "package.xml").is_file()), urdf.parent)
+
+
 def pinocchio_model(path: Path, inertials: Mapping[str, LinkInertial] | None = None) -> pin.Model:
     """Pinocchio's model of the URDF, every ``continuous`` joint read as a ``revolute`` one without position limits
     (:func:`one_angle_urdf`), and the links named in ``inertials`` given those instead of the URDF's.

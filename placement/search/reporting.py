@@ -31,17 +31,25 @@ RECHECK_TRIES = 5  # printed placements near a candidate re-checked on the dense
 BOUND_ROUND_OFF = 1e-12  # m or rad: a printed placement may pass a search bound by this much (its decimal digits)
 
 
-def as_printed(placement: np.ndarray) -> np.ndarray:
+def as_printed(placement: np.ndarray, angles: np.ndarray | None = None) -> np.ndarray:
     """A placement vector (m, rad) rounded as the report prints it, REPORTED_DECIMALS of a mm and of a degree, and
-    read back as the command line reads it (so the printed numbers, entered again, are this very placement)."""
+    read back as the command line reads it (so the printed numbers, entered again, are this very placement).
+
+    Args:
+        placement: The placement vector (m, rad).
+        angles: Which of its entries are angles (:attr:`PlacementSpace.angles`); by default phi, theta, psi and every
+            variable after the six (a revolute joint's knots, the spin).
+    """
     return np.array([float(f"{np.degrees(value):.{REPORTED_DECIMALS}f}") * (np.pi / 180) if angle
                      else float(f"{value * 1e3:.{REPORTED_DECIMALS}f}") * 1e-3
-                     for angle, value in zip(_angles(len(placement)), placement, strict=True)])
+                     for angle, value in zip(_angles(len(placement), angles), placement, strict=True)])
 
 
-def _angles(width: int) -> list[bool]:
-    """Which entries of a placement vector of ``width`` are angles: phi, theta, psi and the knots of the redundant
-    joints' profiles (revolute joints, :mod:`placement.placing.profiles`), which follow the six."""
+def _angles(width: int, angles: np.ndarray | None) -> list[bool]:
+    """Which entries of a placement vector of ``width`` are angles: ``angles`` where given, else phi, theta, psi and
+    every entry after the six."""
+    if angles is not None:
+        return [bool(angle) for angle in angles]
     return [k >= len(VARIABLES) or VARIABLES[k] in ANGLES for k in range(width)]
 
 
@@ -64,10 +72,10 @@ def reported_point(candidates: list[np.ndarray], fine: Evaluator, dense: Evaluat
     centre = (space.lower + space.upper) / 2
     first_failure = ""
     for number, x in enumerate(candidates[:REPORT_CANDIDATES]):
-        near = np.vstack([_grid_corners(space.full(x)[0], space.indices),
+        near = np.vstack([_grid_corners(space.full(x)[0], space.indices, space.angles),
                           space.full(x + RETREAT_SHARES[:, None] * (centre - x))])
         trials = near.copy()  # the free variables as printed, the fixed ones as the space fixes them
-        trials[:, space.indices] = np.array([as_printed(p) for p in near])[:, space.indices]
+        trials[:, space.indices] = np.array([as_printed(p, space.angles) for p in near])[:, space.indices]
         fine_check = (fine if guide is None else guide).evaluate(trials)
         inside = (trials[:, space.indices] >= space.lower - BOUND_ROUND_OFF).all(axis=1) & (
             trials[:, space.indices] <= space.upper + BOUND_ROUND_OFF).all(axis=1)  # a corner may cross a bound
@@ -92,16 +100,16 @@ def reported_point(candidates: list[np.ndarray], fine: Evaluator, dense: Evaluat
                 first_failure = f"fails the 4x denser re-check ({_failure(check)})"
         if number == 0 and not first_failure:
             first_failure = f"fails once printed ({_failure(fine_check)})"
-    return (as_printed(space.full(candidates[0])[0])[space.indices],
+    return (as_printed(space.full(candidates[0])[0], space.angles)[space.indices],
             f"no candidate keeps every limit once printed and on the 4x denser re-check: the search's optimum "
             f"{first_failure}", None)
 
 
-def _grid_corners(placement: np.ndarray, free: np.ndarray) -> np.ndarray:
+def _grid_corners(placement: np.ndarray, free: np.ndarray, angles: np.ndarray) -> np.ndarray:
     """(2^n_free, width) the corners of the printed grid's cell (:func:`as_printed`) around ``placement`` (m, rad), the
-    free variables rounded down or up, the others as they are."""
+    free variables rounded down or up, the others as they are (``angles``: which entries are angles)."""
     step = np.array([np.radians(10.0 ** -REPORTED_DECIMALS) if angle else 10.0 ** -REPORTED_DECIMALS * 1e-3
-                     for angle in _angles(len(placement))])
+                     for angle in _angles(len(placement), angles)])
     low = np.floor(placement / step) * step
     corners = np.tile(placement, (2 ** len(free), 1))
     for bit, index in enumerate(free):

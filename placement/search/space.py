@@ -9,8 +9,9 @@ import numpy as np
 
 from placement.cell.cell_file import Region
 from placement.exceptions import InfeasibleError, SettingsError
-from placement.placing.profiles import SPIN, redundant_bounds, redundant_defaults, redundant_variables
+from placement.placing.profiles import SPIN, length_variables, redundant_bounds, redundant_defaults, redundant_variables
 from placement.placing.transform import ANGLES, VARIABLES, plane_frame
+from placement.placing.values import angle_variable
 from placement.robot.model import Robot
 from placement.robot.sidecar import PLANE_VARIABLES, Plane, Workspace
 
@@ -28,6 +29,7 @@ class PlacementSpace:
             wraps it (:meth:`wrap`) rather than bounding it there.
         names: Every variable of a placement vector, in its order: VARIABLES, then a redundant robot's knots
             (:mod:`placement.placing.profiles`).
+        lengths: The variables after the six that are lengths (a prismatic joint's knots); the others are angles.
     """
 
     free: tuple[str, ...]
@@ -36,6 +38,7 @@ class PlacementSpace:
     fixed: np.ndarray
     periods: np.ndarray | None = None
     names: tuple[str, ...] = VARIABLES
+    lengths: frozenset[str] = frozenset()
 
     def __post_init__(self) -> None:
         unknown = set(self.free) - set(self.names)
@@ -66,6 +69,12 @@ class PlacementSpace:
         cyclic = self.period > 0
         difference[..., cyclic] -= self.period[cyclic] * np.round(difference[..., cyclic] / self.period[cyclic])
         return difference
+
+    @property
+    def angles(self) -> np.ndarray:
+        """(len(names),) bool: which variables of a placement vector are angles (rad; deg on the command line), the
+        others lengths (m; mm)."""
+        return np.array([angle_variable(name, self.lengths) for name in self.names], dtype=bool)
 
     @property
     def indices(self) -> np.ndarray:
@@ -139,7 +148,7 @@ def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict
                           upper=np.array([limits[n][1] for n in chosen], dtype=float),
                           fixed=fixed_vector,
                           periods=np.array([_period(n, limits[n], half_turn) for n in chosen], dtype=float),
-                          names=names)
+                          names=names, lengths=length_variables(robot))
 
 
 def _period(name: str, bound: tuple[float, float], half_turn: bool) -> float:

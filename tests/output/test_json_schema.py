@@ -22,6 +22,8 @@ RUNS = {  # each kind of document: a search with its duty cycle and boxes, --at 
     "two paths": ["--robot", "orthoglide", "--path", str(EXAMPLE), str(CIRCLE), "--minimize", *QUICK],
     "seven axes, error bars": ["--robot", "panda", "--path", str(CIRCLE), "--error-bars", *QUICK],
     "at, loaded stiffness": ["--robot", "orthoglide", "--path", str(EXAMPLE), "--at", "x=0,y=0,z=0", "--loaded-stiffness"],
+    "a track's knots in m": ["--robot", "ur5_track", "--path", str(EXAMPLES / "long_seam.yaml"), "--at",
+                             "x=450,z=200,phi=90,track@0=-700,track@1=100,track@2=750"],
 }
 
 
@@ -41,7 +43,8 @@ def test_real_json_output_validates_against_the_schema(run, tmp_path, capsys):
     keys = {key for answer in answers for key in answer}
     expected = {"search": {"best", "worst", "gain"}, "at on a planar robot": {"at"}, "at in a cell": {"at"},
                 "front": {"members", "knee", "drawn"}, "two paths": {"best"},
-                "seven axes, error bars": {"best", "worst", "uncertainty"}, "at, loaded stiffness": {"at"}}[run]
+                "seven axes, error bars": {"best", "worst", "uncertainty"}, "at, loaded stiffness": {"at"},
+                "a track's knots in m": {"at"}}[run]
     assert expected <= keys  # the run gave the document kind it stands for
     if run == "search":
         assert {"duty", "tolerance", "recheck_tightest"} <= set(document["best"])
@@ -49,6 +52,8 @@ def test_real_json_output_validates_against_the_schema(run, tmp_path, capsys):
         assert "profiles" in document["best"] and "basins" in document["best"]
     if run == "at, loaded stiffness":
         assert 0 < document["at"]["deflection"]["loaded_correction"] < 1e-4
+    if run == "a track's knots in m":
+        assert "knots_m" in document["at"]["profiles"]["track"]
     if run == "at in a cell":
         assert any("nearest_points_m" in margin for margin in document["at"]["margins"])
 
