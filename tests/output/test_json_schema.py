@@ -21,6 +21,8 @@ RUNS = {  # each kind of document: a search with its duty cycle and boxes, --at 
     "front": ["--robot", "orthoglide", "--path", str(EXAMPLE), "--objectives", "energy,transmission", *QUICK],
     "two paths": ["--robot", "orthoglide", "--path", str(EXAMPLE), str(CIRCLE), "--minimize", *QUICK],
     "seven axes, error bars": ["--robot", "panda", "--path", str(CIRCLE), "--error-bars", *QUICK],
+    "optimality gap": ["--robot", "orthoglide", "--path", str(EXAMPLE), "--minimize", "--free", "x,phi", "--gap", "300",
+                       *QUICK],
 }
 
 
@@ -40,7 +42,7 @@ def test_real_json_output_validates_against_the_schema(run, tmp_path, capsys):
     keys = {key for answer in answers for key in answer}
     expected = {"search": {"best", "worst", "gain"}, "at on a planar robot": {"at"}, "at in a cell": {"at"},
                 "front": {"members", "knee", "drawn"}, "two paths": {"best"},
-                "seven axes, error bars": {"best", "worst", "uncertainty"}}[run]
+                "seven axes, error bars": {"best", "worst", "uncertainty"}, "optimality gap": {"best", "optimality_gap"}}[run]
     assert expected <= keys  # the run gave the document kind it stands for
     if run == "search":
         assert {"duty", "tolerance", "recheck_tightest"} <= set(document["best"])
