@@ -34,7 +34,7 @@ def test_the_schema_is_valid_json_schema():
 def test_real_json_output_validates_against_the_schema(run, tmp_path, capsys):
     out = tmp_path / "result.json"
     assert main([*RUNS[run], "--json", str(out)]) in (0, 2)  # 2: an --at placement that breaks a limit, written too
-    capsys.readouterr()
+    printed = capsys.readouterr().out
     document = json.loads(out.read_text(encoding="utf-8"))
     errors = [f"{'/'.join(map(str, error.absolute_path))}: {error.message[:300]}" for error in VALIDATOR.iter_errors(document)]
     assert errors == []
@@ -48,6 +48,10 @@ def test_real_json_output_validates_against_the_schema(run, tmp_path, capsys):
         assert {"duty", "tolerance", "recheck_tightest"} <= set(document["best"])
     if run == "seven axes, error bars":
         assert "profiles" in document["best"] and "basins" in document["best"]
+    if run == "optimality gap":  # stated as an estimate, in the report too, never as a proof
+        gap = document["optimality_gap"]
+        assert gap["kind"] == "estimated" and gap["lower_bound"] <= gap["best"] <= document["best"]["objective"]["value"]
+        assert "optimality gap (estimated, not a proof" in printed
     if run == "at in a cell":
         assert any("nearest_points_m" in margin for margin in document["at"]["margins"])
 
