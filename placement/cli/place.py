@@ -52,8 +52,10 @@ from placement.output.palette import AT_COLOR, BEST_COLOR, WORST_COLOR, path_col
 from placement.output.report import (
     detail_json,
     format_detail,
+    format_gap,
     format_result,
     format_uncertainty,
+    gap_json,
     job_document,
     results_lines,
     tolerance_json,
@@ -69,7 +71,8 @@ from placement.placing.transform import VARIABLES
 from placement.placing.values import parse_free, parse_values, unsuffixed_lengths
 from placement.robot.model import Robot
 from placement.robot.plausibility import massless_note
-from placement.search.optimize import PlacementResult, SearchSettings, optimize_placement
+from placement.search.gap import BUDGET, optimality_gap
+from placement.search.optimize import Optimum, PlacementResult, SearchSettings, optimize_placement
 from placement.search.plausibility import feed_warnings, length_warnings
 from placement.search.space import PlacementSpace, default_space
 from placement.search.uncertainty import energy_uncertainty
@@ -122,6 +125,12 @@ def build_parser() -> argparse.ArgumentParser:
                              "CALIBRATED ±5 %%, published ±2 %%) and give the best and worst energies and the gain with "
                              "intervals (first order, checked by sampling) and the share of draws in which another "
                              "basin wins (energy objective; see docs/howto/certainty.md)")
+    parser.add_argument("--gap", type=whole_number(100, 10_000_000), nargs="?", const=BUDGET, default=None,
+                        metavar="N",
+                        help="bound the best feasible objective from below by a branch and bound over the box on N "
+                             f"evaluations (default {BUDGET}) and give the optimality gap, best found − lower bound: "
+                             "an estimate from sampled derivative bounds times a safety factor, not a proof "
+                             "(see docs/howto/certainty.md)")
     parser.add_argument("--json", metavar="FILE", help="write the results as JSON (SI units)")
     parser.add_argument("--trace", metavar="FILE",
                         help="write a per-sample CSV trace of the placement given by --at, else of the best one")
@@ -262,6 +271,8 @@ def place_one(robot: Robot, path: ToolPath, args: argparse.Namespace,
         document["gain"] = result.gain
     if args.error_bars:
         document["uncertainty"] = error_bars(robot, path, evaluation, result)
+    if args.gap is not None and result.best is not None:
+        document["optimality_gap"] = bound_gap(robot, path, evaluation, space, result.best, args.gap, args.seed)
     if result.infeasible:
         document["infeasible"] = result.infeasible
     return document, details, result.infeasible
@@ -278,6 +289,16 @@ def error_bars(robot: Robot, path: ToolPath, evaluation: EvaluatorSettings, resu
     uncertainty = energy_uncertainty(robot, path, dataclasses.replace(evaluation, workers=1), best, worst, others)
     print("\n" + format_uncertainty(uncertainty))
     return uncertainty_json(uncertainty)
+
+
+def bound_gap(robot: Robot, path: ToolPath, evaluation: EvaluatorSettings, space: PlacementSpace, best: Optimum,
+              budget: int, seed: int) -> dict:
+    """Print the optimality gap of the best placement (--gap, :mod:`placement.search.gap`) and return it as JSON."""
+    with Evaluator(robot, path, evaluation) as evaluator:
+        gap = optimality_gap(evaluator, space, evaluator.objective.sign, best.detail.value, budget, seed=seed)
+    unit = " J" if evaluation.objective == "energy" else ""
+    print("\n" + format_gap(gap, unit))
+    return gap_json(gap)
 
 
 def misfit_line(robot: Robot, samples: PathSamples, space: PlacementSpace) -> str | None:

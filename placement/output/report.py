@@ -29,6 +29,7 @@ from placement.placing.profiles import KNOT_SEPARATOR, is_closed, knot_shares, l
 from placement.placing.transform import VARIABLES, describe_plane, transform_path_to_base
 from placement.placing.values import angle_variable
 from placement.robot.model import Robot
+from placement.search.gap import OptimalityGap
 from placement.search.optimize import Optimum, PlacementResult
 from placement.search.reporting import REPORTED_DECIMALS
 from placement.search.tolerance import ToleranceBox
@@ -304,6 +305,25 @@ def uncertainty_json(uncertainty: Uncertainty) -> dict[str, Any]:
                            for p in uncertainty.parameters],
             "best_energy_J": interval(uncertainty.best), "worst_energy_J": interval(uncertainty.worst),
             "gain": interval(uncertainty.gain), "other_basin_wins": uncertainty.other_basin_wins}
+
+
+def format_gap(gap: OptimalityGap, unit: str) -> str:
+    """One line: the best found, the lower bound, the gap and its kind, and what the bound cost
+    (:mod:`placement.search.gap`)."""
+    reach = (f"; {gap.out_of_reach_share:.1%} of the box dropped as small cells out of reach"
+             if gap.out_of_reach_share else "")
+    return (f"optimality gap ({gap.kind}, not a proof: derivative bounds sampled, times {gap.safety:g}): best found "
+            f"{gap.best:.4f}{unit} − lower bound {gap.lower_bound:.4f}{unit} = {gap.gap:.4f}{unit} "
+            f"({gap.relative:.2%}); {gap.evaluations} evaluations, {gap.seconds:.1f} s, {gap.cells} cells left open"
+            + reach)
+
+
+def gap_json(gap: OptimalityGap) -> dict[str, Any]:
+    """JSON-ready optimality gap (objective units; the slope bounds per m or rad of each free variable)."""
+    return {"kind": gap.kind, "best": gap.best, "lower_bound": gap.lower_bound, "gap": gap.gap,
+            "relative": gap.relative, "evaluations": gap.evaluations, "safety_factor": gap.safety,
+            "lipschitz": gap.lipschitz.tolist(), "open_cells": gap.cells,
+            "out_of_reach_share": gap.out_of_reach_share, "seconds": gap.seconds}
 
 
 def format_tolerance(box: ToleranceBox, subject: str, lengths: Collection[str] = ()) -> str:

@@ -5,7 +5,8 @@ A global search's final population has usually gathered in one basin; which one 
 polish starts from the best point of each region the global search has *visited*, not only from its
 final population: among every feasible placement it evaluated, a start is one that no better feasible
 placement lies within START_RADIUS of (a share of the box along each free variable, across a periodic
-variable's wrap too). The best :data:`placement.search.local.POLISH_STARTS` of those are polished; the polished optima closer than
+variable's wrap too). The best :data:`placement.search.local.POLISH_STARTS` of those are polished (a start that
+breaks a limit on the polish's finer sampling too: the polish brings it back); the polished optima closer than
 :data:`placement.search.local.BASIN_RADIUS` to a better one are the same basin, and the others are the
 search's basins, best first.
 """

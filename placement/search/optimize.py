@@ -5,10 +5,12 @@ that the gain of placing well can be reported. Strategy, per direction: a global
 scipy's differential evolution over the free placement variables, with the limits as constraints
 (a feasible placement always beats an infeasible one, and infeasible ones are ranked by how far
 they break the limits, so they steer the search and never stop it), on the path sampled with
-about ``search_samples`` samples; then a local constrained polish (SLSQP) from the best point of
-each of a few distinct regions the global search visited, on the path sampled at its own time step, which the
-reported values use; the distinct polished optima are the basins, and those close to the best are reported beside
-it (:mod:`placement.search.basins`).
+about ``search_samples`` samples, its first population half the best points of a Sobol scan of the box that is the
+same for every seed (a small feasible region at the box's edge, the pocket's best, is otherwise found on some
+seeds only), half a sample of the seed's; then a local constrained polish (SLSQP) from the best point of
+each of a few distinct regions the global search visited (whether or not it keeps every limit on the finer
+sampling: the polish brings it back), on the path sampled at its own time step, which the reported values use;
+the distinct polished optima are the basins, and those close to the best are reported beside it (:mod:`placement.search.basins`).
 An angle whose range is its whole turn (or half of it, by the path's half-turn symmetry) is
 periodic: the objective wraps it, and the polish is free to cross the range's edge (no bound
 cuts through a basin there).
@@ -38,6 +40,7 @@ from multiprocessing.sharedctypes import Synchronized
 
 import numpy as np
 from scipy.optimize import NonlinearConstraint, differential_evolution
+from scipy.stats import qmc
 
 from placement.dynamics.inverse import openmp_started
 from placement.evaluation.evaluator import EvaluationJob, Evaluator, EvaluatorSettings, denser
@@ -53,6 +56,7 @@ from placement.search.space import PlacementSpace, default_space
 from placement.search.tolerance import ToleranceBox, tolerance_box
 
 GIVE_UP_GENERATIONS = 25  # generations without any feasible placement after which the search stops
+SCAN_FACTOR = 8  # the first population's best half comes from a seed-free Sobol scan this many times its size
 RECHECK_DENSITY = 4  # the re-check samples the path this many times more densely
 POLISH_EVALUATIONS = 30  # placement evaluations of a typical polish, for the duration estimate (gradients count n + 1)
 
@@ -214,19 +218,28 @@ def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: flo
     local = Problem(fine, space, sign)
     fine_margins = local.lookup(ranked)[1]  # one batch
     kept = ranked[(fine_margins >= 0).all(axis=1)]
-    starts = basin_starts(*problem.feasible_seen(), space, POLISH_STARTS)
-    starts = starts[(local.lookup(starts)[1] >= 0).all(axis=1)] if len(starts) else starts
-    if not len(starts):
-        starts = kept[:1]
-    if not len(starts):  # the finer sampling breaks a limit the coarse one missed: repair the closest
+    # A start may break a limit on the finer sampling (a best region's optimum often lies on a limit): the polish
+    # brings it back, and only the polished points that keep every limit there are candidates.
+    polished = _feasible([polish_across(local, start, space)
+                          for start in basin_starts(*problem.feasible_seen(), space, POLISH_STARTS)], local)
+    if not polished and len(kept):
+        polished = [polish_across(local, kept[0], space)]
+    if not polished:  # the finer sampling breaks a limit the coarse one missed: repair the closest
         closest = ranked[np.argmin(np.clip(-fine_margins, 0.0, None).sum(axis=1))]
         repaired = inward_until_feasible(local, polish_across(local, closest, space), space)
         return ([] if repaired is None else [repaired]), local, ([] if repaired is None else [repaired])
-    polished = [polish_across(local, start, space) for start in starts]
     signed = [sign * local.lookup(x)[0][0] for x in polished]
     polished = [polished[k] for k in np.argsort(signed, kind="stable")]
     basins = [polished[k] for k in distinct(polished, sorted(signed), space, BASIN_RADIUS)]
     return polished + list(kept), local, basins
+
+
+def _feasible(points: list[np.ndarray], problem: Problem) -> list[np.ndarray]:
+    """The points that keep every limit on the problem's model, with a finite objective."""
+    if not points:
+        return []
+    values, margins = problem.lookup(np.array(points))
+    return [p for p, ok in zip(points, (margins >= 0).all(axis=1) & np.isfinite(values)) if ok]
 
 
 def _global(problem: Problem, space: PlacementSpace, settings: SearchSettings,
@@ -247,8 +260,23 @@ def _global(problem: Problem, space: PlacementSpace, settings: SearchSettings,
     result = differential_evolution(
         problem.objective, bounds, constraints=constraint, vectorized=True, updating="deferred",
         popsize=_popsize(settings, len(bounds)), maxiter=settings.max_generations, tol=settings.tolerance,
-        polish=False, init="sobol", rng=np.random.default_rng(settings.seed), callback=generation_done)
+        polish=False, init=_scanned_population(problem, space, settings), rng=np.random.default_rng(settings.seed),
+        callback=generation_done)
     return space.wrap(np.asarray(result.population))
+
+
+def _scanned_population(problem: Problem, space: PlacementSpace, settings: SearchSettings) -> np.ndarray:
+    """The global search's first population: the best of SCAN_FACTOR times as many points of a Sobol sequence over the
+    box, the same for every seed (feasible ones by objective, then the others by how far they break the limits), and
+    the rest of a scrambled Sobol sample of the seed's."""
+    free = len(space.free)
+    size = 2 ** int(np.ceil(np.log2(_popsize(settings, free) * free)))
+    scan = space.lower + qmc.Sobol(free, scramble=False).random(SCAN_FACTOR * size) * (space.upper - space.lower)
+    values, margins = problem.lookup(scan)
+    violation = np.clip(-margins, 0.0, None).sum(axis=1)
+    rank = np.lexsort((np.where(np.isfinite(values), problem.sign * values, np.inf), violation))
+    own = space.lower + qmc.Sobol(free, rng=np.random.default_rng(settings.seed)).random(size) * (space.upper - space.lower)
+    return np.vstack([scan[rank[:size // 2]], own[:size - size // 2]])
 
 
 def _popsize(settings: SearchSettings, free: int) -> int:
@@ -319,8 +347,8 @@ def optimize_placement(robot: Robot, path: ToolPath, *, space: PlacementSpace | 
 
 def estimate(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, settings: SearchSettings,
              directions: int) -> float:
-    """Expected duration (s) of a search (every generation and typical polishes), from one evaluation of a
-    population on the search's sampling and one of a placement on the path's own (after a first
+    """Expected duration (s) of a search (the first population's scan, every generation and typical polishes), from
+    one evaluation of a population on the search's sampling and one of a placement on the path's own (after a first
     evaluation, which may load the kinematics)."""
     rng = np.random.default_rng(settings.seed)
     size = 2 ** int(np.ceil(np.log2(_popsize(settings, len(space.free)) * len(space.free))))  # Sobol's, as scipy's
@@ -333,7 +361,7 @@ def estimate(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, settings
     fine.evaluate(population[1:2])
     placement = time.perf_counter() - tic
     polish = POLISH_STARTS * POLISH_EVALUATIONS * placement * (1 + len(space.free) / 2)
-    return directions * (settings.max_generations * generation + polish)
+    return directions * ((settings.max_generations + SCAN_FACTOR) * generation + polish)  # the scan: SCAN_FACTOR populations
 
 
 @dataclass(frozen=True)

@@ -24,6 +24,8 @@ RUNS = {  # each kind of document: a search with its duty cycle and boxes, --at 
     "at, loaded stiffness": ["--robot", "orthoglide", "--path", str(EXAMPLE), "--at", "x=0,y=0,z=0", "--loaded-stiffness"],
     "a track's knots in m": ["--robot", "ur5_track", "--path", str(EXAMPLES / "long_seam.yaml"), "--at",
                              "x=450,z=200,phi=90,track@0=-700,track@1=100,track@2=750"],
+    "optimality gap": ["--robot", "orthoglide", "--path", str(EXAMPLE), "--minimize", "--free", "x,phi", "--gap", "300",
+                       *QUICK],
 }
 
 
@@ -35,7 +37,7 @@ def test_the_schema_is_valid_json_schema():
 def test_real_json_output_validates_against_the_schema(run, tmp_path, capsys):
     out = tmp_path / "result.json"
     assert main([*RUNS[run], "--json", str(out)]) in (0, 2)  # 2: an --at placement that breaks a limit, written too
-    capsys.readouterr()
+    printed = capsys.readouterr().out
     document = json.loads(out.read_text(encoding="utf-8"))
     errors = [f"{'/'.join(map(str, error.absolute_path))}: {error.message[:300]}" for error in VALIDATOR.iter_errors(document)]
     assert errors == []
@@ -44,7 +46,7 @@ def test_real_json_output_validates_against_the_schema(run, tmp_path, capsys):
     expected = {"search": {"best", "worst", "gain"}, "at on a planar robot": {"at"}, "at in a cell": {"at"},
                 "front": {"members", "knee", "drawn"}, "two paths": {"best"},
                 "seven axes, error bars": {"best", "worst", "uncertainty"}, "at, loaded stiffness": {"at"},
-                "a track's knots in m": {"at"}}[run]
+                "a track's knots in m": {"at"}, "optimality gap": {"best", "optimality_gap"}}[run]
     assert expected <= keys  # the run gave the document kind it stands for
     if run == "search":
         assert {"duty", "tolerance", "recheck_tightest"} <= set(document["best"])
@@ -54,6 +56,10 @@ def test_real_json_output_validates_against_the_schema(run, tmp_path, capsys):
         assert 0 < document["at"]["deflection"]["loaded_correction"] < 1e-4
     if run == "a track's knots in m":
         assert "knots_m" in document["at"]["profiles"]["track"]
+    if run == "optimality gap":  # stated as an estimate, in the report too, never as a proof
+        gap = document["optimality_gap"]
+        assert gap["kind"] == "estimated" and gap["lower_bound"] <= gap["best"] <= document["best"]["objective"]["value"]
+        assert "optimality gap (estimated, not a proof" in printed
     if run == "at in a cell":
         assert any("nearest_points_m" in margin for margin in document["at"]["margins"])
 
