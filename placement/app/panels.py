@@ -35,6 +35,9 @@ class Host(Protocol):
     def set_placement(self, placement: np.ndarray, exact: bool, move_gizmo: bool = True) -> None:
         """Go to a placement (m, rad)."""
 
+    def frame_workpiece(self) -> None:
+        """Every tab's camera on the placed path."""
+
 
 class JobPanel(ABC):
     """A start button, Cancel, a progress bar and a state line (``id="KEY-state"``) around one job at a time.
@@ -51,7 +54,7 @@ class JobPanel(ABC):
         self.host, self.key, self.what = host, key, what
         self.job: Job | None = None
         self.start_button = gui.add_button(start_label)
-        self.cancel_button = gui.add_button("Cancel", disabled=True)
+        self.cancel_button = gui.add_button(f"Cancel {key}", disabled=True, hint=f"stop {what} at once")
         self.progress = gui.add_progress_bar(0.0, visible=False)
         self.state = gui.add_html("")
         self.start_button.on_click(lambda _: host.guard(self._start))

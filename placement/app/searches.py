@@ -86,6 +86,7 @@ class OptimisePanel(JobPanel):
         if key not in self.optima:
             raise NotReadyError(f"no {key} placement yet: optimise first")
         self.host.set_placement(self.optima[key].placement, exact=True)
+        self.host.frame_workpiece()
 
 
 class MapPanel(JobPanel):
@@ -96,7 +97,7 @@ class MapPanel(JobPanel):
         free = host.bench.space.free
         self.across = gui.add_dropdown("across", free, initial_value=free[0])
         self.up = gui.add_dropdown("up", free, initial_value=free[min(1, len(free) - 1)])
-        self.points = gui.add_number("points per variable", 21, min=2, max=MAP_POINTS, step=1)
+        self.points = gui.add_text("points per variable", "21", hint=f"a whole number from 2 to {MAP_POINTS}")
         super().__init__(host, "Map", "map", "a map")
         self.image = gui.add_image(BLANK, visible=False)
         self.best_html = gui.add_html("")
@@ -106,10 +107,14 @@ class MapPanel(JobPanel):
         self.command = ""
 
     def launch(self) -> Job:
-        points = float(self.points.value)
-        if not points.is_integer():
+        text = str(self.points.value).strip()
+        try:
+            points = float(text)
+        except ValueError:
+            points = float("nan")
+        if not points.is_integer() or not 2 <= points <= MAP_POINTS:
             raise SettingsError(f"map: points per variable: expected a whole number from 2 to {MAP_POINTS}, "
-                                f"got {points:g}")
+                                f"got {text!r}")
         job, self.command = self.host.bench.map((self.across.value, self.up.value), int(points), self.host.placement)
         self.say(f"mapping {int(points) ** 2} placements...")
         return job

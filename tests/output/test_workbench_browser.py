@@ -55,8 +55,8 @@ def downloads(tmp_path_factory):
     return tmp_path_factory.mktemp("downloads")
 
 
-@pytest.fixture(scope="module")
-def browser(workbench, downloads):
+def open_page(url: str, downloads=None):
+    """Headless Chromium on ``url``, its first exact value shown (downloads into ``downloads``)."""
     try:
         from selenium import webdriver
         from selenium.webdriver.chrome.service import Service
@@ -72,10 +72,21 @@ def browser(workbench, downloads):
                  "--use-angle=swiftshader", "--window-size=1400,1000", "--proxy-server=127.0.0.1:9"):
         options.add_argument(flag)
     driver = webdriver.Chrome(options=options, service=Service(driver_path))
-    driver.execute_cdp_cmd("Browser.setDownloadBehavior", {"behavior": "allow", "downloadPath": str(downloads)})
-    driver.get(workbench.url)
+    if downloads is not None:
+        driver.execute_cdp_cmd("Browser.setDownloadBehavior", {"behavior": "allow", "downloadPath": str(downloads)})
+    driver.get(url)
     try:
         wait_for(driver, lambda: text_of(driver, "exact-value") is not None, "the page's first exact value")
+    except BaseException:
+        driver.quit()
+        raise
+    return driver
+
+
+@pytest.fixture(scope="module")
+def browser(workbench, downloads):
+    driver = open_page(workbench.url, downloads)
+    try:
         yield driver
     finally:
         driver.quit()
@@ -100,7 +111,7 @@ def wait_for(driver, condition, what: str, timeout_s: float = 120.0) -> None:
 
 
 def type_into(driver, label: str, text: str) -> None:
-    """Type ``text`` into the field labelled ``label`` and leave it, as a user does."""
+    """Type ``text`` into the field labelled ``label`` and press Enter, as a user does."""
     from selenium.webdriver.common.by import By
     from selenium.webdriver.common.keys import Keys
 
@@ -109,7 +120,7 @@ def type_into(driver, label: str, text: str) -> None:
     field.send_keys(Keys.CONTROL, "a")
     field.send_keys(Keys.BACKSPACE)
     field.send_keys(text)
-    field.send_keys(Keys.TAB)
+    field.send_keys(Keys.ENTER)
 
 
 def click(driver, text: str) -> None:
@@ -271,3 +282,113 @@ def test_the_fronts_members_are_those_of_objectives(browser, tmp_path):
     click(browser, "Go to member")  # the knee, chosen at first
     knee = members[expected["knee"]]["values"]["energy"]
     wait_for(browser, lambda: abs(number_of(browser, "exact-value") - knee) <= 1e-9, f"the knee's energy {knee!r} J")
+
+
+def test_the_page_has_no_share_control_and_is_refused_without_its_token(browser, workbench):
+    from selenium.webdriver.common.by import By
+
+    labelled = browser.find_elements(By.XPATH, "//*[contains(translate(normalize-space(.), 'SHARE', 'share'), 'share')"
+                                               " and (self::button or self::a)] | //*[contains(@aria-label, 'hare') or "
+                                               "contains(@title, 'hare')]")
+    assert not [element for element in labelled if element.is_displayed()]
+    assert browser.find_elements(By.XPATH, "//button[normalize-space()='Optimise']")  # the page's own buttons are found
+    url = workbench.url.split("?")[0]
+    browser.execute_script("window.open(arguments[0], '_blank')", url.replace("127.0.0.1", "localhost"))
+    browser.switch_to.window(browser.window_handles[-1])
+    try:  # another host name of this machine, no token (its cookie is 127.0.0.1's): refused, saying why
+        wait_for(browser, lambda: "no session token" in browser.find_element(By.TAG_NAME, "body").text, "the refusal")
+    finally:
+        browser.close()
+        browser.switch_to.window(browser.window_handles[0])
+
+
+@pytest.fixture(scope="module")
+def ur5(downloads):
+    from placement.cli import app, build_command_parser
+
+    args = build_command_parser().parse_args(["app", "--robot", "ur5", "--path", str(EXAMPLE)])
+    bench = app.start(args)
+    bench.bench.search_settings = dataclasses.replace(bench.bench.search_settings, **BUDGET)
+    try:
+        driver = open_page(bench.url)
+        try:
+            yield bench, driver
+        finally:
+            driver.quit()
+    finally:
+        bench.close()
+
+
+def ur5_json(tmp_path, *options: str) -> dict:
+    from placement.cli import main
+
+    out = tmp_path / "ur5.json"
+    assert main(["--robot", "ur5", "--path", str(EXAMPLE), "--quiet", "--json", str(out), *options]) == 0
+    return json.loads(out.read_text())
+
+
+def test_typing_400_into_the_ur5s_x_evaluates_400_mm_and_1e3_is_refused_by_its_bound(ur5, tmp_path):
+    from placement.app.evaluations import shown_value
+    from placement.placing.transform import VARIABLES
+
+    bench, driver = ur5
+    current = {name: format(shown_value(name, value), ".12g") for name, value in zip(VARIABLES, bench.placement)}
+    expected = ur5_json(tmp_path, "--at", at({**current, "x": "400"}))["at"]["energy_J"]
+    type_into(driver, "x (mm)", "400")
+    wait_for(driver, lambda: abs(number_of(driver, "exact-value") - expected) <= 1e-9,
+             f"the energy at x = 400 mm, {expected!r} J (last read: {text_of(driver, 'exact-value')})")
+    assert bench.placement[0] == 0.4 and field_text(driver, "x (mm)") == "400"
+    type_into(driver, "x (mm)", "1e3")
+    wait_for(driver, lambda: "x = 1e3 mm is above its upper bound 600 mm" in (text_of(driver, "message") or ""),
+             "the bound named")
+    assert field_text(driver, "x (mm)") == "1e3" and bench.placement[0] == 0.4  # the text kept, nothing moved
+    type_into(driver, "x (mm)", "400")
+    wait_for(driver, lambda: not text_of(driver, "message"), "the message cleared")
+
+
+def field_text(driver, label: str) -> str:
+    from selenium.webdriver.common.by import By
+
+    return driver.find_element(By.XPATH, f"//label[normalize-space()='{label}']/following::input[1]").get_attribute("value")
+
+
+def test_optimise_on_the_ur5_finds_the_command_lines_best(ur5, tmp_path):
+    _, driver = ur5
+    expected = ur5_json(tmp_path, *BUDGET_OPTIONS)["best"]["objective"]["value"]
+    click(driver, "Optimise")
+    wait_for(driver, lambda: text_of(driver, "best-value") is not None, "the search's best", timeout_s=900)
+    assert abs(float(text_of(driver, "best-value")) - expected) <= 1e-9
+
+
+def workpiece_pixels(driver) -> tuple[int, int]:
+    """(red, magenta) pixels of a screenshot: the workpiece infeasible, and feasible."""
+    import io
+
+    import numpy as np
+    from PIL import Image
+
+    image = np.asarray(Image.open(io.BytesIO(driver.get_screenshot_as_png())).convert("RGB")).astype(int)
+    r, g, b = image[..., 0], image[..., 1], image[..., 2]
+    return int(((r > 170) & (g < 70) & (b < 70)).sum()), int(((r > 170) & (g < 70) & (b > 140)).sum())
+
+
+def test_an_infeasible_placement_turns_the_ur5s_workpiece_red(ur5):
+    import numpy as np
+
+    from placement.app.page import PATH_COLOR
+
+    bench, driver = ur5
+    corners = [{"x": "600", "y": "400", "z": "450"}, {"x": "250", "y": "-200", "z": "50"}, {"x": "600", "y": "-200", "z": "50"}]
+    for corner in corners:
+        type_into(driver, "--at", at(corner))
+        wait_for(driver, lambda corner=corner: np.isclose(bench.placement[0], float(corner["x"]) / 1e3), "the corner")
+        if not bench.reading.feasible:
+            break
+    assert not bench.reading.feasible
+    click(driver, "Frame the workpiece")
+    wait_for(driver, lambda: workpiece_pixels(driver)[0] > 200, f"a red workpiece (red, magenta: {workpiece_pixels(driver)})")
+    type_into(driver, "--at", "x=400,y=100,z=250,phi=0,theta=0,psi=0")  # the middle of the bounds: feasible
+    wait_for(driver, lambda: bench.reading is not None and bench.reading.feasible, "a feasible placement")
+    click(driver, "Frame the workpiece")
+    wait_for(driver, lambda: workpiece_pixels(driver)[0] < 20, f"the red gone (red, magenta: {workpiece_pixels(driver)})")
+    assert (bench.path_line.colors == PATH_COLOR).all() and not bench.failing_mark.visible
