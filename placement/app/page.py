@@ -39,6 +39,17 @@ TYPING_PAUSE_S = 1.5  # a field's values are read this long after the last key, 
 LATE_KEYS_S = 2.0  # keys that reach the page this long after their form was submitted are read as part of it
 
 
+def shown_text(name: str, value: float) -> str:
+    """A variable's value as the page writes it (mm or degrees to 1e-6; typed back, it gives the value again)."""
+    return format(round(shown_value(name, value), 6) + 0.0, ".12g")
+
+
+def at_text(placement: np.ndarray) -> str:
+    """The placement evaluated, as ``--at`` takes it (mm, degrees): the page says which values it read, so a
+    value the browser never sent is seen, not silently replaced by an earlier one."""
+    return ",".join(f"{name}={shown_text(name, placement[k])}" for k, name in enumerate(VARIABLES))
+
+
 class Workbench:
     """The page of one bench: built on a viser server, updated from the bench's evaluations.
 
@@ -319,7 +330,7 @@ class Workbench:
     def _write_fields(self, placement: np.ndarray) -> None:
         """The fields show a placement (mm and degrees to 1e-6, as typed back they give it again)."""
         for k, name in enumerate(VARIABLES):
-            text = format(round(shown_value(name, placement[k]), 6) + 0.0, ".12g")
+            text = shown_text(name, placement[k])
             self._written[name] = self._last_read[name] = text
             self.fields[name].value = text
 
@@ -463,6 +474,7 @@ class Workbench:
         tight = min(detail.margins, key=lambda m: m.margin, default=None)
         where = f"{tight.kind} {tight.where}, margin {tight.margin * 100:.1f} %" if tight is not None else "none"
         self.exact_html.content = (
+            f'<p id="exact-at">at {html.escape(at_text(detail.placement))}</p>'
             f'<p>{html.escape(words.subject)} <b><span id="exact-value">{detail.value!r}</span></b> {html.escape(unit)}'
             f' ({"feasible" if detail.feasible else "INFEASIBLE"})</p>'
             + ("" if detail.objective == "energy" else

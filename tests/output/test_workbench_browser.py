@@ -110,17 +110,26 @@ def wait_for(driver, condition, what: str, timeout_s: float = 120.0) -> None:
     pytest.fail(f"the page never showed {what}")
 
 
+KEY_INTERVAL_S = 0.08  # a fast typist's time from one key to the next (a person's is 0.1 to 0.3 s)
+
+
 def type_into(driver, label: str, text: str) -> None:
-    """Type ``text`` into the field labelled ``label`` and press Enter, as a user does."""
+    """Type ``text`` into the field labelled ``label`` and press Enter, as a user does: key by key.
+
+    Keys come at a person's pace, not all within a millisecond: viser's page (1.1) sends the GUI's messages
+    through one sender that keeps only the latest message of each 50 ms, so a value and an Enter pressed within
+    the same 50 ms reach the server as the Enter alone (a machine typing a whole field at once would lose it).
+    """
+    from selenium.webdriver.common.action_chains import ActionChains
     from selenium.webdriver.common.by import By
     from selenium.webdriver.common.keys import Keys
 
     field = driver.find_element(By.XPATH, f"//label[normalize-space()='{label}']/following::input[1]")
-    field.click()
-    field.send_keys(Keys.CONTROL, "a")
-    field.send_keys(Keys.BACKSPACE)
-    field.send_keys(text)
-    field.send_keys(Keys.ENTER)
+    keys = ActionChains(driver).click(field).pause(KEY_INTERVAL_S)
+    keys.key_down(Keys.CONTROL).send_keys("a").key_up(Keys.CONTROL).pause(KEY_INTERVAL_S)
+    for key in (Keys.BACKSPACE, *text, Keys.ENTER):
+        keys.send_keys(key).pause(KEY_INTERVAL_S)
+    keys.perform()
 
 
 def click(driver, text: str) -> None:
@@ -185,6 +194,7 @@ def test_a_placement_typed_in_the_page_reads_the_energy_at_prints(browser, tmp_p
         type_into(browser, f"{name} ({'deg' if name == 'phi' else 'mm'})", value)
     wait_for(browser, lambda: abs(float(text_of(browser, "exact-value")) - expected) <= 1e-9,
              f"the --at energy {expected!r} J (last read: {text_of(browser, 'exact-value')})")
+    assert text_of(browser, "exact-at") == "at x=12.5,y=-7,z=-20,phi=30,theta=0,psi=0"  # every value typed was read
     assert "feasible" in (text_of(browser, "live-value") or "")
 
 
