@@ -24,6 +24,7 @@ from placement.app.drawing import RobotDrawing, rotation_of, wxyz_of
 from placement.app.evaluations import Bench, Choices, Reading, shown_value, si_value
 from placement.app.guard import guarded_server
 from placement.app.searches import FrontPanel, MapPanel, OptimisePanel
+from placement.app.shown import ShownTexts, check_viser
 from placement.contract.objective import OBJECTIVES, quantity, wording
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.results import PlacementDetail
@@ -36,7 +37,6 @@ PATH_COLOR, CUBE_COLOR = (230, 0, 200), (48, 48, 48)  # the workpiece: a magenta
 FAILING_COLOR = (220, 0, 0)  # the workpiece where the placement is infeasible, and its failing sample
 TIMINGS = ("path file's", "paper", "realistic", "optimal")
 TYPING_PAUSE_S = 1.5  # a field's values are read this long after the last key, if Enter was not pressed
-LATE_KEYS_S = 2.0  # keys that reach the page this long after their form was submitted are read as part of it
 
 
 def shown_text(name: str, value: float) -> str:
@@ -62,7 +62,9 @@ class Workbench:
     """
 
     def __init__(self, bench: Bench, host: str = "127.0.0.1", port: int = 0, origins: tuple[str, ...] = ()) -> None:
+        check_viser()
         self.bench, self.robot = bench, bench.robot
+        self.shown = ShownTexts()  # the text fields, read from the tab that acts
         self.server, self.gate = guarded_server(host, port or 8080, origins)
         self.server.on_client_connect(lambda client: self.guard(lambda: self._tell_sharing(client)))
         self.placement = bench.start()
@@ -72,7 +74,6 @@ class Workbench:
         self._wanted: np.ndarray | None = None  # the latest placement asked for a live reading
         self._wake = threading.Condition()
         self._typing: threading.Timer | None = None  # reads the fields once typing pauses
-        self._submitted_at: dict[str, float] = {}  # when each form was last submitted (monotonic s)
         self._moving = threading.RLock()  # one placement change at a time, each shown whole (never a stale one last)
         self._closed = False
         self._draw_scene()
@@ -215,15 +216,14 @@ class Workbench:
                 field.on_update(lambda event: self._typed(event))
                 self.fields[name] = field
             self.go_button = gui.add_button("Go to these values", hint="evaluate the values typed above (or press Enter)")
-        form.on_submit(lambda _: self._submitted("fields", self._fields_given))
-        self.go_button.on_click(lambda _: self._submitted("fields", self._fields_given))
+        form.on_submit(lambda event: self.acted(event, self._fields_given))
+        self.go_button.on_click(lambda event: self.acted(event, self._fields_given))
         with gui.add_form(None) as at_form:
             self.at_text = gui.add_text("--at", "", hint="a placement as --at takes it: x=0,y=0,z=-20,phi=30 (mm, deg); "
                                                          "values left out keep the current ones")
             self.at_button = gui.add_button("Evaluate")
-        at_form.on_submit(lambda _: self._submitted("at", self._at_given))
-        self.at_button.on_click(lambda _: self._submitted("at", self._at_given))
-        self.at_text.on_update(lambda event: self._typed_after_submit("at", event, self._at_given))
+        at_form.on_submit(lambda event: self.acted(event, self._at_given))
+        self.at_button.on_click(lambda event: self.acted(event, self._at_given))
         self.message = gui.add_html("")
         with gui.add_folder("Live (coarse sampling)"):
             self.live_html = gui.add_html("")
@@ -245,6 +245,7 @@ class Workbench:
             self.export = ExportPanel(self)
         with gui.add_folder("Map", expand_by_default=False):
             self.map = MapPanel(self)
+        self.shown.watch(*self.fields.values(), self.at_text, self.map.points)
         with gui.add_folder("Front", expand_by_default=False):
             self.front = FrontPanel(self)
         with gui.add_folder("Motion"):
@@ -334,32 +335,31 @@ class Workbench:
             self._written[name] = self._last_read[name] = text
             self.fields[name].value = text
 
-    def _submitted(self, form: str, action: Callable[[], None]) -> None:
-        """Enter or a form's button: read its values now, and again as their last keys arrive (the browser may send
-        the submission before the last keys typed)."""
-        self._submitted_at[form] = time.monotonic()
-        self.guard(action)
+    def acted(self, event: object, action: Callable[[], None]) -> None:
+        """A tab's Enter or button: its text fields are read from the tab first (the keys typed last may never have
+        reached the server, see :mod:`placement.app.shown`), then the action runs on what the tab shows."""
+        def caught_up() -> None:
+            self.shown.catch_up(getattr(event, "client", None))
+            action()
 
-    def _typed_after_submit(self, form: str, event: object, action: Callable[[], None]) -> None:
-        """A key of a form just submitted (it came after the submission): read the form again."""
-        if getattr(event, "client", None) is not None and time.monotonic() - self._submitted_at.get(form, -1e9) < LATE_KEYS_S:
-            self.guard(action)
+        self.guard(caught_up)
 
     def _typed(self, event: object) -> None:
         """A key typed in a field: nothing is written back while typing; the values are read on Enter, on "Go to
-        these values", or once typing pauses for TYPING_PAUSE_S."""
-        if self._syncing or getattr(event, "client", None) is None:
+        these values", or once typing pauses for TYPING_PAUSE_S (from the tab that typed)."""
+        client = getattr(event, "client", None)
+        if self._syncing or client is None:
             return
-        self._typed_after_submit("fields", event, self._fields_given)
         with self._wake:
             if self._typing is not None:
                 self._typing.cancel()
-            self._typing = threading.Timer(TYPING_PAUSE_S, self._typing_paused)
+            self._typing = threading.Timer(TYPING_PAUSE_S, self._typing_paused, args=(client,))
             self._typing.daemon = True
             self._typing.start()
 
-    def _typing_paused(self) -> None:
+    def _typing_paused(self, client: object) -> None:
         """Read the fields if they changed since they were last read (Enter may have read them already)."""
+        self.shown.catch_up(client)  # a tab that cannot be read is logged, its fields kept
         if self._field_texts() != self._last_read:
             self.guard(self._fields_given)
 

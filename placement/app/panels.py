@@ -32,6 +32,9 @@ class Host(Protocol):
     def guard(self, action: Callable[[], None]) -> None:
         """Run a page action; what goes wrong is said in the page."""
 
+    def acted(self, event: object, action: Callable[[], None]) -> None:
+        """Run a tab's action on the texts its fields show (read from the tab first)."""
+
     def set_placement(self, placement: np.ndarray, exact: bool, move_gizmo: bool = True) -> None:
         """Go to a placement (m, rad)."""
 
@@ -57,7 +60,7 @@ class JobPanel(ABC):
         self.cancel_button = gui.add_button(f"Cancel {key}", disabled=True, hint=f"stop {what} at once")
         self.progress = gui.add_progress_bar(0.0, visible=False)
         self.state = gui.add_html("")
-        self.start_button.on_click(lambda _: host.guard(self._start))
+        self.start_button.on_click(lambda event: host.acted(event, self._start))
         self.cancel_button.on_click(lambda _: host.guard(self.cancel))
 
     @abstractmethod
