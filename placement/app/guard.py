@@ -12,7 +12,8 @@ could read it. So every HTTP request and websocket handshake is checked (:class:
   the page is served only to ``/?token=...``, which sets a cookie (HttpOnly, SameSite=Strict, this port's
   name) that the page's own websocket and later loads carry;
 - every answer carries ``X-Frame-Options: DENY``, a ``Content-Security-Policy`` (no framing, connections
-  only back to this server, no plugins), ``X-Content-Type-Options: nosniff``, ``Referrer-Policy: no-referrer``
+  only back to this server, no plugins; no ``script-src``: viser's page runs the scripts its server sends with
+  ``new Function``, as :mod:`placement.app.shown` does to read the fields), ``X-Content-Type-Options: nosniff``, ``Referrer-Policy: no-referrer``
   (the token never leaves in a Referer) and ``Cache-Control: no-store``.
 
 A refused request is answered 403 with one line saying why, and logged in one line.
