@@ -83,7 +83,7 @@ def browser(png: str) -> None:
     driver = webdriver.Chrome(options=options, service=Service("/usr/bin/chromedriver"))
     try:
         driver.get(workbench.url)
-        exact = "return (document.getElementById('exact-value') || {}).textContent"
+        exact = "const e = document.getElementById('exact-value'); return e === null ? null : e.dataset.value;"
         while driver.execute_script(exact) is None:
             time.sleep(0.05)
         field = driver.find_element(By.XPATH, "//label[normalize-space()='x (mm)']/following::input[1]")

@@ -13,8 +13,8 @@ could read it. So every HTTP request and websocket handshake is checked (:class:
   name) that the page's own websocket and later loads carry;
 - every answer carries ``X-Frame-Options: DENY``, a ``Content-Security-Policy`` (no framing, connections
   only back to this server, no plugins; no ``script-src``: viser's page runs the scripts its server sends with
-  ``new Function``, as :mod:`placement.app.shown` does to read the fields), ``X-Content-Type-Options: nosniff``, ``Referrer-Policy: no-referrer``
-  (the token never leaves in a Referer) and ``Cache-Control: no-store``.
+  ``new Function``, as :mod:`placement.app.shown` does to read the fields), ``X-Content-Type-Options: nosniff``,
+  ``Referrer-Policy: no-referrer`` (the token never leaves in a Referer) and ``Cache-Control: no-store``.
 
 A refused request is answered 403 with one line saying why, and logged in one line.
 

@@ -23,9 +23,10 @@ from placement.app.compare import ComparePanel, ExportPanel
 from placement.app.drawing import RobotDrawing, rotation_of, wxyz_of
 from placement.app.evaluations import Bench, Choices, Reading, shown_value, si_value
 from placement.app.guard import guarded_server
+from placement.app.numbers import number_html, readable
 from placement.app.searches import FrontPanel, MapPanel, OptimisePanel
 from placement.app.shown import ShownTexts, check_viser
-from placement.contract.objective import OBJECTIVES, quantity, wording
+from placement.contract.objective import OBJECTIVES, wording
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.results import PlacementDetail
 from placement.exceptions import PlacementError, SettingsError
@@ -428,15 +429,17 @@ class Workbench:
             state = "feasible" if reading.feasible else "INFEASIBLE"
             label, margin = reading.tightest
             kept = f" (to keep: {self.bench.margin * 100:g} %)" if self.bench.margin else ""
-            lines = [f'<p id="live-value">{html.escape(words.subject)} {html.escape(quantity(reading.value, unit))} '
+            lines = [f'<p id="live-value">{html.escape(words.subject)} {readable(reading.value)} {html.escape(unit)} '
                      f'<b style="color:{"#080" if reading.feasible else "#c00"}">{state}</b></p>',
                      f'<p id="live-tightest">tightest: {html.escape(label)}, margin {margin * 100:.1f} %{kept}</p>']
             energies = reading.energy_per_actuator_J
             top = max(float(np.nanmax(np.abs(energies))), 1e-12)
             for actuator, energy in zip(self.robot.actuators, energies):
                 width = 100 * abs(float(energy)) / top
-                lines.append(f'<div style="font:12px sans-serif">{html.escape(actuator.joint)} {energy:.3f} J'
+                lines.append(f'<div style="font:12px sans-serif">{html.escape(actuator.joint)} {readable(energy, 4)} J'
                              f'<div style="background:#0070ff;height:8px;width:{width:.1f}%"></div></div>')
+        lines.append(f'<p id="live-why" style="font-size:11px;color:#555">{len(reading.t_s)} samples, to follow a drag; '
+                     "Exact below is --at's value on the path's own sampling (they differ in the last digits)</p>")
         self.live_html.content = "".join(lines)
         self._mark_failing(reading)
         self.reading = reading  # after the text: a reading in place is a reading shown
@@ -475,10 +478,10 @@ class Workbench:
         where = f"{tight.kind} {tight.where}, margin {tight.margin * 100:.1f} %" if tight is not None else "none"
         self.exact_html.content = (
             f'<p id="exact-at">at {html.escape(at_text(detail.placement))}</p>'
-            f'<p>{html.escape(words.subject)} <b><span id="exact-value">{detail.value!r}</span></b> {html.escape(unit)}'
+            f'<p>{html.escape(words.subject)} <b>{number_html("exact-value", detail.value, unit)}</b>'
             f' ({"feasible" if detail.feasible else "INFEASIBLE"})</p>'
             + ("" if detail.objective == "energy" else
-               f'<p>energy <span id="exact-energy">{float(detail.energy.total_J)!r}</span> J</p>') +
+               f'<p>energy {number_html("exact-energy", float(detail.energy.total_J), "J")}</p>') +
             f"<p>tightest: {html.escape(where)}</p>")
 
     def _show_time(self) -> None:

@@ -19,8 +19,9 @@ import numpy as np
 from placement.app.evaluations import MAP_POINTS, shown_value
 from placement.app.exceptions import NotReadyError
 from placement.app.jobs import Job
+from placement.app.numbers import number_html, readable
 from placement.app.panels import Host, JobPanel, figure_image
-from placement.contract.objective import OBJECTIVES, quantity, wording
+from placement.contract.objective import OBJECTIVES, wording
 from placement.evaluation.results import PlacementDetail
 from placement.exceptions import SettingsError
 from placement.placing.transform import VARIABLES
@@ -67,7 +68,7 @@ class OptimisePanel(JobPanel):
                 continue
             self.optima[key] = optimum.detail
             lines.append(f'<p>{key} ({html.escape(getattr(words, key))} {html.escape(words.subject)}): '
-                         f'<span id="{key}-value">{optimum.detail.value!r}</span> {html.escape(unit)}<br>'
+                         f'{number_html(f"{key}-value", optimum.detail.value, unit)}<br>'
                          f'<span id="{key}-placement">{_where(VARIABLES, optimum.detail.placement)}</span></p>')
         if result.gain is not None:
             lines.append(f'<p id="gain">gain {result.gain * 100:.1f} %</p>')
@@ -131,8 +132,8 @@ class MapPanel(JobPanel):
         self.go_button.visible = self.best is not None
         count = f"{int(result.feasible.sum())} of {result.feasible.size} placements feasible"
         best = "" if self.best is None else (
-            f'<br>{html.escape(words.best)} {html.escape(words.subject)}: <span id="map-best-value">'
-            f'{float(result.value.ravel()[index])!r}</span> {html.escape(unit)} at '
+            f'<br>{html.escape(words.best)} {html.escape(words.subject)}: '
+            f'{number_html("map-best-value", float(result.value.ravel()[index]), unit)} at '
             f'<span id="map-best-placement">{_where(result.variables, self.best)}</span>')
         self.best_html.content = (f'<p>{count}{best}</p><p style="font-size:11px">the same map: '
                                   f'<code id="map-command">placement map --robot {html.escape(self.host.bench.robot.name)} '
@@ -181,9 +182,10 @@ class FrontPanel(JobPanel):
         rows, labels = [], []
         for i, member in enumerate(front.members):
             knee = " (knee)" if i == front.knee else ""
-            cells = "".join(f'<td id="front-{i}-{k}">{float(v)!r}</td>' for k, v in enumerate(member.values))
+            cells = "".join(f'<td>{number_html(f"front-{i}-{k}", float(v))}</td>' for k, v in enumerate(member.values))
             rows.append(f"<tr><td>{i}{knee}</td>{cells}</tr>")
-            labels.append(f"{i}: " + ", ".join(quantity(float(v), u) for v, u in zip(member.values, units)) + knee)
+            labels.append(f"{i}: " + ", ".join(f"{readable(float(v))} {u}".strip() for v, u in zip(member.values, units))
+                          + knee)
         self.table.content = (f'<table id="front-table" style="font-size:11px"><tr><th>#</th>{head}</tr>'
                               + "".join(rows) + "</table>")
         self.members = [member.placement for member in front.members]

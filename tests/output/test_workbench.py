@@ -333,3 +333,17 @@ def test_a_value_typed_back_to_what_the_page_wrote_before_is_read(served):
     served.fields["x"].value = "12.5"  # the text the page wrote before, typed again
     served._fields_given()
     assert served.placement[0] == 0.0125
+
+
+def test_a_number_is_shown_to_five_significant_digits_with_its_full_value_kept():
+    from placement.app.compare import relative_change_percent
+    from placement.app.numbers import number_html, readable
+
+    value = 4.801071042626315
+    assert readable(value) == "4.8011" and readable(-0.00123456789) == "-0.0012346" and readable(np.nan) == "-"
+    shown = number_html("exact-value", value, "J")
+    full = shown.split('data-value="')[1].split('"')[0]
+    assert float(full) == value and shown.endswith(">4.8011</span> J")  # the full value survives the page
+    assert relative_change_percent(4.0, 5.0) == pytest.approx(25.0, abs=1e-12)
+    assert relative_change_percent(-4.0, -5.0) == pytest.approx(-25.0, abs=1e-12)  # of the pinned value's size
+    assert np.isnan(relative_change_percent(0.0, 1.0))

@@ -148,7 +148,8 @@ def open_folder(driver, title: str, control: str) -> None:
 
 
 def number_of(driver, element_id: str) -> float:
-    return float(text_of(driver, element_id))
+    """A number the page shows, in full: its element's ``data-value`` (the page writes five significant digits)."""
+    return float(driver.execute_script("return document.getElementById(arguments[0]).dataset.value;", element_id))
 
 
 def set_placement(driver, placement: dict[str, str], expected_J: float) -> None:
@@ -190,7 +191,7 @@ def test_a_placement_typed_in_the_page_reads_the_energy_at_prints(browser, tmp_p
     expected = cli_json(tmp_path, "--at", ",".join(f"{k}={v}" for k, v in PLACEMENT.items()))["at"]["energy_J"]
     for name, value in PLACEMENT.items():
         type_into(browser, f"{name} ({'deg' if name == 'phi' else 'mm'})", value)
-    wait_for(browser, lambda: abs(float(text_of(browser, "exact-value")) - expected) <= 1e-9,
+    wait_for(browser, lambda: abs(number_of(browser, "exact-value") - expected) <= 1e-9,
              f"the --at energy {expected!r} J (last read: {text_of(browser, 'exact-value')})")
     assert text_of(browser, "exact-at") == "at x=12.5,y=-7,z=-20,phi=30,theta=0,psi=0"  # every value typed was read
     assert "feasible" in (text_of(browser, "live-value") or "")
@@ -230,9 +231,9 @@ def test_optimise_in_the_page_finds_the_command_lines_best(browser, tmp_path):
     expected = cli_json(tmp_path, *BUDGET_OPTIONS)["best"]["objective"]["value"]
     click(browser, "Optimise")
     wait_for(browser, lambda: text_of(browser, "best-value") is not None, "the search's best", timeout_s=600)
-    assert abs(float(text_of(browser, "best-value")) - expected) <= 1e-9
+    assert abs(number_of(browser, "best-value") - expected) <= 1e-9
     click(browser, "Go to best")
-    wait_for(browser, lambda: abs(float(text_of(browser, "exact-value")) - expected) <= 1e-9,
+    wait_for(browser, lambda: abs(number_of(browser, "exact-value") - expected) <= 1e-9,
              f"the best placement's energy {expected!r} J after 'Go to best'")
 
 
@@ -258,6 +259,10 @@ def test_pinned_and_current_placements_differ_by_what_at_prints_at_each(browser,
     for key, difference in expected.items():
         assert number_of(browser, f"compare-{key}-difference") == pytest.approx(difference, abs=1e-9), key
     assert expected["energy"] != pytest.approx(0.0, abs=1e-3)  # two placements that differ
+    percent = 100 * expected["energy"] / first["energy_J"]
+    assert number_of(browser, "compare-energy-percent") == pytest.approx(percent, abs=1e-9)
+    assert text_of(browser, "compare-energy-percent") == format(percent, ".3g")  # in %, to three digits
+    assert text_of(browser, "compare-energy-current") == format(second["energy_J"], ".5g")  # five digits
 
 
 def test_export_downloads_what_json_at_writes(browser, downloads, tmp_path):
@@ -382,7 +387,7 @@ def test_optimise_on_the_ur5_finds_the_command_lines_best(ur5, tmp_path):
     expected = ur5_json(tmp_path, *BUDGET_OPTIONS)["best"]["objective"]["value"]
     click(driver, "Optimise")
     wait_for(driver, lambda: text_of(driver, "best-value") is not None, "the search's best", timeout_s=900)
-    assert abs(float(text_of(driver, "best-value")) - expected) <= 1e-9
+    assert abs(number_of(driver, "best-value") - expected) <= 1e-9
 
 
 def workpiece_pixels(driver) -> tuple[int, int]:
