@@ -24,6 +24,7 @@ from placement.app.drawing import RobotDrawing, rotation_of, wxyz_of
 from placement.app.evaluations import Bench, Choices, Reading, shown_value, si_value
 from placement.app.guard import guarded_server
 from placement.app.numbers import number_html, readable
+from placement.app.panels import JobPanel
 from placement.app.searches import FrontPanel, MapPanel, OptimisePanel
 from placement.app.shown import ShownTexts, check_viser
 from placement.contract.objective import OBJECTIVES, wording
@@ -262,17 +263,22 @@ class Workbench:
             self.time.on_update(lambda _: self.guard(self._show_time))
             self.play.on_update(lambda _: self.guard(self._start_playing))
 
-    def guard(self, action: Callable[[], None]) -> None:
-        """Run a page action; what goes wrong is said in the page, and the server goes on."""
+    def guard(self, action: Callable[[], None], beside: JobPanel | None = None) -> None:
+        """Run a page action; what goes wrong is said in the page, beside the panel that acted (a search's state
+        line, or under the placement's fields), and the server goes on."""
         try:
             action()
-            self.message.content = ""
+            if beside is None:
+                self.message.content = ""
+            return
         except PlacementError as error:
-            self.message.content = f'<p id="message" style="color:#c00">{html.escape(str(error))}</p>'
+            text = str(error)
         except Exception as error:  # the last resort: the page says it, the server lives
-            text = " ".join(str(error).split())[:300]
-            self.message.content = f'<p id="message" style="color:#c00">unexpected {type(error).__name__}: ' \
-                                   f"{html.escape(text)}</p>"
+            text = f"unexpected {type(error).__name__}: " + " ".join(str(error).split())[:300]
+        if beside is not None:
+            beside.say(text, error=True)
+        else:
+            self.message.content = f'<p id="message" style="color:#c00">{html.escape(text)}</p>'
 
     # --- placements --------------------------------------------------------------------------------------
     def set_placement(self, placement: np.ndarray, exact: bool, move_gizmo: bool = True,
@@ -291,6 +297,7 @@ class Workbench:
             finally:
                 self._syncing = False
             self._show_live(self.bench.live(self.placement))
+            self.map.placement_moved(self.placement)
             if exact:
                 self._show_exact(self.bench.exact(self.placement))
 
@@ -328,6 +335,7 @@ class Workbench:
         finally:
             self._syncing = False
         self._show_live(self.bench.live(placement))
+        self.map.placement_moved(placement)
 
     def _write_fields(self, placement: np.ndarray) -> None:
         """The fields show a placement (mm and degrees to 1e-6, as typed back they give it again)."""
@@ -336,14 +344,14 @@ class Workbench:
             self._written[name] = self._last_read[name] = text
             self.fields[name].value = text
 
-    def acted(self, event: object, action: Callable[[], None]) -> None:
+    def acted(self, event: object, action: Callable[[], None], beside: JobPanel | None = None) -> None:
         """A tab's Enter or button: its text fields are read from the tab first (the keys typed last may never have
         reached the server, see :mod:`placement.app.shown`), then the action runs on what the tab shows."""
         def caught_up() -> None:
             self.shown.catch_up(getattr(event, "client", None))
             action()
 
-        self.guard(caught_up)
+        self.guard(caught_up, beside)
 
     def _typed(self, event: object) -> None:
         """A key typed in a field: nothing is written back while typing; the values are read on Enter, on "Go to
@@ -523,6 +531,8 @@ class Workbench:
         self.model_note.content = f'<p id="model-note">note: {html.escape(note)}</p>' if note else ""
         self.optimise.forget()
         self.compare.forget()
+        for panel in (self.map, self.front):
+            panel.mark_stale("the model's choices changed since")
         self.set_placement(self.placement, exact=True)
 
     def close(self) -> None:

@@ -106,6 +106,14 @@ class MapPanel(JobPanel):
         self.go_button.on_click(lambda _: host.guard(self.go_to_best))
         self.best: np.ndarray | None = None
         self.command = ""
+        self.through, self.plane = host.placement.copy(), ("", "")  # the placement the map went through, its axes
+
+    def placement_moved(self, placement: np.ndarray) -> None:
+        """Mark the map stale once the placement leaves its plane (a variable not mapped moved)."""
+        off = [name for k, name in enumerate(VARIABLES) if name not in self.plane
+               and abs(placement[k] - self.through[k]) > 1e-12]
+        if off:
+            self.mark_stale(f"the placement left the plane of this map ({', '.join(off)} moved)")
 
     def launch(self) -> Job:
         text = str(self.points.value).strip()
@@ -117,6 +125,7 @@ class MapPanel(JobPanel):
             raise SettingsError(f"map: points per variable: expected a whole number from 2 to {MAP_POINTS}, "
                                 f"got {text!r}")
         job, self.command = self.host.bench.map((self.across.value, self.up.value), int(points), self.host.placement)
+        self.through, self.plane = self.host.placement.copy(), (self.across.value, self.up.value)
         self.say(f"mapping {int(points) ** 2} placements...")
         return job
 

@@ -347,3 +347,21 @@ def test_a_number_is_shown_to_five_significant_digits_with_its_full_value_kept()
     assert relative_change_percent(4.0, 5.0) == pytest.approx(25.0, abs=1e-12)
     assert relative_change_percent(-4.0, -5.0) == pytest.approx(-25.0, abs=1e-12)  # of the pinned value's size
     assert np.isnan(relative_change_percent(0.0, 1.0))
+
+
+def test_a_map_the_placement_left_is_marked_stale_and_a_panels_error_is_said_beside_it(served):
+    from types import SimpleNamespace
+
+    panel = served.map
+    served.set_placement(AT, exact=False)
+    panel.has_result, panel.through, panel.plane = True, served.placement.copy(), ("x", "y")  # a map over x, y
+    served.set_placement(AT + [0.001, -0.001, 0, 0, 0, 0], exact=False)  # within the map's plane
+    assert "stale" not in panel.state.content
+    served.set_placement(AT + [0, 0, 0.001, 0, 0, 0], exact=False)  # off it
+    assert "stale: the placement left the plane of this map (z moved)" in panel.state.content
+    panel.points.value = "1"
+    served.message.content = ""
+    served.acted(SimpleNamespace(client=None), panel._start, beside=panel)
+    assert "points per variable" in panel.state.content and "color:#c00" in panel.state.content
+    assert served.message.content == "" and panel.job is None  # said beside the Map panel, nothing started
+    panel.points.value = "21"
