@@ -175,8 +175,10 @@ def screenshots(directory: Path) -> None:
     directory.mkdir(parents=True, exist_ok=True)
     workbench = app.start(build_command_parser().parse_args(["app", "--robot", "ur5", "--path", str(EXAMPLE)]))
     try:
-        driver = _chromium(390, 844)
-        try:
+        driver = _chromium(800, 900)
+        try:  # a phone's width (a desktop Chromium's window is at least 500 px wide)
+            driver.execute_cdp_cmd("Emulation.setDeviceMetricsOverride",
+                                   {"width": 390, "height": 844, "deviceScaleFactor": 1, "mobile": True})
             _first_load(driver, workbench.url)
             driver.save_screenshot(str(directory / "workbench-narrow.png"))
         finally:
