@@ -28,6 +28,9 @@ BUDGET = {"population": 24, "max_generations": 10}
 BUDGET_OPTIONS = ("--population", str(BUDGET["population"]), "--generations", str(BUDGET["max_generations"]))
 
 
+REBOUND = "rebound.example"  # a foreign name the browser resolves to this machine, as DNS rebinding would
+
+
 def _unavailable(reason: str) -> None:
     if os.environ.get("CI"):  # CI must show the workbench works: .ci/run installs chromium and chromium-driver
         pytest.fail(f"{reason} on the CI machine: the workbench cannot be checked in a browser")
@@ -69,7 +72,8 @@ def open_page(url: str, downloads=None):
     options = webdriver.ChromeOptions()
     options.binary_location = chromium
     for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader",
-                 "--use-angle=swiftshader", "--window-size=1400,1000", "--proxy-server=127.0.0.1:9"):
+                 "--use-angle=swiftshader", "--window-size=1400,1000", "--proxy-server=127.0.0.1:9",
+                 f"--host-resolver-rules=MAP {REBOUND} 127.0.0.1", f"--proxy-bypass-list={REBOUND}"):
         options.add_argument(flag)
     driver = webdriver.Chrome(options=options, service=Service(driver_path))
     if downloads is not None:
@@ -314,6 +318,45 @@ def test_the_fronts_members_are_those_of_objectives(browser, tmp_path):
     click(browser, "Go to member")  # the knee, chosen at first
     knee = members[expected["knee"]]["values"]["energy"]
     wait_for(browser, lambda: abs(number_of(browser, "exact-value") - knee) <= 1e-9, f"the knee's energy {knee!r} J")
+
+
+WEBSOCKET_OPENS = """const done = arguments[arguments.length - 1];
+const socket = new WebSocket(arguments[0]);
+socket.onopen = () => { socket.close(); done("open"); };
+socket.onerror = () => done("refused");"""
+
+
+def test_a_foreign_origin_or_host_is_refused_in_the_browser(browser, workbench, tmp_path):
+    """A page of another origin on this machine (same site: the session cookie goes with its requests) cannot open
+    the workbench's websocket, and a foreign name resolved to this machine (DNS rebinding) gets no page, token
+    or not; the workbench's own page opens it."""
+    import functools
+    import http.server
+    import threading
+
+    from selenium.webdriver.common.by import By
+
+    port = workbench.server.get_port()
+    assert browser.execute_async_script(WEBSOCKET_OPENS, f"ws://127.0.0.1:{port}/") == "open"  # its own page
+    (tmp_path / "index.html").write_text("<html><body>another page</body></html>")
+    other = http.server.ThreadingHTTPServer(("127.0.0.1", 0), functools.partial(
+        http.server.SimpleHTTPRequestHandler, directory=str(tmp_path)))
+    threading.Thread(target=other.serve_forever, daemon=True).start()
+    before = len(workbench.gate.refused)
+    browser.execute_script("window.open(arguments[0], '_blank')", f"http://127.0.0.1:{other.server_port}/")
+    browser.switch_to.window(browser.window_handles[-1])
+    try:
+        wait_for(browser, lambda: "another page" in browser.find_element(By.TAG_NAME, "body").text, "the other page")
+        assert browser.execute_async_script(WEBSOCKET_OPENS, f"ws://127.0.0.1:{port}/") == "refused"
+        assert f"Origin 'http://127.0.0.1:{other.server_port}' is not this server's page" in workbench.gate.refused[before:]
+        browser.get(workbench.url.replace("127.0.0.1", REBOUND))  # with the token
+        wait_for(browser, lambda: "is not this server's" in browser.find_element(By.TAG_NAME, "body").text,
+                 "the foreign Host refused")
+        assert f"Host '{REBOUND}:{port}' is not this server's" in workbench.gate.refused[before:]
+    finally:
+        browser.close()
+        browser.switch_to.window(browser.window_handles[0])
+        other.shutdown()
 
 
 def test_the_page_has_no_share_control_and_is_refused_without_its_token(browser, workbench):
