@@ -10,7 +10,11 @@ placements drawn at random within the search's bounds, as dragging visits them. 
 ``--browser PNG`` also serves the Orthoglide's page, opens it in headless Chromium (selenium and
 chromium-driver), times the round trip from a value typed in a field to the new exact value shown
 in the page, pins the placement it ends at (the Compare panel), runs Optimise, goes to the best
-placement and saves the page as PNG (the README's ``docs/figures/workbench.png``).
+placement and saves the page as PNG.
+
+``--screenshots DIR`` saves the UR5's page as the documentation shows it (``docs/images``): at first load
+(``workbench-first-load.png``), after Optimise and Go to best (``workbench-optimise.png``), on a map
+(``workbench-map.png``), and at first load 390 px wide (``workbench-narrow.png``).
 """
 
 from __future__ import annotations
@@ -43,7 +47,11 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=50, help="placements timed per robot (default 50)")
     parser.add_argument("--browser", metavar="PNG", help="also time the page in headless Chromium and save it as PNG")
+    parser.add_argument("--screenshots", metavar="DIR", help="only save the UR5 page's screenshots into DIR")
     args = parser.parse_args()
+    if args.screenshots:
+        screenshots(Path(args.screenshots))
+        return
     rng = np.random.default_rng(0)
     path = load_path(EXAMPLE)
     for name, target in TARGETS_MS.items():
@@ -83,7 +91,7 @@ def browser(png: str) -> None:
     driver = webdriver.Chrome(options=options, service=Service("/usr/bin/chromedriver"))
     try:
         driver.get(workbench.url)
-        exact = "return (document.getElementById('exact-value') || {}).textContent"
+        exact = "const e = document.getElementById('exact-value'); return e === null ? null : e.dataset.value;"
         while driver.execute_script(exact) is None:
             time.sleep(0.05)
         field = driver.find_element(By.XPATH, "//label[normalize-space()='x (mm)']/following::input[1]")
@@ -118,6 +126,91 @@ def browser(png: str) -> None:
     finally:
         driver.quit()
         workbench.close()
+
+
+
+def _chromium(width: int, height: int):
+    from selenium import webdriver
+    from selenium.webdriver.chrome.service import Service
+
+    options = webdriver.ChromeOptions()
+    for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader",
+                 "--use-angle=swiftshader", f"--window-size={width},{height}", "--proxy-server=127.0.0.1:9"):
+        options.add_argument(flag)
+    return webdriver.Chrome(options=options, service=Service("/usr/bin/chromedriver"))
+
+
+def _wait(driver, script: str, timeout_s: float = 600.0):
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        value = driver.execute_script(script)
+        if value:
+            return value
+        time.sleep(0.2)
+    raise TimeoutError(script)
+
+
+def _click(driver, label: str) -> None:
+    from selenium.webdriver.common.by import By
+
+    driver.find_element(By.XPATH, f"//button[normalize-space()=\"{label}\"]").click()
+
+
+def _first_load(driver, url: str) -> None:
+    from selenium.webdriver.common.by import By
+
+    driver.get(url)
+    _wait(driver, "return document.getElementById('exact-value') !== null")
+    time.sleep(2)
+    for button in driver.find_elements(By.XPATH, "//button[contains(@class, 'CloseButton')]"):
+        button.click()  # the note that WebGL runs in software
+
+
+def screenshots(directory: Path) -> None:
+    """The UR5's page at first load, after Optimise and Go to best, on a map, and 390 px wide."""
+    from selenium.webdriver.common.by import By
+
+    from placement.cli import app, build_command_parser
+
+    directory.mkdir(parents=True, exist_ok=True)
+    workbench = app.start(build_command_parser().parse_args(["app", "--robot", "ur5", "--path", str(EXAMPLE)]))
+    try:
+        driver = _chromium(800, 900)
+        try:  # a phone's width (a desktop Chromium's window is at least 500 px wide)
+            driver.execute_cdp_cmd("Emulation.setDeviceMetricsOverride",
+                                   {"width": 390, "height": 844, "deviceScaleFactor": 1, "mobile": True})
+            _first_load(driver, workbench.url)
+            driver.save_screenshot(str(directory / "workbench-narrow.png"))
+        finally:
+            driver.quit()
+        driver = _chromium(1400, 900)
+        try:
+            _first_load(driver, workbench.url)
+            _click(driver, "Frame the workpiece")
+            time.sleep(2)
+            driver.save_screenshot(str(directory / "workbench-first-load.png"))
+            _click(driver, "Optimise")
+            _wait(driver, "return document.getElementById('best-value') !== null")
+            _click(driver, "Go to best")
+            time.sleep(3)
+            driver.execute_script("document.getElementById('best-value').scrollIntoView({block: 'center'})")
+            time.sleep(1)
+            driver.save_screenshot(str(directory / "workbench-optimise.png"))
+            driver.find_element(By.XPATH, "//div[contains(@class, 'mantine-Paper-root') and normalize-space(text())="
+                                          "'Map']").click()
+            time.sleep(1)
+            _click(driver, "Map")
+            _wait(driver, "const e = document.getElementById('map-state'); return e !== null && "
+                          "e.textContent.trim() === 'done'")
+            time.sleep(2)
+            driver.execute_script("document.getElementById('map-best-value').scrollIntoView({block: 'end'})")
+            time.sleep(1)
+            driver.save_screenshot(str(directory / "workbench-map.png"))
+        finally:
+            driver.quit()
+    finally:
+        workbench.close()
+    print(f"screenshots in {directory}")
 
 
 if __name__ == "__main__":

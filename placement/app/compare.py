@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from placement.app.numbers import number_html
 from placement.app.panels import Host
 from placement.contract.objective import OBJECTIVES
 from placement.evaluation.results import PlacementDetail
@@ -38,6 +39,13 @@ def numbers(detail: PlacementDetail, joints: list[str]) -> list[tuple[str, str, 
     return rows
 
 
+def relative_change_percent(before: float, now: float) -> float:
+    """``now`` against ``before`` in % of ``before`` (NaN when ``before`` is 0 or either is not finite)."""
+    if not (np.isfinite(before) and np.isfinite(now)) or before == 0.0:
+        return float("nan")
+    return 100.0 * (now - before) / abs(before)
+
+
 def tightest_words(detail: PlacementDetail) -> str:
     """The tightest limit ("kind where"), or why there is none."""
     if not detail.reachable:
@@ -47,8 +55,9 @@ def tightest_words(detail: PlacementDetail) -> str:
 
 
 class ComparePanel:
-    """Pin a placement; its numbers beside the current placement's, and the difference (current - pinned), to twelve
-    significant digits."""
+    """Pin a placement; its numbers beside the current placement's, the difference (current - pinned) and that
+    difference in % of the pinned value (for the margin, already a %: in points), each to five significant digits
+    (in full in each cell's ``data-value``)."""
 
     def __init__(self, host: Host) -> None:
         gui: Any = host.server.gui
@@ -76,14 +85,15 @@ class ComparePanel:
         pinned = self.pinned
         if pinned is None:
             return
-        rows = ["<tr><th></th><th>pinned</th><th>current</th><th>difference</th></tr>"]
+        rows = ["<tr><th></th><th>pinned</th><th>current</th><th>difference</th><th>%</th></tr>"]
         for (key, label, before), (_, _, now) in zip(numbers(pinned, self.joints), numbers(current, self.joints)):
-            cells = (f'<td id="compare-{key}-{column}">{value:.12g}</td>' if np.isfinite(value) else
-                     f'<td id="compare-{key}-{column}">-</td>'
-                     for column, value in (("pinned", before), ("current", now), ("difference", now - before)))
-            rows.append(f"<tr><td>{html.escape(label)}</td>{''.join(cells)}</tr>")
+            change = now - before if key == "margin" else relative_change_percent(before, now)
+            cells = [number_html(f"compare-{key}-{column}", value) for column, value in
+                     (("pinned", before), ("current", now), ("difference", now - before))]
+            cells.append(number_html(f"compare-{key}-percent", change, "pts" if key == "margin" else "", digits=3))
+            rows.append(f"<tr><td>{html.escape(label)}</td>{''.join(f'<td>{cell}</td>' for cell in cells)}</tr>")
         rows.append(f'<tr style="white-space:normal"><td>tightest</td><td>{html.escape(tightest_words(pinned))}</td>'
-                    f"<td>{html.escape(tightest_words(current))}</td><td></td></tr>")
+                    f"<td>{html.escape(tightest_words(current))}</td><td></td><td></td></tr>")
         self.table.content = f'<table id="compare" style="font-size:10px;white-space:nowrap">{"".join(rows)}</table>'
 
 

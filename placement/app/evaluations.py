@@ -49,6 +49,8 @@ class Reading:
         configuration: (N, nq) every joint at every live sample (the robot posed along the path).
         t_s: (N,) the live samples' times.
         tool_position_m: (N, 3) the placed path in the base frame.
+        tightest_sample: The live sample where the tightest limit is tightest (-1: that limit is no sample's,
+            such as a motor's RMS over the pass, or there is none).
     """
 
     placement: np.ndarray
@@ -61,6 +63,7 @@ class Reading:
     configuration: np.ndarray
     t_s: np.ndarray
     tool_position_m: np.ndarray
+    tightest_sample: int = -1
 
 
 @dataclass(frozen=True)
@@ -137,7 +140,8 @@ class Bench:
         with self.lock:
             evaluator = self.live_evaluator
             batch = evaluator.batch(placement[None])
-            margins, labels = worst_margins(margin_fields(batch))
+            fields = margin_fields(batch)
+            margins, labels = worst_margins(fields)
             reachable = batch.reachable[0]
             value = float(evaluator.objective(batch)[0]) if reachable.all() else evaluator.objective.sign * np.inf
             energy = np.asarray(batch.energy.per_actuator_J[0], dtype=float)
@@ -151,7 +155,7 @@ class Bench:
                        tightest=(labels[tight], float(margins[0, tight])) if tight >= 0 else ("", float("inf")),
                        energy_per_actuator_J=energy if reachable.all() else np.full(len(energy), np.nan),
                        configuration=batch.joints.q.reshape(len(t_s), -1), t_s=np.asarray(t_s),
-                       tool_position_m=batch.tool_position_m[0])
+                       tool_position_m=batch.tool_position_m[0], tightest_sample=_sample_of(fields, tight, len(t_s)))
 
     def exact(self, placement: np.ndarray) -> PlacementDetail:
         """The placement at the path's own sampling, every limit exact: the numbers ``--at`` prints."""
@@ -225,6 +229,19 @@ def shown_value(name: str, value: float) -> float:
 def si_value(name: str, shown: float) -> float:
     """A value typed in the page (mm, degrees) in SI units (m, rad)."""
     return float(np.radians(shown)) if name in ANGLES else float(shown) / 1e3
+
+
+def _sample_of(fields: list, column: int, samples: int) -> int:
+    """The sample where the margin in ``column`` of :func:`worst_margins` is least for the first placement (-1: the
+    column is no sample's, or there is none)."""
+    if column < 0:
+        return -1
+    for field in fields:
+        margin = np.asarray(field.margin)
+        if column < margin.shape[2]:
+            return int(np.argmin(margin[0, :, column])) if margin.shape[1] == samples else -1
+        column -= margin.shape[2]
+    return -1
 
 
 def _finite(placement: np.ndarray) -> np.ndarray:

@@ -18,100 +18,38 @@ from typing import Any
 
 import numpy as np
 import pinocchio as pin
-import viser  # optional dependency: the [app] extra, checked by placement.app
 
 from placement.app.compare import ComparePanel, ExportPanel
+from placement.app.drawing import RobotDrawing, rotation_of, wxyz_of
 from placement.app.evaluations import Bench, Choices, Reading, shown_value, si_value
+from placement.app.guard import guarded_server
+from placement.app.numbers import number_html, readable
+from placement.app.panels import JobPanel
 from placement.app.searches import FrontPanel, MapPanel, OptimisePanel
-from placement.contract.objective import OBJECTIVES, quantity, wording
+from placement.app.shown import ShownTexts, check_viser
+from placement.contract.objective import OBJECTIVES, wording
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.results import PlacementDetail
 from placement.exceptions import PlacementError, SettingsError
-from placement.limits.collision import collision_scene
-from placement.output.palette import CELL_COLORS, rgb
 from placement.placing.transform import ANGLES, VARIABLES, placement_pose
 from placement.placing.values import parse_values
-from placement.robot.model import Robot
-from placement.robot.packages import description_geometry
 from placement.search.space import box_corners
 
-PATH_COLOR, CUBE_COLOR = (0, 176, 80), (48, 48, 48)
-ROBOT_OPACITY = 0.6  # the path and the tool point stay in sight inside the moving platform
-CELL_OPACITY = {"tool": 1.0, "obstacle": 0.5, "keep_out": 0.15}
+PATH_COLOR, CUBE_COLOR = (230, 0, 200), (48, 48, 48)  # the workpiece: a magenta that no robot, cell or limit uses
+FAILING_COLOR = (220, 0, 0)  # the workpiece where the placement is infeasible, and its failing sample
 TIMINGS = ("path file's", "paper", "realistic", "optimal")
+TYPING_PAUSE_S = 1.5  # a field's values are read this long after the last key, if Enter was not pressed
 
 
-def _wxyz(rotation: np.ndarray) -> np.ndarray:
-    """A rotation matrix as viser's quaternion (w, x, y, z)."""
-    quaternion = pin.Quaternion(np.asarray(rotation, dtype=float))
-    return np.array([quaternion.w, quaternion.x, quaternion.y, quaternion.z])
+def shown_text(name: str, value: float) -> str:
+    """A variable's value as the page writes it (mm or degrees to 1e-6; typed back, it gives the value again)."""
+    return format(round(shown_value(name, value), 6) + 0.0, ".12g")
 
 
-def _rotation(wxyz: np.ndarray) -> np.ndarray:
-    w, x, y, z = (float(v) for v in wxyz)
-    return pin.Quaternion(w, x, y, z).normalized().toRotationMatrix()
-
-
-class RobotDrawing:
-    """The robot's URDF visuals (and its cell's shapes, as they are checked) as viser meshes, posed by q."""
-
-    def __init__(self, server: viser.ViserServer, robot: Robot) -> None:
-        import trimesh  # optional dependency: the [app] extra, checked by placement.app
-
-        self.robot = robot
-        self.model = robot.model
-        self.visual = description_geometry(robot, pin.GeometryType.VISUAL)
-        opacity: dict[int, float] = {}
-        scene: Any = server.scene  # viser's own annotations are narrower than what it takes
-        if robot.cell is not None or robot.tool is not None:
-            scene = collision_scene(robot)
-            for body in scene.bodies:
-                if body.kind == "link":
-                    continue
-                for index in body.objects:
-                    item = scene.geometry_model.geometryObjects[index].copy()
-                    item.meshColor = np.array([*rgb(CELL_COLORS[body.kind][0]), CELL_OPACITY[body.kind]])
-                    opacity[self.visual.addGeometryObject(item)] = CELL_OPACITY[body.kind]
-        self.data, self.geometry_data = self.model.createData(), self.visual.createData()
-        self.handles: list[tuple[int, Any]] = []
-        for k, item in enumerate(self.visual.geometryObjects):
-            geometry, color = item.geometry, tuple(int(255 * c) for c in item.meshColor[:3])
-            name, alpha = f"/robot/{k}", opacity.get(k, ROBOT_OPACITY * (float(item.meshColor[3]) or 1.0))
-            kind = type(geometry).__name__
-            if kind == "Box":
-                handle = scene.add_box(name, color=color, dimensions=tuple(2 * np.asarray(geometry.halfSide)),
-                                              opacity=alpha)
-            elif kind == "Cylinder":
-                handle = scene.add_cylinder(name, radius=geometry.radius, height=2 * geometry.halfLength,
-                                                   color=color, opacity=alpha)
-            elif kind == "Sphere":
-                handle = scene.add_icosphere(name, radius=geometry.radius, color=color, opacity=alpha)
-            elif item.meshPath and not item.meshPath.startswith("BV"):
-                mesh: Any = trimesh.load(item.meshPath, force="mesh")
-                mesh.apply_scale(np.asarray(item.meshScale))
-                handle = scene.add_mesh_simple(name, np.asarray(mesh.vertices, dtype=np.float32),
-                                                      np.asarray(mesh.faces, dtype=np.uint32), color=color,
-                                                      opacity=alpha)
-            else:  # a convex hull or another shape of the collision scene: its vertices' hull
-                try:
-                    points = np.array([geometry.points(i) for i in range(geometry.num_points)])
-                    hull = trimesh.Trimesh(points).convex_hull
-                    handle = scene.add_mesh_simple(name, np.asarray(hull.vertices, dtype=np.float32),
-                                                          np.asarray(hull.faces, dtype=np.uint32), color=color,
-                                                          opacity=alpha)
-                except (AttributeError, RuntimeError, ValueError, IndexError):
-                    continue
-            self.handles.append((k, handle))
-        self.pose(robot.reference_q)
-
-    def pose(self, q: np.ndarray) -> None:
-        """Place every drawn body at the configuration q."""
-        pin.forwardKinematics(self.model, self.data, np.asarray(q, dtype=float))
-        pin.updateGeometryPlacements(self.model, self.data, self.visual, self.geometry_data)
-        for k, handle in self.handles:
-            placement = self.geometry_data.oMg[k]
-            handle.position = tuple(placement.translation)
-            handle.wxyz = tuple(_wxyz(placement.rotation))
+def at_text(placement: np.ndarray) -> str:
+    """The placement evaluated, as ``--at`` takes it (mm, degrees): the page says which values it read, so a
+    value the browser never sent is seen, not silently replaced by an earlier one."""
+    return ",".join(f"{name}={shown_text(name, placement[k])}" for k, name in enumerate(VARIABLES))
 
 
 class Workbench:
@@ -121,18 +59,24 @@ class Workbench:
         bench: The model.
         host: Address to listen on (127.0.0.1: this machine only).
         port: Port (0: the first free one from 8080).
+        origins: Origins besides this server's own whose pages may use it (``--allow-origin``), see
+            :mod:`placement.app.guard`.
     """
 
-    def __init__(self, bench: Bench, host: str = "127.0.0.1", port: int = 0) -> None:
+    def __init__(self, bench: Bench, host: str = "127.0.0.1", port: int = 0, origins: tuple[str, ...] = ()) -> None:
+        check_viser()
         self.bench, self.robot = bench, bench.robot
-        self.server = viser.ViserServer(host=host, port=port or 8080, verbose=False)
-        self.server.gui.configure_theme(control_width="large", show_logo=False)
+        self.shown = ShownTexts()  # the text fields, read from the tab that acts
+        self.server, self.gate = guarded_server(host, port or 8080, origins)
+        self.server.on_client_connect(lambda client: self.guard(lambda: self._tell_sharing(client)))
         self.placement = bench.start()
         self.reading: Reading | None = None
         self.exact_detail: PlacementDetail | None = None
         self._syncing = False
         self._wanted: np.ndarray | None = None  # the latest placement asked for a live reading
         self._wake = threading.Condition()
+        self._typing: threading.Timer | None = None  # reads the fields once typing pauses
+        self._moving = threading.RLock()  # one placement change at a time, each shown whole (never a stale one last)
         self._closed = False
         self._draw_scene()
         self._build_gui()
@@ -141,9 +85,21 @@ class Workbench:
 
     @property
     def url(self) -> str:
-        """The page's address."""
+        """The page's address, with the session's token (the page is served to no other)."""
         host = self.server.get_host()
-        return f"http://{host if ':' not in host else f'[{host}]'}:{self.server.get_port()}/"
+        return f"http://{host if ':' not in host else f'[{host}]'}:{self.server.get_port()}/?token={self.gate.token}"
+
+    def _tell_sharing(self, client: Any) -> None:
+        """Every tab shows the one placement of this workbench: a tab opened beside another is told so, and so are
+        the others."""
+        clients = self.server.get_clients()
+        if len(clients) < 2:
+            return
+        for other in clients.values():
+            other.add_notification(
+                "Shared workbench", f"{len(clients)} tabs show this workbench: a value typed or a search started in "
+                "one shows in all of them (one placement per workbench; start another 'placement app' for another).",
+                auto_close_seconds=12.0, color="yellow")
 
     # --- the scene -------------------------------------------------------------------------------------
     def _draw_scene(self) -> None:
@@ -161,7 +117,7 @@ class Workbench:
         if region is not None:
             self._wire_box("/cell/workpiece_region", np.array(region.min_m), np.array(region.max_m), (32, 128, 192))
         turn, origin = placement_pose(np.zeros(6), self.robot.plane)
-        self.plane_frame = scene.add_frame("/plane", show_axes=False, position=tuple(origin[0]), wxyz=_wxyz(turn[0]))
+        self.plane_frame = scene.add_frame("/plane", show_axes=False, position=tuple(origin[0]), wxyz=wxyz_of(turn[0]))
         free = set(self.bench.space.free)
         lower, upper = self._bounds()
         self.gizmo = scene.add_transform_controls(
@@ -172,7 +128,11 @@ class Workbench:
             rotation_limits=tuple((lower[k], upper[k]) for k in (5, 4, 3)))
         local = self._path_in_frame()
         segments = np.stack([local[:-1], local[1:]], axis=1)
-        scene.add_line_segments("/plane/path/line", segments, PATH_COLOR, thickness=7, thickness_units="screen")
+        self._segments_shape = segments.shape
+        self.path_line = scene.add_line_segments("/plane/path/line", segments, PATH_COLOR, thickness=10,
+                                                 thickness_units="screen")
+        self.failing_mark = scene.add_icosphere("/failing_sample", radius=self._path_size() * 0.06, color=FAILING_COLOR,
+                                                visible=False)
         self._aim_camera()
         self.gizmo.on_update(self._gizmo_event)
 
@@ -197,6 +157,24 @@ class Workbench:
         camera.look_at = tuple(centre)
         camera.position = tuple(centre + direction * 2.0 * radius)
         camera.up = (0.0, 0.0, 1.0)
+
+    def _path_size(self) -> float:
+        """The path's largest extent (m)."""
+        local = self._path_in_frame()
+        return max(float(np.max(local.max(axis=0) - local.min(axis=0))), 1e-3)
+
+    def frame_workpiece(self) -> None:
+        """Every tab's camera looks at the placed path from close enough to see its shape."""
+        reading = self.reading
+        if reading is None:
+            return
+        points = reading.tool_position_m
+        centre = (points.min(axis=0) + points.max(axis=0)) / 2
+        direction = np.array([1.0, -1.2, 0.8]) / np.linalg.norm([1.0, -1.2, 0.8])
+        for client in self.server.get_clients().values():
+            client.camera.look_at = tuple(centre)
+            client.camera.position = tuple(centre + direction * 4.0 * self._path_size())
+            client.camera.up_direction = (0.0, 0.0, 1.0)
 
     def _bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """Each variable's bounds (fixed ones: their value), m and rad."""
@@ -223,19 +201,31 @@ class Workbench:
         gui: Any = self.server.gui  # handles whose values are set by the page too
         path, robot = self.bench.path, self.robot
         gui.add_markdown(f"**{html.escape(robot.name)}**: {html.escape(path.name)}")
+        self.frame_button = gui.add_button("Frame the workpiece", hint="look at the placed path from close by")
+        self.frame_button.on_click(lambda _: self.guard(self.frame_workpiece))
         lower, upper = self._bounds()
         self.fields: dict[str, Any] = {}
-        with gui.add_folder("Placement (mm, degrees)"):
+        self._written: dict[str, str] = {}  # each field's text as the page last wrote it
+        self._last_read: dict[str, str] = {}  # the fields' texts when they were last read
+        with gui.add_form("Placement (mm, degrees)") as form:
             for k, name in enumerate(VARIABLES):
                 unit = "deg" if name in ANGLES else "mm"
-                field = gui.add_number(f"{name} ({unit})", round(shown_value(name, self.placement[k]), 6),
-                                       min=round(shown_value(name, lower[k]), 6), max=round(shown_value(name, upper[k]), 6),
-                                       step=0.01, disabled=name not in self.bench.space.free)
-                field.on_update(lambda _, name=name: self.guard(lambda: self._field_changed()))
+                free = name in self.bench.space.free
+                bounds = (f"from {shown_value(name, lower[k]):.6g} to {shown_value(name, upper[k]):.6g} {unit}" if free
+                          else f"fixed at {shown_value(name, lower[k]):.6g} {unit}")
+                field = gui.add_text(f"{name} ({unit})", "", disabled=not free,
+                                     hint=f"{name}, {bounds}: type a number (1e3 is 1000) and press Enter")
+                field.on_update(lambda event: self._typed(event))
                 self.fields[name] = field
-            self.at_text = gui.add_text("--at", "", hint="a placement as --at takes it: x=0,y=0,z=-20,phi=30 (mm, deg)")
+            self.go_button = gui.add_button("Go to these values", hint="evaluate the values typed above (or press Enter)")
+        form.on_submit(lambda event: self.acted(event, self._fields_given))
+        self.go_button.on_click(lambda event: self.acted(event, self._fields_given))
+        with gui.add_form(None) as at_form:
+            self.at_text = gui.add_text("--at", "", hint="a placement as --at takes it: x=0,y=0,z=-20,phi=30 (mm, deg); "
+                                                         "values left out keep the current ones")
             self.at_button = gui.add_button("Evaluate")
-            self.at_button.on_click(lambda _: self.guard(self._at_given))
+        at_form.on_submit(lambda event: self.acted(event, self._at_given))
+        self.at_button.on_click(lambda event: self.acted(event, self._at_given))
         self.message = gui.add_html("")
         with gui.add_folder("Live (coarse sampling)"):
             self.live_html = gui.add_html("")
@@ -257,6 +247,7 @@ class Workbench:
             self.export = ExportPanel(self)
         with gui.add_folder("Map", expand_by_default=False):
             self.map = MapPanel(self)
+        self.shown.watch(*self.fields.values(), self.at_text, self.map.points)
         with gui.add_folder("Front", expand_by_default=False):
             self.front = FrontPanel(self)
         with gui.add_folder("Motion"):
@@ -272,46 +263,55 @@ class Workbench:
             self.time.on_update(lambda _: self.guard(self._show_time))
             self.play.on_update(lambda _: self.guard(self._start_playing))
 
-    def guard(self, action: Callable[[], None]) -> None:
-        """Run a page action; what goes wrong is said in the page, and the server goes on."""
+    def guard(self, action: Callable[[], None], beside: JobPanel | None = None) -> None:
+        """Run a page action; what goes wrong is said in the page, beside the panel that acted (a search's state
+        line, or under the placement's fields), and the server goes on."""
         try:
             action()
-            self.message.content = ""
+            if beside is None:
+                self.message.content = ""
+            return
         except PlacementError as error:
-            self.message.content = f'<p id="message" style="color:#c00">{html.escape(str(error))}</p>'
+            text = str(error)
         except Exception as error:  # the last resort: the page says it, the server lives
-            text = " ".join(str(error).split())[:300]
-            self.message.content = f'<p id="message" style="color:#c00">unexpected {type(error).__name__}: ' \
-                                   f"{html.escape(text)}</p>"
+            text = f"unexpected {type(error).__name__}: " + " ".join(str(error).split())[:300]
+        if beside is not None:
+            beside.say(text, error=True)
+        else:
+            self.message.content = f'<p id="message" style="color:#c00">{html.escape(text)}</p>'
 
     # --- placements --------------------------------------------------------------------------------------
-    def set_placement(self, placement: np.ndarray, exact: bool, move_gizmo: bool = True) -> None:
-        """Go to a placement (clamped to the free variables' bounds): the fields, the gizmo, the readings."""
-        self.placement = self.bench.clamp(placement)
-        self._syncing = True
-        try:
-            for k, name in enumerate(VARIABLES):
-                self.fields[name].value = round(shown_value(name, self.placement[k]), 6)
-            if move_gizmo:
-                self.gizmo.position = tuple(self.placement[:3])
-                self.gizmo.wxyz = tuple(_wxyz(placement_pose(self.placement)[0][0]))
-        finally:
-            self._syncing = False
-        self._show_live(self.bench.live(self.placement))
-        if exact:
-            self._show_exact(self.bench.exact(self.placement))
+    def set_placement(self, placement: np.ndarray, exact: bool, move_gizmo: bool = True,
+                      write_fields: bool = True) -> None:
+        """Go to a placement (clamped to the free variables' bounds): the fields (unless they hold what was just
+        typed), the gizmo, the readings."""
+        with self._moving:
+            self.placement = self.bench.clamp(placement)
+            self._syncing = True
+            try:
+                if write_fields:
+                    self._write_fields(self.placement)
+                if move_gizmo:
+                    self.gizmo.position = tuple(self.placement[:3])
+                    self.gizmo.wxyz = tuple(wxyz_of(placement_pose(self.placement)[0][0]))
+            finally:
+                self._syncing = False
+            self._show_live(self.bench.live(self.placement))
+            self.map.placement_moved(self.placement)
+            if exact:
+                self._show_exact(self.bench.exact(self.placement))
 
     def _gizmo_moved(self) -> None:
         if self._syncing:
             return
-        rotation = _rotation(self.gizmo.wxyz)
+        rotation = rotation_of(self.gizmo.wxyz)
         psi, theta, phi = pin.rpy.matrixToRpy(rotation)  # R = Rz(phi) Ry(theta) Rx(psi)
         wanted = np.array([*self.gizmo.position, phi, theta, psi], dtype=float)
         self.placement = self.bench.clamp(wanted)
         if not np.allclose(self.placement, wanted, atol=1e-9):  # held within the free variables and their bounds
             self._syncing = True
             self.gizmo.position = tuple(self.placement[:3])
-            self.gizmo.wxyz = tuple(_wxyz(placement_pose(self.placement)[0][0]))
+            self.gizmo.wxyz = tuple(wxyz_of(placement_pose(self.placement)[0][0]))
             self._syncing = False
         with self._wake:
             self._wanted = self.placement.copy()
@@ -331,17 +331,83 @@ class Workbench:
     def _dragged_to(self, placement: np.ndarray) -> None:
         self._syncing = True
         try:
-            for k, name in enumerate(VARIABLES):
-                self.fields[name].value = round(shown_value(name, placement[k]), 6)
+            self._write_fields(placement)
         finally:
             self._syncing = False
         self._show_live(self.bench.live(placement))
+        self.map.placement_moved(placement)
 
-    def _field_changed(self) -> None:
-        if self._syncing:
+    def _write_fields(self, placement: np.ndarray) -> None:
+        """The fields show a placement (mm and degrees to 1e-6, as typed back they give it again)."""
+        for k, name in enumerate(VARIABLES):
+            text = shown_text(name, placement[k])
+            self._written[name] = self._last_read[name] = text
+            self.fields[name].value = text
+
+    def acted(self, event: object, action: Callable[[], None], beside: JobPanel | None = None) -> None:
+        """A tab's Enter or button: its text fields are read from the tab first (the keys typed last may never have
+        reached the server, see :mod:`placement.app.shown`), then the action runs on what the tab shows."""
+        def caught_up() -> None:
+            self.shown.catch_up(getattr(event, "client", None))
+            action()
+
+        self.guard(caught_up, beside)
+
+    def _typed(self, event: object) -> None:
+        """A key typed in a field: nothing is written back while typing; the values are read on Enter, on "Go to
+        these values", or once typing pauses for TYPING_PAUSE_S (from the tab that typed)."""
+        client = getattr(event, "client", None)
+        if self._syncing or client is None:
             return
-        values = np.array([si_value(name, float(self.fields[name].value)) for name in VARIABLES])
-        self.set_placement(values, exact=True)
+        with self._wake:
+            if self._typing is not None:
+                self._typing.cancel()
+            self._typing = threading.Timer(TYPING_PAUSE_S, self._typing_paused, args=(client,))
+            self._typing.daemon = True
+            self._typing.start()
+
+    def _typing_paused(self, client: object) -> None:
+        """Read the fields if they changed since they were last read (Enter may have read them already)."""
+        self.shown.catch_up(client)  # a tab that cannot be read is logged, its fields kept
+        if self._field_texts() != self._last_read:
+            self.guard(self._fields_given)
+
+    def _field_texts(self) -> dict[str, str]:
+        return {name: str(field.value).strip() for name, field in self.fields.items()}
+
+    def _fields_given(self) -> None:
+        """Go to the values typed in the fields, read literally (1e3 is 1000); a value that is no number or lies
+        beyond its bound is named with the bound, its text kept, and nothing moves."""
+        with self._moving:  # the fields read by the last change to run
+            self._go_to_fields()
+
+    def _go_to_fields(self) -> None:
+        values, problems = self.placement.copy(), []
+        lower, upper = self._bounds()
+        self._last_read = texts = self._field_texts()
+        for k, name in enumerate(VARIABLES):
+            text = texts[name]
+            if text == self._written.get(name) or name not in self.bench.space.free:
+                continue  # as the page wrote it: the exact current value, not its rounded text
+            unit = "deg" if name in ANGLES else "mm"
+            try:
+                shown = float(text)
+            except ValueError:
+                shown = float("nan")
+            if not np.isfinite(shown):
+                problems.append(f"{name}: {text!r} is not a number of {unit}")
+                continue
+            value = si_value(name, shown)
+            for bound, beyond, word in ((lower[k], value < lower[k] - 1e-12, "below its lower"),
+                                        (upper[k], value > upper[k] + 1e-12, "above its upper")):
+                if beyond:
+                    problems.append(f"{name} = {text} {unit} is {word} bound {shown_value(name, bound):.6g} {unit}")
+            values[k] = value
+        if problems:
+            raise SettingsError("; ".join(problems) + " (the text is kept; the placement did not move)")
+        if not np.array_equal(values, self.placement) or self.exact_detail is None:
+            self.set_placement(values, exact=True, write_fields=False)
+        self._written.update(texts)  # each text now gives the current placement: read again, it keeps it
 
     def _at_given(self) -> None:
         text = self.at_text.value.strip()
@@ -352,7 +418,7 @@ class Workbench:
                  and given[name] != self.bench.space.fixed[VARIABLES.index(name)]]
         if fixed:
             raise SettingsError(f"--at: {', '.join(fixed)} is fixed here (free: {', '.join(self.bench.space.free)})")
-        placement = np.array([given.get(name, 0.0) for name in VARIABLES])
+        placement = np.array([given.get(name, self.placement[k]) for k, name in enumerate(VARIABLES)])
         clamped = self.bench.clamp(placement)
         if not np.allclose(clamped, placement, atol=1e-12):
             outside = [name for k, name in enumerate(VARIABLES) if abs(clamped[k] - placement[k]) > 1e-12]
@@ -371,19 +437,34 @@ class Workbench:
             state = "feasible" if reading.feasible else "INFEASIBLE"
             label, margin = reading.tightest
             kept = f" (to keep: {self.bench.margin * 100:g} %)" if self.bench.margin else ""
-            lines = [f'<p id="live-value">{html.escape(words.subject)} {html.escape(quantity(reading.value, unit))} '
+            lines = [f'<p id="live-value">{html.escape(words.subject)} {readable(reading.value)} {html.escape(unit)} '
                      f'<b style="color:{"#080" if reading.feasible else "#c00"}">{state}</b></p>',
                      f'<p id="live-tightest">tightest: {html.escape(label)}, margin {margin * 100:.1f} %{kept}</p>']
             energies = reading.energy_per_actuator_J
             top = max(float(np.nanmax(np.abs(energies))), 1e-12)
             for actuator, energy in zip(self.robot.actuators, energies):
                 width = 100 * abs(float(energy)) / top
-                lines.append(f'<div style="font:12px sans-serif">{html.escape(actuator.joint)} {energy:.3f} J'
+                lines.append(f'<div style="font:12px sans-serif">{html.escape(actuator.joint)} {readable(energy, 4)} J'
                              f'<div style="background:#0070ff;height:8px;width:{width:.1f}%"></div></div>')
+        lines.append(f'<p id="live-why" style="font-size:11px;color:#555">{len(reading.t_s)} samples, to follow a drag; '
+                     "Exact below is --at's value on the path's own sampling (they differ in the last digits)</p>")
         self.live_html.content = "".join(lines)
+        self._mark_failing(reading)
         self.reading = reading  # after the text: a reading in place is a reading shown
         self.time.max = max(float(reading.t_s[-1]), 1e-3)
         self._show_time()
+
+    def _mark_failing(self, reading: Reading) -> None:
+        """The workpiece red where the placement is infeasible, with a ball on its failing sample (the first
+        unreachable one, or where the tightest limit is broken)."""
+        color = FAILING_COLOR if not reading.feasible else PATH_COLOR
+        self.path_line.colors = np.broadcast_to(np.array(color, dtype=np.uint8), self._segments_shape).copy()
+        sample = reading.first_unreachable[0] if not reading.reachable else reading.tightest_sample
+        if reading.feasible or sample < 0:
+            self.failing_mark.visible = False
+            return
+        self.failing_mark.position = tuple(reading.tool_position_m[sample])
+        self.failing_mark.visible = True
 
     def _show_exact(self, detail: PlacementDetail) -> None:
         self.exact_detail = detail
@@ -404,10 +485,11 @@ class Workbench:
         tight = min(detail.margins, key=lambda m: m.margin, default=None)
         where = f"{tight.kind} {tight.where}, margin {tight.margin * 100:.1f} %" if tight is not None else "none"
         self.exact_html.content = (
-            f'<p>{html.escape(words.subject)} <b><span id="exact-value">{detail.value!r}</span></b> {html.escape(unit)}'
+            f'<p id="exact-at">at {html.escape(at_text(detail.placement))}</p>'
+            f'<p>{html.escape(words.subject)} <b>{number_html("exact-value", detail.value, unit)}</b>'
             f' ({"feasible" if detail.feasible else "INFEASIBLE"})</p>'
             + ("" if detail.objective == "energy" else
-               f'<p>energy <span id="exact-energy">{float(detail.energy.total_J)!r}</span> J</p>') +
+               f'<p>energy {number_html("exact-energy", float(detail.energy.total_J), "J")}</p>') +
             f"<p>tightest: {html.escape(where)}</p>")
 
     def _show_time(self) -> None:
@@ -449,6 +531,8 @@ class Workbench:
         self.model_note.content = f'<p id="model-note">note: {html.escape(note)}</p>' if note else ""
         self.optimise.forget()
         self.compare.forget()
+        for panel in (self.map, self.front):
+            panel.mark_stale("the model's choices changed since")
         self.set_placement(self.placement, exact=True)
 
     def close(self) -> None:

@@ -29,11 +29,17 @@ class Host(Protocol):
     server: viser.ViserServer
     placement: np.ndarray
 
-    def guard(self, action: Callable[[], None]) -> None:
-        """Run a page action; what goes wrong is said in the page."""
+    def guard(self, action: Callable[[], None], beside: JobPanel | None = None) -> None:
+        """Run a page action; what goes wrong is said in the page (in ``beside``'s state line if given)."""
+
+    def acted(self, event: object, action: Callable[[], None], beside: JobPanel | None = None) -> None:
+        """Run a tab's action on the texts its fields show (read from the tab first)."""
 
     def set_placement(self, placement: np.ndarray, exact: bool, move_gizmo: bool = True) -> None:
         """Go to a placement (m, rad)."""
+
+    def frame_workpiece(self) -> None:
+        """Every tab's camera on the placed path."""
 
 
 class JobPanel(ABC):
@@ -50,11 +56,13 @@ class JobPanel(ABC):
         gui: Any = host.server.gui
         self.host, self.key, self.what = host, key, what
         self.job: Job | None = None
+        self.start_label = start_label
+        self.has_result = False  # a result is shown (it may have gone stale)
         self.start_button = gui.add_button(start_label)
-        self.cancel_button = gui.add_button("Cancel", disabled=True)
+        self.cancel_button = gui.add_button(f"Cancel {key}", disabled=True, hint=f"stop {what} at once")
         self.progress = gui.add_progress_bar(0.0, visible=False)
         self.state = gui.add_html("")
-        self.start_button.on_click(lambda _: host.guard(self._start))
+        self.start_button.on_click(lambda event: host.acted(event, self._start, beside=self))
         self.cancel_button.on_click(lambda _: host.guard(self.cancel))
 
     @abstractmethod
@@ -65,10 +73,15 @@ class JobPanel(ABC):
     def finished(self, result: Any) -> None:
         """Show the job's result."""
 
-    def say(self, text: str, error: bool = False) -> None:
-        """The state line."""
-        style = ' style="color:#c00"' if error else ""
+    def say(self, text: str, error: bool = False, stale: bool = False) -> None:
+        """The state line (red for an error, amber for a stale result)."""
+        style = ' style="color:#c00"' if error else ' style="color:#b36b00"' if stale else ""
         self.state.content = f'<p id="{self.key}-state"{style}>{html.escape(text)}</p>'
+
+    def mark_stale(self, reason: str) -> None:
+        """The result shown no longer answers the page: said on its state line (the result stays visible)."""
+        if self.has_result and self.job is None:
+            self.say(f"stale: {reason}; {self.start_label} again for an answer", stale=True)
 
     def _start(self) -> None:
         if self.job is not None:
@@ -89,7 +102,11 @@ class JobPanel(ABC):
         if job.result is None:
             self.say(job.error or "no result", error=True)
             return
-        self.host.guard(lambda: self.finished(job.result))
+        def show() -> None:
+            self.finished(job.result)
+            self.has_result = True
+
+        self.host.guard(show, beside=self)
 
     def cancel(self) -> None:
         """End the running job, if any."""

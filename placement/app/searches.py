@@ -19,8 +19,9 @@ import numpy as np
 from placement.app.evaluations import MAP_POINTS, shown_value
 from placement.app.exceptions import NotReadyError
 from placement.app.jobs import Job
+from placement.app.numbers import number_html, readable
 from placement.app.panels import Host, JobPanel, figure_image
-from placement.contract.objective import OBJECTIVES, quantity, wording
+from placement.contract.objective import OBJECTIVES, wording
 from placement.evaluation.results import PlacementDetail
 from placement.exceptions import SettingsError
 from placement.placing.transform import VARIABLES
@@ -67,7 +68,7 @@ class OptimisePanel(JobPanel):
                 continue
             self.optima[key] = optimum.detail
             lines.append(f'<p>{key} ({html.escape(getattr(words, key))} {html.escape(words.subject)}): '
-                         f'<span id="{key}-value">{optimum.detail.value!r}</span> {html.escape(unit)}<br>'
+                         f'{number_html(f"{key}-value", optimum.detail.value, unit)}<br>'
                          f'<span id="{key}-placement">{_where(VARIABLES, optimum.detail.placement)}</span></p>')
         if result.gain is not None:
             lines.append(f'<p id="gain">gain {result.gain * 100:.1f} %</p>')
@@ -86,6 +87,7 @@ class OptimisePanel(JobPanel):
         if key not in self.optima:
             raise NotReadyError(f"no {key} placement yet: optimise first")
         self.host.set_placement(self.optima[key].placement, exact=True)
+        self.host.frame_workpiece()
 
 
 class MapPanel(JobPanel):
@@ -96,7 +98,7 @@ class MapPanel(JobPanel):
         free = host.bench.space.free
         self.across = gui.add_dropdown("across", free, initial_value=free[0])
         self.up = gui.add_dropdown("up", free, initial_value=free[min(1, len(free) - 1)])
-        self.points = gui.add_number("points per variable", 21, min=2, max=MAP_POINTS, step=1)
+        self.points = gui.add_text("points per variable", "21", hint=f"a whole number from 2 to {MAP_POINTS}")
         super().__init__(host, "Map", "map", "a map")
         self.image = gui.add_image(BLANK, visible=False)
         self.best_html = gui.add_html("")
@@ -104,13 +106,26 @@ class MapPanel(JobPanel):
         self.go_button.on_click(lambda _: host.guard(self.go_to_best))
         self.best: np.ndarray | None = None
         self.command = ""
+        self.through, self.plane = host.placement.copy(), ("", "")  # the placement the map went through, its axes
+
+    def placement_moved(self, placement: np.ndarray) -> None:
+        """Mark the map stale once the placement leaves its plane (a variable not mapped moved)."""
+        off = [name for k, name in enumerate(VARIABLES) if name not in self.plane
+               and abs(placement[k] - self.through[k]) > 1e-12]
+        if off:
+            self.mark_stale(f"the placement left the plane of this map ({', '.join(off)} moved)")
 
     def launch(self) -> Job:
-        points = float(self.points.value)
-        if not points.is_integer():
+        text = str(self.points.value).strip()
+        try:
+            points = float(text)
+        except ValueError:
+            points = float("nan")
+        if not points.is_integer() or not 2 <= points <= MAP_POINTS:
             raise SettingsError(f"map: points per variable: expected a whole number from 2 to {MAP_POINTS}, "
-                                f"got {points:g}")
+                                f"got {text!r}")
         job, self.command = self.host.bench.map((self.across.value, self.up.value), int(points), self.host.placement)
+        self.through, self.plane = self.host.placement.copy(), (self.across.value, self.up.value)
         self.say(f"mapping {int(points) ** 2} placements...")
         return job
 
@@ -126,8 +141,8 @@ class MapPanel(JobPanel):
         self.go_button.visible = self.best is not None
         count = f"{int(result.feasible.sum())} of {result.feasible.size} placements feasible"
         best = "" if self.best is None else (
-            f'<br>{html.escape(words.best)} {html.escape(words.subject)}: <span id="map-best-value">'
-            f'{float(result.value.ravel()[index])!r}</span> {html.escape(unit)} at '
+            f'<br>{html.escape(words.best)} {html.escape(words.subject)}: '
+            f'{number_html("map-best-value", float(result.value.ravel()[index]), unit)} at '
             f'<span id="map-best-placement">{_where(result.variables, self.best)}</span>')
         self.best_html.content = (f'<p>{count}{best}</p><p style="font-size:11px">the same map: '
                                   f'<code id="map-command">placement map --robot {html.escape(self.host.bench.robot.name)} '
@@ -176,9 +191,10 @@ class FrontPanel(JobPanel):
         rows, labels = [], []
         for i, member in enumerate(front.members):
             knee = " (knee)" if i == front.knee else ""
-            cells = "".join(f'<td id="front-{i}-{k}">{float(v)!r}</td>' for k, v in enumerate(member.values))
+            cells = "".join(f'<td>{number_html(f"front-{i}-{k}", float(v))}</td>' for k, v in enumerate(member.values))
             rows.append(f"<tr><td>{i}{knee}</td>{cells}</tr>")
-            labels.append(f"{i}: " + ", ".join(quantity(float(v), u) for v, u in zip(member.values, units)) + knee)
+            labels.append(f"{i}: " + ", ".join(f"{readable(float(v))} {u}".strip() for v, u in zip(member.values, units))
+                          + knee)
         self.table.content = (f'<table id="front-table" style="font-size:11px"><tr><th>#</th>{head}</tr>'
                               + "".join(rows) + "</table>")
         self.members = [member.placement for member in front.members]

@@ -41,14 +41,20 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
                         help="port to serve on (default: the first free one from 8080)")
     parser.add_argument("--host", default="127.0.0.1",
                         help="address to serve on (default 127.0.0.1: this machine only)")
+    parser.add_argument("--allow-origin", action="append", default=[], metavar="ORIGIN",
+                        help="a further origin (scheme://host:port) whose pages may use the workbench, e.g. behind a "
+                             "proxy; repeatable. By default only the workbench's own page on a loopback name "
+                             "(127.0.0.1, localhost, [::1]) with the printed ?token= may (docs/howto/use_the_workbench.md)")
 
 
 def start(args: argparse.Namespace):  # -> placement.app.page.Workbench (viser loads only here)
     """Build the bench and serve its page; returns the workbench (its ``url``, ``close()``)."""
     require(WORKBENCH)  # before any work: the [app] extra's packages, or a message naming the extra
     from placement.app.evaluations import Bench, Choices  # the [app] extra's modules: imported only here
+    from placement.app.guard import allowed_origin
     from placement.app.page import Workbench
 
+    origins = tuple(allowed_origin(origin) for origin in args.allow_origin)
     if not args.host.strip():
         raise UsageError("--host: expected an address, got ''")
     if not (args.host == "localhost" or args.host.startswith("127.") or args.host == "::1"):
@@ -63,7 +69,7 @@ def start(args: argparse.Namespace):  # -> placement.app.page.Workbench (viser l
                   choices=Choices(objective=args.objective, regeneration=args.regen),
                   search=SearchSettings(seed=args.seed), margin=args.margin / 100)
     try:
-        return Workbench(bench, host=args.host, port=args.port)
+        return Workbench(bench, host=args.host, port=args.port, origins=origins)
     except OSError as error:
         bench.close()
         raise UsageError(f"--host/--port: cannot serve on '{args.host}': {error.strerror or error}") from None

@@ -91,19 +91,20 @@ def test_the_app_serves_on_loopback_only_prints_its_address_and_stops(monkeypatc
 def test_the_gizmo_is_held_to_the_free_variables_and_read_in_the_placement_angles_and_unreachable_is_said():
     from types import SimpleNamespace
 
-    from placement.app.page import Workbench, _wxyz
+    from placement.app.drawing import wxyz_of
+    from placement.app.page import Workbench
     from placement.placing.transform import rotation_zyx
 
     workbench = Workbench(Bench(load_robot("orthoglide"), load_path(EXAMPLE)))
     try:
         workbench.gizmo.position = (0.0125, -0.007, -0.02)
-        workbench.gizmo.wxyz = tuple(_wxyz(rotation_zyx(np.radians(30), np.radians(10), 0.0)))  # theta is fixed at 0
+        workbench.gizmo.wxyz = tuple(wxyz_of(rotation_zyx(np.radians(30), np.radians(10), 0.0)))  # theta is fixed at 0
         workbench._gizmo_event(SimpleNamespace(phase="end"))  # let go
         assert np.allclose(workbench.placement, AT, atol=1e-12)
         assert np.allclose(workbench.gizmo.position, AT[:3]) and np.allclose(
-            workbench.gizmo.wxyz, _wxyz(rotation_zyx(np.radians(30), 0.0, 0.0)))  # the gizmo is put back
+            workbench.gizmo.wxyz, wxyz_of(rotation_zyx(np.radians(30), 0.0, 0.0)))  # the gizmo is put back
         assert workbench.exact_detail is not None and workbench.exact_detail.value == pytest.approx(bench_value(AT), abs=1e-9)
-        assert workbench.fields["phi"].value == pytest.approx(30.0)
+        assert float(workbench.fields["phi"].value) == pytest.approx(30.0)
         workbench.gizmo.position = (5.0, 0.0, 0.0)  # far beyond the workspace: held at its bound
         workbench._gizmo_event(SimpleNamespace(phase="update"))
         assert workbench.placement[0] == workbench.bench.space.upper[0]
@@ -195,3 +196,172 @@ def test_the_app_started_with_no_input_serves_until_terminated(tmp_path):
     finally:
         server.kill()
         server.communicate()
+
+
+@pytest.fixture(scope="module")
+def served():
+    """A workbench served on loopback (its gate's token known to the test, as the printed address gives it)."""
+    from placement.app.page import Workbench
+
+    workbench = Workbench(Bench(load_robot("orthoglide"), load_path(EXAMPLE)))
+    try:
+        yield workbench
+    finally:
+        workbench.close()
+
+
+def _status(port: int, host: str, origin: str | None = None, cookie: str | None = None, path: str = "/",
+            websocket: bool = False) -> int:
+    """The HTTP status a raw request (or websocket handshake) with these headers gets."""
+    import socket
+
+    lines = [f"GET {path} HTTP/1.1", f"Host: {host}"]
+    lines += [f"Origin: {origin}"] if origin else []
+    lines += [f"Cookie: {cookie}"] if cookie else []
+    if websocket:
+        lines += ["Upgrade: websocket", "Connection: Upgrade", "Sec-WebSocket-Version: 13",
+                  "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==", "Sec-WebSocket-Protocol: viser-v0"]
+    with socket.create_connection(("127.0.0.1", port), timeout=30) as connection:
+        connection.sendall(("\r\n".join(lines) + "\r\n\r\n").encode())
+        return int(connection.recv(256).split(b" ", 2)[1])
+
+
+def test_only_this_machines_page_with_the_token_is_served(served):
+    port, token = served.server.get_port(), served.gate.token
+    own, cookie = f"127.0.0.1:{port}", f"{served.gate.cookie}={token}"
+    assert _status(port, own, path=f"/?token={token}") == 200  # the printed address
+    assert _status(port, f"localhost:{port}", path=f"/?token={token}") == 200
+    assert _status(port, own) == 403  # no token
+    assert _status(port, own, path="/?token=guess") == 403
+    assert _status(port, f"evil.example:{port}", path=f"/?token={token}") == 403  # DNS rebinding
+    assert _status(port, own, origin="http://evil.example", path=f"/?token={token}") == 403
+    assert _status(port, own, origin=f"http://{own}", cookie=cookie, websocket=True) == 101  # the page's own socket
+    assert _status(port, own, origin="http://evil.example", cookie=cookie, websocket=True) == 403
+    assert _status(port, f"evil.example:{port}", origin=f"http://evil.example:{port}", cookie=cookie,
+                   websocket=True) == 403
+    assert _status(port, own, origin=f"http://{own}", websocket=True) == 403  # no cookie: another local page
+    assert any("Origin 'http://evil.example'" in why for why in served.gate.refused)
+
+
+def test_every_answer_forbids_framing_and_sniffing(served):
+    import urllib.request
+
+    with urllib.request.urlopen(served.url, timeout=30) as response:
+        headers = response.headers
+        assert headers["X-Frame-Options"] == "DENY" and "frame-ancestors 'none'" in headers["Content-Security-Policy"]
+        assert headers["X-Content-Type-Options"] == "nosniff" and headers["Referrer-Policy"] == "no-referrer"
+        assert "HttpOnly" in headers["Set-Cookie"] and "SameSite=Strict" in headers["Set-Cookie"]
+
+
+def test_a_share_request_is_refused_and_a_malformed_frame_logged_in_one_line(served, caplog):
+    import logging
+
+    import msgspec
+    import viser
+    from websockets.exceptions import ConnectionClosedError
+    from websockets.sync.client import connect
+
+    from placement.app.guard import GuardedServer
+
+    own = f"127.0.0.1:{served.server.get_port()}"
+    before = GuardedServer.share_refusals
+    with caplog.at_level(logging.WARNING):
+        with connect(f"ws://{own}/", origin=f"http://{own}", subprotocols=[f"viser-v{viser.__version__}"],
+                     additional_headers={"Cookie": f"{served.gate.cookie}={served.gate.token}"}) as socket:
+            socket.send(msgspec.msgpack.encode({"type": "ShareUrlRequest"}))
+            for _ in range(100):
+                if GuardedServer.share_refusals > before:
+                    break
+                time.sleep(0.1)
+            socket.send(b"\xc1 not a message")
+            with pytest.raises(ConnectionClosedError):  # the server closes the connection
+                for _ in range(1000):
+                    socket.recv(timeout=30)
+    assert GuardedServer.share_refusals == before + 1
+    assert served.server._share_tunnel is None  # no tunnel was opened
+    assert any("share" in record.getMessage() for record in caplog.records)
+    failed = [record for record in caplog.records if "connection handler failed" in record.getMessage()]
+    assert failed and all("\n" not in record.getMessage() and record.exc_info is None for record in failed)
+
+
+def test_typed_values_are_read_literally_on_enter_and_a_bound_is_named_with_the_text_kept(served):
+    from types import SimpleNamespace
+
+    start = served.placement.copy()
+    x_upper = served.bench.space.upper[served.bench.space.free.index("x")] * 1e3
+    served.fields["x"].value = "1e3"  # 1000 mm: beyond the Orthoglide's x bound
+    with pytest.raises(PlacementError, match=f"x = 1e3 mm is above its upper bound {x_upper:.6g} mm"):
+        served._fields_given()
+    assert served.fields["x"].value == "1e3" and np.array_equal(served.placement, start)  # kept, not moved
+    served.fields["x"].value = "1.25e1"
+    served._fields_given()  # Enter
+    assert served.placement[0] == 0.0125 and served.fields["x"].value == "1.25e1"  # read as typed, not written back
+    assert served.exact_detail.value == pytest.approx(bench_value(served.placement), abs=1e-9)
+    served.fields["y"].value = "abc"
+    with pytest.raises(PlacementError, match="y: 'abc' is not a number of mm"):
+        served._fields_given()
+    served.set_placement(served.placement, exact=False)  # the page writes the fields back (a drag, Go to best)
+    served._typed(SimpleNamespace(client=object()))  # a key: read once typing pauses, never written back
+    assert served._typing is not None
+    served._fields_given()
+    served.at_text.value = "z=-20"  # --at: the values left out keep the current ones
+    served._at_given()
+    assert np.allclose(served.placement, [0.0125, start[1], -0.02, *start[3:]], atol=1e-15)
+
+
+def test_an_infeasible_placement_turns_the_workpiece_red_and_marks_its_failing_sample(served):
+    from placement.app.page import FAILING_COLOR, PATH_COLOR
+
+    served.set_placement(AT, exact=False)
+    assert served.reading.feasible and np.all(served.path_line.colors == PATH_COLOR)
+    assert not served.failing_mark.visible
+    far = served.bench.clamp(np.array([1.0, 1.0, 1.0, 0.0, 0.0, 0.0]))  # a corner of the bounds
+    served.set_placement(far, exact=False)
+    reading = served.reading
+    assert not reading.feasible and np.all(served.path_line.colors == FAILING_COLOR) and served.failing_mark.visible
+    sample = reading.first_unreachable[0] if not reading.reachable else reading.tightest_sample
+    assert np.allclose(served.failing_mark.position, reading.tool_position_m[sample])
+    served.set_placement(AT, exact=False)
+    assert np.all(served.path_line.colors == PATH_COLOR) and not served.failing_mark.visible
+
+
+def test_a_value_typed_back_to_what_the_page_wrote_before_is_read(served):
+    served.set_placement(AT, exact=False)  # the page writes x = 12.5
+    served.fields["x"].value = "-30"
+    served._fields_given()
+    assert served.placement[0] == -0.03
+    served.fields["x"].value = "12.5"  # the text the page wrote before, typed again
+    served._fields_given()
+    assert served.placement[0] == 0.0125
+
+
+def test_a_number_is_shown_to_five_significant_digits_with_its_full_value_kept():
+    from placement.app.compare import relative_change_percent
+    from placement.app.numbers import number_html, readable
+
+    value = 4.801071042626315
+    assert readable(value) == "4.8011" and readable(-0.00123456789) == "-0.0012346" and readable(np.nan) == "-"
+    shown = number_html("exact-value", value, "J")
+    full = shown.split('data-value="')[1].split('"')[0]
+    assert float(full) == value and shown.endswith(">4.8011</span> J")  # the full value survives the page
+    assert relative_change_percent(4.0, 5.0) == pytest.approx(25.0, abs=1e-12)
+    assert relative_change_percent(-4.0, -5.0) == pytest.approx(-25.0, abs=1e-12)  # of the pinned value's size
+    assert np.isnan(relative_change_percent(0.0, 1.0))
+
+
+def test_a_map_the_placement_left_is_marked_stale_and_a_panels_error_is_said_beside_it(served):
+    from types import SimpleNamespace
+
+    panel = served.map
+    served.set_placement(AT, exact=False)
+    panel.has_result, panel.through, panel.plane = True, served.placement.copy(), ("x", "y")  # a map over x, y
+    served.set_placement(AT + [0.001, -0.001, 0, 0, 0, 0], exact=False)  # within the map's plane
+    assert "stale" not in panel.state.content
+    served.set_placement(AT + [0, 0, 0.001, 0, 0, 0], exact=False)  # off it
+    assert "stale: the placement left the plane of this map (z moved)" in panel.state.content
+    panel.points.value = "1"
+    served.message.content = ""
+    served.acted(SimpleNamespace(client=None), panel._start, beside=panel)
+    assert "points per variable" in panel.state.content and "color:#c00" in panel.state.content
+    assert served.message.content == "" and panel.job is None  # said beside the Map panel, nothing started
+    panel.points.value = "21"
