@@ -177,6 +177,8 @@ def _deflection_line(detail: PlacementDetail) -> str:
     """The tool's deflection under the process forces: largest (where, which way) and RMS."""
     bend = detail.deflection
     assert bend is not None
+    if bend.largest_m == 0.0:  # no process force on the path (a weld seam, a pen): no direction to name
+        return "  tool deflection: none (the path has no process force)"
     rotation = "" if bend.largest_rotation_rad is None else f", rotation up to {bend.largest_rotation_rad * 1e6:.4g} µrad"
     loaded = "" if bend.loaded_correction is None else (
         f"; at the loaded equilibrium, which changes it by at most {bend.loaded_correction:.2g} of the largest linear one")

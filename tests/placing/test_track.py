@@ -162,15 +162,14 @@ def test_the_knots_are_given_in_mm_and_written_in_m(tmp_path, capsys):
 @pytest.mark.slow
 def test_the_long_seam_needs_the_track(tmp_path, capsys):
     """On its track the UR5 welds the 1.5 m seam, the carriage moving along it; held at the rail's middle, no placement
-    reaches it, even with the table brought to 250 mm and the part tilted by 20 degrees."""
+    on the table reaches it."""
     out = tmp_path / "seam.json"
     assert main(["--robot", "ur5_track", "--path", str(SEAM), "--minimize", "--json", str(out)]) == 0
     best = json.loads(out.read_text())["best"]
     assert best["feasible"] and best["recheck_holds"]
     assert np.ptp(best["profiles"]["track"]["position_m"]) > 1.0
     capsys.readouterr()
-    assert main(["--robot", "ur5_track", "--path", str(SEAM), "--minimize", "--lock", "track=0", "--free",
-                 "x=250:700,y=-400:400,z,phi,theta=-20:20,psi=-20:20"]) == 2
+    assert main(["--robot", "ur5_track", "--path", str(SEAM), "--minimize", "--lock", "track=0"]) == 2
     assert "leaves the robot's reach at every placement" in capsys.readouterr().err
 
 

@@ -119,3 +119,14 @@ def test_energy_and_deflection_make_a_front(tmp_path, capsys):
     values = np.array([[m["values"]["energy"], m["values"]["deflection"]] for m in members])
     assert len(members) >= 5 and non_dominated(values).all()
     capsys.readouterr()
+
+
+def test_a_path_without_process_force_reports_no_deflection_and_no_direction(tmp_path, capsys):
+    """A weld seam has no process force: the tool does not deflect, and the report says so rather than a direction."""
+    path = tmp_path / "no_force.yaml"
+    path.write_text("name: a line without process force\nunits: mm\nshape: {type: polyline, points: [[-10, 0], [10, 0]]}\n"
+                    "feed_m_s: 0.05\n")
+    assert main(["--robot", "orthoglide", "--path", str(path), "--at", "x=0,y=0,z=0"]) == 0
+    printed = capsys.readouterr().out
+    assert "tool deflection: none (the path has no process force)" in printed
+    assert "tool deflection under the process forces" not in printed
