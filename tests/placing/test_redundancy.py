@@ -25,6 +25,7 @@ from placement.search.optimize import SearchSettings, optimize_placement
 from placement.search.space import default_space
 from placement.workshop.load import edit_redundancy, robot_from_sidecar
 from tests.support.paths import EXAMPLES
+from tests.support.rnea_reference import rnea_actuator_efforts
 
 CIRCLE, RECT, CONTOUR = EXAMPLES / "circle.yaml", EXAMPLES / "rect.yaml", EXAMPLES / "contour.yaml"
 BENT = np.array([0.40, 0.0, 0.30, 0.2, 0.1, -0.1, -0.3, 0.4, 0.1])  # a placement with joint 3 swinging along the path
@@ -90,15 +91,9 @@ def test_energy_of_the_resolved_motion_is_rnea_on_its_joint_trajectory(panda, pa
     evaluator = Evaluator(panda, load_path(path))
     batch = evaluator.batch(placement[None])
     assert batch.reachable.all()
-    joints, data, model = batch.joints, panda.model.createData(), panda.model
+    joints = batch.joints
     _, force = placed_task(panda, evaluator.samples, placement[None])
-    efforts = np.empty((len(joints.q), model.nv))
-    for k in range(len(joints.q)):
-        torque = pin.rnea(model, data, joints.q[k], joints.v[k], joints.a[k])
-        jacobian = pin.computeFrameJacobian(model, data, joints.q[k], panda.end_effector_frame_id,
-                                            pin.LOCAL_WORLD_ALIGNED)
-        efforts[k] = torque - jacobian.T @ force[k]  # the load on the tool from the workpiece, balanced by the joints
-    efforts = efforts[:, panda.actuated_v_indices]
+    efforts = rnea_actuator_efforts(panda, joints, force)
     np.testing.assert_allclose(batch.effort[0], efforts, rtol=1e-9, atol=1e-9 * np.abs(efforts).max())
     v, a = joints.v[:, panda.actuated_v_indices], joints.a[:, panda.actuated_v_indices]
     energy = electric_energy(panda, motor_trace(panda, efforts, v, a), evaluator.samples.t_s, evaluator.samples.piece)

@@ -30,6 +30,7 @@ from placement.search.space import default_space
 from placement.workshop.catalog import builtin_robots_dir
 from placement.workshop.load import edit_redundancy, robot_from_sidecar
 from tests.support.paths import CIRCLE, EXAMPLES
+from tests.support.rnea_reference import rnea_actuator_efforts
 
 SEAM = EXAMPLES / "long_seam.yaml"
 TRACK_DIR = builtin_robots_dir() / "ur5_track"
@@ -115,18 +116,11 @@ def test_energy_of_the_resolved_motion_is_rnea_on_its_joint_trajectory(track):
     evaluator = Evaluator(track, load_path(SEAM))
     batch = evaluator.batch(ALONG[None])
     assert batch.reachable.all()
-    joints, model = batch.joints, track.model
-    data = model.createData()
+    joints = batch.joints
     _, force = placed_task(track, evaluator.samples, ALONG[None])
-    efforts = np.empty((len(joints.q), model.nv))
-    for k in range(len(joints.q)):
-        torque = pin.rnea(model, data, joints.q[k], joints.v[k], joints.a[k])
-        jacobian = pin.computeFrameJacobian(model, data, joints.q[k], track.end_effector_frame_id,
-                                            pin.LOCAL_WORLD_ALIGNED)
-        efforts[k] = torque - jacobian.T @ force[k]
-    efforts = efforts[:, track.actuated_v_indices]
+    efforts = rnea_actuator_efforts(track, joints, force)
     np.testing.assert_allclose(batch.effort[0], efforts, rtol=1e-9, atol=1e-9 * np.abs(efforts).max())
-    compiled = TreeDynamics(model)  # the compiled Newton-Euler pass (the optimal law's route), forced on this arm
+    compiled = TreeDynamics(track.model)  # the compiled Newton-Euler pass (the optimal law's route), forced on this arm
     compiled.compiled_efforts = True
     np.testing.assert_allclose(compiled.efforts(joints.q, joints.v, joints.a, joints.basis), efforts, rtol=1e-9,
                                atol=1e-9 * np.abs(efforts).max())
