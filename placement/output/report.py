@@ -25,7 +25,14 @@ from placement.evaluation.results import PlacementDetail
 from placement.files import staged
 from placement.limits.collision import closest_points
 from placement.path.toolpath import ToolPath
-from placement.placing.profiles import KNOT_SEPARATOR, is_closed, knot_shares, length_variables, redundant_variables
+from placement.placing.profiles import (
+    is_closed,
+    knot_joint,
+    knot_shares,
+    length_variables,
+    prismatic_joints,
+    redundant_variables,
+)
 from placement.placing.transform import VARIABLES, describe_plane, transform_path_to_base
 from placement.placing.values import angle_variable
 from placement.robot.model import Robot
@@ -48,7 +55,7 @@ def format_placement(placement: np.ndarray, names: tuple[str, ...] = VARIABLES, 
 def _document_lengths(entry: dict[str, Any]) -> set[str]:
     """The knots of a placement's JSON entry that are lengths: those of the profiles given in m."""
     prismatic = {joint for joint, profile in entry.get("profiles", {}).items() if "position_m" in profile}
-    return {name for name in entry["placement"] if name.rsplit(KNOT_SEPARATOR, 1)[0] in prismatic}
+    return {name for name in entry["placement"] if knot_joint(name) in prismatic}
 
 
 def results_lines(document: dict[str, Any]) -> list[str]:
@@ -443,23 +450,19 @@ def profiles_json(robot: Robot, detail: PlacementDetail) -> dict[str, Any]:
     start = 6 + robot.tool_spin
     given = detail.placement[start:].reshape(-1, knots) if len(detail.placement) > start else None
     out: dict[str, Any] = {}
+    prismatic = prismatic_joints(robot)
     for r, (joint, q) in enumerate(zip(robot.redundant_joints, robot.redundant_q_indices, strict=True)):
-        unit = "m" if _prismatic(robot, joint) else "rad"
+        unit = "m" if joint in prismatic else "rad"
         out[joint] = {f"knots_{unit}": None if given is None else given[r].tolist(), "knot_shares": shares.tolist(),
                       "t_s": detail.samples.t_s.tolist(), f"position_{unit}": detail.configuration[:, q].tolist()}
     return out
 
 
-def _prismatic(robot: Robot, joint: str) -> bool:
-    """Whether an actuated joint is prismatic (its values lengths)."""
-    return next(actuator.prismatic for actuator in robot.actuators if actuator.joint == joint)
-
-
 def profile_lines(robot: Robot, detail: PlacementDetail) -> list[str]:
     """A line per redundant joint: its range along the path and its knots (deg, or mm for a prismatic joint)."""
-    lines = []
+    lines, prismatic = [], prismatic_joints(robot)
     for joint, q in zip(robot.redundant_joints, robot.redundant_q_indices, strict=True):
-        scale, unit = (1e3, "mm") if _prismatic(robot, joint) else (180 / np.pi, "deg")
+        scale, unit = (1e3, "mm") if joint in prismatic else (180 / np.pi, "deg")
         values = detail.configuration[:, q] * scale
         lines.append(f"{joint} along the path: {values[0]:.2f} {unit} at the start, {values.min():.2f} to "
                      f"{values.max():.2f} {unit}, {values[-1]:.2f} {unit} at the end ({robot.profile_knots} knot(s) over "

@@ -50,11 +50,21 @@ def redundant_variables(robot: Robot) -> tuple[str, ...]:
     return ((SPIN,) if robot.tool_spin else ()) + knot_names(robot)
 
 
+def knot_joint(name: str) -> str:
+    """The joint whose profile a knot variable (``JOINT@K``) shapes."""
+    return name.rsplit(KNOT_SEPARATOR, 1)[0]
+
+
+def prismatic_joints(robot: Robot) -> frozenset[str]:
+    """The robot's prismatic actuated joints: their values, and their knots, are lengths."""
+    return frozenset(actuator.joint for actuator in robot.actuators if actuator.prismatic)
+
+
 def length_variables(robot: Robot) -> frozenset[str]:
     """The redundant variables that are lengths (m; mm on the command line): the knots of prismatic joints (a
     track's position). Every other variable after the six is an angle (rad; deg on the command line)."""
-    prismatic = {actuator.joint for actuator in robot.actuators if actuator.prismatic}
-    return frozenset(name for name in knot_names(robot) if name.rsplit(KNOT_SEPARATOR, 1)[0] in prismatic)
+    prismatic = prismatic_joints(robot)
+    return frozenset(name for name in knot_names(robot) if knot_joint(name) in prismatic)
 
 
 def redundant_bounds(robot: Robot) -> dict[str, tuple[float, float]]:
@@ -62,8 +72,7 @@ def redundant_bounds(robot: Robot) -> dict[str, tuple[float, float]]:
     model = robot.model
     bounds = {SPIN: (-np.pi, np.pi)} if robot.tool_spin else {}
     for name in knot_names(robot):
-        joint = name.rsplit(KNOT_SEPARATOR, 1)[0]
-        q = model.joints[model.getJointId(joint)].idx_q
+        q = model.joints[model.getJointId(knot_joint(name))].idx_q
         bounds[name] = (float(model.lowerPositionLimit[q]), float(model.upperPositionLimit[q]))
     return bounds
 
