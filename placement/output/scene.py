@@ -214,10 +214,13 @@ class Scene:
                 views[view] = framing(*box, workpiece_direction(*box) if view == "workpiece" else CAMERA_DIRECTION)
         return views
 
-    def fit_camera(self) -> None:
-        """Aim the camera as the page opens: the first of ``VIEWS`` that has something to show (:meth:`views_m`)."""
-        target, position = next(iter(self.views_m().values()))
+    def fit_camera(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        """Aim the camera as the page opens: the first of ``VIEWS`` that has something to show; the views
+        (:meth:`views_m`)."""
+        views = self.views_m()
+        target, position = next(iter(views.values()))
         self.look_at(target, position - target)
+        return views
 
     def add_label(self, text: str, point_m: np.ndarray, color: int) -> None:
         """A text on the page beside a point of the scene (base frame, m), following it as the view turns."""
@@ -359,7 +362,8 @@ class Scene:
         """A self-contained page of the recorded scene (three.js viewer inlined, no network), with the base frame's
         axes, the labels, and a button for each of the views (:meth:`views_m`), opening on the first."""
         labels = self.labels + self._draw_axes()
-        self.fit_camera()
+        views = {name: {"target": three_frame(target), "position": three_frame(position)}
+                 for name, (target, position) in self.fit_camera().items()}
         commands = "".join(f'run("{base64.b64encode(c).decode()}");\n' for c in self.window.commands())
         legend = "".join(f'<div><span style="background:#{color:06x}"></span>{html.escape(name)}</div>'
                          for name, color in self.legend if color is not None)
@@ -370,8 +374,6 @@ class Scene:
         elif results:
             results = f'<div id="results">{results}</div>'
         legend += "<div>base frame: x red, y green, z blue</div>"
-        views = {name: {"target": three_frame(target), "position": three_frame(position)}
-                 for name, (target, position) in self.views_m().items()}
         buttons = "".join(f'<button type="button" data-view="{name}" title="frame the {name}">{name}</button>'
                           for name in views)
         marks = [{"text": text, "at": three_frame(point), "color": f"#{color:06x}"} for text, point, color in labels]
