@@ -562,27 +562,29 @@ function showView(name) {{
   viewer.camera.position.fromArray(view.position);
   viewer.controls.target.fromArray(view.target);
   viewer.controls.update();
+  positionLabels();
   document.querySelectorAll("#views button").forEach(function (b) {{
     b.setAttribute("aria-pressed", String(b.dataset.view === name)); }});
 }}
 document.querySelectorAll("#views button").forEach(function (b) {{
   b.addEventListener("click", function () {{ showView(b.dataset.view); }}); }});
-showView(Object.keys(views)[0]);
 var pane = document.getElementById("labels");
 marks.forEach(function (mark) {{
   var div = document.createElement("div");
   div.textContent = mark.text; div.style.color = mark.color; mark.div = pane.appendChild(div);
 }});
-function placeLabels() {{
+function positionLabels() {{
   var at = new MeshCat.THREE.Vector3(), width = window.innerWidth, height = window.innerHeight;
+  viewer.camera.updateMatrixWorld();  // the camera as it is now, even before the next frame is drawn
   marks.forEach(function (mark) {{
     at.fromArray(mark.at).project(viewer.camera);
     mark.div.style.display = at.z < 1 ? "" : "none";
     mark.div.style.left = ((at.x + 1) / 2 * width).toFixed(1) + "px";
     mark.div.style.top = ((1 - at.y) / 2 * height).toFixed(1) + "px";
   }});
-  requestAnimationFrame(placeLabels);
 }}
+function placeLabels() {{ positionLabels(); requestAnimationFrame(placeLabels); }}
+showView(Object.keys(views)[0]);
 placeLabels();
 </script>
 </body>
