@@ -236,6 +236,9 @@ class Sidecar(Strict):
     locked_joints: dict[str, Number] = Field({}, description="joints held fixed at these values (m, rad)")
     redundancy: Redundancy | None = Field(None, description="actuated joints beyond the task's freedoms, each "
                                           "profiled along the path by the search")
+    workpiece_frame: Text | None = Field(None, description="the frame the path is placed in when the workpiece rides "
+                                         "on a chain of the robot (a positioner's table), every joint moving it named "
+                                         "under redundancy.joints; default: the base frame")
     closures: list[Closure] = []
     actuators: Annotated[list[Actuator], Field(min_length=1)]
     drives: dict[str, Drive] = {}
