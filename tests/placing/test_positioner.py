@@ -214,3 +214,27 @@ def test_the_positioner_axes_are_rows_of_the_energy_table(tmp_path, capsys):
     assert document["feasible"]
     assert document["energy_per_actuator_J"]["rotate"] > 0.0 and document["energy_per_actuator_J"]["tilt"] > 0.0
     assert document["profiles"]["rotate"]["position_rad"][-1] == pytest.approx(TURNING[11], abs=1e-12)
+
+
+def test_the_profiles_figure_draws_the_resolved_joints_and_the_knots_where_they_stand(positioner, tmp_path, capsys):
+    """--png without --objectives plots each redundant joint along the path: the curves are the resolved joint
+    values, and the knot markers, placed at the times their shares of arc length are reached, sit on the knots'
+    values (the natural spline passes through its knots); a robot without redundant joints is told --png has
+    nothing to plot."""
+    pytest.importorskip("matplotlib")
+    from placement.output.plots import profiles_figure
+
+    evaluator = Evaluator(positioner, load_path(WELD))
+    detail = evaluator.detail(TURNING)
+    figure = profiles_figure(positioner, detail, "test")
+    for ax, q, knots in zip(figure.axes, positioner.redundant_q_indices, (TURNING[6:9], TURNING[9:]), strict=True):
+        curve, markers = ax.lines
+        np.testing.assert_allclose(curve.get_ydata(), np.degrees(detail.configuration[:, q]), rtol=1e-12)
+        np.testing.assert_allclose(markers.get_ydata(), np.degrees(knots), atol=0.05)  # between samples 0.25 s apart
+    png = tmp_path / "profiles.png"
+    at = "phi=-120,tilt@0=-10,tilt@1=-25,tilt@2=-20,rotate@0=290,rotate@1=140,rotate@2=-20"
+    assert main(["--robot", "ur5_positioner", "--path", str(WELD), "--at", at, "--png", str(png)]) == 0
+    assert png.stat().st_size > 0 and png.with_suffix(".svg").stat().st_size > 0
+    capsys.readouterr()
+    assert main(["--robot", "ur5", "--path", str(CIRCLE), "--at", "x=400", "--png", str(tmp_path / "no.png")]) == 2
+    assert "robot 'ur5' has none" in capsys.readouterr().err
