@@ -210,6 +210,9 @@ def test_the_positioner_axes_are_rows_of_the_energy_table(tmp_path, capsys):
     text = capsys.readouterr().out
     rows = {line.split()[0] for line in text.splitlines() if len(line.split()) == 6}
     assert {"tilt", "rotate"} <= rows
+    assert json.loads(out.read_text())["workpiece_frame"] == "workpiece"
+    assert main(["export", str(out), "--which", "at", "--to", "ur"]) == 2  # the work frame moves: not a fixed one
+    assert "work object carried by the positioner" in capsys.readouterr().err
     document = json.loads(out.read_text())["at"]
     assert document["feasible"]
     assert document["energy_per_actuator_J"]["rotate"] > 0.0 and document["energy_per_actuator_J"]["tilt"] > 0.0
