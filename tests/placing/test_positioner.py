@@ -31,6 +31,7 @@ from placement.workshop.catalog import builtin_robots_dir
 from placement.workshop.load import edit_redundancy, robot_from_sidecar
 from tests.support.paths import CIRCLE, EXAMPLES
 from tests.support.rnea_reference import rnea_actuator_efforts
+from tests.support.robot_copies import edited_copy
 
 WELD = EXAMPLES / "positioner_weld.yaml"
 POSITIONER_DIR = builtin_robots_dir() / "ur5_positioner"
@@ -188,6 +189,24 @@ def test_energy_of_the_resolved_motion_is_rnea_on_its_joint_trajectory(positione
     assert (batch.energy.per_actuator_J[0][:2] > 1.0).all()  # both positioner drives work: the tilted load, friction
 
 
+def test_turning_the_path_on_the_part_and_the_table_back_changes_no_energy(positioner):
+    """phi and the table's rotation are one freedom (why the sidecar leaves phi fixed): the path turned by 40° on the
+    round part and the table's rotation profile turned back by 40° draw the same energy, drive by drive (1e-9)."""
+    evaluator = Evaluator(positioner, load_path(WELD))
+    turned = TURNING.copy()
+    turned[3] += np.radians(40.0)
+    turned[9:] -= np.radians(40.0)
+    batch = evaluator.batch(np.vstack([TURNING, turned]))
+    assert batch.reachable.all()
+    np.testing.assert_allclose(batch.energy.per_actuator_J[1], batch.energy.per_actuator_J[0], rtol=1e-9, atol=1e-9)
+
+
+def test_the_locked_positioner_searches_phi_when_asked(capsys):
+    """Both axes locked, no knot is left and the sidecar frees no placement variable: the command says to free one."""
+    assert main(["--robot", "ur5_positioner", "--path", str(WELD), "--lock", "tilt=0", "--lock", "rotate=0"]) == 2
+    assert "leaves no placement variable free" in capsys.readouterr().err
+
+
 def test_a_workpiece_frame_must_ride_on_profiled_joints_only(positioner):
     sidecar = positioner.edited_sidecar(workpiece_frame="no_such_frame")
     with pytest.raises(RobotFileError, match="workpiece_frame"):
@@ -195,6 +214,21 @@ def test_a_workpiece_frame_must_ride_on_profiled_joints_only(positioner):
     redundancy = positioner.sidecar.redundancy.model_copy(update={"joints": ["tilt", "shoulder_pan_joint"]})
     with pytest.raises(RobotFileError, match="moved by rotate, which redundancy.joints does not profile"):
         robot_from_sidecar(positioner.sidecar_path, positioner.edited_sidecar(redundancy=redundancy))
+
+
+def test_an_empty_free_set_needs_redundant_joints(tmp_path):
+    def held(document):
+        document["locked_joints"] = {"tilt": 0.0, "rotate": 0.0}
+        document["actuators"] = document["actuators"][2:]
+        for key in ("redundancy", "workpiece_frame"):
+            document.pop(key)
+        for joint in ("tilt", "rotate"):
+            document["reference_configuration"].pop(joint)
+        document["sources"] = {key: text for key, text in document["sources"].items()
+                               if key.split(".")[0] not in ("redundancy", "workpiece_frame")}
+
+    with pytest.raises(RobotFileError, match="placement.free.*at least one free placement variable"):
+        load_robot(edited_copy("ur5_positioner", tmp_path, held))
 
 
 def test_process_forces_on_a_positioner_are_refused(positioner):
