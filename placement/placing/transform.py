@@ -18,6 +18,7 @@ import dataclasses
 import warnings
 
 import numpy as np
+import pinocchio as pin
 
 from placement.exceptions import PlacementWarning, SettingsError
 from placement.kinematics.trajectories import TaskTrajectory
@@ -122,22 +123,31 @@ def placed_task(robot: Robot, samples: PathSamples, placements: np.ndarray) -> t
 def workpiece_motion(robot: Robot, task: TaskTrajectory) -> tuple[np.ndarray, ...]:
     """The workpiece frame's motion in the base frame at each sample, as the profiled joints that carry it move.
 
+    The compiled tree kinematics runs on the chain that carries the frame alone (the model with every other joint
+    held at the reference configuration: they do not move it), batched over the samples.
+
     Returns:
         Its rotation (B, 3, 3), origin (B, 3) (m), twist (B, 6) (m/s, rad/s: its origin's velocity, then its angular
         velocity) and classical acceleration (B, 6) (m/s², rad/s²), world-aligned axes.
     """
-    rows = len(task.position_m)
-    q = np.repeat(robot.reference_q[None].astype(float), rows, axis=0)
-    v, a = np.zeros((rows, robot.model.nv)), np.zeros((rows, robot.model.nv))
-    if task.joint_position is not None:
-        joints = robot.redundant_q_indices
-        q[:, joints] = task.joint_position
-        if task.joint_velocity is not None and task.joint_acceleration is not None:
-            v[:, joints], a[:, joints] = task.joint_velocity, task.joint_acceleration
-    frame = robot.model.getFrameId(robot.workpiece_frame)
-    rotation, origin, jacobian, drift = (each[:, 0] for each in frame_kinematics(robot.model, [frame], q, v))
-    twist = np.einsum("bij,bj->bi", jacobian, v)
-    return rotation, origin, twist, np.einsum("bij,bj->bi", jacobian, a) + drift
+    rows, name = len(task.position_m), robot.workpiece_frame
+    model = robot.model
+    support = list(model.supports[model.frames[model.getFrameId(name)].parentJoint])[1:]
+    if not support or task.joint_position is None:  # the frame stands still where the reference configuration holds it
+        data = model.createData()
+        pin.framesForwardKinematics(model, data, robot.reference_q)
+        placement = data.oMf[model.getFrameId(name)]
+        still = np.zeros((rows, 6))
+        return (np.repeat(placement.rotation[None], rows, axis=0), np.repeat(placement.translation[None], rows, axis=0),
+                still, still.copy())
+    chain = pin.buildReducedModel(model, [j for j in range(1, model.njoints) if j not in support], robot.reference_q)
+    columns = [robot.redundant_joints.index(model.names[j]) for j in support]  # every one profiled (checked at load)
+    q, v = task.joint_position[:, columns], np.zeros((rows, len(columns)))
+    a = np.zeros_like(v)
+    if task.joint_velocity is not None and task.joint_acceleration is not None:
+        v, a = task.joint_velocity[:, columns], task.joint_acceleration[:, columns]
+    rotation, origin, jacobian, drift = (each[:, 0] for each in frame_kinematics(chain, [chain.getFrameId(name)], q, v))
+    return rotation, origin, (jacobian @ v[:, :, None])[:, :, 0], (jacobian @ a[:, :, None])[:, :, 0] + drift
 
 
 def on_workpiece(robot: Robot, task: TaskTrajectory) -> TaskTrajectory:
@@ -156,7 +166,7 @@ def on_workpiece(robot: Robot, task: TaskTrajectory) -> TaskTrajectory:
     omega, alpha = twist[:, 3:], acceleration[:, 3:]
 
     def turn(vectors: np.ndarray) -> np.ndarray:
-        return np.einsum("bij,bj->bi", rotation, vectors)
+        return (rotation @ vectors[:, :, None])[:, :, 0]
 
     arm, relative = turn(task.position_m), turn(task.velocity_m_s)
     velocity = twist[:, :3] + np.cross(omega, arm) + relative
