@@ -46,6 +46,7 @@ from placement.dynamics.tree_rnea import touch_tree_kernels
 from placement.energy.regeneration import REGENERATION
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.evaluation.parallel import Cluster, cluster, scheduler_address
+from placement.evaluation.results import PlacementDetail
 from placement.limits.collision import closest_points
 from placement.limits.workspace import workspace_misfit
 from placement.output.palette import AT_COLOR, BEST_COLOR, WORST_COLOR, path_color
@@ -113,7 +114,9 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--members", metavar="knee,energy,3",
                         help="with --objectives: the front members to detail and draw (knee, an objective's end, "
                              "or a member number; default: the knee and every end)")
-    parser.add_argument("--png", metavar="FILE", help="with --objectives: plot the front in FILE (PNG) and beside it as SVG")
+    parser.add_argument("--png", metavar="FILE", help="with --objectives: plot the front in FILE (PNG) and beside it as "
+                        "SVG; without, on a robot with redundant joints (a track, a positioner, a seven-axis arm's "
+                        "joint): plot each one's profile along the path at the placement reported (--at, else the best)")
     parser.add_argument("--rest", type=non_negative, default=0.0, metavar="S",
                         help="rest between passes (s), holding the path's end pose, for the duty cycle's cycles per "
                              "hour (default 0: back to back)")
@@ -392,12 +395,26 @@ def show(page: str, host: str) -> None:
         server.close()
 
 
-def check_front_options(args: argparse.Namespace) -> None:
-    """--objectives excludes the single-objective options; --members and --png need it."""
+def write_profiles(file: str, robot: Robot, detail: PlacementDetail, path_name: str) -> None:
+    """Plot the redundant joints' profiles of a placement in ``file`` (PNG) and beside it as SVG."""
+    from placement.output.plots import profiles_figure, save  # the [viz] extra (matplotlib, meshcat): imported only here
+
+    save(profiles_figure(robot, detail, f"{path_name} on {robot.name}: redundant joints along the path"),
+         str(file).removesuffix(".png"))
+    print(f"profiles written to {file} (and .svg)")
+
+
+def check_front_options(args: argparse.Namespace, robot: Robot) -> None:
+    """--objectives excludes the single-objective options; --members needs it, and --png without it a robot with
+    redundant joints (their profiles)."""
+    if args.png and len(args.path) > 1:
+        raise UsageError("--png: give a single --path")
     if args.objectives is None:
-        for option, value in (("--members", args.members), ("--png", args.png)):
-            if value is not None:
-                raise UsageError(f"{option} goes with --objectives (a Pareto front)")
+        if args.members is not None:
+            raise UsageError("--members goes with --objectives (a Pareto front)")
+        if args.png is not None and not robot.redundant_joints:
+            raise UsageError(f"--png plots a Pareto front (with --objectives) or the redundant joints' profiles, and "
+                             f"robot '{robot.name}' has none")
         return
     objectives = parse_objectives(args.objectives)
     if args.members is not None:
@@ -405,8 +422,6 @@ def check_front_options(args: argparse.Namespace) -> None:
     if args.at is not None or args.at_json is not None or args.minimize or args.maximize or args.objective != "energy":
         raise UsageError("--objectives searches a Pareto front: give it without --at, --minimize, --maximize or "
                          "--objective")
-    if args.png and len(args.path) > 1:
-        raise UsageError("--png: give a single --path")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -425,7 +440,7 @@ def run(args: argparse.Namespace) -> int:
         if text is not None:
             parse_values(text, option, redundant_variables(robot), length_variables(robot))  # its errors first
             warn(length_warnings(robot, option, unsuffixed_lengths(text, length_variables(robot))), args.strict)
-    check_front_options(args)
+    check_front_options(args, robot)
     check_outputs(("--json", args.json), ("--trace", args.trace), ("--html", args.html),
                   ("--png", args.png),
                   inputs=(*args.path, *robot_files(args.robot, args.cell)))
@@ -456,6 +471,8 @@ def run(args: argparse.Namespace) -> int:
             traced = details.get("at") or details.get("best") or details.get("worst")
             if args.trace and traced is not None:
                 write_trace(args.trace, robot, traced)
+            if args.png and args.objectives is None and traced is not None:
+                write_profiles(args.png, robot, traced, document["path"])
     if args.json:
         write_json(args.json, documents[0] if len(documents) == 1 else {"robot": robot.name, "paths": documents})
     if scene:

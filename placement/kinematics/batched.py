@@ -92,7 +92,7 @@ class BatchedKinematics:
         left the branch."""
         pose = targets.rotation is not None
         rotation = targets.rotation if pose else np.zeros((len(targets.position_m), 3, 3))
-        steps = step_lengths(targets, n)
+        steps = step_lengths(targets, n, every=self.robot.workpiece_frame is not None)
         jumps = jump_steps(steps)
         coarse = coarse_samples(steps, jumps) if n > 1 else np.zeros(1, dtype=np.int64)
         arc = np.concatenate([[0.0], np.cumsum(steps)])
@@ -154,14 +154,18 @@ def _displacement(start: Targets, stop: Targets) -> np.ndarray:
     return np.hstack([move, log3(stop.rotation @ start.rotation.transpose(0, 2, 1))])
 
 
-def step_lengths(targets: Targets, n: int) -> np.ndarray:
+def step_lengths(targets: Targets, n: int, every: bool = False) -> np.ndarray:
     """(n - 1,) task displacements between the first placement's successive samples (rotation counted at
-    ROTATION_LENGTH_M per radian), m."""
-    steps = _displacement(targets.rows(np.arange(n - 1)), targets.rows(np.arange(1, n)))
+    ROTATION_LENGTH_M per radian), m; with ``every``, the longest of every placement's (a workpiece on a positioner:
+    the tool's motion in the base frame then differs from placement to placement, as the profiles do)."""
+    if n < 2:
+        return np.zeros(0)
+    rows = np.arange(len(targets.position_m) if every else n).reshape(-1, n)
+    steps = _displacement(targets.rows(rows[:, :-1].ravel()), targets.rows(rows[:, 1:].ravel()))
     length = np.linalg.norm(steps[:, :3], axis=1)
     if steps.shape[1] == 6:
         length = length + ROTATION_LENGTH_M * np.linalg.norm(steps[:, 3:], axis=1)
-    return length
+    return length.reshape(-1, n - 1).max(axis=0)
 
 
 def jump_steps(steps: np.ndarray) -> np.ndarray:

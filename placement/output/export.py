@@ -92,6 +92,10 @@ def read_work_frame(file: str | Path, which: str = "best") -> WorkFrame:
     if "paths" in document:
         raise ResultFileError(file, "paths", f"holds {len(document['paths'])} paths; export reads a file of one path "
                               "(run the main job with a single --path)")
+    if document.get("workpiece_frame") is not None:
+        raise ExportError(f"{file}: the placement is in the frame '{document['workpiece_frame']}' of the robot's "
+                          "positioner, which moves along the path: a controller takes it as a work object carried by "
+                          "the positioner (coordinated motion), not as a fixed work frame, which is all export writes")
     entry = document.get(which)
     if not isinstance(entry, dict) or not isinstance(entry.get("placement"), dict):
         present = [key for key in WHICH if isinstance(document.get(key), dict)]

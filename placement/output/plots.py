@@ -22,7 +22,10 @@ from matplotlib.transforms import Bbox  # noqa: E402
 
 from placement.contract.objective import OBJECTIVES  # noqa: E402
 from placement.contract.objective import quantity as with_unit  # noqa: E402
+from placement.evaluation.results import PlacementDetail  # noqa: E402
+from placement.placing.profiles import is_closed, knot_shares, path_share, prismatic_joints  # noqa: E402
 from placement.placing.transform import ANGLES  # noqa: E402
+from placement.robot.model import Robot  # noqa: E402
 from placement.search.feed import FeedStudy  # noqa: E402
 from placement.search.pareto import ParetoFront  # noqa: E402
 from placement.search.sweep import SweepResult  # noqa: E402
@@ -142,6 +145,29 @@ def front_figure(front: ParetoFront, title: str) -> Figure:
         place_labels(ax, [(end[i], end[j]) for end in ends],
                      [with_unit(front.optima[name], OBJECTIVES.get(name).unit) for name in front.objectives],
                      [f"C{k + 2}" for k in range(len(ends))])
+    figure.suptitle(title, fontsize=10)
+    return figure
+
+
+def profiles_figure(robot: Robot, detail: PlacementDetail, title: str) -> Figure:
+    """Each redundant joint's profile along the path (deg, or mm for a prismatic joint) against time, as the exact
+    chain moved it, one panel per joint, its knots marked where they stand along the arc length."""
+    joints = robot.redundant_joints
+    figure, axes = plt.subplots(len(joints), 1, figsize=(6.4, 1.2 + 1.9 * len(joints)), sharex=True,
+                                constrained_layout=True, squeeze=False)
+    t = detail.samples.t_s
+    share = path_share(detail.samples)[0]
+    knot_t = np.interp(knot_shares(robot.profile_knots, is_closed(detail.samples)), share, t)
+    prismatic = prismatic_joints(robot)
+    for ax, joint, q in zip(axes[:, 0], joints, robot.redundant_q_indices, strict=True):
+        scale, unit = (1e3, "mm") if joint in prismatic else (180 / np.pi, "deg")
+        values = detail.configuration[:, q] * scale
+        ax.plot(t, values, color="C0", linewidth=1.2)
+        ax.plot(knot_t, np.interp(knot_t, t, values), "o", color="C1", markersize=5, label="knots")
+        ax.set_ylabel(f"{joint} ({unit})")
+        ax.grid(True, linewidth=0.3)
+    axes[0, 0].legend(fontsize=8)
+    axes[-1, 0].set_xlabel("time along the path (s)")
     figure.suptitle(title, fontsize=10)
     return figure
 

@@ -381,13 +381,16 @@ def format_result(robot: Robot, result: PlacementResult, rest_s: float = 0.0,
 
 def job_document(robot: Robot, path: ToolPath, evaluation: EvaluatorSettings, samples: int) -> dict[str, Any]:
     """The head of the main job's JSON document for one path: robot, path, objective, regeneration policy, timing
-    law, number of samples, margin kept (a share), for a planar robot its plane, and the moving links without
+    law, number of samples, margin kept (a share), for a planar robot its plane, for a workpiece on a positioner the
+    frame the placement is in (``workpiece_frame``), and the moving links without
     inertia it was loaded with (``massless_links``, with ``--allow-massless``), whose inertia the energies leave out."""
     document: dict[str, Any] = {"robot": robot.name, "path": path.name, "objective": evaluation.objective,
                                 "regeneration": evaluation.regeneration, "timing": path.timing.mode,
                                 "samples": samples, "margin": evaluation.margin}
     if robot.plane is not None:
         document["plane"] = describe_plane(robot.plane)
+    if robot.workpiece_frame is not None:  # the placement is in this frame, which the profiled joints move
+        document["workpiece_frame"] = robot.workpiece_frame
     if robot.massless_links:  # loaded as asked (--allow-massless): the energies leave out their inertia
         document["massless_links"] = list(robot.massless_links)
     return document

@@ -18,9 +18,11 @@ import dataclasses
 import warnings
 
 import numpy as np
+import pinocchio as pin
 
-from placement.exceptions import PlacementWarning
+from placement.exceptions import PlacementWarning, SettingsError
 from placement.kinematics.trajectories import TaskTrajectory
+from placement.kinematics.tree import frame_kinematics
 from placement.path.samples import PathSamples
 from placement.placing.profiles import joint_profiles, knots_of, spin_of
 from placement.robot.model import Robot
@@ -89,7 +91,9 @@ def placed_task(robot: Robot, samples: PathSamples, placements: np.ndarray) -> t
     frame to the end-effector frame. The angular velocity and acceleration in the base frame are
     R_place times the path frame's. The load is the process force on the tool from the workpiece,
     with a zero moment for a pose task. A robot's redundant joints follow the profiles whose knots end the
-    placement vectors (:mod:`placement.placing.profiles`).
+    placement vectors (:mod:`placement.placing.profiles`). On a robot whose workpiece rides on a chain (a
+    positioner's table, ``Robot.workpiece_frame``), the placement is in the workpiece's frame, which the profiled
+    joints move: the task is the tool's motion relative to it, seen in the base frame (:func:`on_workpiece`).
 
     Args:
         robot: The robot.
@@ -98,14 +102,84 @@ def placed_task(robot: Robot, samples: PathSamples, placements: np.ndarray) -> t
 
     Returns:
         The task (K·N samples, placement-major) and the load, (K·N, 3 or 6).
+
+    Raises:
+        SettingsError: A path with process forces on a robot whose workpiece rides on a chain.
     """
     task, force = _placed_tool(robot, samples, placements)
     knots = knots_of(robot, np.atleast_2d(placements))
-    if knots is None:
+    if knots is not None:
+        position, velocity, acceleration = joint_profiles(knots, samples)
+        task = dataclasses.replace(task, joint_position=position, joint_velocity=velocity,
+                                   joint_acceleration=acceleration)
+    if robot.workpiece_frame is None:
         return task, force
-    position, velocity, acceleration = joint_profiles(knots, samples)
-    return dataclasses.replace(task, joint_position=position, joint_velocity=velocity,
-                               joint_acceleration=acceleration), force
+    if np.any(samples.force_on_tool_N):
+        raise SettingsError(f"robot '{robot.name}' carries the workpiece on a positioner ({robot.workpiece_frame}): a "
+                            "path with process forces is not covered (their reaction on the positioner is not modelled)")
+    return on_workpiece(robot, task), force
+
+
+def workpiece_motion(robot: Robot, task: TaskTrajectory) -> tuple[np.ndarray, ...]:
+    """The workpiece frame's motion in the base frame at each sample, as the profiled joints that carry it move.
+
+    The compiled tree kinematics runs on the chain that carries the frame alone (the model with every other joint
+    held at the reference configuration: they do not move it), batched over the samples.
+
+    Returns:
+        Its rotation (B, 3, 3), origin (B, 3) (m), twist (B, 6) (m/s, rad/s: its origin's velocity, then its angular
+        velocity) and classical acceleration (B, 6) (m/s², rad/s²), world-aligned axes.
+    """
+    rows, name = len(task.position_m), robot.workpiece_frame
+    model = robot.model
+    support = list(model.supports[model.frames[model.getFrameId(name)].parentJoint])[1:]
+    if not support or task.joint_position is None:  # the frame stands still where the reference configuration holds it
+        data = model.createData()
+        pin.framesForwardKinematics(model, data, robot.reference_q)
+        placement = data.oMf[model.getFrameId(name)]
+        still = np.zeros((rows, 6))
+        return (np.repeat(placement.rotation[None], rows, axis=0), np.repeat(placement.translation[None], rows, axis=0),
+                still, still.copy())
+    chain = pin.buildReducedModel(model, [j for j in range(1, model.njoints) if j not in support], robot.reference_q)
+    columns = [robot.redundant_joints.index(model.names[j]) for j in support]  # every one profiled (checked at load)
+    q, v = task.joint_position[:, columns], np.zeros((rows, len(columns)))
+    a = np.zeros_like(v)
+    if task.joint_velocity is not None and task.joint_acceleration is not None:
+        v, a = task.joint_velocity[:, columns], task.joint_acceleration[:, columns]
+    rotation, origin, jacobian, drift = (each[:, 0] for each in frame_kinematics(chain, [chain.getFrameId(name)], q, v))
+    return rotation, origin, (jacobian @ v[:, :, None])[:, :, 0], (jacobian @ a[:, :, None])[:, :, 0] + drift
+
+
+def on_workpiece(robot: Robot, task: TaskTrajectory) -> TaskTrajectory:
+    """The tool's task in the base frame, from its task relative to the workpiece frame (``task``: positions,
+    velocities, accelerations and rotations in that frame's axes), as the workpiece frame moves with the profiled
+    joints (:func:`workpiece_motion`).
+
+    With the table's rotation R_w, origin o_w, velocity v_w, angular velocity ω_w and classical accelerations a_w,
+    α_w, and the tool's relative position p, velocity u and acceleration b: r = R_w·p, position o_w + r, velocity
+    v_w + ω_w × r + R_w·u, acceleration a_w + α_w × r + ω_w × (ω_w × r) + 2 ω_w × R_w·u + R_w·b; rotation
+    R_w·R, angular velocity ω_w + R_w·ω, angular acceleration α_w + ω_w × R_w·ω + R_w·α̇. The profiled joints stay
+    rows of the task: the tool's rows do not depend on them, so the inverse kinematics solves the tool relative to
+    the workpiece exactly.
+    """
+    rotation, origin, twist, acceleration = workpiece_motion(robot, task)
+    omega, alpha = twist[:, 3:], acceleration[:, 3:]
+
+    def turn(vectors: np.ndarray) -> np.ndarray:
+        return (rotation @ vectors[:, :, None])[:, :, 0]
+
+    arm, relative = turn(task.position_m), turn(task.velocity_m_s)
+    velocity = twist[:, :3] + np.cross(omega, arm) + relative
+    accel = (acceleration[:, :3] + np.cross(alpha, arm) + np.cross(omega, np.cross(omega, arm))
+             + 2.0 * np.cross(omega, relative) + turn(task.acceleration_m_s2))
+    placed = dataclasses.replace(task, position_m=origin + arm, velocity_m_s=velocity, acceleration_m_s2=accel)
+    if task.rotation is None:
+        return placed
+    assert task.angular_velocity_rad_s is not None and task.angular_acceleration_rad_s2 is not None
+    spin = turn(task.angular_velocity_rad_s)
+    return dataclasses.replace(placed, rotation=rotation @ task.rotation, angular_velocity_rad_s=omega + spin,
+                               angular_acceleration_rad_s2=alpha + np.cross(omega, spin)
+                               + turn(task.angular_acceleration_rad_s2))
 
 
 def _placed_tool(robot: Robot, samples: PathSamples, placements: np.ndarray) -> tuple[TaskTrajectory, np.ndarray]:

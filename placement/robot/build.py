@@ -322,7 +322,28 @@ def _check_redundancy(robot: Robot) -> int:
     if names and robot.closures:
         raise RobotFileError(robot.sidecar_path, "redundancy", "redundant joints are resolved on serial robots only "
                              "(this one has closures): lock them under locked_joints")
+    _check_workpiece_frame(robot)
     return len(names)
+
+
+def _check_workpiece_frame(robot: Robot) -> None:
+    """The workpiece's frame (``workpiece_frame``) is a frame of the model on a chain of profiled joints only: the
+    path then fixes the tool relative to it, and the profiles fix where it is."""
+    name = robot.workpiece_frame
+    if name is None:
+        return
+    model = robot.model
+    if not model.existFrame(name) or name == robot.mount_frame:
+        raise RobotFileError(robot.sidecar_path, "workpiece_frame", f"'{name}' is not a frame of the model apart from "
+                             "the end effector's: expected the link or fixed joint the workpiece is clamped to")
+    if robot.closures:
+        raise RobotFileError(robot.sidecar_path, "workpiece_frame", "a workpiece on a chain needs a serial robot (this "
+                             "one has closures)")
+    moving = [model.names[j] for j in list(model.supports[model.frames[model.getFrameId(name)].parentJoint])[1:]]
+    unprofiled = [joint for joint in moving if joint not in robot.redundant_joints]
+    if unprofiled:
+        raise RobotFileError(robot.sidecar_path, "workpiece_frame", f"'{name}' is moved by {', '.join(unprofiled)}, "
+                             "which redundancy.joints does not profile: name them there, or lock them")
 
 
 def _task_freedoms(robot: Robot) -> tuple[int, str]:

@@ -230,6 +230,13 @@ class Robot:
                         dtype=np.int64)
 
     @property
+    def workpiece_frame(self) -> str | None:
+        """The frame the path is placed in when the workpiece rides on a chain of the robot (a positioner's table,
+        the sidecar's ``workpiece_frame``), or None: the base frame. The joints moving it are redundant joints,
+        profiled along the path."""
+        return self.sidecar.workpiece_frame
+
+    @property
     def mount_frame(self) -> str:
         """The frame the sidecar names as the end effector (``end_effector.frame``): tool tips and tool bodies
         that name no frame mount on it, and a closed-form plug-in solves for it. The path follows

@@ -145,7 +145,7 @@ class Plane(Strict):
 class PlacementDefaults(Strict):
     """The default search space of path placements on this robot (m, rad); for a planar mechanism, its plane."""
 
-    free: Annotated[list[Literal["x", "y", "z", "phi", "theta", "psi"]], Field(min_length=1)] | None = None
+    free: list[Literal["x", "y", "z", "phi", "theta", "psi"]] | None = None  # [] only beside redundant joints
     bounds: dict[Literal["x", "y", "z", "phi", "theta", "psi"], tuple[Number, Number]] = {}
     plane: Plane | None = None
 
@@ -236,6 +236,9 @@ class Sidecar(Strict):
     locked_joints: dict[str, Number] = Field({}, description="joints held fixed at these values (m, rad)")
     redundancy: Redundancy | None = Field(None, description="actuated joints beyond the task's freedoms, each "
                                           "profiled along the path by the search")
+    workpiece_frame: Text | None = Field(None, description="the frame the path is placed in when the workpiece rides "
+                                         "on a chain of the robot (a positioner's table), every joint moving it named "
+                                         "under redundancy.joints; default: the base frame")
     closures: list[Closure] = []
     actuators: Annotated[list[Actuator], Field(min_length=1)]
     drives: dict[str, Drive] = {}
@@ -268,6 +271,10 @@ def read_sidecar(path: Path) -> Sidecar:
 
 
 def _check_references(path: Path, sidecar: Sidecar) -> None:
+    if sidecar.placement is not None and sidecar.placement.free == [] and not (sidecar.redundancy and
+                                                                              sidecar.redundancy.joints):
+        raise RobotFileError(path, "placement.free", "expected at least one free placement variable, e.g. [x, y, z, "
+                             "phi] (an empty list only for a robot whose redundant joints' knots are searched)")
     for i, actuator in enumerate(sidecar.actuators):
         if actuator.drive is not None and actuator.drive not in sidecar.drives:
             raise RobotFileError(path, f"actuators.{i}.drive", f"unknown drive '{actuator.drive}', expected one of "

@@ -110,7 +110,8 @@ def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict
     knots = redundant_variables(robot)
     names = VARIABLES + knots
     if free is None:  # the default free set, less what the caller fixes
-        default_free = defaults.free if defaults and defaults.free else PLANE_VARIABLES if plane else ("x", "y", "z", "phi")
+        default_free = (defaults.free if defaults and defaults.free is not None else PLANE_VARIABLES if plane
+                        else ("x", "y", "z", "phi"))
         free = tuple(n for n in (*default_free, *knots) if n not in (fixed or {}))
     free = tuple(free)
     unknown = sorted(set(free) - set(names))
@@ -143,6 +144,10 @@ def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict
     values = {**redundant_defaults(robot), **(fixed or {})}
     fixed_vector = np.array([float(values.get(name, 0.0)) for name in names])
     chosen = tuple(n for n in names if n in free)
+    if not chosen:
+        raise SettingsError(f"robot '{robot.name}' leaves no placement variable free (its sidecar's placement.free is "
+                            "empty, for the knots of its redundant joints, and none is profiled): free some with --free, "
+                            "e.g. --free phi")
     return PlacementSpace(free=chosen,
                           lower=np.array([limits[n][0] for n in chosen], dtype=float),
                           upper=np.array([limits[n][1] for n in chosen], dtype=float),

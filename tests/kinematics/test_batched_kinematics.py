@@ -14,7 +14,7 @@ from placement import load_robot
 from placement.__main__ import main
 from placement.kinematics import SOLVERS, TaskTrajectory, solver_for
 from placement.kinematics.base import task_error
-from placement.kinematics.batched import SOLVE_TOLERANCE
+from placement.kinematics.batched import SOLVE_TOLERANCE, Targets, step_lengths
 from placement.kinematics.tree import frame_kinematics, log3
 from placement.path import load_path
 from placement.placing.transform import placed_task
@@ -202,3 +202,12 @@ def test_the_continuation_step_shrinks_with_the_mechanism(tmp_path):
     assert min(tenth.sum(), twentieth.sum()) >= full.sum() > 600 and (tenth != twentieth).sum() <= 2
     both = tenth & twentieth
     np.testing.assert_allclose(tenth_q[both], twentieth_q[both], atol=1e-6)
+
+
+def test_step_lengths_of_every_placement_take_the_longest():
+    """A workpiece on a positioner moves the tool in the base frame differently at each placement: the coarse march
+    then spaces its samples by the longest step of any placement (``every``), not the first placement's."""
+    line = np.linspace(0.0, 1.0, 5)[:, None] * np.array([0.01, 0.0, 0.0])
+    targets = Targets(np.vstack([line, 3.0 * line, 2.0 * line]), None)
+    np.testing.assert_allclose(step_lengths(targets, 5), 0.0025, rtol=1e-12)
+    np.testing.assert_allclose(step_lengths(targets, 5, every=True), 0.0075, rtol=1e-12)

@@ -24,6 +24,9 @@ RUNS = {  # each kind of document: a search with its duty cycle and boxes, --at 
     "at, loaded stiffness": ["--robot", "orthoglide", "--path", str(EXAMPLE), "--at", "x=0,y=0,z=0", "--loaded-stiffness"],
     "a track's knots in m": ["--robot", "ur5_track", "--path", str(EXAMPLES / "long_seam.yaml"), "--at",
                              "x=450,z=200,phi=90,track@0=-700,track@1=100,track@2=750"],
+    "a workpiece on a positioner": ["--robot", "ur5_positioner", "--path", str(EXAMPLES / "positioner_weld.yaml"),
+                                    "--at", "phi=-120,tilt@0=-10,tilt@1=-25,tilt@2=-20,rotate@0=290,rotate@1=140,"
+                                    "rotate@2=-20"],
     "optimality gap": ["--robot", "orthoglide", "--path", str(EXAMPLE), "--minimize", "--free", "x,phi", "--gap", "300",
                        *QUICK],
 }
@@ -46,7 +49,8 @@ def test_real_json_output_validates_against_the_schema(run, tmp_path, capsys):
     expected = {"search": {"best", "worst", "gain"}, "at on a planar robot": {"at"}, "at in a cell": {"at"},
                 "front": {"members", "knee", "drawn"}, "two paths": {"best"},
                 "seven axes, error bars": {"best", "worst", "uncertainty"}, "at, loaded stiffness": {"at"},
-                "a track's knots in m": {"at"}, "optimality gap": {"best", "optimality_gap"}}[run]
+                "a track's knots in m": {"at"}, "a workpiece on a positioner": {"at", "workpiece_frame"},
+                "optimality gap": {"best", "optimality_gap"}}[run]
     assert expected <= keys  # the run gave the document kind it stands for
     if run == "search":
         assert {"duty", "tolerance", "recheck_tightest"} <= set(document["best"])

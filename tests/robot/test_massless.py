@@ -302,7 +302,7 @@ def test_an_absurd_link_mass_is_refused_unless_the_sidecar_gives_it(tmp_path):
 
 # --- every robot still loads ----------------------------------------------------------------------------------------
 
-@pytest.mark.parametrize("name", ["orthoglide", "fivebar", "delta", "ur5", "panda", "ur5_track"])
+@pytest.mark.parametrize("name", ["orthoglide", "fivebar", "delta", "ur5", "panda", "ur5_track", "ur5_positioner"])
 def test_the_builtin_robots_load_without_a_warning(name):
     with warnings.catch_warnings():
         warnings.simplefilter("error", MasslessWarning)
