@@ -45,8 +45,8 @@ import numpy as np
 import pinocchio as pin
 
 from placement.robot.exceptions import RobotFileError
+from placement.robot.expanded import cached_description
 from placement.robot.urdf import UrdfContents
-from placement.robot.xacro import cached_description
 
 SUFFIXES = (".xml", ".mjcf")
 ACTUATOR_TAGS = ("general", "motor", "position", "velocity", "intvelocity", "damper", "cylinder", "muscle",

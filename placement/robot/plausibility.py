@@ -39,7 +39,7 @@ from placement.exceptions import PlacementWarning, listed
 from placement.robot.exceptions import RobotFileError
 from placement.robot.formats import is_gepetto
 from placement.robot.mjcf import is_mjcf
-from placement.robot.model import Robot
+from placement.robot.model import Closure, Robot
 from placement.robot.urdf import UrdfContents
 
 MASSLESS_KG = 1e-6  # a body lighter than this has no mass (kg)
@@ -103,15 +103,19 @@ def massless_note(robot: Robot) -> str | None:
 def links_without_inertia(robot: Robot) -> list[str]:
     """The moving links without inertia that no rule makes legitimate (the module's docstring), one per body: the
     link its joint carries, in model order."""
-    model = robot.model
+    return model_links_without_inertia(robot.model, robot.closures)
+
+
+def model_links_without_inertia(model: pin.Model, closures: Sequence[Closure] = ()) -> list[str]:
+    """:func:`links_without_inertia` of a model and its closures (none: a serial arm's model before its sidecar)."""
     lacking = {j for j in range(1, model.njoints) if _without_inertia(model.inertias[j])}
     if not lacking:
         return []
     children: dict[int, list[int]] = {j: [] for j in range(model.njoints)}
     for j in range(1, model.njoints):
         children[model.parents[j]].append(j)
-    frames = [model.frames[i] for closure in robot.closures for i in closure.frame_ids]
-    welds = [tuple(model.frames[i].parentJoint for i in closure.frame_ids) for closure in robot.closures
+    frames = [model.frames[i] for closure in closures for i in closure.frame_ids]
+    welds = [tuple(model.frames[i].parentJoint for i in closure.frame_ids) for closure in closures
              if closure.kind == "weld"]
     carries = {0} | (set(range(1, model.njoints)) - lacking)
     changed = True

@@ -47,11 +47,13 @@ import pinocchio as pin
 import yaml
 from pydantic import ValidationError
 
+from placement.exceptions import listed
 from placement.robot.build import PRISMATIC_JOINTS, reduced_model
 from placement.robot.exceptions import ExampleRobotError
 from placement.robot.formats import YAML_NAME, DescriptionOptions, is_gepetto
 from placement.robot.mjcf import MjcfJoint, is_mjcf, mjcf_model, qpos0, read_mjcf
 from placement.robot.model import Robot
+from placement.robot.plausibility import model_links_without_inertia
 from placement.robot.sidecar import Sidecar
 from placement.robot.tool import find_frame
 from placement.robot.urdf import ERD_PREFIX, closing_pairs, erd_urdf_path, pinocchio_model, urdf_limits_missing
@@ -199,6 +201,7 @@ def _neutral(model: pin.Model) -> np.ndarray:
 
 def _estimated_sidecar(arm: _Arm, name: str, urdf: str, description: str) -> Sidecar:
     """The sidecar of an arm with every number its description does not give estimated (module docstring)."""
+    arm.refuse_without_limits()
     box_low, box_high, q_ref = arm.workspace_and_reference()
     drives = {arm.drive_name(j): arm.drive(j) for j in arm.active}
     end_effector: dict[str, object] = {"frame": arm.tool, "task": arm.task}
@@ -329,6 +332,32 @@ class _Arm:
             entry["velocity_max"] = self.speeds[joint]
         return entry
 
+    def refuse_without_limits(self) -> None:
+        """Refuse a URDF that gives a moving joint no effort or velocity limit, naming every such joint and, since
+        such descriptions (ROS-Industrial's) give no inertia either, every moving link without inertia.
+
+        Raises:
+            ExampleRobotError: Some joint's drive cannot be estimated; the message says what a sidecar must give.
+        """
+        if self.given is not None:  # an MJCF: its efforts are checked joint by joint (drive)
+            return
+        limits = {"effort": self.model.effortLimit, "velocity": self.model.velocityLimit}
+        missing = {kind: [self.model.names[j] for j in self.active if not 0 < values[self.model.joints[j].idx_v] < np.inf]
+                   for kind, values in limits.items()}
+        if not any(missing.values()):
+            return
+        said = " and ".join(f"no {kind} limit for joint(s) {listed(names, 8)}" for kind, names in missing.items()
+                            if names)
+        massless = model_links_without_inertia(self.reduced())
+        without = (f"; nor any inertia for its moving link(s) {listed(massless, 8)} (no <inertial>): every energy "
+                   "would leave out their weight and inertia" if massless else "")
+        links = (f", and each link's mass_kg, com_m (m) and inertia_kg_m2 under links (e.g. links.{massless[0]}, "
+                 "each with a sources entry)" if massless else "")
+        raise ExampleRobotError(f"{self.label}: its URDF gives {said} (<limit effort=... velocity=...>), so their "
+                                f"drives cannot be estimated{without}. Write a sidecar that gives a drive for each "
+                                f"actuator (its motor's max_torque_Nm and max_speed_rad_s from the data sheet){links}: "
+                                "docs/adding_a_robot.md, '3. A robot written by hand'")
+
     def drive(self, joint: int) -> dict:
         """The estimated drive of one joint (rules: module docstring)."""
         joint_name, v = self.model.names[joint], self.model.joints[joint].idx_v
@@ -337,9 +366,6 @@ class _Arm:
             raise ExampleRobotError(f"{self.label}: nothing in the MJCF bounds the effort of joint '{joint_name}', so "
                                     "its drive cannot be estimated: give its actuator a forcerange (or the joint an "
                                     "actuatorfrcrange, N or N m), or write a sidecar (docs/adding_a_robot.md)")
-        if not (0 < effort < np.inf and 0 < speed < np.inf):
-            raise ExampleRobotError(f"{self.label}: joint '{joint_name}' has no effort or velocity limit in its "
-                                    f"URDF (got {effort:g}, {speed:g}), so its drive cannot be estimated; write a sidecar")
         prismatic = self.model.joints[joint].shortname().startswith("JointModelP")
         k = 2 * np.pi / SCREW_LEAD_M if prismatic else GEAR_RATIO
         transmission = ({"type": "ball_screw", "lead_m": SCREW_LEAD_M, "efficiency": 1.0} if prismatic
