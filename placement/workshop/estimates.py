@@ -9,8 +9,10 @@ number the URDF does not give is an estimate, labelled ``EST`` in the sidecar's 
   limits. Of a 7-joint chain, the third joint is redundant, as the built-in ``panda``'s
   ``panda_joint3`` (on the usual shoulder-elbow-wrist arms, the upper arm's redundant rotation): it
   follows a profile along the path with ``REDUNDANT_KNOTS`` knots that the search chooses
-  (:mod:`placement.placing.profiles`; ``--lock`` holds it instead). Chains of 3, 6 or 7 joints are
-  taken: six or seven moving joints follow a pose task, three a position task; others need a sidecar.
+  (:mod:`placement.placing.profiles`; ``--lock`` holds it instead). Chains of 3 to 7 joints are
+  taken: six or seven moving joints follow a pose task, three a position task. Of a chain of 4 or 5 joints
+  (SCARAs, 5-axis arms such as the SO-101) the tool's position is the task, and the joints after the third
+  (the wrist) are redundant, profiled along the path as a 7-joint chain's third; others need a sidecar.
 - **Drives** (one per joint): a gear of ratio ``GEAR_RATIO`` = 100 (revolute joint) or a ball
   screw of lead ``SCREW_LEAD_M`` = 10 mm (prismatic joint), efficiency 1, speed ratio k; a motor
   whose peak torque is the URDF's effort limit / k and top speed the URDF's velocity limit · k,
@@ -215,8 +217,8 @@ def _estimated_sidecar(arm: _Arm, name: str, urdf: str, description: str) -> Sid
         "end_effector": end_effector,
         "reference_configuration": {arm.model.names[j]: float(q_ref[arm.q_index(j)]) for j in arm.active},
         "locked_joints": arm.locked,
-        **({"redundancy": {"joints": [arm.model.names[arm.chain[2]]], "knots": REDUNDANT_KNOTS}}
-           if len(arm.active) == 7 else {}),
+        **({"redundancy": {"joints": [arm.model.names[j] for j in arm.redundant], "knots": REDUNDANT_KNOTS}}
+           if arm.redundant else {}),
         "actuators": [arm.actuator(j, q_ref) for j in arm.active],
         "drives": drives,
         "workspace": {"type": "box", "min_m": box_low.tolist(), "max_m": box_high.tolist(),
@@ -279,9 +281,10 @@ class _Arm:
         for j in unlimited:  # free while the reference posture is sought, a full turn about it in the sidecar
             index = model.joints[j].idx_q
             model.lowerPositionLimit[index], model.upperPositionLimit[index] = -np.inf, np.inf
-        if len(chain) not in (3, 6, 7):
+        if len(chain) not in (3, 4, 5, 6, 7):
             raise ExampleRobotError(f"{label}: {len(chain)} joint(s) from the base to '{tool}'; a path needs "
-                                    "3 (a position task), 6 (a pose task) or 7 (the third redundant): choose another "
+                                    "3 to 5 (a position task, joints after the third redundant), 6 (a pose task) or 7 "
+                                    "(the third redundant): choose another "
                                     "--tool, or write a sidecar that locks the joints the path should not move "
                                     "(docs/adding_a_robot.md)")
         active = list(chain)
@@ -299,6 +302,13 @@ class _Arm:
     def pose(self) -> bool:
         """Whether the tool's orientation is prescribed too (six moving joints)."""
         return len(self.active) >= 6
+
+    @property
+    def redundant(self) -> list[int]:
+        """The joints profiled along the path: a seven-joint chain's third, a 4- or 5-joint chain's after the third."""
+        if len(self.active) == 7:
+            return [self.chain[2]]
+        return self.active[3:] if len(self.active) in (4, 5) else []
 
     @property
     def task(self) -> str:
@@ -398,6 +408,9 @@ class _Arm:
         if len(self.active) == 7:
             entries["redundancy"] = (f"EST: the chain's third joint profiled along the path with {REDUNDANT_KNOTS} "
                                      "knots, as the built-in panda's joint 3")
+        elif self.redundant:
+            entries["redundancy"] = (f"EST: a position task, the chain's joints after the third profiled along the path "
+                                     f"with {REDUNDANT_KNOTS} knots (a 4- or 5-axis arm's wrist)")
         for i, joint in enumerate(self.active):
             if joint in self.unlimited:
                 for field in ("position_min", "position_max"):
