@@ -251,4 +251,11 @@ def test_a_description_without_efforts_or_inertias_is_refused_naming_both_and_wh
     assert "under links (e.g. links.link_1" in err and "docs/adding_a_robot.md" in err
     urdf.write_text(ROS_INDUSTRIAL_URDF.replace('effort="0"', 'effort="50"'))  # efforts given: the massless refusal
     assert main(["--robot", str(urdf), "--tool", "tool0", "--path", str(CIRCLE)]) == 2
-    assert "3 moving link(s) of bare.urdf have no inertia" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "3 moving link(s) of bare.urdf have no inertia" in err
+    assert "--allow-massless --write-sidecar FILE writes the estimated sidecar, for you to add them to" in err
+    xacro = tmp_path / "bare.xacro"  # named as the user gave it, not as its expansion in the cache
+    xacro.write_text(urdf.read_text().replace('<robot name="bare">',
+                                              '<robot name="bare" xmlns:xacro="http://ros.org/wiki/xacro">'))
+    assert main(["--robot", str(xacro), "--tool", "tool0", "--path", str(CIRCLE)]) == 2
+    assert "3 moving link(s) of bare.xacro have no inertia" in capsys.readouterr().err
