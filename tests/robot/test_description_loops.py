@@ -268,3 +268,17 @@ def test_an_end_effector_the_solver_cannot_move_is_refused_naming_it_and_what_to
     err = capsys.readouterr().err
     assert "field 'end_effector.frame': the numeric solver reaches no position of the end effector 'effector'" in err
     assert "choose another frame (--tool, or end_effector.frame)" in err and len(err.strip().splitlines()) <= 2
+
+
+def test_an_mjcf_loop_whose_actuators_nothing_bounds_is_refused_naming_every_one(tmp_path, capsys):
+    """onshape-to-robot's MJCF exports give their position actuators a kp and no forcerange: both motors named, and
+    where the bound goes; with it the five-bar loads."""
+    unbounded = fivebar_mjcf().replace('<motor joint="mot1" ctrlrange="-10 10"/><motor joint="mot2" ctrlrange="-10 10"/>',
+                                       '<position joint="mot1" kp="50"/><position joint="mot2" kp="50"/>')
+    path = tmp_path / "fivebar.xml"
+    path.write_text(unbounded)
+    assert main(["--robot", str(path), "--tool", "effector", "--path", str(CIRCLE)]) == 2
+    err = capsys.readouterr().err
+    assert "nothing bounds the effort of actuated joint(s) mot1, mot2" in err and 'forcerange="-T T"' in err
+    path.write_text(unbounded.replace('kp="50"/>', 'kp="50" forcerange="-10 10"/>'))
+    assert [a.joint for a in description_sidecar(path, "effector").actuators] == ["mot1", "mot2"]
