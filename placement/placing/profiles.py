@@ -68,12 +68,16 @@ def length_variables(robot: Robot) -> frozenset[str]:
 
 
 def redundant_bounds(robot: Robot) -> dict[str, tuple[float, float]]:
-    """Each redundant variable's bounds, by name: the spin's whole turn, a knot's joint range (m or rad)."""
+    """Each redundant variable's bounds, by name: the spin's whole turn, a knot's joint range (m or rad): its
+    actuator's (the sidecar's, or a continuous joint's turn about the reference), else the URDF's limits."""
     model = robot.model
+    ranges = {actuator.joint: (actuator.position_min, actuator.position_max) for actuator in robot.actuators}
     bounds = {SPIN: (-np.pi, np.pi)} if robot.tool_spin else {}
     for name in knot_names(robot):
-        q = model.joints[model.getJointId(knot_joint(name))].idx_q
-        bounds[name] = (float(model.lowerPositionLimit[q]), float(model.upperPositionLimit[q]))
+        joint = knot_joint(name)
+        q = model.joints[model.getJointId(joint)].idx_q
+        low, high = ranges.get(joint, (model.lowerPositionLimit[q], model.upperPositionLimit[q]))
+        bounds[name] = (float(low), float(high))
     return bounds
 
 

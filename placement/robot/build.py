@@ -32,6 +32,7 @@ from placement.robot.xacro import expand_xacro, is_xacro
 
 CLOSURE_TOLERANCE_M = 1e-6
 PRISMATIC_JOINTS = ("JointModelPX", "JointModelPY", "JointModelPZ", "JointModelPrismaticUnaligned")
+RENAMED_APART = "#joint"  # appended to a joint named as a link while Pinocchio reduces the model (a name no URDF gives)
 
 
 def build_robot(path: Path, sidecar: Sidecar, *, check_closures: bool = True, allow_massless: bool = False,
@@ -126,21 +127,38 @@ def _lock_joints(model: pin.Model, path: Path, locked: dict[str, float]) -> pin.
 
 
 def reduced_model(model: pin.Model, joint_ids: list[int], q: np.ndarray) -> pin.Model:
-    """The model with joints ``joint_ids`` held at ``q`` (``pin.buildReducedModel``).
+    """The model with joints ``joint_ids`` held at ``q`` (``pin.buildReducedModel``). Pinocchio needs the names of the
+    frames it makes unique, which a description that gives a link (an MJCF's body) and a joint one name breaks (the
+    SO-101's ``gripper``): such joints are renamed apart while it builds, and their names given back after.
 
     Raises:
-        ValueError: Pinocchio refuses, with the reason it gives none for: frame names it needs unique.
+        ValueError: Pinocchio refuses, with its reason.
     """
+    frame_names = [frame.name for frame in model.frames]
+    shared = {name for name in frame_names if frame_names.count(name) > 1}
+    if not shared:
+        return _reduced(model, joint_ids, q)
+    apart = pin.Model(model)
+    for j in range(1, apart.njoints):
+        if apart.names[j] in shared:
+            apart.names[j] += RENAMED_APART
+    for i, frame in enumerate(apart.frames):
+        if frame.type == pin.FrameType.JOINT and frame.name in shared:
+            apart.frames[i].name = frame.name + RENAMED_APART
+    reduced = _reduced(apart, joint_ids, q)
+    for j in range(1, reduced.njoints):
+        reduced.names[j] = reduced.names[j].removesuffix(RENAMED_APART)
+    for i, frame in enumerate(reduced.frames):
+        reduced.frames[i].name = frame.name.removesuffix(RENAMED_APART)
+    return reduced
+
+
+def _reduced(model: pin.Model, joint_ids: list[int], q: np.ndarray) -> pin.Model:
+    """``pin.buildReducedModel``, its refusal a ValueError that says so."""
     try:
         return pin.buildReducedModel(model, joint_ids, q)
     except ValueError as error:
-        names = [f.name for f in model.frames]
-        shared = sorted({name for name in names if names.count(name) > 1})
-        if not shared:
-            raise ValueError(f"Pinocchio cannot hold these joints: {str(error)[:200]}") from None
-        raise ValueError(f"Pinocchio cannot hold these joints: it needs unique frame names, and the URDF gives "
-                         f"{', '.join(repr(n) for n in shared[:5])} to both a link and a joint; rename one of each in "
-                         "a copy of the URDF") from None
+        raise ValueError(f"Pinocchio cannot hold these joints: {str(error)[:200]}") from None
 
 
 def _frame_id(model: pin.Model, path: Path, field: str, name: str) -> int:

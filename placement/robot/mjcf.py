@@ -45,15 +45,15 @@ import numpy as np
 import pinocchio as pin
 
 from placement.robot.exceptions import RobotFileError
+from placement.robot.expanded import cached_description
 from placement.robot.urdf import UrdfContents
-from placement.robot.xacro import cached_description
 
 SUFFIXES = (".xml", ".mjcf")
 ACTUATOR_TAGS = ("general", "motor", "position", "velocity", "intvelocity", "damper", "cylinder", "muscle",
                  "adhesion")
 UNBIASED = ("motor",)  # shortcuts whose force is gain times control
 WORLD_BODY = "worldbody"  # the body without a joint that holds a worldbody's several bodies for Pinocchio
-MERGED = ("worldbody", "asset", "actuator", "equality", "contact", "tendon", "sensor", "keyframe")
+MERGED = ("default", "worldbody", "asset", "actuator", "equality", "contact", "tendon", "sensor", "keyframe")
 EQUALITY_KINDS = {"connect": "point", "weld": "weld"}
 
 
@@ -227,11 +227,12 @@ def _self_contained(path: Path, root: ElementTree.Element) -> Path:
     """The file Pinocchio reads for ``path``: itself, or the file its ``<include>`` elements make together (a
     Menagerie ``scene.xml``; ``root`` read by :func:`_root`), its asset folders made absolute, and its worldbody's
     bodies in one body without a joint (``WORLD_BODY``) when it has several: Pinocchio 4.1's parser follows no
-    include and reads only the first body of the worldbody. That file is written once to the cache folder of
-    expanded descriptions."""
+    include and reads only the first body of the worldbody (and of repeated sections, such as two ``<default>``,
+    only the first: :func:`_root` merges them). That file is written once to the cache folder of expanded
+    descriptions."""
     worldbody = root.find("worldbody")
     bodies = worldbody.findall("body") if worldbody is not None else []
-    if not _has_include(path) and len(bodies) < 2:
+    if not _has_include(path) and len(bodies) < 2 and not _has_repeated_sections(path):
         return path
     if worldbody is not None and len(bodies) > 1:
         held = ElementTree.SubElement(worldbody, "body", name=WORLD_BODY)
@@ -247,6 +248,13 @@ def _self_contained(path: Path, root: ElementTree.Element) -> Path:
     return cached_description(path.stem, text, ".xml")
 
 
+def _has_repeated_sections(path: Path) -> bool:
+    """Whether the MJCF file repeats a section its root holds (two ``<default>``, as onshape-to-robot writes an
+    additional ``joints_properties.xml``): Pinocchio 4.1 reads the first only."""
+    tags = [element.tag for element in ElementTree.parse(path).getroot() if element.tag in MERGED]
+    return len(tags) > len(set(tags))
+
+
 def _has_include(path: Path) -> bool:
     """Whether the MJCF file has an ``<include>`` element."""
     return any(element.tag == "include" for element in ElementTree.parse(path).getroot().iter())
@@ -259,7 +267,7 @@ def _built(path: Path) -> pin.Model:
         os.dup2(capture.fileno(), 2)
         try:
             return pin.buildModelFromMJCF(str(path))
-        except (ValueError, RuntimeError) as error:
+        except (ValueError, RuntimeError, IndexError) as error:  # IndexError: a name its maps lack
             os.dup2(saved, 2)
             capture.seek(0)
             said = [line.strip() for line in capture.read().splitlines() if line.strip()]

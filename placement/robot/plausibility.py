@@ -31,6 +31,7 @@ from __future__ import annotations
 import statistics
 import warnings
 from collections.abc import Sequence
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -39,13 +40,15 @@ from placement.exceptions import PlacementWarning, listed
 from placement.robot.exceptions import RobotFileError
 from placement.robot.formats import is_gepetto
 from placement.robot.mjcf import is_mjcf
-from placement.robot.model import Robot
+from placement.robot.model import Closure, Robot
 from placement.robot.urdf import UrdfContents
+from placement.robot.xacro import is_xacro
 
 MASSLESS_KG = 1e-6  # a body lighter than this has no mass (kg)
 FLAT_SHARE = 1e-9  # a rotational inertia whose smallest principal moment is at most this share of its largest is flat
 SAME_POINT_M = 1e-6  # a connector's joints and closure frames lie this close to its own joint's origin (m)
 ABSURD_LINK_RATIO = 10_000.0  # a moving link this many times the median link mass is refused
+SIDECAR_SUFFIXES = (".yaml", ".yml")  # a robot loaded from any other file was estimated from its description
 NAMED = 8  # names listed in a message, then "and N more"
 ALLOW = "--allow-massless (load_robot(..., allow_massless=True))"
 
@@ -86,7 +89,7 @@ def check_plausible(robot: Robot, urdf: UrdfContents, *, allow_massless: bool = 
         first = robot.actuators[unbounded[0]]
         raise RobotFileError(robot.sidecar_path, f"actuators.{unbounded[0]}.drive",
                              f"actuated joint(s) {_names([robot.actuators[i].joint for i in unbounded])} have no drive "
-                             f"and effort limit 0 in {robot.urdf_path.name} (<limit effort>): nothing bounds their "
+                             f"and effort limit 0 in {_description(robot)} (<limit effort>): nothing bounds their "
                              f"effort; name a drive for each (its motor's max_torque_Nm bounds it) or give "
                              f"urdf.joint.{first.joint}.limit.effort in the URDF, or pass {ALLOW} to go on knowingly")
     return ()
@@ -103,15 +106,19 @@ def massless_note(robot: Robot) -> str | None:
 def links_without_inertia(robot: Robot) -> list[str]:
     """The moving links without inertia that no rule makes legitimate (the module's docstring), one per body: the
     link its joint carries, in model order."""
-    model = robot.model
+    return model_links_without_inertia(robot.model, robot.closures)
+
+
+def model_links_without_inertia(model: pin.Model, closures: Sequence[Closure] = ()) -> list[str]:
+    """:func:`links_without_inertia` of a model and its closures (none: a serial arm's model before its sidecar)."""
     lacking = {j for j in range(1, model.njoints) if _without_inertia(model.inertias[j])}
     if not lacking:
         return []
     children: dict[int, list[int]] = {j: [] for j in range(model.njoints)}
     for j in range(1, model.njoints):
         children[model.parents[j]].append(j)
-    frames = [model.frames[i] for closure in robot.closures for i in closure.frame_ids]
-    welds = [tuple(model.frames[i].parentJoint for i in closure.frame_ids) for closure in robot.closures
+    frames = [model.frames[i] for closure in closures for i in closure.frame_ids]
+    welds = [tuple(model.frames[i].parentJoint for i in closure.frame_ids) for closure in closures
              if closure.kind == "weld"]
     carries = {0} | (set(range(1, model.njoints)) - lacking)
     changed = True
@@ -154,15 +161,18 @@ def _lacking_text(robot: Robot, lacking: Sequence[str]) -> str:
     kinds = ([f"{_names(massless)} without mass (no <inertial>, or below {MASSLESS_KG:g} kg)"] if massless else []) + (
         [f"{_names(flat)} with a rotational inertia that is not positive definite"] if flat else [])
     first = lacking[0]
-    where = (f"an <inertial> for each body in {robot.urdf_path.name} (mass, pos, and diaginertia or fullinertia)"
+    where = (f"an <inertial> for each body in {_description(robot)} (mass, pos, and diaginertia or fullinertia)"
              if is_mjcf(robot.urdf_path) else
-             f"an <inertial> for each in {robot.urdf_path.name} (or, once 'placement assemble "
+             f"an <inertial> for each in {_description(robot)} (or, once 'placement assemble "
              f"{robot.sidecar_path.parent} --write' has written its sidecar, their values under the sidecar's links)"
              if is_gepetto(robot.sidecar_path) else
              f"each link's mass_kg, com_m (m) and inertia_kg_m2 (about the centre of mass, link axes) under the "
              f"sidecar's links, e.g. links: {{{first}: {{mass_kg: ..., com_m: [...], inertia_kg_m2: [ixx, iyy, izz, "
-             f"ixy, ixz, iyz]}}}} with a sources entry links.{first}, or an <inertial> in {robot.urdf_path.name}")
-    return (f"{len(lacking)} moving link(s) of {robot.urdf_path.name} have no inertia: {'; '.join(kinds)}; every "
+             f"ixy, ixz, iyz]}}}} with a sources entry links.{first}, or an <inertial> in {_description(robot)}")
+    direct = robot.sidecar_path.suffix.lower() not in SIDECAR_SUFFIXES  # the direct route: no sidecar file yet
+    if direct and not is_mjcf(robot.urdf_path):
+        where += " (--allow-massless --write-sidecar FILE writes the estimated sidecar, for you to add them to)"
+    return (f"{len(lacking)} moving link(s) of {_description(robot)} have no inertia: {'; '.join(kinds)}; every "
             f"energy would leave out their weight and inertia: give {where}; or pass {ALLOW} to go on knowingly")
 
 
@@ -191,10 +201,16 @@ def _refuse_absurd_masses(robot: Robot, urdf: UrdfContents) -> None:
         name, mass = heavy[0]
         others = f" (and {_names([n for n, _ in heavy[1:]])})" if heavy[1:] else ""
         raise RobotFileError(robot.sidecar_path, f"urdf.link.{name}.inertial.mass",
-                             f"link '{name}' of {robot.urdf_path.name} weighs {mass:.4g} kg{others}, more than "
+                             f"link '{name}' of {_description(robot)} weighs {mass:.4g} kg{others}, more than "
                              f"{ABSURD_LINK_RATIO:g} times the median moving body's {median:.4g} kg: a mass in the wrong "
                              f"unit? correct its <mass> in the URDF, or give its mass_kg, com_m and inertia_kg_m2 "
                              f"under the sidecar's links.{name} (with a sources entry) if it truly weighs that much")
+
+
+def _description(robot: Robot) -> str:
+    """The description file as the user knows it: a xacro's name, not its expansion's in the cache."""
+    given = Path(robot.urdf_source)
+    return given.name if is_xacro(given) else robot.urdf_path.name
 
 
 def _names(names: Sequence[str]) -> str:

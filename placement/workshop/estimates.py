@@ -9,8 +9,10 @@ number the URDF does not give is an estimate, labelled ``EST`` in the sidecar's 
   limits. Of a 7-joint chain, the third joint is redundant, as the built-in ``panda``'s
   ``panda_joint3`` (on the usual shoulder-elbow-wrist arms, the upper arm's redundant rotation): it
   follows a profile along the path with ``REDUNDANT_KNOTS`` knots that the search chooses
-  (:mod:`placement.placing.profiles`; ``--lock`` holds it instead). Chains of 3, 6 or 7 joints are
-  taken: six or seven moving joints follow a pose task, three a position task; others need a sidecar.
+  (:mod:`placement.placing.profiles`; ``--lock`` holds it instead). Chains of 3 to 7 joints are
+  taken: six or seven moving joints follow a pose task, three a position task. Of a chain of 4 or 5 joints
+  (SCARAs, 5-axis arms such as the SO-101) the tool's position is the task, and the joints after the third
+  (the wrist) are redundant, profiled along the path as a 7-joint chain's third; others need a sidecar.
 - **Drives** (one per joint): a gear of ratio ``GEAR_RATIO`` = 100 (revolute joint) or a ball
   screw of lead ``SCREW_LEAD_M`` = 10 mm (prismatic joint), efficiency 1, speed ratio k; a motor
   whose peak torque is the URDF's effort limit / k and top speed the URDF's velocity limit · k,
@@ -24,7 +26,7 @@ number the URDF does not give is an estimate, labelled ``EST`` in the sidecar's 
   (0.4·L, 0, 0.15·L), in front of the base (its +x) above its floor; it is shrunk about its
   centre by 20 % steps (at most 5) until the tool reaches its 8 corners pointing down.
 - **Reference configuration and tool orientation.** The tool is brought to the box's centre with
-  its z axis pointing down (−Z_b), its rotation about that axis free, by damped least squares
+  its z axis pointing down (−Z_b), its rotation about that axis free, by damped least squares (:mod:`placement.workshop.posture`)
   from ``q0`` first, then from ``REFERENCE_SEEDS`` seeded random postures within the joint
   limits. The first posture whose task Jacobian (linear rows divided by L) has a condition number
   below ``GOOD_CONDITION``, with every joint at least ``GOOD_LIMIT_MARGIN`` of its range from its
@@ -47,11 +49,13 @@ import pinocchio as pin
 import yaml
 from pydantic import ValidationError
 
+from placement.exceptions import listed
 from placement.robot.build import PRISMATIC_JOINTS, reduced_model
 from placement.robot.exceptions import ExampleRobotError
 from placement.robot.formats import YAML_NAME, DescriptionOptions, is_gepetto
 from placement.robot.mjcf import MjcfJoint, is_mjcf, mjcf_model, qpos0, read_mjcf
 from placement.robot.model import Robot
+from placement.robot.plausibility import model_links_without_inertia
 from placement.robot.sidecar import Sidecar
 from placement.robot.tool import find_frame
 from placement.robot.urdf import ERD_PREFIX, closing_pairs, erd_urdf_path, pinocchio_model, urdf_limits_missing
@@ -66,6 +70,7 @@ from placement.workshop.loops import (
     description_name,
     loop_sidecar,
 )
+from placement.workshop.posture import MAX_CONDITION, PostureSolver
 
 GEAR_RATIO = 100.0
 SCREW_LEAD_M = 0.01
@@ -74,13 +79,8 @@ MOTOR_SCALING = ("3-phase servo scaled by peak torque tau: K_t = 0.1 sqrt(tau), 
 BOX_CENTRE_OF_REACH = (0.4, 0.0, 0.15)
 BOX_SIDE_OF_REACH = 0.25
 BOX_SHRINK, BOX_SHRINKS = 0.8, 5
-REFERENCE_SEEDS = 32
-GOOD_CONDITION, MAX_CONDITION = 20.0, 100.0
-GOOD_LIMIT_MARGIN = 0.1  # a good reference posture keeps every joint this share of its range from its limits
 TILT_RAD = 0.35
 REDUNDANT_KNOTS = 3  # knots of a seven-axis arm's redundant (third) joint's profile
-DAMPING, MAX_STEP_RAD = 1e-6, 0.3  # of the least-squares steps towards a reference posture
-DOWN = np.array([0.0, 0.0, -1.0])
 
 
 def erd_name(text: str) -> str | None:
@@ -199,6 +199,7 @@ def _neutral(model: pin.Model) -> np.ndarray:
 
 def _estimated_sidecar(arm: _Arm, name: str, urdf: str, description: str) -> Sidecar:
     """The sidecar of an arm with every number its description does not give estimated (module docstring)."""
+    arm.refuse_without_limits()
     box_low, box_high, q_ref = arm.workspace_and_reference()
     drives = {arm.drive_name(j): arm.drive(j) for j in arm.active}
     end_effector: dict[str, object] = {"frame": arm.tool, "task": arm.task}
@@ -212,8 +213,8 @@ def _estimated_sidecar(arm: _Arm, name: str, urdf: str, description: str) -> Sid
         "end_effector": end_effector,
         "reference_configuration": {arm.model.names[j]: float(q_ref[arm.q_index(j)]) for j in arm.active},
         "locked_joints": arm.locked,
-        **({"redundancy": {"joints": [arm.model.names[arm.chain[2]]], "knots": REDUNDANT_KNOTS}}
-           if len(arm.active) == 7 else {}),
+        **({"redundancy": {"joints": [arm.model.names[j] for j in arm.redundant], "knots": REDUNDANT_KNOTS}}
+           if arm.redundant else {}),
         "actuators": [arm.actuator(j, q_ref) for j in arm.active],
         "drives": drives,
         "workspace": {"type": "box", "min_m": box_low.tolist(), "max_m": box_high.tolist(),
@@ -276,9 +277,10 @@ class _Arm:
         for j in unlimited:  # free while the reference posture is sought, a full turn about it in the sidecar
             index = model.joints[j].idx_q
             model.lowerPositionLimit[index], model.upperPositionLimit[index] = -np.inf, np.inf
-        if len(chain) not in (3, 6, 7):
+        if len(chain) not in (3, 4, 5, 6, 7):
             raise ExampleRobotError(f"{label}: {len(chain)} joint(s) from the base to '{tool}'; a path needs "
-                                    "3 (a position task), 6 (a pose task) or 7 (the third redundant): choose another "
+                                    "3 to 5 (a position task, joints after the third redundant), 6 (a pose task) or 7 "
+                                    "(the third redundant): choose another "
                                     "--tool, or write a sidecar that locks the joints the path should not move "
                                     "(docs/adding_a_robot.md)")
         active = list(chain)
@@ -296,6 +298,13 @@ class _Arm:
     def pose(self) -> bool:
         """Whether the tool's orientation is prescribed too (six moving joints)."""
         return len(self.active) >= 6
+
+    @property
+    def redundant(self) -> list[int]:
+        """The joints profiled along the path: a seven-joint chain's third, a 4- or 5-joint chain's after the third."""
+        if len(self.active) == 7:
+            return [self.chain[2]]
+        return self.active[3:] if len(self.active) in (4, 5) else []
 
     @property
     def task(self) -> str:
@@ -329,6 +338,32 @@ class _Arm:
             entry["velocity_max"] = self.speeds[joint]
         return entry
 
+    def refuse_without_limits(self) -> None:
+        """Refuse a URDF that gives a moving joint no effort or velocity limit, naming every such joint and, since
+        such descriptions (ROS-Industrial's) give no inertia either, every moving link without inertia.
+
+        Raises:
+            ExampleRobotError: Some joint's drive cannot be estimated; the message says what a sidecar must give.
+        """
+        if self.given is not None:  # an MJCF: its efforts are checked joint by joint (drive)
+            return
+        limits = {"effort": self.model.effortLimit, "velocity": self.model.velocityLimit}
+        missing = {kind: [self.model.names[j] for j in self.active if not 0 < values[self.model.joints[j].idx_v] < np.inf]
+                   for kind, values in limits.items()}
+        if not any(missing.values()):
+            return
+        said = " and ".join(f"no {kind} limit for joint(s) {listed(names, 8)}" for kind, names in missing.items()
+                            if names)
+        massless = model_links_without_inertia(self.reduced())
+        without = (f"; nor any inertia for its moving link(s) {listed(massless, 8)} (no <inertial>): every energy "
+                   "would leave out their weight and inertia" if massless else "")
+        links = (f", and each link's mass_kg, com_m (m) and inertia_kg_m2 under links (e.g. links.{massless[0]}, "
+                 "each with a sources entry)" if massless else "")
+        raise ExampleRobotError(f"{self.label}: its URDF gives {said} (<limit effort=... velocity=...>), so their "
+                                f"drives cannot be estimated{without}. Write a sidecar that gives a drive for each "
+                                f"actuator (its motor's max_torque_Nm and max_speed_rad_s from the data sheet){links}: "
+                                "docs/adding_a_robot.md, '3. A robot written by hand'")
+
     def drive(self, joint: int) -> dict:
         """The estimated drive of one joint (rules: module docstring)."""
         joint_name, v = self.model.names[joint], self.model.joints[joint].idx_v
@@ -337,9 +372,6 @@ class _Arm:
             raise ExampleRobotError(f"{self.label}: nothing in the MJCF bounds the effort of joint '{joint_name}', so "
                                     "its drive cannot be estimated: give its actuator a forcerange (or the joint an "
                                     "actuatorfrcrange, N or N m), or write a sidecar (docs/adding_a_robot.md)")
-        if not (0 < effort < np.inf and 0 < speed < np.inf):
-            raise ExampleRobotError(f"{self.label}: joint '{joint_name}' has no effort or velocity limit in its "
-                                    f"URDF (got {effort:g}, {speed:g}), so its drive cannot be estimated; write a sidecar")
         prismatic = self.model.joints[joint].shortname().startswith("JointModelP")
         k = 2 * np.pi / SCREW_LEAD_M if prismatic else GEAR_RATIO
         transmission = ({"type": "ball_screw", "lead_m": SCREW_LEAD_M, "efficiency": 1.0} if prismatic
@@ -372,6 +404,9 @@ class _Arm:
         if len(self.active) == 7:
             entries["redundancy"] = (f"EST: the chain's third joint profiled along the path with {REDUNDANT_KNOTS} "
                                      "knots, as the built-in panda's joint 3")
+        elif self.redundant:
+            entries["redundancy"] = (f"EST: a position task, the chain's joints after the third profiled along the path "
+                                     f"with {REDUNDANT_KNOTS} knots (a 4- or 5-axis arm's wrist)")
         for i, joint in enumerate(self.active):
             if joint in self.unlimited:
                 for field in ("position_min", "position_max"):
@@ -442,7 +477,7 @@ class _Arm:
         """The workspace box (min, max, m) and the reference configuration (full model)."""
         reach = self.reach_m
         centre, half = np.array(BOX_CENTRE_OF_REACH) * reach, BOX_SIDE_OF_REACH * reach / 2
-        solver = _Solver(self.reduced(), self.tool, self.pose, reach)
+        solver = PostureSolver(self.reduced(), self.tool, self.pose, reach)
         q_ref = solver.reference(centre, solver.from_full(self.model, self.q0), np.random.default_rng(0))
         if q_ref is None:
             raise ExampleRobotError(f"{self.label}: '{self.tool}' cannot reach {np.round(centre, 3).tolist()} m "
@@ -457,84 +492,6 @@ class _Arm:
             raise ExampleRobotError(f"{self.label}: '{self.tool}' cannot reach the corners of a box around "
                                     f"{np.round(centre, 3).tolist()} m; write a sidecar (docs/adding_a_robot.md)")
         return centre - half, centre + half, solver.to_full(self.model, self.q0, q_ref)
-
-
-class _Solver:
-    """Damped least squares that bring the tool to a point, pointing down for a pose task (yaw free)."""
-
-    def __init__(self, model: pin.Model, tool: str, pose: bool, reach_m: float) -> None:
-        self.model, self.data, self.pose, self.reach_m = model, model.createData(), pose, reach_m
-        self.frame_id = find_frame(model, tool)
-
-    def from_full(self, full: pin.Model, q_full: np.ndarray) -> np.ndarray:
-        """A configuration of this model from one of the full model (joints matched by name)."""
-        q = pin.neutral(self.model)
-        for j in range(1, self.model.njoints):
-            q[self.model.joints[j].idx_q] = q_full[full.joints[full.getJointId(self.model.names[j])].idx_q]
-        return np.clip(q, self.model.lowerPositionLimit, self.model.upperPositionLimit)
-
-    def to_full(self, full: pin.Model, q_full: np.ndarray, q: np.ndarray) -> np.ndarray:
-        """``q_full`` with this model's joints set from ``q``."""
-        out = q_full.copy()
-        for j in range(1, self.model.njoints):
-            out[full.joints[full.getJointId(self.model.names[j])].idx_q] = q[self.model.joints[j].idx_q]
-        return out
-
-    def reference(self, target: np.ndarray, q0: np.ndarray, rng: np.random.Generator) -> np.ndarray | None:
-        """From ``q0``, then seeded postures: the first solution conditioned below GOOD_CONDITION, else the best."""
-        low = np.maximum(self.model.lowerPositionLimit, -np.pi)
-        high = np.minimum(self.model.upperPositionLimit, np.pi)
-        best, best_condition = None, MAX_CONDITION
-        for seed in [q0, *(rng.uniform(low, high) for _ in range(REFERENCE_SEEDS))]:
-            q = self.solve(target, seed)
-            if q is None:
-                continue
-            condition = self.condition(q)
-            if condition < GOOD_CONDITION and self.limit_margin(q) >= GOOD_LIMIT_MARGIN:
-                return q
-            if condition < best_condition:
-                best, best_condition = q, condition
-        return best
-
-    def limit_margin(self, q: np.ndarray) -> float:
-        """The least distance of a joint to its nearer limit, as a share of its range (1 without limits)."""
-        low, high = self.model.lowerPositionLimit, self.model.upperPositionLimit
-        bounded = np.isfinite(low) & np.isfinite(high) & (high > low)
-        shares = np.minimum(q - low, high - q)[bounded] / (high - low)[bounded]
-        return float(shares.min()) if len(shares) else 1.0
-
-    def condition(self, q: np.ndarray) -> float:
-        """Condition number of the task Jacobian, linear rows divided by the chain length."""
-        jacobian = pin.computeFrameJacobian(self.model, self.data, q, self.frame_id, pin.LOCAL_WORLD_ALIGNED).copy()
-        jacobian[:3] /= self.reach_m
-        return float(np.linalg.cond(jacobian if self.pose else jacobian[:3]))
-
-    def solve(self, target: np.ndarray, q: np.ndarray, iterations: int = 300) -> np.ndarray | None:
-        """A configuration within the limits with the tool at ``target`` (and pointing down), or None."""
-        q = q.copy()
-        for _ in range(iterations):
-            pin.framesForwardKinematics(self.model, self.data, q)
-            error, jacobian = self._error(q, target)
-            if np.linalg.norm(error) < 1e-10:
-                return q
-            step = jacobian.T @ np.linalg.solve(jacobian @ jacobian.T + DAMPING * np.eye(len(error)), error)
-            step *= min(1.0, MAX_STEP_RAD / max(float(np.abs(step).max()), 1e-300))
-            q = np.clip(pin.integrate(self.model, q, -step), self.model.lowerPositionLimit, self.model.upperPositionLimit)
-        return None
-
-    def _error(self, q: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        placement = self.data.oMf[self.frame_id]
-        if not self.pose:
-            jacobian = pin.computeFrameJacobian(self.model, self.data, q, self.frame_id, pin.LOCAL_WORLD_ALIGNED)
-            return placement.translation - target, jacobian[:3]
-        x = placement.rotation[:, 0] - placement.rotation[2, 0] * np.array([0.0, 0.0, 1.0])
-        if np.linalg.norm(x) < 1e-6:  # the tool's x axis is vertical: take its y axis for the yaw
-            x = np.cross(placement.rotation[:, 1], DOWN)
-        x /= np.linalg.norm(x)
-        wanted = pin.SE3(np.column_stack([x, np.cross(DOWN, x), DOWN]), target)
-        offset = placement.actInv(wanted)
-        jacobian = pin.computeFrameJacobian(self.model, self.data, q, self.frame_id, pin.LOCAL)
-        return -pin.log6(offset).vector, pin.Jlog6(offset.inverse()) @ jacobian
 
 
 def _reference_posture(model: pin.Model, erd_model: pin.Model, erd_q0: np.ndarray) -> np.ndarray:

@@ -426,6 +426,8 @@ def estimated_workspace(robot: Robot, sources: dict[str, str]) -> dict[str, Any]
     else:
         half = max(WORKSPACE_FRACTION * float(np.linalg.norm(center)), 0.01)
         low, high = _reachable_box(robot, center, np.where(moving, half, 0.0), normal)
+        if np.any(moving & ~(high > low)):
+            _refuse_unreached(robot, directions, center)
         sources["workspace"] = (f"EST: the part the solver reaches (a {REACH_GRID}-per-side grid) of a box around the end "
                                 f"effector at reference_configuration, half-side {half:.4g} m (20 % of its distance from "
                                 f"the base) along the directions it moves in, {FLAT_HALF_SIDE_M * 1e3:g} mm across them, "
@@ -443,6 +445,19 @@ def estimated_workspace(robot: Robot, sources: dict[str, str]) -> dict[str, Any]
         sources["placement"] = (f"DERIVED: the end effector moves in the plane of normal {signed} through {point} m "
                                 "(its position at reference_configuration): paths lie in it")
     return result
+
+
+def _refuse_unreached(robot: Robot, directions: np.ndarray, center: np.ndarray) -> None:
+    """Refuse an end effector around which the solver reaches no position but the reference one: a mechanism whose
+    actuators turn its tool rather than place it (a spherical parallel mechanism's, its centre or a point near it)."""
+    frame = robot.model.frames[robot.end_effector_frame_id].name
+    raise RobotFileError(robot.sidecar_path, "end_effector.frame",
+                         f"the numeric solver reaches no position of the end effector '{frame}' around "
+                         f"{(np.round(center, 6) + 0.0).tolist()} m but that one, at the closed reference configuration: its "
+                         f"{len(robot.actuators)} actuator(s) move it in {directions.shape[1]} direction(s) only, as a "
+                         "mechanism that turns its tool (a spherical one) rather than places it; a path needs a tool "
+                         "point the actuators place: choose another frame (--tool, or end_effector.frame), or write a "
+                         "sidecar with a workspace of your own (docs/adding_a_robot.md)")
 
 
 def _reachable_box(robot: Robot, center: np.ndarray, half: np.ndarray,

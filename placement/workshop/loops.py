@@ -29,6 +29,7 @@ import numpy as np
 import pinocchio as pin
 from pydantic import ValidationError
 
+from placement.exceptions import listed
 from placement.robot.build import PRISMATIC_JOINTS
 from placement.robot.closures import closure_residuals
 from placement.robot.exceptions import ExampleRobotError
@@ -93,6 +94,7 @@ def loop_sidecar(path: Path, tool: str | None, description: LoopDescription) -> 
         "gravity_m_s2": list(GRAVITY_M_S2), "end_effector": {"frame": tool, "task": "position"},
         "closures": description.closures, "actuators": [], "drives": {}, "sources": sources,
         "reference_configuration": dict(description.start)}
+    _refuse_unbounded(path, description)
     for i, joint in enumerate(description.actuated):
         _actuator(path, description, i, joint, document)
     robot = robot_from_sidecar(path, _validated(path, document), check_closures=False)
@@ -123,6 +125,25 @@ def description_name(path: Path) -> str:
     return (path.resolve().parent.name if stem == "robot" else stem)[:80] or "robot"
 
 
+def _refuse_unbounded(path: Path, description: LoopDescription) -> None:
+    """Refuse actuated joints whose effort nothing bounds, naming every one, and where their bound goes.
+
+    Raises:
+        ExampleRobotError: Some actuated joint has no effort bound (its drive cannot be estimated).
+    """
+    model = description.model
+    unbounded = [joint for joint in description.actuated if model.existJointName(joint)
+                 and not 0 < model.effortLimit[model.joints[model.getJointId(joint)].idx_v] < np.inf]
+    if not unbounded:
+        return
+    where = ("give each actuator a forcerange (N or N m; or its joint an actuatorfrcrange) in a copy of the file: "
+             "onshape-to-robot's exports give their position actuators a kp only, and <position kp=... "
+             'forcerange="-T T"/> in their default class, T the servo\'s torque, bounds them all'
+             if description.kind == "MJCF" else "give each joint <limit effort=...> (N or N m)")
+    raise ExampleRobotError(f"{path}: nothing bounds the effort of actuated joint(s) {listed(unbounded, 8)}, so their "
+                            f"drives cannot be estimated: {where}; or write a sidecar (docs/adding_a_robot.md)")
+
+
 def _actuator(path: Path, description: LoopDescription, i: int, joint: str, document: dict[str, Any]) -> None:
     """Add actuator ``i`` and its estimated drive to ``document`` (rules: module docstring)."""
     model, sources = description.model, document["sources"]
@@ -132,11 +153,6 @@ def _actuator(path: Path, description: LoopDescription, i: int, joint: str, docu
     v, prismatic = model.joints[j].idx_v, model.joints[j].shortname() in PRISMATIC_JOINTS
     effort, speed = float(model.effortLimit[v]), float(model.velocityLimit[v])
     name = joint.replace(".", "_")
-    if not 0 < effort < np.inf:
-        where = ("give its actuator a forcerange (or the joint an actuatorfrcrange)" if description.kind == "MJCF"
-                 else "give the joint <limit effort=...>")
-        raise ExampleRobotError(f"{path}: nothing bounds the effort of actuated joint '{joint}', so its drive cannot be "
-                                f"estimated: {where} (N or N m), or write a sidecar (docs/adding_a_robot.md)")
     actuator: dict[str, Any] = {"joint": joint, "drive": name}
     if not 0 < speed < np.inf:
         speed = JOINT_SPEED_M_S if prismatic else JOINT_SPEED_RAD_S

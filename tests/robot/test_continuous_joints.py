@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 from xml.etree import ElementTree
 
@@ -305,3 +306,28 @@ def test_a_gepetto_export_with_continuous_motors_assembles_with_a_full_turn_each
     placement = default_space(revolute).full(np.zeros((1, len(default_space(revolute).free))))[0]
     energy = [Evaluator(r, path).detail(placement).energy.total_J for r in (continuous, revolute)]
     assert energy[0] == pytest.approx(energy[1], rel=1e-9) and energy[1] > 0
+
+
+def test_a_continuous_redundant_joint_is_profiled_over_its_actuators_turn_not_the_urdfs_empty_range(tmp_path):
+    """A seven-axis arm whose redundant third joint is continuous (Kinova's Gen3): the URDF gives it no range, so its
+    knots take the actuator's full turn about the reference posture, which holds the reference (they were held at
+    0 by the model's empty range, away from the posture the estimates chose)."""
+    from example_robot_data.robots_loader import ROBOTS
+
+    from placement.placing.profiles import redundant_bounds
+    from placement.robot.urdf import erd_urdf_path
+    from placement.workshop.estimates import load_description_robot
+
+    text = Path(erd_urdf_path(ROBOTS["panda"])).read_text()
+    element = re.search(r'<joint name="panda_joint3" type="revolute">.*?</joint>', text, re.DOTALL)
+    assert element is not None
+    changed = re.sub(r'\s(lower|upper)="[^"]*"', "", element.group(0).replace('type="revolute"', 'type="continuous"'))
+    urdf = tmp_path / "panda.urdf"
+    urdf.write_text(text.replace(element.group(0), changed))
+    robot = load_description_robot(urdf, "panda_hand")
+    actuator = next(a for a in robot.actuators if a.joint == "panda_joint3")
+    reference = robot.reference_q[actuator.q_index]
+    bounds = redundant_bounds(robot)
+    assert set(bounds) == {f"panda_joint3@{i}" for i in range(3)}
+    for low, high in bounds.values():
+        assert (low, high) == pytest.approx((reference - np.pi, reference + np.pi))

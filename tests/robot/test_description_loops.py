@@ -250,3 +250,35 @@ def test_the_urdf_of_a_gepetto_folder_given_alone_says_to_assemble_the_folder(tm
     assert main(["--robot", str(folder / "robot.urdf"), "--tool", "effector", "--path", str(CIRCLE)]) == 2
     err = capsys.readouterr().err
     assert f"'python -m placement assemble {folder} --write' closes them" in err and len(err.strip().splitlines()) == 1
+
+
+def test_an_end_effector_the_solver_cannot_move_is_refused_naming_it_and_what_to_choose(onshape, monkeypatch, capsys):
+    """Orbita (placo-examples), a spherical mechanism whose effector its three actuators only turn: the solver reaches
+    no position but the reference one, which made a box of no size (was: 'cannot estimate workspace: Value error,
+    min_m ... must be below max_m'). Here the five-bar's rule from the actuators' reach is taken as not applying (as
+    for Orbita's three actuators and two directions) and the solver as reaching nothing, as Orbita's does."""
+    from placement.workshop import gepetto
+
+    def unreached(robot, center, half, normal):
+        return center.copy(), center.copy()
+
+    monkeypatch.setattr(gepetto, "_reachable_box", unreached)
+    monkeypatch.setattr(gepetto, "reached_box", lambda *args: "a rule that does not apply")
+    assert main(["--robot", str(onshape), "--tool", "effector", "--path", str(CIRCLE)]) == 2
+    err = capsys.readouterr().err
+    assert "field 'end_effector.frame': the numeric solver reaches no position of the end effector 'effector'" in err
+    assert "choose another frame (--tool, or end_effector.frame)" in err and len(err.strip().splitlines()) <= 2
+
+
+def test_an_mjcf_loop_whose_actuators_nothing_bounds_is_refused_naming_every_one(tmp_path, capsys):
+    """onshape-to-robot's MJCF exports give their position actuators a kp and no forcerange: both motors named, and
+    where the bound goes; with it the five-bar loads."""
+    unbounded = fivebar_mjcf().replace('<motor joint="mot1" ctrlrange="-10 10"/><motor joint="mot2" ctrlrange="-10 10"/>',
+                                       '<position joint="mot1" kp="50"/><position joint="mot2" kp="50"/>')
+    path = tmp_path / "fivebar.xml"
+    path.write_text(unbounded)
+    assert main(["--robot", str(path), "--tool", "effector", "--path", str(CIRCLE)]) == 2
+    err = capsys.readouterr().err
+    assert "nothing bounds the effort of actuated joint(s) mot1, mot2" in err and 'forcerange="-T T"' in err
+    path.write_text(unbounded.replace('kp="50"/>', 'kp="50" forcerange="-10 10"/>'))
+    assert [a.joint for a in description_sidecar(path, "effector").actuators] == ["mot1", "mot2"]

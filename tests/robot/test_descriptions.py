@@ -4,6 +4,7 @@ where a cloned repository or ROS keeps them, and the estimated sidecar written f
 import json
 import shutil
 from pathlib import Path
+from xml.etree import ElementTree
 
 import numpy as np
 import pinocchio as pin
@@ -15,6 +16,7 @@ from placement.robot.exceptions import RobotFileError
 from placement.robot.formats import DescriptionOptions
 from placement.robot.packages import description_geometry, find_package, resolve_uri, search_folders
 from placement.robot.urdf import erd_urdf_path
+from placement.robot.xacro import expand_xacro
 from placement.workshop.checks import check_robot
 from placement.workshop.estimates import description_sidecar, erd_sidecar, load_description_robot
 from tests.support.paths import CIRCLE
@@ -161,3 +163,99 @@ def test_the_estimates_warning_names_the_joints_held_fixed_and_the_redundant_one
     assert main(["--robot", "erd:panda", "--tool", "panda_hand", "--path", str(CIRCLE), "--at", "x=400,y=0,z=300",
                  "--lock", "panda_joint3=0"]) in (0, 2)
     assert "joints held fixed: panda_finger_joint1, panda_finger_joint2, panda_joint3;" in capsys.readouterr().err
+
+
+SUPPORT_XACRO = """<?xml version="1.0"?>
+<robot xmlns:xacro="http://ros.org/wiki/xacro" name="supported">
+  <xacro:arg name="variant" default=""/>
+  <xacro:include filename="$(find demo_resources)/urdf/common.xacro"/>
+  <link name="base"/>
+  <link name="link1"><inertial><mass value="${link_mass}"/>
+    <inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="joint1" type="revolute"><parent link="base"/><child link="link1"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="10" velocity="1"/></joint>
+</robot>
+"""
+
+
+def ros_industrial_tree(root: Path, mass_kg: float) -> Path:
+    """A repository of ROS-Industrial's layout: the robot's support package and, beside it, a resources package its
+    xacro finds with $(find demo_resources); returns the xacro."""
+    for package in ("demo_support", "demo_resources"):
+        (root / package / "urdf").mkdir(parents=True)
+        (root / package / "package.xml").write_text(f"<package format='2'><name>{package}</name></package>")
+    (root / "demo_resources" / "urdf" / "common.xacro").write_text(
+        f'<robot xmlns:xacro="http://ros.org/wiki/xacro"><xacro:property name="link_mass" value="{mass_kg}"/></robot>')
+    (root / "demo_support" / "urdf" / "arm.xacro").write_text(SUPPORT_XACRO)
+    return root / "demo_support" / "urdf" / "arm.xacro"
+
+
+def link_mass(xacro: Path, options: DescriptionOptions = DescriptionOptions()) -> float:
+    """The mass of link1 in the URDF the xacro expands to (kg)."""
+    urdf = expand_xacro(xacro, options.xacro_args, options.package_paths, xacro, "urdf")
+    return float(ElementTree.parse(urdf).getroot().find("link[@name='link1']/inertial/mass").get("value"))
+
+
+def test_a_xacro_finds_a_package_beside_its_own_in_the_repository_and_each_tree_its_own(tmp_path, monkeypatch):
+    monkeypatch.delenv("ROS_PACKAGE_PATH", raising=False)
+    monkeypatch.delenv("AMENT_PREFIX_PATH", raising=False)
+    first, second = ros_industrial_tree(tmp_path / "one", 3.0), ros_industrial_tree(tmp_path / "two", 5.0)
+    assert link_mass(first) == 3.0
+    assert link_mass(second) == 5.0  # the same package name in another clone: not the first one's
+    assert link_mass(second, DescriptionOptions(package_paths=(tmp_path / "one",))) == 3.0  # --package-path first
+
+
+def test_a_xacro_package_found_nowhere_is_named_with_the_folders_looked_in(tmp_path, monkeypatch):
+    monkeypatch.delenv("ROS_PACKAGE_PATH", raising=False)
+    monkeypatch.delenv("AMENT_PREFIX_PATH", raising=False)
+    xacro = ros_industrial_tree(tmp_path, 3.0)
+    shutil.rmtree(tmp_path / "demo_resources")
+    with pytest.raises(RobotFileError, match=r"\$\(find demo_resources\).*not found in .*demo_support.*--package-path"):
+        link_mass(xacro)
+
+
+def test_a_failed_expansion_names_the_arguments_the_file_leaves_empty(tmp_path):
+    xacro = tmp_path / "arm.xacro"
+    xacro.write_text('<robot xmlns:xacro="http://ros.org/wiki/xacro" name="a"><xacro:arg name="dof" default=""/>'
+                     '<xacro:arg name="ip" default="10.0.0.1"/>'
+                     '<xacro:include filename="arms/$(arg dof)dof.xacro"/></robot>')
+    with pytest.raises(RobotFileError, match=r"arguments given: none; its arguments left empty: dof;"):
+        expand_xacro(xacro, {}, [], xacro, "urdf")  # arms/dof.xacro does not exist
+    with pytest.raises(RobotFileError, match=r"arguments given: dof:=7;"):
+        expand_xacro(xacro, {"dof": "7"}, [], xacro, "urdf")
+
+
+ROS_INDUSTRIAL_URDF = """<robot name="bare">
+  <link name="base_link"/><link name="link_1"/><link name="link_2"/><link name="link_3"/><link name="tool0"/>
+  <joint name="joint_1" type="revolute"><parent link="base_link"/><child link="link_1"/><origin xyz="0 0 0.3"/>
+    <axis xyz="0 0 1"/><limit effort="0" lower="-3" upper="3" velocity="2"/></joint>
+  <joint name="joint_2" type="revolute"><parent link="link_1"/><child link="link_2"/><origin xyz="0.1 0 0.2"/>
+    <axis xyz="0 1 0"/><limit effort="0" lower="-2" upper="2" velocity="2"/></joint>
+  <joint name="joint_3" type="revolute"><parent link="link_2"/><child link="link_3"/><origin xyz="0 0 0.4"/>
+    <axis xyz="0 1 0"/><limit effort="0" lower="-2" upper="2" velocity="2"/></joint>
+  <joint name="joint_t" type="fixed"><parent link="link_3"/><child link="tool0"/><origin xyz="0.4 0 0"/></joint>
+</robot>
+"""
+
+
+def test_a_description_without_efforts_or_inertias_is_refused_naming_both_and_what_a_sidecar_gives(tmp_path, capsys):
+    """ROS-Industrial's descriptions give effort="0" and no <inertial>: the direct route names the joints and the
+    links in one line, exit 2, before any estimate is made."""
+    urdf = tmp_path / "bare.urdf"
+    urdf.write_text(ROS_INDUSTRIAL_URDF)
+    assert main(["--robot", str(urdf), "--tool", "tool0", "--path", str(CIRCLE)]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1
+    assert "no effort limit for joint(s) joint_1, joint_2, joint_3" in err
+    assert "inertia for its moving link(s) link_1, link_2, link_3 (no <inertial>)" in err
+    assert "under links (e.g. links.link_1" in err and "docs/adding_a_robot.md" in err
+    urdf.write_text(ROS_INDUSTRIAL_URDF.replace('effort="0"', 'effort="50"'))  # efforts given: the massless refusal
+    assert main(["--robot", str(urdf), "--tool", "tool0", "--path", str(CIRCLE)]) == 2
+    err = capsys.readouterr().err
+    assert "3 moving link(s) of bare.urdf have no inertia" in err
+    assert "--allow-massless --write-sidecar FILE writes the estimated sidecar, for you to add them to" in err
+    xacro = tmp_path / "bare.xacro"  # named as the user gave it, not as its expansion in the cache
+    xacro.write_text(urdf.read_text().replace('<robot name="bare">',
+                                              '<robot name="bare" xmlns:xacro="http://ros.org/wiki/xacro">'))
+    assert main(["--robot", str(xacro), "--tool", "tool0", "--path", str(CIRCLE)]) == 2
+    assert "3 moving link(s) of bare.xacro have no inertia" in capsys.readouterr().err

@@ -79,7 +79,7 @@ def test_check_passes_on_erd_ur10(capsys):
     (["check", "erd:ur10", "--tool", "tool9"], ["'tool9'", "tool0"]),
     (["check", "erd:ur10"], ["--tool", "tool0"]),
     (["check", "ur5", "--tool", "tool0"], ["--tool", "erd:NAME"]),
-    (["check", "erd:so101", "--tool", "gripper_frame_link"], ["5 joint(s)", "locks the joints"]),
+    (["check", "erd:double_pendulum", "--tool", "link2"], ["2 joint(s)", "locks the joints"]),
 ])
 def test_mistakes_exit_2_naming_what_is_wrong(argv, said, capsys):
     assert main(argv) == 2

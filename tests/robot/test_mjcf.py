@@ -260,3 +260,78 @@ def test_a_joint_reference_shifts_neither_its_range_nor_where_the_tool_is_agains
         mujoco.mj_forward(simulated, state)
         pin.framesForwardKinematics(model, data, q)
         assert np.allclose(state.site_xpos[0], data.oMf[model.getFrameId("tip")].translation, atol=1e-12)
+
+
+def test_an_mjcf_with_two_default_sections_reads_both_as_mujoco_does(arm, tmp_path):
+    """onshape-to-robot appends its joints_properties.xml as a second <default> section (the SO-101's): MuJoCo reads
+    both; Pinocchio 4.1 alone read the first and failed on the classes of the second."""
+    split = ARM.replace('<motor ctrlrange="-1 1"/>\n', '<motor ctrlrange="-1 1"/>\n  </default>\n  <default>\n', 1)
+    assert split.count("<default>") == 2
+    path = tmp_path / "split.xml"
+    path.write_text(split)
+    model, contents, whole = mjcf_model(path), read_mjcf(path), mjcf_model(arm)
+    simulated = mujoco.MjModel.from_xml_path(str(path))
+    assert _mujoco_effort_bounds(simulated) == pytest.approx(EFFORTS)
+    assert {model.names[j]: model.effortLimit[model.joints[j].idx_v] for j in range(1, model.njoints)} == pytest.approx(EFFORTS)
+    assert [contents.joints[name].armature for name in EFFORTS] == pytest.approx(simulated.dof_armature)
+    assert np.allclose(model.upperPositionLimit, simulated.jnt_range[:, 1])
+    data, data_whole = model.createData(), whole.createData()
+    for q, v, a in _samples(model):
+        assert np.allclose(pin.rnea(model, data, q, v, a), pin.rnea(whole, data_whole, q, v, a), atol=1e-12)
+
+
+# A five-joint arm whose jaw joint bears its hand body's name, as the SO-101's 'gripper' does.
+FIVE = """<mujoco model="arm5">
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="base">
+      <body name="l1" pos="0 0 0.1"><joint name="j1" axis="0 0 1" range="-3 3"/>
+        <inertial pos="0 0 0.05" mass="1" diaginertia="0.01 0.01 0.002"/>
+        <body name="l2" pos="0 0 0.1"><joint name="j2" axis="0 1 0" range="-2 2"/>
+          <inertial pos="0 0 0.1" mass="1" diaginertia="0.01 0.01 0.002"/>
+          <body name="l3" pos="0 0 0.2"><joint name="j3" axis="0 1 0" range="-2.5 2.5"/>
+            <inertial pos="0 0 0.1" mass="0.8" diaginertia="0.008 0.008 0.001"/>
+            <body name="l4" pos="0 0 0.2"><joint name="j4" axis="0 1 0" range="-2 2"/>
+              <inertial pos="0 0 0.03" mass="0.4" diaginertia="0.001 0.001 0.0005"/>
+              <body name="hand" pos="0 0 0.05"><joint name="roll" axis="0 0 1" range="-3 3"/>
+                <inertial pos="0 0 0.03" mass="0.3" diaginertia="0.001 0.001 0.0005"/>
+                <site name="tip" pos="0 0 0.08"/>
+                <body name="jaw" pos="0.02 0 0.03"><joint name="hand" axis="1 0 0" range="-0.2 1"/>
+                  <inertial pos="0 0 0.02" mass="0.05" diaginertia="1e-5 1e-5 2e-6"/>
+                </body>
+              </body>
+            </body>
+          </body>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+  <actuator>
+    <motor joint="j1" ctrlrange="-20 20"/><motor joint="j2" ctrlrange="-20 20"/><motor joint="j3" ctrlrange="-10 10"/>
+    <motor joint="j4" ctrlrange="-5 5"/><motor joint="roll" ctrlrange="-2 2"/><motor joint="hand" ctrlrange="-1 1"/>
+  </actuator>
+</mujoco>
+"""
+
+
+def test_a_five_joint_arm_follows_the_tools_position_its_wrist_profiled_and_a_joint_named_as_a_body_held(tmp_path):
+    path = tmp_path / "arm5.xml"
+    path.write_text(FIVE)
+    robot = load_description_robot(path, "tip")
+    sidecar = robot.sidecar
+    assert sidecar.end_effector.task == "position" and sidecar.redundancy is not None
+    assert sidecar.redundancy.joints == ["j4", "roll"] and set(sidecar.locked_joints) == {"hand"}
+    assert "4- or 5-axis" in sidecar.sources["redundancy"]
+    assert robot.model.existFrame("hand", pin.FrameType.BODY)  # the names Pinocchio needed apart are given back
+    full = mjcf_model(path)
+    data, data_full = robot.model.createData(), full.createData()
+    tip, tip_full = robot.model.getFrameId("tip"), full.getFrameId("tip")
+    rng = np.random.default_rng(1)
+    for _ in range(3):  # the held model moves the tool and carries the jaw as the whole one does, the jaw held
+        q = rng.uniform(-1, 1, robot.model.nq)
+        q_full = np.append(q, sidecar.locked_joints["hand"])
+        pin.framesForwardKinematics(robot.model, data, q)
+        pin.framesForwardKinematics(full, data_full, q_full)
+        assert np.allclose(data.oMf[tip].homogeneous, data_full.oMf[tip_full].homogeneous, atol=1e-12)
+        gravity = pin.computeGeneralizedGravity(robot.model, data, q)
+        assert np.allclose(gravity, pin.computeGeneralizedGravity(full, data_full, q_full)[:5], atol=1e-12)
