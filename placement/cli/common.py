@@ -146,6 +146,10 @@ def _add_description(options: argparse.ArgumentParser) -> None:
     options.add_argument("--package-path", action="append", default=[], metavar="DIR",
                          help="a folder where the description's package:// meshes and $(find PKG) are looked for "
                               "first (repeatable): a package, or a folder holding packages")
+    options.add_argument("--effort", action="append", default=[], metavar="JOINT=VALUE",
+                         help="with --tool: an actuated joint's effort bound (N m, or N for a sliding joint; "
+                              "repeatable), for a description that bounds none (onshape-to-robot's MJCF exports), "
+                              "e.g. motor1=1.5: its drive is estimated from it")
     options.add_argument("--write-sidecar", metavar="FILE",
                          help="with --tool: write the estimated sidecar to FILE (YAML), to refine and load instead")
 
@@ -392,6 +396,9 @@ def load_robot_argument(robot: str, args: argparse.Namespace, cell: str | None =
     if not estimated and (tool is not None or write_sidecar):
         raise UsageError(f"--tool and --write-sidecar apply to robots given as a description file (URDF, xacro, MJCF) or "
                          f"{ERD_FORM}NAME; the sidecar of '{robot[:80]}' names its tool in end_effector.frame")
+    if options.efforts and not is_description(path):
+        raise UsageError(f"--effort applies to robots given as a description file (URDF, xacro, MJCF) with --tool; "
+                         f"'{robot[:80]}' is not one (a sidecar gives each drive under drives)")
     if name is not None:
         loaded = load_erd_robot(name, tool, allow_massless=allow_massless)
     elif estimated:
@@ -421,10 +428,11 @@ def load_robot_argument(robot: str, args: argparse.Namespace, cell: str | None =
 
 
 def description_options(args: argparse.Namespace) -> DescriptionOptions:
-    """--package-path and --robot-arg (NAME:=VALUE, as ROS's launch files write them) as description options.
+    """--package-path, --robot-arg (NAME:=VALUE, as ROS's launch files write them) and --effort (JOINT=VALUE) as
+    description options.
 
     Raises:
-        UsageError: A --robot-arg without ':=' or without a name.
+        UsageError: A --robot-arg without ':=' or without a name, a folder that does not exist, or a bad --effort.
     """
     arguments = {}
     for item in getattr(args, "robot_arg", []):
@@ -436,7 +444,27 @@ def description_options(args: argparse.Namespace) -> DescriptionOptions:
     missing = [str(folder) for folder in folders if not folder.is_dir()]
     if missing:
         raise UsageError(f"--package-path: no such folder: {', '.join(missing)[:200]}")
-    return DescriptionOptions(folders, arguments)
+    return DescriptionOptions(folders, arguments, _efforts(getattr(args, "effort", [])))
+
+
+def _efforts(items: list[str]) -> dict[str, float]:
+    """--effort JOINT=VALUE items as bounds by joint name (N or N m).
+
+    Raises:
+        UsageError: An item without '=', without a name, or whose value is not a positive finite number.
+    """
+    efforts = {}
+    for item in items:
+        name, separator, text = item.partition("=")
+        try:
+            value = float(text)
+        except ValueError:
+            value = float("nan")
+        if not separator or not name.strip() or not 0 < value < float("inf"):
+            raise UsageError(f"--effort: expected JOINT=VALUE, a joint's name and its effort bound, a positive number "
+                             f"in N m (N for a sliding joint), e.g. motor1=1.5; got '{item[:60]}'")
+        efforts[name.strip()] = value
+    return efforts
 
 
 def compile_noticed(work: Callable[[], None], what: str, expected: str, patience_s: float = 2.0) -> float | None:

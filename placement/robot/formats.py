@@ -47,7 +47,11 @@ class DescriptionOptions:
         package_paths: Folders where its ``package://`` meshes and a xacro's ``$(find PKG)`` are looked for first
             (``--package-path DIR``), before the sidecar's ``package_paths`` (:mod:`placement.robot.packages`).
         xacro_args: A xacro file's arguments (``--robot-arg NAME:=VALUE``), over the sidecar's ``xacro_args``.
+        efforts: Effort bounds by joint name (N or N·m; ``--effort JOINT=VALUE``), over what the description gives:
+            for a description that bounds no effort (onshape-to-robot's MJCF exports give their actuators a ``kp``
+            only), so that drives can be estimated from it.
     """
 
     package_paths: tuple[Path, ...] = ()
     xacro_args: Mapping[str, str] = field(default_factory=dict)
+    efforts: Mapping[str, float] = field(default_factory=dict)

@@ -136,12 +136,13 @@ def _refuse_unbounded(path: Path, description: LoopDescription) -> None:
                  and not 0 < model.effortLimit[model.joints[model.getJointId(joint)].idx_v] < np.inf]
     if not unbounded:
         return
-    where = ("give each actuator a forcerange (N or N m; or its joint an actuatorfrcrange) in a copy of the file: "
-             "onshape-to-robot's exports give their position actuators a kp only, and <position kp=... "
-             'forcerange="-T T"/> in their default class, T the servo\'s torque, bounds them all'
-             if description.kind == "MJCF" else "give each joint <limit effort=...> (N or N m)")
+    where = ("(onshape-to-robot's exports give their position actuators a kp only) or give each actuator a forcerange "
+             "in a copy of the file" if description.kind == "MJCF" else "or give each joint <limit effort=...> in a "
+             "copy of the file")
     raise ExampleRobotError(f"{path}: nothing bounds the effort of actuated joint(s) {listed(unbounded, 8)}, so their "
-                            f"drives cannot be estimated: {where}; or write a sidecar (docs/adding_a_robot.md)")
+                            f"drives cannot be estimated: give each its servo's peak torque (N m; N for a sliding "
+                            f"joint) with --effort JOINT=VALUE, e.g. --effort {unbounded[0]}=1.5 {where}; or write a "
+                            "sidecar (docs/adding_a_robot.md)")
 
 
 def _actuator(path: Path, description: LoopDescription, i: int, joint: str, document: dict[str, Any]) -> None:

@@ -16,6 +16,7 @@ import yaml
 from placement.__main__ import main
 from placement.robot.closures import closure_residuals
 from placement.robot.exceptions import RobotFileError
+from placement.robot.formats import DescriptionOptions
 from placement.workshop.assemble import assemble
 from placement.workshop.estimates import description_sidecar, load_description_robot
 from placement.workshop.gepetto import EstimatesWarning
@@ -279,6 +280,22 @@ def test_an_mjcf_loop_whose_actuators_nothing_bounds_is_refused_naming_every_one
     path.write_text(unbounded)
     assert main(["--robot", str(path), "--tool", "effector", "--path", str(CIRCLE)]) == 2
     err = capsys.readouterr().err
-    assert "nothing bounds the effort of actuated joint(s) mot1, mot2" in err and 'forcerange="-T T"' in err
+    assert "nothing bounds the effort of actuated joint(s) mot1, mot2" in err and "--effort mot1=" in err
+    given = description_sidecar(path, "effector", DescriptionOptions(efforts={"mot1": 10.0, "mot2": 10.0}))
     path.write_text(unbounded.replace('kp="50"/>', 'kp="50" forcerange="-10 10"/>'))
-    assert [a.joint for a in description_sidecar(path, "effector").actuators] == ["mot1", "mot2"]
+    bounded = description_sidecar(path, "effector")
+    assert [a.joint for a in bounded.actuators] == ["mot1", "mot2"]
+    assert given.drives == bounded.drives  # --effort 10 sizes each drive as the file's forcerange of 10 does
+    assert "given by --effort mot1=10 on the command line" in given.sources["drives.mot1.motor"]
+
+
+@pytest.mark.parametrize("effort, expected", [("mot1=-1", "--effort: expected JOINT=VALUE"),
+                                              ("mot1=abc", "--effort: expected JOINT=VALUE"),
+                                              ("mot1", "--effort: expected JOINT=VALUE"),
+                                              ("nope=1", "--effort names nope, not a joint of the description")])
+def test_a_bad_effort_on_the_command_line_exits_2_naming_the_option(tmp_path, capsys, effort, expected):
+    """--effort takes a joint of the description and a positive bound; anything else is named, not guessed."""
+    path = tmp_path / "fivebar.xml"
+    path.write_text(fivebar_mjcf())
+    assert main(["--robot", str(path), "--tool", "effector", "--effort", effort, "--path", str(CIRCLE)]) == 2
+    assert expected in capsys.readouterr().err
