@@ -45,6 +45,8 @@ MM_M = 1e-3
 INCH_M = 0.0254
 MAX_PROGRAM_BYTES = 50_000_000
 MAX_LINE_CHARS = 1000
+INITIAL_FEED_HOW = ("--initial-feed MM_PER_MIN on the command line, or shape.initial_feed_m_s (m/s) in the path file "
+                    "(docs/paths.md)")
 STOPS_M = {0, 1, 60}  # program pauses: the tool stops there
 
 
@@ -508,8 +510,9 @@ def _feed(fail: Callable[[str, str], GcodeError], state: _State, word: str, leng
         state.dialect.setdefault("initial feed", []).append(state.line)
         return state.machine.initial_feed_m_s
     if state.feed is None:
-        raise fail(word, f"a feed move (G{(state.motion or 0) // 10}) before any feed rate: give F first, or the "
-                         "controller's modal feed in the path file (shape.initial_feed_m_s, docs/paths.md)")
+        given = ("F (per revolution in G95) first" if state.feed_mode == 950 else
+                 f"F first, or the controller's modal feed it runs at: {INITIAL_FEED_HOW}")
+        raise fail(word, f"a feed move (G{(state.motion or 0) // 10}) before any feed rate: give {given}")
     if state.feed_mode == 950:
         if not state.spindle_rpm:
             raise fail(word, "feed per revolution (G95) needs the spindle speed S > 0")

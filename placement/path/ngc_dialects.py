@@ -206,7 +206,7 @@ def dialect_notes(dialect: dict[str, list[int]], home_given: bool, initial_feed_
         dialect: The lines of each kind ("$", "$H", "M88", "G187", "M25", "M99", "long dwell", "G0 at start",
             "G91 at start", "initial feed", Marlin's "M104", "G28 homing", "G4 S", "G4 P", "E", ...).
         home_given: Whether the path file gives the machine's home (shape.machine.g28_mm), where M25 goes.
-        initial_feed_m_s: The path file's initial feed.
+        initial_feed_m_s: The initial feed given (the command line's or the path file's; m/s).
     """
     notes = []
     if "$" in dialect or "$H" in dialect:
@@ -254,6 +254,6 @@ def dialect_notes(dialect: dict[str, list[int]], home_given: bool, initial_feed_
     if "initial feed" in dialect:
         assert initial_feed_m_s is not None
         notes.append(f"the feed moves of {lines_text(dialect['initial feed'])} come before the program's first F: they "
-                     f"run at the controller's modal feed the path file gives (shape.initial_feed_m_s: "
-                     f"{initial_feed_m_s:g} m/s = {initial_feed_m_s * MM_PER_MIN_M_S:g} mm/min)")
+                     f"run at the controller's modal feed given for the program (--initial-feed, or shape.initial_feed_m_s "
+                     f"in the path file): {initial_feed_m_s * MM_PER_MIN_M_S:g} mm/min = {initial_feed_m_s:g} m/s")
     return notes

@@ -192,6 +192,10 @@ def select_system(fail: Callable[[str, str], GcodeError], code_word: tuple[int, 
                      "the program in one system, the path frame")
 
 
+TOOL_DIAMETER_HOW = ("give each tool's diameter with --tool-diameter T=MM on the command line or in the path file "
+                     "(shape.tool_diameters_mm)")
+
+
 def g10(fail: Callable[[str, str], GcodeError], word: str, values: dict[str, float], written: dict[str, str],
         length_m: float, position_m: list[float | None], compensating: bool, line: int, offsets: Offsets
         ) -> dict[int, float]:
@@ -208,12 +212,12 @@ def g10(fail: Callable[[str, str], GcodeError], word: str, values: dict[str, flo
     form = round(values["L"])
     if form in (1, 10, 11) and "R" in values:
         raise fail(written["R"], f"G10 L{form}'s R is a tool's radius in LinuxCNC but a length or a wear on Fanuc "
-                                 "and Haas controls: give each tool's diameter in the path file (shape.tool_diameters_mm)")
+                                 f"and Haas controls: {TOOL_DIAMETER_HOW}")
     if form in (1, 10, 11):
         return {}  # the program's coordinates are the tool tip's, whatever the tool's length
     if form in (12, 13):
         raise fail(written["L"], f"G10 L{form} sets a cutter radius or diameter offset (Fanuc, Haas), read differently "
-                                 "by each: give each tool's diameter in the path file (shape.tool_diameters_mm)")
+                                 f"by each: {TOOL_DIAMETER_HOW}")
     if form not in (2, 20):
         raise fail(written["L"], f"G10 L{form} is not read: G10 L2 and L20 (work offsets) and L1, L10, L11 (tool "
                                  "lengths) are")
