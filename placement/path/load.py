@@ -21,7 +21,11 @@ from placement.path.toolpath import MIN_LENGTH_M, ToolPath
 from placement.schema import read_yaml, validate_document
 
 DICT_NAME = "<dict>"  # a path given as a dict, in errors
-GCODE_SUFFIXES = (".ngc", ".nc", ".tap", ".gcode", ".gc", ".gco", ".g", ".cnc")  # a G-code program given in place of a path file
+# A program given in place of a path file: G-code, and the suffixes of controllers that may hold G-code or their own
+# language (Heidenhain's .h, Sinumerik's .mpf and .spf, ISO's .iso, Mazak's and Okuma's .eia and .min), which the
+# reader refuses by name when it is not G-code.
+GCODE_SUFFIXES = (".ngc", ".nc", ".tap", ".gcode", ".gc", ".gco", ".g", ".cnc", ".h", ".mpf", ".spf", ".iso", ".eia",
+                  ".min")
 
 
 @dataclass(frozen=True)

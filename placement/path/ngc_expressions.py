@@ -23,6 +23,8 @@ Fanuc Macro B, which looks like RS-274/NGC but is not, is
 refused by its own name: ``IF [...] THEN``/``GOTO``, ``WHILE [...] DO n``/``END n``, ``GOTO n``,
 ``DPRNT``/``BPRNT``/``POPEN``/``PCLOS``, expressions without brackets (``#1=#2+1``), the vacant ``#0`` and
 Fanuc's system variables (``#5001``, the current X; ``#4001``, the active G codes ...) read before they are set.
+A line that cannot be read and is in another controller's language (Heidenhain's conversational, Siemens
+Sinumerik's: :mod:`placement.path.ngc_languages`) is refused naming that language and construct.
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from placement.path.exceptions import _ExpressionError
+from placement.path.ngc_languages import foreign_construct
 
 EQUAL_TOLERANCE = 1e-4  # EQ and NE compare within this, as LinuxCNC's TOLERANCE_EQUAL
 MAX_NUMBERED_PARAMETER = 5602  # LinuxCNC's numbered parameters are #1 to #5602
@@ -69,6 +72,7 @@ FUNCTIONS: dict[str, Callable[[float], float]] = {
 DOMAINS = {"acos": (-1.0, 1.0), "asin": (-1.0, 1.0), "ln": (0.0, math.inf), "sqrt": (0.0, math.inf)}
 BINARY_RANK = {"**": 6, "*": 5, "/": 5, "mod": 5, "+": 4, "-": 4, "eq": 3, "ne": 3, "gt": 3, "ge": 3, "lt": 3,
                "le": 3, "and": 2, "or": 2, "xor": 2}
+HASH_COMMENT = re.compile(r"\s*#\s")  # '# text', a comment in some firmwares' dialects
 PLAIN_LINE = re.compile(r"(?:N[+-]?(?:\d+\.?\d*|\.\d+))?(?:[A-Z][+-]?(?:\d+\.?\d*|\.\d+))*")  # letters and numbers
 PLAIN_WORD = re.compile(r"[A-Z][+-]?(?:\d+\.?\d*|\.\d+)")
 SPACES = str.maketrans("", "", " \t\r")
@@ -175,6 +179,12 @@ def read_line(line: str) -> Block:
     try:
         return _read_line(line)
     except _ExpressionError as error:
+        foreign = foreign_construct(line)
+        if foreign is not None:
+            return Block(error=_ExpressionError("", foreign))
+        if HASH_COMMENT.match(line):
+            return Block(error=_ExpressionError("#", "'#' starts a parameter in RS-274 (#1, #<name>), not a comment: "
+                                                     "write comments in parentheses or after ';'"))
         return Block(error=error)
 
 

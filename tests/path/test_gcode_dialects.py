@@ -534,3 +534,48 @@ def test_g92_at_the_start_makes_the_current_point_known_as_a_pen_plotters_you_ar
                                 "G1 X-10 Y4 F3500\nG1 X-10 Y2\nG1 Z0 F150\n")
     assert ends_mm(path) == [[[0, 0, 0], [-10, 4, 0]], [[-10, 4, 0], [-10, 2, 0]]]
     assert [hold.duration_s for hold in path.holds] == [0.15]
+
+
+# Other controllers' languages, refused by name at their line (placement.path.ngc_languages)
+
+@pytest.mark.parametrize(("code", "line", "words"), [
+    # Heidenhain conversational, as a TNC writes it (line numbers, Q parameters, FMAX)
+    ("0 BEGIN PGM PART MM\n1 BLK FORM 0.1 Z X-50 Y-50 Z-20\n2 TOOL CALL 1 Z S3000\n3 L Z+50 R0 FMAX M3\n"
+     "4 END PGM PART MM\n", 1, ["Heidenhain conversational (Klartext)", "'BEGIN PGM'"]),
+    ("; a fragment without its header\nTOOL CALL 1 Z S3500\nL X+10 Y+0 R0 FMAX\n", 2,
+     ["Heidenhain conversational", "'TOOL CALL'"]),
+    ("G21 G90\nG0 X0 Y0 Z5\nL X+10 Y+5 RL F200\n", 3, ["Heidenhain conversational", "path block"]),
+    ("%PART G71 *\nN10 G00 X+0 Y+0 *\n", 1, ["Heidenhain DIN/ISO program", "'%NAME G71 *'"]),
+    # Siemens Sinumerik, as its CAM posts write it
+    ("N10 G17 G90 G54\nN20 T=\"MILL10\" M6\n", 2, ["Siemens Sinumerik", "tool called by name"]),
+    ("N10 G17 G90 G54\nN20 G0 X0 Y0 Z5\nN30 CYCLE81(10, 0, 2, -25, 0)\n", 3, ["Siemens Sinumerik", "cycle call"]),
+    ("G21 G90\nTRANS X10 Y20\n", 2, ["Siemens Sinumerik", "a frame"]),
+    ("G21 G90\nR1=5\nG0 X=R1\n", 2, ["Siemens Sinumerik", "an R parameter"]),
+    ("G21 G90\nDEF REAL DEPTH=-5\n", 2, ["Siemens Sinumerik", "'DEF'"]),
+    ("MSG(\"ROUGHING\")\nG0 X0\n", 1, ["Siemens Sinumerik", "MSG"]),
+])
+def test_another_controllers_language_is_refused_by_its_name(tmp_path, code, line, words):
+    error = refused(tmp_path, code)
+    assert error.line == line, str(error)
+    assert "is not RS-274 G-code" in str(error) and "G-code (ISO, RS-274) post" in str(error)
+    for word in words:
+        assert word in str(error)
+
+
+def test_rs274_that_looks_foreign_is_still_read(tmp_path):
+    # a rotary axis alone, an R arc, a drilling cycle's R and L, a parameter read in a word: all RS-274
+    path, _ = program(tmp_path, "G21 G90\nG0 X0 Y0 Z5 C0\nC0\nG1 Z0 F100\nG2 X10 Y0 R5\n#1=2\nG1 X[#1*10]\n"
+                                "G81 X0 Y0 Z-1 R1 L1\nG80\nM2\n")
+    assert len(path.segments) == 4  # the plunge, the arc, the line to X20 and the hole's feed (rapids left out)
+
+
+def test_a_heidenhain_program_given_bare_is_refused_by_name_not_read_as_yaml(tmp_path):
+    (tmp_path / "PART.H").write_text("0 BEGIN PGM PART MM\n1 TOOL CALL 1 Z S3000\n2 L X+0 Y+0 R0 FMAX\n"
+                                     "3 END PGM PART MM\n")
+    with pytest.raises(GcodeError, match="line 1: a Heidenhain conversational"):
+        load_path(tmp_path / "PART.H")
+
+
+def test_a_hash_comment_is_refused_saying_how_comments_are_written(tmp_path):
+    error = refused(tmp_path, "# 4 mm square, laser at 10 %\nG21 G90\n")
+    assert error.line == 1 and "'#' starts a parameter" in str(error) and "parentheses or after ';'" in str(error)
