@@ -170,10 +170,7 @@ def read_program(file: Path, machine: Machine | None = None) -> Program:
         raise PathFileError(file, "", "G-code program not found" if not file.exists() else "not a regular file")
     if file.stat().st_size > MAX_PROGRAM_BYTES:
         raise PathFileError(file, "", f"the program is larger than {MAX_PROGRAM_BYTES // 1_000_000} MB")
-    try:
-        text = file.read_text(encoding="utf-8-sig")  # a byte order mark (Windows editors') is no character of it
-    except UnicodeDecodeError:
-        raise PathFileError(file, "", "not a text file in UTF-8 (or ASCII)") from None
+    text = _program_text(file)
     blocks: list[Block] = []
     for number, line in enumerate(text.splitlines(), start=1):
         if len(line) > MAX_LINE_CHARS and len(line.partition(";")[0]) > MAX_LINE_CHARS:  # (a long comment is read)
@@ -204,6 +201,32 @@ def read_program(file: Path, machine: Machine | None = None) -> Program:
     for text in dialect_notes(state.dialect, state.machine.g28_m is not None, state.machine.initial_feed_m_s):
         warnings.warn(f"{file}: {text}", GcodeDialectWarning, stacklevel=2)
     return program
+
+
+def _program_text(file: Path) -> str:
+    """The program's text: UTF-8 (a byte order mark, as Windows editors write, is no character of it), UTF-16 with its
+    byte order mark, else Windows-1252 (Latin-1), the code page of Windows CAM posts whose comments hold Ø or °, with
+    a warning; only comments may hold characters beyond ASCII (:mod:`placement.path.ngc_expressions`).
+
+    Raises:
+        PathFileError: A binary file (NUL bytes without a UTF-16 byte order mark).
+    """
+    raw = file.read_bytes()
+    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        return raw.decode("utf-16")
+    if b"\x00" in raw:
+        raise PathFileError(file, "", "not a text file in UTF-8 (or ASCII): it holds NUL bytes")
+    try:
+        return raw.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        pass
+    try:
+        text = raw.decode("cp1252")
+    except UnicodeDecodeError:  # the five bytes Windows-1252 leaves undefined
+        text = raw.decode("latin-1")
+    warnings.warn(f"{file}: not UTF-8: read as Windows-1252 (Latin-1), as Windows CAM posts write; characters beyond "
+                  "ASCII are read in comments only", GcodeDialectWarning, stacklevel=3)
+    return text
 
 
 def _program(file: Path, state: _State) -> Program:

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from placement.exceptions import listed
 from placement.path.exceptions import GcodeError
 from placement.path.ngc_expressions import MARLIN_HOMING
-from placement.path.ngc_words import CONTROLLER_G, CONTROLLER_M, MARLIN_M, USER_M
+from placement.path.ngc_words import CONTROLLER_G, CONTROLLER_M, IO_M, MARLIN_M, USER_M
 
 MM_PER_MIN_M_S = 60e3  # mm/min in one m/s
 MAX_LISTED_LINES = 8  # a warning names at most this many lines of each kind
@@ -126,6 +126,10 @@ def dialect_words(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple
                                 "M73), which is not read: set the modes again after the call")
     kinds = [f"M{code}" for code in sorted(set(m_codes) & {*CONTROLLER_M, 99})]
     kinds += marlin_words(fail, codes, m_codes, values, written)
+    if any(code in IO_M for code in m_codes):  # their P, E, L and Q are their arguments (E no extruder's)
+        for letter in "PELQ":
+            values.pop(letter, None), written.pop(letter, None)
+        kinds.append("M62-M68")
     if any(code in USER_M and code not in MARLIN_M for code in m_codes):  # their P and Q are their arguments
         values.pop("P", None), values.pop("Q", None), written.pop("P", None), written.pop("Q", None)
         kinds.append("user M")
@@ -175,6 +179,10 @@ def marlin_notes(dialect: dict[str, list[int]]) -> list[str]:
         waits = (" (the waits for a temperature are not timed)" if {109, 190} & set(codes) else "")
         notes.append(f"Marlin's and RepRapFirmware's M codes that do not move the tool are ignored, with the words of "
                      f"their lines as their parameters{waits}: {listed}")
+    if "M62-M68" in dialect:
+        notes.append(f"LinuxCNC's digital and analog outputs and input waits M62-M68 ({lines_text(dialect['M62-M68'])}: "
+                     "a laser's or a torch's power and switching, as laser and plasma posts write them) do not move the "
+                     "tool: ignored (an M66 wait is not timed)")
     if "user M" in dialect:
         notes.append(f"user-defined M codes M100-M199 ({lines_text(dialect['user M'])}) run a program of the "
                      "controller's (LinuxCNC: the file M1nn in its PROGRAM_PREFIX folder, given P and Q; Mr Beam: its "

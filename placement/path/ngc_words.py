@@ -56,6 +56,7 @@ MARLIN_M = {  # Marlin's and RepRapFirmware's M codes that do not move the tool:
     203: "the firmware's feed limits", 204: "the firmware's accelerations", 205: "the firmware's jerk limits",
     300: "a beep (Marlin), or the pen servo (MakerBot Unicorn: S30 down, S50 up)",
     400: "wait for the moves to finish", 420: "bed levelling on or off"}
+IO_M = range(62, 69)  # LinuxCNC's outputs and input wait (M62-M65 P, M66 P E L Q, M67 E Q, M68 E Q): no motion, a note
 USER_M = range(100, 200)  # user-defined M codes (LinuxCNC's M100-M199 with P, Q) that are not Marlin's: a note
 DIALECT_M = {25, 99}  # read as their controllers do (gcode._execute): Centroid's Z home, the main program's end
 UNSUPPORTED_M = {
@@ -68,7 +69,7 @@ UNSUPPORTED_M = {
     220: "Marlin's feed override (M220 S) scales every feed: give the feeds in the program (F) instead",
     221: "Marlin's flow override (M221) scales the extrusion of a print, which is not a tool path"}
 READ_M = ("not in the supported M-code dialect (M0, M1, M2, M3-M9, M30, M48, M49, M60; and other controllers' M10-M13, "
-          "M19, M25, M31, M33-M35, M41, M42, M73, M74, M83, M84, M88, M89, M99, M100-M199, M888, M2000; Marlin's M17, "
+          "M19, M25, M31, M33-M35, M41, M42, M62-M68, M73, M74, M83, M84, M88, M89, M99, M100-M199, M888, M2000; Marlin's M17, "
           "M18, M82, "
           "M104-M107, M109, M110, M114, M115, M117, M118, M140, M190, M201, M203-M205, M300, M400, M420; docs/paths.md): "
           "an M code not known may move the tool")
@@ -118,7 +119,7 @@ def sorted_words(fail: Callable[[str, str], GcodeError], words: list[tuple[str, 
             codes[group] = (code, word)
         elif letter == "M":
             code = code_of(fail, value, word)
-            if code % 10 or code // 10 not in (*ACCEPTED_M, *CONTROLLER_M, *MARLIN_M, *USER_M, *DIALECT_M):
+            if code % 10 or code // 10 not in (*ACCEPTED_M, *CONTROLLER_M, *MARLIN_M, *IO_M, *USER_M, *DIALECT_M):
                 raise fail(word, UNSUPPORTED_M.get(code // 10, READ_M) if not code % 10 else READ_M)
             m_codes[code // 10] = word
         elif letter in ALLOWED_LETTERS or letter in EXTRA_AXES or letter == "E":  # E: Haas's G187 E, or an extruder

@@ -579,3 +579,29 @@ def test_a_heidenhain_program_given_bare_is_refused_by_name_not_read_as_yaml(tmp
 def test_a_hash_comment_is_refused_saying_how_comments_are_written(tmp_path):
     error = refused(tmp_path, "# 4 mm square, laser at 10 %\nG21 G90\n")
     assert error.line == 1 and "'#' starts a parameter" in str(error) and "parentheses or after ';'" in str(error)
+
+
+def test_linuxcncs_outputs_and_input_wait_do_not_move_the_tool(tmp_path):
+    # a LinuxCNC laser post: power by M67 E0 Q (analog), on and off with the motion by M62/M63 P0, a wait on input 0
+    path, told = program(tmp_path, "G21 G90\nG0 X0 Y0 Z0\nM67 E0 Q40\nM62 P0\nG1 X10 F600\nM63 P0\n"
+                                   "M66 P0 L3 Q2\nM68 E1 Q0\nM64 P1\nM65 P1\nG1 Y10\nM2\n")
+    assert ends_mm(path) == [[[0, 0, 0], [10, 0, 0]], [[10, 0, 0], [10, 10, 0]]]
+    assert len(told) == 1 and "M62-M68 (lines 3, 4, 6, 7, 8, 9, 10" in told[0]
+
+
+@pytest.mark.parametrize("encoding", ["cp1252", "utf-16"])
+def test_a_program_in_a_windows_encoding_is_read_its_comments_holding_what_they_hold(tmp_path, encoding):
+    code = "(Fräser Ø6 mm, 90°)\nG21 G90\nG0 X0 Y0 Z0\nG1 X10 F600 (Tiefe 2 mm)\nM2\n"
+    (tmp_path / "p.nc").write_bytes(code.encode(encoding))  # (Python writes UTF-16 with its byte order mark)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        path = load_path(tmp_path / "p.nc")
+    assert ends_mm(path) == [[[0, 0, 0], [10, 0, 0]]]
+    said = [str(w.message) for w in caught if issubclass(w.category, GcodeDialectWarning)]
+    assert any("read as Windows-1252" in text for text in said) == (encoding == "cp1252")
+
+
+def test_a_binary_file_is_refused_as_no_text(tmp_path):
+    (tmp_path / "p.nc").write_bytes(b"G21\x00\x01\x02" * 10)
+    with pytest.raises(PathFileError, match="not a text file"):
+        load_path(tmp_path / "p.nc")
