@@ -80,6 +80,7 @@ PROGRAM_NAME = re.compile(r"[a-z][a-z0-9_.\-]*")  # a program's name in letters 
 MARLIN_HOMING = re.compile(r"(?:N\d+)?(G0*28([XYZ]+))")  # Marlin's G28 with axis letters, no numbers: homes those
 MARLIN_MESSAGE = re.compile(r"\s*/?\s*(?:N\s*\d+\s*)?M0*(11[78])(?![\d.])", re.IGNORECASE)  # M117, M118: text follows
 POLAR = "@^"  # LinuxCNC's polar words: @ radius, ^ angle (degrees), in place of X and Y
+SIGN_WORDS = POLAR + "$"  # words of a sign and a number: the polar words and LinuxCNC's spindle number ($0 in M3 $0)
 OPERATOR_ORDER = sorted(BINARY_RANK, key=len, reverse=True)  # "**" before "*", "mod" before ...
 
 
@@ -282,12 +283,12 @@ class _Reader:
             start, char = self.at, self.peek()
             if char == "#":
                 assignments.append(self.assignment())
-            elif char.isalpha() or char in POLAR:
+            elif char.isalpha() or char in SIGN_WORDS:
                 self.at += 1
                 value = self.value()
-                if self.peek() and not (self.peek().isalpha() or self.peek() in "#" + POLAR):
+                if self.peek() and not (self.peek().isalpha() or self.peek() in "#" + SIGN_WORDS):
                     operator = self.peek() in "+-*/"
-                    while self.at < len(self.low) and not (self.low[self.at].isalpha() or self.low[self.at] in POLAR):
+                    while self.at < len(self.low) and not (self.low[self.at].isalpha() or self.low[self.at] in SIGN_WORDS):
                         self.at += 1
                     if operator:
                         raise self.fail(start, "an expression without brackets (Fanuc Macro B writes X#1+2): "

@@ -87,7 +87,7 @@ UNSUPPORTED_G = {
                     "the path is a mill's X, Y, Z"),
     960: "constant surface speed (G96) is not read: the feeds are per minute (G94), inverse time (G93) or per "
          "revolution at S (G95)"}
-ALLOWED_LETTERS = set("GMXYZIJKRFSTPQLHDN@^")
+ALLOWED_LETTERS = set("GMXYZIJKRFSTPQLHDN@^$")  # $: LinuxCNC's spindle number (M3 $0), which the path does not use
 EXTRA_AXES = "ABCUVW"  # rotary and extra axes: read only while they hold one value (extra_axes)
 
 
@@ -125,10 +125,12 @@ def sorted_words(fail: Callable[[str, str], GcodeError], words: list[tuple[str, 
         elif letter in ALLOWED_LETTERS or letter in EXTRA_AXES or letter == "E":  # E: Haas's G187 E, or an extruder
             if letter in values:
                 raise fail(word, f"{letter} is given twice on the line")
+            if letter == "$" and (value != round(value) or value < -1):
+                raise fail(word, "the spindle number $ is a whole number ≥ 0 (or -1, every spindle)")
             values[letter], written[letter] = value, word
         else:
             raise fail(word, "unknown word: the letters read are G, M, X, Y, Z, I, J, K, R, F, S, T, P, Q, L, H, D, "
-                             "N, O, the extra axes A, B, C, U, V, W, an extruder's E and the polar @, ^")
+                             "N, O, the extra axes A, B, C, U, V, W, an extruder's E, the polar @, ^ and the spindle number $")
     return codes, m_codes, values, written
 
 

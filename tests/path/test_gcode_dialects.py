@@ -605,3 +605,8 @@ def test_a_binary_file_is_refused_as_no_text(tmp_path):
     (tmp_path / "p.nc").write_bytes(b"G21\x00\x01\x02" * 10)
     with pytest.raises(PathFileError, match="not a text file"):
         load_path(tmp_path / "p.nc")
+
+
+def test_a_spindle_number_that_is_no_whole_number_is_refused(tmp_path):
+    error = refused(tmp_path, "G21 G90\nG0 X0 Y0 Z0\nM3 $0.5 S1000\n")
+    assert error.line == 3 and error.word == "$0.5" and "spindle number" in str(error)

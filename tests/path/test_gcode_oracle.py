@@ -48,6 +48,14 @@ MACHINE = Machine(np.zeros(3), np.zeros(3), np.zeros(3), given=True,
 PLANE_AXES = {"XY": (0, 1, 2), "XZ": (2, 0, 1), "YZ": (1, 2, 0)}  # first, second, normal axis of ARC_FEED
 
 PROGRAMS = {
+    "spindle_number": """G21 G90 G17 G0 X0 Y0 Z0
+M3 $0 S1000
+G1 X10 F600
+S2000 $0
+G1 Y10
+M5 $-1
+M2
+""",
     "parameters_expressions_functions": """G21 G90 G17 G0 X0 Y0 Z0
 #1 = 10
 #<depth> = -2
