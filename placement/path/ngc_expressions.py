@@ -186,6 +186,10 @@ def read_line(line: str) -> Block:
         if HASH_COMMENT.match(line):
             return Block(error=_ExpressionError("#", "'#' starts a parameter in RS-274 (#1, #<name>), not a comment: "
                                                      "write comments in parentheses or after ';'"))
+        if line.lstrip().startswith("//"):
+            return Block(error=_ExpressionError("//", "'//' starts no comment in RS-274 (a leading '/' deletes the "
+                                                      "block; '//' is a comment in some controls' dialects, such as "
+                                                      "MillMaster Pro's): write comments in parentheses or after ';'"))
         return Block(error=error)
 
 

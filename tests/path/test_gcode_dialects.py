@@ -610,3 +610,8 @@ def test_a_binary_file_is_refused_as_no_text(tmp_path):
 def test_a_spindle_number_that_is_no_whole_number_is_refused(tmp_path):
     error = refused(tmp_path, "G21 G90\nG0 X0 Y0 Z0\nM3 $0.5 S1000\n")
     assert error.line == 3 and error.word == "$0.5" and "spindle number" in str(error)
+
+
+def test_a_double_slash_comment_is_refused_saying_how_comments_are_written(tmp_path):
+    error = refused(tmp_path, "%\n// Stock is 3 x 3 x 1 in\nG70\nG0 X0 Y0\n")
+    assert error.line == 2 and error.word == "//" and "MillMaster Pro" in str(error) and "after ';'" in str(error)
