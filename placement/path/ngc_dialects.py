@@ -138,6 +138,9 @@ def dialect_words(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple
     if codes.get("non-modal", (0, ""))[0] == 40 and "S" in values and "P" not in values:  # Marlin's dwell in seconds
         values["P"], written["P"] = values.pop("S"), written.pop("S")
         kinds.append("G4 S")
+    if codes.get("non-modal", (0, ""))[0] == 40 and "X" in values and "P" not in values:  # Fanuc's dwell in seconds
+        values["P"], written["P"] = values.pop("X"), written.pop("X")
+        kinds.append("G4 X")
     if "controller mode" in codes:
         kinds.append(controller_mode(fail, codes["controller mode"], values))
     units = codes.get("units", (0, ""))
@@ -251,6 +254,9 @@ def dialect_notes(dialect: dict[str, list[int]], home_given: bool, initial_feed_
                      f"{LONG_DWELL_S:g}) last P seconds, as LinuxCNC and grbl read P; Fanuc, Haas and some Mach3 "
                      "controls read a P without a decimal point in milliseconds: if the program is theirs, write "
                      "P in seconds (P2000 -> P2.)")
+    if "G4 X" in dialect:
+        notes.append(f"G4 X ({lines_text(dialect['G4 X'])}) dwells X seconds, as Fanuc and Haas controls read it "
+                     "(LinuxCNC refuses a dwell without P)")
     if "G0 at start" in dialect:
         verb = "give" if len(set(dialect["G0 at start"])) > 1 else "gives"
         notes.append(f"{lines_text(dialect['G0 at start'])} {verb} an end point before any motion word: read as G0, the "

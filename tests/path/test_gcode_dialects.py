@@ -615,3 +615,10 @@ def test_a_spindle_number_that_is_no_whole_number_is_refused(tmp_path):
 def test_a_double_slash_comment_is_refused_saying_how_comments_are_written(tmp_path):
     error = refused(tmp_path, "%\n// Stock is 3 x 3 x 1 in\nG70\nG0 X0 Y0\n")
     assert error.line == 2 and error.word == "//" and "MillMaster Pro" in str(error) and "after ';'" in str(error)
+
+
+def test_fanucs_dwell_g4_x_lasts_x_seconds_and_moves_nothing(tmp_path):
+    path, told = program(tmp_path, "G21 G90\nG0 X0 Y0 Z0\nG1 X5 F600\nG04 X1.5\nG1 X10\nM2\n")
+    assert ends_mm(path) == [[[0, 0, 0], [5, 0, 0]], [[5, 0, 0], [10, 0, 0]]]
+    assert [(hold.after, hold.duration_s) for hold in path.holds] == [(1, 1.5)]
+    assert any("G4 X (line 4) dwells X seconds" in text for text in told)
