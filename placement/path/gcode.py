@@ -37,7 +37,7 @@ from placement.path.exceptions import GcodeDialectWarning, GcodeError, PathFileE
 from placement.path.ngc_dialects import Extruder, dialect_notes, dialect_words, grbl_command, marlin_program
 from placement.path.ngc_expressions import Block, Parameters, read_line
 from placement.path.ngc_flow import run_blocks
-from placement.path.ngc_offsets import Offsets, g10, g92, select_system
+from placement.path.ngc_offsets import Offsets, additional_system, g10, g92, select_system
 from placement.path.ngc_words import EXTRA_AXES, check_unused, extra_axes, polar_words, sorted_words
 from placement.path.segments import Segment
 
@@ -296,7 +296,10 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
     if "cutter compensation" in codes:
         _compensation_mode(fail, codes["cutter compensation"], values, written, state)
     if "coordinate system" in codes:
-        select_system(fail, codes["coordinate system"], state.offsets, state.compensation is not None)
+        if codes["coordinate system"][0] in (541, 1540):
+            state.dialect.setdefault("G54.1 P", []).append(line)
+        select_system(fail, additional_system(fail, codes["coordinate system"], values, written), state.offsets,
+                      state.compensation is not None)
         state.offset_m = state.offsets.total_m()
     if "path control" in codes:
         code = codes["path control"][0]

@@ -254,6 +254,9 @@ def dialect_notes(dialect: dict[str, list[int]], home_given: bool, initial_feed_
                      f"{LONG_DWELL_S:g}) last P seconds, as LinuxCNC and grbl read P; Fanuc, Haas and some Mach3 "
                      "controls read a P without a decimal point in milliseconds: if the program is theirs, write "
                      "P in seconds (P2000 -> P2.)")
+    if "G54.1 P" in dialect:
+        notes.append(f"G54.1 P and G154 P ({lines_text(dialect['G54.1 P'])}) select an additional work offset, as Fanuc "
+                     "and Haas controls read them: read as G54-G59.3 are (LinuxCNC has none)")
     if "G4 X" in dialect:
         notes.append(f"G4 X ({lines_text(dialect['G4 X'])}) dwells X seconds, as Fanuc and Haas controls read it "
                      "(LinuxCNC refuses a dwell without P)")

@@ -19,7 +19,7 @@ G_GROUPS = {
     **dict.fromkeys((0, 10, 20, 30, 730, 810, 820, 830, 850, 890), "motion"), 800: "canned cycle",
     **dict.fromkeys((40, 100, 280, 281, 300, 301, 530, 920, 921, 922, 923), "non-modal"),
     **dict.fromkeys((170, 180, 190), "plane"),
-    **dict.fromkeys((*range(540, 600, 10), 591, 592, 593), "coordinate system"), 200: "units", 210: "units",
+    **dict.fromkeys((*range(540, 600, 10), 591, 592, 593, 541, 1540), "coordinate system"), 200: "units", 210: "units",
     700: "units", 710: "units", 900: "distance",
     910: "distance", 901: "arc distance", 911: "arc distance", **dict.fromkeys((930, 940, 950), "feed mode"),
     **dict.fromkeys((400, 410, 411, 420, 421), "cutter compensation"), 430: "tool length offset",
@@ -33,8 +33,8 @@ CONTROLLER_G = {  # other controllers' smoothing and look-ahead modes: the path 
     1870: ("G187", "smoothness and corner tolerance (Haas)", "")}
 READ_G = ("not in the G-code dialect read: G0-G4, G10 L1/L2/L10/L11/L20, G17-G21, G28, G28.1, G30, G30.1, G40-G42, "
           "G41.1, G42.1, G43, G49, G53-G59, G59.1-G59.3, G61, G61.1, G64, G73, G80-G83, G85, G89, G90, G91, G90.1, "
-          "G91.1, G92-G92.3, G93-G95, G98, G99; and other controllers' G5 P, G5.1 Q, G8 P, G70, G71, G103, G187 "
-          "(docs/paths.md)")
+          "G91.1, G92-G92.3, G93-G95, G98, G99; and other controllers' G5 P, G5.1 Q, G8 P, G54.1 P, G70, G71, G103, "
+          "G154 P, G187 (docs/paths.md)")
 ACCEPTED_M = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 30, 48, 49, 60}  # RS-274/NGC's own: read without a note
 CONTROLLER_M = {  # other controllers' M codes that do not move the tool: ignored, with a note (GcodeDialectWarning)
     10: "clamp or rotary brake on", 11: "clamp or rotary brake off", 12: "5th-axis brake on (Haas)",

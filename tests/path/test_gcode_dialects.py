@@ -622,3 +622,23 @@ def test_fanucs_dwell_g4_x_lasts_x_seconds_and_moves_nothing(tmp_path):
     assert ends_mm(path) == [[[0, 0, 0], [5, 0, 0]], [[5, 0, 0], [10, 0, 0]]]
     assert [(hold.after, hold.duration_s) for hold in path.holds] == [(1, 1.5)]
     assert any("G4 X (line 4) dwells X seconds" in text for text in told)
+
+
+@pytest.mark.parametrize("select", ["G54.1 P3", "G154 P12"])
+def test_an_additional_work_offset_selected_before_the_first_move_is_the_path_frame(tmp_path, select):
+    # Fanuc's G54.1 P and Haas's G154 P, as Fusion 360's posts write them for a work offset past G59
+    path, told = program(tmp_path, f"G21 G90 G17\n{select}\nG0 X0 Y0 Z5\nG1 Z0 F300\nG1 X10\nM30\n")
+    assert ends_mm(path) == [[[0, 0, 5], [0, 0, 0]], [[0, 0, 0], [10, 0, 0]]]
+    assert any("G54.1 P and G154 P (line 2) select an additional work offset" in text for text in told)
+
+
+@pytest.mark.parametrize(("code", "word", "words"), [
+    ("G21 G90\nG0 X0 Y0 Z0\nG54.1 P2\nG1 X10 F300\n", "G54.1", ["G54.1 P2", "write the program in one system"]),
+    ("G21 G90\nG54.1 P49\n", "G54.1", ["P, a whole number from 1 to 48"]),
+    ("G21 G90\nG154\n", "G154", ["P, a whole number from 1 to 99"]),
+])
+def test_an_additional_work_offset_whose_place_is_not_known_is_refused(tmp_path, code, word, words):
+    error = refused(tmp_path, code)
+    assert error.word == word
+    for expected in words:
+        assert expected in str(error)
