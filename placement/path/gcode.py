@@ -38,12 +38,12 @@ from placement.path.ngc_dialects import Extruder, dialect_notes, dialect_words, 
 from placement.path.ngc_expressions import Block, Parameters, read_line
 from placement.path.ngc_flow import run_blocks
 from placement.path.ngc_offsets import Offsets, additional_system, g10, g92, select_system
+from placement.path.ngc_text import program_text
 from placement.path.ngc_words import EXTRA_AXES, check_unused, extra_axes, polar_words, sorted_words
 from placement.path.segments import Segment
 
 MM_M = 1e-3
 INCH_M = 0.0254
-MAX_PROGRAM_BYTES = 50_000_000
 MAX_LINE_CHARS = 1000
 INITIAL_FEED_HOW = ("--initial-feed MM_PER_MIN on the command line, or shape.initial_feed_m_s (m/s) in the path file "
                     "(docs/paths.md)")
@@ -166,11 +166,7 @@ def read_program(file: Path, machine: Machine | None = None) -> Program:
         PathFileError: The file is missing or unreadable.
         GcodeError: A line breaks the supported dialect (docs/paths.md); names line and word.
     """
-    if not file.is_file():
-        raise PathFileError(file, "", "G-code program not found" if not file.exists() else "not a regular file")
-    if file.stat().st_size > MAX_PROGRAM_BYTES:
-        raise PathFileError(file, "", f"the program is larger than {MAX_PROGRAM_BYTES // 1_000_000} MB")
-    text = _program_text(file)
+    text = program_text(file)
     blocks: list[Block] = []
     for number, line in enumerate(text.splitlines(), start=1):
         if len(line) > MAX_LINE_CHARS and len(line.partition(";")[0]) > MAX_LINE_CHARS:  # (a long comment is read)
@@ -201,32 +197,6 @@ def read_program(file: Path, machine: Machine | None = None) -> Program:
     for text in dialect_notes(state.dialect, state.machine.g28_m is not None, state.machine.initial_feed_m_s):
         warnings.warn(f"{file}: {text}", GcodeDialectWarning, stacklevel=2)
     return program
-
-
-def _program_text(file: Path) -> str:
-    """The program's text: UTF-8 (a byte order mark, as Windows editors write, is no character of it), UTF-16 with its
-    byte order mark, else Windows-1252 (Latin-1), the code page of Windows CAM posts whose comments hold Ø or °, with
-    a warning; only comments may hold characters beyond ASCII (:mod:`placement.path.ngc_expressions`).
-
-    Raises:
-        PathFileError: A binary file (NUL bytes without a UTF-16 byte order mark).
-    """
-    raw = file.read_bytes()
-    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
-        return raw.decode("utf-16")
-    if b"\x00" in raw:
-        raise PathFileError(file, "", "not a text file in UTF-8 (or ASCII): it holds NUL bytes")
-    try:
-        return raw.decode("utf-8-sig")
-    except UnicodeDecodeError:
-        pass
-    try:
-        text = raw.decode("cp1252")
-    except UnicodeDecodeError:  # the five bytes Windows-1252 leaves undefined
-        text = raw.decode("latin-1")
-    warnings.warn(f"{file}: not UTF-8: read as Windows-1252 (Latin-1), as Windows CAM posts write; characters beyond "
-                  "ASCII are read in comments only", GcodeDialectWarning, stacklevel=3)
-    return text
 
 
 def _program(file: Path, state: _State) -> Program:
