@@ -26,7 +26,8 @@ from placement.kinematics.base import solver_name
 from placement.kinematics.closed_form import touch_joint_motion_kernel
 from placement.kinematics.warmup import touch_kernels
 from placement.limits.collision import collision_scene
-from placement.path.load import load_path
+from placement.path.load import ControllerSettings, load_path
+from placement.path.path_file import MAX_FEED_M_S
 from placement.path.toolpath import ToolPath
 from placement.robot.equip import equip
 from placement.robot.formats import DescriptionOptions, is_description
@@ -43,6 +44,9 @@ from placement.workshop.estimates import (
     write_estimated_sidecar,
 )
 from placement.workshop.load import load_robot
+
+MM_PER_MIN_M_S = 60e3  # mm/min in one m/s
+MIN_INITIAL_FEED_MM_MIN = 1.0  # --initial-feed below this is taken for a value in m/s: no machine cuts slower
 
 
 def whole_number(low: int, high: int) -> Callable[[str], int]:
@@ -181,8 +185,9 @@ def _add_regeneration(options: argparse.ArgumentParser) -> None:
 
 
 def sampling_options() -> argparse.ArgumentParser:
-    """Options that override how a path file is timed and sampled (see configured_path; a parent parser)."""
+    """Options that override how a path file is read, timed and sampled (see configured_path; a parent parser)."""
     options = parent()
+    _add_controller(options)
     options.add_argument("--timing", choices=("paper", "realistic", "optimal"),
                          help="override the path file's timing law (optimal: as fast as the robot allows at each "
                               "placement, the feed an upper bound)")
@@ -193,6 +198,61 @@ def sampling_options() -> argparse.ArgumentParser:
     options.add_argument("--time-step", type=positive_number, metavar="S",
                          help="path sampling step (s; default: the path file's)")
     return options
+
+
+def _add_controller(options: argparse.ArgumentParser) -> None:
+    """--initial-feed and --tool-diameter: what RS-274 leaves to the controller, for a G-code program."""
+    options.add_argument("--initial-feed", type=initial_feed_mm_min, metavar="MM_PER_MIN",
+                         help="a G-code program's feed moves before its first F run at this feed, the controller's "
+                              "modal feed, in mm/min as F in a G21 program (1 in/min = 25.4 mm/min; default: the path "
+                              "file's shape.initial_feed_m_s, else such a move is refused)")
+    options.add_argument("--tool-diameter", type=tool_diameter, action="append", default=[], metavar="T=MM",
+                         help="tool T's diameter in mm, which cutter radius compensation (G41, G42 with D or the "
+                              "loaded tool) offsets a G-code program's path by; repeatable, e.g. --tool-diameter "
+                              "8=6.35 (T8=6.35 also reads); over the path file's shape.tool_diameters_mm")
+
+
+def initial_feed_mm_min(text: str) -> float:
+    """--initial-feed's value: a feed in mm/min, from MIN_INITIAL_FEED_MM_MIN to the path file's largest feed."""
+    value = positive_number(text)
+    if value < MIN_INITIAL_FEED_MM_MIN:
+        raise argparse.ArgumentTypeError(f"expected a feed in mm/min, got {value:g}: a value in m/s? "
+                                         f"{value:g} m/s = {value * MM_PER_MIN_M_S:g} mm/min")
+    if value > MAX_FEED_M_S * MM_PER_MIN_M_S:
+        raise argparse.ArgumentTypeError(f"expected a feed in mm/min of at most {MAX_FEED_M_S * MM_PER_MIN_M_S:g}, "
+                                         f"got {value:g}")
+    return value
+
+
+def tool_diameter(text: str) -> tuple[int, float]:
+    """--tool-diameter's value: T=MM (or TT=MM), the tool's number and its diameter in mm."""
+    tool, separator, diameter = text.strip().partition("=")
+    tool = tool.strip().removeprefix("T").removeprefix("t")
+    if not separator or not tool.isdigit():
+        raise argparse.ArgumentTypeError(f"expected T=MM, a tool number and its diameter in mm (e.g. 8=6.35), got "
+                                         f"'{text[:40]}'")
+    try:
+        value = float(diameter)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected tool {tool}'s diameter in mm, got '{diameter[:40]}'") from None
+    if not np.isfinite(value):
+        raise argparse.ArgumentTypeError(f"expected a finite diameter in mm for tool {tool}, got '{diameter[:40]}'")
+    return int(tool), value
+
+
+def controller_settings(args: argparse.Namespace) -> ControllerSettings:
+    """The command line's --initial-feed and --tool-diameter (each optional on the command).
+
+    Raises:
+        UsageError: A tool given twice.
+    """
+    diameters: dict[int, float] = {}
+    for tool, diameter_mm in getattr(args, "tool_diameter", None) or []:
+        if tool in diameters:
+            raise UsageError(f"--tool-diameter: tool {tool} is given twice ({diameters[tool]:g} and {diameter_mm:g} mm)")
+        diameters[tool] = diameter_mm
+    feed = getattr(args, "initial_feed", None)
+    return ControllerSettings(None if feed is None else feed / MM_PER_MIN_M_S, diameters)
 
 
 def margin_option() -> argparse.ArgumentParser:
@@ -277,7 +337,7 @@ def parse_joint_values(text: str, option: str) -> dict[str, tuple[float, str]]:
 def configured_path(args: argparse.Namespace, file: str) -> ToolPath:
     """A path file with the command line's timing overrides, timed by the law its objectives need (said in a note
     when the file gives another; :func:`placement.timing.rules.timing_for`)."""
-    path = load_path(file)
+    path = load_path(file, controller=controller_settings(args))
     for note in path.notes:
         print(f"note: {note}")
     mode, reason = timing_for(objective_names(args), args.timing, path)

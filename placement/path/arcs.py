@@ -14,8 +14,14 @@ import numpy as np
 from placement.path.exceptions import GcodeError
 from placement.path.segments import Segment
 
-RADIUS_TOLERANCE_M = 2e-6  # an I/J/K arc's end may be this much farther from the centre than its start ...
-RADIUS_TOLERANCE_SHARE = 1e-3  # ... or this share of the radius, whichever is larger
+RADIUS_TOLERANCE_M = 2e-6  # an R arc's radius may be this much shorter than half its chord ...
+RADIUS_TOLERANCE_SHARE = 1e-3  # ... or this share of it, whichever is larger
+# An I/J/K arc's end may lie farther from (or nearer to) the centre than its start, as LinuxCNC's interpreter allows
+# (interp_internal.hh, its defaults): by CENTER_TOLERANCE_M of the program's units (an end point and centre rounded
+# to 0.001 in or 0.01 mm), or by SPIRAL_SHARE of the larger radius, but never by more than CENTER_CAP times the first.
+CENTER_TOLERANCE_M = {0.0254: 2 * 0.001 * np.sqrt(2) * 0.0254, 1e-3: 2 * 0.01 * np.sqrt(2) * 1e-3}  # by unit (m)
+SPIRAL_SHARE = 1e-3
+CENTER_CAP = 100.0
 SAME_POINT_M = 1e-9  # closer points are one point (a full circle, a move of no length)
 PLANES = {17: np.eye(3)[:, [0, 1, 2]], 18: np.eye(3)[:, [2, 0, 1]], 19: np.eye(3)[:, [1, 2, 0]]}  # columns u, v, n
 OFFSET_LETTERS = {17: "IJ", 18: "IK", 19: "JK"}
@@ -72,10 +78,11 @@ def arc_segment(fail: Callable[..., GcodeError], start: np.ndarray, end: np.ndar
         end_radius = float(np.linalg.norm(e[:2] - center))
         if radius <= SAME_POINT_M:
             raise fail("the arc's centre is its start point (radius 0)", allowed[0])
-        tolerance = max(RADIUS_TOLERANCE_M, RADIUS_TOLERANCE_SHARE * radius)
+        absolute = CENTER_TOLERANCE_M[unit]
+        tolerance = min(max(absolute, SPIRAL_SHARE * max(radius, end_radius)), CENTER_CAP * absolute)
         if abs(end_radius - radius) > tolerance:
             raise fail(f"the end is {end_radius / unit:.6g} from the centre but the start {radius / unit:.6g}: the "
-                       f"radius does not fit (tolerance {tolerance / unit:.3g})", allowed[0])
+                       f"radius does not fit (tolerance {tolerance / unit:.3g}, LinuxCNC's)", allowed[0])
         if distance > SAME_POINT_M:  # onto the chord's perpendicular bisector: both ends on one circle
             across = np.array([-chord[1], chord[0]]) / distance
             middle = (s[:2] + e[:2]) / 2

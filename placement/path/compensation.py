@@ -86,8 +86,9 @@ def tool_diameter_m(fail: Callable[[str, str], GcodeError], code_word: tuple[int
         raise fail(word, "cutter radius compensation needs the tool: load one (T1 M6) or give its number (D1)")
     if tool not in diameters_m:
         raise fail(written.get("D", word), f"tool {tool}'s diameter is not given: cutter radius compensation offsets "
-                                           "the path by the tool radius; give it in the path file "
-                                           f"(shape.tool_diameters_mm: {{{tool}: 6.0}}, docs/paths.md)")
+                                           "the path by the tool radius; give it: --tool-diameter "
+                                           f"{tool}=MM on the command line, or shape.tool_diameters_mm: {{{tool}: 6.0}} "
+                                           "in the path file (docs/paths.md)")
     return diameters_m[tool]
 
 

@@ -37,14 +37,16 @@ from placement.path.exceptions import GcodeDialectWarning, GcodeError, PathFileE
 from placement.path.ngc_dialects import Extruder, dialect_notes, dialect_words, grbl_command, marlin_program
 from placement.path.ngc_expressions import Block, Parameters, read_line
 from placement.path.ngc_flow import run_blocks
-from placement.path.ngc_offsets import Offsets, g10, g92, select_system
+from placement.path.ngc_offsets import Offsets, additional_system, g10, g92, select_system
+from placement.path.ngc_text import program_text
 from placement.path.ngc_words import EXTRA_AXES, check_unused, extra_axes, polar_words, sorted_words
 from placement.path.segments import Segment
 
 MM_M = 1e-3
 INCH_M = 0.0254
-MAX_PROGRAM_BYTES = 50_000_000
 MAX_LINE_CHARS = 1000
+INITIAL_FEED_HOW = ("--initial-feed MM_PER_MIN on the command line, or shape.initial_feed_m_s (m/s) in the path file "
+                    "(docs/paths.md)")
 STOPS_M = {0, 1, 60}  # program pauses: the tool stops there
 
 
@@ -164,14 +166,7 @@ def read_program(file: Path, machine: Machine | None = None) -> Program:
         PathFileError: The file is missing or unreadable.
         GcodeError: A line breaks the supported dialect (docs/paths.md); names line and word.
     """
-    if not file.is_file():
-        raise PathFileError(file, "", "G-code program not found" if not file.exists() else "not a regular file")
-    if file.stat().st_size > MAX_PROGRAM_BYTES:
-        raise PathFileError(file, "", f"the program is larger than {MAX_PROGRAM_BYTES // 1_000_000} MB")
-    try:
-        text = file.read_text(encoding="utf-8-sig")  # a byte order mark (Windows editors') is no character of it
-    except UnicodeDecodeError:
-        raise PathFileError(file, "", "not a text file in UTF-8 (or ASCII)") from None
+    text = program_text(file)
     blocks: list[Block] = []
     for number, line in enumerate(text.splitlines(), start=1):
         if len(line) > MAX_LINE_CHARS and len(line.partition(";")[0]) > MAX_LINE_CHARS:  # (a long comment is read)
@@ -271,7 +266,10 @@ def _execute(fail: Callable[[str, str], GcodeError], line: int, words: list[tupl
     if "cutter compensation" in codes:
         _compensation_mode(fail, codes["cutter compensation"], values, written, state)
     if "coordinate system" in codes:
-        select_system(fail, codes["coordinate system"], state.offsets, state.compensation is not None)
+        if codes["coordinate system"][0] in (541, 1540):
+            state.dialect.setdefault("G54.1 P", []).append(line)
+        select_system(fail, additional_system(fail, codes["coordinate system"], values, written), state.offsets,
+                      state.compensation is not None)
         state.offset_m = state.offsets.total_m()
     if "path control" in codes:
         code = codes["path control"][0]
@@ -508,8 +506,9 @@ def _feed(fail: Callable[[str, str], GcodeError], state: _State, word: str, leng
         state.dialect.setdefault("initial feed", []).append(state.line)
         return state.machine.initial_feed_m_s
     if state.feed is None:
-        raise fail(word, f"a feed move (G{(state.motion or 0) // 10}) before any feed rate: give F first, or the "
-                         "controller's modal feed in the path file (shape.initial_feed_m_s, docs/paths.md)")
+        given = ("F (per revolution in G95) first" if state.feed_mode == 950 else
+                 f"F first, or the controller's modal feed it runs at: {INITIAL_FEED_HOW}")
+        raise fail(word, f"a feed move (G{(state.motion or 0) // 10}) before any feed rate: give {given}")
     if state.feed_mode == 950:
         if not state.spindle_rpm:
             raise fail(word, "feed per revolution (G95) needs the spindle speed S > 0")

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 from pathlib import Path as FilePath
 from typing import Any
 
@@ -19,10 +21,33 @@ from placement.path.toolpath import MIN_LENGTH_M, ToolPath
 from placement.schema import read_yaml, validate_document
 
 DICT_NAME = "<dict>"  # a path given as a dict, in errors
-GCODE_SUFFIXES = (".ngc", ".nc", ".tap", ".gcode", ".gc", ".gco", ".g", ".cnc")  # a G-code program given in place of a path file
+# A program given in place of a path file: G-code, and the suffixes of controllers that may hold G-code or their own
+# language (Heidenhain's .h, Sinumerik's .mpf and .spf, ISO's .iso, Mazak's and Okuma's .eia and .min), which the
+# reader refuses by name when it is not G-code.
+GCODE_SUFFIXES = (".ngc", ".nc", ".tap", ".gcode", ".gc", ".gco", ".g", ".cnc", ".h", ".mpf", ".spf", ".iso", ".eia",
+                  ".min")
 
 
-def load_path(path: str | FilePath | dict[str, Any], folder: str | FilePath = ".") -> ToolPath:
+@dataclass(frozen=True)
+class ControllerSettings:
+    """What RS-274 leaves to the controller, given outside the path file (the command line's --initial-feed and
+    --tool-diameter): each overrides the path file's field of a G-code shape, tool by tool for the diameters.
+
+    Attributes:
+        initial_feed_m_s: The controller's modal feed when the program starts (m/s; None: the path file's).
+        tool_diameters_mm: Each tool's diameter by its number (mm; a negative one swaps the side, as in LinuxCNC).
+    """
+
+    initial_feed_m_s: float | None = None
+    tool_diameters_mm: Mapping[int, float] = field(default_factory=dict)
+
+    def given(self) -> bool:
+        """Whether any setting is given."""
+        return self.initial_feed_m_s is not None or bool(self.tool_diameters_mm)
+
+
+def load_path(path: str | FilePath | dict[str, Any], folder: str | FilePath = ".",
+              controller: ControllerSettings | None = None) -> ToolPath:
     """Read and validate a path file (and the G-code program it names, if any), or a path file's fields as a dict.
 
     Args:
@@ -30,6 +55,8 @@ def load_path(path: str | FilePath | dict[str, Any], folder: str | FilePath = ".
             or its fields as a dict (``{"units": "mm", "shape": {"type": "circle", "radius": 20},
             "feed_m_s": 0.2}``), named ``<dict>`` in errors.
         folder: Where the files a dict names (a G-code program, a pose list) are; a file's are beside it.
+        controller: The initial feed and tool diameters a G-code program is run with, over the path file's (a note
+            says when the path is no program, which they do not apply to).
 
     Returns:
         The path, in metres.
@@ -52,6 +79,12 @@ def load_path(path: str | FilePath | dict[str, Any], folder: str | FilePath = ".
     rapid_feed, timed = None, None
     holds: tuple[Hold, ...] = ()
     notes: tuple[str, ...] = ()
+    if controller is not None and controller.given():
+        if isinstance(spec.shape, Gcode):
+            spec = spec.model_copy(update={"shape": _with_controller(spec.shape, controller)})
+        else:
+            notes = (f"the initial feed and tool diameters given for G-code programs do not apply to {path.name}, "
+                     f"a {spec.shape.type}: not used",)
     if isinstance(spec.shape, Gcode):
         program = read_program(path.parent / spec.shape.file, _machine(spec.shape))
         notes = program.notes
@@ -106,6 +139,13 @@ def _kept(program: Program, rapids: bool) -> tuple[tuple[Segment, ...], tuple[Ho
         if after:
             kept[after - 1] = dataclasses.replace(kept[after - 1], exact_stop=True)
     return tuple(kept), tuple(holds)
+
+
+def _with_controller(shape: Gcode, controller: ControllerSettings) -> Gcode:
+    """The G-code shape with the controller settings given over its own fields."""
+    tools = {**(shape.tool_diameters_mm or {}), **controller.tool_diameters_mm}
+    feed = controller.initial_feed_m_s if controller.initial_feed_m_s is not None else shape.initial_feed_m_s
+    return shape.model_copy(update={"tool_diameters_mm": tools or None, "initial_feed_m_s": feed})
 
 
 def _machine(shape: Gcode) -> Machine:

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from placement.exceptions import listed
 from placement.path.exceptions import GcodeError
 from placement.path.ngc_expressions import MARLIN_HOMING
-from placement.path.ngc_words import CONTROLLER_G, CONTROLLER_M, MARLIN_M, USER_M
+from placement.path.ngc_words import CONTROLLER_G, CONTROLLER_M, IO_M, MARLIN_M, USER_M
 
 MM_PER_MIN_M_S = 60e3  # mm/min in one m/s
 MAX_LISTED_LINES = 8  # a warning names at most this many lines of each kind
@@ -126,6 +126,10 @@ def dialect_words(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple
                                 "M73), which is not read: set the modes again after the call")
     kinds = [f"M{code}" for code in sorted(set(m_codes) & {*CONTROLLER_M, 99})]
     kinds += marlin_words(fail, codes, m_codes, values, written)
+    if any(code in IO_M for code in m_codes):  # their P, E, L and Q are their arguments (E no extruder's)
+        for letter in "PELQ":
+            values.pop(letter, None), written.pop(letter, None)
+        kinds.append("M62-M68")
     if any(code in USER_M and code not in MARLIN_M for code in m_codes):  # their P and Q are their arguments
         values.pop("P", None), values.pop("Q", None), written.pop("P", None), written.pop("Q", None)
         kinds.append("user M")
@@ -134,6 +138,9 @@ def dialect_words(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple
     if codes.get("non-modal", (0, ""))[0] == 40 and "S" in values and "P" not in values:  # Marlin's dwell in seconds
         values["P"], written["P"] = values.pop("S"), written.pop("S")
         kinds.append("G4 S")
+    if codes.get("non-modal", (0, ""))[0] == 40 and "X" in values and "P" not in values:  # Fanuc's dwell in seconds
+        values["P"], written["P"] = values.pop("X"), written.pop("X")
+        kinds.append("G4 X")
     if "controller mode" in codes:
         kinds.append(controller_mode(fail, codes["controller mode"], values))
     units = codes.get("units", (0, ""))
@@ -175,6 +182,10 @@ def marlin_notes(dialect: dict[str, list[int]]) -> list[str]:
         waits = (" (the waits for a temperature are not timed)" if {109, 190} & set(codes) else "")
         notes.append(f"Marlin's and RepRapFirmware's M codes that do not move the tool are ignored, with the words of "
                      f"their lines as their parameters{waits}: {listed}")
+    if "M62-M68" in dialect:
+        notes.append(f"LinuxCNC's digital and analog outputs and input waits M62-M68 ({lines_text(dialect['M62-M68'])}: "
+                     "a laser's or a torch's power and switching, as laser and plasma posts write them) do not move the "
+                     "tool: ignored (an M66 wait is not timed)")
     if "user M" in dialect:
         notes.append(f"user-defined M codes M100-M199 ({lines_text(dialect['user M'])}) run a program of the "
                      "controller's (LinuxCNC: the file M1nn in its PROGRAM_PREFIX folder, given P and Q; Mr Beam: its "
@@ -206,7 +217,7 @@ def dialect_notes(dialect: dict[str, list[int]], home_given: bool, initial_feed_
         dialect: The lines of each kind ("$", "$H", "M88", "G187", "M25", "M99", "long dwell", "G0 at start",
             "G91 at start", "initial feed", Marlin's "M104", "G28 homing", "G4 S", "G4 P", "E", ...).
         home_given: Whether the path file gives the machine's home (shape.machine.g28_mm), where M25 goes.
-        initial_feed_m_s: The path file's initial feed.
+        initial_feed_m_s: The initial feed given (the command line's or the path file's; m/s).
     """
     notes = []
     if "$" in dialect or "$H" in dialect:
@@ -243,6 +254,12 @@ def dialect_notes(dialect: dict[str, list[int]], home_given: bool, initial_feed_
                      f"{LONG_DWELL_S:g}) last P seconds, as LinuxCNC and grbl read P; Fanuc, Haas and some Mach3 "
                      "controls read a P without a decimal point in milliseconds: if the program is theirs, write "
                      "P in seconds (P2000 -> P2.)")
+    if "G54.1 P" in dialect:
+        notes.append(f"G54.1 P and G154 P ({lines_text(dialect['G54.1 P'])}) select an additional work offset, as Fanuc "
+                     "and Haas controls read them: read as G54-G59.3 are (LinuxCNC has none)")
+    if "G4 X" in dialect:
+        notes.append(f"G4 X ({lines_text(dialect['G4 X'])}) dwells X seconds, as Fanuc and Haas controls read it "
+                     "(LinuxCNC refuses a dwell without P)")
     if "G0 at start" in dialect:
         verb = "give" if len(set(dialect["G0 at start"])) > 1 else "gives"
         notes.append(f"{lines_text(dialect['G0 at start'])} {verb} an end point before any motion word: read as G0, the "
@@ -254,6 +271,6 @@ def dialect_notes(dialect: dict[str, list[int]], home_given: bool, initial_feed_
     if "initial feed" in dialect:
         assert initial_feed_m_s is not None
         notes.append(f"the feed moves of {lines_text(dialect['initial feed'])} come before the program's first F: they "
-                     f"run at the controller's modal feed the path file gives (shape.initial_feed_m_s: "
-                     f"{initial_feed_m_s:g} m/s = {initial_feed_m_s * MM_PER_MIN_M_S:g} mm/min)")
+                     f"run at the controller's modal feed given for the program (--initial-feed, or shape.initial_feed_m_s "
+                     f"in the path file): {initial_feed_m_s * MM_PER_MIN_M_S:g} mm/min = {initial_feed_m_s:g} m/s")
     return notes

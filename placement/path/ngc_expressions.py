@@ -23,6 +23,8 @@ Fanuc Macro B, which looks like RS-274/NGC but is not, is
 refused by its own name: ``IF [...] THEN``/``GOTO``, ``WHILE [...] DO n``/``END n``, ``GOTO n``,
 ``DPRNT``/``BPRNT``/``POPEN``/``PCLOS``, expressions without brackets (``#1=#2+1``), the vacant ``#0`` and
 Fanuc's system variables (``#5001``, the current X; ``#4001``, the active G codes ...) read before they are set.
+A line that cannot be read and is in another controller's language (Heidenhain's conversational, Siemens
+Sinumerik's: :mod:`placement.path.ngc_languages`) is refused naming that language and construct.
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from placement.path.exceptions import _ExpressionError
+from placement.path.ngc_languages import foreign_construct
 
 EQUAL_TOLERANCE = 1e-4  # EQ and NE compare within this, as LinuxCNC's TOLERANCE_EQUAL
 MAX_NUMBERED_PARAMETER = 5602  # LinuxCNC's numbered parameters are #1 to #5602
@@ -69,6 +72,7 @@ FUNCTIONS: dict[str, Callable[[float], float]] = {
 DOMAINS = {"acos": (-1.0, 1.0), "asin": (-1.0, 1.0), "ln": (0.0, math.inf), "sqrt": (0.0, math.inf)}
 BINARY_RANK = {"**": 6, "*": 5, "/": 5, "mod": 5, "+": 4, "-": 4, "eq": 3, "ne": 3, "gt": 3, "ge": 3, "lt": 3,
                "le": 3, "and": 2, "or": 2, "xor": 2}
+HASH_COMMENT = re.compile(r"\s*#\s")  # '# text', a comment in some firmwares' dialects
 PLAIN_LINE = re.compile(r"(?:N[+-]?(?:\d+\.?\d*|\.\d+))?(?:[A-Z][+-]?(?:\d+\.?\d*|\.\d+))*")  # letters and numbers
 PLAIN_WORD = re.compile(r"[A-Z][+-]?(?:\d+\.?\d*|\.\d+)")
 SPACES = str.maketrans("", "", " \t\r")
@@ -76,6 +80,7 @@ PROGRAM_NAME = re.compile(r"[a-z][a-z0-9_.\-]*")  # a program's name in letters 
 MARLIN_HOMING = re.compile(r"(?:N\d+)?(G0*28([XYZ]+))")  # Marlin's G28 with axis letters, no numbers: homes those
 MARLIN_MESSAGE = re.compile(r"\s*/?\s*(?:N\s*\d+\s*)?M0*(11[78])(?![\d.])", re.IGNORECASE)  # M117, M118: text follows
 POLAR = "@^"  # LinuxCNC's polar words: @ radius, ^ angle (degrees), in place of X and Y
+SIGN_WORDS = POLAR + "$"  # words of a sign and a number: the polar words and LinuxCNC's spindle number ($0 in M3 $0)
 OPERATOR_ORDER = sorted(BINARY_RANK, key=len, reverse=True)  # "**" before "*", "mod" before ...
 
 
@@ -175,6 +180,16 @@ def read_line(line: str) -> Block:
     try:
         return _read_line(line)
     except _ExpressionError as error:
+        foreign = foreign_construct(line)
+        if foreign is not None:
+            return Block(error=_ExpressionError("", foreign))
+        if HASH_COMMENT.match(line):
+            return Block(error=_ExpressionError("#", "'#' starts a parameter in RS-274 (#1, #<name>), not a comment: "
+                                                     "write comments in parentheses or after ';'"))
+        if line.lstrip().startswith("//"):
+            return Block(error=_ExpressionError("//", "'//' starts no comment in RS-274 (a leading '/' deletes the "
+                                                      "block; '//' is a comment in some controls' dialects, such as "
+                                                      "MillMaster Pro's): write comments in parentheses or after ';'"))
         return Block(error=error)
 
 
@@ -272,12 +287,12 @@ class _Reader:
             start, char = self.at, self.peek()
             if char == "#":
                 assignments.append(self.assignment())
-            elif char.isalpha() or char in POLAR:
+            elif char.isalpha() or char in SIGN_WORDS:
                 self.at += 1
                 value = self.value()
-                if self.peek() and not (self.peek().isalpha() or self.peek() in "#" + POLAR):
+                if self.peek() and not (self.peek().isalpha() or self.peek() in "#" + SIGN_WORDS):
                     operator = self.peek() in "+-*/"
-                    while self.at < len(self.low) and not (self.low[self.at].isalpha() or self.low[self.at] in POLAR):
+                    while self.at < len(self.low) and not (self.low[self.at].isalpha() or self.low[self.at] in SIGN_WORDS):
                         self.at += 1
                     if operator:
                         raise self.fail(start, "an expression without brackets (Fanuc Macro B writes X#1+2): "

@@ -36,6 +36,31 @@ NAMES = {540: "G54", 550: "G55", 560: "G56", 570: "G57", 580: "G58", 590: "G59",
          593: "G59.3"}
 
 
+ADDITIONAL = {541: ("G54.1", 48), 1540: ("G154", 99)}  # Fanuc's and Haas's additional work offsets: P1 to P48 or P99
+ADDITIONAL_BASE = 100_000  # an additional system's number: this plus its P
+
+
+def additional_system(fail: Callable[[str, str], GcodeError], code_word: tuple[int, str], values: dict[str, float],
+                      written: dict[str, str]) -> tuple[int, str]:
+    """The system a line selects: G54.1 P<n> (Fanuc, P1-P48) and G154 P<n> (Haas, P1-P99) an additional work offset,
+    read as G54-G59.3 are (its offset is the program's to set: none, G10 does not reach it), their P taken off the
+    line; any other code as it is."""
+    code, word = code_word
+    if code not in ADDITIONAL:
+        return code_word
+    name, last = ADDITIONAL[code]
+    number = values.pop("P", None)
+    written.pop("P", None)
+    if number is None or number != round(number) or not 1 <= number <= last:
+        raise fail(word, f"{name} selects an additional work offset by P, a whole number from 1 to {last}")
+    return ADDITIONAL_BASE + round(number), word
+
+
+def system_name(system: int) -> str:
+    """A system's G code as written: G54, ..., G59.3, or an additional one's G54.1 P<n> (Haas's G154 P<n>)."""
+    return NAMES.get(system, f"G54.1 P{system - ADDITIONAL_BASE}")
+
+
 def _nan3() -> np.ndarray:
     return np.full(3, np.nan)
 
@@ -182,14 +207,20 @@ def select_system(fail: Callable[[str, str], GcodeError], code_word: tuple[int, 
     if not unknown:
         return
     axes = ", ".join("XYZ"[k] for k in unknown)
+    name, active = system_name(system), system_name(offsets.active)
     if system in offsets.machine_m:
-        raise fail(word, f"the program changes work coordinate system to {NAMES[system]}, whose offset G10 sets in "
-                         f"machine coordinates ({axes}), but where the path frame's origin ({NAMES[offsets.active]}'s) "
-                         "is on the machine is not known: give it in the path file (shape.machine.work_offset_mm), "
-                         "or set that system's offset too (G10 L2) before the first move")
-    raise fail(word, f"the program changes work coordinate system to {NAMES[system]}, whose offset ({axes}) is not in "
-                     f"the program: set it before (G10 L2 P{SYSTEMS[system]} or G10 L20 P{SYSTEMS[system]}), or write "
-                     "the program in one system, the path frame")
+        raise fail(word, f"the program changes work coordinate system to {name}, whose offset G10 sets in machine "
+                         f"coordinates ({axes}), but where the path frame's origin ({active}'s) is on the machine is not "
+                         "known: give it in the path file (shape.machine.work_offset_mm), or set that system's offset "
+                         "too (G10 L2) before the first move")
+    how = (f"set it before (G10 L2 P{SYSTEMS[system]} or G10 L20 P{SYSTEMS[system]}), or write the program in one "
+           "system, the path frame" if system in SYSTEMS else "write the program in one system, the path frame")
+    raise fail(word, f"the program changes work coordinate system to {name}, whose offset ({axes}) is not in the "
+                     f"program: {how}")
+
+
+TOOL_DIAMETER_HOW = ("give each tool's diameter with --tool-diameter T=MM on the command line or in the path file "
+                     "(shape.tool_diameters_mm)")
 
 
 def g10(fail: Callable[[str, str], GcodeError], word: str, values: dict[str, float], written: dict[str, str],
@@ -208,12 +239,12 @@ def g10(fail: Callable[[str, str], GcodeError], word: str, values: dict[str, flo
     form = round(values["L"])
     if form in (1, 10, 11) and "R" in values:
         raise fail(written["R"], f"G10 L{form}'s R is a tool's radius in LinuxCNC but a length or a wear on Fanuc "
-                                 "and Haas controls: give each tool's diameter in the path file (shape.tool_diameters_mm)")
+                                 f"and Haas controls: {TOOL_DIAMETER_HOW}")
     if form in (1, 10, 11):
         return {}  # the program's coordinates are the tool tip's, whatever the tool's length
     if form in (12, 13):
         raise fail(written["L"], f"G10 L{form} sets a cutter radius or diameter offset (Fanuc, Haas), read differently "
-                                 "by each: give each tool's diameter in the path file (shape.tool_diameters_mm)")
+                                 f"by each: {TOOL_DIAMETER_HOW}")
     if form not in (2, 20):
         raise fail(written["L"], f"G10 L{form} is not read: G10 L2 and L20 (work offsets) and L1, L10, L11 (tool "
                                  "lengths) are")
@@ -233,7 +264,7 @@ def g10(fail: Callable[[str, str], GcodeError], word: str, values: dict[str, flo
     if form == 2:
         lost = offsets.set_machine(system, given)
         if lost:
-            raise fail(word, f"G10 L2 moves {NAMES[system]}, the system the program runs in, after it has moved "
+            raise fail(word, f"G10 L2 moves {system_name(system)}, the system the program runs in, after it has moved "
                              f"({', '.join('XYZ'[k] for k in lost)}): where its origin was on the machine is not known, "
                              "so neither is the shift; give it in the path file (shape.machine.work_offset_mm)")
         return {}

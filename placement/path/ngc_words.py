@@ -19,7 +19,7 @@ G_GROUPS = {
     **dict.fromkeys((0, 10, 20, 30, 730, 810, 820, 830, 850, 890), "motion"), 800: "canned cycle",
     **dict.fromkeys((40, 100, 280, 281, 300, 301, 530, 920, 921, 922, 923), "non-modal"),
     **dict.fromkeys((170, 180, 190), "plane"),
-    **dict.fromkeys((*range(540, 600, 10), 591, 592, 593), "coordinate system"), 200: "units", 210: "units",
+    **dict.fromkeys((*range(540, 600, 10), 591, 592, 593, 541, 1540), "coordinate system"), 200: "units", 210: "units",
     700: "units", 710: "units", 900: "distance",
     910: "distance", 901: "arc distance", 911: "arc distance", **dict.fromkeys((930, 940, 950), "feed mode"),
     **dict.fromkeys((400, 410, 411, 420, 421), "cutter compensation"), 430: "tool length offset",
@@ -33,8 +33,8 @@ CONTROLLER_G = {  # other controllers' smoothing and look-ahead modes: the path 
     1870: ("G187", "smoothness and corner tolerance (Haas)", "")}
 READ_G = ("not in the G-code dialect read: G0-G4, G10 L1/L2/L10/L11/L20, G17-G21, G28, G28.1, G30, G30.1, G40-G42, "
           "G41.1, G42.1, G43, G49, G53-G59, G59.1-G59.3, G61, G61.1, G64, G73, G80-G83, G85, G89, G90, G91, G90.1, "
-          "G91.1, G92-G92.3, G93-G95, G98, G99; and other controllers' G5 P, G5.1 Q, G8 P, G70, G71, G103, G187 "
-          "(docs/paths.md)")
+          "G91.1, G92-G92.3, G93-G95, G98, G99; and other controllers' G5 P, G5.1 Q, G8 P, G54.1 P, G70, G71, G103, "
+          "G154 P, G187 (docs/paths.md)")
 ACCEPTED_M = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 30, 48, 49, 60}  # RS-274/NGC's own: read without a note
 CONTROLLER_M = {  # other controllers' M codes that do not move the tool: ignored, with a note (GcodeDialectWarning)
     10: "clamp or rotary brake on", 11: "clamp or rotary brake off", 12: "5th-axis brake on (Haas)",
@@ -56,6 +56,7 @@ MARLIN_M = {  # Marlin's and RepRapFirmware's M codes that do not move the tool:
     203: "the firmware's feed limits", 204: "the firmware's accelerations", 205: "the firmware's jerk limits",
     300: "a beep (Marlin), or the pen servo (MakerBot Unicorn: S30 down, S50 up)",
     400: "wait for the moves to finish", 420: "bed levelling on or off"}
+IO_M = range(62, 69)  # LinuxCNC's outputs and input wait (M62-M65 P, M66 P E L Q, M67 E Q, M68 E Q): no motion, a note
 USER_M = range(100, 200)  # user-defined M codes (LinuxCNC's M100-M199 with P, Q) that are not Marlin's: a note
 DIALECT_M = {25, 99}  # read as their controllers do (gcode._execute): Centroid's Z home, the main program's end
 UNSUPPORTED_M = {
@@ -68,7 +69,7 @@ UNSUPPORTED_M = {
     220: "Marlin's feed override (M220 S) scales every feed: give the feeds in the program (F) instead",
     221: "Marlin's flow override (M221) scales the extrusion of a print, which is not a tool path"}
 READ_M = ("not in the supported M-code dialect (M0, M1, M2, M3-M9, M30, M48, M49, M60; and other controllers' M10-M13, "
-          "M19, M25, M31, M33-M35, M41, M42, M73, M74, M83, M84, M88, M89, M99, M100-M199, M888, M2000; Marlin's M17, "
+          "M19, M25, M31, M33-M35, M41, M42, M62-M68, M73, M74, M83, M84, M88, M89, M99, M100-M199, M888, M2000; Marlin's M17, "
           "M18, M82, "
           "M104-M107, M109, M110, M114, M115, M117, M118, M140, M190, M201, M203-M205, M300, M400, M420; docs/paths.md): "
           "an M code not known may move the tool")
@@ -86,7 +87,7 @@ UNSUPPORTED_G = {
                     "the path is a mill's X, Y, Z"),
     960: "constant surface speed (G96) is not read: the feeds are per minute (G94), inverse time (G93) or per "
          "revolution at S (G95)"}
-ALLOWED_LETTERS = set("GMXYZIJKRFSTPQLHDN@^")
+ALLOWED_LETTERS = set("GMXYZIJKRFSTPQLHDN@^$")  # $: LinuxCNC's spindle number (M3 $0), which the path does not use
 EXTRA_AXES = "ABCUVW"  # rotary and extra axes: read only while they hold one value (extra_axes)
 
 
@@ -118,16 +119,18 @@ def sorted_words(fail: Callable[[str, str], GcodeError], words: list[tuple[str, 
             codes[group] = (code, word)
         elif letter == "M":
             code = code_of(fail, value, word)
-            if code % 10 or code // 10 not in (*ACCEPTED_M, *CONTROLLER_M, *MARLIN_M, *USER_M, *DIALECT_M):
+            if code % 10 or code // 10 not in (*ACCEPTED_M, *CONTROLLER_M, *MARLIN_M, *IO_M, *USER_M, *DIALECT_M):
                 raise fail(word, UNSUPPORTED_M.get(code // 10, READ_M) if not code % 10 else READ_M)
             m_codes[code // 10] = word
         elif letter in ALLOWED_LETTERS or letter in EXTRA_AXES or letter == "E":  # E: Haas's G187 E, or an extruder
             if letter in values:
                 raise fail(word, f"{letter} is given twice on the line")
+            if letter == "$" and (value != round(value) or value < -1):
+                raise fail(word, "the spindle number $ is a whole number ≥ 0 (or -1, every spindle)")
             values[letter], written[letter] = value, word
         else:
             raise fail(word, "unknown word: the letters read are G, M, X, Y, Z, I, J, K, R, F, S, T, P, Q, L, H, D, "
-                             "N, O, the extra axes A, B, C, U, V, W, an extruder's E and the polar @, ^")
+                             "N, O, the extra axes A, B, C, U, V, W, an extruder's E, the polar @, ^ and the spindle number $")
     return codes, m_codes, values, written
 
 

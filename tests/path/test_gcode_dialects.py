@@ -534,3 +534,111 @@ def test_g92_at_the_start_makes_the_current_point_known_as_a_pen_plotters_you_ar
                                 "G1 X-10 Y4 F3500\nG1 X-10 Y2\nG1 Z0 F150\n")
     assert ends_mm(path) == [[[0, 0, 0], [-10, 4, 0]], [[-10, 4, 0], [-10, 2, 0]]]
     assert [hold.duration_s for hold in path.holds] == [0.15]
+
+
+# Other controllers' languages, refused by name at their line (placement.path.ngc_languages)
+
+@pytest.mark.parametrize(("code", "line", "words"), [
+    # Heidenhain conversational, as a TNC writes it (line numbers, Q parameters, FMAX)
+    ("0 BEGIN PGM PART MM\n1 BLK FORM 0.1 Z X-50 Y-50 Z-20\n2 TOOL CALL 1 Z S3000\n3 L Z+50 R0 FMAX M3\n"
+     "4 END PGM PART MM\n", 1, ["Heidenhain conversational (Klartext)", "'BEGIN PGM'"]),
+    ("; a fragment without its header\nTOOL CALL 1 Z S3500\nL X+10 Y+0 R0 FMAX\n", 2,
+     ["Heidenhain conversational", "'TOOL CALL'"]),
+    ("G21 G90\nG0 X0 Y0 Z5\nL X+10 Y+5 RL F200\n", 3, ["Heidenhain conversational", "path block"]),
+    ("%PART G71 *\nN10 G00 X+0 Y+0 *\n", 1, ["Heidenhain DIN/ISO program", "'%NAME G71 *'"]),
+    # Siemens Sinumerik, as its CAM posts write it
+    ("N10 G17 G90 G54\nN20 T=\"MILL10\" M6\n", 2, ["Siemens Sinumerik", "tool called by name"]),
+    ("N10 G17 G90 G54\nN20 G0 X0 Y0 Z5\nN30 CYCLE81(10, 0, 2, -25, 0)\n", 3, ["Siemens Sinumerik", "cycle call"]),
+    ("G21 G90\nTRANS X10 Y20\n", 2, ["Siemens Sinumerik", "a frame"]),
+    ("G21 G90\nR1=5\nG0 X=R1\n", 2, ["Siemens Sinumerik", "an R parameter"]),
+    ("G21 G90\nDEF REAL DEPTH=-5\n", 2, ["Siemens Sinumerik", "'DEF'"]),
+    ("MSG(\"ROUGHING\")\nG0 X0\n", 1, ["Siemens Sinumerik", "MSG"]),
+])
+def test_another_controllers_language_is_refused_by_its_name(tmp_path, code, line, words):
+    error = refused(tmp_path, code)
+    assert error.line == line, str(error)
+    assert "is not RS-274 G-code" in str(error) and "G-code (ISO, RS-274) post" in str(error)
+    for word in words:
+        assert word in str(error)
+
+
+def test_rs274_that_looks_foreign_is_still_read(tmp_path):
+    # a rotary axis alone, an R arc, a drilling cycle's R and L, a parameter read in a word: all RS-274
+    path, _ = program(tmp_path, "G21 G90\nG0 X0 Y0 Z5 C0\nC0\nG1 Z0 F100\nG2 X10 Y0 R5\n#1=2\nG1 X[#1*10]\n"
+                                "G81 X0 Y0 Z-1 R1 L1\nG80\nM2\n")
+    assert len(path.segments) == 4  # the plunge, the arc, the line to X20 and the hole's feed (rapids left out)
+
+
+def test_a_heidenhain_program_given_bare_is_refused_by_name_not_read_as_yaml(tmp_path):
+    (tmp_path / "PART.H").write_text("0 BEGIN PGM PART MM\n1 TOOL CALL 1 Z S3000\n2 L X+0 Y+0 R0 FMAX\n"
+                                     "3 END PGM PART MM\n")
+    with pytest.raises(GcodeError, match="line 1: a Heidenhain conversational"):
+        load_path(tmp_path / "PART.H")
+
+
+def test_a_hash_comment_is_refused_saying_how_comments_are_written(tmp_path):
+    error = refused(tmp_path, "# 4 mm square, laser at 10 %\nG21 G90\n")
+    assert error.line == 1 and "'#' starts a parameter" in str(error) and "parentheses or after ';'" in str(error)
+
+
+def test_linuxcncs_outputs_and_input_wait_do_not_move_the_tool(tmp_path):
+    # a LinuxCNC laser post: power by M67 E0 Q (analog), on and off with the motion by M62/M63 P0, a wait on input 0
+    path, told = program(tmp_path, "G21 G90\nG0 X0 Y0 Z0\nM67 E0 Q40\nM62 P0\nG1 X10 F600\nM63 P0\n"
+                                   "M66 P0 L3 Q2\nM68 E1 Q0\nM64 P1\nM65 P1\nG1 Y10\nM2\n")
+    assert ends_mm(path) == [[[0, 0, 0], [10, 0, 0]], [[10, 0, 0], [10, 10, 0]]]
+    assert len(told) == 1 and "M62-M68 (lines 3, 4, 6, 7, 8, 9, 10" in told[0]
+
+
+@pytest.mark.parametrize("encoding", ["cp1252", "utf-16"])
+def test_a_program_in_a_windows_encoding_is_read_its_comments_holding_what_they_hold(tmp_path, encoding):
+    code = "(Fräser Ø6 mm, 90°)\nG21 G90\nG0 X0 Y0 Z0\nG1 X10 F600 (Tiefe 2 mm)\nM2\n"
+    (tmp_path / "p.nc").write_bytes(code.encode(encoding))  # (Python writes UTF-16 with its byte order mark)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        path = load_path(tmp_path / "p.nc")
+    assert ends_mm(path) == [[[0, 0, 0], [10, 0, 0]]]
+    said = [str(w.message) for w in caught if issubclass(w.category, GcodeDialectWarning)]
+    assert any("read as Windows-1252" in text for text in said) == (encoding == "cp1252")
+
+
+def test_a_binary_file_is_refused_as_no_text(tmp_path):
+    (tmp_path / "p.nc").write_bytes(b"G21\x00\x01\x02" * 10)
+    with pytest.raises(PathFileError, match="not a text file"):
+        load_path(tmp_path / "p.nc")
+
+
+def test_a_spindle_number_that_is_no_whole_number_is_refused(tmp_path):
+    error = refused(tmp_path, "G21 G90\nG0 X0 Y0 Z0\nM3 $0.5 S1000\n")
+    assert error.line == 3 and error.word == "$0.5" and "spindle number" in str(error)
+
+
+def test_a_double_slash_comment_is_refused_saying_how_comments_are_written(tmp_path):
+    error = refused(tmp_path, "%\n// Stock is 3 x 3 x 1 in\nG70\nG0 X0 Y0\n")
+    assert error.line == 2 and error.word == "//" and "MillMaster Pro" in str(error) and "after ';'" in str(error)
+
+
+def test_fanucs_dwell_g4_x_lasts_x_seconds_and_moves_nothing(tmp_path):
+    path, told = program(tmp_path, "G21 G90\nG0 X0 Y0 Z0\nG1 X5 F600\nG04 X1.5\nG1 X10\nM2\n")
+    assert ends_mm(path) == [[[0, 0, 0], [5, 0, 0]], [[5, 0, 0], [10, 0, 0]]]
+    assert [(hold.after, hold.duration_s) for hold in path.holds] == [(1, 1.5)]
+    assert any("G4 X (line 4) dwells X seconds" in text for text in told)
+
+
+@pytest.mark.parametrize("select", ["G54.1 P3", "G154 P12"])
+def test_an_additional_work_offset_selected_before_the_first_move_is_the_path_frame(tmp_path, select):
+    # Fanuc's G54.1 P and Haas's G154 P, as Fusion 360's posts write them for a work offset past G59
+    path, told = program(tmp_path, f"G21 G90 G17\n{select}\nG0 X0 Y0 Z5\nG1 Z0 F300\nG1 X10\nM30\n")
+    assert ends_mm(path) == [[[0, 0, 5], [0, 0, 0]], [[0, 0, 0], [10, 0, 0]]]
+    assert any("G54.1 P and G154 P (line 2) select an additional work offset" in text for text in told)
+
+
+@pytest.mark.parametrize(("code", "word", "words"), [
+    ("G21 G90\nG0 X0 Y0 Z0\nG54.1 P2\nG1 X10 F300\n", "G54.1", ["G54.1 P2", "write the program in one system"]),
+    ("G21 G90\nG54.1 P49\n", "G54.1", ["P, a whole number from 1 to 48"]),
+    ("G21 G90\nG154\n", "G154", ["P, a whole number from 1 to 99"]),
+])
+def test_an_additional_work_offset_whose_place_is_not_known_is_refused(tmp_path, code, word, words):
+    error = refused(tmp_path, code)
+    assert error.word == word
+    for expected in words:
+        assert expected in str(error)

@@ -48,6 +48,14 @@ MACHINE = Machine(np.zeros(3), np.zeros(3), np.zeros(3), given=True,
 PLANE_AXES = {"XY": (0, 1, 2), "XZ": (2, 0, 1), "YZ": (1, 2, 0)}  # first, second, normal axis of ARC_FEED
 
 PROGRAMS = {
+    "spindle_number": """G21 G90 G17 G0 X0 Y0 Z0
+M3 $0 S1000
+G1 X10 F600
+S2000 $0
+G1 Y10
+M5 $-1
+M2
+""",
     "parameters_expressions_functions": """G21 G90 G17 G0 X0 Y0 Z0
 #1 = 10
 #<depth> = -2
@@ -633,3 +641,25 @@ def test_the_reader_refuses_compensation_where_linuxcnc_does(tmp_path, rs274_pre
     assert text.splitlines()[line - 1] in printed.splitlines()[-1], printed  # rs274's error names the line
     with pytest.raises(GcodeError, match=f"line {line},"):
         read_program(program_file, MACHINE)
+
+
+# I/J/K arcs whose end lies off the start's circle, as CAM posts round them (Fusion 360's Haas post, at four inch
+# decimals: 0.0000936 in at a 0.025 in radius): (units, radius, how much farther the end is, in program units).
+# LinuxCNC takes 2·0.001·√2 in or 2·0.01·√2 mm, or 0.1 % of the larger radius, at most 100 times the first.
+ARC_ENDS = [("G20", 0.025, 9.36e-5), ("G20", 0.025, 0.0028), ("G20", 0.025, 0.0029), ("G21", 1.0, 0.028),
+            ("G21", 1.0, 0.029), ("G21", 100.0, 0.099), ("G21", 100.0, -0.099), ("G21", 100.0, 0.101),
+            ("G21", 10000.0, 2.8), ("G21", 10000.0, 2.9), ("G20", 1000.0, 0.28), ("G20", 1000.0, 0.29)]
+
+
+@pytest.mark.parametrize(("units", "radius", "error"), ARC_ENDS)
+def test_an_arcs_end_off_its_circle_is_read_where_linuxcnc_reads_it(tmp_path, rs274_present, units, radius, error):
+    text = f"{units} G90 G17\nG0 X{radius} Y0 Z0\nG3 X0 Y{radius + error:.7f} I{-radius} J0 F10\nM2\n"
+    program_file, printed = run_rs274(tmp_path, "arc_end", text)
+    linuxcnc_reads = "ARC_FEED" in printed
+    try:
+        read_program(program_file, MACHINE)
+        reads = True
+    except GcodeError as refusal:
+        assert refusal.line == 3 and "radius does not fit" in str(refusal)
+        reads = False
+    assert reads == linuxcnc_reads, printed
