@@ -44,7 +44,7 @@ class OptimisePanel(JobPanel):
     def __init__(self, host: Host) -> None:
         gui: Any = host.server.gui
         self.direction = gui.add_dropdown("direction", DIRECTIONS, initial_value="both")
-        super().__init__(host, "Optimise", "search", "a search")
+        super().__init__(host, "Optimise", "search", "a search", "generations")
         self.optima: dict[str, PlacementDetail] = {}
         self.optima_html = gui.add_html("")
         self.buttons = {key: gui.add_button(f"Go to {key}", visible=False) for key in ("best", "worst")}
@@ -53,7 +53,6 @@ class OptimisePanel(JobPanel):
 
     def launch(self) -> Job:
         direction = self.direction.value
-        self.say("searching...")
         return self.host.bench.search(best=direction in ("best", "both"), worst=direction in ("worst", "both"))
 
     def finished(self, result: PlacementResult) -> None:
@@ -99,7 +98,7 @@ class MapPanel(JobPanel):
         self.across = gui.add_dropdown("across", free, initial_value=free[0])
         self.up = gui.add_dropdown("up", free, initial_value=free[min(1, len(free) - 1)])
         self.points = gui.add_text("points per variable", "21", hint=f"a whole number from 2 to {MAP_POINTS}")
-        super().__init__(host, "Map", "map", "a map")
+        super().__init__(host, "Map", "map", "a map", "placements")
         self.image = gui.add_image(BLANK, visible=False)
         self.best_html = gui.add_html("")
         self.go_button = gui.add_button("Go to the map's best", visible=False)
@@ -126,7 +125,6 @@ class MapPanel(JobPanel):
                                 f"got {text!r}")
         job, self.command = self.host.bench.map((self.across.value, self.up.value), int(points), self.host.placement)
         self.through, self.plane = self.host.placement.copy(), (self.across.value, self.up.value)
-        self.say(f"mapping {int(points) ** 2} placements...")
         return job
 
     def finished(self, result: SweepResult) -> None:
@@ -164,7 +162,7 @@ class FrontPanel(JobPanel):
         names = tuple(OBJECTIVES.names())
         self.first = gui.add_dropdown("first objective", names, initial_value="energy")
         self.second = gui.add_dropdown("second objective", names, initial_value="dexterity")
-        super().__init__(host, "Search the front", "front", "a front")
+        super().__init__(host, "Search the front", "front", "a front", "generations")
         self.image = gui.add_image(BLANK, visible=False)
         self.table = gui.add_html("")
         self.member = gui.add_dropdown("member", ("none",), visible=False)
@@ -173,9 +171,7 @@ class FrontPanel(JobPanel):
         self.members: list[np.ndarray] = []
 
     def launch(self) -> Job:
-        job = self.host.bench.front((self.first.value, self.second.value))
-        self.say("searching the front...")
-        return job
+        return self.host.bench.front((self.first.value, self.second.value))
 
     def finished(self, front: ParetoFront) -> None:
         from placement.output.plots import front_figure  # the [viz] extra (matplotlib, meshcat): imported only here

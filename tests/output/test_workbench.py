@@ -365,3 +365,26 @@ def test_a_map_the_placement_left_is_marked_stale_and_a_panels_error_is_said_bes
     assert "points per variable" in panel.state.content and "color:#c00" in panel.state.content
     assert served.message.content == "" and panel.job is None  # said beside the Map panel, nothing started
     panel.points.value = "21"
+
+
+def test_a_search_says_what_it_does_before_its_first_generation(bench):
+    """The page's Optimise says its stage (never a silent 0 %): the kernels warming, then the first population's
+    scan with the time it expects, both before the first generation is counted."""
+    from placement.app.jobs import WARMING, search_task
+    from placement.search.optimize import SearchSettings
+
+    said: list[str] = []
+    settings = SearchSettings(best=True, worst=False, population=8, max_generations=2)
+    search_task(bench.robot, bench.path, bench.space, bench.settings, settings,
+                progress=lambda steps: said.append(f"{steps} generation"), stage=said.append)
+    assert said[0] == WARMING and said[1].startswith("scanning the first population (about ")
+    assert said[2:] == ["1 generation"] * (len(said) - 2) and len(said) >= 3
+
+
+def test_a_jobs_stage_is_read_from_its_process(bench):
+    from placement.app.jobs import STARTING, WARMING
+
+    job, _ = bench.map(("x", "y"), 2, AT)
+    assert job.stage == STARTING  # before its process says anything
+    job.wait()
+    assert job.result is not None and job.stage == WARMING.split(" and ")[0]  # the map's last word before its steps

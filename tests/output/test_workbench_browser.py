@@ -107,9 +107,33 @@ def test_bad_input_is_answered_in_the_page(browser):
 
 
 def test_optimise_in_the_page_finds_the_command_lines_best(browser, tmp_path):
+    import threading
+
+    from placement.app.jobs import STARTING
+
+    states: set[str | None] = set()  # what the search says it does, read as it goes
+    cli_done = threading.Event()
+
+    def read_states() -> None:  # the browser is read by this thread alone until the command line's search ends
+        while not cli_done.wait(0.1):
+            states.add(text_of(browser, "search-state"))
+
     click(browser, "Optimise")
-    expected = cli_json(tmp_path, *BUDGET_OPTIONS)["best"]["objective"]["value"]  # while the page searches
-    wait_for(browser, lambda: text_of(browser, "best-value") is not None, "the search's best", timeout_s=600)
+    reader = threading.Thread(target=read_states)
+    reader.start()
+    try:
+        expected = cli_json(tmp_path, *BUDGET_OPTIONS)["best"]["objective"]["value"]  # while the page searches
+    finally:
+        cli_done.set()
+        reader.join()
+
+    def found() -> bool:
+        states.add(text_of(browser, "search-state"))
+        return text_of(browser, "best-value") is not None
+
+    wait_for(browser, found, "the search's best", timeout_s=600)
+    assert f"{STARTING}..." in states  # its stage before its first generation, not a silent 0 %
+    assert any(state and state.endswith(" of 20 generations done") for state in states), states  # best and worst
     assert abs(number_of(browser, "best-value") - expected) <= 1e-9
     click(browser, "Go to best")
     wait_for(browser, lambda: abs(number_of(browser, "exact-value") - expected) <= 1e-9,
