@@ -23,6 +23,7 @@ from placement.app.compare import ComparePanel, ExportPanel
 from placement.app.drawing import RobotDrawing, rotation_of, wxyz_of
 from placement.app.evaluations import Bench, Choices, Reading, shown_value, si_value
 from placement.app.guard import guarded_server
+from placement.app.names import name_controls
 from placement.app.numbers import number_html, readable
 from placement.app.panels import JobPanel
 from placement.app.searches import FrontPanel, MapPanel, OptimisePanel
@@ -68,7 +69,7 @@ class Workbench:
         self.bench, self.robot = bench, bench.robot
         self.shown = ShownTexts()  # the text fields, read from the tab that acts
         self.server, self.gate = guarded_server(host, port or 8080, origins)
-        self.server.on_client_connect(lambda client: self.guard(lambda: self._tell_sharing(client)))
+        self.server.on_client_connect(lambda client: self.guard(lambda: self._client_connected(client)))
         self.placement = bench.start()
         self.reading: Reading | None = None
         self.exact_detail: PlacementDetail | None = None
@@ -89,7 +90,11 @@ class Workbench:
         host = self.server.get_host()
         return f"http://{host if ':' not in host else f'[{host}]'}:{self.server.get_port()}/?token={self.gate.token}"
 
-    def _tell_sharing(self, client: Any) -> None:
+    def _client_connected(self, client: Any) -> None:
+        name_controls(client)
+        self._tell_sharing()
+
+    def _tell_sharing(self) -> None:
         """Every tab shows the one placement of this workbench: a tab opened beside another is told so, and so are
         the others."""
         clients = self.server.get_clients()

@@ -274,3 +274,31 @@ def test_the_page_has_no_share_control_and_is_refused_without_its_token(browser,
     finally:
         browser.close()
         browser.switch_to.window(browser.window_handles[0])
+
+
+NAMES = """const named = [];
+for (const control of document.querySelectorAll('input:not([type=hidden]), textarea, [role=slider], button:not([hidden])')) {
+  const box = control.getBoundingClientRect();
+  if (box.width === 0 || box.height === 0) continue;  // not shown (a folded folder, the hidden settings)
+  let name = (control.getAttribute('aria-label') || '').trim();
+  const label = control.id ? document.querySelector(`label[for="${CSS.escape(control.id)}"]`) : null;
+  if (!name && label !== null) name = label.textContent.trim();
+  if (!name && control.tagName === 'BUTTON') name = control.textContent.trim();
+  named.push([control.tagName, name]);
+}
+return named;"""
+
+
+def test_every_control_has_a_name_and_the_cancel_buttons_differ(browser):
+    """What a screen reader says: each field, slider and button shown has a name (the label in its row, its text,
+    or its icon's), in every folder, and each Cancel button says what it cancels."""
+    for title, control in (("Compare", "Pin this placement"), ("Export", "Export JSON"), ("Map", "Map"),
+                           ("Front", "Search the front")):
+        open_folder(browser, title, control)
+    wait_for(browser, lambda: all(name for _, name in browser.execute_script(NAMES)),
+             lambda: f"every control named (unnamed: {[c for c in browser.execute_script(NAMES) if not c[1]]})",
+             timeout_s=10)
+    names = [name for _, name in browser.execute_script(NAMES)]
+    assert {"x (mm)", "--at", "points per variable", "time (s)"} <= set(names)  # fields by their labels
+    cancels = [name for name in names if name.startswith("Cancel")]
+    assert sorted(cancels) == ["Cancel front", "Cancel map", "Cancel search"]
