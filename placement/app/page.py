@@ -23,6 +23,7 @@ from placement.app.compare import ComparePanel, ExportPanel
 from placement.app.drawing import RobotDrawing, rotation_of, wxyz_of
 from placement.app.evaluations import Bench, Choices, Reading, shown_value, si_value
 from placement.app.guard import guarded_server
+from placement.app.motion import SPEEDS, playback_speed, power_with_cursor, speed_text
 from placement.app.names import name_controls
 from placement.app.numbers import number_html, readable
 from placement.app.panels import JobPanel
@@ -73,6 +74,7 @@ class Workbench:
         self.placement = bench.start()
         self.reading: Reading | None = None
         self.exact_detail: PlacementDetail | None = None
+        self._plotted: PlacementDetail | None = None  # the detail whose power the plot's axis was set for
         self._syncing = False
         self._wanted: np.ndarray | None = None  # the latest placement asked for a live reading
         self._wake = threading.Condition()
@@ -262,10 +264,14 @@ class Workbench:
         with gui.add_folder("Motion"):
             self.time = gui.add_slider("time (s)", min=0.0, max=1.0, step=0.001, initial_value=0.0)
             self.play = gui.add_checkbox("play", False)
+            duration_s = float(self.bench.live(self.placement).t_s[-1])  # a pass at the first placement
+            self.speed = gui.add_dropdown("speed", tuple(speed_text(s) for s in SPEEDS),
+                                          initial_value=speed_text(playback_speed(duration_s)),
+                                          hint="of real time: a short pass is played slower, to be followed")
             colors = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b")
             series = ({"label": "t (s)"},) + tuple(
                 {"label": actuator.joint, "stroke": colors[i % len(colors)], "width": 1.5}
-                for i, actuator in enumerate(self.robot.actuators))
+                for i, actuator in enumerate(self.robot.actuators)) + ({"label": "now", "stroke": "#000", "width": 1},)
             empty = tuple(np.zeros(2) for _ in series)
             self.power_plot = gui.add_uplot(empty, series, title="electric power per actuator (W), exact",
                                             scales={"x": {"time": False}}, aspect=1.6)
@@ -479,10 +485,7 @@ class Workbench:
         self.exact_detail = detail
         self.compare.show(detail)
         self.power_plot.visible = detail.reachable
-        if detail.reachable:
-            t_s = np.asarray(detail.samples.t_s, dtype=float)
-            self.power_plot.data = (t_s, *(np.asarray(detail.power_W[:, i], dtype=float)
-                                           for i in range(detail.power_W.shape[1])))
+        self._plot_power()
         words = wording(detail.objective)
         unit = OBJECTIVES.get(detail.objective).unit
         if not detail.reachable:
@@ -501,7 +504,23 @@ class Workbench:
                f'<p>energy {number_html("exact-energy", float(detail.energy.total_J), "J")}</p>') +
             f"<p>tightest: {html.escape(where)}</p>")
 
+    def _plot_power(self) -> None:
+        """The exact power of each actuator, with the time shown as a cursor."""
+        detail = self.exact_detail
+        if detail is None or not detail.reachable:
+            return
+        power_W = np.asarray(detail.power_W, dtype=float)
+        if detail is not self._plotted:  # the power axis fixed: uPlot ranges no axis over the cursor's NaN
+            finite = power_W[np.isfinite(power_W)]
+            low, high = (float(finite.min()), float(finite.max())) if finite.size else (-1.0, 1.0)
+            pad = 0.05 * max(high - low, 1e-9)
+            self.power_plot.scales = {"x": {"time": False}, "y": {"auto": False, "range": (low - pad, high + pad)}}
+            self._plotted = detail
+        self.power_plot.data = power_with_cursor(np.asarray(detail.samples.t_s, dtype=float), power_W,
+                                                 float(self.time.value))
+
     def _show_time(self) -> None:
+        self._plot_power()
         reading = self.reading
         if reading is None:
             return
@@ -518,12 +537,17 @@ class Workbench:
             threading.Thread(target=self._play, daemon=True).start()
 
     def _play(self) -> None:
-        start = time.monotonic()
+        """Play the pass in a loop, at the speed chosen (a fraction of real time), about 20 frames a second."""
+        shown_s, last = float(self.time.value), time.monotonic()
         while self.play.value and not self._closed:
             reading = self.reading
+            now = time.monotonic()
             if reading is not None:
-                self.time.value = float((time.monotonic() - start) % max(float(reading.t_s[-1]), 1e-3))
-            time.sleep(1 / 30)
+                speed = SPEEDS[[speed_text(s) for s in SPEEDS].index(self.speed.value)]
+                shown_s = (shown_s + (now - last) * float(speed)) % max(float(reading.t_s[-1]), 1e-3)
+                self.time.value = shown_s
+            last = now
+            time.sleep(1 / 20)
 
     # --- choices and searches ----------------------------------------------------------------------------------
     def _choices_changed(self) -> None:

@@ -388,3 +388,39 @@ def test_a_jobs_stage_is_read_from_its_process(bench):
     assert job.stage == STARTING  # before its process says anything
     job.wait()
     assert job.result is not None and job.stage == WARMING.split(" and ")[0]  # the map's last word before its steps
+
+
+def test_a_short_pass_is_played_slowed_down_to_a_few_seconds():
+    from fractions import Fraction
+
+    from placement.app.motion import PASS_SHOWN_S, playback_speed
+
+    assert playback_speed(0.27) == Fraction(1, 16)  # 4.3 s; at 1/8 it would last 2.2 s
+    assert playback_speed(10.0) == 1 and playback_speed(1e-3) == Fraction(1, 64)
+    for duration_s in (0.01, 0.27, 0.5, 1.0, 2.9, 3.0, 7.0):
+        speed = playback_speed(duration_s)
+        assert duration_s / speed >= PASS_SHOWN_S or speed == Fraction(1, 64)
+        assert speed == 1 or duration_s / (2 * speed) < PASS_SHOWN_S  # the fastest that is slow enough
+
+
+def test_the_power_plot_shows_the_time_as_a_cursor_and_each_curve_unchanged(served):
+    from placement.app.motion import power_with_cursor
+
+    detail = served.exact_detail
+    t_s, power_W = np.asarray(detail.samples.t_s, dtype=float), np.asarray(detail.power_W, dtype=float)
+    now_s = 0.4 * t_s[-1]
+    times, *curves, cursor = power_with_cursor(t_s, power_W, now_s)
+    assert np.all(np.diff(times) >= 0) and len(curves) == power_W.shape[1]
+    drawn = np.flatnonzero(np.isfinite(cursor))  # two points, one above the other: a vertical line
+    assert len(drawn) == 2 and times[drawn[0]] == times[drawn[1]] == t_s[np.searchsorted(t_s, now_s)]
+    assert cursor[drawn].tolist() == [np.nanmin(power_W), np.nanmax(power_W)]
+    unique = np.delete(np.arange(len(times)), drawn[1])  # the repeated sample taken out: the curves as computed
+    assert np.array_equal(times[unique], t_s)
+    for i, curve in enumerate(curves):
+        assert np.array_equal(curve[unique], power_W[:, i], equal_nan=True)
+    served.time.value = now_s
+    served.guard(served._show_time)  # the page's plot: the same data, the cursor at the time shown
+    shown = served.power_plot.data
+    assert np.array_equal(shown[-1], cursor, equal_nan=True) and np.array_equal(shown[0], times)
+    low, high = served.power_plot.scales["y"]["range"]  # fixed (uPlot ranges no axis over NaN), every curve within
+    assert low < np.nanmin(power_W) and np.nanmax(power_W) < high
