@@ -22,6 +22,7 @@ import pinocchio as pin
 from placement.app.compare import ComparePanel, ExportPanel
 from placement.app.drawing import RobotDrawing, rotation_of, wxyz_of
 from placement.app.evaluations import Bench, Choices, Reading, shown_value, si_value
+from placement.app.exceptions import NotReadyError
 from placement.app.guard import guarded_server
 from placement.app.motion import SPEEDS, playback_speed, power_with_cursor, speed_text
 from placement.app.names import name_controls
@@ -41,11 +42,19 @@ PATH_COLOR, CUBE_COLOR = (230, 0, 200), (48, 48, 48)  # the workpiece: a magenta
 FAILING_COLOR = (220, 0, 0)  # the workpiece where the placement is infeasible, and its failing sample
 TIMINGS = ("path file's", "paper", "realistic", "optimal")
 TYPING_PAUSE_S = 1.5  # a field's values are read this long after the last key, if Enter was not pressed
+SNAP_M, SNAP_RAD = 1e-3, float(np.radians(1.0))  # a drag snapped to whole millimetres and degrees
+UNDO_DEPTH = 20  # placements Undo goes back through
 
 
 def shown_text(name: str, value: float) -> str:
     """A variable's value as the page writes it (mm or degrees to 1e-6; typed back, it gives the value again)."""
     return format(round(shown_value(name, value), 6) + 0.0, ".12g")
+
+
+def snapped(placement: np.ndarray) -> np.ndarray:
+    """A placement rounded to whole millimetres (x, y, z) and degrees (phi, theta, psi); m and rad."""
+    step = np.array([SNAP_M] * 3 + [SNAP_RAD] * 3)
+    return np.round(np.asarray(placement, dtype=float) / step) * step
 
 
 def at_text(placement: np.ndarray) -> str:
@@ -74,6 +83,8 @@ class Workbench:
         self.placement = bench.start()
         self.reading: Reading | None = None
         self.exact_detail: PlacementDetail | None = None
+        self.history: list[np.ndarray] = []  # the placements evaluated before, the latest last (Undo)
+        self._undoing = False
         self._plotted: PlacementDetail | None = None  # the detail whose power the plot's axis was set for
         self._syncing = False
         self._wanted: np.ndarray | None = None  # the latest placement asked for a live reading
@@ -133,7 +144,7 @@ class Workbench:
         lower, upper = self._bounds()
         self.gizmo = scene.add_transform_controls(
             "/plane/path", scale=0.08, depth_test=False,
-            active_axes=(True, True, True), disable_rotations=not free & set(ANGLES),
+            active_axes=tuple(name in free for name in ("x", "y", "z")), disable_rotations=not free & set(ANGLES),
             disable_axes=not free & {"x", "y", "z"}, disable_sliders=len(free & {"x", "y", "z"}) < 2,
             translation_limits=tuple((lower[k], upper[k]) for k in range(3)),
             rotation_limits=tuple((lower[k], upper[k]) for k in (5, 4, 3)))
@@ -214,6 +225,10 @@ class Workbench:
         gui.add_markdown(f"**{html.escape(robot.name)}**: {html.escape(path.name)}")
         self.frame_button = gui.add_button("Frame the workpiece", hint="look at the placed path from close by")
         self.frame_button.on_click(lambda _: self.guard(self.frame_workpiece))
+        self.snap = gui.add_checkbox("snap a drag to 1 mm / 1 deg", False,
+                                     hint="the gizmo moves by whole millimetres and degrees")
+        self.undo_button = gui.add_button("Undo", disabled=True, hint=f"back to the placement before (up to {UNDO_DEPTH})")
+        self.undo_button.on_click(lambda _: self.guard(self.undo))
         lower, upper = self._bounds()
         self.fields: dict[str, Any] = {}
         self._written: dict[str, str] = {}  # each field's text as the page last wrote it
@@ -322,6 +337,8 @@ class Workbench:
         rotation = rotation_of(self.gizmo.wxyz)
         psi, theta, phi = pin.rpy.matrixToRpy(rotation)  # R = Rz(phi) Ry(theta) Rx(psi)
         wanted = np.array([*self.gizmo.position, phi, theta, psi], dtype=float)
+        if self.snap.value:
+            wanted = snapped(wanted)
         self.placement = self.bench.clamp(wanted)
         if not np.allclose(self.placement, wanted, atol=1e-9):  # held within the free variables and their bounds
             self._syncing = True
@@ -482,6 +499,10 @@ class Workbench:
         self.failing_mark.visible = True
 
     def _show_exact(self, detail: PlacementDetail) -> None:
+        before = self.exact_detail
+        if before is not None and not self._undoing and not np.array_equal(before.placement, detail.placement):
+            self.history = [*self.history, before.placement.copy()][-UNDO_DEPTH:]
+        self.undo_button.disabled = not self.history
         self.exact_detail = detail
         self.compare.show(detail)
         self.power_plot.visible = detail.reachable
@@ -518,6 +539,18 @@ class Workbench:
             self._plotted = detail
         self.power_plot.data = power_with_cursor(np.asarray(detail.samples.t_s, dtype=float), power_W,
                                                  float(self.time.value))
+
+    def undo(self) -> None:
+        """Go back to the placement evaluated before the current one."""
+        if not self.history:
+            raise NotReadyError("nothing to undo: no placement was evaluated before this one")
+        placement = self.history.pop()
+        self._undoing = True
+        try:
+            self.set_placement(placement, exact=True)
+        finally:
+            self._undoing = False
+        self.undo_button.disabled = not self.history
 
     def _show_time(self) -> None:
         self._plot_power()

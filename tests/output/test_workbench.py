@@ -424,3 +424,41 @@ def test_the_power_plot_shows_the_time_as_a_cursor_and_each_curve_unchanged(serv
     assert np.array_equal(shown[-1], cursor, equal_nan=True) and np.array_equal(shown[0], times)
     low, high = served.power_plot.scales["y"]["range"]  # fixed (uPlot ranges no axis over NaN), every curve within
     assert low < np.nanmin(power_W) and np.nanmax(power_W) < high
+
+
+def test_a_drag_snaps_to_whole_millimetres_and_degrees_when_asked(served):
+    from types import SimpleNamespace
+
+    from placement.app.drawing import wxyz_of
+    from placement.placing.transform import rotation_zyx
+
+    served.snap.value = True
+    try:
+        served.gizmo.position = (0.01234, -0.00678, -0.0201)
+        served.gizmo.wxyz = tuple(wxyz_of(rotation_zyx(np.radians(30.4), 0.0, 0.0)))
+        served._gizmo_event(SimpleNamespace(phase="end"))
+    finally:
+        served.snap.value = False
+    snapped = np.array([0.012, -0.007, -0.020, np.radians(30.0), 0.0, 0.0])
+    assert np.allclose(served.placement, snapped, rtol=0, atol=1e-15)
+    assert served.exact_detail.value == pytest.approx(bench_value(snapped), abs=1e-9)  # evaluated where it snapped
+    assert served.fields["x"].value == "12" and served.fields["phi"].value == "30"
+
+
+def test_undo_goes_back_through_the_placements_evaluated(served):
+    from placement.app.page import UNDO_DEPTH
+
+    placements = [np.array([x, 0.0, -0.02, 0.0, 0.0, 0.0]) for x in (-0.01, 0.0, 0.01)]
+    for placement in placements:
+        served.set_placement(placement, exact=True)
+    served.undo()
+    assert np.array_equal(served.placement, placements[1])
+    assert served.exact_detail.value == pytest.approx(bench_value(placements[1]), abs=1e-9)
+    served.undo()
+    assert np.array_equal(served.placement, placements[0])
+    for k in range(UNDO_DEPTH + 5):
+        served.set_placement(np.array([0.001 * k, 0.0, -0.02, 0.0, 0.0, 0.0]), exact=True)
+    assert len(served.history) == UNDO_DEPTH  # the last ones kept
+    served.history.clear()
+    served.guard(served.undo)
+    assert "nothing to undo" in served.message.content
