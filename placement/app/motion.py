@@ -44,3 +44,11 @@ def power_with_cursor(t_s: np.ndarray, power_W: np.ndarray, now_s: float) -> tup
     cursor[index], cursor[index + 1] = low, high
     return (np.asarray(t_s, dtype=float)[repeat], *(np.asarray(power_W[repeat, i], dtype=float)
                                                     for i in range(power_W.shape[1])), cursor)
+
+
+def power_range(power_W: np.ndarray) -> tuple[float, float]:
+    """The power axis's range (W): every finite power, with 5 % to spare."""
+    finite = power_W[np.isfinite(power_W)]
+    low, high = (float(finite.min()), float(finite.max())) if finite.size else (-1.0, 1.0)
+    pad = 0.05 * max(high - low, 1e-9)
+    return low - pad, high + pad

@@ -20,11 +20,11 @@ import numpy as np
 import pinocchio as pin
 
 from placement.app.compare import ComparePanel, ExportPanel
-from placement.app.drawing import RobotDrawing, rotation_of, wxyz_of
+from placement.app.drawing import RobotDrawing, rotation_of, snapped, wxyz_of
 from placement.app.evaluations import Bench, Choices, Reading, shown_value, si_value
 from placement.app.exceptions import NotReadyError
 from placement.app.guard import guarded_server
-from placement.app.motion import SPEEDS, playback_speed, power_with_cursor, speed_text
+from placement.app.motion import SPEEDS, playback_speed, power_range, power_with_cursor, speed_text
 from placement.app.names import name_controls
 from placement.app.numbers import number_html, readable
 from placement.app.panels import JobPanel
@@ -42,19 +42,12 @@ PATH_COLOR, CUBE_COLOR = (230, 0, 200), (48, 48, 48)  # the workpiece: a magenta
 FAILING_COLOR = (220, 0, 0)  # the workpiece where the placement is infeasible, and its failing sample
 TIMINGS = ("path file's", "paper", "realistic", "optimal")
 TYPING_PAUSE_S = 1.5  # a field's values are read this long after the last key, if Enter was not pressed
-SNAP_M, SNAP_RAD = 1e-3, float(np.radians(1.0))  # a drag snapped to whole millimetres and degrees
 UNDO_DEPTH = 20  # placements Undo goes back through
 
 
 def shown_text(name: str, value: float) -> str:
     """A variable's value as the page writes it (mm or degrees to 1e-6; typed back, it gives the value again)."""
     return format(round(shown_value(name, value), 6) + 0.0, ".12g")
-
-
-def snapped(placement: np.ndarray) -> np.ndarray:
-    """A placement rounded to whole millimetres (x, y, z) and degrees (phi, theta, psi); m and rad."""
-    step = np.array([SNAP_M] * 3 + [SNAP_RAD] * 3)
-    return np.round(np.asarray(placement, dtype=float) / step) * step
 
 
 def at_text(placement: np.ndarray) -> str:
@@ -532,10 +525,7 @@ class Workbench:
             return
         power_W = np.asarray(detail.power_W, dtype=float)
         if detail is not self._plotted:  # the power axis fixed: uPlot ranges no axis over the cursor's NaN
-            finite = power_W[np.isfinite(power_W)]
-            low, high = (float(finite.min()), float(finite.max())) if finite.size else (-1.0, 1.0)
-            pad = 0.05 * max(high - low, 1e-9)
-            self.power_plot.scales = {"x": {"time": False}, "y": {"auto": False, "range": (low - pad, high + pad)}}
+            self.power_plot.scales = {"x": {"time": False}, "y": {"auto": False, "range": power_range(power_W)}}
             self._plotted = detail
         self.power_plot.data = power_with_cursor(np.asarray(detail.samples.t_s, dtype=float), power_W,
                                                  float(self.time.value))

@@ -18,6 +18,7 @@ import numpy as np
 
 from placement.app.evaluations import MAP_POINTS, shown_value
 from placement.app.exceptions import NotReadyError
+from placement.app.heatmap import HeatMap
 from placement.app.jobs import Job
 from placement.app.numbers import number_html, readable
 from placement.app.panels import Host, JobPanel, figure_image
@@ -106,9 +107,12 @@ class MapPanel(JobPanel):
         self.best: np.ndarray | None = None
         self.command = ""
         self.through, self.plane = host.placement.copy(), ("", "")  # the placement the map went through, its axes
+        self.heat_map = HeatMap(host.server, host.bench.robot.plane,
+                                lambda placement: host.guard(lambda: host.set_placement(placement, exact=True)))
 
     def placement_moved(self, placement: np.ndarray) -> None:
         """Mark the map stale once the placement leaves its plane (a variable not mapped moved)."""
+        self.heat_map.placement_moved(placement)
         off = [name for k, name in enumerate(VARIABLES) if name not in self.plane
                and abs(placement[k] - self.through[k]) > 1e-12]
         if off:
@@ -134,6 +138,8 @@ class MapPanel(JobPanel):
 
         self.image.image = figure_image(map_figure(result, f"{result.path}: {words.subject} ({result.regeneration})"))
         self.image.visible = True
+        in_scene = self.heat_map.show(result)
+        self.heat_map.placement_moved(self.host.placement)
         index = result.best()
         self.best = None if index is None else result.placements()[index]
         self.go_button.visible = self.best is not None
@@ -142,7 +148,10 @@ class MapPanel(JobPanel):
             f'<br>{html.escape(words.best)} {html.escape(words.subject)}: '
             f'{number_html("map-best-value", float(result.value.ravel()[index]), unit)} at '
             f'<span id="map-best-placement">{_where(result.variables, self.best)}</span>')
-        self.best_html.content = (f'<p>{count}{best}</p><p style="font-size:11px">the same map: '
+        scene = ("in the scene too: click a cell to go to it (best: black ball, current: magenta)" if in_scene
+                 else "drawn here only: a map over an angle spans no plane of the scene")
+        self.best_html.content = (f'<p>{count}{best}</p><p id="map-scene" style="font-size:11px">{scene}</p>'
+                                  f'<p style="font-size:11px">the same map: '
                                   f'<code id="map-command">placement map --robot {html.escape(self.host.bench.robot.name)} '
                                   f'--path FILE {html.escape(self.command)}</code></p>')
         self.say("done")

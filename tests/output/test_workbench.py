@@ -462,3 +462,37 @@ def test_undo_goes_back_through_the_placements_evaluated(served):
     served.history.clear()
     served.guard(served.undo)
     assert "nothing to undo" in served.message.content
+
+
+def test_the_map_is_drawn_in_the_scene_and_a_cell_clicked_goes_to_its_placement(served):
+    from placement.search.sweep import sweep
+
+    through = np.array([0.0, 0.0, -0.02, 0.0, 0.0, 0.0])
+    served.set_placement(through, exact=True)
+    axes = {"x": np.linspace(-0.03, 0.03, 4), "y": np.linspace(-0.02, 0.02, 3)}
+    result = sweep(served.bench.robot, served.bench.path, axes, {"z": -0.02, "phi": 0.0, "theta": 0.0, "psi": 0.0},
+                   evaluation=served.bench.settings)
+    heat_map = served.map.heat_map
+    served.map.finished(result)
+    assert heat_map.result is result and "click a cell" in served.map.best_html.content
+    # cells one grid step apart in the scene (m), in the flattened order of the map's placements
+    assert np.linalg.norm(heat_map.steps, axis=1) == pytest.approx([0.02, 0.02], abs=1e-12)
+    colors = heat_map.cells.batched_colors
+    best = result.best()
+    assert colors[best].tolist() == [68, 1, 84]  # viridis' darkest: the least energy
+    assert (colors[~result.feasible.ravel()] == 190).all()
+    assert np.allclose(heat_map.best_mark.position, heat_map.origins[best]) and heat_map.best_mark.visible
+    assert heat_map.current_mark.visible  # the current placement is on the map's plane
+    normal = np.cross(*heat_map.steps) / np.linalg.norm(np.cross(*heat_map.steps))
+    cell = 7  # x index 2, y index 1
+    aim = heat_map.origins[cell] + 0.3 * heat_map.steps[0] - 0.3 * heat_map.steps[1]  # inside the cell, off centre
+    heat_map.clicked(tuple(aim + 0.5 * normal), tuple(-normal))
+    assert np.array_equal(served.placement, result.placements()[cell])
+    assert served.exact_detail.value == pytest.approx(result.value.ravel()[cell], abs=1e-9)  # the map's own value
+    assert heat_map.cell_at(heat_map.origins[0] - heat_map.steps[0] + 0.5 * normal, -normal) is None  # off the map
+    served.set_placement(np.array([0.0, 0.0, -0.01, 0.0, 0.0, 0.0]), exact=True)  # off the plane: unmarked
+    assert not heat_map.current_mark.visible
+    angled = sweep(served.bench.robot, served.bench.path, {"x": axes["x"], "phi": np.radians([-10.0, 10.0])},
+                   {"y": 0.0, "z": -0.02, "theta": 0.0, "psi": 0.0}, evaluation=served.bench.settings)
+    served.map.finished(angled)  # over an angle: no plane of the scene
+    assert heat_map.cells is None and "drawn here only" in served.map.best_html.content
