@@ -1,9 +1,10 @@
 """The map drawn in the scene: a heat map on the plane it spans, each cell at the path's origin for its placement.
 
 A map over two translations (x, y or z) spans a plane of the workspace: each cell is drawn where the path's
-origin lies at that cell's placement, coloured by its value (viridis, the best end dark; infeasible cells
-grey). A click on a cell goes to its placement; the best cell and the current placement are marked. A map
-over an angle spans no plane of the scene and is drawn as its figure only.
+origin lies at that cell's placement, coloured by its value (cividis: navy at the best end, yellow at the
+worst, no colour near the workpiece's magenta; infeasible cells grey). A click on a cell goes to its
+placement; the best cell and the current placement are marked. A map over an angle spans no plane of the
+scene and is drawn as its figure only.
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ BEST_COLOR, CURRENT_COLOR = (0, 0, 0), (230, 0, 200)  # the current placement in
 
 
 def cell_colors(result: SweepResult) -> np.ndarray:
-    """(cells, 3) RGB of each cell in the grid's flattened order: viridis from the best value (dark) to the worst
+    """(cells, 3) RGB of each cell in the grid's flattened order: cividis from the best value (navy) to the worst
     feasible one (yellow), grey where infeasible."""
     from matplotlib import colormaps  # optional dependency: the [app] extra, checked by placement.app
 
@@ -35,7 +36,7 @@ def cell_colors(result: SweepResult) -> np.ndarray:
     if feasible.any():
         low, high = np.nanmin(score), np.nanmax(score)
         unit = (score[feasible] - low) / max(high - low, 1e-300)
-        colors[feasible] = (np.asarray(colormaps["viridis"](unit))[:, :3] * 255).round().astype(np.uint8)
+        colors[feasible] = (np.asarray(colormaps["cividis"](unit))[:, :3] * 255).round().astype(np.uint8)
     return colors
 
 
@@ -74,7 +75,7 @@ class HeatMap:
         scene: Any = self.server.scene
         self.cells = scene.add_batched_meshes_simple(
             "/map/cells", square, np.array([[0, 1, 2], [0, 2, 3]]), np.tile([1.0, 0.0, 0.0, 0.0], (count, 1)),
-            self.origins, batched_colors=cell_colors(result), side="double", opacity=0.75, lod="off",
+            self.origins, batched_colors=cell_colors(result), side="double", opacity=0.6, lod="off",
             cast_shadow=False, receive_shadow=False)
         self.cells.on_click(lambda event: self.clicked(event.ray_origin, event.ray_direction))
         radius = 0.3 * float(min(np.linalg.norm(self.steps, axis=1)))

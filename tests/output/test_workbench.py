@@ -479,7 +479,7 @@ def test_the_map_is_drawn_in_the_scene_and_a_cell_clicked_goes_to_its_placement(
     assert np.linalg.norm(heat_map.steps, axis=1) == pytest.approx([0.02, 0.02], abs=1e-12)
     colors = heat_map.cells.batched_colors
     best = result.best()
-    assert colors[best].tolist() == [68, 1, 84]  # viridis' darkest: the least energy
+    assert colors[best].tolist() == [0, 34, 78]  # cividis' navy end: the least energy
     assert (colors[~result.feasible.ravel()] == 190).all()
     assert np.allclose(heat_map.best_mark.position, heat_map.origins[best]) and heat_map.best_mark.visible
     assert heat_map.current_mark.visible  # the current placement is on the map's plane
