@@ -25,6 +25,15 @@ def wxyz_of(rotation: np.ndarray) -> np.ndarray:
     return np.array([quaternion.w, quaternion.x, quaternion.y, quaternion.z])
 
 
+SNAP_M, SNAP_RAD = 1e-3, float(np.radians(1.0))  # a drag snapped to whole millimetres and degrees
+
+
+def snapped(placement: np.ndarray) -> np.ndarray:
+    """A placement rounded to whole millimetres (x, y, z) and degrees (phi, theta, psi); m and rad."""
+    step = np.array([SNAP_M] * 3 + [SNAP_RAD] * 3)
+    return np.round(np.asarray(placement, dtype=float) / step) * step
+
+
 def rotation_of(wxyz: np.ndarray) -> np.ndarray:
     """viser's quaternion (w, x, y, z) as a rotation matrix."""
     w, x, y, z = (float(v) for v in wxyz)

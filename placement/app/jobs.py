@@ -2,9 +2,10 @@
 
 A :class:`Job` runs one of this module's tasks (:func:`search_task`, :func:`map_task`,
 :func:`front_task`: the command line's own functions, ``optimize_placement``, ``sweep`` and
-``pareto_front``) in a spawned process, so that the page stays live; its progress (generations
-or placements done, of ``total``) and its outcome are read with :meth:`Job.poll`, and
-:meth:`Job.cancel` ends it at once.
+``pareto_front``) in a spawned process, so that the page stays live; its stage (what it does
+before its first step: the process starting, the kernels loading or compiling, a first
+evaluation timed), its progress (generations or placements done, of ``total``) and its outcome
+are read with :meth:`Job.poll`, and :meth:`Job.cancel` ends it at once.
 """
 
 from __future__ import annotations
@@ -28,6 +29,9 @@ from placement.search.space import PlacementSpace
 from placement.search.sweep import SweepResult, sweep
 
 Progress = Callable[[int], None]  # called with the steps just done
+Stage = Callable[[str], None]  # called with what the task does now, before its steps count
+STARTING = "starting its process (Python, the robot)"
+WARMING = "loading the compiled kernels (compiling them on first use) and timing a first evaluation"
 
 LAST_WORDS_S = 0.5  # how long an ended task's last message is awaited
 
@@ -45,6 +49,7 @@ class Job:
         context = multiprocessing.get_context("spawn")
         self.messages: multiprocessing.Queue = context.Queue()
         self.total, self.done = total, 0
+        self.stage = STARTING  # what the task does before its first step
         self.result: Any = None
         self.error: str | None = None
         self.closed = False
@@ -72,6 +77,8 @@ class Job:
                 timeout_s = 0.0
                 if kind == "progress":
                     self.done += payload
+                elif kind == "stage":
+                    self.stage = payload
                 elif kind == "result":
                     self.result = payload
                 elif kind == "error":
@@ -105,7 +112,8 @@ class Job:
 def _run(task: Callable[..., Any], args: tuple, messages: multiprocessing.Queue) -> None:
     """The job's process: its progress and outcome go to ``messages``."""
     try:
-        result = task(*args, progress=lambda steps: messages.put(("progress", steps)))
+        result = task(*args, progress=lambda steps: messages.put(("progress", steps)),
+                      stage=lambda text: messages.put(("stage", text)))
         messages.put(("result", result))
     except PlacementError as error:
         messages.put(("error", str(error)))
@@ -114,9 +122,9 @@ def _run(task: Callable[..., Any], args: tuple, messages: multiprocessing.Queue)
 
 
 def search_task(robot: Robot, path: ToolPath, space: PlacementSpace, evaluation: EvaluatorSettings,
-                settings: SearchSettings, *, progress: Progress) -> PlacementResult:
+                settings: SearchSettings, *, progress: Progress, stage: Stage) -> PlacementResult:
     """The command line's search (:func:`optimize_placement`), on the threads the command line's takes; progress:
-    one step per generation.
+    one step per generation; stage: the kernels warming, then the first population's scan with the time expected.
 
     Asked for both directions on a machine of two cores or more, the command line searches them at once, each in
     a process of its own on one core (:func:`placement.search.optimize.in_parallel`); this job's process is no
@@ -126,18 +134,25 @@ def search_task(robot: Robot, path: ToolPath, space: PlacementSpace, evaluation:
     """
     if settings.best and settings.worst and (os.cpu_count() or 1) >= 2:
         evaluation = dataclasses.replace(evaluation, threads=1)
+    stage(WARMING)
     return optimize_placement(robot, path, space=space, evaluation=evaluation, settings=settings,
-                              progress=lambda: progress(1))
+                              progress=lambda: progress(1),
+                              announce=lambda s: stage(f"scanning the first population (about {s:.0f} s in all)"))
 
 
 def map_task(robot: Robot, path: ToolPath, axes: dict[str, np.ndarray], fixed: dict[str, float],
-             evaluation: EvaluatorSettings, *, progress: Progress) -> SweepResult:
-    """The ``map`` command's sweep, in this one process; progress: placements evaluated."""
+             evaluation: EvaluatorSettings, *, progress: Progress, stage: Stage) -> SweepResult:
+    """The ``map`` command's sweep, in this one process; progress: placements evaluated; stage: the kernels
+    warming."""
+    stage(WARMING.split(" and ")[0])
     return sweep(robot, path, axes, fixed, evaluation=dataclasses.replace(evaluation, workers=1), progress=progress)
 
 
 def front_task(robot: Robot, path: ToolPath, objectives: tuple[str, ...], space: PlacementSpace,
-               evaluation: EvaluatorSettings, settings: SearchSettings, *, progress: Progress) -> ParetoFront:
-    """The Pareto front as ``--objectives`` searches it (:func:`pareto_front`); progress: one step per generation."""
+               evaluation: EvaluatorSettings, settings: SearchSettings, *, progress: Progress,
+               stage: Stage) -> ParetoFront:
+    """The Pareto front as ``--objectives`` searches it (:func:`pareto_front`); progress: one step per generation;
+    stage: the kernels warming and the first generation."""
+    stage(WARMING.split(" and ")[0] + ", then the first generation")
     return pareto_front(robot, path, objectives, space=space, evaluation=dataclasses.replace(evaluation, objective=objectives),
                         settings=settings, progress=lambda: progress(1))

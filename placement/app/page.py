@@ -20,9 +20,12 @@ import numpy as np
 import pinocchio as pin
 
 from placement.app.compare import ComparePanel, ExportPanel
-from placement.app.drawing import RobotDrawing, rotation_of, wxyz_of
+from placement.app.drawing import RobotDrawing, rotation_of, snapped, wxyz_of
 from placement.app.evaluations import Bench, Choices, Reading, shown_value, si_value
+from placement.app.exceptions import NotReadyError
 from placement.app.guard import guarded_server
+from placement.app.motion import SPEEDS, playback_speed, power_range, power_with_cursor, speed_text
+from placement.app.names import name_controls
 from placement.app.numbers import number_html, readable
 from placement.app.panels import JobPanel
 from placement.app.searches import FrontPanel, MapPanel, OptimisePanel
@@ -39,6 +42,7 @@ PATH_COLOR, CUBE_COLOR = (230, 0, 200), (48, 48, 48)  # the workpiece: a magenta
 FAILING_COLOR = (220, 0, 0)  # the workpiece where the placement is infeasible, and its failing sample
 TIMINGS = ("path file's", "paper", "realistic", "optimal")
 TYPING_PAUSE_S = 1.5  # a field's values are read this long after the last key, if Enter was not pressed
+UNDO_DEPTH = 20  # placements Undo goes back through
 
 
 def shown_text(name: str, value: float) -> str:
@@ -68,10 +72,13 @@ class Workbench:
         self.bench, self.robot = bench, bench.robot
         self.shown = ShownTexts()  # the text fields, read from the tab that acts
         self.server, self.gate = guarded_server(host, port or 8080, origins)
-        self.server.on_client_connect(lambda client: self.guard(lambda: self._tell_sharing(client)))
+        self.server.on_client_connect(lambda client: self.guard(lambda: self._client_connected(client)))
         self.placement = bench.start()
         self.reading: Reading | None = None
         self.exact_detail: PlacementDetail | None = None
+        self.history: list[np.ndarray] = []  # the placements evaluated before, the latest last (Undo)
+        self._undoing = False
+        self._plotted: PlacementDetail | None = None  # the detail whose power the plot's axis was set for
         self._syncing = False
         self._wanted: np.ndarray | None = None  # the latest placement asked for a live reading
         self._wake = threading.Condition()
@@ -89,7 +96,11 @@ class Workbench:
         host = self.server.get_host()
         return f"http://{host if ':' not in host else f'[{host}]'}:{self.server.get_port()}/?token={self.gate.token}"
 
-    def _tell_sharing(self, client: Any) -> None:
+    def _client_connected(self, client: Any) -> None:
+        name_controls(client)
+        self._tell_sharing()
+
+    def _tell_sharing(self) -> None:
         """Every tab shows the one placement of this workbench: a tab opened beside another is told so, and so are
         the others."""
         clients = self.server.get_clients()
@@ -105,6 +116,10 @@ class Workbench:
     def _draw_scene(self) -> None:
         scene: Any = self.server.scene
         scene.set_up_direction("+z")
+        # Lit by viser's default lights alone, without shadows or an environment map: the robot stands out from the
+        # white page, and a browser without a GPU (software WebGL) draws a frame several times faster.
+        scene.configure_default_lights(enabled=True, cast_shadow=False)
+        scene.configure_environment_map(None)
         self.drawing = RobotDrawing(self.server, self.robot)
         workspace = self.robot.workspace
         if workspace is not None:
@@ -122,7 +137,7 @@ class Workbench:
         lower, upper = self._bounds()
         self.gizmo = scene.add_transform_controls(
             "/plane/path", scale=0.08, depth_test=False,
-            active_axes=(True, True, True), disable_rotations=not free & set(ANGLES),
+            active_axes=tuple(name in free for name in ("x", "y", "z")), disable_rotations=not free & set(ANGLES),
             disable_axes=not free & {"x", "y", "z"}, disable_sliders=len(free & {"x", "y", "z"}) < 2,
             translation_limits=tuple((lower[k], upper[k]) for k in range(3)),
             rotation_limits=tuple((lower[k], upper[k]) for k in (5, 4, 3)))
@@ -171,9 +186,9 @@ class Workbench:
         points = reading.tool_position_m
         centre = (points.min(axis=0) + points.max(axis=0)) / 2
         direction = np.array([1.0, -1.2, 0.8]) / np.linalg.norm([1.0, -1.2, 0.8])
-        for client in self.server.get_clients().values():
-            client.camera.look_at = tuple(centre)
+        for client in self.server.get_clients().values():  # the position first: viser moves look_at with it
             client.camera.position = tuple(centre + direction * 4.0 * self._path_size())
+            client.camera.look_at = tuple(centre)
             client.camera.up_direction = (0.0, 0.0, 1.0)
 
     def _bounds(self) -> tuple[np.ndarray, np.ndarray]:
@@ -203,6 +218,10 @@ class Workbench:
         gui.add_markdown(f"**{html.escape(robot.name)}**: {html.escape(path.name)}")
         self.frame_button = gui.add_button("Frame the workpiece", hint="look at the placed path from close by")
         self.frame_button.on_click(lambda _: self.guard(self.frame_workpiece))
+        self.snap = gui.add_checkbox("snap a drag to 1 mm / 1 deg", False,
+                                     hint="the gizmo moves by whole millimetres and degrees")
+        self.undo_button = gui.add_button("Undo", disabled=True, hint=f"back to the placement before (up to {UNDO_DEPTH})")
+        self.undo_button.on_click(lambda _: self.guard(self.undo))
         lower, upper = self._bounds()
         self.fields: dict[str, Any] = {}
         self._written: dict[str, str] = {}  # each field's text as the page last wrote it
@@ -253,10 +272,14 @@ class Workbench:
         with gui.add_folder("Motion"):
             self.time = gui.add_slider("time (s)", min=0.0, max=1.0, step=0.001, initial_value=0.0)
             self.play = gui.add_checkbox("play", False)
+            duration_s = float(self.bench.live(self.placement).t_s[-1])  # a pass at the first placement
+            self.speed = gui.add_dropdown("speed", tuple(speed_text(s) for s in SPEEDS),
+                                          initial_value=speed_text(playback_speed(duration_s)),
+                                          hint="of real time: a short pass is played slower, to be followed")
             colors = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b")
             series = ({"label": "t (s)"},) + tuple(
                 {"label": actuator.joint, "stroke": colors[i % len(colors)], "width": 1.5}
-                for i, actuator in enumerate(self.robot.actuators))
+                for i, actuator in enumerate(self.robot.actuators)) + ({"label": "now", "stroke": "#000", "width": 1},)
             empty = tuple(np.zeros(2) for _ in series)
             self.power_plot = gui.add_uplot(empty, series, title="electric power per actuator (W), exact",
                                             scales={"x": {"time": False}}, aspect=1.6)
@@ -307,6 +330,8 @@ class Workbench:
         rotation = rotation_of(self.gizmo.wxyz)
         psi, theta, phi = pin.rpy.matrixToRpy(rotation)  # R = Rz(phi) Ry(theta) Rx(psi)
         wanted = np.array([*self.gizmo.position, phi, theta, psi], dtype=float)
+        if self.snap.value:
+            wanted = snapped(wanted)
         self.placement = self.bench.clamp(wanted)
         if not np.allclose(self.placement, wanted, atol=1e-9):  # held within the free variables and their bounds
             self._syncing = True
@@ -467,13 +492,14 @@ class Workbench:
         self.failing_mark.visible = True
 
     def _show_exact(self, detail: PlacementDetail) -> None:
+        before = self.exact_detail
+        if before is not None and not self._undoing and not np.array_equal(before.placement, detail.placement):
+            self.history = [*self.history, before.placement.copy()][-UNDO_DEPTH:]
+        self.undo_button.disabled = not self.history
         self.exact_detail = detail
         self.compare.show(detail)
         self.power_plot.visible = detail.reachable
-        if detail.reachable:
-            t_s = np.asarray(detail.samples.t_s, dtype=float)
-            self.power_plot.data = (t_s, *(np.asarray(detail.power_W[:, i], dtype=float)
-                                           for i in range(detail.power_W.shape[1])))
+        self._plot_power()
         words = wording(detail.objective)
         unit = OBJECTIVES.get(detail.objective).unit
         if not detail.reachable:
@@ -492,7 +518,32 @@ class Workbench:
                f'<p>energy {number_html("exact-energy", float(detail.energy.total_J), "J")}</p>') +
             f"<p>tightest: {html.escape(where)}</p>")
 
+    def _plot_power(self) -> None:
+        """The exact power of each actuator, with the time shown as a cursor."""
+        detail = self.exact_detail
+        if detail is None or not detail.reachable:
+            return
+        power_W = np.asarray(detail.power_W, dtype=float)
+        if detail is not self._plotted:  # the power axis fixed: uPlot ranges no axis over the cursor's NaN
+            self.power_plot.scales = {"x": {"time": False}, "y": {"auto": False, "range": power_range(power_W)}}
+            self._plotted = detail
+        self.power_plot.data = power_with_cursor(np.asarray(detail.samples.t_s, dtype=float), power_W,
+                                                 float(self.time.value))
+
+    def undo(self) -> None:
+        """Go back to the placement evaluated before the current one."""
+        if not self.history:
+            raise NotReadyError("nothing to undo: no placement was evaluated before this one")
+        placement = self.history.pop()
+        self._undoing = True
+        try:
+            self.set_placement(placement, exact=True)
+        finally:
+            self._undoing = False
+        self.undo_button.disabled = not self.history
+
     def _show_time(self) -> None:
+        self._plot_power()
         reading = self.reading
         if reading is None:
             return
@@ -509,12 +560,17 @@ class Workbench:
             threading.Thread(target=self._play, daemon=True).start()
 
     def _play(self) -> None:
-        start = time.monotonic()
+        """Play the pass in a loop, at the speed chosen (a fraction of real time), about 20 frames a second."""
+        shown_s, last = float(self.time.value), time.monotonic()
         while self.play.value and not self._closed:
             reading = self.reading
+            now = time.monotonic()
             if reading is not None:
-                self.time.value = float((time.monotonic() - start) % max(float(reading.t_s[-1]), 1e-3))
-            time.sleep(1 / 30)
+                speed = SPEEDS[[speed_text(s) for s in SPEEDS].index(self.speed.value)]
+                shown_s = (shown_s + (now - last) * float(speed)) % max(float(reading.t_s[-1]), 1e-3)
+                self.time.value = shown_s
+            last = now
+            time.sleep(1 / 20)
 
     # --- choices and searches ----------------------------------------------------------------------------------
     def _choices_changed(self) -> None:

@@ -50,11 +50,12 @@ class JobPanel(ABC):
         start_label: The start button's text.
         key: The state line's id prefix.
         what: The computation, as a message names it ("a map").
+        steps: What its steps are ("generations"), as its state line counts them.
     """
 
-    def __init__(self, host: Host, start_label: str, key: str, what: str) -> None:
+    def __init__(self, host: Host, start_label: str, key: str, what: str, steps: str) -> None:
         gui: Any = host.server.gui
-        self.host, self.key, self.what = host, key, what
+        self.host, self.key, self.what, self.steps = host, key, what, steps
         self.job: Job | None = None
         self.start_label = start_label
         self.has_result = False  # a result is shown (it may have gone stale)
@@ -89,11 +90,20 @@ class JobPanel(ABC):
         job = self.job = self.launch()
         self.start_button.disabled, self.cancel_button.disabled = True, False
         self.progress.value, self.progress.visible = 0.0, True
+        self.say(f"{job.stage}...")
         threading.Thread(target=self._follow, args=(job,), daemon=True).start()
 
     def _follow(self, job: Job) -> None:
+        said = [""]
+
         def shown(done: int, total: int) -> None:
+            """The progress bar, and the state line: what the job does before its first step (never a silent 0 %),
+            then its steps counted."""
             self.progress.value = 100.0 * min(done, total) / max(total, 1)
+            text = f"{job.stage}..." if done == 0 else f"{min(done, total)} of {total} {self.steps} done"
+            if text != said[0]:
+                said[0] = text
+                self.say(text)
 
         job.wait(shown)
         self.job = None

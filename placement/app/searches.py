@@ -18,6 +18,7 @@ import numpy as np
 
 from placement.app.evaluations import MAP_POINTS, shown_value
 from placement.app.exceptions import NotReadyError
+from placement.app.heatmap import HeatMap
 from placement.app.jobs import Job
 from placement.app.numbers import number_html, readable
 from placement.app.panels import Host, JobPanel, figure_image
@@ -44,7 +45,7 @@ class OptimisePanel(JobPanel):
     def __init__(self, host: Host) -> None:
         gui: Any = host.server.gui
         self.direction = gui.add_dropdown("direction", DIRECTIONS, initial_value="both")
-        super().__init__(host, "Optimise", "search", "a search")
+        super().__init__(host, "Optimise", "search", "a search", "generations")
         self.optima: dict[str, PlacementDetail] = {}
         self.optima_html = gui.add_html("")
         self.buttons = {key: gui.add_button(f"Go to {key}", visible=False) for key in ("best", "worst")}
@@ -53,7 +54,6 @@ class OptimisePanel(JobPanel):
 
     def launch(self) -> Job:
         direction = self.direction.value
-        self.say("searching...")
         return self.host.bench.search(best=direction in ("best", "both"), worst=direction in ("worst", "both"))
 
     def finished(self, result: PlacementResult) -> None:
@@ -99,7 +99,7 @@ class MapPanel(JobPanel):
         self.across = gui.add_dropdown("across", free, initial_value=free[0])
         self.up = gui.add_dropdown("up", free, initial_value=free[min(1, len(free) - 1)])
         self.points = gui.add_text("points per variable", "21", hint=f"a whole number from 2 to {MAP_POINTS}")
-        super().__init__(host, "Map", "map", "a map")
+        super().__init__(host, "Map", "map", "a map", "placements")
         self.image = gui.add_image(BLANK, visible=False)
         self.best_html = gui.add_html("")
         self.go_button = gui.add_button("Go to the map's best", visible=False)
@@ -107,9 +107,12 @@ class MapPanel(JobPanel):
         self.best: np.ndarray | None = None
         self.command = ""
         self.through, self.plane = host.placement.copy(), ("", "")  # the placement the map went through, its axes
+        self.heat_map = HeatMap(host.server, host.bench.robot.plane,
+                                lambda placement: host.guard(lambda: host.set_placement(placement, exact=True)))
 
     def placement_moved(self, placement: np.ndarray) -> None:
         """Mark the map stale once the placement leaves its plane (a variable not mapped moved)."""
+        self.heat_map.placement_moved(placement)
         off = [name for k, name in enumerate(VARIABLES) if name not in self.plane
                and abs(placement[k] - self.through[k]) > 1e-12]
         if off:
@@ -126,7 +129,6 @@ class MapPanel(JobPanel):
                                 f"got {text!r}")
         job, self.command = self.host.bench.map((self.across.value, self.up.value), int(points), self.host.placement)
         self.through, self.plane = self.host.placement.copy(), (self.across.value, self.up.value)
-        self.say(f"mapping {int(points) ** 2} placements...")
         return job
 
     def finished(self, result: SweepResult) -> None:
@@ -136,6 +138,8 @@ class MapPanel(JobPanel):
 
         self.image.image = figure_image(map_figure(result, f"{result.path}: {words.subject} ({result.regeneration})"))
         self.image.visible = True
+        in_scene = self.heat_map.show(result)
+        self.heat_map.placement_moved(self.host.placement)
         index = result.best()
         self.best = None if index is None else result.placements()[index]
         self.go_button.visible = self.best is not None
@@ -144,7 +148,10 @@ class MapPanel(JobPanel):
             f'<br>{html.escape(words.best)} {html.escape(words.subject)}: '
             f'{number_html("map-best-value", float(result.value.ravel()[index]), unit)} at '
             f'<span id="map-best-placement">{_where(result.variables, self.best)}</span>')
-        self.best_html.content = (f'<p>{count}{best}</p><p style="font-size:11px">the same map: '
+        scene = ("in the scene too: click a cell to go to it (best: black ball, current: magenta)" if in_scene
+                 else "drawn here only: a map over an angle spans no plane of the scene")
+        self.best_html.content = (f'<p>{count}{best}</p><p id="map-scene" style="font-size:11px">{scene}</p>'
+                                  f'<p style="font-size:11px">the same map: '
                                   f'<code id="map-command">placement map --robot {html.escape(self.host.bench.robot.name)} '
                                   f'--path FILE {html.escape(self.command)}</code></p>')
         self.say("done")
@@ -164,7 +171,7 @@ class FrontPanel(JobPanel):
         names = tuple(OBJECTIVES.names())
         self.first = gui.add_dropdown("first objective", names, initial_value="energy")
         self.second = gui.add_dropdown("second objective", names, initial_value="dexterity")
-        super().__init__(host, "Search the front", "front", "a front")
+        super().__init__(host, "Search the front", "front", "a front", "generations")
         self.image = gui.add_image(BLANK, visible=False)
         self.table = gui.add_html("")
         self.member = gui.add_dropdown("member", ("none",), visible=False)
@@ -173,9 +180,7 @@ class FrontPanel(JobPanel):
         self.members: list[np.ndarray] = []
 
     def launch(self) -> Job:
-        job = self.host.bench.front((self.first.value, self.second.value))
-        self.say("searching the front...")
-        return job
+        return self.host.bench.front((self.first.value, self.second.value))
 
     def finished(self, front: ParetoFront) -> None:
         from placement.output.plots import front_figure  # the [viz] extra (matplotlib, meshcat): imported only here

@@ -14,7 +14,7 @@ support uses) copies the fields' texts into the tab's ``localStorage`` under a o
 script since a tab's messages are handled in order) brings them back. Each field the server held behind
 is set to the text shown, so the actions, and every other tab, read what the user typed.
 
-viser offers no public way to run a script in one tab, so :func:`_run_script` uses its message type and the
+viser offers no public way to run a script in one tab, so :func:`run_script` uses its message type and the
 client's connection; :func:`check_viser` refuses to start a workbench on a viser without them (fails closed),
 and the browser tests type whole values and Enter within one millisecond.
 """
@@ -56,7 +56,8 @@ def check_viser() -> None:
         raise RuntimeError(f"the workbench cannot read what its fields show with viser {viser.__version__}: not served")
 
 
-def _run_script(client: viser.ClientHandle, source: str) -> None:
+def run_script(client: viser.ClientHandle, source: str) -> None:
+    """Run a script in one tab (viser's own message, checked by :func:`check_viser`)."""
     from viser import _messages
 
     client._websock_connection.queue_message(_messages.RunJavascriptMessage(source=source))
@@ -88,7 +89,7 @@ class ShownTexts:
         key = f"placement-shown-{secrets.token_hex(12)}"
         storage = client.local_storage
         storage.set_item(key, "")
-        _run_script(client, SCRIPT.replace("KEY", json.dumps(key)).replace("UUIDS", json.dumps(list(self.fields))))
+        run_script(client, SCRIPT.replace("KEY", json.dumps(key)).replace("UUIDS", json.dumps(list(self.fields))))
         try:
             answer = storage.get_item(key, timeout=ANSWER_TIMEOUT_S)
         except (RuntimeError, TimeoutError) as error:

@@ -365,3 +365,134 @@ def test_a_map_the_placement_left_is_marked_stale_and_a_panels_error_is_said_bes
     assert "points per variable" in panel.state.content and "color:#c00" in panel.state.content
     assert served.message.content == "" and panel.job is None  # said beside the Map panel, nothing started
     panel.points.value = "21"
+
+
+def test_a_search_says_what_it_does_before_its_first_generation(bench):
+    """The page's Optimise says its stage (never a silent 0 %): the kernels warming, then the first population's
+    scan with the time it expects, both before the first generation is counted."""
+    from placement.app.jobs import WARMING, search_task
+    from placement.search.optimize import SearchSettings
+
+    said: list[str] = []
+    settings = SearchSettings(best=True, worst=False, population=8, max_generations=2)
+    search_task(bench.robot, bench.path, bench.space, bench.settings, settings,
+                progress=lambda steps: said.append(f"{steps} generation"), stage=said.append)
+    assert said[0] == WARMING and said[1].startswith("scanning the first population (about ")
+    assert said[2:] == ["1 generation"] * (len(said) - 2) and len(said) >= 3
+
+
+def test_a_jobs_stage_is_read_from_its_process(bench):
+    from placement.app.jobs import STARTING, WARMING
+
+    job, _ = bench.map(("x", "y"), 2, AT)
+    assert job.stage == STARTING  # before its process says anything
+    job.wait()
+    assert job.result is not None and job.stage == WARMING.split(" and ")[0]  # the map's last word before its steps
+
+
+def test_a_short_pass_is_played_slowed_down_to_a_few_seconds():
+    from fractions import Fraction
+
+    from placement.app.motion import PASS_SHOWN_S, playback_speed
+
+    assert playback_speed(0.27) == Fraction(1, 16)  # 4.3 s; at 1/8 it would last 2.2 s
+    assert playback_speed(10.0) == 1 and playback_speed(1e-3) == Fraction(1, 64)
+    for duration_s in (0.01, 0.27, 0.5, 1.0, 2.9, 3.0, 7.0):
+        speed = playback_speed(duration_s)
+        assert duration_s / speed >= PASS_SHOWN_S or speed == Fraction(1, 64)
+        assert speed == 1 or duration_s / (2 * speed) < PASS_SHOWN_S  # the fastest that is slow enough
+
+
+def test_the_power_plot_shows_the_time_as_a_cursor_and_each_curve_unchanged(served):
+    from placement.app.motion import power_with_cursor
+
+    detail = served.exact_detail
+    t_s, power_W = np.asarray(detail.samples.t_s, dtype=float), np.asarray(detail.power_W, dtype=float)
+    now_s = 0.4 * t_s[-1]
+    times, *curves, cursor = power_with_cursor(t_s, power_W, now_s)
+    assert np.all(np.diff(times) >= 0) and len(curves) == power_W.shape[1]
+    drawn = np.flatnonzero(np.isfinite(cursor))  # two points, one above the other: a vertical line
+    assert len(drawn) == 2 and times[drawn[0]] == times[drawn[1]] == t_s[np.searchsorted(t_s, now_s)]
+    assert cursor[drawn].tolist() == [np.nanmin(power_W), np.nanmax(power_W)]
+    unique = np.delete(np.arange(len(times)), drawn[1])  # the repeated sample taken out: the curves as computed
+    assert np.array_equal(times[unique], t_s)
+    for i, curve in enumerate(curves):
+        assert np.array_equal(curve[unique], power_W[:, i], equal_nan=True)
+    served.time.value = now_s
+    served.guard(served._show_time)  # the page's plot: the same data, the cursor at the time shown
+    shown = served.power_plot.data
+    assert np.array_equal(shown[-1], cursor, equal_nan=True) and np.array_equal(shown[0], times)
+    low, high = served.power_plot.scales["y"]["range"]  # fixed (uPlot ranges no axis over NaN), every curve within
+    assert low < np.nanmin(power_W) and np.nanmax(power_W) < high
+
+
+def test_a_drag_snaps_to_whole_millimetres_and_degrees_when_asked(served):
+    from types import SimpleNamespace
+
+    from placement.app.drawing import wxyz_of
+    from placement.placing.transform import rotation_zyx
+
+    served.snap.value = True
+    try:
+        served.gizmo.position = (0.01234, -0.00678, -0.0201)
+        served.gizmo.wxyz = tuple(wxyz_of(rotation_zyx(np.radians(30.4), 0.0, 0.0)))
+        served._gizmo_event(SimpleNamespace(phase="end"))
+    finally:
+        served.snap.value = False
+    snapped = np.array([0.012, -0.007, -0.020, np.radians(30.0), 0.0, 0.0])
+    assert np.allclose(served.placement, snapped, rtol=0, atol=1e-15)
+    assert served.exact_detail.value == pytest.approx(bench_value(snapped), abs=1e-9)  # evaluated where it snapped
+    assert served.fields["x"].value == "12" and served.fields["phi"].value == "30"
+
+
+def test_undo_goes_back_through_the_placements_evaluated(served):
+    from placement.app.page import UNDO_DEPTH
+
+    placements = [np.array([x, 0.0, -0.02, 0.0, 0.0, 0.0]) for x in (-0.01, 0.0, 0.01)]
+    for placement in placements:
+        served.set_placement(placement, exact=True)
+    served.undo()
+    assert np.array_equal(served.placement, placements[1])
+    assert served.exact_detail.value == pytest.approx(bench_value(placements[1]), abs=1e-9)
+    served.undo()
+    assert np.array_equal(served.placement, placements[0])
+    for k in range(UNDO_DEPTH + 5):
+        served.set_placement(np.array([0.001 * k, 0.0, -0.02, 0.0, 0.0, 0.0]), exact=True)
+    assert len(served.history) == UNDO_DEPTH  # the last ones kept
+    served.history.clear()
+    served.guard(served.undo)
+    assert "nothing to undo" in served.message.content
+
+
+def test_the_map_is_drawn_in_the_scene_and_a_cell_clicked_goes_to_its_placement(served):
+    from placement.search.sweep import sweep
+
+    through = np.array([0.0, 0.0, -0.02, 0.0, 0.0, 0.0])
+    served.set_placement(through, exact=True)
+    axes = {"x": np.linspace(-0.03, 0.03, 4), "y": np.linspace(-0.02, 0.02, 3)}
+    result = sweep(served.bench.robot, served.bench.path, axes, {"z": -0.02, "phi": 0.0, "theta": 0.0, "psi": 0.0},
+                   evaluation=served.bench.settings)
+    heat_map = served.map.heat_map
+    served.map.finished(result)
+    assert heat_map.result is result and "click a cell" in served.map.best_html.content
+    # cells one grid step apart in the scene (m), in the flattened order of the map's placements
+    assert np.linalg.norm(heat_map.steps, axis=1) == pytest.approx([0.02, 0.02], abs=1e-12)
+    colors = heat_map.cells.batched_colors
+    best = result.best()
+    assert colors[best].tolist() == [0, 34, 78]  # cividis' navy end: the least energy
+    assert (colors[~result.feasible.ravel()] == 190).all()
+    assert np.allclose(heat_map.best_mark.position, heat_map.origins[best]) and heat_map.best_mark.visible
+    assert heat_map.current_mark.visible  # the current placement is on the map's plane
+    normal = np.cross(*heat_map.steps) / np.linalg.norm(np.cross(*heat_map.steps))
+    cell = 7  # x index 2, y index 1
+    aim = heat_map.origins[cell] + 0.3 * heat_map.steps[0] - 0.3 * heat_map.steps[1]  # inside the cell, off centre
+    heat_map.clicked(tuple(aim + 0.5 * normal), tuple(-normal))
+    assert np.array_equal(served.placement, result.placements()[cell])
+    assert served.exact_detail.value == pytest.approx(result.value.ravel()[cell], abs=1e-9)  # the map's own value
+    assert heat_map.cell_at(heat_map.origins[0] - heat_map.steps[0] + 0.5 * normal, -normal) is None  # off the map
+    served.set_placement(np.array([0.0, 0.0, -0.01, 0.0, 0.0, 0.0]), exact=True)  # off the plane: unmarked
+    assert not heat_map.current_mark.visible
+    angled = sweep(served.bench.robot, served.bench.path, {"x": axes["x"], "phi": np.radians([-10.0, 10.0])},
+                   {"y": 0.0, "z": -0.02, "theta": 0.0, "psi": 0.0}, evaluation=served.bench.settings)
+    served.map.finished(angled)  # over an angle: no plane of the scene
+    assert heat_map.cells is None and "drawn here only" in served.map.best_html.content

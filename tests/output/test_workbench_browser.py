@@ -1,52 +1,47 @@
-"""The workbench page in a real browser: headless Chromium driven through WebDriver (selenium, chromium-driver).
+"""The workbench page on the Orthoglide in a real browser: headless Chromium driven through WebDriver.
 
-The page is set and read as a user would: numbers typed into its fields, buttons clicked, values
-read from the page's text. Its exact value equals what ``--at`` prints, its search finds the
-command line's best, its comparison of two placements is the difference of what ``--at`` prints
-at each, its export downloads the document ``--json --at`` writes, its map's best cell is the
-``map`` command's and its Pareto front's members are ``--objectives``'. Without a browser the
-tests skip, except under CI (``CI`` set), where they fail.
+The page is set and read as a user would (tests/support/workbench_page.py). Its exact value equals
+what ``--at`` prints, its search finds the command line's best, its comparison of two placements is
+the difference of what ``--at`` prints at each, its export downloads the document ``--json --at``
+writes, its map's best cell is the ``map`` command's and its Pareto front's members are
+``--objectives``'; a foreign Origin or Host is refused and no share control is shown. The UR5's
+page: test_workbench_browser_ur5.py (another module, so that ``-n 2`` runs the two on two workers).
+Without a browser the tests skip, except under CI (``CI`` set), where they fail.
 """
 
-import dataclasses
 import json
-import os
 import shlex
-import shutil
-import time
 
 import pytest
 
 from tests.support.paths import EXAMPLE
+from tests.support.workbench_page import (
+    BUDGET_OPTIONS,
+    REBOUND,
+    at,
+    click,
+    field_of,
+    field_text,
+    go_to,
+    number_of,
+    open_folder,
+    open_page,
+    same_numbers,
+    start_workbench,
+    text_of,
+    type_into,
+    wait_for,
+)
+from tests.support.workbench_page import cli_json as robot_json
 
 pytestmark = pytest.mark.slow  # about a minute on a 2-core machine: starts first under -n 2
 
 PLACEMENT = {"x": "12.5", "y": "-7", "z": "-20", "phi": "30"}  # mm, degrees
-# The page's searches and the command line's run on this smaller budget than the default (48 x 80): they must
-# find the same placements and fronts whatever the budget.
-BUDGET = {"population": 24, "max_generations": 10}
-BUDGET_OPTIONS = ("--population", str(BUDGET["population"]), "--generations", str(BUDGET["max_generations"]))
-
-
-REBOUND = "rebound.example"  # a foreign name the browser resolves to this machine, as DNS rebinding would
-
-
-def _unavailable(reason: str) -> None:
-    if os.environ.get("CI"):  # CI must show the workbench works: .ci/run installs chromium and chromium-driver
-        pytest.fail(f"{reason} on the CI machine: the workbench cannot be checked in a browser")
-    pytest.skip(f"{reason} on this machine (.ci/run installs Debian's chromium and chromium-driver)")
 
 
 @pytest.fixture(scope="module")
 def workbench():
-    pytest.importorskip("viser") if not os.environ.get("CI") else None
-    from placement.cli import app, build_command_parser
-    from placement.search.optimize import SearchSettings
-
-    args = build_command_parser().parse_args(["app", "--robot", "orthoglide", "--path", str(EXAMPLE)])
-    bench = app.start(args)
-    assert bench.bench.search_settings == SearchSettings(seed=0)  # the command line's defaults
-    bench.bench.search_settings = dataclasses.replace(bench.bench.search_settings, **BUDGET)
+    bench = start_workbench("orthoglide")
     try:
         yield bench
     finally:
@@ -58,35 +53,6 @@ def downloads(tmp_path_factory):
     return tmp_path_factory.mktemp("downloads")
 
 
-def open_page(url: str, downloads=None):
-    """Headless Chromium on ``url``, its first exact value shown (downloads into ``downloads``)."""
-    try:
-        from selenium import webdriver
-        from selenium.webdriver.chrome.service import Service
-    except ImportError:
-        _unavailable("no selenium")
-    chromium = next((shutil.which(n) for n in ("chromium", "chromium-browser", "google-chrome") if shutil.which(n)), None)
-    driver_path = shutil.which("chromedriver")
-    if chromium is None or driver_path is None:
-        _unavailable("no Chromium or no chromedriver")
-    options = webdriver.ChromeOptions()
-    options.binary_location = chromium
-    for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader",
-                 "--use-angle=swiftshader", "--window-size=1400,1000", "--proxy-server=127.0.0.1:9",
-                 f"--host-resolver-rules=MAP {REBOUND} 127.0.0.1", f"--proxy-bypass-list={REBOUND}"):
-        options.add_argument(flag)
-    driver = webdriver.Chrome(options=options, service=Service(driver_path))
-    if downloads is not None:
-        driver.execute_cdp_cmd("Browser.setDownloadBehavior", {"behavior": "allow", "downloadPath": str(downloads)})
-    driver.get(url)
-    try:
-        wait_for(driver, lambda: text_of(driver, "exact-value") is not None, "the page's first exact value")
-    except BaseException:
-        driver.quit()
-        raise
-    return driver
-
-
 @pytest.fixture(scope="module")
 def browser(workbench, downloads):
     driver = open_page(workbench.url, downloads)
@@ -96,99 +62,8 @@ def browser(workbench, downloads):
         driver.quit()
 
 
-def text_of(driver, element_id: str) -> str | None:
-    """The element's text, read at once in the page (never a stale element: the page replaces its panels)."""
-    return driver.execute_script("const found = document.getElementById(arguments[0]);"
-                                 "return found === null ? null : found.textContent.trim();", element_id)
-
-
-def wait_for(driver, condition, what: str, timeout_s: float = 120.0) -> None:
-    deadline = time.monotonic() + timeout_s
-    while time.monotonic() < deadline:
-        try:
-            if condition():
-                return
-        except Exception:  # an element replaced while it was read: read again
-            pass
-        time.sleep(0.2)
-    pytest.fail(f"the page never showed {what}")
-
-
-def field_of(driver, label: str):
-    from selenium.webdriver.common.by import By
-
-    return driver.find_element(By.XPATH, f"//label[normalize-space()='{label}']/following::input[1]")
-
-
-def type_into(driver, label: str, text: str) -> None:
-    """Type ``text`` into the field labelled ``label`` and press Enter, all keys at once, faster than any person.
-
-    viser's page (1.1) sends the GUI's messages through one sender that keeps only the latest message of each
-    50 ms: the last keys and the Enter reach the server as the Enter alone. The page reads the typed text
-    from the tab when it acts (:mod:`placement.app.shown`), so every test typing this way shows it.
-    """
-    from selenium.webdriver.common.keys import Keys
-
-    field = field_of(driver, label)
-    field.click()
-    field.send_keys(Keys.CONTROL, "a", Keys.NULL, Keys.BACKSPACE, text, Keys.ENTER)
-
-
-def click(driver, text: str) -> None:
-    from selenium.webdriver.common.by import By
-
-    driver.find_element(By.XPATH, f'//button[normalize-space()="{text}"]').click()
-
-
-def open_folder(driver, title: str, control: str) -> None:
-    """Unfold the page's folder ``title`` unless its button ``control`` is in sight already."""
-    from selenium.webdriver.common.by import By
-
-    button = f"//button[normalize-space()='{control}']"
-    if not any(found.is_displayed() for found in driver.find_elements(By.XPATH, button)):
-        driver.find_element(By.XPATH, f"//div[contains(@class, 'mantine-Paper-root') and normalize-space(text())="
-                                      f"'{title}']").click()
-    wait_for(driver, lambda: driver.find_element(By.XPATH, button).is_displayed(), f"the {title} folder open")
-
-
-def number_of(driver, element_id: str) -> float:
-    """A number the page shows, in full: its element's ``data-value`` (the page writes five significant digits)."""
-    return float(driver.execute_script("return document.getElementById(arguments[0]).dataset.value;", element_id))
-
-
-def set_placement(driver, placement: dict[str, str], expected_J: float) -> None:
-    for name, value in placement.items():
-        type_into(driver, f"{name} ({'deg' if name in ('phi', 'theta', 'psi') else 'mm'})", value)
-    wait_for(driver, lambda: abs(number_of(driver, "exact-value") - expected_J) <= 1e-9,
-             f"the --at energy {expected_J!r} J (last read: {text_of(driver, 'exact-value')})")
-
-
-def at(placement: dict[str, str]) -> str:
-    return ",".join(f"{k}={v}" for k, v in placement.items())
-
-
-def same_numbers(page, cli, where: str = "") -> None:
-    """Two JSON documents alike: the same keys and texts, numbers equal to 1e-9."""
-    if isinstance(cli, dict):
-        assert isinstance(page, dict) and set(page) == set(cli), where
-        for key in cli:
-            same_numbers(page[key], cli[key], f"{where}.{key}")
-    elif isinstance(cli, list):
-        assert isinstance(page, list) and len(page) == len(cli), where
-        for k, (a, b) in enumerate(zip(page, cli)):
-            same_numbers(a, b, f"{where}[{k}]")
-    elif isinstance(cli, float) and not isinstance(cli, bool):
-        assert page == pytest.approx(cli, abs=1e-9), where
-    else:
-        assert page == cli, where
-
-
 def cli_json(tmp_path, *options: str) -> dict:
-    from placement.cli import main
-
-    out = tmp_path / "out.json"
-    assert main(["--robot", "orthoglide", "--path", str(EXAMPLE), "--quiet", "--json", str(out), *options]) == 0
-    return json.loads(out.read_text())
+    return robot_json(tmp_path, "orthoglide", *options)
 
 
 def test_a_placement_typed_in_the_page_reads_the_energy_at_prints(browser, tmp_path):
@@ -232,9 +107,33 @@ def test_bad_input_is_answered_in_the_page(browser):
 
 
 def test_optimise_in_the_page_finds_the_command_lines_best(browser, tmp_path):
-    expected = cli_json(tmp_path, *BUDGET_OPTIONS)["best"]["objective"]["value"]
+    import threading
+
+    from placement.app.jobs import STARTING
+
+    states: set[str | None] = set()  # what the search says it does, read as it goes
+    cli_done = threading.Event()
+
+    def read_states() -> None:  # the browser is read by this thread alone until the command line's search ends
+        while not cli_done.wait(0.1):
+            states.add(text_of(browser, "search-state"))
+
     click(browser, "Optimise")
-    wait_for(browser, lambda: text_of(browser, "best-value") is not None, "the search's best", timeout_s=600)
+    reader = threading.Thread(target=read_states)
+    reader.start()
+    try:
+        expected = cli_json(tmp_path, *BUDGET_OPTIONS)["best"]["objective"]["value"]  # while the page searches
+    finally:
+        cli_done.set()
+        reader.join()
+
+    def found() -> bool:
+        states.add(text_of(browser, "search-state"))
+        return text_of(browser, "best-value") is not None
+
+    wait_for(browser, found, "the search's best", timeout_s=600)
+    assert f"{STARTING}..." in states  # its stage before its first generation, not a silent 0 %
+    assert any(state and state.endswith(" of 20 generations done") for state in states), states  # best and worst
     assert abs(number_of(browser, "best-value") - expected) <= 1e-9
     click(browser, "Go to best")
     wait_for(browser, lambda: abs(number_of(browser, "exact-value") - expected) <= 1e-9,
@@ -247,12 +146,12 @@ OTHER = {"x": "-30", "y": "20", "z": "-10", "phi": "-15"}  # mm, degrees
 def test_pinned_and_current_placements_differ_by_what_at_prints_at_each(browser, tmp_path):
     first = cli_json(tmp_path, "--at", at(PLACEMENT))["at"]
     second = cli_json(tmp_path, "--at", at(OTHER))["at"]
-    set_placement(browser, PLACEMENT, first["energy_J"])
+    go_to(browser, PLACEMENT, first["energy_J"])
     open_folder(browser, "Compare", "Pin this placement")
     click(browser, "Pin this placement")
     wait_for(browser, lambda: abs(number_of(browser, "compare-energy-pinned") - first["energy_J"]) <= 1e-9,
              "the pinned energy")
-    set_placement(browser, OTHER, second["energy_J"])
+    go_to(browser, OTHER, second["energy_J"])
     wait_for(browser, lambda: abs(number_of(browser, "compare-energy-current") - second["energy_J"]) <= 1e-9,
              "the current energy beside the pinned one")
     expected = {"energy": second["energy_J"] - first["energy_J"],
@@ -271,7 +170,7 @@ def test_pinned_and_current_placements_differ_by_what_at_prints_at_each(browser,
 
 def test_export_downloads_what_json_at_writes(browser, downloads, tmp_path):
     expected = cli_json(tmp_path, "--at", at(PLACEMENT))
-    set_placement(browser, PLACEMENT, expected["at"]["energy_J"])
+    go_to(browser, PLACEMENT, expected["at"]["energy_J"])
     open_folder(browser, "Export", "Export JSON")
     click(browser, "Export JSON")
     file = downloads / "placement.json"
@@ -306,9 +205,9 @@ def test_the_maps_best_cell_is_the_map_commands(browser, tmp_path):
 
 
 def test_the_fronts_members_are_those_of_objectives(browser, tmp_path):
-    expected = cli_json(tmp_path, "--objectives", "energy,dexterity", *BUDGET_OPTIONS)
     open_folder(browser, "Front", "Search the front")
     click(browser, "Search the front")
+    expected = cli_json(tmp_path, "--objectives", "energy,dexterity", *BUDGET_OPTIONS)  # while the page searches
     wait_for(browser, lambda: (text_of(browser, "front-state") or "").startswith("done"), "the front", timeout_s=900)
     members = expected["members"]
     assert text_of(browser, f"front-{len(members) - 1}-0") is not None and text_of(browser, f"front-{len(members)}-0") is None
@@ -377,91 +276,29 @@ def test_the_page_has_no_share_control_and_is_refused_without_its_token(browser,
         browser.switch_to.window(browser.window_handles[0])
 
 
-@pytest.fixture(scope="module")
-def ur5(downloads):
-    from placement.cli import app, build_command_parser
-
-    args = build_command_parser().parse_args(["app", "--robot", "ur5", "--path", str(EXAMPLE)])
-    bench = app.start(args)
-    bench.bench.search_settings = dataclasses.replace(bench.bench.search_settings, **BUDGET)
-    try:
-        driver = open_page(bench.url)
-        try:
-            yield bench, driver
-        finally:
-            driver.quit()
-    finally:
-        bench.close()
+NAMES = """const named = [];
+for (const control of document.querySelectorAll('input:not([type=hidden]), textarea, [role=slider], button:not([hidden])')) {
+  const box = control.getBoundingClientRect();
+  if (box.width === 0 || box.height === 0) continue;  // not shown (a folded folder, the hidden settings)
+  let name = (control.getAttribute('aria-label') || '').trim();
+  const label = control.id ? document.querySelector(`label[for="${CSS.escape(control.id)}"]`) : null;
+  if (!name && label !== null) name = label.textContent.trim();
+  if (!name && control.tagName === 'BUTTON') name = control.textContent.trim();
+  named.push([control.tagName, name]);
+}
+return named;"""
 
 
-def ur5_json(tmp_path, *options: str) -> dict:
-    from placement.cli import main
-
-    out = tmp_path / "ur5.json"
-    assert main(["--robot", "ur5", "--path", str(EXAMPLE), "--quiet", "--json", str(out), *options]) == 0
-    return json.loads(out.read_text())
-
-
-def test_typing_400_into_the_ur5s_x_evaluates_400_mm_and_1e3_is_refused_by_its_bound(ur5, tmp_path):
-    from placement.app.evaluations import shown_value
-    from placement.placing.transform import VARIABLES
-
-    bench, driver = ur5
-    current = {name: format(shown_value(name, value), ".12g") for name, value in zip(VARIABLES, bench.placement)}
-    expected = ur5_json(tmp_path, "--at", at({**current, "x": "400"}))["at"]["energy_J"]
-    type_into(driver, "x (mm)", "400")
-    wait_for(driver, lambda: abs(number_of(driver, "exact-value") - expected) <= 1e-9,
-             f"the energy at x = 400 mm, {expected!r} J (last read: {text_of(driver, 'exact-value')})")
-    assert bench.placement[0] == 0.4 and field_text(driver, "x (mm)") == "400"
-    type_into(driver, "x (mm)", "1e3")
-    wait_for(driver, lambda: "x = 1e3 mm is above its upper bound 600 mm" in (text_of(driver, "message") or ""),
-             "the bound named")
-    assert field_text(driver, "x (mm)") == "1e3" and bench.placement[0] == 0.4  # the text kept, nothing moved
-    type_into(driver, "x (mm)", "400")
-    wait_for(driver, lambda: not text_of(driver, "message"), "the message cleared")
-
-
-def field_text(driver, label: str) -> str:
-    return field_of(driver, label).get_attribute("value")
-
-
-def test_optimise_on_the_ur5_finds_the_command_lines_best(ur5, tmp_path):
-    _, driver = ur5
-    expected = ur5_json(tmp_path, *BUDGET_OPTIONS)["best"]["objective"]["value"]
-    click(driver, "Optimise")
-    wait_for(driver, lambda: text_of(driver, "best-value") is not None, "the search's best", timeout_s=900)
-    assert abs(number_of(driver, "best-value") - expected) <= 1e-9
-
-
-def workpiece_pixels(driver) -> tuple[int, int]:
-    """(red, magenta) pixels of a screenshot: the workpiece infeasible, and feasible."""
-    import io
-
-    import numpy as np
-    from PIL import Image
-
-    image = np.asarray(Image.open(io.BytesIO(driver.get_screenshot_as_png())).convert("RGB")).astype(int)
-    r, g, b = image[..., 0], image[..., 1], image[..., 2]
-    return int(((r > 170) & (g < 70) & (b < 70)).sum()), int(((r > 170) & (g < 70) & (b > 140)).sum())
-
-
-def test_an_infeasible_placement_turns_the_ur5s_workpiece_red(ur5):
-    import numpy as np
-
-    from placement.app.page import PATH_COLOR
-
-    bench, driver = ur5
-    corners = [{"x": "600", "y": "400", "z": "450"}, {"x": "250", "y": "-200", "z": "50"}, {"x": "600", "y": "-200", "z": "50"}]
-    for corner in corners:
-        type_into(driver, "--at", at(corner))
-        wait_for(driver, lambda corner=corner: np.isclose(bench.placement[0], float(corner["x"]) / 1e3), "the corner")
-        if not bench.reading.feasible:
-            break
-    assert not bench.reading.feasible
-    click(driver, "Frame the workpiece")
-    wait_for(driver, lambda: workpiece_pixels(driver)[0] > 200, f"a red workpiece (red, magenta: {workpiece_pixels(driver)})")
-    type_into(driver, "--at", "x=400,y=100,z=250,phi=0,theta=0,psi=0")  # the middle of the bounds: feasible
-    wait_for(driver, lambda: bench.reading is not None and bench.reading.feasible, "a feasible placement")
-    click(driver, "Frame the workpiece")
-    wait_for(driver, lambda: workpiece_pixels(driver)[0] < 20, f"the red gone (red, magenta: {workpiece_pixels(driver)})")
-    assert (bench.path_line.colors == PATH_COLOR).all() and not bench.failing_mark.visible
+def test_every_control_has_a_name_and_the_cancel_buttons_differ(browser):
+    """What a screen reader says: each field, slider and button shown has a name (the label in its row, its text,
+    or its icon's), in every folder, and each Cancel button says what it cancels."""
+    for title, control in (("Compare", "Pin this placement"), ("Export", "Export JSON"), ("Map", "Map"),
+                           ("Front", "Search the front")):
+        open_folder(browser, title, control)
+    wait_for(browser, lambda: all(name for _, name in browser.execute_script(NAMES)),
+             lambda: f"every control named (unnamed: {[c for c in browser.execute_script(NAMES) if not c[1]]})",
+             timeout_s=10)
+    names = [name for _, name in browser.execute_script(NAMES)]
+    assert {"x (mm)", "--at", "points per variable", "time (s)"} <= set(names)  # fields by their labels
+    cancels = [name for name in names if name.startswith("Cancel")]
+    assert sorted(cancels) == ["Cancel front", "Cancel map", "Cancel search"]

@@ -22,8 +22,9 @@ def unavailable(reason: str, what: str) -> None:
     pytest.skip(f"{reason} on this machine (.ci/run installs Debian's chromium and chromium-driver)")
 
 
-def chromium(window: tuple[int, int], what: str):
-    """A WebDriver session of headless Chromium with a ``window`` (width, height) px; the caller quits it."""
+def chromium(window: tuple[int, int], what: str, flags: tuple[str, ...] = ()):
+    """A WebDriver session of headless Chromium with a ``window`` (width, height) px and the command-line ``flags``
+    besides :data:`FLAGS`; the caller quits it."""
     try:
         from selenium import webdriver
         from selenium.webdriver.chrome.service import Service
@@ -35,6 +36,6 @@ def chromium(window: tuple[int, int], what: str):
         unavailable("no Chromium or no chromedriver", what)
     options = webdriver.ChromeOptions()
     options.binary_location = binary
-    for flag in (*FLAGS, f"--window-size={window[0]},{window[1]}"):
+    for flag in (*FLAGS, f"--window-size={window[0]},{window[1]}", *flags):
         options.add_argument(flag)
     return webdriver.Chrome(options=options, service=Service(driver_path))
