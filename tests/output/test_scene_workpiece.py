@@ -23,6 +23,7 @@ from placement.evaluation.evaluator import Evaluator
 from placement.output.scene import WORKPIECE_NODE, Scene
 from placement.path import load_path
 from placement.robot.packages import description_geometry
+from tests.support.paths import EXAMPLES
 
 # phi, then tilt's and rotate's knots (deg): the table tilting towards the UR5 and turning under the torch
 TURNING = np.radians([0.0, 0.0, 0.0, -120.0, 0.0, 0.0, -10.0, -25.0, -20.0, 290.0, 140.0, -20.0])
@@ -125,3 +126,11 @@ def test_a_robot_without_a_carried_workpiece_draws_its_paths_in_the_base_frame()
     assert find_node(scene.window.tree, ["meshcat", "paths", "p", "line"]).object is not None
     assert WORKPIECE_NODE not in find_node(scene.window.tree, ["meshcat"])
     assert np.array_equal(scene.workpiece_points_m[0], points)
+
+
+def test_the_workbench_refuses_a_carried_workpiece_naming_it(capsys):
+    from placement.__main__ import main
+
+    assert main(["app", "--robot", "ur5_positioner", "--path", str(EXAMPLES / "positioner_weld.yaml")]) == 2
+    error = capsys.readouterr().err
+    assert "workpiece_frame: workpiece" in error and "workbench" in error and "Traceback" not in error
