@@ -52,12 +52,12 @@ class RobotDrawing:
         opacity: dict[int, float] = {}
         scene: Any = server.scene  # viser's own annotations are narrower than what it takes
         if robot.cell is not None or robot.tool is not None:
-            scene = collision_scene(robot)
-            for body in scene.bodies:
+            checked = collision_scene(robot)  # not ``scene``: viser's, which draws them below
+            for body in checked.bodies:
                 if body.kind == "link":
                     continue
                 for index in body.objects:
-                    item = scene.geometry_model.geometryObjects[index].copy()
+                    item = checked.geometry_model.geometryObjects[index].copy()
                     item.meshColor = np.array([*rgb(CELL_COLORS[body.kind][0]), CELL_OPACITY[body.kind]])
                     opacity[self.visual.addGeometryObject(item)] = CELL_OPACITY[body.kind]
         self.data, self.geometry_data = self.model.createData(), self.visual.createData()

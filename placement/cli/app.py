@@ -61,6 +61,11 @@ def start(args: argparse.Namespace):  # -> placement.app.page.Workbench (viser l
         print(f"warning: --host {args.host}: the workbench is served to every machine that can reach this address",
               file=sys.stderr)
     robot = load_robot_argument(args.robot, args, args.cell)
+    if robot.workpiece_frame is not None:
+        raise UsageError(f"robot '{robot.name}' carries the workpiece on a chain (workpiece_frame: {robot.workpiece_frame}): "
+                         "the workbench places the path in the base frame and does not cover a workpiece that moves "
+                         f"yet; search with 'placement --robot {args.robot} --path {args.path}' and see its motion "
+                         "with --html")
     path = configured_path(args, args.path)
     free, bounds = parse_free(args.free, "--free") if args.free is not None else (None, {})
     space = default_space(robot, free=free, fixed=parse_values(args.fix or "", "--fix"), bounds=bounds,

@@ -347,7 +347,7 @@ def draw(scene: Scene, robot: Robot, index: int, details: dict, name: str, sever
 
     One path: the best, worst and ``--at`` placements in three colours (front members in the palette's next
     ones). Several paths (``several``): one colour per path, named in the legend, its best solid and its worst
-    dashed.
+    dashed. On a robot whose workpiece rides on a chain, the paths are drawn on the workpiece, moving with it.
     """
 
     words = wording(next(iter(details.values())).objective) if details else None
@@ -355,7 +355,7 @@ def draw(scene: Scene, robot: Robot, index: int, details: dict, name: str, sever
     if several:
         for key, detail in details.items():
             scene.add_path(f"{index}_{key.replace(' ', '_')}", detail.tool_position_m, path_color(index), name,
-                           dashed=key == "worst")
+                           dashed=key == "worst", configuration=detail.configuration)
         solid = [label for key, label in (("best", best), ("at", "--at")) if key in details]
         styles = ([f"solid: {', '.join(solid)}"] if solid else []) + ([f"dashed: {worst}"] if "worst" in details else [])
         if styles:
@@ -363,8 +363,9 @@ def draw(scene: Scene, robot: Robot, index: int, details: dict, name: str, sever
     else:
         colors = {"best": (BEST_COLOR, best), "worst": (WORST_COLOR, worst), "at": (AT_COLOR, "--at")}
         for number, (key, detail) in enumerate(details.items()):
-            color = colors.get(key, (path_color(3 + number), key))
-            scene.add_path(f"{index}_{key.replace(' ', '_')}", detail.tool_position_m, *color)
+            color, label = colors.get(key, (path_color(3 + number), key))
+            scene.add_path(f"{index}_{key.replace(' ', '_')}", detail.tool_position_m, color, label,
+                           configuration=detail.configuration)
     moving = details.get("at") or details.get("best") or details.get("knee") or details.get("worst")
     if index == 0 and moving is not None and moving.reachable:
         scene.animate(moving.configuration, moving.samples.t_s)

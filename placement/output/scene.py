@@ -6,7 +6,10 @@ obstacles and keep-out zones as they are checked for collisions, the workspace b
 with its named points (drawn over everything, labelled), the base frame's axes (labelled x, y, z),
 placed paths as coloured tubes drawn over everything else (the robot never hides them), a map as
 coloured points, and animates the robot along a path, interpolated at 30 frames a second. Colours
-come from :mod:`placement.output.palette`.
+come from :mod:`placement.output.palette`. On a robot whose workpiece rides on a chain (a positioner's
+table, ``Robot.workpiece_frame``), the paths are drawn on the workpiece: children of a node posed as
+that frame (``WORKPIECE_NODE``), which the animation moves with the robot, so that the seam turns with
+the part rather than the torch's track standing still in the base frame.
 
 The page has three views, a button each: the workpiece (the placed paths, or a map's points, with
 as much room around them again), the workspace (its box and the paths) and everything (the robot at
@@ -49,7 +52,16 @@ from meshcat.animation import Animation
 from meshcat.servers.tree import SceneTree, find_node, walk
 
 from placement.kinematics.batched import jump_steps
+from placement.kinematics.tree import frame_kinematics
 from placement.limits.collision import collision_scene
+from placement.output.camera import (
+    CAMERA_DIRECTION,
+    CAMERA_NEAR_M,
+    framing,
+    swept,
+    three_frame,
+    workpiece_direction,
+)
 from placement.output.meshes import OverlayMesh, WholeMeshVisualizer, overlay_material, tube
 from placement.output.palette import (
     CELL_COLORS,
@@ -68,10 +80,6 @@ from placement.search.space import box_corners
 VIEWER_SCRIPT = Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js"
 ANIMATION_FPS = 30
 ANIMATION_PLAY_S = (4.0, 20.0)  # one pass of the animation lasts the path's duration, kept within these (s)
-CAMERA_DIRECTION = np.array([-0.45, -0.45, 0.35]) / np.linalg.norm([-0.45, -0.45, 0.35])  # from the target
-CAMERA_FOV_DEG = 75.0  # meshcat's default camera: PerspectiveCamera(75, aspect, 0.01, 100), vertical
-CAMERA_MARGIN = 1.08  # every corner of the drawn box stays within 1/1.08 of the view's half-height and half-width
-CAMERA_NEAR_M = 0.01  # meshcat's near clipping distance
 PATH_RADIUS, EDGE_RADIUS = 0.0025, 0.0015  # tube radii of paths and of box edges, fractions of the drawn box's diagonal
 AXIS_RADIUS, AXIS_LENGTH = 0.002, 0.15  # the base frame's axes: radius and length, fractions of the drawn box's diagonal
 AXIS_COLORS = (0xE41A1C, 0x4DAF4A, 0x377EB8)  # x red, y green, z blue (the usual order), labelled on the page
@@ -81,6 +89,7 @@ POINT_RADIUS = (0.03, 0.01)  # the named points' spheres: shares of the workspac
 MARKS_RENDER_ORDER = 5  # the axes and the named points show through the robot, the paths over them (10)
 VIEWS = ("workpiece", "workspace", "everything")  # the page's views, in the order of its buttons
 DASH_RADII = 6  # a dashed path's dashes and gaps, in path radii
+WORKPIECE_NODE = "workpiece"  # the node posed as the robot's workpiece frame, parent of the paths drawn on it
 
 
 class _RecordingWindow:
@@ -139,6 +148,8 @@ class Scene:
         self.visualizer.initViewer(viewer=self.viewer)
         self.visualizer.loadViewerModel(rootNodeName="robot")
         self.visualizer.display(robot.reference_q)
+        if robot.workpiece_frame is not None:  # the paths ride on it; still, where the robot is drawn
+            self.viewer[WORKPIECE_NODE].set_transform(self._workpiece_placement().homogeneous)
         self.viewer["/Grid"].set_property("visible", False)
         self.viewer["/Axes"].set_property("visible", False)  # meshcat's 0.5 m axes: the base frame's, sized, drawn instead
         self.viewer["/Background"].set_property("top_color", [1.0, 1.0, 1.0])
@@ -211,7 +222,10 @@ class Scene:
         for view in VIEWS:
             box = self.view_box(view)
             if box is not None:
-                views[view] = framing(*box, workpiece_direction(*box) if view == "workpiece" else CAMERA_DIRECTION)
+                direction = CAMERA_DIRECTION
+                if view == "workpiece":
+                    direction = workpiece_direction(*box, carried=self.robot.workpiece_frame is not None)
+                views[view] = framing(*box, direction)
         return views
 
     def fit_camera(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
@@ -283,9 +297,14 @@ class Scene:
         self._legend(label, color)
 
     def add_path(self, name: str, tool_position_m: np.ndarray, color: int, label: str | None = None,
-                 dashed: bool = False) -> None:
+                 dashed: bool = False, configuration: np.ndarray | None = None) -> None:
         """A placed path through its tool points (base frame, m), drawn as a tube over everything else (the robot
         never hides it); the gap a skipped rapid leaves (a jump, as the kinematics finds it) is not drawn.
+
+        On a robot whose workpiece rides on a chain (``Robot.workpiece_frame``), given the robot's ``configuration``
+        at each tool point, the path is drawn on the workpiece: each tool point as seen from the workpiece frame
+        at its own sample, a child of ``WORKPIECE_NODE``, which :meth:`animate` moves. The workpiece views frame it
+        wherever the motion carries it.
 
         Args:
             name: The path's node name in the scene.
@@ -293,10 +312,21 @@ class Scene:
             color: The tube's colour.
             label: Its legend entry (none if None or already there).
             dashed: Draw every other stretch of six radii only (a second placement of a path drawn in one colour).
+            configuration: (N, nq) the robot's configuration at each tool point (m, rad), or None: the path is drawn
+                in the base frame.
         """
         positions = np.asarray(tool_position_m, dtype=float).reshape(-1, 3)
-        self.drawn_points_m.append(positions)
-        self.workpiece_points_m.append(positions)
+        node = f"paths/{name}/line"
+        if self.robot.workpiece_frame is not None and configuration is not None:
+            rotation, origin = workpiece_poses(self.robot, configuration)
+            on_workpiece = ((positions - origin)[:, None, :] @ rotation)[:, 0]  # R^T·(p - o), row by row
+            self.drawn_points_m.append(np.vstack([positions, swept(on_workpiece, rotation, origin)]))
+            self.workpiece_points_m.append(self.drawn_points_m[-1])
+            positions, node = on_workpiece, f"{WORKPIECE_NODE}/{node}"
+            self.add_note(f"paths drawn on the workpiece (frame {self.robot.workpiece_frame}), moving with it")
+        else:
+            self.drawn_points_m.append(positions)
+            self.workpiece_points_m.append(positions)
         radius = self._radius(PATH_RADIUS)
         steps = np.linalg.norm(np.diff(positions, axis=0), axis=1)
         drawn = np.setdiff1d(np.arange(len(steps)), jump_steps(steps)) if len(steps) else np.zeros(0, dtype=int)
@@ -305,10 +335,14 @@ class Scene:
             drawn = drawn[(along // (DASH_RADII * radius)) % 2 == 0]
         if len(drawn):
             vertices, faces = tube(np.stack([positions[drawn], positions[drawn + 1]], axis=1), radius)
-            self.viewer[f"paths/{name}/line"].set_object(
-                OverlayMesh(g.TriangularMeshGeometry(vertices, faces), overlay_material(color)))
+            self.viewer[node].set_object(OverlayMesh(g.TriangularMeshGeometry(vertices, faces), overlay_material(color)))
         if label:
             self._legend(label, color)
+
+    def _workpiece_placement(self) -> pin.SE3:
+        """The workpiece frame's placement in the base frame where the visualiser last drew the robot."""
+        model, data = self.robot.model, self.visualizer.data
+        return pin.updateFramePlacement(model, data, model.getFrameId(self.robot.workpiece_frame)).copy()
 
     def add_note(self, text: str) -> None:
         """A line of text in the legend (what a line style means, the animation's speed)."""
@@ -330,7 +364,9 @@ class Scene:
 
         One pass lasts the path's duration, kept within ``ANIMATION_PLAY_S`` (a slower or faster play rate is said
         in the legend), drawn at ``ANIMATION_FPS`` frames a second; each frame's configuration is interpolated
-        between the two samples around its time (on the configuration space: ``pinocchio.interpolate``).
+        between the two samples around its time (on the configuration space: ``pinocchio.interpolate``). On a robot
+        whose workpiece rides on a chain, ``WORKPIECE_NODE`` (the paths drawn on the workpiece) takes that frame's pose
+        at each frame.
         """
         times = np.asarray(t_s, dtype=float)
         duration = float(times[-1] - times[0])
@@ -346,6 +382,8 @@ class Scene:
                 with animation.at_frame(viewer, frame) as frame_viewer:
                     self.visualizer.viewer = frame_viewer  # record the placements into the frame
                     self.visualizer.display(pin.interpolate(self.robot.model, q[k - 1], q[k], float(w)))
+                    if self.robot.workpiece_frame is not None:
+                        frame_viewer[WORKPIECE_NODE].set_transform(self._workpiece_placement().homogeneous)
         finally:
             self.visualizer.viewer = viewer
         self.viewer.set_animation(animation, play=True, repetitions=repetitions)
@@ -451,55 +489,18 @@ def screenshot(page: Path, image: Path, size: tuple[int, int] = (1000, 700), wai
                        capture_output=True, timeout=180, check=False)
     return Path(image).is_file()
 
-def workpiece_direction(low_m: np.ndarray, high_m: np.ndarray) -> np.ndarray:
-    """Where the workpiece view looks from (a unit vector from its box's centre, base frame): from beyond the
-    workpiece, away from the base frame's origin, at the default view's elevation, so that an arm reaching out to
-    the workpiece is behind it rather than in front of the camera; the default view's direction when the
-    workpiece is over the base (as on a parallel machine, whose base frame is in its workspace)."""
-    centre = (np.asarray(low_m, dtype=float) + np.asarray(high_m, dtype=float)) / 2
-    away = centre[:2]
-    if np.linalg.norm(away) <= float(np.max(np.subtract(high_m, low_m))) / 2:
-        return CAMERA_DIRECTION
-    horizontal = np.linalg.norm(CAMERA_DIRECTION[:2])
-    return np.array([*(horizontal * away / np.linalg.norm(away)), CAMERA_DIRECTION[2]])
-
-
-def framing(low_m: np.ndarray, high_m: np.ndarray,
-            direction: np.ndarray = CAMERA_DIRECTION) -> tuple[np.ndarray, np.ndarray]:
-    """A camera (target, position; m, base frame) on the centre of a box, as close as its 8 corners all stay in view.
-
-    The view is taken square (meshcat's 75° vertical field both ways), the narrowest a window wider than tall
-    gives; each corner keeps 1/``CAMERA_MARGIN`` of the half-view and is beyond the near plane.
-
-    Args:
-        low_m: The box's lowest corner (m).
-        high_m: Its highest corner (m).
-        direction: A unit vector from the box's centre towards the camera, not vertical.
-    """
-    low, high = np.asarray(low_m, dtype=float), np.asarray(high_m, dtype=float)
-    centre = (low + high) / 2
-    forward = -direction
-    right = np.cross(forward, [0.0, 0.0, 1.0])
-    right /= np.linalg.norm(right)
-    up = np.cross(right, forward)
-    offset = box_corners(low, high) - centre
-    depth = offset @ forward  # beyond the centre (> 0) or before it, along the view
-    half_view = np.tan(np.radians(CAMERA_FOV_DEG / 2)) / CAMERA_MARGIN
-    across = np.maximum(np.abs(offset @ right), np.abs(offset @ up))
-    distance = max(float(np.max(across / half_view - depth)), float(np.max(-depth)) + 2 * CAMERA_NEAR_M)
-    return centre, centre + direction * distance
+def workpiece_poses(robot: Robot, configuration: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The robot's workpiece frame (``Robot.workpiece_frame``) in the base frame at each configuration: rotations
+    (N, 3, 3) and origins (N, 3) (m), by the compiled tree kinematics, batched."""
+    q = np.atleast_2d(np.asarray(configuration, dtype=float))
+    frame = robot.model.getFrameId(robot.workpiece_frame)
+    rotation, origin, _, _ = frame_kinematics(robot.model, [frame], q, np.zeros((len(q), robot.model.nv)))
+    return rotation[:, 0], origin[:, 0]
 
 
 def script_json(value: object) -> str:
     """``value`` as JSON to write inside a page's script: no ``<``, ``>`` or ``&`` that could end the script early."""
     return json.dumps(value).replace("<", "\\u003c").replace(">", "\\u003e").replace("&", "\\u0026")
-
-
-def three_frame(point_m: np.ndarray) -> list[float]:
-    """A point of the scene (base frame, Z up) in three.js' world frame, Y up: meshcat turns its scene by -90° about X
-    (x, y, z) -> (x, z, -y), and its camera node back, so that the camera's frame is three.js' world frame."""
-    x, y, z = (float(v) for v in point_m)
-    return [x, z, -y]
 
 
 def robot_points(robot: Robot, visual: pin.GeometryModel) -> np.ndarray:

@@ -6,7 +6,8 @@ import pinocchio as pin
 import pytest
 
 from placement import load_robot
-from placement.output.scene import CAMERA_FOV_DEG, WORKPIECE_MIN_M, Scene
+from placement.output.camera import CAMERA_FOV_DEG
+from placement.output.scene import WORKPIECE_MIN_M, Scene
 
 HALF_VIEW = np.tan(np.radians(CAMERA_FOV_DEG / 2))  # a square window: the narrowest view meshcat gives across
 NEAR_M = 0.01
