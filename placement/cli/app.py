@@ -66,6 +66,12 @@ def start(args: argparse.Namespace):  # -> placement.app.page.Workbench (viser l
                          "the workbench places the path in the base frame and does not cover a workpiece that moves "
                          f"yet; search with 'placement --robot {args.robot} --path {args.path}' and see its motion "
                          "with --html")
+    if robot.redundant_joints:
+        held = " ".join(f"--lock {joint}=VALUE" for joint in robot.redundant_joints)
+        raise UsageError(f"robot '{robot.name}' has joints profiled along the path ({', '.join(robot.redundant_joints)}), "
+                         f"which the search places beside x, y, z, phi, theta, psi; the workbench places those six "
+                         f"only: hold the profiled joints ({held}), or search them with 'placement --robot "
+                         f"{args.robot} --path {args.path}'")
     path = configured_path(args, args.path)
     free, bounds = parse_free(args.free, "--free") if args.free is not None else (None, {})
     space = default_space(robot, free=free, fixed=parse_values(args.fix or "", "--fix"), bounds=bounds,

@@ -134,3 +134,13 @@ def test_the_workbench_refuses_a_carried_workpiece_naming_it(capsys):
     assert main(["app", "--robot", "ur5_positioner", "--path", str(EXAMPLES / "positioner_weld.yaml")]) == 2
     error = capsys.readouterr().err
     assert "workpiece_frame: workpiece" in error and "workbench" in error and "Traceback" not in error
+
+
+def test_the_workbench_refuses_profiled_joints_naming_them_and_how_to_hold_them(capsys):
+    """The seven-axis Panda's joint 3 is profiled along the path: the workbench, which places six variables, says so
+    before it serves a page (was: 'a placement is six finite numbers' once the page was up)."""
+    from placement.__main__ import main
+
+    assert main(["app", "--robot", "panda", "--path", str(EXAMPLES / "circle.yaml")]) == 2
+    error = capsys.readouterr().err
+    assert "panda_joint3" in error and "--lock panda_joint3=VALUE" in error and "Traceback" not in error
