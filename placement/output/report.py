@@ -38,7 +38,7 @@ from placement.placing.values import angle_variable
 from placement.robot.model import Robot
 from placement.search.gap import OptimalityGap
 from placement.search.optimize import Optimum, PlacementResult
-from placement.search.reporting import REPORTED_DECIMALS
+from placement.search.space import REPORTED_DECIMALS
 from placement.search.tolerance import ToleranceBox
 from placement.search.uncertainty import Interval, Uncertainty
 from placement.workshop.calibration import TOOL_FORCE_COLUMNS

@@ -28,8 +28,9 @@ BASIN_RADIUS = 0.02  # candidates within this share of the box of one another sh
 EDGE_SHARE = 1e-6  # a polish ending within this share of a range of its trust box's edge goes on from there
 TRUST_SHARE = 0.1  # the polish's trust box reaches this share of each variable's range either way
 TRUST_ROUNDS = 5  # trust boxes, at most, one after the other
-STALL_ITERATIONS = 10  # the polish stops when this many iterations improve the objective by at most
-STALL_TOLERANCE = 1e-9  # this share of it (SLSQP otherwise dithers on a limit until its iteration cap)
+STALL_ITERATIONS = 4  # the polish stops when this many iterations improve the objective by at most
+STALL_TOLERANCE = 1e-9  # this share of it (SLSQP otherwise dithers on a limit or a kink until its iteration cap; on a
+# kink, placement.search.kinks goes on)
 
 
 class Problem:
@@ -126,10 +127,10 @@ def inward_until_feasible(problem: Problem, x: np.ndarray, space: PlacementSpace
 
 
 def _polish(problem: Problem, start: np.ndarray, bounds: list) -> np.ndarray:
-    """SLSQP from ``start``, in variables of unit curvature (:func:`_unit_curvature`); from a feasible start, returns a
+    """SLSQP from ``start``, in variables of unit curvature (:func:`unit_curvature`); from a feasible start, returns a
     feasible point at least as good."""
     box = np.array([hi - lo if hi > lo else 1.0 for lo, hi in bounds])
-    scale = box / _unit_curvature(problem, start, box)  # a placement is u * scale
+    scale = box / unit_curvature(problem, start, box)  # a placement is u * scale
     step = GRADIENT_STEP * box / scale  # in u: GRADIENT_STEP of each variable's range
 
     def differences(u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -157,7 +158,7 @@ def _polish(problem: Problem, start: np.ndarray, bounds: list) -> np.ndarray:
     return polished if problem.sign * value[0] <= problem.sign * start_value[0] else start
 
 
-def _unit_curvature(problem: Problem, x: np.ndarray, box: np.ndarray) -> np.ndarray:
+def unit_curvature(problem: Problem, x: np.ndarray, box: np.ndarray) -> np.ndarray:
     """Per variable, the square root of the signed objective's second derivative at ``x`` in box units (central
     differences of CURVATURE_STEP of the box, one batch), or 1 where it is not positive and finite (a limit or the
     reach's edge nearby, or a saddle): the polish divides each variable by it, so that SLSQP's first guess of the

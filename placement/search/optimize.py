@@ -9,8 +9,10 @@ about ``search_samples`` samples, its first population half the best points of a
 same for every seed (a small feasible region at the box's edge, the pocket's best, is otherwise found on some
 seeds only), half a sample of the seed's; then a local constrained polish (SLSQP) from the best point of
 each of a few distinct regions the global search visited (whether or not it keeps every limit on the finer
-sampling: the polish brings it back), on the path sampled at its own time step, which the reported values use;
-the distinct polished optima are the basins, and those close to the best are reported beside it (:mod:`placement.search.basins`).
+sampling: the polish brings it back), on the path sampled at its own time step, which the reported values use, and
+the best of them on across the objective's kinks (gradient sampling, :mod:`placement.search.kinks`: where the drives'
+clipped power crosses zero, SLSQP stops short); the distinct polished optima are the basins, and those close to the
+best are reported beside it (:mod:`placement.search.basins`).
 An angle whose range is its whole turn (or half of it, by the path's half-turn symmetry) is
 periodic: the objective wraps it, and the polish is free to cross the range's edge (no bound
 cuts through a basin there).
@@ -50,6 +52,7 @@ from placement.path.toolpath import ToolPath
 from placement.robot.model import Robot
 from placement.search.basins import RUNNER_UP_SHARE, Basin, basin_starts, distinct, scaled_distance, unresolved
 from placement.search.coarse_guide import SearchModels, guide_value, search_models
+from placement.search.kinks import across_kinks
 from placement.search.local import BASIN_RADIUS, POLISH_STARTS, Problem, inward_until_feasible, polish_across
 from placement.search.reporting import binding, reported_point
 from placement.search.space import PlacementSpace, default_space
@@ -230,7 +233,9 @@ def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: flo
         return ([] if repaired is None else [repaired]), local, ([] if repaired is None else [repaired])
     signed = [sign * local.lookup(x)[0][0] for x in polished]
     polished = [polished[k] for k in np.argsort(signed, kind="stable")]
-    basins = [polished[k] for k in distinct(polished, sorted(signed), space, BASIN_RADIUS)]
+    polished[0] = across_kinks(local, polished[0], space)  # the best: the polish's SLSQP stops on a kink
+    signed = sorted(sign * local.lookup(x)[0][0] for x in polished)
+    basins = [polished[k] for k in distinct(polished, signed, space, BASIN_RADIUS)]
     return polished + list(kept), local, basins
 
 

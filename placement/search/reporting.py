@@ -14,12 +14,9 @@ import numpy as np
 from placement.evaluation.evaluator import Evaluator
 from placement.evaluation.results import Evaluation
 from placement.placing.transform import ANGLES, VARIABLES
-from placement.search.space import PlacementSpace
+from placement.search.space import PlacementSpace, printed, printed_steps
 
 RETREAT_SHARES = np.array([0.0, 1e-5, 1e-4, 1e-3, 1e-2])  # a reported optimum's pulls, for rounding and re-check
-
-
-REPORTED_DECIMALS = 2  # a reported placement's decimals, in mm and degrees (the report's)
 
 
 REPORT_CANDIDATES = 20  # candidates tried, best first, when the optimum fails to keep its limits once printed
@@ -40,9 +37,8 @@ def as_printed(placement: np.ndarray, angles: np.ndarray | None = None) -> np.nd
         angles: Which of its entries are angles (:attr:`PlacementSpace.angles`); by default phi, theta, psi and every
             variable after the six (a revolute joint's knots, the spin).
     """
-    return np.array([float(f"{np.degrees(value):.{REPORTED_DECIMALS}f}") * (np.pi / 180) if angle
-                     else float(f"{value * 1e3:.{REPORTED_DECIMALS}f}") * 1e-3
-                     for angle, value in zip(_angles(len(placement), angles), placement, strict=True)])
+    return np.array([printed(value, angle) for angle, value in zip(_angles(len(placement), angles), placement,
+                                                                    strict=True)])
 
 
 def _angles(width: int, angles: np.ndarray | None) -> list[bool]:
@@ -108,8 +104,7 @@ def reported_point(candidates: list[np.ndarray], fine: Evaluator, dense: Evaluat
 def _grid_corners(placement: np.ndarray, free: np.ndarray, angles: np.ndarray) -> np.ndarray:
     """(2^n_free, width) the corners of the printed grid's cell (:func:`as_printed`) around ``placement`` (m, rad), the
     free variables rounded down or up, the others as they are (``angles``: which entries are angles)."""
-    step = np.array([np.radians(10.0 ** -REPORTED_DECIMALS) if angle else 10.0 ** -REPORTED_DECIMALS * 1e-3
-                     for angle in _angles(len(placement), angles)])
+    step = printed_steps(np.array(_angles(len(placement), angles), dtype=bool))
     low = np.floor(placement / step) * step
     corners = np.tile(placement, (2 ** len(free), 1))
     for bit, index in enumerate(free):

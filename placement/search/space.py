@@ -15,6 +15,8 @@ from placement.placing.values import angle_variable
 from placement.robot.model import Robot
 from placement.robot.sidecar import PLANE_VARIABLES, Plane, Workspace
 
+REPORTED_DECIMALS = 2  # a reported placement's decimals, in mm and degrees (placement.search.reporting)
+
 
 @dataclass(frozen=True)
 class PlacementSpace:
@@ -148,12 +150,40 @@ def default_space(robot: Robot, free: tuple[str, ...] | None = None, fixed: dict
         raise SettingsError(f"robot '{robot.name}' leaves no placement variable free (its sidecar's placement.free is "
                             "empty, for the knots of its redundant joints, and none is profiled): free some with --free, "
                             "e.g. --free phi")
-    return PlacementSpace(free=chosen,
-                          lower=np.array([limits[n][0] for n in chosen], dtype=float),
-                          upper=np.array([limits[n][1] for n in chosen], dtype=float),
-                          fixed=fixed_vector,
-                          periods=np.array([_period(n, limits[n], half_turn) for n in chosen], dtype=float),
-                          names=names, lengths=length_variables(robot))
+    lengths = length_variables(robot)
+    periods = np.array([_period(n, limits[n], half_turn) for n in chosen], dtype=float)
+    lower, upper = _printable(np.array([limits[n] for n in chosen], dtype=float).reshape(-1, 2),
+                              np.array([angle_variable(n, lengths) for n in chosen], dtype=bool), periods)
+    return PlacementSpace(free=chosen, lower=lower, upper=upper, fixed=fixed_vector, periods=periods, names=names,
+                          lengths=lengths)
+
+
+def printed(value: float, angle: bool) -> float:
+    """A value (m or rad) as the report prints it, to REPORTED_DECIMALS of a mm or of a degree, read back."""
+    if angle:
+        return float(f"{np.degrees(value):.{REPORTED_DECIMALS}f}") * (np.pi / 180)
+    return float(f"{value * 1e3:.{REPORTED_DECIMALS}f}") * 1e-3
+
+
+def printed_steps(angles: np.ndarray) -> np.ndarray:
+    """The printed grid's step (m or rad) of each variable: 10^-REPORTED_DECIMALS of a degree where ``angles``, else of
+    a mm."""
+    return np.where(angles, np.radians(10.0 ** -REPORTED_DECIMALS), 10.0 ** -REPORTED_DECIMALS * 1e-3)
+
+
+def _printable(bounds: np.ndarray, angles: np.ndarray, periods: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(lower, upper) from (n, 2) bounds, each moved inwards onto the printed grid (by less than its step), where the
+    range keeps a step: a reported placement is printed on that grid and must lie in the box, so that an optimum on
+    a bound between two printed values (the UR5's tilt of ±0.35 rad, 20.0535°) would otherwise be reported a step
+    inside it, 2.7e-5 of its energy above the optimum. A periodic variable keeps its range (it has no edge)."""
+    lower, upper = bounds[:, 0].copy(), bounds[:, 1].copy()
+    for k, (angle, step) in enumerate(zip(angles, printed_steps(angles), strict=True)):
+        low = printed(np.ceil(lower[k] / step - 1e-6) * step, angle)
+        high = printed(np.floor(upper[k] / step + 1e-6) * step, angle)
+        if periods[k] == 0 and low < high:
+            lower[k] = low if low >= bounds[k, 0] - 1e-12 else bounds[k, 0]
+            upper[k] = high if high <= bounds[k, 1] + 1e-12 else bounds[k, 1]
+    return lower, upper
 
 
 def _period(name: str, bound: tuple[float, float], half_turn: bool) -> float:

@@ -11,7 +11,8 @@ from placement.search.optimize import SearchSettings, optimize_placement
 from placement.search.space import PlacementSpace
 from tests.support.paths import EXAMPLE, EXAMPLES
 
-SEEDS = (0, 1, 2)  # on the groove, seeds 0 and 1 of the search before basins stopped in the 0° basin, 2 in the 90° one
+SEEDS = (0, 1, 8)  # on the groove, seeds 0 and 1 of the search before basins stopped in the 0° basin; 8 on a kink
+# of its valley, 2.3e-6 above the best, before the polish went on across kinks (placement.search.kinks)
 
 
 def _space() -> PlacementSpace:
