@@ -544,3 +544,19 @@ def test_an_optimise_result_is_drawn_as_ghosts_at_its_best_and_worst_each_hidden
     assert not ghosts.drawings["best"].visible and not ghosts.paths["best"].visible
     assert not ghosts.toggles["best"].visible
     ghosts.toggles["worst"].value = True
+
+
+def test_a_serial_arm_is_drawn_nearly_opaque_in_the_palettes_blue():
+    import viser
+
+    from placement.app.drawing import ARM_OPACITY, RobotDrawing, rgb_255
+    from placement.output.palette import ARM_COLOR, BEST_COLOR, WORST_COLOR
+
+    server = viser.ViserServer(host="127.0.0.1", port=0, verbose=False)
+    try:
+        drawing = RobotDrawing(server, load_robot("ur5_track"))  # a serial arm with a tool (no shape of its own)
+        assert {tuple(handle.color) for _, handle in drawing.handles} == {rgb_255(ARM_COLOR)}  # the URDF's white
+        assert {handle.opacity for _, handle in drawing.handles} == {ARM_OPACITY}
+        assert rgb_255(ARM_COLOR) not in {(230, 0, 200), rgb_255(BEST_COLOR), rgb_255(WORST_COLOR)}
+    finally:
+        server.stop()
