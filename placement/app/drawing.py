@@ -15,7 +15,7 @@ from placement.robot.model import Robot
 from placement.robot.packages import description_geometry
 
 PARALLEL_OPACITY = 0.35  # a parallel robot's platform: the path and the tool point stay in sight inside it
-ARM_OPACITY = 0.85  # a serial arm reaches the path from outside: drawn nearly opaque, to be seen on the white page
+ARM_OPACITY = 0.6  # a serial arm: seen on the white page, the workpiece behind its wrist still in sight
 PALE = 150  # a grey mesh colour whose channels all exceed this is drawn tinted instead (white arms on a white page)
 PARALLEL_TINT = (120, 140, 170)  # a parallel robot's pale parts, beside its own blue and orange
 CELL_OPACITY = {"tool": 1.0, "obstacle": 0.5, "keep_out": 0.15}

@@ -546,17 +546,17 @@ def test_an_optimise_result_is_drawn_as_ghosts_at_its_best_and_worst_each_hidden
     ghosts.toggles["worst"].value = True
 
 
-def test_a_serial_arm_is_drawn_nearly_opaque_in_the_palettes_blue():
+def test_a_serial_arm_is_drawn_in_the_palettes_blue_more_opaque_than_a_parallel_robot():
     import viser
 
-    from placement.app.drawing import ARM_OPACITY, RobotDrawing, rgb_255
+    from placement.app.drawing import ARM_OPACITY, PARALLEL_OPACITY, RobotDrawing, rgb_255
     from placement.output.palette import ARM_COLOR, BEST_COLOR, WORST_COLOR
 
     server = viser.ViserServer(host="127.0.0.1", port=0, verbose=False)
     try:
         drawing = RobotDrawing(server, load_robot("ur5_track"))  # a serial arm with a tool (no shape of its own)
         assert {tuple(handle.color) for _, handle in drawing.handles} == {rgb_255(ARM_COLOR)}  # the URDF's white
-        assert {handle.opacity for _, handle in drawing.handles} == {ARM_OPACITY}
+        assert {handle.opacity for _, handle in drawing.handles} == {ARM_OPACITY} and ARM_OPACITY > PARALLEL_OPACITY
         assert rgb_255(ARM_COLOR) not in {(230, 0, 200), rgb_255(BEST_COLOR), rgb_255(WORST_COLOR)}
     finally:
         server.stop()
