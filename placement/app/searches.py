@@ -1,7 +1,7 @@
 """The workbench's searches, each run in a process of its own: Optimise, Map and Front.
 
 - **Optimise**: the command line's search of the best and/or worst placement; the optima become
-  placements to go to.
+  placements to go to, and are drawn in the scene as ghosts (:mod:`placement.app.ghosts`).
 - **Map**: the ``map`` command's sweep through the current placement over two free variables,
   drawn as the command's figure, with its best cell to go to and the command line that gives
   the same map.
@@ -18,6 +18,7 @@ import numpy as np
 
 from placement.app.evaluations import MAP_POINTS, shown_value
 from placement.app.exceptions import NotReadyError
+from placement.app.ghosts import Ghosts
 from placement.app.heatmap import HeatMap
 from placement.app.jobs import Job
 from placement.app.numbers import number_html, readable
@@ -51,6 +52,7 @@ class OptimisePanel(JobPanel):
         self.buttons = {key: gui.add_button(f"Go to {key}", visible=False) for key in ("best", "worst")}
         for key, button in self.buttons.items():
             button.on_click(lambda _, key=key: host.guard(lambda: self.go_to(key)))
+        self.ghosts = Ghosts(host.server, host.bench.robot)
 
     def launch(self) -> Job:
         direction = self.direction.value
@@ -64,6 +66,7 @@ class OptimisePanel(JobPanel):
             lines.append(f'<p style="color:#c00">no feasible placement: {html.escape(result.infeasible)}</p>')
         for key, optimum in (("best", result.best), ("worst", result.worst)):
             self.buttons[key].visible = optimum is not None
+            self.ghosts.show(key, None if optimum is None else optimum.detail)
             if optimum is None:
                 continue
             self.optima[key] = optimum.detail
@@ -78,6 +81,7 @@ class OptimisePanel(JobPanel):
     def forget(self) -> None:
         """The choices changed: the optima found no longer answer them."""
         self.optima.clear()
+        self.ghosts.clear()
         for button in self.buttons.values():
             button.visible = False
         self.optima_html.content = ""

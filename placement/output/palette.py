@@ -17,6 +17,7 @@ CUBE_COLOR, REGION_COLOR, NEAREST_COLOR = 0x8C8C8C, 0x332288, 0xFF00FF
 CELL_COLORS = {"tool": (0x505A64, "tool"), "obstacle": (0xB08850, "obstacles"), "keep_out": (0xFF4040, "keep-out zones")}
 CELL_OPACITY = {"tool": 1.0, "obstacle": 0.5, "keep_out": 0.12}
 MAP_COLOR = 0x440154  # viridis' dark end: the legend's swatch of an energy map
+ARM_COLOR = OKABE_ITO[2]  # the workbench's live serial arm: blue, apart from its workpiece (magenta) and ghosts (best, worst)
 
 
 def path_color(index: int) -> int:

@@ -496,3 +496,67 @@ def test_the_map_is_drawn_in_the_scene_and_a_cell_clicked_goes_to_its_placement(
                    {"y": 0.0, "z": -0.02, "theta": 0.0, "psi": 0.0}, evaluation=served.bench.settings)
     served.map.finished(angled)  # over an angle: no plane of the scene
     assert heat_map.cells is None and "drawn here only" in served.map.best_html.content
+
+
+def _ghost_result(served, placements):
+    """An Optimise result whose best and worst are these placements, each evaluated as --at evaluates it."""
+    from placement.search.optimize import Optimum, PlacementResult
+
+    def optimum(placement):
+        return Optimum(Evaluator(served.bench.robot, load_path(EXAMPLE)).detail(placement), 0.0, 0.0, "", 1)
+
+    return PlacementResult(optimum(placements["best"]), optimum(placements["worst"]), served.bench.space, "energy",
+                           served.bench.choices.regeneration)
+
+
+def test_an_optimise_result_is_drawn_as_ghosts_at_its_best_and_worst_each_hidden_by_its_toggle(served):
+    import pinocchio as pin
+
+    from placement.app.drawing import wxyz_of
+    from placement.placing.transform import placement_pose
+
+    robot = served.bench.robot
+    placements = {"best": AT, "worst": np.array([-0.01, 0.008, -0.03, np.radians(-20), 0.0, 0.0])}
+    served.optimise.finished(_ghost_result(served, placements))
+    ghosts = served.optimise.ghosts
+    data, visual = robot.model.createData(), ghosts.drawings["best"].visual
+    geometry_data = visual.createData()
+    for key, placement in placements.items():
+        drawing, path = ghosts.drawings[key], ghosts.paths[key]
+        assert drawing.visible and path.visible and ghosts.toggles[key].visible
+        rotation, origin = placement_pose(placement, robot.plane)
+        expected = Evaluator(robot, load_path(EXAMPLE)).detail(placement)  # as --at evaluates it
+        start = rotation[0] @ expected.samples.position_m[0] + origin[0]  # the path's start, placed
+        q = expected.configuration[0]
+        pin.framesForwardKinematics(robot.model, data, q)
+        assert np.allclose(data.oMf[robot.end_effector_frame_id].translation, start, atol=1e-9)  # the tool on it
+        pin.updateGeometryPlacements(robot.model, data, visual, geometry_data)
+        for k, handle in drawing.handles:  # every body of the ghost where the robot's kinematics put it there
+            assert np.allclose(handle.position, geometry_data.oMg[k].translation, atol=1e-9)
+            assert abs(abs(np.dot(handle.wxyz, wxyz_of(geometry_data.oMg[k].rotation))) - 1) < 1e-9
+        assert np.allclose(path.points[0, 0], start, atol=1e-6)  # float32 in viser
+        assert not np.allclose(drawing.handles[-1][1].position, served.drawing.handles[-1][1].position)  # not the live one
+    ghosts.toggles["worst"].value = False
+    ghosts._apply("worst")  # as the checkbox's callback does
+    assert not ghosts.drawings["worst"].visible and not ghosts.paths["worst"].visible
+    assert ghosts.drawings["best"].visible and ghosts.paths["best"].visible
+    served.optimise.forget()  # the choices changed: the optima no longer answer them
+    assert not ghosts.drawings["best"].visible and not ghosts.paths["best"].visible
+    assert not ghosts.toggles["best"].visible
+    ghosts.toggles["worst"].value = True
+
+
+def test_a_serial_arm_is_drawn_in_the_palettes_blue_more_opaque_than_a_parallel_robot():
+    import viser
+
+    from placement.app.drawing import ARM_OPACITY, PARALLEL_OPACITY, RobotDrawing, rgb_255
+    from placement.output.palette import ARM_COLOR, BEST_COLOR, WORST_COLOR
+
+    server = viser.ViserServer(host="127.0.0.1", port=0, verbose=False)
+    try:
+        drawing = RobotDrawing(server, load_robot("ur5_track"))  # a serial arm with a tool (no shape of its own)
+        assert {tuple(handle.color) for _, handle in drawing.handles} == {rgb_255(ARM_COLOR)}  # the URDF's white
+        assert {handle.opacity for _, handle in drawing.handles} == {ARM_OPACITY} and ARM_OPACITY > PARALLEL_OPACITY
+        assert rgb_255(ARM_COLOR) not in {(230, 0, 200), rgb_255(BEST_COLOR), rgb_255(WORST_COLOR)}
+    finally:
+        server.stop()
