@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from placement.cli import main
 from placement.path.load import ControllerSettings, load_path
+from tests.support.cli import run_command as run
 
 # G2 before any F (GCodeKit4's circle_cut writes this): a 2 mm plunge and a half circle of radius 10 mm at the
 # controller's modal feed, then 10 + 20 mm at F600.
@@ -16,17 +16,6 @@ ARC_FIRST = "G21 G90 G94 G17\nG0 X0 Y0 Z2\nG1 Z0\nG2 X20 Y0 I10 J0\nG1 X20 Y10 F
 # G42 D8 with tool 8's diameter not given (cncjs's thread milling writes this).
 COMPENSATED = "G21 G90 G94 G17\nG0 X0 Y0 Z0\nG42 D8 G1 X10 F300\nG1 Y10\nG1 X0\nG40 G0 Y20\nM30\n"
 AT = ["--robot", "orthoglide", "--quiet", "--at", "x=0,y=0,z=-100,phi=0"]
-
-
-def run(argv, capsys):
-    """Exit code, standard output and standard error (argparse's own errors exit through SystemExit)."""
-    try:
-        code = main(argv)
-    except SystemExit as exit_:
-        code = exit_.code
-    captured = capsys.readouterr()
-    assert "Traceback" not in captured.err
-    return code, captured.out, captured.err
 
 
 def test_a_bare_program_with_an_arc_before_f_reads_with_initial_feed_timed_as_by_the_path_file(tmp_path, capsys):

@@ -11,6 +11,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from placement.cli import main
+from tests.support.cli import run_command
 from tests.support.paths import EXAMPLE
 from tests.support.robot_copies import edited_copy
 
@@ -19,14 +20,9 @@ QUICK = ["--robot", "orthoglide", "--time-step", "0.01", "--generations", "2", "
 
 
 def run(argv, capsys):
-    """Exit code and standard error of the command line (argparse's own errors exit through SystemExit)."""
-    try:
-        code = main(argv)
-    except SystemExit as exit_:
-        code = exit_.code
-    captured = capsys.readouterr()
-    assert "Traceback" not in captured.err
-    return code, captured.err
+    """Exit code and standard error of the command line."""
+    code, _, err = run_command(argv, capsys)
+    return code, err
 
 
 def laughs() -> str:

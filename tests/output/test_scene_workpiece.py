@@ -24,10 +24,7 @@ from placement.output.scene import WORKPIECE_NODE, Scene
 from placement.path import load_path
 from placement.robot.packages import description_geometry
 from tests.support.paths import EXAMPLES
-
-# phi, then tilt's and rotate's knots (deg): the table tilting towards the UR5 and turning under the torch
-TURNING = np.radians([0.0, 0.0, 0.0, -120.0, 0.0, 0.0, -10.0, -25.0, -20.0, 290.0, 140.0, -20.0])
-TURNING[:3] = 0.0
+from tests.support.positioner import TURNING
 
 
 @pytest.fixture(scope="module")

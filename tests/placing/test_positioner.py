@@ -30,15 +30,12 @@ from placement.robot.exceptions import RobotFileError
 from placement.workshop.catalog import builtin_robots_dir
 from placement.workshop.load import edit_redundancy, robot_from_sidecar
 from tests.support.paths import CIRCLE, EXAMPLES
+from tests.support.positioner import TURNING
 from tests.support.rnea_reference import rnea_actuator_efforts
 from tests.support.robot_copies import edited_copy
 
 WELD = EXAMPLES / "positioner_weld.yaml"
 POSITIONER_DIR = builtin_robots_dir() / "ur5_positioner"
-# near the search's optimum (phi, then tilt's and rotate's knots, deg): the table tilting towards the UR5 and turning
-# the 340° seam under the torch
-TURNING = np.radians([0.0, 0.0, 0.0, -120.0, 0.0, 0.0, -10.0, -25.0, -20.0, 290.0, 140.0, -20.0])
-TURNING[:3] = 0.0
 
 
 @pytest.fixture(scope="module")
