@@ -18,6 +18,7 @@ from placement.exceptions import listed
 from placement.robot.exceptions import ExampleRobotError
 from placement.robot.mjcf import MjcfJoint
 
+GIVEN_ON_COMMAND_LINE = "on the command line"  # in the sources of a drive sized from an --effort bound
 
 def give_efforts(path: Path, model: pin.Model, efforts: Mapping[str, float],
                  joints: dict[str, MjcfJoint] | None = None) -> dict[str, str]:
@@ -44,7 +45,7 @@ def give_efforts(path: Path, model: pin.Model, efforts: Mapping[str, float],
         model.effortLimit[v] = effort
         if hasattr(model, "lowerEffortLimit"):  # Pinocchio 4 keeps a bound per side
             model.lowerEffortLimit[v] = -effort
-        given = f"--effort {name}={effort:g} on the command line"
+        given = f"--effort {name}={effort:g} {GIVEN_ON_COMMAND_LINE}"
         if joints is not None:
             joints[name] = dataclasses.replace(joints.get(name) or MjcfJoint(None, "", 0.0, 0.0, 0.0),
                                                effort=effort, effort_from=given)

@@ -61,7 +61,7 @@ from placement.robot.tool import find_frame
 from placement.robot.urdf import ERD_PREFIX, closing_pairs, erd_urdf_path, pinocchio_model, urdf_limits_missing
 from placement.robot.xacro import expand_xacro, is_xacro
 from placement.workshop.catalog import ERD_FORM, erd_names
-from placement.workshop.efforts import give_efforts
+from placement.workshop.efforts import GIVEN_ON_COMMAND_LINE, give_efforts
 from placement.workshop.load import robot_from_sidecar, write_if_it_loads
 from placement.workshop.loops import (
     JOINT_SPEED_M_S,
@@ -99,6 +99,8 @@ def estimate_warning(robot: Robot) -> str:
     kind = "MJCF" if is_mjcf(robot.urdf_path) else "URDF"
     limits = ("MJCF's actuator force ranges and a joint speed of 180 deg/s" if kind == "MJCF"
               else "URDF's effort and velocity limits")
+    if any(GIVEN_ON_COMMAND_LINE in text for text in robot.sources.values()):
+        limits = limits.replace(" and ", ", the --effort bounds and ", 1)
     drives = (f"3000 rpm motors geared down to the joints' speeds, sized from the {limits}" if robot.closures
               else f"gear {GEAR_RATIO:g}:1, motor constants scaled from the {limits}")
     return (f"{robot.name}: the drives ({drives}), the "

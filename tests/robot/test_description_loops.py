@@ -287,6 +287,10 @@ def test_an_mjcf_loop_whose_actuators_nothing_bounds_is_refused_naming_every_one
     assert [a.joint for a in bounded.actuators] == ["mot1", "mot2"]
     assert given.drives == bounded.drives  # --effort 10 sizes each drive as the file's forcerange of 10 does
     assert "given by --effort mot1=10 on the command line" in given.sources["drives.mot1.motor"]
+    path.write_text(unbounded)
+    main(["--robot", str(path), "--tool", "effector", "--effort", "mot1=10", "--effort", "mot2=10", "--at", "x=0,y=0",
+          "--path", str(CIRCLE)])  # the robot's estimates are said when it loads, whatever the placement
+    assert "sized from the MJCF's actuator force ranges, the --effort bounds and" in capsys.readouterr().err
 
 
 @pytest.mark.parametrize("effort, expected", [("mot1=-1", "--effort: expected JOINT=VALUE"),
