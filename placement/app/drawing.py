@@ -10,7 +10,7 @@ import pinocchio as pin
 import viser  # optional dependency: the [app] extra, checked by placement.app
 
 from placement.limits.collision import collision_scene
-from placement.output.palette import ARM_COLOR, CELL_COLORS, rgb
+from placement.output.palette import ARM_COLOR, CELL_COLORS, rgb, rgb_255
 from placement.robot.model import Robot
 from placement.robot.packages import description_geometry
 
@@ -49,11 +49,6 @@ def own_color(robot: Robot, mesh_color: np.ndarray) -> tuple[int, int, int]:
     if min(red, green, blue) > PALE and max(red, green, blue) - min(red, green, blue) < 24:
         return rgb_255(ARM_COLOR) if robot.is_serial else PARALLEL_TINT
     return red, green, blue
-
-
-def rgb_255(color: int) -> tuple[int, int, int]:
-    """A 0xRRGGBB colour as viser's red, green, blue in 0-255."""
-    return (color >> 16) & 255, (color >> 8) & 255, color & 255
 
 
 @functools.lru_cache(maxsize=128)

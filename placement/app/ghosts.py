@@ -15,9 +15,9 @@ from typing import Any
 import numpy as np
 import viser  # optional dependency: the [app] extra, checked by placement.app
 
-from placement.app.drawing import RobotDrawing, rgb_255
+from placement.app.drawing import RobotDrawing
 from placement.evaluation.results import PlacementDetail
-from placement.output.palette import BEST_COLOR, WORST_COLOR
+from placement.output.palette import BEST_COLOR, WORST_COLOR, rgb_255
 from placement.robot.model import Robot
 
 GHOST_OPACITY = 0.25  # faint: the live robot stays the one in front

@@ -25,6 +25,12 @@ def path_color(index: int) -> int:
     return PATH_COLORS[index % len(PATH_COLORS)]
 
 
+def rgb_255(color: int) -> tuple[int, int, int]:
+    """A 0xRRGGBB colour as red, green, blue in 0-255 (viser's)."""
+    return (color >> 16) & 255, (color >> 8) & 255, color & 255
+
+
 def rgb(color: int) -> tuple[float, float, float]:
     """A 0xRRGGBB colour as red, green, blue in [0, 1]."""
-    return ((color >> 16) & 255) / 255, ((color >> 8) & 255) / 255, (color & 255) / 255
+    red, green, blue = rgb_255(color)
+    return red / 255, green / 255, blue / 255

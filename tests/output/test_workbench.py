@@ -549,8 +549,8 @@ def test_an_optimise_result_is_drawn_as_ghosts_at_its_best_and_worst_each_hidden
 def test_a_serial_arm_is_drawn_in_the_palettes_blue_more_opaque_than_a_parallel_robot():
     import viser
 
-    from placement.app.drawing import ARM_OPACITY, PARALLEL_OPACITY, RobotDrawing, rgb_255
-    from placement.output.palette import ARM_COLOR, BEST_COLOR, WORST_COLOR
+    from placement.app.drawing import ARM_OPACITY, PARALLEL_OPACITY, RobotDrawing
+    from placement.output.palette import ARM_COLOR, BEST_COLOR, WORST_COLOR, rgb_255
 
     server = viser.ViserServer(host="127.0.0.1", port=0, verbose=False)
     try:
