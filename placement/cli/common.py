@@ -27,7 +27,7 @@ from placement.kinematics.closed_form import touch_joint_motion_kernel
 from placement.kinematics.warmup import touch_kernels
 from placement.limits.collision import collision_scene
 from placement.path.load import ControllerSettings, load_path
-from placement.path.path_file import MAX_FEED_M_S
+from placement.path.path_file import MAX_FEED_M_S, MM_PER_MIN_M_S
 from placement.path.toolpath import ToolPath
 from placement.robot.equip import equip
 from placement.robot.formats import DescriptionOptions, is_description
@@ -45,7 +45,6 @@ from placement.workshop.estimates import (
 )
 from placement.workshop.load import load_robot
 
-MM_PER_MIN_M_S = 60e3  # mm/min in one m/s
 MIN_INITIAL_FEED_MM_MIN = 1.0  # --initial-feed below this is taken for a value in m/s: no machine cuts slower
 
 

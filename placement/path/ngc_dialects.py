@@ -22,8 +22,8 @@ from placement.exceptions import listed
 from placement.path.exceptions import GcodeError
 from placement.path.ngc_expressions import MARLIN_HOMING
 from placement.path.ngc_words import CONTROLLER_G, CONTROLLER_M, IO_M, MARLIN_M, USER_M
+from placement.path.path_file import MM_PER_MIN_M_S
 
-MM_PER_MIN_M_S = 60e3  # mm/min in one m/s
 MAX_LISTED_LINES = 8  # a warning names at most this many lines of each kind
 LONG_DWELL_S = 10.0  # a dwell this long with a whole-number P is warned of: Fanuc and Haas read P2000 as 2 s
 GRBL_SKIPPED = re.compile(r"\$(|\$|#|G|I|N|X|N\d+=.*|\d+=.*|I=.*)|\?")  # reports, settings, startup lines, unlock

@@ -65,6 +65,7 @@ from placement.schema import Number, Strict, Text
 Positive = Annotated[Number, Field(gt=0.0)]
 MAX_FEED_M_S = 100.0  # the largest feed a path may ask for (m/s): above it, a unit mistake
 MM_PER_MIN = 1e-3 / 60  # m/s in one mm/min
+MM_PER_MIN_M_S = 60e3  # mm/min in one m/s
 
 
 LENGTH_SCALE = {"m": 1.0, "mm": 1e-3, "in": 0.0254}
