@@ -61,7 +61,7 @@ from placement.robot.tool import find_frame
 from placement.robot.urdf import ERD_PREFIX, closing_pairs, erd_urdf_path, pinocchio_model, urdf_limits_missing
 from placement.robot.xacro import expand_xacro, is_xacro
 from placement.workshop.catalog import ERD_FORM, erd_names
-from placement.workshop.efforts import GIVEN_ON_COMMAND_LINE, give_efforts
+from placement.workshop.efforts import GIVEN_ON_COMMAND_LINE, give_efforts, with_effort_sources
 from placement.workshop.load import robot_from_sidecar, write_if_it_loads
 from placement.workshop.loops import (
     JOINT_SPEED_M_S,
@@ -151,25 +151,31 @@ def load_description_robot(path: Path, tool: str | None, *, allow_massless: bool
 
 def description_sidecar(path: Path, tool: str | None, options: DescriptionOptions = DescriptionOptions()) -> Sidecar:
     """The estimated sidecar of the robot described by the URDF, xacro or MJCF file ``path``, ``tool`` following the
-    path; its ``urdf`` is ``path`` (absolute), a xacro's arguments its ``xacro_args``."""
+    path; its ``urdf`` is ``path`` (absolute), a xacro's arguments its ``xacro_args``, its drives' sources naming
+    the effort bounds given on the command line (``--effort``)."""
     path = path.resolve()
+    return with_effort_sources(_estimated_description(path, tool, options), path, options.efforts)
+
+
+def _estimated_description(path: Path, tool: str | None, options: DescriptionOptions) -> Sidecar:
+    """:func:`description_sidecar` of the resolved ``path``, before its sources name the efforts given."""
     posture = "the description's neutral posture, clipped into its limits"
     if is_mjcf(path):
         model = mjcf_model(path)
         contents = read_mjcf(path, model)
-        given = give_efforts(path, model, options.efforts, contents.joints)
+        give_efforts(path, model, options.efforts, contents.joints)
         if contents.closures:
             closures = [{"name": c.name, "type": c.kind, "frames": list(c.frames)} for c in contents.closures]
             start = {name: joint.ref for name, joint in contents.joints.items() if joint.ref != 0.0}
-            return _with_sources(loop_sidecar(path, tool, LoopDescription(
-                "MJCF", model, closures, list(contents.actuated), "DERIVED: the joints the MJCF's actuators drive",
-                contents.joints, start)), given)
+            return loop_sidecar(path, tool, LoopDescription("MJCF", model, closures, list(contents.actuated),
+                                                            "DERIVED: the joints the MJCF's actuators drive",
+                                                            contents.joints, start))
         q0 = np.clip(qpos0(model, contents.joints), model.lowerPositionLimit, model.upperPositionLimit)
         arm = _Arm.of(str(path), model, q0, tool, "the MJCF's qpos0, clipped into its limits", given=contents.joints)
     else:
         urdf = expand_xacro(path, options.xacro_args, options.package_paths, path, "") if is_xacro(path) else path
         model = pinocchio_model(urdf)
-        given = give_efforts(path, model, options.efforts)
+        give_efforts(path, model, options.efforts)
         pairs = closing_pairs(urdf)
         if not pairs and is_gepetto(path.parent / YAML_NAME):
             raise ExampleRobotError(f"{path} is the tree of the Gepetto {YAML_NAME} beside it, which says where its "
@@ -179,23 +185,11 @@ def description_sidecar(path: Path, tool: str | None, options: DescriptionOption
         if pairs and not is_xacro(path):
             closures = [{"name": name, "type": "point", "frames": [first, second]} for name, first, second in pairs]
             actuated, why = _onshape_actuated(model)
-            return _with_sources(loop_sidecar(path, tool, LoopDescription("URDF", model, closures, actuated, why)),
-                                 given)
+            return loop_sidecar(path, tool, LoopDescription("URDF", model, closures, actuated, why))
         arm = _Arm.of(str(path), model, _neutral(model), tool, posture)
-    sidecar = _with_sources(_estimated_sidecar(arm, description_name(path), str(path),
-                                               f"{path.name}, tool {tool}: drives and workspace estimated"), given)
+    sidecar = _estimated_sidecar(arm, description_name(path), str(path),
+                                 f"{path.name}, tool {tool}: drives and workspace estimated")
     return sidecar.model_copy(update={"xacro_args": dict(options.xacro_args)}) if is_xacro(path) else sidecar
-
-
-def _with_sources(sidecar: Sidecar, given: dict[str, str]) -> Sidecar:
-    """``sidecar`` whose drives' sources say which effort bounds were given on the command line (``given``: the
-    words to add, by joint name)."""
-    sources = dict(sidecar.sources)
-    for actuator in sidecar.actuators:
-        key = f"drives.{actuator.drive}.motor"
-        if actuator.joint in given and key in sources:
-            sources[key] += f"; {given[actuator.joint]}"
-    return sidecar.model_copy(update={"sources": sources})
 
 
 def _onshape_actuated(model: pin.Model) -> tuple[list[str], str]:
