@@ -4,10 +4,12 @@ import numpy as np
 import pytest
 
 from placement.evaluation.evaluator import EvaluatorSettings
+from placement.evaluation.results import Evaluation
 from placement.output.report import basins_json, format_result
 from placement.path import load_path
-from placement.search.basins import Basin, basin_starts, distinct, unresolved
-from placement.search.optimize import SearchSettings, optimize_placement
+from placement.placing.transform import VARIABLES
+from placement.search.basins import Basin, basin_starts, distinct, flipped_branches, unresolved
+from placement.search.optimize import SearchSettings, _search, optimize_placement
 from placement.search.space import PlacementSpace
 from tests.support.paths import EXAMPLE, EXAMPLES
 
@@ -115,3 +117,40 @@ def test_the_pockets_best_energy_does_not_depend_on_the_seed():
     best half of a seed-free scan and the polish started from regions that break a limit on the finer sampling."""
     energies = _three_seeds("orthoglide", "pocket.yaml", "cell_orthoglide.yaml", (0, 4, 6))
     assert np.ptp(energies) <= 1e-6 * energies.min()
+
+
+class _TwoBranches:
+    """A stand-in for the Evaluator of a redundant arm (free y and one knot ``j@0``): a wide basin at y = 0.3 on the
+    knot's positive branch (objective 1) and, at its mirror image (y = -0.3, the knot negated), a narrow one 10 %
+    lower whose attraction region is 0.02 across in each variable: a global search seldom visits it."""
+
+    settings = EvaluatorSettings()
+
+    def evaluate(self, placements: np.ndarray) -> Evaluation:
+        y, knot = placements[:, 1], placements[:, 6]
+        wide = 1.0 + (y - 0.3) ** 2 + (knot - 1.0) ** 2
+        narrow = 0.9 + ((y + 0.3) ** 2 + (knot + 1.0) ** 2) / 0.01**2
+        return Evaluation(placements=placements, objectives=("energy",), values=np.minimum(wide, narrow)[:, None],
+                          margins=np.ones((len(placements), 1)), limits=("none",),
+                          reachable=np.ones(len(placements), dtype=bool))
+
+
+def test_the_other_branch_of_a_redundant_arm_is_polished_though_rarely_visited():
+    """The best of the wide basin, flipped onto the other branch (its knot and y negated), starts a polish in the
+    narrow one: every seed ends there (the search before flipped branches ended in the wide basin on every seed)."""
+    space = PlacementSpace(free=("y", "j@0"), lower=np.array([-1.0, -2.0]), upper=np.array([1.0, 2.0]),
+                           fixed=np.zeros(7), names=(*VARIABLES, "j@0"))
+    model = _TwoBranches()
+    for seed in range(5):
+        candidates, problem, optima = _search(model, model, space, 1.0, SearchSettings(seed=seed), None)
+        assert problem.lookup(candidates[0])[0][0] == pytest.approx(0.9, abs=1e-6)
+        assert np.allclose(candidates[0], [-0.3, -1.0], atol=1e-3)
+        assert any(abs(problem.lookup(o)[0][0] - 1.0) < 1e-6 for o in optima)  # the wide basin, kept as a basin
+
+
+def test_branches_flip_only_with_a_free_knot():
+    with_knot = PlacementSpace(free=("y", "phi", "theta", "j@0"), lower=-np.ones(4), upper=np.ones(4),
+                               fixed=np.zeros(7), names=(*VARIABLES, "j@0"))
+    images = flipped_branches(np.array([0.2, 0.3, 0.4, 0.5]), with_knot)
+    assert np.allclose(images, [[0.2, 0.3, 0.4, -0.5], [-0.2, -0.3, 0.4, -0.5]])  # theta: a turn about y, kept
+    assert len(flipped_branches(np.array([0.0, 0.3]), _space())) == 0
