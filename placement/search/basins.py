@@ -100,12 +100,23 @@ def flipped_branches(point: np.ndarray, space: PlacementSpace) -> np.ndarray:
         (m, n_free) the flipped starts (m = 0 without a free knot), in the space's range (a periodic angle wrapped,
         the others clipped to their bounds).
     """
-    knots = np.array([name not in VARIABLES and name != SPIN for name in space.free], dtype=bool)
+    knots = _free_knots(space)
     if not knots.any():
         return np.zeros((0, len(space.free)))
     flips = np.array([knots, knots | np.isin(space.free, MIRRORED)])
     images = space.wrap(np.where(flips, -np.asarray(point, dtype=float), point))
     return np.where(space.period > 0, images, np.clip(images, space.lower, space.upper))
+
+
+def has_branches(space: PlacementSpace) -> bool:
+    """Whether a knot of a redundant joint's profile is free: the search then has branches to flip
+    (:func:`flipped_branches`)."""
+    return bool(_free_knots(space).any())
+
+
+def _free_knots(space: PlacementSpace) -> np.ndarray:
+    """(n_free,) bool: which free variables are knots of a redundant joint's profile."""
+    return np.array([name not in VARIABLES and name != SPIN for name in space.free], dtype=bool)
 
 
 def distinct(optima: list[np.ndarray], signed: list[float], space: PlacementSpace,

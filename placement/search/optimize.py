@@ -53,7 +53,16 @@ from placement.evaluation.parallel import process_pool
 from placement.evaluation.results import Evaluation, PlacementDetail
 from placement.path.toolpath import ToolPath
 from placement.robot.model import Robot
-from placement.search.basins import RUNNER_UP_SHARE, Basin, basin_starts, distinct, flipped_branches, scaled_distance, unresolved
+from placement.search.basins import (
+    RUNNER_UP_SHARE,
+    Basin,
+    basin_starts,
+    distinct,
+    flipped_branches,
+    has_branches,
+    scaled_distance,
+    unresolved,
+)
 from placement.search.coarse_guide import SearchModels, guide_value, search_models
 from placement.search.kinks import across_kinks
 from placement.search.local import BASIN_RADIUS, POLISH_STARTS, Problem, inward_until_feasible, polish_across
@@ -65,8 +74,8 @@ GIVE_UP_GENERATIONS = 25  # generations without any feasible placement after whi
 SCAN_FACTOR = 8  # the first population's best half comes from a seed-free Sobol scan this many times its size
 RECHECK_DENSITY = 4  # the re-check samples the path this many times more densely
 POLISH_EVALUATIONS = 30  # placement evaluations of a typical polish, for the duration estimate (gradients count n + 1)
-COARSE_POLISHES = POLISH_STARTS + 3  # polishes on the global search's sampling, at most: POLISH_STARTS + 1 regions' best
-# points and two flips of a redundant arm's branch (placement.search.basins.flipped_branches)
+COARSE_POLISHES = POLISH_STARTS + 3  # a redundant arm's polishes on the global search's sampling, at most: POLISH_STARTS + 1
+# regions' best points and two flips of its branch (placement.search.basins.flipped_branches)
 
 
 @dataclass(frozen=True)
@@ -211,10 +220,10 @@ def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: flo
     regions the global search visited (:mod:`placement.search.basins`).
 
     Returns:
-        The feasible candidates, best first: the polished points, then the global search's final population's
-        feasible ones (empty if there is none); the problem that explains why there is none: the coarse one
-        when the global search found nothing feasible, else the fine one; and the distinct polished optima (the
-        basins), best first.
+        The feasible candidates, best first (by objective, on the polish's model): the polished points and the
+        global search's final population's feasible ones (empty if there is none); the problem that explains why
+        there is none: the coarse one when the global search found nothing feasible, else the fine one; and the
+        distinct polished optima (the basins), best first.
     """
     problem = Problem(coarse, space, sign)
     population = _global(problem, space, settings, progress)
@@ -240,15 +249,20 @@ def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: flo
     polished[0] = across_kinks(local, polished[0], space)  # the best: the polish's SLSQP stops on a kink
     signed = sorted(sign * local.lookup(x)[0][0] for x in polished)
     basins = [polished[k] for k in distinct(polished, signed, space, BASIN_RADIUS)]
-    return polished + list(kept), local, basins
+    candidates = polished + list(kept)  # by objective: a best that fails once printed gives way to the next best, most
+    # often a point of its own basin from the final population, not the next basin's optimum
+    order = np.argsort(sign * local.lookup(np.array(candidates))[0], kind="stable")
+    return [candidates[k] for k in order], local, basins
 
 
 def _converged_starts(problem: Problem, space: PlacementSpace) -> list[np.ndarray]:
-    """The polish's starts: from the best point of each of a few distinct regions the global search visited, and for a
-    redundant arm from the best of where those end flipped onto the other branch of its self-motion
-    (:mod:`placement.search.basins`), polishes on the global search's model (its margins read as values: with a cell,
-    a collision's beyond the clearance may be a lower bound, which only shapes a start); the POLISH_STARTS best
-    distinct ends of those, best first."""
+    """The polish's starts: the best point of each of a few distinct regions the global search visited
+    (:mod:`placement.search.basins`). For a redundant arm, the branches of its self-motion are compared converged:
+    from those points, and from the best of where they end flipped onto the other branch, polishes on the global
+    search's model (its margins read as values: with a cell, a collision's beyond the clearance may be a lower
+    bound, which only shapes a start), and the POLISH_STARTS best distinct ends of those, best first."""
+    if not has_branches(space):
+        return list(basin_starts(*problem.feasible_seen(), space, POLISH_STARTS))
     converged = [polish_across(problem, start, space)
                  for start in basin_starts(*problem.feasible_seen(), space, COARSE_POLISHES - 2)]
     converged += [polish_across(problem, start, space) for start in flipped_branches(_best(problem, converged), space)]
@@ -391,7 +405,7 @@ def estimate(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, settings
     fine.evaluate(population[1:2])
     placement = time.perf_counter() - tic
     polish = POLISH_STARTS * POLISH_EVALUATIONS * placement * (1 + len(space.free) / 2)
-    converging = COARSE_POLISHES * POLISH_EVALUATIONS * generation / size * (1 + len(space.free) / 2)
+    converging = COARSE_POLISHES * POLISH_EVALUATIONS * generation / size * (1 + len(space.free) / 2) * has_branches(space)
     scan_and_generations = (settings.max_generations + SCAN_FACTOR) * generation  # the scan: SCAN_FACTOR populations
     return directions * (scan_and_generations + converging + polish)
 
