@@ -265,7 +265,9 @@ def _converged_starts(problem: Problem, space: PlacementSpace) -> list[np.ndarra
         return list(basin_starts(*problem.feasible_seen(), space, POLISH_STARTS))
     converged = [polish_across(problem, start, space)
                  for start in basin_starts(*problem.feasible_seen(), space, COARSE_POLISHES - 2)]
-    converged += [polish_across(problem, start, space) for start in flipped_branches(_best(problem, converged), space)]
+    flipped = flipped_branches(_best(problem, converged), space)
+    converged += [polish_across(problem, start, space)  # not from a start the arm does not reach: the polish stays there
+                  for start, value in zip(flipped, problem.lookup(flipped)[0]) if np.isfinite(value)]
     values, margins = problem.lookup(np.array(converged))
     signed = np.where((margins >= 0).all(axis=1) & np.isfinite(values), problem.sign * values, np.inf)
     return [converged[k] for k in distinct(converged, list(signed), space, BASIN_RADIUS)[:POLISH_STARTS]]
