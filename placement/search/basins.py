@@ -9,6 +9,16 @@ variable's wrap too). The best :data:`placement.search.local.POLISH_STARTS` of t
 breaks a limit on the polish's finer sampling too: the polish brings it back); the polished optima closer than
 :data:`placement.search.local.BASIN_RADIUS` to a better one are the same basin, and the others are the
 search's basins, best first.
+
+A redundant arm's profiles add a start of their own. The global search's population gathers on one branch of the
+arm's self-motion (the Panda's elbow, joint 3 near +76° or near -75° on the circle; the UR5 on its track following
+the seam one way or the other), whichever its seed favours, and the other branch, the better one on some paths, is
+rarely visited and never polished. So the best of the polished starts (polished on the global search's model, see
+:func:`placement.search.optimize._converged_starts`) is also flipped onto the other branch
+(:func:`flipped_branches`): its redundant joints' knots negated, and its mirror image through the base's x-z plane
+(y, phi and psi negated too, the knots with them), the same placement on the other branch for an arm whose chain is
+nearly symmetric about that plane (a serial arm's usually is, the offsets aside). These are starts too, and the
+branches are compared polished, as every basin is.
 """
 
 from __future__ import annotations
@@ -17,10 +27,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from placement.placing.profiles import SPIN
+from placement.placing.transform import VARIABLES
 from placement.search.space import PlacementSpace
 
 START_RADIUS = 0.1  # a visited point is a start when no better feasible one lies within this share of the box
 START_POOL = 2_000  # best feasible visited points among which the starts are found (the distance matrix's side)
+MIRRORED = ("y", "phi", "psi")  # negated by the reflection through the base's x-z plane (rotations about x and z turn
+# the other way, those about y do not), with every redundant joint's knots
 RUNNER_UP_SHARE = 0.05  # basins within this share of the best's objective are reported beside it
 
 
@@ -69,6 +83,40 @@ def basin_starts(points: np.ndarray, signed: np.ndarray, space: PlacementSpace, 
             if len(starts) == count:
                 break
     return pool[starts]
+
+
+def flipped_branches(point: np.ndarray, space: PlacementSpace) -> np.ndarray:
+    """A start on the other branch of a redundant arm's self-motion (module docstring), two ways, within the box: every
+    free knot of a redundant joint's profile negated (a revolute joint turned the other way, a track's carriage moved
+    the other way), the placement kept; and the whole arm's mirror image through the base's x-z plane, its free y,
+    phi and psi negated too. None when no knot is free (a robot without redundancy has no other branch to reach
+    this way).
+
+    Args:
+        point: (n_free,) free values of a start.
+        space: The search space.
+
+    Returns:
+        (m, n_free) the flipped starts (m = 0 without a free knot), in the space's range (a periodic angle wrapped,
+        the others clipped to their bounds).
+    """
+    knots = _free_knots(space)
+    if not knots.any():
+        return np.zeros((0, len(space.free)))
+    flips = np.array([knots, knots | np.isin(space.free, MIRRORED)])
+    images = space.wrap(np.where(flips, -np.asarray(point, dtype=float), point))
+    return np.where(space.period > 0, images, np.clip(images, space.lower, space.upper))
+
+
+def has_branches(space: PlacementSpace) -> bool:
+    """Whether a knot of a redundant joint's profile is free: the search then has branches to flip
+    (:func:`flipped_branches`)."""
+    return bool(_free_knots(space).any())
+
+
+def _free_knots(space: PlacementSpace) -> np.ndarray:
+    """(n_free,) bool: which free variables are knots of a redundant joint's profile."""
+    return np.array([name not in VARIABLES and name != SPIN for name in space.free], dtype=bool)
 
 
 def distinct(optima: list[np.ndarray], signed: list[float], space: PlacementSpace,

@@ -7,9 +7,12 @@ scipy's differential evolution over the free placement variables, with the limit
 they break the limits, so they steer the search and never stop it), on the path sampled with
 about ``search_samples`` samples, its first population half the best points of a Sobol scan of the box that is the
 same for every seed (a small feasible region at the box's edge, the pocket's best, is otherwise found on some
-seeds only), half a sample of the seed's; then a local constrained polish (SLSQP) from the best point of
-each of a few distinct regions the global search visited (whether or not it keeps every limit on the finer
-sampling: the polish brings it back), on the path sampled at its own time step, which the reported values use, and
+seeds only), half a sample of the seed's; then the same local constrained polish (SLSQP) on the global search's
+sampling from the best point of each of a few distinct regions the global search visited and, for a redundant
+arm, from the best of where those end flipped onto the other branch of its self-motion (the branches are then
+compared converged, not as the global search left them, which favours the branch its population gathered on);
+then the polish of the best distinct ends (whether or not they keep every limit on the finer
+sampling: the polish brings them back), on the path sampled at its own time step, which the reported values use, and
 the best of them on across the objective's kinks (gradient sampling, :mod:`placement.search.kinks`: where the drives'
 clipped power crosses zero, SLSQP stops short); the distinct polished optima are the basins, and those close to the
 best are reported beside it (:mod:`placement.search.basins`).
@@ -50,7 +53,16 @@ from placement.evaluation.parallel import process_pool
 from placement.evaluation.results import Evaluation, PlacementDetail
 from placement.path.toolpath import ToolPath
 from placement.robot.model import Robot
-from placement.search.basins import RUNNER_UP_SHARE, Basin, basin_starts, distinct, scaled_distance, unresolved
+from placement.search.basins import (
+    RUNNER_UP_SHARE,
+    Basin,
+    basin_starts,
+    distinct,
+    flipped_branches,
+    has_branches,
+    scaled_distance,
+    unresolved,
+)
 from placement.search.coarse_guide import SearchModels, guide_value, search_models
 from placement.search.kinks import across_kinks
 from placement.search.local import BASIN_RADIUS, POLISH_STARTS, Problem, inward_until_feasible, polish_across
@@ -62,6 +74,8 @@ GIVE_UP_GENERATIONS = 25  # generations without any feasible placement after whi
 SCAN_FACTOR = 8  # the first population's best half comes from a seed-free Sobol scan this many times its size
 RECHECK_DENSITY = 4  # the re-check samples the path this many times more densely
 POLISH_EVALUATIONS = 30  # placement evaluations of a typical polish, for the duration estimate (gradients count n + 1)
+COARSE_POLISHES = POLISH_STARTS + 3  # a redundant arm's polishes on the global search's sampling, at most: POLISH_STARTS + 1
+# regions' best points and two flips of its branch (placement.search.basins.flipped_branches)
 
 
 @dataclass(frozen=True)
@@ -206,10 +220,10 @@ def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: flo
     regions the global search visited (:mod:`placement.search.basins`).
 
     Returns:
-        The feasible candidates, best first: the polished points, then the global search's final population's
-        feasible ones (empty if there is none); the problem that explains why there is none: the coarse one
-        when the global search found nothing feasible, else the fine one; and the distinct polished optima (the
-        basins), best first.
+        The feasible candidates, best first (by objective, on the polish's model): the polished points and the
+        global search's final population's feasible ones (empty if there is none); the problem that explains why
+        there is none: the coarse one when the global search found nothing feasible, else the fine one; and the
+        distinct polished optima (the basins), best first.
     """
     problem = Problem(coarse, space, sign)
     population = _global(problem, space, settings, progress)
@@ -223,8 +237,7 @@ def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: flo
     kept = ranked[(fine_margins >= 0).all(axis=1)]
     # A start may break a limit on the finer sampling (a best region's optimum often lies on a limit): the polish
     # brings it back, and only the polished points that keep every limit there are candidates.
-    polished = _feasible([polish_across(local, start, space)
-                          for start in basin_starts(*problem.feasible_seen(), space, POLISH_STARTS)], local)
+    polished = _feasible([polish_across(local, start, space) for start in _converged_starts(problem, space)], local)
     if not polished and len(kept):
         polished = [polish_across(local, kept[0], space)]
     if not polished:  # the finer sampling breaks a limit the coarse one missed: repair the closest
@@ -236,7 +249,35 @@ def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: flo
     polished[0] = across_kinks(local, polished[0], space)  # the best: the polish's SLSQP stops on a kink
     signed = sorted(sign * local.lookup(x)[0][0] for x in polished)
     basins = [polished[k] for k in distinct(polished, signed, space, BASIN_RADIUS)]
-    return polished + list(kept), local, basins
+    candidates = polished + list(kept)  # by objective: a best that fails once printed gives way to the next best, most
+    # often a point of its own basin from the final population, not the next basin's optimum
+    order = np.argsort(sign * local.lookup(np.array(candidates))[0], kind="stable")
+    return [candidates[k] for k in order], local, basins
+
+
+def _converged_starts(problem: Problem, space: PlacementSpace) -> list[np.ndarray]:
+    """The polish's starts: the best point of each of a few distinct regions the global search visited
+    (:mod:`placement.search.basins`). For a redundant arm, the branches of its self-motion are compared converged:
+    from those points, and from the best of where they end flipped onto the other branch, polishes on the global
+    search's model (its margins read as values: with a cell, a collision's beyond the clearance may be a lower
+    bound, which only shapes a start), and the POLISH_STARTS best distinct ends of those, best first."""
+    if not has_branches(space):
+        return list(basin_starts(*problem.feasible_seen(), space, POLISH_STARTS))
+    converged = [polish_across(problem, start, space)
+                 for start in basin_starts(*problem.feasible_seen(), space, COARSE_POLISHES - 2)]
+    flipped = flipped_branches(_best(problem, converged), space)
+    converged += [polish_across(problem, start, space)  # not from a start the arm does not reach: the polish stays there
+                  for start, value in zip(flipped, problem.lookup(flipped)[0]) if np.isfinite(value)]
+    values, margins = problem.lookup(np.array(converged))
+    signed = np.where((margins >= 0).all(axis=1) & np.isfinite(values), problem.sign * values, np.inf)
+    return [converged[k] for k in distinct(converged, list(signed), space, BASIN_RADIUS)[:POLISH_STARTS]]
+
+
+def _best(problem: Problem, points: list[np.ndarray]) -> np.ndarray:
+    """The best of ``points`` (at least one) that keeps every limit on the problem's model, else the first."""
+    values, margins = problem.lookup(np.array(points))
+    usable = (margins >= 0).all(axis=1) & np.isfinite(values)
+    return points[int(np.argmin(np.where(usable, problem.sign * values, np.inf)))] if usable.any() else points[0]
 
 
 def _feasible(points: list[np.ndarray], problem: Problem) -> list[np.ndarray]:
@@ -366,7 +407,9 @@ def estimate(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, settings
     fine.evaluate(population[1:2])
     placement = time.perf_counter() - tic
     polish = POLISH_STARTS * POLISH_EVALUATIONS * placement * (1 + len(space.free) / 2)
-    return directions * ((settings.max_generations + SCAN_FACTOR) * generation + polish)  # the scan: SCAN_FACTOR populations
+    converging = COARSE_POLISHES * POLISH_EVALUATIONS * generation / size * (1 + len(space.free) / 2) * has_branches(space)
+    scan_and_generations = (settings.max_generations + SCAN_FACTOR) * generation  # the scan: SCAN_FACTOR populations
+    return directions * (scan_and_generations + converging + polish)
 
 
 @dataclass(frozen=True)
