@@ -12,10 +12,11 @@ So the lattice itself is searched, in batches: the corners of the optimum's cell
 rounded, then, from the best of them that keeps every limit, its neighbours, and from the best again while one is
 better (a pattern search on the lattice). A neighbour is one step (of the printed digits) along one variable or along
 two at once: a crease is seldom along an axis, and on the groove and the UR5 the diagonal steps of three and more
-variables (3^n - 1 neighbours in all) ended on the same lattice points at two to six times the evaluations. The
+variables (3^n - 1 neighbours in all) ended on the same lattice points at 1.6 to 6 times the evaluations. The
 search ends on a printed point that no neighbour improves: a minimum of the lattice, which starts near one another
-reach alike (seeds 0-9 of the groove end on two of them, 1.4e-7 apart, where the cells' best corners were 3.5e-7
-apart). A periodic variable's points are wrapped into its range, and a point outside the box is not evaluated.
+reach alike (seeds 0-9 of the pocket end on one, those of the groove on two, 1.45e-7 apart, near the crease's two
+lowest points, where the cells' best corners were 3.5e-7 apart). A periodic variable's points are wrapped into its
+range, and a point outside the box is not evaluated.
 """
 
 from __future__ import annotations
