@@ -19,7 +19,10 @@ point (a crease through the point has samples on both sides), by a generator of 
 seed of the search. The variables are the polish's (unit curvature), and a point that breaks a limit or leaves the
 box is no step (the polish's SLSQP brings a point onto a limit; this step keeps it feasible). From a point on a limit
 (the pocket's best) it does not start: its steps along the limit would break it and be refused (SLSQP, which follows
-a limit, has polished it), and it would only spend evaluations.
+a limit, has polished it), and it would only spend evaluations. Nor from a point on a bound of the box (the UR5's
+best, on its tilt's bound): there too its steps leave the box and are refused (on the UR5's seeds 0-2, 276
+evaluations each gained nothing); the search of the printed lattice that follows (:mod:`placement.search.lattice`)
+goes on along the bound.
 """
 
 from __future__ import annotations
@@ -31,7 +34,8 @@ from placement.search.local import GRADIENT_STEP, Problem, unit_curvature
 from placement.search.space import PlacementSpace
 
 RADIUS_START = 1e-2  # the sampling radius, at first, in the polish's variables (unit curvature)
-RADIUS_END = 1e-5  # ... and the radius below which the search stops
+RADIUS_END = 1e-4  # ... and the radius below which the search stops (the search of the printed lattice goes on from
+# there, placement.search.lattice; with 1e-5 the groove's seeds 0-9 ended on the same two printed points, at 5 % more evaluations)
 RADIUS_SHRINK = 10.0  # the radius is divided by this when a line search gains nothing
 RADIUS_GROWTH = 4.0  # ... and multiplied by this when its longest step gains most
 RADIUS_LARGEST = 1.0  # ... up to this
@@ -39,12 +43,13 @@ LINE_STEPS = 2.0 ** np.arange(5, -5, -1)  # a line search's trial steps, in radi
 SUFFICIENT_DECREASE = 1e-4  # a step gains at least this share of its length times the descent's slope
 ITERATIONS = 40  # line searches, at most
 BINDING = 1e-6  # a point where a limit's margin is less than this lies on the limit (the polish ends on one within round-off)
+BOUND_SHARE = 1e-9  # a point within this share of a variable's range of its bound lies on the bound
 SAMPLING_SEED = 38  # the sampled points' generator's: fixed, so that every seed of the search samples the same points
 
 
 def across_kinks(problem: Problem, x: np.ndarray, space: PlacementSpace) -> np.ndarray:
     """Gradient sampling from a feasible ``x`` (free values; module docstring): a feasible point at least as good (``x``
-    itself where a limit binds there).
+    itself where a limit binds there or it lies on a bound).
 
     Args:
         problem: The polish's problem (its points are evaluated once each).
@@ -54,10 +59,13 @@ def across_kinks(problem: Problem, x: np.ndarray, space: PlacementSpace) -> np.n
     Returns:
         (n_free,) the point reached, in the space's range.
     """
-    if problem.lookup(x)[1].min(initial=np.inf) < BINDING:
+    bounded = space.period == 0
+    on_bound = np.isclose(x[bounded], space.lower[bounded], rtol=0.0, atol=BOUND_SHARE * _range(space)[bounded]) | (
+        np.isclose(x[bounded], space.upper[bounded], rtol=0.0, atol=BOUND_SHARE * _range(space)[bounded]))
+    if problem.lookup(x)[1].min(initial=np.inf) < BINDING or on_bound.any():
         return x
     n = len(x)
-    box = np.where(space.period > 0, space.period, np.where(space.upper > space.lower, space.upper - space.lower, 1.0))
+    box = _range(space)
     scale = box / unit_curvature(problem, x, box)  # a placement is u * scale
     step = GRADIENT_STEP * box / scale  # the forward differences' step in u: GRADIENT_STEP of each variable's range
     pairs = (n + 2) // 2  # points sampled around the point, each with its mirror image: n + 1 at least, as the method needs
@@ -117,3 +125,8 @@ def _signed(problem: Problem, space: PlacementSpace, points: np.ndarray) -> np.n
     inside = ((points[:, bounded] >= space.lower[bounded]) & (points[:, bounded] <= space.upper[bounded])).all(axis=1)
     usable = inside & (margins >= 0).all(axis=1) & np.isfinite(values)
     return np.where(usable, problem.sign * values, np.inf)
+
+
+def _range(space: PlacementSpace) -> np.ndarray:
+    """Each free variable's range (its period for a periodic one; 1 where the range is empty)."""
+    return np.where(space.period > 0, space.period, np.where(space.upper > space.lower, space.upper - space.lower, 1.0))

@@ -25,7 +25,8 @@ denser sampling (under the optimal timing law, keeping the timing found), and th
 reported.
 
 A reported optimum is a placement as the report prints it, so that the printed numbers, entered
-again, are the same placement, and it keeps every limit, with the required margin
+again, are the same placement: the best printed one near the search's optimum (a search of the printed lattice,
+:mod:`placement.search.lattice`), and it keeps every limit, with the required margin
 (:class:`EvaluatorSettings` ``margin``), both on the path's own samples and on the four times
 denser ones (:mod:`placement.search.reporting`); failing that, the next of the polished and global
 candidates that does is reported instead, and the optimum says so.
@@ -498,7 +499,7 @@ def _printed_basin(x: np.ndarray, reported: Evaluator, dense: Evaluator, space: 
                    guide: Evaluator | None) -> Basin:
     """A runner-up basin's optimum as the report prints it (:func:`reported_point`), with its objective on the
     path's own sampling and the denser one."""
-    printed, note, check = reported_point([x], reported, dense, space, sign, guide)
+    printed, note, check = reported_point([x], reported, dense, space, sign, guide, walk=False)
     placement = space.full(printed)[0]
     value = float(reported.evaluate(placement[None]).value[0])
     recheck = float(check.value[0]) if check is not None else float("nan")

@@ -224,7 +224,9 @@ def _evolve(evaluator: Evaluator, space: PlacementSpace, signs: np.ndarray, seed
 
 
 def _members(fine: Evaluator, dense: Evaluator, signs: np.ndarray, placements: np.ndarray) -> tuple[FrontMember, ...]:
-    """Placements re-evaluated on the path's sampling, then densely; those feasible and non-dominated on both."""
+    """Placements re-evaluated on the path's sampling, then densely; those feasible and non-dominated on both (each
+    placement once: an objective's own optimum seeds NSGA-II, and its archive may return it)."""
+    placements = placements[np.sort(np.unique(placements, axis=0, return_index=True)[1])]
     evaluation = fine.evaluate(placements)
     kept = _feasible_front(evaluation, signs)
     recheck = dense.recheck(placements[kept], fine)

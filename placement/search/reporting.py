@@ -1,10 +1,11 @@
 """Which placement a search reports: one that keeps every limit as printed.
 
 The report prints a placement to REPORTED_DECIMALS of a mm and of a degree; a user enters those
-numbers again (``--at``) and must get the same verdict. So the optimum reported is a corner of
-the printed grid's cell around the search's optimum (or a point pulled slightly inwards) that
-keeps every limit, with the required margin, on the path's own samples and on the 4x denser
-re-check; when the optimum cannot be, the next candidate that can, and the report says why.
+numbers again (``--at``) and must get the same verdict. So the optimum reported is the best printed
+placement near the search's optimum, found by a search of the printed lattice
+(:mod:`placement.search.lattice`), or the optimum pulled slightly inwards, as printed, that keeps
+every limit, with the required margin, on the path's own samples and on the 4x denser re-check;
+when the optimum cannot be, the next candidate that can, and the report says why.
 """
 
 from __future__ import annotations
@@ -14,7 +15,8 @@ import numpy as np
 from placement.evaluation.evaluator import Evaluator
 from placement.evaluation.results import Evaluation
 from placement.placing.transform import ANGLES, VARIABLES
-from placement.search.space import PlacementSpace, printed, printed_steps
+from placement.search.lattice import inside, lattice_search
+from placement.search.space import PlacementSpace, printed
 
 RETREAT_SHARES = np.array([0.0, 1e-5, 1e-4, 1e-3, 1e-2])  # a reported optimum's pulls, for rounding and re-check
 
@@ -23,9 +25,6 @@ REPORT_CANDIDATES = 20  # candidates tried, best first, when the optimum fails t
 
 
 RECHECK_TRIES = 5  # printed placements near a candidate re-checked on the denser sampling, at most
-
-
-BOUND_ROUND_OFF = 1e-12  # m or rad: a printed placement may pass a search bound by this much (its decimal digits)
 
 
 def as_printed(placement: np.ndarray, angles: np.ndarray | None = None) -> np.ndarray:
@@ -50,67 +49,68 @@ def _angles(width: int, angles: np.ndarray | None) -> list[bool]:
 
 
 def reported_point(candidates: list[np.ndarray], fine: Evaluator, dense: Evaluator, space: PlacementSpace,
-                   sign: float, guide: Evaluator | None = None) -> tuple[np.ndarray, str | None, Evaluation | None]:
+                   sign: float, guide: Evaluator | None = None,
+                   walk: bool = True) -> tuple[np.ndarray, str | None, Evaluation | None]:
     """The first candidate that, printed, keeps every limit with the required margin on the path's samples and the
     denser ones.
 
-    A candidate is printed (:func:`as_printed`) as the best of the corners of the printed grid's cell around it
-    that keeps every limit on the path's samples, or else pulled inwards by the least of RETREAT_SHARES that does;
-    at most RECHECK_TRIES of those are re-checked on the denser sampling, best first. With a ``guide`` (a cheaper
-    model of the path, :mod:`placement.search.coarse_guide`), the corners and pulls are ranked and sifted on it, and each
-    of those re-checked is evaluated on the path's samples first.
+    A candidate is printed as the best printed placement near it that keeps every limit on the path's samples, found
+    by a search of the printed lattice (:mod:`placement.search.lattice`), or, when none of those does, pulled inwards
+    by the least of RETREAT_SHARES that does; at most RECHECK_TRIES of those are re-checked on the denser sampling,
+    best first. With a ``guide`` (a cheaper model of the path, :mod:`placement.search.coarse_guide`), the lattice is
+    searched on it, and each point re-checked is evaluated on the path's samples first. Without ``walk`` (a runner-up
+    basin's point, listed, not reported), only the corners of the printed cell around a candidate are tried.
 
     Returns:
         The free variables of the placement to report, why it is not the first candidate (None if it is), and its
         re-check on the denser sampling. When no candidate does, the first one as printed, with why it fails, and
         no re-check.
     """
-    centre = (space.lower + space.upper) / 2
     first_failure = ""
     for number, x in enumerate(candidates[:REPORT_CANDIDATES]):
-        near = np.vstack([_grid_corners(space.full(x)[0], space.indices, space.angles),
-                          space.full(x + RETREAT_SHARES[:, None] * (centre - x))])
-        trials = near.copy()  # the free variables as printed, the fixed ones as the space fixes them
-        trials[:, space.indices] = np.array([as_printed(p, space.angles) for p in near])[:, space.indices]
-        fine_check = (fine if guide is None else guide).evaluate(trials)
-        inside = (trials[:, space.indices] >= space.lower - BOUND_ROUND_OFF).all(axis=1) & (
-            trials[:, space.indices] <= space.upper + BOUND_ROUND_OFF).all(axis=1)  # a corner may cross a bound
-        usable = fine_check.feasible & inside
-        corners = len(trials) - len(RETREAT_SHARES)
-        order = [k for k in np.argsort(sign * fine_check.value[:corners], kind="stable") if usable[k]]
-        order += [corners + k for k in np.flatnonzero(usable[corners:])]
-        for k in order[:RECHECK_TRIES]:
+        trials = _printed_near(fine if guide is None else guide, space.full(x)[0], space, sign, walk)
+        if number == 0 and isinstance(trials, str):
+            first_failure = trials
+        for trial in ([] if isinstance(trials, str) else trials[:RECHECK_TRIES]):
             if guide is not None:
-                exact = fine.evaluate(trials[k:k + 1])
+                exact = fine.evaluate(trial[None])
                 if not exact.feasible[0]:
                     if number == 0 and not first_failure:
                         first_failure = f"fails once printed ({_failure(exact)})"
                     continue
-            check = dense.recheck(trials[k:k + 1], fine)
+            check = dense.recheck(trial[None], fine)
             if check.feasible[0] and np.isfinite(check.value[0]):
                 if number == 0:
-                    return trials[k][space.indices], None, check
-                return trials[k][space.indices], (f"the search's optimum {first_failure}; reported: candidate "
-                                                  f"{number + 1}, the best that keeps every limit there"), check
+                    return trial[space.indices], None, check
+                return trial[space.indices], (f"the search's optimum {first_failure}; reported: candidate "
+                                              f"{number + 1}, the best that keeps every limit there"), check
             if number == 0 and not first_failure:
                 first_failure = f"fails the 4x denser re-check ({_failure(check)})"
-        if number == 0 and not first_failure:
-            first_failure = f"fails once printed ({_failure(fine_check)})"
     return (as_printed(space.full(candidates[0])[0], space.angles)[space.indices],
             f"no candidate keeps every limit once printed and on the 4x denser re-check: the search's optimum "
             f"{first_failure}", None)
 
 
-def _grid_corners(placement: np.ndarray, free: np.ndarray, angles: np.ndarray) -> np.ndarray:
-    """(2^n_free, width) the corners of the printed grid's cell (:func:`as_printed`) around ``placement`` (m, rad), the
-    free variables rounded down or up, the others as they are (``angles``: which entries are angles)."""
-    step = printed_steps(np.array(_angles(len(placement), angles), dtype=bool))
-    low = np.floor(placement / step) * step
-    corners = np.tile(placement, (2 ** len(free), 1))
-    for bit, index in enumerate(free):
-        up = (np.arange(len(corners)) >> bit) & 1
-        corners[:, index] = low[index] + up * step[index]
-    return corners
+def _printed_near(model: Evaluator, placement: np.ndarray, space: PlacementSpace, sign: float,
+                  walk: bool) -> np.ndarray | str:
+    """(K, width) printed placements near ``placement`` (m, rad) that keep every limit on ``model``, in the box, best
+    first: the lattice search's (:func:`placement.search.lattice.lattice_search`, with ``walk``), or, when none of its
+    points does,
+    the placement pulled towards the box's centre by the least of RETREAT_SHARES that does, as printed; or why none
+    does: "fails once printed (the limit)" or "lies outside the box once printed"."""
+    search = lattice_search(model, placement, space, sign, walk)
+    if search.usable.any():
+        return search.placements[search.usable]
+    x = placement[space.indices]
+    pulled = space.full(x + RETREAT_SHARES[:, None] * ((space.lower + space.upper) / 2 - x))
+    pulled[:, space.indices] = np.array([as_printed(p, space.angles) for p in pulled])[:, space.indices]
+    check = model.evaluate(pulled)
+    usable = check.feasible & np.isfinite(check.value) & inside(pulled[:, space.indices], space)
+    if usable.any():
+        return pulled[usable]
+    if search.first is None:
+        return "lies outside the box once printed"
+    return f"fails once printed ({_failure(search.first)})"
 
 
 def _failure(check: Evaluation) -> str:

@@ -67,7 +67,10 @@ def groove():
 def test_the_best_energy_does_not_depend_on_the_seed(groove):
     _, results = groove
     energies = np.array([result.best.detail.value for result in results])
-    assert np.ptp(energies) <= 1e-6 * energies.min()
+    # Seeds 0 and 1 end on one lowest point of the crease, seed 8 on another, 0.5 mm away and 2e-8 apart before
+    # printing; the search of the printed lattice ends on the best printed point near each: 4.767175949 and
+    # 4.767175258 J, 1.45e-7 apart (their cells' best corners were 3.3e-7 apart).
+    assert np.ptp(energies) <= 2e-7 * energies.min()
     # Each finds the rectangle turned by about 90° (4.7672 J), and lists the one turned by about 0° (4.7683 J)
     # as a basin of its own, resolved by the 4x denser re-check.
     for result in results:
@@ -107,16 +110,22 @@ def _three_seeds(robot_name: str, path_file: str, cell_file: str | None, seeds: 
 
 @pytest.mark.slow  # three searches of the UR5: about 40 s on an idle 2-core machine
 def test_the_ur5s_best_energy_does_not_depend_on_the_seed():
+    """The UR5's best lies on a valley of equal energy (the rectangle turned about the base's vertical axis), on its
+    tilt's bound; each seed ends somewhere else along it, and the best printed point near each is within 6.3e-8 of the
+    others' (4.0e-7 over seeds 0-9 before the printed lattice was searched)."""
     energies = _three_seeds("ur5", "rect.yaml", None, (0, 1, 2))
-    assert np.ptp(energies) <= 1e-6 * energies.min()
+    assert np.ptp(energies) <= 1e-7 * energies.min()
 
 
 @pytest.mark.slow  # three searches of the pocket in its cell: about 40 s on an idle 2-core machine
 def test_the_pockets_best_energy_does_not_depend_on_the_seed():
     """Seeds 0, 4 and 6 stopped 2.7 % above the best (66.7437 J) before the global search's first population took the
-    best half of a seed-free scan and the polish started from regions that break a limit on the finer sampling."""
+    best half of a seed-free scan and the polish started from regions that break a limit on the finer sampling. Its
+    optimum lies on a limit: the corners of its cell on the limit's feasible side were reported, and which lay nearest
+    the limit changed with the cell (seed 9 1.4e-6 below seeds 0-8); the search of the printed lattice reports the same
+    printed point for every seed."""
     energies = _three_seeds("orthoglide", "pocket.yaml", "cell_orthoglide.yaml", (0, 4, 6))
-    assert np.ptp(energies) <= 1e-6 * energies.min()
+    assert np.ptp(energies) == 0.0
 
 
 class _TwoBranches:

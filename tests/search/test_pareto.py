@@ -74,3 +74,34 @@ def test_the_command_line_writes_the_front_and_refuses_a_single_objective(tmp_pa
                  "--members", "kne"]) == 2  # refused before the search
     captured = capsys.readouterr()
     assert "--members: expected knee" in captured.err and "search:" not in captured.out
+
+
+class _Evaluated:
+    """Two objectives of a placement vector, its first two entries, moved at round-off by the row (as a batch split
+    over threads moves them); every placement feasible."""
+
+    def __init__(self, placements: np.ndarray) -> None:
+        rows = np.arange(len(placements))
+        self.values = placements[:, :2] + 1e-15 * np.column_stack([rows, -rows])
+        self.feasible = np.ones(len(placements), dtype=bool)
+        self.margins = np.ones((len(placements), 1))
+
+
+class _Model:
+    def evaluate(self, placements: np.ndarray) -> _Evaluated:
+        return _Evaluated(placements)
+
+    def recheck(self, placements: np.ndarray, fine: object) -> _Evaluated:
+        return _Evaluated(placements)
+
+
+def test_a_placement_given_twice_is_one_member():
+    """An objective's own optimum seeds NSGA-II, and its archive returns it: the front lists it once, though its two
+    evaluations differ at round-off (the UR5's front listed its deflection end twice)."""
+    from placement.search.pareto import _members
+
+    placements = np.array([[1.0, 3.0, 0, 0, 0, 0], [2.0, 2.0, 0, 0, 0, 0], [3.0, 1.0, 0, 0, 0, 0],
+                           [3.0, 1.0, 0, 0, 0, 0]])
+    members = _members(_Model(), _Model(), np.array([1.0, 1.0]), placements)
+    assert len(members) == 3
+    assert np.array_equal(np.array([m.placement for m in members])[:, :2], [[1.0, 3.0], [2.0, 2.0], [3.0, 1.0]])
