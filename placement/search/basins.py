@@ -14,7 +14,7 @@ A redundant arm's profiles add a start of their own. The global search's populat
 arm's self-motion (the Panda's elbow, joint 3 near +76° or near -75° on the circle; the UR5 on its track following
 the seam one way or the other), whichever its seed favours, and the other branch, the better one on some paths, is
 rarely visited and never polished. So the best of the polished starts (polished on the global search's model, see
-:func:`placement.search.optimize._converged_starts`) is also flipped onto the other branch
+:func:`converged_starts`) is also flipped onto the other branch
 (:func:`flipped_branches`): its redundant joints' knots negated, and its mirror image through the base's x-z plane
 (y, phi and psi negated too, the knots with them), the same placement on the other branch for an arm whose chain is
 nearly symmetric about that plane (a serial arm's usually is, the offsets aside). These are starts too, and the
@@ -29,12 +29,15 @@ import numpy as np
 
 from placement.placing.profiles import SPIN
 from placement.placing.transform import VARIABLES
+from placement.search.local import BASIN_RADIUS, POLISH_STARTS, Problem, polish_across
 from placement.search.space import PlacementSpace
 
 START_RADIUS = 0.1  # a visited point is a start when no better feasible one lies within this share of the box
 START_POOL = 2_000  # best feasible visited points among which the starts are found (the distance matrix's side)
 MIRRORED = ("y", "phi", "psi")  # negated by the reflection through the base's x-z plane (rotations about x and z turn
 # the other way, those about y do not), with every redundant joint's knots
+COARSE_POLISHES = POLISH_STARTS + 3  # a redundant arm's polishes on the global search's sampling, at most: POLISH_STARTS + 1
+# regions' best points and two flips of its branch (flipped_branches)
 RUNNER_UP_SHARE = 0.05  # basins within this share of the best's objective are reported beside it
 
 
@@ -117,6 +120,31 @@ def has_branches(space: PlacementSpace) -> bool:
 def _free_knots(space: PlacementSpace) -> np.ndarray:
     """(n_free,) bool: which free variables are knots of a redundant joint's profile."""
     return np.array([name not in VARIABLES and name != SPIN for name in space.free], dtype=bool)
+
+
+def converged_starts(problem: Problem, space: PlacementSpace) -> list[np.ndarray]:
+    """The polish's starts: the best point of each of a few distinct regions the global search visited
+    (:func:`basin_starts`). For a redundant arm, the branches of its self-motion are compared converged:
+    from those points, and from the best of where they end flipped onto the other branch, polishes on the global
+    search's model (its margins read as values: with a cell, a collision's beyond the clearance may be a lower
+    bound, which only shapes a start), and the POLISH_STARTS best distinct ends of those, best first."""
+    if not has_branches(space):
+        return list(basin_starts(*problem.feasible_seen(), space, POLISH_STARTS))
+    converged = [polish_across(problem, start, space)
+                 for start in basin_starts(*problem.feasible_seen(), space, COARSE_POLISHES - 2)]
+    flipped = flipped_branches(_best(problem, converged), space)
+    converged += [polish_across(problem, start, space)  # not from a start the arm does not reach: the polish stays there
+                  for start, value in zip(flipped, problem.lookup(flipped)[0]) if np.isfinite(value)]
+    values, margins = problem.lookup(np.array(converged))
+    signed = np.where((margins >= 0).all(axis=1) & np.isfinite(values), problem.sign * values, np.inf)
+    return [converged[k] for k in distinct(converged, list(signed), space, BASIN_RADIUS)[:POLISH_STARTS]]
+
+
+def _best(problem: Problem, points: list[np.ndarray]) -> np.ndarray:
+    """The best of ``points`` (at least one) that keeps every limit on the problem's model, else the first."""
+    values, margins = problem.lookup(np.array(points))
+    usable = (margins >= 0).all(axis=1) & np.isfinite(values)
+    return points[int(np.argmin(np.where(usable, problem.sign * values, np.inf)))] if usable.any() else points[0]
 
 
 def distinct(optima: list[np.ndarray], signed: list[float], space: PlacementSpace,

@@ -55,11 +55,11 @@ from placement.evaluation.results import Evaluation, PlacementDetail
 from placement.path.toolpath import ToolPath
 from placement.robot.model import Robot
 from placement.search.basins import (
+    COARSE_POLISHES,
     RUNNER_UP_SHARE,
     Basin,
-    basin_starts,
+    converged_starts,
     distinct,
-    flipped_branches,
     has_branches,
     scaled_distance,
     unresolved,
@@ -75,8 +75,6 @@ GIVE_UP_GENERATIONS = 25  # generations without any feasible placement after whi
 SCAN_FACTOR = 8  # the first population's best half comes from a seed-free Sobol scan this many times its size
 RECHECK_DENSITY = 4  # the re-check samples the path this many times more densely
 POLISH_EVALUATIONS = 30  # placement evaluations of a typical polish, for the duration estimate (gradients count n + 1)
-COARSE_POLISHES = POLISH_STARTS + 3  # a redundant arm's polishes on the global search's sampling, at most: POLISH_STARTS + 1
-# regions' best points and two flips of its branch (placement.search.basins.flipped_branches)
 
 
 @dataclass(frozen=True)
@@ -238,7 +236,7 @@ def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: flo
     kept = ranked[(fine_margins >= 0).all(axis=1)]
     # A start may break a limit on the finer sampling (a best region's optimum often lies on a limit): the polish
     # brings it back, and only the polished points that keep every limit there are candidates.
-    polished = _feasible([polish_across(local, start, space) for start in _converged_starts(problem, space)], local)
+    polished = _feasible([polish_across(local, start, space) for start in converged_starts(problem, space)], local)
     if not polished and len(kept):
         polished = [polish_across(local, kept[0], space)]
     if not polished:  # the finer sampling breaks a limit the coarse one missed: repair the closest
@@ -254,31 +252,6 @@ def _search(coarse: Evaluator, fine: Evaluator, space: PlacementSpace, sign: flo
     # often a point of its own basin from the final population, not the next basin's optimum
     order = np.argsort(sign * local.lookup(np.array(candidates))[0], kind="stable")
     return [candidates[k] for k in order], local, basins
-
-
-def _converged_starts(problem: Problem, space: PlacementSpace) -> list[np.ndarray]:
-    """The polish's starts: the best point of each of a few distinct regions the global search visited
-    (:mod:`placement.search.basins`). For a redundant arm, the branches of its self-motion are compared converged:
-    from those points, and from the best of where they end flipped onto the other branch, polishes on the global
-    search's model (its margins read as values: with a cell, a collision's beyond the clearance may be a lower
-    bound, which only shapes a start), and the POLISH_STARTS best distinct ends of those, best first."""
-    if not has_branches(space):
-        return list(basin_starts(*problem.feasible_seen(), space, POLISH_STARTS))
-    converged = [polish_across(problem, start, space)
-                 for start in basin_starts(*problem.feasible_seen(), space, COARSE_POLISHES - 2)]
-    flipped = flipped_branches(_best(problem, converged), space)
-    converged += [polish_across(problem, start, space)  # not from a start the arm does not reach: the polish stays there
-                  for start, value in zip(flipped, problem.lookup(flipped)[0]) if np.isfinite(value)]
-    values, margins = problem.lookup(np.array(converged))
-    signed = np.where((margins >= 0).all(axis=1) & np.isfinite(values), problem.sign * values, np.inf)
-    return [converged[k] for k in distinct(converged, list(signed), space, BASIN_RADIUS)[:POLISH_STARTS]]
-
-
-def _best(problem: Problem, points: list[np.ndarray]) -> np.ndarray:
-    """The best of ``points`` (at least one) that keeps every limit on the problem's model, else the first."""
-    values, margins = problem.lookup(np.array(points))
-    usable = (margins >= 0).all(axis=1) & np.isfinite(values)
-    return points[int(np.argmin(np.where(usable, problem.sign * values, np.inf)))] if usable.any() else points[0]
 
 
 def _feasible(points: list[np.ndarray], problem: Problem) -> list[np.ndarray]:
