@@ -4,13 +4,24 @@ A path with many samples costs too much to evaluate the thousands of times a sea
 100,000 points under the paper's timing law has 200,000 samples, each segment being timed on its own with two
 samples at least whatever the time step, and a 4,700-line surface program 9,500 even at the global search's
 coarse step. A path with more than GUIDE_THRESHOLD samples at its own step, or COARSE_THRESHOLD at the coarse
-one, is searched on guides instead: the same path with each stretch of consecutive lines and plane arcs of at
-most a half turn (same feed and kind of move, no orientation, stop or hold between them) merged into chords,
-each at most a given length and within a share of that length of every point of the path it skips, along its
-arcs too (a CAM program's small arcs between lines would otherwise keep most of its segments). The global search's guide has about
-GLOBAL_SEGMENTS chords, sampled at the coarse step, and the polish's about POLISH_SEGMENTS, sampled at a step of
-at least the path's duration over POLISH_SAMPLES. Under the realistic and optimal laws, which time runs rather
-than segments, the guides are the path itself, the polish's sampled at that coarser step.
+one, is searched on guides instead.
+
+The polish's guide is the same path with each stretch of consecutive lines and plane arcs of at most a half turn
+(same feed and kind of move, no orientation, stop or hold between them) merged into chords, each at most a given
+length and within a share of that length of every point of the path it skips, along its arcs too (a CAM program's
+small arcs between lines would otherwise keep most of its segments): about POLISH_SEGMENTS chords, sampled at a
+step of at least the path's duration over POLISH_SAMPLES.
+
+The global search's guide samples the path at GLOBAL_MOMENTS moments instead, one drawn at random (with a fixed
+seed) in each of as many equal shares of its moving time: at each, a piece of the path one time step of its own
+sampling long, at its feed, two samples each (:func:`sampled_moments`). Under the paper's law the power at a
+sample depends on where the tool is and how it moves there, so the guide's objective, times the time each piece
+stands for over its own (``coarse_scale``), is a stratified quadrature of the path's (its holds left out),
+whatever the number of segments: a 65,000-segment raster, whose zigzags no chord can merge, costs the global
+search 2 * GLOBAL_MOMENTS samples a placement. Merged chords would keep those zigzags (13,800 chords, 27,600 samples, for a
+CAMotics raster), and merge a small scribble into a chord shorter than the path it skips.
+Under the realistic and optimal laws, which time runs rather than segments, the guides are the path itself,
+the polish's sampled at that coarser step.
 
 The exact model ranks nothing but checks everything reported: each reported placement is evaluated at the
 path's own sampling and on the 4x denser re-check, as for any path, and the report gives the polish guide's
@@ -26,14 +37,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
+from placement.path.samples import MIN_PATH_STEPS
 from placement.path.segments import Segment
 from placement.path.toolpath import ToolPath
 
 GUIDE_THRESHOLD = 20_000  # a path with more samples than this at its own step is searched on guides ...
 COARSE_THRESHOLD = 1_024  # ... and so is one with more than this at the global search's coarse step
-GLOBAL_SEGMENTS = 128  # chords of the global search's guide, about
+GLOBAL_MOMENTS = COARSE_THRESHOLD // 2  # moments of the global search's guide (two samples each)
+GLOBAL_SEED = 0  # the moments' seed: the same guide for every search seed
 POLISH_SEGMENTS = 1_000  # chords of the polish's guide, about
-GLOBAL_DEVIATION = 1 / 40  # a chord of the global search's guide strays from its points by this share of its length
 POLISH_DEVIATION = 1 / 100  # ... of the polish's guide, at most
 POLISH_SAMPLES = 2_000  # the polish's guide's time step is at least the path's duration over this
 
@@ -47,6 +59,8 @@ class SearchModels:
         polish_path, polish: The polish's path and evaluator settings.
         exact: The path's own sampling (the reported values'); the polish's when it is not a guide.
         guided: Whether the global search and the polish run on guides (module docstring).
+        coarse_scale: The time the global search's guide stands for over its own duration (1 when it is the path):
+            times the guide's objective, for one that adds up over time (energy), an estimate of the path's.
     """
 
     coarse_path: ToolPath
@@ -55,6 +69,7 @@ class SearchModels:
     polish: EvaluatorSettings
     exact: EvaluatorSettings
     guided: bool = False
+    coarse_scale: float = 1.0
 
 
 def search_models(path: ToolPath, coarse: EvaluatorSettings, fine: EvaluatorSettings) -> SearchModels:
@@ -70,14 +85,67 @@ def search_models(path: ToolPath, coarse: EvaluatorSettings, fine: EvaluatorSett
     polish = dataclasses.replace(fine, time_step_s=step)
     if path.timing.mode != "paper":
         return SearchModels(path, coarse, path, polish, fine, guided=True)
-    global_m, polish_m = path.length_m / GLOBAL_SEGMENTS, path.length_m / POLISH_SEGMENTS
-    return SearchModels(merge_lines(path, global_m, global_m * GLOBAL_DEVIATION), coarse,
-                        merge_lines(path, polish_m, polish_m * POLISH_DEVIATION), polish, fine, guided=True)
+    piece_s = min(fine.time_step_s or path.time_step_s, _moving_s(path) / GLOBAL_MOMENTS / MIN_PATH_STEPS)
+    moments = sampled_moments(path, GLOBAL_MOMENTS, piece_s, np.random.default_rng(GLOBAL_SEED))
+    # each piece two samples: its duration over the step is 1, give or take rounding, which ceil would make 2
+    global_step = dataclasses.replace(coarse, time_step_s=piece_s * (1 + 1e-6))
+    polish_m = path.length_m / POLISH_SEGMENTS
+    return SearchModels(moments, global_step, merge_lines(path, polish_m, polish_m * POLISH_DEVIATION), polish, fine,
+                        guided=True, coarse_scale=_moving_s(path) / (GLOBAL_MOMENTS * piece_s))
 
 
 def guide_value(guide: Evaluator, placement: np.ndarray) -> float:
     """The objective of a (1, 6) placement on a guide's model (the exact one is the report's)."""
     return float(guide.evaluate(placement).value[0])
+
+
+def sampled_moments(path: ToolPath, count: int, piece_s: float, rng: np.random.Generator) -> ToolPath:
+    """The path at ``count`` moments of its moving time (module docstring), one drawn uniformly in each of ``count``
+    equal shares of it: at each, the piece of its segment ``piece_s`` long in time centred there, at that segment's
+    feed (its arc, helix and turn of the tool continued past the segment's end where the segment is shorter), a
+    segment of its own. The holds are left out.
+
+    Args:
+        path: A path timed by the paper's law (each segment at its feed).
+        count: Moments.
+        piece_s: Each piece's duration (s).
+        rng: Draws the moments.
+    """
+    segments = path.segments
+    speeds = np.array([path.speed_m_s(segment) for segment in segments])
+    lengths = np.array([segment.length_m for segment in segments])
+    ends_s = np.cumsum(lengths / speeds)
+    moments_s = (np.arange(count) + rng.uniform(size=count)) * ends_s[-1] / count
+    index = np.minimum(np.searchsorted(ends_s, moments_s, side="right"), len(segments) - 1)
+    along_m = lengths[index] - (ends_s[index] - moments_s) * speeds[index]  # where each moment is on its segment
+    pieces = []
+    for k, centre_m in zip(index.tolist(), along_m.tolist()):
+        piece_m = speeds[k] * piece_s
+        start_m = min(max(centre_m - piece_m / 2, 0.0), max(lengths[k] - piece_m, 0.0))
+        pieces.append(_piece(segments[k], start_m, piece_m))
+    return dataclasses.replace(path, name=f"{path.name} (moments)", segments=tuple(pieces), holds=())
+
+
+def _moving_s(path: ToolPath) -> float:
+    """The path's moving time under the paper's law (s): each segment's length at its feed."""
+    return float(sum(segment.length_m / path.speed_m_s(segment) for segment in path.segments))
+
+
+def _piece(segment: Segment, start_m: float, length_m: float) -> Segment:
+    """The stretch of ``segment`` from ``start_m`` along it, ``length_m`` long, as a segment: its line, arc or helix
+    and its tool's turn continued the same way where it reaches past the segment's end."""
+    share, start_share = length_m / segment.length_m, start_m / segment.length_m
+    ends = segment.point(np.array([start_m, start_m + length_m]), np.ones(2), np.zeros(2))[0]
+    if segment.center_m is None:
+        shape: dict[str, object] = {}
+    else:
+        shape = {"center_m": segment.center_m + segment.rise_m * start_share * segment.axes[:, 2],
+                 "start_angle_rad": segment.start_angle_rad + segment.sweep_rad * start_share,
+                 "sweep_rad": segment.sweep_rad * share, "rise_m": segment.rise_m * share}
+    if segment.turn_rad is not None:
+        rotation = segment.orientation(np.array([start_m]), np.zeros(1), np.zeros(1))[0][0]
+        shape |= {"rotation": rotation, "turn_rad": segment.turn_rad * share}
+    return dataclasses.replace(segment, start_m=ends[0], end_m=ends[1], **shape)  # type: ignore[arg-type]
 
 
 def merge_lines(path: ToolPath, max_length_m: float, tolerance_m: float) -> ToolPath:
