@@ -18,8 +18,8 @@ sampling long, at its feed, two samples each (:func:`sampled_moments`). Under th
 sample depends on where the tool is and how it moves there, so the guide's objective, times the time each piece
 stands for over its own (``coarse_scale``), is a stratified quadrature of the path's (its holds left out),
 whatever the number of segments: a 65,000-segment raster, whose zigzags no chord can merge, costs the global
-search 2 * GLOBAL_MOMENTS samples a placement. Pieces of negligible length at the path's farthest points
-(:func:`with_extremes`) let it see the limits that bind there. Merged chords would keep those zigzags (13,800
+search 2 * GLOBAL_MOMENTS samples a placement. Both guides have pieces of negligible length at the path's
+farthest points (:func:`with_extremes`), to see the limits that bind there. Merged chords would keep those zigzags (13,800
 chords, 27,600 samples, for a CAMotics raster), and merge a small scribble into a chord shorter than the path it
 skips.
 Under the realistic and optimal laws, which time runs rather than segments, the guides are the path itself,
@@ -41,14 +41,19 @@ import numpy as np
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
 from placement.path.samples import MIN_PATH_STEPS
 from placement.path.segments import Segment
-from placement.path.toolpath import MIN_LENGTH_M, ToolPath
+from placement.path.toolpath import ToolPath
 
 GUIDE_THRESHOLD = 20_000  # a path with more samples than this at its own step is searched on guides ...
 COARSE_THRESHOLD = 1_024  # ... and so is one with more than this at the global search's coarse step
 GLOBAL_MOMENTS = COARSE_THRESHOLD // 2  # moments of the global search's guide, two samples each: as many samples as
 # a path searched without guides may have at the coarse step (128 moments were 3 % off on a 0.1 m/s CAMotics painting
 # of 177,409 segments of 0.12 mm, 512 1.2 % and 1,024 0.3 %, on average over 24 placements; rankings kept)
-EXTREME_DIRECTIONS = np.array([d for d in np.ndindex(3, 3, 3) if d != (1, 1, 1)], dtype=float) - 1  # cube's 26
+EXTREME_SHARE = 1e-4  # each piece at an extreme is this share of the guide's mean segment long
+HORIZONTAL_DIRECTIONS = 360  # the guides reach as far as the path along this many directions of the X_p Y_p plane
+EXTREME_DIRECTIONS = np.vstack([  # ... and along the 26 of a cube's faces, edges and corners
+    np.array([d for d in np.ndindex(3, 3, 3) if d != (1, 1, 1)], dtype=float) - 1,
+    np.column_stack([np.cos(angle := np.linspace(0.0, 2 * np.pi, HORIZONTAL_DIRECTIONS, endpoint=False)),
+                     np.sin(angle), np.zeros(HORIZONTAL_DIRECTIONS)])])
 GLOBAL_SEED = 0  # the moments' seed: the same guide for every search seed
 POLISH_SEGMENTS = 1_000  # chords of the polish's guide, about
 POLISH_DEVIATION = 1 / 100  # ... of the polish's guide, at most
@@ -95,8 +100,9 @@ def search_models(path: ToolPath, coarse: EvaluatorSettings, fine: EvaluatorSett
     # each piece two samples: its duration over the step is 1, give or take rounding, which ceil would make 2
     global_step = dataclasses.replace(coarse, time_step_s=piece_s * (1 + 1e-6))
     polish_m = path.length_m / POLISH_SEGMENTS
-    return SearchModels(moments, global_step, merge_lines(path, polish_m, polish_m * POLISH_DEVIATION), polish, fine,
-                        guided=True, coarse_scale=_moving_s(path) / (GLOBAL_MOMENTS * piece_s))
+    chords = with_extremes(merge_lines(path, polish_m, polish_m * POLISH_DEVIATION), path)
+    return SearchModels(moments, global_step, chords, polish, fine, guided=True,
+                        coarse_scale=_moving_s(path) / (GLOBAL_MOMENTS * piece_s))
 
 
 def guide_value(guide: Evaluator, placement: np.ndarray) -> float:
@@ -131,17 +137,20 @@ def sampled_moments(path: ToolPath, count: int, piece_s: float, rng: np.random.G
     return dataclasses.replace(path, name=f"{path.name} (moments)", segments=tuple(pieces), holds=())
 
 
-def with_extremes(moments: ToolPath, path: ToolPath) -> ToolPath:
-    """The moments with, after them, a piece MIN_LENGTH_M long at each of the path's farthest segment ends along the
-    26 directions of a cube's faces, edges and corners: the global search sees where the path reaches farthest (its
-    workspace and joint limits bind there), at a cost to its objective of some 1e-6 m over a moment's length each
-    (a moment one 1 ms step long at 0.66 m/s is 0.66 mm)."""
+def with_extremes(guide: ToolPath, path: ToolPath) -> ToolPath:
+    """A guide with, after its segments, a piece EXTREME_SHARE of its mean segment long at each of the path's
+    farthest segment ends along EXTREME_DIRECTIONS (a cube's 26, and every degree of the X_p Y_p plane, which a turn
+    phi of the placement brings onto the workspace box's sides): the search sees where the path reaches farthest (its
+    workspace and joint limits bind there; chords within 0.4 mm of a 0.12 mm scribble's points missed them by
+    0.12 mm, and the polish ended 0.3 mm outside the box), at a cost to its objective of about EXTREME_SHARE over its
+    number of segments each (386 pieces at most: 4e-5 of a 1,000-chord guide's)."""
     segments = path.segments
     ends = np.array([[s.start_m for s in segments], [s.end_m for s in segments]])  # (2, n, 3)
     farthest = {divmod(int(np.argmax(ends.reshape(-1, 3) @ d)), len(segments)) for d in EXTREME_DIRECTIONS}
-    pieces = [_piece(segments[k], 0.0 if at_end == 0 else segments[k].length_m - MIN_LENGTH_M, MIN_LENGTH_M)
+    length_m = EXTREME_SHARE * guide.length_m / len(guide.segments)
+    pieces = [_piece(segments[k], 0.0 if at_end == 0 else segments[k].length_m - length_m, length_m)
               for at_end, k in sorted(farthest)]
-    return dataclasses.replace(moments, segments=moments.segments + tuple(pieces))
+    return dataclasses.replace(guide, segments=guide.segments + tuple(pieces))
 
 
 def _moving_s(path: ToolPath) -> float:
