@@ -49,11 +49,15 @@ GLOBAL_MOMENTS = COARSE_THRESHOLD // 2  # moments of the global search's guide, 
 # a path searched without guides may have at the coarse step (128 moments were 3 % off on a 0.1 m/s CAMotics painting
 # of 177,409 segments of 0.12 mm, 512 1.2 % and 1,024 0.3 %, on average over 24 placements; rankings kept)
 EXTREME_SHARE = 1e-4  # each piece at an extreme is this share of the guide's mean segment long
-HORIZONTAL_DIRECTIONS = 360  # the guides reach as far as the path along this many directions of the X_p Y_p plane
-EXTREME_DIRECTIONS = np.vstack([  # ... and along the 26 of a cube's faces, edges and corners
-    np.array([d for d in np.ndindex(3, 3, 3) if d != (1, 1, 1)], dtype=float) - 1,
-    np.column_stack([np.cos(angle := np.linspace(0.0, 2 * np.pi, HORIZONTAL_DIRECTIONS, endpoint=False)),
-                     np.sin(angle), np.zeros(HORIZONTAL_DIRECTIONS)])])
+EXTREME_SHORTFALL_M = 1e-6  # ... added where the guide falls short of the path's reach by more than this
+CUBE_DIRECTIONS = np.array([d for d in np.ndindex(3, 3, 3) if d != (1, 1, 1)], dtype=float) - 1  # faces, edges, corners
+GLOBAL_HORIZONTAL, POLISH_HORIZONTAL = 36, 360  # directions of the X_p Y_p plane the guides reach as far as the path
+
+
+def extreme_directions(horizontal: int) -> np.ndarray:
+    """(26 + horizontal, 3) a cube's 26 directions and ``horizontal`` of the X_p Y_p plane, evenly spread."""
+    angle = np.linspace(0.0, 2 * np.pi, horizontal, endpoint=False)
+    return np.vstack([CUBE_DIRECTIONS, np.column_stack([np.cos(angle), np.sin(angle), np.zeros(horizontal)])])
 GLOBAL_SEED = 0  # the moments' seed: the same guide for every search seed
 POLISH_SEGMENTS = 1_000  # chords of the polish's guide, about
 POLISH_DEVIATION = 1 / 100  # ... of the polish's guide, at most
@@ -96,11 +100,13 @@ def search_models(path: ToolPath, coarse: EvaluatorSettings, fine: EvaluatorSett
     if path.timing.mode != "paper":
         return SearchModels(path, coarse, path, polish, fine, guided=True)
     piece_s = min(fine.time_step_s or path.time_step_s, _moving_s(path) / GLOBAL_MOMENTS / MIN_PATH_STEPS)
-    moments = with_extremes(sampled_moments(path, GLOBAL_MOMENTS, piece_s, np.random.default_rng(GLOBAL_SEED)), path)
+    moments = with_extremes(sampled_moments(path, GLOBAL_MOMENTS, piece_s, np.random.default_rng(GLOBAL_SEED)), path,
+                            extreme_directions(GLOBAL_HORIZONTAL))
     # each piece two samples: its duration over the step is 1, give or take rounding, which ceil would make 2
     global_step = dataclasses.replace(coarse, time_step_s=piece_s * (1 + 1e-6))
     polish_m = path.length_m / POLISH_SEGMENTS
-    chords = with_extremes(merge_lines(path, polish_m, polish_m * POLISH_DEVIATION), path)
+    chords = with_extremes(merge_lines(path, polish_m, polish_m * POLISH_DEVIATION), path,
+                           extreme_directions(POLISH_HORIZONTAL))
     return SearchModels(moments, global_step, chords, polish, fine, guided=True,
                         coarse_scale=_moving_s(path) / (GLOBAL_MOMENTS * piece_s))
 
@@ -137,16 +143,20 @@ def sampled_moments(path: ToolPath, count: int, piece_s: float, rng: np.random.G
     return dataclasses.replace(path, name=f"{path.name} (moments)", segments=tuple(pieces), holds=())
 
 
-def with_extremes(guide: ToolPath, path: ToolPath) -> ToolPath:
+def with_extremes(guide: ToolPath, path: ToolPath, directions: np.ndarray) -> ToolPath:
     """A guide with, after its segments, a piece EXTREME_SHARE of its mean segment long at each of the path's
-    farthest segment ends along EXTREME_DIRECTIONS (a cube's 26, and every degree of the X_p Y_p plane, which a turn
-    phi of the placement brings onto the workspace box's sides): the search sees where the path reaches farthest (its
-    workspace and joint limits bind there; chords within 0.4 mm of a 0.12 mm scribble's points missed them by
-    0.12 mm, and the polish ended 0.3 mm outside the box), at a cost to its objective of about EXTREME_SHARE over its
-    number of segments each (386 pieces at most: 4e-5 of a 1,000-chord guide's)."""
+    farthest segment ends along ``directions`` (:func:`extreme_directions`: a cube's 26, and those of the X_p Y_p
+    plane, which a turn phi of the placement brings onto the workspace box's sides) that the guide's own segment ends
+    fall short of by more than EXTREME_SHORTFALL_M: the search sees where the path reaches farthest (its workspace and
+    joint limits bind there; chords within 0.4 mm of a 0.12 mm scribble's points missed them by 0.12 mm, and the
+    polish ended 0.3 mm outside the box), at a cost to its objective of about EXTREME_SHARE over its number of
+    segments each (386 pieces at most: 4e-5 of a 1,000-chord guide's)."""
     segments = path.segments
-    ends = np.array([[s.start_m for s in segments], [s.end_m for s in segments]])  # (2, n, 3)
-    farthest = {divmod(int(np.argmax(ends.reshape(-1, 3) @ d)), len(segments)) for d in EXTREME_DIRECTIONS}
+    ends = np.array([[s.start_m for s in segments], [s.end_m for s in segments]]).reshape(-1, 3)  # starts, then ends
+    own = np.array([s.start_m for s in guide.segments] + [s.end_m for s in guide.segments])
+    reach, guide_reach = ends @ directions.T, (own @ directions.T).max(axis=0)
+    short = np.flatnonzero(reach.max(axis=0) > guide_reach + EXTREME_SHORTFALL_M)
+    farthest = {divmod(int(k), len(segments)) for k in np.argmax(reach[:, short], axis=0)}
     length_m = EXTREME_SHARE * guide.length_m / len(guide.segments)
     pieces = [_piece(segments[k], 0.0 if at_end == 0 else segments[k].length_m - length_m, length_m)
               for at_end, k in sorted(farthest)]

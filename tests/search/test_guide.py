@@ -112,8 +112,8 @@ def test_a_path_with_few_samples_needs_no_guide_and_one_with_many_gets_one(tmp_p
     assert not few.guided and few.polish_path is few.coarse_path is not None
     many = models(contour(tmp_path, 1000))  # 2,000 samples, even at the global search's coarse step
     extremes = len(many.coarse_path.segments) - guide.GLOBAL_MOMENTS
-    assert many.guided and 2 <= extremes <= len(guide.EXTREME_DIRECTIONS)
-    assert 200 < len(many.polish_path.segments) <= 1000 + len(guide.EXTREME_DIRECTIONS)
+    assert many.guided and 2 <= extremes <= len(guide.extreme_directions(guide.GLOBAL_HORIZONTAL))
+    assert 200 < len(many.polish_path.segments) <= 1000 + len(guide.extreme_directions(guide.POLISH_HORIZONTAL))
     assert len(many.coarse_path.sample(many.coarse.time_step_s)) == 2 * len(many.coarse_path.segments)
 
 
@@ -142,7 +142,7 @@ def test_the_guided_answer_is_the_exact_models_at_its_placement(guided):
     assert len(optimum.detail.samples) == len(path.sample()) == 3000
     assert optimum.recheck_value == denser(exact, 4).recheck(placement[None], exact).value[0]
     model, settings = polish
-    assert len(model.segments) < 300 + len(guide.EXTREME_DIRECTIONS) < len(path.segments)
+    assert len(model.segments) < 300 + len(guide.extreme_directions(guide.POLISH_HORIZONTAL)) < len(path.segments)
     assert optimum.guide_value == Evaluator(robot, model, settings).evaluate(placement[None]).value[0]
     # The chords of a smooth contour cost about what its points do: the gap reported is small and measured
     assert abs(optimum.guide_gap) < 0.01
@@ -218,17 +218,19 @@ def test_the_guides_reach_as_far_as_the_path_in_the_directions_limits_bind(raste
     assert not models.guided  # below the thresholds: build the global guide as a long path's is built
     piece_s = path.time_step_s
     moments = guide.sampled_moments(path, guide.GLOBAL_MOMENTS, piece_s, np.random.default_rng(0))
-    extended = guide.with_extremes(moments, path)
+    directions = guide.extreme_directions(guide.POLISH_HORIZONTAL)
+    extended = guide.with_extremes(moments, path, directions)
     own = path.sample().position_m
     reach = [guide_path.sample(piece_s * (1 + 1e-6)).position_m for guide_path in (moments, extended)]
-    directions = guide.EXTREME_DIRECTIONS
-    np.testing.assert_allclose((reach[1] @ directions.T).max(axis=0), (own @ directions.T).max(axis=0), atol=1e-12)
+    np.testing.assert_allclose((reach[1] @ directions.T).max(axis=0), (own @ directions.T).max(axis=0),
+                               atol=guide.EXTREME_SHORTFALL_M)
     assert ((reach[0] @ directions.T).max(axis=0) < (own @ directions.T).max(axis=0) - 1e-4).any()
     # the polish's chords too, which may cut the path's corners by up to their bound (not this raster's)
     chords = guide.merge_lines(path, path.length_m / 10, path.length_m / 1000)
-    extended_chords = guide.with_extremes(chords, path)
+    extended_chords = guide.with_extremes(chords, path, directions)
     reach_chords = [c.sample(piece_s).position_m @ directions.T for c in (chords, extended_chords)]
-    np.testing.assert_allclose(reach_chords[1].max(axis=0), (own @ directions.T).max(axis=0), atol=1e-12)
+    np.testing.assert_allclose(reach_chords[1].max(axis=0), (own @ directions.T).max(axis=0),
+                               atol=guide.EXTREME_SHORTFALL_M)
     settings = EvaluatorSettings(time_step_s=piece_s * (1 + 1e-6))
     with_them, without = (Evaluator(robot, p, settings).evaluate(placements).value for p in (extended, moments))
     added = len(extended.segments) - len(moments.segments)
