@@ -1,6 +1,7 @@
-"""Long paths on the Orthoglide: a 100,000-point free-form contour and a 4,700-line surface-finishing program.
+"""Long paths on the Orthoglide: a 100,000-point free-form contour, a 4,700-line surface-finishing program and a
+60,000-line relief engraving.
 
-Run: ``python benchmarks/long_paths.py [--out DIR] [--only contour|surface] [--generate]``. It writes both
+Run: ``python benchmarks/long_paths.py [--out DIR] [--only contour|surface|relief] [--generate]``. It writes the
 inputs (generated here, never stored), then searches each as ``python -m placement --robot orthoglide
 --path FILE`` does (both directions, the tolerance boxes) and prints the wall time of each stage, the total
 and the peak memory (the largest resident set of this process and its worker processes).
@@ -15,6 +16,9 @@ The inputs:
   z = 25 mm · (1 + sin(πx/100)·cos(πy/100)) from z = 0 to 50 mm (a 100 × 100 × 50 mm part, the
   Orthoglide's cube is 200 mm): 47 passes along X, 1 mm apart in X and 2.17 mm in Y, zig-zag, at
   F3000 mm/min: 4,700 G1 lines of 3-D moves after a Fanuc-style header.
+- ``relief.nc`` and ``relief.yaml``: the same surface engraved slowly, as CAMotics' tiger sample is (65,183
+  segments, 4.3 h): 300 passes of 200 moves at F300, each stepover at F150, 60,300 G1 lines over 6,000 s; the
+  feeds changing at every stepover, no chord merges two passes.
 """
 
 from __future__ import annotations
@@ -45,6 +49,7 @@ T = TypeVar("T")
 
 CONTOUR_POINTS = 100_000
 SURFACE_PASSES, SURFACE_MOVES = 47, 100  # raster passes along X, G1 moves per pass
+RELIEF_PASSES, RELIEF_MOVES = 300, 200  # ... of the relief engraving
 
 
 def contour_points_mm(count: int = CONTOUR_POINTS) -> np.ndarray:
@@ -71,8 +76,12 @@ def surface_height_mm(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return 25.0 * (1 + np.sin(np.pi * x / 100) * np.cos(np.pi * y / 100))
 
 
-def surface_program(passes: int = SURFACE_PASSES, moves: int = SURFACE_MOVES) -> str:
-    """The raster finishing program (module docstring): header, passes of ``moves`` G1 lines, footer."""
+def surface_program(passes: int = SURFACE_PASSES, moves: int = SURFACE_MOVES, feed_mm_min: float = 3000.0,
+                    stepover_mm_min: float | None = None) -> str:
+    """The raster finishing program (module docstring): header, passes of ``moves`` G1 lines at ``feed_mm_min``,
+    each stepover at ``stepover_mm_min`` (default: the same feed), footer."""
+    stepover = "" if stepover_mm_min is None else f" F{stepover_mm_min:g}"
+    feed = "" if stepover_mm_min is None else f" F{feed_mm_min:g}"
     lines = ["%", "O0100 (SURFACE FINISH 100X100X50, D6 BALL NOSE)", "G21 G90 G17 G94", "G40 G49 G80",
              "T1 M6", "S18000 M3", "G54", "G43 H1 G0 Z60. M8"]
     x = np.linspace(-50.0, 50.0, moves + 1)
@@ -80,10 +89,10 @@ def surface_program(passes: int = SURFACE_PASSES, moves: int = SURFACE_MOVES) ->
         along = x if k % 2 == 0 else x[::-1]
         z = surface_height_mm(along, np.full_like(along, y))
         if k == 0:
-            lines += [f"G0 X{along[0]:.3f} Y{y:.3f}", f"G1 Z{z[0]:.3f} F3000."]
+            lines += [f"G0 X{along[0]:.3f} Y{y:.3f}", f"G1 Z{z[0]:.3f} F{feed_mm_min:g}."]
         else:
-            lines.append(f"G1 Y{y:.3f} Z{z[0]:.3f}")  # the stepover, on the surface
-        lines += [f"X{a:.3f} Z{h:.3f}" for a, h in zip(along[1:], z[1:])]
+            lines.append(f"G1 Y{y:.3f} Z{z[0]:.3f}{stepover}")  # the stepover, on the surface
+        lines += [f"X{along[1]:.3f} Z{z[1]:.3f}{feed}"] + [f"X{a:.3f} Z{h:.3f}" for a, h in zip(along[2:], z[2:])]
     return "\n".join([*lines, "G0 Z60.", "M9", "M5", "M30", "%"]) + "\n"
 
 
@@ -96,6 +105,16 @@ def write_surface(folder: Path) -> Path:
                     "rapids: {mode: skip}\n"
                     "process_forces_N: {feed: 10, radial: 30, axial: 20}  # ESTIMATE: a light finishing cut\n"
                     "timing: {mode: paper}\n", encoding="utf-8")
+    return file
+
+
+def write_relief(folder: Path) -> Path:
+    """The relief engraving and its path file, written in ``folder``; returns the path file."""
+    (folder / "relief.nc").write_text(surface_program(RELIEF_PASSES, RELIEF_MOVES, 300.0, 150.0), encoding="ascii")
+    file = folder / "relief.yaml"
+    file.write_text("# A slow relief engraving of 60,300 lines (benchmarks/long_paths.py)\n"
+                    "name: relief engraving 100 x 100 x 50 mm\nshape: {type: gcode, file: relief.nc}\n"
+                    "rapids: {mode: skip}\ntiming: {mode: paper}\n", encoding="utf-8")
     return file
 
 
@@ -180,13 +199,13 @@ def run(file: Path) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--out", type=Path, help="folder for the inputs (default: a temporary one)")
-    parser.add_argument("--only", choices=("contour", "surface"), help="one of the two cases")
+    parser.add_argument("--only", choices=("contour", "surface", "relief"), help="one of the three cases")
     parser.add_argument("--generate", action="store_true", help="write the inputs and stop")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as temporary:
         folder = args.out or Path(temporary)
         folder.mkdir(parents=True, exist_ok=True)
-        files = {"contour": write_contour(folder), "surface": write_surface(folder)}
+        files = {"contour": write_contour(folder), "surface": write_surface(folder), "relief": write_relief(folder)}
         if args.generate:
             print("\n".join(str(f) for f in files.values()))
             return

@@ -25,6 +25,7 @@ LANGUAGES = (
     (re.compile(r"\d*TOOLDEF"), HEIDENHAIN, "'TOOL DEF'"),
     (re.compile(r"\d*CYCLDEF"), HEIDENHAIN, "'CYCL DEF' (a cycle)"),
     (re.compile(r"\d*CYCLCALL"), HEIDENHAIN, "'CYCL CALL' (a cycle)"),
+    (re.compile(r"\d*FUNCTIONTCPM"), HEIDENHAIN, "'FUNCTION TCPM' (5-axis tool centre point management)"),
     (re.compile(r"\d*LBL"), HEIDENHAIN, "'LBL' (a label)"),
     (re.compile(r"\d*CALLLBL"), HEIDENHAIN, "'CALL LBL' (a subprogram call)"),
     (re.compile(r"\d*FN\d+:"), HEIDENHAIN, "'FN' (a Q parameter function)"),
@@ -39,8 +40,10 @@ LANGUAGES = (
     (re.compile(r"DEF(REAL|INT|BOOL|STRING|CHAR|AXIS|FRAME)"), SINUMERIK, "'DEF' (a variable definition)"),
     (re.compile(r"R\d+=.*"), SINUMERIK, "an R parameter"),
     (re.compile(r"T=\".*"), SINUMERIK, "a tool called by name (T=\"...\")"),
-    (re.compile(r"(MSG\(|WORKPIECE\(|TRAORI|TRAFOOF|SUPA|CYCLE800|G500(?![\d.]))"), SINUMERIK,
-     "a Sinumerik command (MSG, WORKPIECE, TRAORI, SUPA, G500, ...)"),
+    (re.compile(r"TRAORI|TRAFOOF"), SINUMERIK, "'TRAORI' (5-axis transformation: the tool centre point programmed, "
+     "the rotary axes following it; TRAFOOF ends it)"),
+    (re.compile(r"(MSG\(|WORKPIECE\(|SUPA|CYCLE800|G500(?![\d.]))"), SINUMERIK,
+     "a Sinumerik command (MSG, WORKPIECE, SUPA, G500, ...)"),
 )
 LINE_NUMBER = re.compile(r"N\d+")
 

@@ -86,7 +86,19 @@ UNSUPPORTED_G = {
     **dict.fromkeys((70, 711, 720, 721), "lathe words (diameter mode, turning cycles) are not read: "
                     "the path is a mill's X, Y, Z"),
     960: "constant surface speed (G96) is not read: the feeds are per minute (G94), inverse time (G93) or per "
-         "revolution at S (G95)"}
+         "revolution at S (G95)",
+    150: "G15 is not read: Okuma's G15 H selects a work coordinate system from the control's table, which the program "
+         "does not hold (give the coordinates in G54-G59, set by G10 L2 if need be); Fanuc's G15 ends polar "
+         "coordinates (G16), which are not read",
+    160: "Fanuc's polar coordinates (G16) are not read: give X and Y (or LinuxCNC's polar words @ and ^)",
+    **dict.fromkeys((680, 681, 682, 683, 684), "Fanuc's coordinate rotation (G68) and tilted working plane (G68.1-"
+                    "G68.4) turn the program's coordinates by the control's rule, which is not read: output the moves "
+                    "in the workpiece's coordinates (the CAM post's rotation off)"),
+    690: "G69 ends Fanuc's coordinate rotation (G68), which is not read: remove both, the moves in the workpiece's "
+         "coordinates",
+    **dict.fromkeys((434, 435), "5-axis tool centre point control (Fanuc's TCP, G43.4 and G43.5) moves the rotary "
+                    "axes with the tool tip, which is not read: the path is the tool tip's X, Y, Z only (a 3-axis "
+                    "post)")}
 ALLOWED_LETTERS = set("GMXYZIJKRFSTPQLHDN@^$")  # $: LinuxCNC's spindle number (M3 $0), which the path does not use
 EXTRA_AXES = "ABCUVW"  # rotary and extra axes: read only while they hold one value (extra_axes)
 

@@ -4,13 +4,26 @@ A path with many samples costs too much to evaluate the thousands of times a sea
 100,000 points under the paper's timing law has 200,000 samples, each segment being timed on its own with two
 samples at least whatever the time step, and a 4,700-line surface program 9,500 even at the global search's
 coarse step. A path with more than GUIDE_THRESHOLD samples at its own step, or COARSE_THRESHOLD at the coarse
-one, is searched on guides instead: the same path with each stretch of consecutive lines and plane arcs of at
-most a half turn (same feed and kind of move, no orientation, stop or hold between them) merged into chords,
-each at most a given length and within a share of that length of every point of the path it skips, along its
-arcs too (a CAM program's small arcs between lines would otherwise keep most of its segments). The global search's guide has about
-GLOBAL_SEGMENTS chords, sampled at the coarse step, and the polish's about POLISH_SEGMENTS, sampled at a step of
-at least the path's duration over POLISH_SAMPLES. Under the realistic and optimal laws, which time runs rather
-than segments, the guides are the path itself, the polish's sampled at that coarser step.
+one, is searched on guides instead.
+
+The polish's guide is the same path with each stretch of consecutive lines and plane arcs of at most a half turn
+(same feed and kind of move, no orientation, stop or hold between them) merged into chords, each at most a given
+length and within a share of that length of every point of the path it skips, along its arcs too (a CAM program's
+small arcs between lines would otherwise keep most of its segments): about POLISH_SEGMENTS chords, sampled at a
+step of at least the path's duration over POLISH_SAMPLES.
+
+The global search's guide samples the path at GLOBAL_MOMENTS moments instead, one drawn at random (with a fixed
+seed) in each of as many equal shares of its moving time: at each, a piece of the path one time step of its own
+sampling long, at its feed, two samples each (:func:`sampled_moments`). Under the paper's law the power at a
+sample depends on where the tool is and how it moves there, so the guide's objective, times the time each piece
+stands for over its own (``coarse_scale``), is a stratified quadrature of the path's (its holds left out),
+whatever the number of segments: a 65,000-segment raster, whose zigzags no chord can merge, costs the global
+search 2 * GLOBAL_MOMENTS samples a placement. Both guides have pieces of negligible length at the path's
+farthest points (:func:`with_extremes`), to see the limits that bind there. Merged chords would keep those zigzags (13,800
+chords, 27,600 samples, for a CAMotics raster), and merge a small scribble into a chord shorter than the path it
+skips.
+Under the realistic and optimal laws, which time runs rather than segments, the guides are the path itself,
+the polish's sampled at that coarser step.
 
 The exact model ranks nothing but checks everything reported: each reported placement is evaluated at the
 path's own sampling and on the 4x denser re-check, as for any path, and the report gives the polish guide's
@@ -26,14 +39,27 @@ from dataclasses import dataclass
 import numpy as np
 
 from placement.evaluation.evaluator import Evaluator, EvaluatorSettings
+from placement.path.samples import MIN_PATH_STEPS
 from placement.path.segments import Segment
 from placement.path.toolpath import ToolPath
 
 GUIDE_THRESHOLD = 20_000  # a path with more samples than this at its own step is searched on guides ...
 COARSE_THRESHOLD = 1_024  # ... and so is one with more than this at the global search's coarse step
-GLOBAL_SEGMENTS = 128  # chords of the global search's guide, about
+GLOBAL_MOMENTS = COARSE_THRESHOLD // 2  # moments of the global search's guide, two samples each: as many samples as
+# a path searched without guides may have at the coarse step (128 moments were 3 % off on a 0.1 m/s CAMotics painting
+# of 177,409 segments of 0.12 mm, 512 1.2 % and 1,024 0.3 %, on average over 24 placements; rankings kept)
+EXTREME_SHARE = 1e-4  # each piece at an extreme is this share of the guide's mean segment long
+EXTREME_SHORTFALL_M = 1e-6  # ... added where the guide falls short of the path's reach by more than this
+CUBE_DIRECTIONS = np.array([d for d in np.ndindex(3, 3, 3) if d != (1, 1, 1)], dtype=float) - 1  # faces, edges, corners
+GLOBAL_HORIZONTAL, POLISH_HORIZONTAL = 36, 360  # directions of the X_p Y_p plane the guides reach as far as the path
+
+
+def extreme_directions(horizontal: int) -> np.ndarray:
+    """(26 + horizontal, 3) a cube's 26 directions and ``horizontal`` of the X_p Y_p plane, evenly spread."""
+    angle = np.linspace(0.0, 2 * np.pi, horizontal, endpoint=False)
+    return np.vstack([CUBE_DIRECTIONS, np.column_stack([np.cos(angle), np.sin(angle), np.zeros(horizontal)])])
+GLOBAL_SEED = 0  # the moments' seed: the same guide for every search seed
 POLISH_SEGMENTS = 1_000  # chords of the polish's guide, about
-GLOBAL_DEVIATION = 1 / 40  # a chord of the global search's guide strays from its points by this share of its length
 POLISH_DEVIATION = 1 / 100  # ... of the polish's guide, at most
 POLISH_SAMPLES = 2_000  # the polish's guide's time step is at least the path's duration over this
 
@@ -47,6 +73,8 @@ class SearchModels:
         polish_path, polish: The polish's path and evaluator settings.
         exact: The path's own sampling (the reported values'); the polish's when it is not a guide.
         guided: Whether the global search and the polish run on guides (module docstring).
+        coarse_scale: The time the global search's guide stands for over its own duration (1 when it is the path):
+            times the guide's objective, for one that adds up over time (energy), an estimate of the path's.
     """
 
     coarse_path: ToolPath
@@ -55,6 +83,7 @@ class SearchModels:
     polish: EvaluatorSettings
     exact: EvaluatorSettings
     guided: bool = False
+    coarse_scale: float = 1.0
 
 
 def search_models(path: ToolPath, coarse: EvaluatorSettings, fine: EvaluatorSettings) -> SearchModels:
@@ -70,14 +99,90 @@ def search_models(path: ToolPath, coarse: EvaluatorSettings, fine: EvaluatorSett
     polish = dataclasses.replace(fine, time_step_s=step)
     if path.timing.mode != "paper":
         return SearchModels(path, coarse, path, polish, fine, guided=True)
-    global_m, polish_m = path.length_m / GLOBAL_SEGMENTS, path.length_m / POLISH_SEGMENTS
-    return SearchModels(merge_lines(path, global_m, global_m * GLOBAL_DEVIATION), coarse,
-                        merge_lines(path, polish_m, polish_m * POLISH_DEVIATION), polish, fine, guided=True)
+    piece_s = min(fine.time_step_s or path.time_step_s, _moving_s(path) / GLOBAL_MOMENTS / MIN_PATH_STEPS)
+    moments = with_extremes(sampled_moments(path, GLOBAL_MOMENTS, piece_s, np.random.default_rng(GLOBAL_SEED)), path,
+                            extreme_directions(GLOBAL_HORIZONTAL))
+    # each piece two samples: its duration over the step is 1, give or take rounding, which ceil would make 2
+    global_step = dataclasses.replace(coarse, time_step_s=piece_s * (1 + 1e-6))
+    polish_m = path.length_m / POLISH_SEGMENTS
+    chords = with_extremes(merge_lines(path, polish_m, polish_m * POLISH_DEVIATION), path,
+                           extreme_directions(POLISH_HORIZONTAL))
+    return SearchModels(moments, global_step, chords, polish, fine, guided=True,
+                        coarse_scale=_moving_s(path) / (GLOBAL_MOMENTS * piece_s))
 
 
 def guide_value(guide: Evaluator, placement: np.ndarray) -> float:
     """The objective of a (1, 6) placement on a guide's model (the exact one is the report's)."""
     return float(guide.evaluate(placement).value[0])
+
+
+def sampled_moments(path: ToolPath, count: int, piece_s: float, rng: np.random.Generator) -> ToolPath:
+    """The path at ``count`` moments of its moving time (module docstring), one drawn uniformly in each of ``count``
+    equal shares of it: at each, the piece of its segment ``piece_s`` long in time centred there, at that segment's
+    feed (its arc, helix and turn of the tool continued past the segment's end where the segment is shorter), a
+    segment of its own. The holds are left out.
+
+    Args:
+        path: A path timed by the paper's law (each segment at its feed).
+        count: Moments.
+        piece_s: Each piece's duration (s).
+        rng: Draws the moments.
+    """
+    segments = path.segments
+    speeds = np.array([path.speed_m_s(segment) for segment in segments])
+    lengths = np.array([segment.length_m for segment in segments])
+    ends_s = np.cumsum(lengths / speeds)
+    moments_s = (np.arange(count) + rng.uniform(size=count)) * ends_s[-1] / count
+    index = np.minimum(np.searchsorted(ends_s, moments_s, side="right"), len(segments) - 1)
+    along_m = lengths[index] - (ends_s[index] - moments_s) * speeds[index]  # where each moment is on its segment
+    pieces = []
+    for k, centre_m in zip(index.tolist(), along_m.tolist()):
+        piece_m = speeds[k] * piece_s
+        start_m = min(max(centre_m - piece_m / 2, 0.0), max(lengths[k] - piece_m, 0.0))
+        pieces.append(_piece(segments[k], start_m, piece_m))
+    return dataclasses.replace(path, name=f"{path.name} (moments)", segments=tuple(pieces), holds=())
+
+
+def with_extremes(guide: ToolPath, path: ToolPath, directions: np.ndarray) -> ToolPath:
+    """A guide with, after its segments, a piece EXTREME_SHARE of its mean segment long at each of the path's
+    farthest segment ends along ``directions`` (:func:`extreme_directions`: a cube's 26, and those of the X_p Y_p
+    plane, which a turn phi of the placement brings onto the workspace box's sides) that the guide's own segment ends
+    fall short of by more than EXTREME_SHORTFALL_M: the search sees where the path reaches farthest (its workspace and
+    joint limits bind there; chords within 0.4 mm of a 0.12 mm scribble's points missed them by 0.12 mm, and the
+    polish ended 0.3 mm outside the box), at a cost to its objective of about EXTREME_SHARE over its number of
+    segments each (386 pieces at most: 4e-5 of a 1,000-chord guide's)."""
+    segments = path.segments
+    ends = np.array([[s.start_m for s in segments], [s.end_m for s in segments]]).reshape(-1, 3)  # starts, then ends
+    own = np.array([s.start_m for s in guide.segments] + [s.end_m for s in guide.segments])
+    reach, guide_reach = ends @ directions.T, (own @ directions.T).max(axis=0)
+    short = np.flatnonzero(reach.max(axis=0) > guide_reach + EXTREME_SHORTFALL_M)
+    farthest = {divmod(int(k), len(segments)) for k in np.argmax(reach[:, short], axis=0)}
+    length_m = EXTREME_SHARE * guide.length_m / len(guide.segments)
+    pieces = [_piece(segments[k], 0.0 if at_end == 0 else segments[k].length_m - length_m, length_m)
+              for at_end, k in sorted(farthest)]
+    return dataclasses.replace(guide, segments=guide.segments + tuple(pieces))
+
+
+def _moving_s(path: ToolPath) -> float:
+    """The path's moving time under the paper's law (s): each segment's length at its feed."""
+    return float(sum(segment.length_m / path.speed_m_s(segment) for segment in path.segments))
+
+
+def _piece(segment: Segment, start_m: float, length_m: float) -> Segment:
+    """The stretch of ``segment`` from ``start_m`` along it, ``length_m`` long, as a segment: its line, arc or helix
+    and its tool's turn continued the same way where it reaches past the segment's end."""
+    share, start_share = length_m / segment.length_m, start_m / segment.length_m
+    ends = segment.point(np.array([start_m, start_m + length_m]), np.ones(2), np.zeros(2))[0]
+    if segment.center_m is None:
+        shape: dict[str, object] = {}
+    else:
+        shape = {"center_m": segment.center_m + segment.rise_m * start_share * segment.axes[:, 2],
+                 "start_angle_rad": segment.start_angle_rad + segment.sweep_rad * start_share,
+                 "sweep_rad": segment.sweep_rad * share, "rise_m": segment.rise_m * share}
+    if segment.turn_rad is not None:
+        rotation = segment.orientation(np.array([start_m]), np.zeros(1), np.zeros(1))[0][0]
+        shape |= {"rotation": rotation, "turn_rad": segment.turn_rad * share}
+    return dataclasses.replace(segment, start_m=ends[0], end_m=ends[1], **shape)  # type: ignore[arg-type]
 
 
 def merge_lines(path: ToolPath, max_length_m: float, tolerance_m: float) -> ToolPath:

@@ -429,6 +429,24 @@ def test_lathe_cycles_and_3d_printers_words_are_refused_by_name(tmp_path, line, 
         assert expected in str(error)
 
 
+@pytest.mark.parametrize("line, word, words", [
+    ("G15 H1", "G15", ["Okuma's G15 H selects a work coordinate system", "Fanuc's G15 ends polar coordinates"]),
+    ("G16 X10 Y45", "G16", ["Fanuc's polar coordinates (G16)"]),
+    ("G68 X0 Y0 R30", "G68", ["Fanuc's coordinate rotation (G68)"]),
+    ("G68.2 X0 Y0 Z0 I0 J45 K0", "G68.2", ["tilted working plane"]),
+    ("G69", "G69", ["ends Fanuc's coordinate rotation (G68)"]),
+    ("G43.4 H1", "G43.4", ["5-axis tool centre point control", "G43.4 and G43.5"]),
+    ("G43.5 H1", "G43.5", ["5-axis tool centre point control"]),
+])
+def test_other_controllers_coordinate_and_5_axis_modes_are_refused_by_name(tmp_path, line, word, words):
+    """Okuma's work systems, Fanuc's polar coordinates, rotation and tilted planes, and tool centre point control,
+    each named at its line and word (LinuxCNC's rs274 reads none of them either)."""
+    error = refused(tmp_path, CUT + line + "\n")
+    assert error.line == 7 and error.word == word
+    for expected in words:
+        assert expected in str(error)
+
+
 # Marlin (RepRapFirmware, Klipper): pen plotters and lasers driven by a 3D printer's firmware
 
 MARLIN_PEN = """; a pen plotter's drawing as Inkscape's gcodetools writes it after a Marlin printer's start code
@@ -553,6 +571,10 @@ def test_g92_at_the_start_makes_the_current_point_known_as_a_pen_plotters_you_ar
     ("G21 G90\nR1=5\nG0 X=R1\n", 2, ["Siemens Sinumerik", "an R parameter"]),
     ("G21 G90\nDEF REAL DEPTH=-5\n", 2, ["Siemens Sinumerik", "'DEF'"]),
     ("MSG(\"ROUGHING\")\nG0 X0\n", 1, ["Siemens Sinumerik", "MSG"]),
+    # 5-axis tool centre point programming: the tip's coordinates with the rotary axes following
+    ("N10 G17 G90 G54\nN20 TRAORI\nN30 G1 X10 A30 F500\n", 2, ["Siemens Sinumerik", "'TRAORI'", "tool centre point"]),
+    ("0 FUNCTION TCPM F TCP AXIS POS PATHCTRL AXIS\n1 L X+10 R0 FMAX\n", 1,
+     ["Heidenhain conversational", "'FUNCTION TCPM'", "tool centre point"]),
 ])
 def test_another_controllers_language_is_refused_by_its_name(tmp_path, code, line, words):
     error = refused(tmp_path, code)
