@@ -12,16 +12,17 @@ length and within a share of that length of every point of the path it skips, al
 small arcs between lines would otherwise keep most of its segments): about POLISH_SEGMENTS chords, sampled at a
 step of at least the path's duration over POLISH_SAMPLES.
 
-The global search's guide samples the path at GLOBAL_MOMENTS moments instead, one drawn at random (with a fixed
-seed) in each of as many equal shares of its moving time: at each, a piece of the path one time step of its own
-sampling long, at its feed, two samples each (:func:`sampled_moments`). Under the paper's law the power at a
-sample depends on where the tool is and how it moves there, so the guide's objective, times the time each piece
-stands for over its own (``coarse_scale``), is a stratified quadrature of the path's (its holds left out),
-whatever the number of segments: a 65,000-segment raster, whose zigzags no chord can merge, costs the global
-search 2 * GLOBAL_MOMENTS samples a placement. Both guides have pieces of negligible length at the path's
-farthest points (:func:`with_extremes`), to see the limits that bind there. Merged chords would keep those zigzags (13,800
-chords, 27,600 samples, for a CAMotics raster), and merge a small scribble into a chord shorter than the path it
-skips.
+The global search's guide is merged alike into about GLOBAL_SEGMENTS chords when they make at most COARSE_THRESHOLD
+samples at the coarse step (a smooth contour of 100,000 points: 129 chords). Else it samples the path at
+GLOBAL_MOMENTS moments, one drawn at random (with a fixed seed) in each of as many equal shares of its moving time: at
+each, a piece of the path one time step of its own sampling long, at its feed, two samples each
+(:func:`sampled_moments`). Under the paper's law the power at a sample depends on where the tool is and how it moves
+there, so the guide's objective, times the time each piece stands for over its own (``coarse_scale``), is a stratified
+quadrature of the path's (its holds left out), whatever the number of segments: a 65,000-segment raster, whose zigzags
+no chord can merge, costs the global search 2 * GLOBAL_MOMENTS samples a placement, where merged chords keep its
+zigzags (13,800 chords, 27,600 samples, for a CAMotics raster). Both guides have pieces of negligible length at the
+path's farthest points (:func:`with_extremes`), to see the limits that bind there: a chord may pass inside a small
+scribble's farthest point.
 Under the realistic and optimal laws, which time runs rather than segments, the guides are the path itself,
 the polish's sampled at that coarser step.
 
@@ -53,15 +54,18 @@ EXTREME_SHORTFALL_M = 1e-6  # ... added where the guide falls short of the path'
 CUBE_DIRECTIONS = np.array([d for d in np.ndindex(3, 3, 3) if d != (1, 1, 1)], dtype=float) - 1  # faces, edges, corners
 GLOBAL_HORIZONTAL, POLISH_HORIZONTAL = 36, 360  # directions of the X_p Y_p plane the guides reach as far as the path
 
+GLOBAL_SEED = 0  # the moments' seed: the same guide for every search seed
+GLOBAL_SEGMENTS = 128  # chords of the global search's guide, about, when they are few enough (module docstring)
+GLOBAL_DEVIATION = 1 / 40  # ... each straying from the points it skips by this share of its length, at most
+POLISH_SEGMENTS = 1_000  # chords of the polish's guide, about
+POLISH_DEVIATION = 1 / 100  # ... of the polish's guide, at most
+POLISH_SAMPLES = 2_000  # the polish's guide's time step is at least the path's duration over this
+
 
 def extreme_directions(horizontal: int) -> np.ndarray:
     """(26 + horizontal, 3) a cube's 26 directions and ``horizontal`` of the X_p Y_p plane, evenly spread."""
     angle = np.linspace(0.0, 2 * np.pi, horizontal, endpoint=False)
     return np.vstack([CUBE_DIRECTIONS, np.column_stack([np.cos(angle), np.sin(angle), np.zeros(horizontal)])])
-GLOBAL_SEED = 0  # the moments' seed: the same guide for every search seed
-POLISH_SEGMENTS = 1_000  # chords of the polish's guide, about
-POLISH_DEVIATION = 1 / 100  # ... of the polish's guide, at most
-POLISH_SAMPLES = 2_000  # the polish's guide's time step is at least the path's duration over this
 
 
 @dataclass(frozen=True)
@@ -99,14 +103,19 @@ def search_models(path: ToolPath, coarse: EvaluatorSettings, fine: EvaluatorSett
     polish = dataclasses.replace(fine, time_step_s=step)
     if path.timing.mode != "paper":
         return SearchModels(path, coarse, path, polish, fine, guided=True)
+    polish_m = path.length_m / POLISH_SEGMENTS
+    chords = with_extremes(merge_lines(path, polish_m, polish_m * POLISH_DEVIATION), path,
+                           extreme_directions(POLISH_HORIZONTAL))
+    global_m = path.length_m / GLOBAL_SEGMENTS
+    global_chords = with_extremes(merge_lines(path, global_m, global_m * GLOBAL_DEVIATION), path,
+                                  extreme_directions(GLOBAL_HORIZONTAL))
+    if len(global_chords.sample(coarse.time_step_s)) <= COARSE_THRESHOLD:
+        return SearchModels(global_chords, coarse, chords, polish, fine, guided=True)
     piece_s = min(fine.time_step_s or path.time_step_s, _moving_s(path) / GLOBAL_MOMENTS / MIN_PATH_STEPS)
     moments = with_extremes(sampled_moments(path, GLOBAL_MOMENTS, piece_s, np.random.default_rng(GLOBAL_SEED)), path,
                             extreme_directions(GLOBAL_HORIZONTAL))
     # each piece two samples: its duration over the step is 1, give or take rounding, which ceil would make 2
     global_step = dataclasses.replace(coarse, time_step_s=piece_s * (1 + 1e-6))
-    polish_m = path.length_m / POLISH_SEGMENTS
-    chords = with_extremes(merge_lines(path, polish_m, polish_m * POLISH_DEVIATION), path,
-                           extreme_directions(POLISH_HORIZONTAL))
     return SearchModels(moments, global_step, chords, polish, fine, guided=True,
                         coarse_scale=_moving_s(path) / (GLOBAL_MOMENTS * piece_s))
 
