@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from placement.exceptions import listed
 from placement.path.exceptions import GcodeError
 from placement.path.ngc_expressions import MARLIN_HOMING
-from placement.path.ngc_words import CONTROLLER_G, CONTROLLER_M, IO_M, MARLIN_M, USER_M
+from placement.path.ngc_words import CONTROLLER_G, CONTROLLER_M, IO_M, MARLIN_M, MODES_OFF, OKUMA_G15, USER_M
 from placement.path.path_file import MM_PER_MIN_M_S
 
 MAX_LISTED_LINES = 8  # a warning names at most this many lines of each kind
@@ -143,6 +143,11 @@ def dialect_words(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple
         kinds.append("G4 X")
     if "controller mode" in codes:
         kinds.append(controller_mode(fail, codes["controller mode"], values))
+    for group in MODES_OFF:
+        if group in codes:
+            if group == "polar coordinates" and "H" in values:
+                raise fail(codes[group][1], OKUMA_G15)
+            kinds.append(MODES_OFF[group][0])
     units = codes.get("units", (0, ""))
     if units[0] in (700, 710) and ("P" in values or "Q" in values):
         raise fail(units[1], "lathe words (turning cycles G70, G71) are not read: the path is a mill's X, Y, Z")
@@ -236,6 +241,9 @@ def dialect_notes(dialect: dict[str, list[int]], home_given: bool, initial_feed_
         listed = "; ".join(f"{name}, {meaning} ({lines_text(dialect[name])})" for name, meaning in modes)
         notes.append(f"other controllers' smoothing and look-ahead modes leave the programmed path as it is, and their "
                      f"effect on the feed is not modelled: {listed}")
+    ended = [f"{name}, {meaning} ({lines_text(dialect[name])})" for name, meaning in MODES_OFF.values() if name in dialect]
+    if ended:
+        notes.append(f"Fanuc's words that end a mode which is not read change nothing: {'; '.join(ended)}")
     units = [f"G{code} ({lines_text(dialect[f'G{code}'])})" for code in (70, 71) if f"G{code}" in dialect]
     if units:
         notes.append(f"{' and '.join(units)} {'are' if len(units) > 1 else 'is'} read as Mach3's (and older "

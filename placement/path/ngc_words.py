@@ -24,17 +24,22 @@ G_GROUPS = {
     910: "distance", 901: "arc distance", 911: "arc distance", **dict.fromkeys((930, 940, 950), "feed mode"),
     **dict.fromkeys((400, 410, 411, 420, 421), "cutter compensation"), 430: "tool length offset",
     490: "tool length offset", 980: "retract mode", 990: "retract mode", **dict.fromkeys((610, 611, 640), "path control"),
-    **dict.fromkeys((50, 51, 80, 1030, 1870), "controller mode")}
+    **dict.fromkeys((50, 51, 80, 1030, 1870), "controller mode"), 150: "polar coordinates", 690: "coordinate rotation"}
 CONTROLLER_G = {  # other controllers' smoothing and look-ahead modes: the path is the programmed one (a note)
     50: ("G5", "high-precision contour control (Fanuc, with P)", "P"),
     51: ("G5.1", "AI contour control (Fanuc, with Q)", "Q"),
     80: ("G8", "look-ahead (Fanuc, with P)", "P"),
     1030: ("G103", "look-ahead limit (Haas)", ""),
     1870: ("G187", "smoothness and corner tolerance (Haas)", "")}
+MODES_OFF = {  # Fanuc's words that end a mode which is not read: they change nothing (a note); posts' safety lines write them
+    "polar coordinates": ("G15", "polar coordinates off (G16, which turns them on, is not read)"),
+    "coordinate rotation": ("G69", "coordinate rotation off (G68, which turns it on, is not read)")}
+OKUMA_G15 = ("Okuma's G15 H selects a work coordinate system from the control's table, which the program does not hold: "
+             "give the coordinates in G54-G59 (set by G10 L2 if need be)")
 READ_G = ("not in the G-code dialect read: G0-G4, G10 L1/L2/L10/L11/L20, G17-G21, G28, G28.1, G30, G30.1, G40-G42, "
           "G41.1, G42.1, G43, G49, G53-G59, G59.1-G59.3, G61, G61.1, G64, G73, G80-G83, G85, G89, G90, G91, G90.1, "
-          "G91.1, G92-G92.3, G93-G95, G98, G99; and other controllers' G5 P, G5.1 Q, G8 P, G54.1 P, G70, G71, G103, "
-          "G154 P, G187 (docs/paths.md)")
+          "G91.1, G92-G92.3, G93-G95, G98, G99; and other controllers' G5 P, G5.1 Q, G8 P, G15, G54.1 P, G69, G70, "
+          "G71, G103, G154 P, G187 (docs/paths.md)")
 ACCEPTED_M = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 30, 48, 49, 60}  # RS-274/NGC's own: read without a note
 CONTROLLER_M = {  # other controllers' M codes that do not move the tool: ignored, with a note (GcodeDialectWarning)
     10: "clamp or rotary brake on", 11: "clamp or rotary brake off", 12: "5th-axis brake on (Haas)",
@@ -87,15 +92,10 @@ UNSUPPORTED_G = {
                     "the path is a mill's X, Y, Z"),
     960: "constant surface speed (G96) is not read: the feeds are per minute (G94), inverse time (G93) or per "
          "revolution at S (G95)",
-    150: "G15 is not read: Okuma's G15 H selects a work coordinate system from the control's table, which the program "
-         "does not hold (give the coordinates in G54-G59, set by G10 L2 if need be); Fanuc's G15 ends polar "
-         "coordinates (G16), which are not read",
     160: "Fanuc's polar coordinates (G16) are not read: give X and Y (or LinuxCNC's polar words @ and ^)",
     **dict.fromkeys((680, 681, 682, 683, 684), "Fanuc's coordinate rotation (G68) and tilted working plane (G68.1-"
                     "G68.4) turn the program's coordinates by the control's rule, which is not read: output the moves "
                     "in the workpiece's coordinates (the CAM post's rotation off)"),
-    690: "G69 ends Fanuc's coordinate rotation (G68), which is not read: remove both, the moves in the workpiece's "
-         "coordinates",
     **dict.fromkeys((434, 435), "5-axis tool centre point control (Fanuc's TCP, G43.4 and G43.5) moves the rotary "
                     "axes with the tool tip, which is not read: the path is the tool tip's X, Y, Z only (a 3-axis "
                     "post)")}
@@ -157,7 +157,7 @@ def check_unused(fail: Callable[[str, str], GcodeError], codes: dict[str, tuple[
     users = {"P": non_modal in (40, 100) or cycle or blending or motion in (20, 30) or 19 in m_codes
              or 888 in m_codes or mode in (50, 80, 1030, 1870),
              "Q": cycle or blending or 19 in m_codes or mode == 51, "L": cycle or non_modal == 100,
-             "H": "tool length offset" in codes,
+             "H": "tool length offset" in codes or "polar coordinates" in codes,  # Okuma's G15 H: refused by name
              "D": codes.get("cutter compensation", (400, ""))[0] != 400}
     for letter, used in users.items():
         if letter in values and not used:

@@ -95,8 +95,7 @@ def _printed_near(model: Evaluator, placement: np.ndarray, space: PlacementSpace
                   walk: bool) -> np.ndarray | str:
     """(K, width) printed placements near ``placement`` (m, rad) that keep every limit on ``model``, in the box, best
     first: the lattice search's (:func:`placement.search.lattice.lattice_search`, with ``walk``), or, when none of its
-    points does,
-    the placement pulled towards the box's centre by the least of RETREAT_SHARES that does, as printed; or why none
+    points does, the placement pulled towards the box's centre by the least of RETREAT_SHARES that does, as printed; or why none
     does: "fails once printed (the limit)" or "lies outside the box once printed"."""
     search = lattice_search(model, placement, space, sign, walk)
     if search.usable.any():

@@ -430,11 +430,10 @@ def test_lathe_cycles_and_3d_printers_words_are_refused_by_name(tmp_path, line, 
 
 
 @pytest.mark.parametrize("line, word, words", [
-    ("G15 H1", "G15", ["Okuma's G15 H selects a work coordinate system", "Fanuc's G15 ends polar coordinates"]),
+    ("G15 H1", "G15", ["Okuma's G15 H selects a work coordinate system", "G54-G59"]),
     ("G16 X10 Y45", "G16", ["Fanuc's polar coordinates (G16)"]),
     ("G68 X0 Y0 R30", "G68", ["Fanuc's coordinate rotation (G68)"]),
     ("G68.2 X0 Y0 Z0 I0 J45 K0", "G68.2", ["tilted working plane"]),
-    ("G69", "G69", ["ends Fanuc's coordinate rotation (G68)"]),
     ("G43.4 H1", "G43.4", ["5-axis tool centre point control", "G43.4 and G43.5"]),
     ("G43.5 H1", "G43.5", ["5-axis tool centre point control"]),
 ])
@@ -644,6 +643,16 @@ def test_fanucs_dwell_g4_x_lasts_x_seconds_and_moves_nothing(tmp_path):
     assert ends_mm(path) == [[[0, 0, 0], [5, 0, 0]], [[5, 0, 0], [10, 0, 0]]]
     assert [(hold.after, hold.duration_s) for hold in path.holds] == [(1, 1.5)]
     assert any("G4 X (line 4) dwells X seconds" in text for text in told)
+
+
+def test_fanucs_words_ending_modes_that_are_not_read_change_nothing(tmp_path):
+    """G15 (polar coordinates off) and G69 (coordinate rotation off) in a post's safety line: G16 and G68, which would
+    turn those modes on, are refused, so ending them changes nothing: the same path, with a note naming the lines."""
+    plain, _ = program(tmp_path, "G21 G90 G17 G40 G49 G80\nG0 X0 Y0 Z5\nG1 Z0 F300\nG1 X10\nM30\n", name="plain")
+    path, told = program(tmp_path, "G21 G90 G17 G40 G49 G80 G15 G69\nG0 X0 Y0 Z5\nG1 Z0 F300\nG69\nG1 X10\nM30\n")
+    assert ends_mm(path) == ends_mm(plain)
+    assert any("change nothing: G15, polar coordinates off (G16, which turns them on, is not read) (line 1); G69, "
+               "coordinate rotation off (G68, which turns it on, is not read) (lines 1, 4)" in text for text in told)
 
 
 @pytest.mark.parametrize("select", ["G54.1 P3", "G154 P12"])
