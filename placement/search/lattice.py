@@ -23,16 +23,25 @@ from __future__ import annotations
 
 import itertools
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 
-from placement.evaluation.evaluator import Evaluator
 from placement.evaluation.results import Evaluation
 from placement.search.space import PlacementSpace, printed, printed_steps
 
 LATTICE_MOVES = 40  # moves of the lattice search, at most
 LATTICE_CHANGES = 2  # a neighbour on the lattice differs along this many variables at most (module docstring)
 BOUND_ROUND_OFF = 1e-12  # m or rad: a printed placement may pass a search bound by this much (its decimal digits)
+
+
+class Model(Protocol):
+    """What the lattice search evaluates placements on: an :class:`~placement.evaluation.evaluator.Evaluator`, or a
+    re-check on denser samples."""
+
+    def evaluate(self, placements: np.ndarray) -> Evaluation:
+        """The objective and every limit's margin at (K, width) placements."""
+        ...
 
 
 @dataclass(frozen=True)
@@ -54,7 +63,7 @@ class LatticeSearch:
     moves: int
 
 
-def lattice_search(model: Evaluator, placement: np.ndarray, space: PlacementSpace, sign: float,
+def lattice_search(model: Model, placement: np.ndarray, space: PlacementSpace, sign: float,
                    walk: bool = True) -> LatticeSearch:
     """The best printed placement near ``placement`` by a pattern search on the printed lattice (module docstring).
 
@@ -96,7 +105,7 @@ def neighbour_offsets(n: int) -> np.ndarray:
 class _Lattice:
     """The printed lattice around a placement: its points evaluated (once each), by lattice index."""
 
-    def __init__(self, model: Evaluator, placement: np.ndarray, space: PlacementSpace, sign: float) -> None:
+    def __init__(self, model: Model, placement: np.ndarray, space: PlacementSpace, sign: float) -> None:
         self.model, self.placement, self.space, self.sign = model, placement, space, sign
         self.step = printed_steps(space.angles)[space.indices]
         self.seen: dict[tuple[int, ...], int] = {}  # lattice index -> row of the points evaluated

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from placement.search.lattice import lattice_search
+from placement.search.reporting import reported_point
 from placement.search.space import PlacementSpace, printed
 
 MM = 1e-3
@@ -87,3 +88,34 @@ def test_a_point_outside_the_box_is_not_evaluated():
     search = lattice_search(model, np.array([0.01, 0.013 * MM, 0, 0, 0, 0]), _space(), 1.0)
     assert max(p[0] for p in model.evaluated) <= 0.01
     assert search.placements[0][:2] / MM == pytest.approx([10.0, 0.01], abs=1e-9)
+
+
+class _Limited:
+    """The objective 1000 x + y (mm) under the limit x >= ``x_min_mm``, as an Evaluator's evaluation and re-check: the
+    path's samples see the limit at 0, the denser ones (the re-check) at 0.005 mm, as a limit reached between two of
+    the path's samples."""
+
+    def __init__(self, x_min_mm: float) -> None:
+        self.x_min_mm = x_min_mm
+
+    def evaluate(self, placements: np.ndarray) -> SimpleNamespace:
+        u, v = placements[:, 0] / MM, placements[:, 1] / MM
+        margin = (u - self.x_min_mm)[:, None]
+        return SimpleNamespace(value=1000 * u + v, feasible=margin[:, 0] >= 0, margins=margin, limits=("x min",),
+                               reachable=np.ones(len(u), dtype=bool))
+
+    def recheck(self, placements: np.ndarray, source) -> SimpleNamespace:
+        return self.evaluate(placements)
+
+
+def test_a_printed_point_the_denser_samples_refuse_gives_way_to_the_lattices_best_on_them():
+    """The lattice's best points on the path's samples lie on the limit (x = 0, y walked down to its bound), which
+    the denser samples break, and so does the point pulled towards the box's centre (x = 0 is the centre): the
+    lattice searched on the denser samples gives the best printed point that keeps the limit there, x = 0.01 mm,
+    y at its bound (the search before gave up: "no candidate keeps every limit")."""
+    space = PlacementSpace(free=("x", "y"), lower=np.array([-0.01, -0.0001]), upper=np.array([0.01, 0.0001]),
+                           fixed=np.zeros(6))
+    fine, dense = _Limited(0.0), _Limited(0.005)
+    x, note, check = reported_point([np.array([0.0, 0.0])], fine, dense, space, 1.0)
+    assert x / MM == pytest.approx([0.01, -0.1], abs=1e-9)
+    assert note is None and check.feasible[0]
