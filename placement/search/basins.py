@@ -29,7 +29,7 @@ import numpy as np
 
 from placement.placing.profiles import SPIN
 from placement.placing.transform import VARIABLES
-from placement.search.local import BASIN_RADIUS, POLISH_STARTS, Problem, polish_across
+from placement.search.local import BASIN_RADIUS, POLISH_STARTS, Problem, best_feasible, polish_across, signed_objective
 from placement.search.space import PlacementSpace
 
 START_RADIUS = 0.1  # a visited point is a start when no better feasible one lies within this share of the box
@@ -132,19 +132,12 @@ def converged_starts(problem: Problem, space: PlacementSpace) -> list[np.ndarray
         return list(basin_starts(*problem.feasible_seen(), space, POLISH_STARTS))
     converged = [polish_across(problem, start, space)
                  for start in basin_starts(*problem.feasible_seen(), space, COARSE_POLISHES - 2)]
-    flipped = flipped_branches(_best(problem, converged), space)
+    best = best_feasible(problem, converged)
+    flipped = flipped_branches(converged[0] if best is None else best, space)
     converged += [polish_across(problem, start, space)  # not from a start the arm does not reach: the polish stays there
                   for start, value in zip(flipped, problem.lookup(flipped)[0]) if np.isfinite(value)]
-    values, margins = problem.lookup(np.array(converged))
-    signed = np.where((margins >= 0).all(axis=1) & np.isfinite(values), problem.sign * values, np.inf)
-    return [converged[k] for k in distinct(converged, list(signed), space, BASIN_RADIUS)[:POLISH_STARTS]]
-
-
-def _best(problem: Problem, points: list[np.ndarray]) -> np.ndarray:
-    """The best of ``points`` (at least one) that keeps every limit on the problem's model, else the first."""
-    values, margins = problem.lookup(np.array(points))
-    usable = (margins >= 0).all(axis=1) & np.isfinite(values)
-    return points[int(np.argmin(np.where(usable, problem.sign * values, np.inf)))] if usable.any() else points[0]
+    values = signed_objective(problem, np.array(converged))
+    return [converged[k] for k in distinct(converged, list(values), space, BASIN_RADIUS)[:POLISH_STARTS]]
 
 
 def distinct(optima: list[np.ndarray], signed: list[float], space: PlacementSpace,

@@ -148,7 +148,7 @@ def _polish(problem: Problem, start: np.ndarray, bounds: list) -> np.ndarray:
                       options={"maxiter": 100, "ftol": 1e-10})
     lows, highs = [b[0] for b in bounds], [b[1] for b in bounds]
     polished = np.clip(result.x * scale, lows, highs)
-    best_iterate = _best_feasible(problem, [np.clip(u * scale, lows, highs) for u in [result.x, *iterates]])
+    best_iterate = best_feasible(problem, [np.clip(u * scale, lows, highs) for u in [result.x, *iterates]])
     polished = polished if best_iterate is None else best_iterate
     if not (problem.lookup(start)[1] >= 0).all():  # an infeasible start: take what SLSQP reached
         return polished
@@ -188,13 +188,17 @@ def _stall_detector(iterates: list[np.ndarray]) -> Callable[..., None]:
     return callback
 
 
-def _best_feasible(problem: Problem, points: list[np.ndarray]) -> np.ndarray | None:
-    """The best of ``points`` that keeps every limit (all evaluated already: no new evaluation), or None."""
-    values, margins = problem.lookup(np.array(points))
-    usable = (margins >= 0).all(axis=1) & np.isfinite(values)
-    if not usable.any():
-        return None
-    return points[int(np.argmin(np.where(usable, problem.sign * values, np.inf)))]
+def signed_objective(problem: Problem, points: np.ndarray) -> np.ndarray:
+    """(K,) signed objective (lower is better) of (K, n_free) points on the problem's model, +inf where a limit is
+    broken or the objective is not finite."""
+    values, margins = problem.lookup(points)
+    return np.where((margins >= 0).all(axis=1) & np.isfinite(values), problem.sign * values, np.inf)
+
+
+def best_feasible(problem: Problem, points: list[np.ndarray]) -> np.ndarray | None:
+    """The best of ``points`` that keeps every limit on the problem's model, or None."""
+    signed_values = signed_objective(problem, np.array(points))
+    return points[int(np.argmin(signed_values))] if np.isfinite(signed_values).any() else None
 
 
 def _feasible_towards(problem: Problem, feasible: np.ndarray, target: np.ndarray) -> np.ndarray:

@@ -66,7 +66,7 @@ from placement.search.basins import (
 )
 from placement.search.coarse_guide import SearchModels, guide_value, search_models
 from placement.search.kinks import across_kinks
-from placement.search.local import BASIN_RADIUS, POLISH_STARTS, Problem, inward_until_feasible, polish_across
+from placement.search.local import BASIN_RADIUS, POLISH_STARTS, Problem, inward_until_feasible, polish_across, signed_objective
 from placement.search.reporting import binding, reported_point
 from placement.search.space import PlacementSpace, default_space
 from placement.search.tolerance import ToleranceBox, tolerance_box
@@ -258,8 +258,7 @@ def _feasible(points: list[np.ndarray], problem: Problem) -> list[np.ndarray]:
     """The points that keep every limit on the problem's model, with a finite objective."""
     if not points:
         return []
-    values, margins = problem.lookup(np.array(points))
-    return [p for p, ok in zip(points, (margins >= 0).all(axis=1) & np.isfinite(values)) if ok]
+    return [p for p, value in zip(points, signed_objective(problem, np.array(points))) if np.isfinite(value)]
 
 
 def _global(problem: Problem, space: PlacementSpace, settings: SearchSettings,
