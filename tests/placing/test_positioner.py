@@ -9,7 +9,6 @@ those Pinocchio's RNEA gives on the same joint trajectory, the positioner's driv
 from __future__ import annotations
 
 import dataclasses
-import importlib.util
 import json
 
 import numpy as np
@@ -29,6 +28,7 @@ from placement.placing.transform import on_workpiece, placed_task, placement_pos
 from placement.robot.exceptions import RobotFileError
 from placement.workshop.catalog import builtin_robots_dir
 from placement.workshop.load import edit_redundancy, robot_from_sidecar
+from tests.support.generators import urdf_generator
 from tests.support.paths import CIRCLE, EXAMPLES
 from tests.support.positioner import TURNING
 from tests.support.rnea_reference import rnea_actuator_efforts
@@ -54,9 +54,7 @@ def small_arc(tmp_path_factory):
 
 
 def test_committed_urdf_is_what_the_generator_writes():
-    spec = importlib.util.spec_from_file_location("make_urdf", POSITIONER_DIR / "make_urdf.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    module = urdf_generator(POSITIONER_DIR)
     assert (POSITIONER_DIR / "ur5_positioner.urdf").read_text(encoding="utf-8") == module.positioner_urdf()
 
 

@@ -7,7 +7,6 @@ gives on the same joint trajectory, the track's drive (friction, efficiency, rac
 
 from __future__ import annotations
 
-import importlib.util
 import json
 from pathlib import Path
 
@@ -29,6 +28,7 @@ from placement.robot.packages import description_geometry
 from placement.search.space import default_space
 from placement.workshop.catalog import builtin_robots_dir
 from placement.workshop.load import edit_redundancy, robot_from_sidecar
+from tests.support.generators import urdf_generator
 from tests.support.paths import CIRCLE, EXAMPLES
 from tests.support.rnea_reference import rnea_actuator_efforts
 
@@ -43,9 +43,7 @@ def track():
 
 
 def test_committed_urdf_is_what_the_generator_writes():
-    spec = importlib.util.spec_from_file_location("make_urdf", TRACK_DIR / "make_urdf.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    module = urdf_generator(TRACK_DIR)
     assert (TRACK_DIR / "ur5_track.urdf").read_text(encoding="utf-8") == module.track_urdf()
 
 

@@ -6,7 +6,6 @@ the massless-leg limit (the lumped model of tests/delta_analytic.py) are checked
 robot's in tests/robot/test_contract.py.
 """
 
-import importlib.util
 import json
 import math
 
@@ -19,6 +18,7 @@ from placement.dynamics.inverse import inverse_dynamics
 from placement.kinematics import joint_trajectory
 from placement.workshop.catalog import builtin_robots_dir
 from tests.support.delta_analytic import lumped_torques_Nm, williams_inverse_kinematics
+from tests.support.generators import urdf_generator
 from tests.support.paths import CIRCLE
 from tests.support.trajectories import lissajous
 
@@ -78,9 +78,7 @@ def test_a_path_turned_by_120_degrees_costs_the_same_energy_with_the_actuators_p
 
 
 def test_committed_urdf_is_what_the_generator_writes():
-    spec = importlib.util.spec_from_file_location("make_urdf", DELTA_DIR / "make_urdf.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    module = urdf_generator(DELTA_DIR)
     assert (DELTA_DIR / "delta.urdf").read_text() == module.urdf_text()
 
 

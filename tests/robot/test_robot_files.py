@@ -9,6 +9,7 @@ import yaml
 from placement import load_robot, robot_names
 from placement.robot.exceptions import RobotFileError, UnknownRobotError
 from placement.workshop.catalog import builtin_robots_dir
+from tests.support.generators import urdf_generator
 
 ORTHOGLIDE_DIR = builtin_robots_dir() / "orthoglide"
 
@@ -38,11 +39,7 @@ def test_rotor_and_screw_inertia_act_at_the_sliders(orthoglide):
 
 
 def test_committed_urdf_is_what_the_generator_writes():
-    import importlib.util
-
-    spec = importlib.util.spec_from_file_location("make_urdf", ORTHOGLIDE_DIR / "make_urdf.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    module = urdf_generator(ORTHOGLIDE_DIR)
     assert (ORTHOGLIDE_DIR / "orthoglide.urdf").read_text() == module.urdf_text()
 
 
